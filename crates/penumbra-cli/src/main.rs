@@ -1,0 +1,176 @@
+//! The `penumbra` command line.
+//!
+//! Exit status: 0 on success, 2 for invalid input (arguments, scene, mesh,
+//! output path), 1 for anything else.
+
+mod error;
+mod render_cmd;
+mod report;
+mod samples_cmd;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use penumbra::sampling::Distribution;
+
+#[derive(Parser)]
+#[command(name = "penumbra", version, about = "A stochastic (distributed) ray tracer", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file or a built-in scene to PNG or EXR.
+    Render(RenderArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Print or draw the points of a ray distribution.
+    Samples(SamplesArgs),
+}
+
+/// Options of `penumbra render`. Every option given here wins over the value
+/// in the scene file (ray counts and distributions override per-light and
+/// per-material values too).
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML) or built-in scene name (see `penumbra scenes`).
+    #[arg(default_value = "showcase")]
+    pub scene: String,
+    /// Output image; the extension picks the format: .png (8-bit sRGB) or .exr (32-bit linear).
+    #[arg(short, long, default_value = "render.png")]
+    pub output: PathBuf,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    pub width: Option<u32>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    pub height: Option<u32>,
+    /// Levels of reflection/refraction rays (the thesis's recursion depth, default 3).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub max_depth: Option<u32>,
+    /// Seed of every random number; the same seed gives the same pixels.
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Write render statistics as JSON to this file.
+    #[arg(long, value_name = "PATH")]
+    pub stats: Option<PathBuf>,
+    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    #[arg(long, value_name = "PATH")]
+    pub bunny: Option<PathBuf>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+    #[command(flatten)]
+    pub effects: EffectArgs,
+}
+
+/// Ray budgets, distributions and lens settings.
+#[derive(Args)]
+pub struct EffectArgs {
+    /// Primary rays per pixel (supersampling, depth of field, motion blur).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: Option<u32>,
+    /// Shadow rays per area light (penumbra).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub shadow_rays: Option<u32>,
+    /// Rays per blurry reflection.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub reflection_rays: Option<u32>,
+    /// Rays per blurry refraction.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub refraction_rays: Option<u32>,
+    /// Distribution for every effect.
+    #[arg(long, value_parser = parse_distribution)]
+    pub distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub pixel_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub lens_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub time_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub shadow_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub reflection_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub refraction_distribution: Option<Distribution>,
+    /// Lens radius (0 = pinhole).
+    #[arg(long, value_parser = parse_nonneg)]
+    pub aperture: Option<f32>,
+    /// Distance to the plane in focus.
+    #[arg(long, value_parser = parse_positive)]
+    pub focal_distance: Option<f32>,
+}
+
+/// Options of `penumbra samples`.
+#[derive(Args)]
+pub struct SamplesArgs {
+    /// grid, jitter, semi-jitter, poisson, random, fast-random, or `all` (PNG only).
+    #[arg(long, short)]
+    pub distribution: String,
+    /// Number of points.
+    #[arg(long, short, value_parser = clap::value_parser!(u32).range(1..=100000))]
+    pub count: u32,
+    #[arg(long, short, default_value_t = 1.0, value_parser = parse_positive)]
+    pub radius: f32,
+    #[arg(long, short, default_value_t = 0)]
+    pub seed: u64,
+    #[arg(long, short, value_enum, default_value = "json")]
+    pub format: SampleFormat,
+    /// Output file (default: standard output for JSON, samples.png for PNG).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum SampleFormat {
+    Json,
+    Png,
+}
+
+fn parse_distribution(s: &str) -> Result<Distribution, String> {
+    Distribution::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+        format!(
+            "unknown distribution `{s}`; valid choices are: {}",
+            names.join(", ")
+        )
+    })
+}
+
+fn parse_nonneg(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number >= 0")),
+    }
+}
+
+fn parse_positive(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number > 0")),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render_cmd::run(&args),
+        Command::Scenes => {
+            report::print_scenes();
+            Ok(())
+        }
+        Command::Samples(args) => samples_cmd::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

@@ -1,0 +1,80 @@
+//! `penumbra samples`: the points of a distribution, as JSON or a picture.
+
+use std::path::PathBuf;
+
+use penumbra::io::output::write_bytes;
+use penumbra::math::Vec3;
+use penumbra::sampling::{plot, Distribution, Rng};
+use serde_json::json;
+
+use crate::error::{input, other, CliError};
+use crate::{SampleFormat, SamplesArgs};
+
+pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
+    let all = a.distribution == "all";
+    let dist = if all {
+        None
+    } else {
+        Some(Distribution::from_name(&a.distribution).ok_or_else(|| {
+            let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+            input(format!(
+                "unknown distribution `{}`; valid choices are: {}, all",
+                a.distribution,
+                names.join(", ")
+            ))
+        })?)
+    };
+    match (a.format, dist) {
+        (SampleFormat::Json, None) => Err(input(
+            "`--distribution all` draws a picture: use --format png",
+        )),
+        (SampleFormat::Json, Some(d)) => {
+            let points = points(d, a);
+            let coords: Vec<Vec<f32>> = points
+                .iter()
+                .map(|p| {
+                    if d.is_3d() {
+                        vec![p.x, p.y, p.z]
+                    } else {
+                        vec![p.x, p.y]
+                    }
+                })
+                .collect();
+            let doc = json!({"distribution": d.name(), "count": a.count, "radius": a.radius, "points": coords});
+            let text = serde_json::to_string_pretty(&doc).map_err(other)? + "\n";
+            match &a.output {
+                Some(path) => write_bytes(path, text.as_bytes()).map_err(other),
+                None => {
+                    print!("{text}");
+                    Ok(())
+                }
+            }
+        }
+        (SampleFormat::Png, d) => {
+            let img = match d {
+                Some(d) => plot::draw_points(&points(d, a), a.radius, 512, d.name()),
+                None => plot::draw_all(a.count as usize, a.radius, a.seed, 320),
+            };
+            let path = a
+                .output
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("samples.png"));
+            let mut bytes = Vec::new();
+            img.write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .map_err(other)?;
+            write_bytes(&path, &bytes).map_err(other)
+        }
+    }
+}
+
+fn points(d: Distribution, a: &SamplesArgs) -> Vec<Vec3> {
+    if let Some(w) = d.non_square_warning(a.count as usize) {
+        eprintln!("warning: {w}");
+    }
+    let mut out = Vec::new();
+    d.generate(a.count as usize, a.radius, &mut Rng::new(a.seed), &mut out);
+    out
+}

@@ -1,0 +1,10 @@
+//! Shapes and their intersection routines, and rigid motion over the shutter.
+
+pub mod mesh;
+pub mod motion;
+pub mod quad;
+pub mod sphere;
+pub mod triangle;
+
+pub use mesh::Mesh;
+pub use motion::{Motion, Similarity};

@@ -1,0 +1,215 @@
+use crate::light::Light;
+use crate::material::{fresnel_dielectric, Material, Rgb};
+use crate::math::{offset_origin, reflect, refract, Ray, Vec3};
+use crate::sampling::points::end_point;
+use crate::sampling::{Distribution, Rng};
+use crate::scene::world::Hit;
+use crate::scene::Scene;
+
+use super::RayStats;
+
+const SHADOW: u64 = 1 << 32;
+const REFLECT_SET: u64 = 1;
+const REFLECT_RAY: u64 = 2;
+const REFRACT_SET: u64 = 3;
+const REFRACT_RAY: u64 = 4;
+const FRESNEL_SET: u64 = 5;
+const FRESNEL_RAY: u64 = 6;
+
+/// Shadow rays stop this fraction short of their target, so that the surface
+/// they aim at (or a surface touching it) does not count as a blocker.
+const SHADOW_END: f32 = 1.0 - 1e-4;
+
+/// One worker's tracer: reads the scene, counts its own rays, and keeps a pool
+/// of point buffers so that distributing rays allocates nothing once warm.
+pub struct Tracer<'a> {
+    scene: &'a Scene,
+    pub stats: RayStats,
+    pool: Vec<Vec<Vec3>>,
+}
+
+/// Which secondary set is being traced: selects the ray kind and the streams.
+#[derive(Clone, Copy)]
+enum Branch {
+    Reflect,
+    Refract,
+    Fresnel,
+}
+
+impl Branch {
+    fn tags(self) -> (u64, u64) {
+        match self {
+            Branch::Reflect => (REFLECT_SET, REFLECT_RAY),
+            Branch::Refract => (REFRACT_SET, REFRACT_RAY),
+            Branch::Fresnel => (FRESNEL_SET, FRESNEL_RAY),
+        }
+    }
+}
+
+/// The local frame of a hit, oriented toward the viewer.
+struct Local {
+    p: Vec3,
+    wo: Vec3,
+    /// Shading normal on the viewer's side.
+    n: Vec3,
+    /// Geometric normal on the viewer's side.
+    ng: Vec3,
+    /// True if the ray arrived on the side the geometric normal points to.
+    front: bool,
+    /// The path's time: every secondary ray inherits its primary ray's time.
+    time: f32,
+}
+
+impl<'a> Tracer<'a> {
+    pub fn new(scene: &'a Scene) -> Self {
+        Tracer {
+            scene,
+            stats: RayStats::default(),
+            pool: Vec::new(),
+        }
+    }
+
+    /// Radiance arriving along `ray`; `depth` counts reflection/refraction levels so far.
+    pub fn radiance(&mut self, ray: &Ray, depth: u32, rng: Rng) -> Rgb {
+        match self.scene.world.intersect(ray, 0.0, f32::INFINITY) {
+            None => self.scene.settings.background,
+            Some(hit) => self.shade(ray, &hit, depth, rng),
+        }
+    }
+
+    fn shade(&mut self, ray: &Ray, hit: &Hit, depth: u32, rng: Rng) -> Rgb {
+        if let Some(l) = hit.light {
+            return self.scene.lights[l as usize].emitted(hit.ng, ray.dir);
+        }
+        let scene = self.scene;
+        let m = &scene.materials[hit.material as usize];
+        let wo = -ray.dir.normalize();
+        let front = hit.ng.dot(wo) >= 0.0;
+        let flip = if front { 1.0 } else { -1.0 };
+        let local = Local {
+            p: hit.point,
+            wo,
+            n: hit.ns * flip,
+            ng: hit.ng * flip,
+            front,
+            time: ray.time,
+        };
+        let mut l = if front { m.emission } else { Rgb::ZERO };
+        if m.is_lit() {
+            for (j, light) in scene.lights.iter().enumerate() {
+                l += self.direct(&local, m, light, rng.derive(SHADOW + j as u64));
+            }
+        }
+        if depth < scene.settings.max_depth {
+            if m.reflectivity > 0.0 {
+                let dir = reflect(ray.dir.normalize(), local.n);
+                let spec = (m.reflection.rays, m.reflection.distribution, m.glossiness);
+                l += m.reflectivity * self.scatter(&local, dir, spec, Branch::Reflect, depth, rng);
+            }
+            if m.transparency > 0.0 {
+                l += m.transparency * self.dielectric(&local, ray, m, depth, rng);
+            }
+        }
+        l
+    }
+
+    /// Direct light from one light: the average over its shadow set of
+    /// `brdf · weight · cos θ · transmittance`.
+    fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
+        let n = light.shadow_rays();
+        let d = light.shadow.distribution;
+        let points = self.points(d, n, rng);
+        let mut sum = Rgb::ZERO;
+        for point in &points {
+            let Some(ls) = light.sample(s.p, *point, d) else {
+                continue;
+            };
+            let to = ls.target - s.p;
+            let wi = to.normalize_or_zero();
+            let cos = s.n.dot(wi);
+            if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+                continue;
+            }
+            let origin = offset_origin(s.p, s.ng, wi);
+            self.stats.shadow += 1;
+            let shadow = Ray::new(origin, ls.target - origin, s.time);
+            let Some(t) =
+                self.scene
+                    .world
+                    .transmittance(&shadow, 0.0, SHADOW_END, &self.scene.transparency)
+            else {
+                continue;
+            };
+            sum += m.local_brdf(s.n, s.wo, wi) * ls.weight * (cos * t);
+        }
+        self.pool.push(points);
+        sum / n as f32
+    }
+
+    /// A dielectric interface: Fresnel-weighted reflection and refraction.
+    fn dielectric(&mut self, s: &Local, ray: &Ray, m: &Material, depth: u32, rng: Rng) -> Rgb {
+        let d = ray.dir.normalize();
+        let eta = if s.front { 1.0 / m.ior } else { m.ior };
+        let spec = (m.refraction.rays, m.refraction.distribution, m.translucency);
+        let cos_i = s.n.dot(s.wo).max(0.0);
+        let f = fresnel_dielectric(cos_i, eta);
+        let mut l = Rgb::ZERO;
+        if let (Some(t), true) = (refract(d, s.n, eta), f < 1.0) {
+            l += (1.0 - f) * self.scatter(s, t, spec, Branch::Refract, depth, rng);
+        }
+        if f > 0.0 {
+            let r = reflect(d, s.n);
+            l += f * self.scatter(s, r, spec, Branch::Fresnel, depth, rng);
+        }
+        l
+    }
+
+    /// Traces a distributed set around the perfect direction `dir` (reflected
+    /// or refracted) and averages it. Radius 0 means the single perfect ray.
+    fn scatter(
+        &mut self,
+        s: &Local,
+        dir: Vec3,
+        (rays, d, radius): (u32, Distribution, f32),
+        branch: Branch,
+        depth: u32,
+        rng: Rng,
+    ) -> Rgb {
+        let n = if radius > 0.0 { rays } else { 1 };
+        let (set_tag, ray_tag) = branch.tags();
+        let points = self.points(d, n, rng.derive(set_tag));
+        let transmit = matches!(branch, Branch::Refract);
+        // Rays must leave on the viewer's side for reflection, the other side for refraction.
+        let side = if transmit { -s.ng } else { s.ng };
+        let children = rng.derive(ray_tag);
+        let mut sum = Rgb::ZERO;
+        for (k, point) in points.iter().enumerate() {
+            let mut w = if radius > 0.0 {
+                end_point(dir, dir, *point, radius, d)
+            } else {
+                dir
+            };
+            let below = w.dot(side);
+            if below < 0.0 {
+                w -= 2.0 * below * side;
+            }
+            let w = w.normalize();
+            if transmit {
+                self.stats.refraction += 1;
+            } else {
+                self.stats.reflection += 1;
+            }
+            let child = Ray::new(offset_origin(s.p, s.ng, w), w, s.time);
+            sum += self.radiance(&child, depth + 1, children.derive(k as u64));
+        }
+        self.pool.push(points);
+        sum / n as f32
+    }
+
+    /// The points of a distribution set, in trace order, from the buffer pool.
+    fn points(&mut self, d: Distribution, n: u32, mut rng: Rng) -> Vec<Vec3> {
+        let mut buf = self.pool.pop().unwrap_or_default();
+        d.generate(n as usize, 1.0, &mut rng, &mut buf);
+        buf
+    }
+}

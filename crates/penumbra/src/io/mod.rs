@@ -1,0 +1,4 @@
+//! Files in and out: mesh readers (PLY, OBJ) and image writers (PNG, EXR).
+
+pub mod mesh;
+pub mod output;

@@ -1,0 +1,192 @@
+//! Image and JSON output, written atomically.
+//!
+//! Everything is written to a temporary file in the destination's directory
+//! and renamed over the destination only once complete: an error or a kill
+//! never leaves a half-written file and never destroys an existing one.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::render::Image;
+
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{}: unsupported output format; use .png (8-bit sRGB) or .exr (32-bit float linear)", .0.display())]
+    Format(PathBuf),
+    #[error("{}: {message}", path.display())]
+    Write { path: PathBuf, message: String },
+}
+
+/// Output formats, chosen by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    Exr,
+}
+
+impl Format {
+    /// The format a path's extension asks for; checked before rendering.
+    pub fn of(path: &Path) -> Result<Format, OutputError> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("png") => Ok(Format::Png),
+            Some("exr") => Ok(Format::Exr),
+            _ => Err(OutputError::Format(path.to_path_buf())),
+        }
+    }
+}
+
+/// Writes an image in the format its extension names.
+pub fn write_image(path: &Path, image: &Image) -> Result<(), OutputError> {
+    match Format::of(path)? {
+        Format::Png => write_atomic(path, |file| write_png(file, image)),
+        Format::Exr => write_atomic(path, |file| write_exr(file, image)),
+    }
+}
+
+/// Writes bytes (e.g. a JSON document) atomically.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    write_atomic(path, |file| {
+        file.write_all(bytes).map_err(|e| e.to_string())
+    })
+}
+
+fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> Result<(), String>,
+) -> Result<(), OutputError> {
+    let err = |message: String| OutputError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".penumbra-")
+        .suffix(".partial")
+        .tempfile_in(&dir)
+        .map_err(|e| {
+            err(format!(
+                "cannot create a temporary file in {}: {e}",
+                dir.display()
+            ))
+        })?;
+    write(tmp.as_file_mut()).map_err(err)?;
+    tmp.as_file().sync_all().map_err(|e| err(e.to_string()))?;
+    tmp.persist(path).map_err(|e| err(e.error.to_string()))?;
+    Ok(())
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+pub fn srgb_encode(v: f32) -> f32 {
+    let v = if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// 8-bit sRGB bytes of an image, row-major RGB.
+pub fn to_srgb8(image: &Image) -> Vec<u8> {
+    image
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array())
+        .map(|v| (srgb_encode(v) * 255.0 + 0.5) as u8)
+        .collect()
+}
+
+fn write_png(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
+    use image::ImageEncoder;
+    let bytes = to_srgb8(image);
+    let w = std::io::BufWriter::new(file);
+    image::codecs::png::PngEncoder::new(w)
+        .write_image(
+            &bytes,
+            image.width,
+            image.height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| e.to_string())
+}
+
+fn write_exr(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
+    use exr::prelude::*;
+    let (w, h) = (image.width as usize, image.height as usize);
+    let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+        let c = image.pixels[p.1 * w + p.0];
+        (c.x, c.y, c.z)
+    });
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        channels,
+    );
+    let out = exr::image::Image::from_layer(layer);
+    out.write()
+        .to_buffered(std::io::BufWriter::new(file))
+        .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    #[test]
+    fn srgb_known_values() {
+        assert_eq!(srgb_encode(0.0), 0.0);
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
+        assert!((srgb_encode(0.18) - 0.4614).abs() < 1e-3);
+        assert_eq!(srgb_encode(f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn failed_write_keeps_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.png");
+        std::fs::write(&path, b"precious").unwrap();
+        let r = write_atomic(&path, |_| Err("disk on fire".into()));
+        assert!(r.is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), b"precious");
+        let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(leftovers.len(), 1, "the temporary file must be removed");
+    }
+
+    #[test]
+    fn png_and_exr_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut img = Image::new(3, 2);
+        img.pixels[4] = Vec3::new(0.25, 0.5, 2.0);
+        write_image(&dir.path().join("a.png"), &img).unwrap();
+        let png = image::open(dir.path().join("a.png")).unwrap().to_rgb8();
+        assert_eq!(png.dimensions(), (3, 2));
+        assert_eq!(png.get_pixel(1, 1).0, [137, 188, 255]);
+        write_image(&dir.path().join("a.exr"), &img).unwrap();
+        let exr = exr::prelude::read_first_rgba_layer_from_file(
+            dir.path().join("a.exr"),
+            |res, _| vec![[0f32; 3]; res.0 * res.1],
+            |px: &mut Vec<[f32; 3]>, p, (r, g, b, _a): (f32, f32, f32, f32)| {
+                px[p.1 * 3 + p.0] = [r, g, b]
+            },
+        )
+        .unwrap();
+        assert_eq!(exr.layer_data.channel_data.pixels[4], [0.25, 0.5, 2.0]);
+        assert!(matches!(
+            write_image(&dir.path().join("a.jpg"), &img),
+            Err(OutputError::Format(_))
+        ));
+    }
+}

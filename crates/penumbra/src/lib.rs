@@ -1,0 +1,40 @@
+//! # Penumbra
+//!
+//! A CPU stochastic (distributed) ray tracer: Cook-style distributed ray
+//! tracing on top of Whitted recursion, as described in the thesis
+//! *Stochastic Ray Tracing* (Pfeuti, Bern 2007), with the thesis's six ray
+//! distributions selectable per effect, penumbra, blurry reflection and
+//! refraction, supersampling, depth of field and motion blur.
+//!
+//! The pipeline, one module per stage:
+//!
+//! * [`scene`] parses a TOML scene (or a built-in one) into a plain
+//!   [`scene::SceneDesc`], validates it with errors at `file:line:column`, and
+//!   builds an immutable [`scene::Scene`] (meshes from [`io`], BVH from [`accel`]).
+//! * [`render::render`] cuts the image into tiles, renders them in parallel with
+//!   an [`integrator::Tracer`] per worker, and returns an [`render::Image`] plus
+//!   [`render::RenderStats`] (rays by kind, time).
+//! * [`io::output`] writes PNG or EXR atomically.
+//!
+//! ```no_run
+//! use penumbra::scene::{LoadOptions, SceneSource};
+//! use penumbra::render::{render, RenderOptions};
+//!
+//! let scene = SceneSource::open("showcase", &LoadOptions::default())?.build()?;
+//! let (image, stats) = render(&scene, &RenderOptions::default(), &|_, _| {}, None)?;
+//! penumbra::io::output::write_image("showcase.png".as_ref(), &image)?;
+//! println!("{} rays", stats.rays.total());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod accel;
+pub mod camera;
+pub mod geometry;
+pub mod integrator;
+pub mod io;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod render;
+pub mod sampling;
+pub mod scene;

@@ -1,0 +1,68 @@
+use super::{render_pixel, BadSample, Region};
+use crate::integrator::{RayStats, Tracer};
+use crate::material::Rgb;
+use crate::scene::Scene;
+
+/// A linear-RGB float image, row-major, top row first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Rgb>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Self {
+        Image {
+            width,
+            height,
+            pixels: vec![Rgb::ZERO; width as usize * height as usize],
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Rgb {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Copies a tile rendered for `region`'s frame coordinates into place.
+    pub(super) fn put(&mut self, tile: &Tile, region: Region) {
+        let r = tile.region;
+        for y in r.y0..r.y1 {
+            for x in r.x0..r.x1 {
+                let src = ((y - r.y0) * r.width() + (x - r.x0)) as usize;
+                let dst = ((y - region.y0) * self.width + (x - region.x0)) as usize;
+                self.pixels[dst] = tile.pixels[src];
+            }
+        }
+    }
+
+    /// Mean of all pixels (handy in tests and reports).
+    pub fn mean(&self) -> Rgb {
+        self.pixels.iter().copied().sum::<Rgb>() / self.pixels.len().max(1) as f32
+    }
+}
+
+/// One rendered tile with what it counted.
+pub(super) struct Tile {
+    pub region: Region,
+    pub pixels: Vec<Rgb>,
+    pub rays: RayStats,
+    pub bad: Vec<BadSample>,
+}
+
+pub(super) fn render_tile(scene: &Scene, region: Region) -> Tile {
+    let mut tracer = Tracer::new(scene);
+    let mut pixels = Vec::with_capacity((region.width() * region.height()) as usize);
+    let mut bad = Vec::new();
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            pixels.push(render_pixel(scene, &mut tracer, x, y, &mut bad));
+        }
+    }
+    Tile {
+        region,
+        pixels,
+        rays: tracer.stats,
+        bad,
+    }
+}

@@ -1,0 +1,163 @@
+//! The parallel render driver: tiles over a rayon pool, deterministic seeding,
+//! progress reporting, and the guard that keeps NaN and infinity out of images.
+
+mod film;
+mod pixel;
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+pub use film::Image;
+pub use pixel::render_pixel;
+
+use crate::integrator::RayStats;
+use crate::scene::Scene;
+
+/// Side of the square tiles the image is cut into. Fixed, so that the work
+/// split never depends on the thread count (the pixels would not anyway).
+pub const TILE: u32 = 32;
+
+/// A rectangle of pixels `[x0, x1) × [y0, y1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Region {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl Region {
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+}
+
+/// How to run a render (what to render is the scene's business).
+#[derive(Clone, Debug, Default)]
+pub struct RenderOptions {
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    /// Render only this part of the frame (pixels keep their full-frame values).
+    pub region: Option<Region>,
+}
+
+/// A non-finite sample: caught where it was made, replaced by black.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BadSample {
+    pub x: u32,
+    pub y: u32,
+    pub sample: u32,
+}
+
+/// What a render measured.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RenderStats {
+    pub rays: RayStats,
+    pub render_time: Duration,
+    pub threads: usize,
+    /// Number of non-finite samples discarded, and the first few of them.
+    pub bad_samples: u64,
+    pub first_bad_samples: Vec<BadSample>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error("cannot start {threads} worker threads: {message}")]
+    Threads { threads: usize, message: String },
+    #[error("region {0:?} is empty or outside the {1}x{2} image")]
+    Region(Region, u32, u32),
+    #[error("render cancelled")]
+    Cancelled,
+}
+
+/// Progress callback: (tiles done, tiles in all).
+pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
+
+/// Renders the scene (or a region of it) and returns the image with its statistics.
+pub fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: Progress<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<(Image, RenderStats), RenderError> {
+    let s = &scene.settings;
+    let region = opts.region.unwrap_or(Region {
+        x0: 0,
+        y0: 0,
+        x1: s.width,
+        y1: s.height,
+    });
+    if region.x0 >= region.x1
+        || region.y0 >= region.y1
+        || region.x1 > s.width
+        || region.y1 > s.height
+    {
+        return Err(RenderError::Region(region, s.width, s.height));
+    }
+    let threads = opts
+        .threads
+        .unwrap_or_else(rayon::current_num_threads)
+        .max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RenderError::Threads {
+            threads,
+            message: e.to_string(),
+        })?;
+    let tiles = tiles(region);
+    let done = AtomicUsize::new(0);
+    let start = Instant::now();
+    let results: Vec<Option<film::Tile>> = pool.install(|| {
+        tiles
+            .par_iter()
+            .map(|t| {
+                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                    return None;
+                }
+                let tile = film::render_tile(scene, *t);
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
+                Some(tile)
+            })
+            .collect()
+    });
+    let mut image = Image::new(region.width(), region.height());
+    let mut stats = RenderStats {
+        threads,
+        ..RenderStats::default()
+    };
+    for tile in results {
+        let tile = tile.ok_or(RenderError::Cancelled)?;
+        image.put(&tile, region);
+        stats.rays += tile.rays;
+        stats.bad_samples += tile.bad.len() as u64;
+        let room = 16usize.saturating_sub(stats.first_bad_samples.len());
+        stats
+            .first_bad_samples
+            .extend(tile.bad.into_iter().take(room));
+    }
+    stats.render_time = start.elapsed();
+    Ok((image, stats))
+}
+
+/// The region cut into tiles, row by row.
+fn tiles(r: Region) -> Vec<Region> {
+    let mut out = Vec::new();
+    for y0 in (r.y0..r.y1).step_by(TILE as usize) {
+        for x0 in (r.x0..r.x1).step_by(TILE as usize) {
+            out.push(Region {
+                x0,
+                y0,
+                x1: (x0 + TILE).min(r.x1),
+                y1: (y0 + TILE).min(r.y1),
+            });
+        }
+    }
+    out
+}

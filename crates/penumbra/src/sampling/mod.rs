@@ -1,0 +1,11 @@
+//! Random numbers, the thesis's ray distributions and the warps that map them
+//! onto pixels, lenses, lights and directions.
+
+pub mod distribution;
+pub mod plot;
+pub mod points;
+mod rng;
+pub mod warp;
+
+pub use distribution::Distribution;
+pub use rng::{mix64, Rng};

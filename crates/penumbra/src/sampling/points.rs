@@ -1,0 +1,105 @@
+//! Applying distribution points to the effects (thesis §3.1–3.3).
+//!
+//! Distributions produce points in their native shape for radius 1: the square
+//! [−1, 1]² (grid, jitter, semi-jitter, poisson), the unit disk (random) or the
+//! cube [−1, 1]³ (fast-random). The functions here place those points where an
+//! effect needs them: around a ray's end point on the plane normal to it (the
+//! thesis's own construction), or on a unit square or disk for effects that
+//! sample a real surface or a round lens.
+
+use super::warp::square_to_disk_concentric;
+use super::Distribution;
+use crate::math::{Frame, Vec2, Vec3};
+
+/// The thesis's distributed end point: `center` moved by `radius · point` on
+/// the plane normal to `axis` (Listing 3.1–3.2), or by the 3D offset itself
+/// for fast-random, which deliberately skips the basis (Listing 3.6).
+#[inline]
+pub fn end_point(center: Vec3, axis: Vec3, point: Vec3, radius: f32, d: Distribution) -> Vec3 {
+    if d.is_3d() {
+        return center + radius * point;
+    }
+    let f = Frame::from_normal(axis);
+    center + radius * (point.x * f.u + point.y * f.v)
+}
+
+/// A point of the unit square [0, 1)² for sampling a surface uniformly.
+/// Square distributions keep their stratification; `random`'s disk points are
+/// mapped back to the square by the inverse of the area-preserving concentric
+/// map, so they stay uniform.
+#[inline]
+pub fn unit_square(point: Vec3, d: Distribution) -> Vec2 {
+    let p = if d == Distribution::Random {
+        disk_to_square(Vec2::new(point.x, point.y))
+    } else {
+        Vec2::new(point.x, point.y)
+    };
+    (0.5 * (p + Vec2::ONE)).clamp(Vec2::ZERO, Vec2::splat(1.0 - f32::EPSILON))
+}
+
+/// A point of the unit disk (a round lens, a disk light): `random` is already
+/// uniform on the disk; square distributions go through the concentric map,
+/// which preserves area and therefore their stratification.
+#[inline]
+pub fn unit_disk(point: Vec3, d: Distribution) -> Vec2 {
+    if d == Distribution::Random {
+        Vec2::new(point.x, point.y)
+    } else {
+        square_to_disk_concentric(unit_square(point, d))
+    }
+}
+
+/// Inverse of the concentric map, from the unit disk to [−1, 1]².
+pub fn disk_to_square(p: Vec2) -> Vec2 {
+    use std::f32::consts::{FRAC_PI_4, PI};
+    let r = p.length();
+    if r == 0.0 {
+        return Vec2::ZERO;
+    }
+    let phi = p.y.atan2(p.x);
+    // The concentric map sends the four triangles |a| ≥ |b| (left/right) and
+    // |b| > |a| (top/bottom) to the four quarter sectors around ±x and ±y.
+    let (a, b) = if (-FRAC_PI_4..=FRAC_PI_4).contains(&phi) {
+        (r, r * phi / FRAC_PI_4)
+    } else if phi > FRAC_PI_4 && phi <= 3.0 * FRAC_PI_4 {
+        (r * (PI / 2.0 - phi) / FRAC_PI_4, r)
+    } else if phi < -FRAC_PI_4 && phi >= -3.0 * FRAC_PI_4 {
+        (-r * (-PI / 2.0 - phi) / FRAC_PI_4, -r)
+    } else {
+        let phi = if phi > 0.0 { phi - PI } else { phi + PI };
+        (-r, -r * phi / FRAC_PI_4)
+    };
+    Vec2::new(a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn concentric_inverse_round_trips() {
+        let n = 64;
+        for i in 0..n {
+            for j in 0..n {
+                let s = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let d = square_to_disk_concentric(s);
+                let back = 0.5 * (disk_to_square(d) + Vec2::ONE);
+                assert!((back - s).length() < 1e-4, "{s:?} -> {d:?} -> {back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn end_point_stays_on_normal_plane() {
+        let axis = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let e = end_point(
+            Vec3::ONE,
+            axis,
+            Vec3::new(0.5, -0.25, 0.0),
+            2.0,
+            Distribution::Grid,
+        );
+        assert!((e - Vec3::ONE).dot(axis).abs() < 1e-5);
+        assert!(((e - Vec3::ONE).length() - 2.0 * (0.3125f32).sqrt()).abs() < 1e-5);
+    }
+}

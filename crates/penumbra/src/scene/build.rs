@@ -1,0 +1,749 @@
+//! Validation and build: the plain description becomes an immutable [`Scene`].
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::check::*;
+use super::desc::*;
+use super::error::{Invalid, KeyPath};
+use super::world::{mesh_bvh, Object, Shape, World};
+use super::{Scene, Settings};
+use crate::camera::Camera;
+use crate::geometry::motion::{Motion, Similarity};
+use crate::geometry::quad::Quad;
+use crate::geometry::Mesh;
+use crate::io::mesh::{read_mesh, MeshError};
+use crate::light::{Light, LightShape, PenumbraModel};
+use crate::material::{EffectSpec, Material};
+use crate::math::{Frame, Mat4, Quat, Vec3};
+use crate::sampling::Distribution;
+
+/// Where relative mesh paths and the `@bunny` placeholder point.
+#[derive(Clone, Debug, Default)]
+pub struct BuildContext {
+    /// Directory of the scene file; mesh paths are relative to it.
+    pub base_dir: PathBuf,
+    /// The Stanford bunny, for scenes that say `path = "@bunny"`.
+    pub bunny: Option<PathBuf>,
+}
+
+/// Why a description could not be built.
+#[derive(Debug)]
+pub enum BuildError {
+    Invalid(Invalid),
+    Mesh { path: KeyPath, error: MeshError },
+}
+
+impl From<Invalid> for BuildError {
+    fn from(i: Invalid) -> Self {
+        BuildError::Invalid(i)
+    }
+}
+
+/// Largest image side; keeps `width * height` and the film allocation sane.
+const MAX_SIDE: i64 = 1 << 15;
+/// Largest ray budget per effect (the exponential growth makes more pointless).
+const MAX_RAYS: i64 = 1 << 16;
+
+pub fn build(desc: &SceneDesc, ctx: &BuildContext) -> Result<Scene, BuildError> {
+    let start = std::time::Instant::now();
+    let settings = settings(&desc.render)?;
+    let camera = camera(&desc.camera, &settings)?;
+    let defaults = Defaults::of(&desc.render)?;
+    let (mut materials, names) = materials(desc, &defaults)?;
+    let mut objects = Vec::new();
+    let mut meshes = Vec::new();
+    let mut cache: HashMap<PathBuf, usize> = HashMap::new();
+    let root = KeyPath::root().key("objects");
+    for (i, o) in desc.objects.iter().enumerate() {
+        let path = root.index(i);
+        let material = material_index(&path, o.material.as_deref(), &names)?;
+        objects.push(object(&path, o, material, ctx, &mut meshes, &mut cache)?);
+    }
+    let light_material = materials.len() as u32;
+    materials.push(black_material(&defaults));
+    let mut lights = Vec::new();
+    let root = KeyPath::root().key("lights");
+    for (i, l) in desc.lights.iter().enumerate() {
+        let light = light(&root.index(i), l, &defaults)?;
+        if let Some(shape) = light_shape(&light) {
+            objects.push(Object {
+                shape,
+                material: light_material,
+                light: Some(i as u32),
+                motion: None,
+                mesh_bvh: None,
+            });
+        }
+        lights.push(light);
+    }
+    let warnings = square_warnings(&settings, &materials, &lights);
+    let transparency = materials.iter().map(|m| m.transparency).collect();
+    let world = World::new(objects, meshes);
+    Ok(Scene {
+        camera,
+        materials,
+        lights,
+        world,
+        settings,
+        transparency,
+        warnings,
+        build_time: start.elapsed(),
+    })
+}
+
+/// Global ray budgets and distributions, overridable per light and material.
+struct Defaults {
+    shadow: EffectSpec,
+    reflection: EffectSpec,
+    refraction: EffectSpec,
+}
+
+impl Defaults {
+    fn of(r: &RenderDesc) -> Result<Defaults, Invalid> {
+        let p = KeyPath::root().key("render");
+        let spec = |key: &str, rays: i64, d: Option<Distribution>| -> Result<EffectSpec, Invalid> {
+            Ok(EffectSpec {
+                rays: int(&p.key(key), rays, 1, MAX_RAYS)?,
+                distribution: d.unwrap_or(r.distribution),
+            })
+        };
+        Ok(Defaults {
+            shadow: spec("shadow_rays", r.shadow_rays, r.shadow_distribution)?,
+            reflection: spec(
+                "reflection_rays",
+                r.reflection_rays,
+                r.reflection_distribution,
+            )?,
+            refraction: spec(
+                "refraction_rays",
+                r.refraction_rays,
+                r.refraction_distribution,
+            )?,
+        })
+    }
+}
+
+fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
+    let p = KeyPath::root().key("render");
+    Ok(Settings {
+        width: int(&p.key("width"), r.width, 1, MAX_SIDE)?,
+        height: int(&p.key("height"), r.height, 1, MAX_SIDE)?,
+        max_depth: int(&p.key("max_depth"), r.max_depth, 0, 64)?,
+        seed: u64::from(int(&p.key("seed"), r.seed, 0, i64::from(u32::MAX))?),
+        background: nonneg3(&p.key("background"), r.background)?,
+        spp: int(&p.key("spp"), r.spp, 1, MAX_RAYS)?,
+        pixel: r.pixel_distribution.unwrap_or(r.distribution),
+        lens: r.lens_distribution.unwrap_or(r.distribution),
+        time: r.time_distribution.unwrap_or(r.distribution),
+    })
+}
+
+fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {
+    let p = KeyPath::root().key("camera");
+    let position = finite3(&p.key("position"), c.position)?;
+    let look_at = finite3(&p.key("look_at"), c.look_at)?;
+    let up = nonzero3(&p.key("up"), c.up)?;
+    let position_end = c
+        .position_end
+        .map_or(Ok(position), |v| finite3(&p.key("position_end"), v))?;
+    let look_at_end = c
+        .look_at_end
+        .map_or(Ok(look_at), |v| finite3(&p.key("look_at_end"), v))?;
+    for (eye, target, key) in [
+        (position, look_at, "look_at"),
+        (position_end, look_at_end, "look_at_end"),
+    ] {
+        let view = target - eye;
+        if view.length_squared() <= 0.0 {
+            return Err(Invalid::new(
+                p.key(key),
+                "the camera must look at a point other than its position",
+            ));
+        }
+        if view.normalize().cross(up.normalize()).length() < 1e-4 {
+            return Err(Invalid::new(
+                p.key("up"),
+                "`up` must not be parallel to the viewing direction",
+            ));
+        }
+    }
+    let fov = range(&p.key("fov"), c.fov, 0.01, 179.0)?;
+    let aperture = range(&p.key("aperture"), c.aperture, 0.0, f32::MAX)?;
+    let focal_distance = match c.focal_distance {
+        Some(f) => positive(&p.key("focal_distance"), f)?,
+        None => (look_at - position).length(),
+    };
+    let [open, close] = c.shutter;
+    if !(open.is_finite() && close.is_finite() && 0.0 <= open && open <= close && close <= 1.0) {
+        return Err(Invalid::new(
+            p.key("shutter"),
+            format!(
+                "must be [open, close] with 0 <= open <= close <= 1, got {:?}",
+                c.shutter
+            ),
+        ));
+    }
+    Ok(Camera {
+        position: [position, position_end],
+        look_at: [look_at, look_at_end],
+        up,
+        fov: fov.to_radians(),
+        aperture,
+        focal_distance,
+        shutter: [open, close],
+        width: s.width,
+        height: s.height,
+    })
+}
+
+/// Materials in name order (index 0 is the default grey for objects without one).
+fn materials(
+    desc: &SceneDesc,
+    defaults: &Defaults,
+) -> Result<(Vec<Material>, HashMap<String, u32>), Invalid> {
+    let mut out = vec![material(
+        &KeyPath::root(),
+        &MaterialDesc::default(),
+        defaults,
+    )?];
+    let mut names = HashMap::new();
+    for (name, m) in &desc.materials {
+        let path = KeyPath::root().key("materials").key(name);
+        names.insert(name.clone(), out.len() as u32);
+        out.push(material(&path, m, defaults)?);
+    }
+    Ok((out, names))
+}
+
+fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Invalid> {
+    let albedo = nonneg3(&p.key("albedo"), m.albedo)?;
+    let specular = range(&p.key("specular"), m.specular, 0.0, 1.0)?;
+    if (albedo + Vec3::splat(specular)).max_element() > 1.0 {
+        return Err(Invalid::new(
+            p.key("albedo"),
+            "albedo + specular must not exceed 1 in any channel (the surface would create light)",
+        ));
+    }
+    let reflectivity = range(&p.key("reflectivity"), m.reflectivity, 0.0, 1.0)?;
+    let transparency = range(&p.key("transparency"), m.transparency, 0.0, 1.0)?;
+    if reflectivity + transparency > 1.0 + 1e-6 {
+        return Err(Invalid::new(
+            p.key("transparency"),
+            "reflectivity + transparency must not exceed 1 (the surface would create light)",
+        ));
+    }
+    let effect = |key: &str,
+                  rays: Option<i64>,
+                  dist: Option<Distribution>,
+                  def: EffectSpec|
+     -> Result<EffectSpec, Invalid> {
+        Ok(EffectSpec {
+            rays: rays.map_or(Ok(def.rays), |r| int(&p.key(key), r, 1, MAX_RAYS))?,
+            distribution: dist.unwrap_or(def.distribution),
+        })
+    };
+    Ok(Material {
+        albedo,
+        specular,
+        shininess: range(&p.key("shininess"), m.shininess, 0.0, 1e6)?,
+        reflectivity,
+        transparency,
+        ior: range(&p.key("ior"), m.ior, 1.0, 10.0)?,
+        emission: nonneg3(&p.key("emission"), m.emission)?,
+        glossiness: m.glossiness.map_or(Ok((1.0 - reflectivity) * 0.2), |g| {
+            range(&p.key("glossiness"), g, 0.0, 1e3)
+        })?,
+        translucency: m.translucency.map_or(Ok((1.0 - transparency) * 0.2), |g| {
+            range(&p.key("translucency"), g, 0.0, 1e3)
+        })?,
+        reflection: effect(
+            "reflection_rays",
+            m.reflection_rays,
+            m.reflection_distribution,
+            d.reflection,
+        )?,
+        refraction: effect(
+            "refraction_rays",
+            m.refraction_rays,
+            m.refraction_distribution,
+            d.refraction,
+        )?,
+    })
+}
+
+/// The surface material of light shapes: black, since their emission is the light's.
+fn black_material(d: &Defaults) -> Material {
+    Material {
+        albedo: Vec3::ZERO,
+        specular: 0.0,
+        shininess: 0.0,
+        reflectivity: 0.0,
+        transparency: 0.0,
+        ior: 1.0,
+        emission: Vec3::ZERO,
+        glossiness: 0.0,
+        translucency: 0.0,
+        reflection: d.reflection,
+        refraction: d.refraction,
+    }
+}
+
+fn material_index(
+    p: &KeyPath,
+    name: Option<&str>,
+    names: &HashMap<String, u32>,
+) -> Result<u32, Invalid> {
+    let Some(name) = name else { return Ok(0) };
+    names.get(name).copied().ok_or_else(|| {
+        let mut known: Vec<&str> = names.keys().map(String::as_str).collect();
+        known.sort_unstable();
+        let list = if known.is_empty() {
+            "none are defined".to_string()
+        } else {
+            known.join(", ")
+        };
+        Invalid::new(
+            p.key("material"),
+            format!("no material named `{name}`; defined materials: {list}"),
+        )
+    })
+}
+
+const OBJECT_TYPES: [&str; 3] = ["sphere", "quad", "mesh"];
+
+fn object(
+    p: &KeyPath,
+    o: &ObjectDesc,
+    material: u32,
+    ctx: &BuildContext,
+    meshes: &mut Vec<Mesh>,
+    cache: &mut HashMap<PathBuf, usize>,
+) -> Result<Object, BuildError> {
+    let kind = one_of(&p.key("type"), &o.kind, "object type", &OBJECT_TYPES)?;
+    let set = [
+        ("center", o.center.is_some()),
+        ("radius", o.radius.is_some()),
+        ("origin", o.origin.is_some()),
+        ("edge_u", o.edge_u.is_some()),
+        ("edge_v", o.edge_v.is_some()),
+        ("path", o.path.is_some()),
+        ("smooth", o.smooth.is_some()),
+    ];
+    let start = transform(&p.key("transform"), o.transform.as_ref())?;
+    let end = o
+        .transform_end
+        .as_ref()
+        .map(|t| transform(&p.key("transform_end"), Some(t)))
+        .transpose()?;
+    let motion = match end {
+        Some(end) => Some(Motion {
+            start: similarity(&p.key("transform"), &start)?,
+            end: similarity(&p.key("transform_end"), &end)?,
+        }),
+        None => None,
+    };
+    let shape = match kind {
+        "sphere" => {
+            only_keys(p, kind, &set, &["center", "radius"])?;
+            let center = finite3(&p.key("center"), o.center.unwrap_or([0.0; 3]))?;
+            let radius = positive(&p.key("radius"), o.radius.unwrap_or(1.0))?;
+            sphere_shape(p, center, radius, &start, motion.is_some())?
+        }
+        "quad" => {
+            only_keys(p, kind, &set, &["origin", "edge_u", "edge_v"])?;
+            let q = quad(p, o.origin, o.edge_u, o.edge_v, "quad")?;
+            Shape::Quad(if motion.is_some() {
+                q
+            } else {
+                transform_quad(&q, &start)
+            })
+        }
+        _ => {
+            only_keys(p, kind, &set, &["path", "smooth"])?;
+            let file = required(&p.key("path"), o.path.as_ref(), "path", kind)?;
+            let m = load_mesh(
+                &p.key("path"),
+                file,
+                ctx,
+                cache,
+                meshes,
+                o.smooth.unwrap_or(false),
+            )?;
+            let mesh = if motion.is_some() {
+                m
+            } else {
+                bake(meshes, m, &start)
+            };
+            Shape::Mesh { mesh: mesh as u32 }
+        }
+    };
+    let mesh_bvh = match (&shape, motion) {
+        (Shape::Mesh { mesh }, Some(_)) => Some(mesh_bvh(&meshes[*mesh as usize])),
+        _ => None,
+    };
+    Ok(Object {
+        shape,
+        material,
+        light: None,
+        motion,
+        mesh_bvh,
+    })
+}
+
+/// A static sphere stays analytic under translation, rotation and uniform
+/// scale; anything else would make an ellipsoid, which we do not support.
+fn sphere_shape(
+    p: &KeyPath,
+    center: Vec3,
+    radius: f32,
+    m: &Mat4,
+    moving: bool,
+) -> Result<Shape, Invalid> {
+    if moving {
+        return Ok(Shape::Sphere { center, radius });
+    }
+    let (scale, _, _) = m.to_scale_rotation_translation();
+    let s = scale.abs();
+    if (s.max_element() - s.min_element()) > 1e-4 * s.max_element() {
+        return Err(Invalid::new(
+            p.key("transform"),
+            "a sphere can only be scaled uniformly",
+        ));
+    }
+    Ok(Shape::Sphere {
+        center: m.transform_point3(center),
+        radius: radius * s.x,
+    })
+}
+
+fn quad(
+    p: &KeyPath,
+    o: Option<[f32; 3]>,
+    u: Option<[f32; 3]>,
+    v: Option<[f32; 3]>,
+    kind: &str,
+) -> Result<Quad, Invalid> {
+    let origin = finite3(&p.key("origin"), required(p, o, "origin", kind)?)?;
+    let eu = nonzero3(&p.key("edge_u"), required(p, u, "edge_u", kind)?)?;
+    let ev = nonzero3(&p.key("edge_v"), required(p, v, "edge_v", kind)?)?;
+    if eu.cross(ev).length() <= 1e-6 * eu.length() * ev.length() {
+        return Err(Invalid::new(
+            p.key("edge_v"),
+            "edge_u and edge_v must not be parallel",
+        ));
+    }
+    Ok(Quad::new(origin, eu, ev))
+}
+
+fn transform_quad(q: &Quad, m: &Mat4) -> Quad {
+    let o = m.transform_point3(q.origin);
+    Quad::new(
+        o,
+        m.transform_point3(q.origin + q.edge_u) - o,
+        m.transform_point3(q.origin + q.edge_v) - o,
+    )
+}
+
+fn load_mesh(
+    p: &KeyPath,
+    file: &str,
+    ctx: &BuildContext,
+    cache: &mut HashMap<PathBuf, usize>,
+    meshes: &mut Vec<Mesh>,
+    smooth: bool,
+) -> Result<usize, BuildError> {
+    let path = resolve_mesh_path(p, file, ctx)?;
+    if let Some(&i) = cache.get(&path) {
+        if smooth && meshes[i].normals.is_none() {
+            meshes[i].compute_vertex_normals();
+        }
+        return Ok(i);
+    }
+    let data = read_mesh(&path).map_err(|error| BuildError::Mesh {
+        path: p.clone(),
+        error,
+    })?;
+    if data.triangles.is_empty() {
+        return Err(Invalid::new(p.clone(), format!("{} has no faces", path.display())).into());
+    }
+    let mut mesh = Mesh {
+        positions: data
+            .positions
+            .iter()
+            .map(|&v| Vec3::from_array(v))
+            .collect(),
+        normals: data.normals.map(|ns| {
+            ns.iter()
+                .map(|&n| Vec3::from_array(n).normalize_or_zero())
+                .collect()
+        }),
+        triangles: data.triangles,
+    };
+    if !smooth {
+        mesh.normals = None;
+    } else if mesh.normals.is_none() {
+        mesh.compute_vertex_normals();
+    }
+    meshes.push(mesh);
+    cache.insert(path, meshes.len() - 1);
+    Ok(meshes.len() - 1)
+}
+
+/// The bunny placeholder and scene-relative paths.
+fn resolve_mesh_path(p: &KeyPath, file: &str, ctx: &BuildContext) -> Result<PathBuf, Invalid> {
+    if file == "@bunny" {
+        return ctx.bunny.clone().ok_or_else(|| {
+            Invalid::new(
+                p.clone(),
+                "this scene needs the Stanford bunny (bunny.ply): pass --bunny PATH, set PENUMBRA_BUNNY, \
+                 or place it at ../shared/data/bunny.ply",
+            )
+        });
+    }
+    let path = Path::new(file);
+    Ok(if path.is_absolute() {
+        path.to_path_buf()
+    } else {
+        ctx.base_dir.join(path)
+    })
+}
+
+/// A static mesh baked into world space (cached meshes are copied first).
+fn bake(meshes: &mut Vec<Mesh>, index: usize, m: &Mat4) -> usize {
+    let baked = meshes[index].transformed(m);
+    meshes.push(baked);
+    meshes.len() - 1
+}
+
+fn transform(p: &KeyPath, t: Option<&TransformDesc>) -> Result<Mat4, Invalid> {
+    let Some(t) = t else {
+        return Ok(Mat4::IDENTITY);
+    };
+    if let Some(rows) = t.matrix {
+        if t.scale.is_some()
+            || t.rotate_axis.is_some()
+            || t.rotate_degrees.is_some()
+            || t.translate.is_some()
+        {
+            return Err(Invalid::new(
+                p.key("matrix"),
+                "`matrix` excludes scale, rotate_axis, rotate_degrees and translate",
+            ));
+        }
+        return matrix(&p.key("matrix"), rows);
+    }
+    let scale = match t.scale {
+        None => Vec3::ONE,
+        Some(Scale::Uniform(s)) => Vec3::splat(s),
+        Some(Scale::PerAxis(v)) => finite3(&p.key("scale"), v)?,
+    };
+    if !scale.is_finite() || scale.abs().min_element() < 1e-12 {
+        return Err(Invalid::new(
+            p.key("scale"),
+            "scale factors must be finite and non-zero",
+        ));
+    }
+    let rotation = match (t.rotate_axis, t.rotate_degrees) {
+        (None, None) => Quat::IDENTITY,
+        (axis, Some(deg)) => {
+            let axis = nonzero3(&p.key("rotate_axis"), axis.unwrap_or([0.0, 1.0, 0.0]))?;
+            let deg = range(&p.key("rotate_degrees"), deg, -1e6, 1e6)?;
+            Quat::from_axis_angle(axis.normalize(), deg.to_radians())
+        }
+        (Some(_), None) => {
+            return Err(Invalid::new(
+                p.key("rotate_axis"),
+                "`rotate_axis` needs `rotate_degrees`",
+            ))
+        }
+    };
+    let translate = finite3(&p.key("translate"), t.translate.unwrap_or([0.0; 3]))?;
+    Ok(Mat4::from_scale_rotation_translation(
+        scale, rotation, translate,
+    ))
+}
+
+fn matrix(p: &KeyPath, rows: [[f32; 4]; 4]) -> Result<Mat4, Invalid> {
+    if rows.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(Invalid::new(p.clone(), "matrix entries must be finite"));
+    }
+    if rows[3] != [0.0, 0.0, 0.0, 1.0] {
+        return Err(Invalid::new(
+            p.clone(),
+            "the last row of the matrix must be [0, 0, 0, 1] (affine)",
+        ));
+    }
+    let m = Mat4::from_cols_array_2d(&rows).transpose();
+    if m.determinant().abs() < 1e-12 {
+        return Err(Invalid::new(p.clone(), "the matrix is singular"));
+    }
+    Ok(m)
+}
+
+/// Decomposes a placement for motion interpolation; shear cannot be interpolated.
+fn similarity(p: &KeyPath, m: &Mat4) -> Result<Similarity, Invalid> {
+    let (scale, rotation, translation) = m.to_scale_rotation_translation();
+    let s = Similarity {
+        scale,
+        rotation,
+        translation,
+    };
+    if !s.matrix().abs_diff_eq(
+        *m,
+        1e-4 * m
+            .abs()
+            .to_cols_array()
+            .iter()
+            .fold(1.0f32, |a, b| a.max(*b)),
+    ) {
+        return Err(Invalid::new(
+            p.clone(),
+            "a moving object's transform must not shear",
+        ));
+    }
+    Ok(s)
+}
+
+const LIGHT_TYPES: [&str; 4] = ["point", "rect", "sphere", "disk"];
+
+fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
+    let kind = one_of(&p.key("type"), &l.kind, "light type", &LIGHT_TYPES)?;
+    let set = [
+        ("position", l.position.is_some()),
+        ("intensity", l.intensity.is_some()),
+        ("radiance", l.radiance.is_some()),
+        ("origin", l.origin.is_some()),
+        ("edge_u", l.edge_u.is_some()),
+        ("edge_v", l.edge_v.is_some()),
+        ("center", l.center.is_some()),
+        ("radius", l.radius.is_some()),
+        ("normal", l.normal.is_some()),
+        ("model", l.model.is_some()),
+        ("shadow_rays", l.shadow_rays.is_some()),
+        ("shadow_distribution", l.shadow_distribution.is_some()),
+    ];
+    let area_common = ["radiance", "model", "shadow_rays", "shadow_distribution"];
+    let with = |own: &[&'static str]| -> Vec<&'static str> {
+        own.iter().chain(area_common.iter()).copied().collect()
+    };
+    let radiance = || {
+        nonneg3(
+            &p.key("radiance"),
+            required(p, l.radiance, "radiance", kind)?,
+        )
+    };
+    let (shape, power) = match kind {
+        "point" => {
+            only_keys(p, kind, &set, &["position", "intensity"])?;
+            let position = finite3(
+                &p.key("position"),
+                required(p, l.position, "position", kind)?,
+            )?;
+            let intensity = nonneg3(
+                &p.key("intensity"),
+                required(p, l.intensity, "intensity", kind)?,
+            )?;
+            (LightShape::Point { position }, intensity)
+        }
+        "rect" => {
+            only_keys(p, kind, &set, &with(&["origin", "edge_u", "edge_v"]))?;
+            (
+                LightShape::Rect(quad(p, l.origin, l.edge_u, l.edge_v, "rect light")?),
+                radiance()?,
+            )
+        }
+        "sphere" => {
+            only_keys(p, kind, &set, &with(&["center", "radius"]))?;
+            let center = finite3(&p.key("center"), required(p, l.center, "center", kind)?)?;
+            let radius = positive(&p.key("radius"), required(p, l.radius, "radius", kind)?)?;
+            (LightShape::Sphere { center, radius }, radiance()?)
+        }
+        _ => {
+            only_keys(p, kind, &set, &with(&["center", "normal", "radius"]))?;
+            let center = finite3(&p.key("center"), required(p, l.center, "center", kind)?)?;
+            let normal = nonzero3(&p.key("normal"), required(p, l.normal, "normal", kind)?)?;
+            let radius = positive(&p.key("radius"), required(p, l.radius, "radius", kind)?)?;
+            let frame = Frame::from_normal(normal.normalize());
+            (
+                LightShape::Disk {
+                    center,
+                    frame,
+                    radius,
+                },
+                radiance()?,
+            )
+        }
+    };
+    let model = match l.model.as_deref() {
+        None => PenumbraModel::Surface,
+        Some(m) => match one_of(&p.key("model"), m, "penumbra model", &["surface", "thesis"])? {
+            "thesis" => PenumbraModel::Thesis,
+            _ => PenumbraModel::Surface,
+        },
+    };
+    let shadow = EffectSpec {
+        rays: l.shadow_rays.map_or(Ok(d.shadow.rays), |r| {
+            int(&p.key("shadow_rays"), r, 1, MAX_RAYS)
+        })?,
+        distribution: l.shadow_distribution.unwrap_or(d.shadow.distribution),
+    };
+    Ok(Light {
+        shape,
+        power,
+        model,
+        shadow,
+    })
+}
+
+/// The visible surface of an area light (point lights have none).
+fn light_shape(l: &Light) -> Option<Shape> {
+    match l.shape {
+        LightShape::Point { .. } => None,
+        LightShape::Rect(q) => Some(Shape::Quad(q)),
+        LightShape::Sphere { center, radius } => Some(Shape::Sphere { center, radius }),
+        LightShape::Disk {
+            center,
+            frame,
+            radius,
+        } => Some(Shape::Disk {
+            center,
+            frame,
+            radius,
+        }),
+    }
+}
+
+/// One message per effect whose ray count is not a square for a distribution that needs one.
+fn square_warnings(s: &Settings, materials: &[Material], lights: &[Light]) -> Vec<String> {
+    let mut seen = Vec::new();
+    let mut add = |what: &str, rays: u32, d: Distribution| {
+        if let Some(msg) = d.non_square_warning(rays as usize) {
+            let line = format!("{what}: {msg}");
+            if !seen.contains(&line) {
+                seen.push(line);
+            }
+        }
+    };
+    add("primary rays per pixel", s.spp, s.pixel);
+    for m in materials {
+        if m.reflectivity > 0.0 && m.glossiness > 0.0 {
+            add(
+                "reflection rays",
+                m.reflection.rays,
+                m.reflection.distribution,
+            );
+        }
+        if m.transparency > 0.0 && m.translucency > 0.0 {
+            add(
+                "refraction rays",
+                m.refraction.rays,
+                m.refraction.distribution,
+            );
+        }
+    }
+    for l in lights.iter().filter(|l| !l.is_delta()) {
+        add("shadow rays", l.shadow.rays, l.shadow.distribution);
+    }
+    seen
+}

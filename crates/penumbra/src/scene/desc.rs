@@ -1,0 +1,223 @@
+//! The plain-data scene description: exactly what a scene file (or, later, a
+//! Python dict) says, with defaults filled in and nothing checked yet.
+//!
+//! Every table rejects unknown keys. Objects and lights are flat records with a
+//! `type` key rather than serde enums, so that serde reports wrong types at the
+//! exact key and validation can say which keys a given type accepts.
+//! `docs/scene-format.md` is the user reference for every key here.
+
+use serde::{Deserialize, Serialize};
+
+use crate::sampling::Distribution;
+
+/// A whole scene file.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    #[serde(default)]
+    pub render: RenderDesc,
+    #[serde(default)]
+    pub camera: CameraDesc,
+    #[serde(default)]
+    pub materials: std::collections::BTreeMap<String, MaterialDesc>,
+    #[serde(default)]
+    pub objects: Vec<ObjectDesc>,
+    #[serde(default)]
+    pub lights: Vec<LightDesc>,
+}
+
+/// `[render]`: image size, recursion, seed and the global ray budgets.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderDesc {
+    pub width: i64,
+    pub height: i64,
+    pub max_depth: i64,
+    pub seed: i64,
+    pub background: [f32; 3],
+    /// Primary rays per pixel (supersampling, depth of field, motion blur).
+    pub spp: i64,
+    pub shadow_rays: i64,
+    pub reflection_rays: i64,
+    pub refraction_rays: i64,
+    /// Distribution for every effect unless a more specific key overrides it.
+    pub distribution: Distribution,
+    pub pixel_distribution: Option<Distribution>,
+    pub lens_distribution: Option<Distribution>,
+    pub time_distribution: Option<Distribution>,
+    pub shadow_distribution: Option<Distribution>,
+    pub reflection_distribution: Option<Distribution>,
+    pub refraction_distribution: Option<Distribution>,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        RenderDesc {
+            width: 800,
+            height: 600,
+            max_depth: 3,
+            seed: 0,
+            background: [0.0; 3],
+            spp: 1,
+            shadow_rays: 1,
+            reflection_rays: 1,
+            refraction_rays: 1,
+            distribution: Distribution::Grid,
+            pixel_distribution: None,
+            lens_distribution: None,
+            time_distribution: None,
+            shadow_distribution: None,
+            reflection_distribution: None,
+            refraction_distribution: None,
+        }
+    }
+}
+
+/// `[camera]`: a pinhole camera, a thin lens when `aperture > 0`, and a shutter.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraDesc {
+    pub position: [f32; 3],
+    pub look_at: [f32; 3],
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees.
+    pub fov: f32,
+    /// Lens radius in scene units; 0 is a pinhole.
+    pub aperture: f32,
+    /// Distance to the plane in focus; defaults to the distance to `look_at`.
+    pub focal_distance: Option<f32>,
+    /// Shutter open and close times; motion is defined over this interval.
+    pub shutter: [f32; 2],
+    /// Camera position and target at shutter close (camera motion blur).
+    pub position_end: Option<[f32; 3]>,
+    pub look_at_end: Option<[f32; 3]>,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        CameraDesc {
+            position: [0.0, 1.0, 5.0],
+            look_at: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            fov: 40.0,
+            aperture: 0.0,
+            focal_distance: None,
+            shutter: [0.0, 1.0],
+            position_end: None,
+            look_at_end: None,
+        }
+    }
+}
+
+/// `[materials.NAME]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MaterialDesc {
+    /// Diffuse reflectance (Lambertian, BRDF = albedo / π).
+    pub albedo: [f32; 3],
+    /// Weight of the energy-normalised Phong highlight.
+    pub specular: f32,
+    /// Phong exponent.
+    pub shininess: f32,
+    /// Fraction of light mirrored (blurred by `glossiness`).
+    pub reflectivity: f32,
+    /// Fraction of light transmitted (dielectric with Fresnel, blurred by `translucency`).
+    pub transparency: f32,
+    pub ior: f32,
+    /// Emitted radiance (front side).
+    pub emission: [f32; 3],
+    /// Radius of the blurry-reflection distribution; default `(1 - reflectivity) * 0.2`.
+    pub glossiness: Option<f32>,
+    /// Radius of the blurry-refraction distribution; default `(1 - transparency) * 0.2`.
+    pub translucency: Option<f32>,
+    pub reflection_rays: Option<i64>,
+    pub refraction_rays: Option<i64>,
+    pub reflection_distribution: Option<Distribution>,
+    pub refraction_distribution: Option<Distribution>,
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        MaterialDesc {
+            albedo: [0.8; 3],
+            specular: 0.0,
+            shininess: 32.0,
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: 1.5,
+            emission: [0.0; 3],
+            glossiness: None,
+            translucency: None,
+            reflection_rays: None,
+            refraction_rays: None,
+            reflection_distribution: None,
+            refraction_distribution: None,
+        }
+    }
+}
+
+/// `[[objects]]`: one record for every shape; `type` selects which keys apply.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub material: Option<String>,
+    // sphere
+    pub center: Option<[f32; 3]>,
+    pub radius: Option<f32>,
+    // quad
+    pub origin: Option<[f32; 3]>,
+    pub edge_u: Option<[f32; 3]>,
+    pub edge_v: Option<[f32; 3]>,
+    // mesh
+    pub path: Option<String>,
+    pub smooth: Option<bool>,
+    /// Placement at shutter open (and for the whole shutter if `transform_end` is absent).
+    pub transform: Option<TransformDesc>,
+    /// Placement at shutter close: the object moves during the exposure.
+    pub transform_end: Option<TransformDesc>,
+}
+
+/// Scale, then rotate about an axis, then translate; or a full 4×4 matrix.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    pub scale: Option<Scale>,
+    pub rotate_axis: Option<[f32; 3]>,
+    pub rotate_degrees: Option<f32>,
+    pub translate: Option<[f32; 3]>,
+    /// Row-major 4×4 matrix acting on column vectors; excludes the other keys.
+    pub matrix: Option<[[f32; 4]; 4]>,
+}
+
+/// A uniform (`scale = 2.0`) or per-axis (`scale = [1, 2, 1]`) scale.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum Scale {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
+
+/// `[[lights]]`: one record for every light; `type` selects which keys apply.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightDesc {
+    #[serde(rename = "type")]
+    pub kind: String,
+    // point
+    pub position: Option<[f32; 3]>,
+    pub intensity: Option<[f32; 3]>,
+    // area lights
+    pub radiance: Option<[f32; 3]>,
+    pub origin: Option<[f32; 3]>,
+    pub edge_u: Option<[f32; 3]>,
+    pub edge_v: Option<[f32; 3]>,
+    pub center: Option<[f32; 3]>,
+    pub radius: Option<f32>,
+    pub normal: Option<[f32; 3]>,
+    /// `thesis` (disk facing the point, §3.3) or `surface` (the real shape).
+    pub model: Option<String>,
+    pub shadow_rays: Option<i64>,
+    pub shadow_distribution: Option<Distribution>,
+}

@@ -1,0 +1,351 @@
+//! The scene's geometry: every object flattened into primitives under one BVH.
+//!
+//! Static objects are baked into world space (their triangles go straight into
+//! the top-level BVH, the fastest layout for rays). Moving objects stay in
+//! object space with their own BVH and are intersected by transforming the ray
+//! to the object at the ray's time; in the top-level BVH they appear as one
+//! primitive bounded over the whole shutter interval.
+
+use crate::accel::Bvh;
+use crate::geometry::motion::Motion;
+use crate::geometry::quad::Quad;
+use crate::geometry::sphere::intersect_sphere;
+use crate::geometry::triangle::{intersect_triangle, RayShear};
+use crate::geometry::Mesh;
+use crate::math::{Aabb, Frame, Ray, Vec3};
+
+/// A shape in its own space (world space for static objects).
+#[derive(Clone, Debug)]
+pub enum Shape {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Quad(Quad),
+    Disk {
+        center: Vec3,
+        frame: Frame,
+        radius: f32,
+    },
+    Mesh {
+        mesh: u32,
+    },
+}
+
+pub struct Object {
+    pub shape: Shape,
+    pub material: u32,
+    /// The light this object is the visible surface of, if any.
+    pub light: Option<u32>,
+    pub motion: Option<Motion>,
+    /// BVH over the mesh's triangles, for moving meshes only.
+    pub mesh_bvh: Option<Bvh>,
+}
+
+/// What the top-level BVH indexes.
+#[derive(Clone, Copy, Debug)]
+pub enum Prim {
+    Triangle { object: u32, tri: u32 },
+    Object { object: u32 },
+}
+
+/// A surface point found by a ray.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    pub point: Vec3,
+    /// Unit geometric normal, as the shape defines it (not flipped toward the ray).
+    pub ng: Vec3,
+    /// Unit shading normal, in the same hemisphere as `ng`.
+    pub ns: Vec3,
+    pub material: u32,
+    pub light: Option<u32>,
+}
+
+pub struct World {
+    pub objects: Vec<Object>,
+    pub meshes: Vec<Mesh>,
+    prims: Vec<Prim>,
+    bvh: Bvh,
+}
+
+/// Intersection details kept while the BVH search runs; turned into a [`Hit`]
+/// only once, for the closest primitive.
+#[derive(Clone, Copy, Default)]
+struct Candidate {
+    b1: f32,
+    b2: f32,
+    inner: u32,
+}
+
+impl World {
+    pub fn new(objects: Vec<Object>, meshes: Vec<Mesh>) -> World {
+        let mut prims = Vec::new();
+        let mut bounds = Vec::new();
+        for (oi, o) in objects.iter().enumerate() {
+            let object = oi as u32;
+            match (&o.shape, o.motion) {
+                (Shape::Mesh { mesh }, None) => {
+                    let m = &meshes[*mesh as usize];
+                    for tri in 0..m.triangles.len() {
+                        prims.push(Prim::Triangle {
+                            object,
+                            tri: tri as u32,
+                        });
+                        bounds.push(m.triangle_bounds(tri));
+                    }
+                }
+                (shape, motion) => {
+                    let b = shape_bounds(shape, &meshes);
+                    prims.push(Prim::Object { object });
+                    bounds.push(motion.map_or(b, |m| m.bounds(b)));
+                }
+            }
+        }
+        let bvh = Bvh::build(&bounds);
+        World {
+            objects,
+            meshes,
+            prims,
+            bvh,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    pub fn primitive_count(&self) -> usize {
+        self.prims.len()
+    }
+
+    /// The closest surface along the ray within (tmin, tmax).
+    pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        let shear = RayShear::new(ray);
+        let mut cand = Candidate::default();
+        let (prim, t) = self.bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
+            let (t, c) = self.intersect_prim(self.prims[i as usize], ray, &shear, tmin, tmax)?;
+            cand = c;
+            Some(t)
+        })?;
+        Some(self.make_hit(self.prims[prim as usize], ray, t, cand))
+    }
+
+    /// Fraction of light passing along the ray within (tmin, tmax): `None`
+    /// when an opaque surface blocks it. Transparent surfaces let light
+    /// through attenuated by their transparency at every crossing (without
+    /// bending it); light surfaces cast no shadow.
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        transparency: &[f32],
+    ) -> Option<f32> {
+        let shear = RayShear::new(ray);
+        let mut trans = 1.0f32;
+        let blocked = self.bvh.any_hit(ray, tmin, tmax, |i, tmax| {
+            let prim = self.prims[i as usize];
+            let o = &self.objects[prim_object(prim) as usize];
+            if o.light.is_some() {
+                return false;
+            }
+            let crossings = self.count_crossings(prim, ray, &shear, tmin, tmax);
+            if crossings == 0 {
+                return false;
+            }
+            let kt = transparency[o.material as usize];
+            trans *= kt.powi(crossings);
+            trans <= 0.0
+        });
+        (!blocked).then_some(trans)
+    }
+
+    fn count_crossings(
+        &self,
+        prim: Prim,
+        ray: &Ray,
+        shear: &RayShear,
+        tmin: f32,
+        tmax: f32,
+    ) -> i32 {
+        let Some((t, _)) = self.intersect_prim(prim, ray, shear, tmin, tmax) else {
+            return 0;
+        };
+        // A sphere can be crossed twice within the segment (in and out).
+        let second = match (prim, &self.objects[prim_object(prim) as usize].shape) {
+            (Prim::Object { .. }, Shape::Sphere { .. }) => {
+                self.intersect_prim(prim, ray, shear, t, tmax).is_some()
+            }
+            _ => false,
+        };
+        1 + i32::from(second)
+    }
+
+    fn intersect_prim(
+        &self,
+        prim: Prim,
+        ray: &Ray,
+        shear: &RayShear,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, Candidate)> {
+        match prim {
+            Prim::Triangle { object, tri } => {
+                let Shape::Mesh { mesh } = self.objects[object as usize].shape else {
+                    return None;
+                };
+                let [p0, p1, p2] = self.meshes[mesh as usize].vertices(tri as usize);
+                let (t, b1, b2) = intersect_triangle(ray, shear, p0, p1, p2, tmin, tmax)?;
+                Some((t, Candidate { b1, b2, inner: tri }))
+            }
+            Prim::Object { object } => {
+                let o = &self.objects[object as usize];
+                match o.motion {
+                    None => self.intersect_shape(o, ray, shear, tmin, tmax),
+                    Some(m) => {
+                        let (local, _) = m.to_object(ray);
+                        self.intersect_shape(o, &local, &RayShear::new(&local), tmin, tmax)
+                    }
+                }
+            }
+        }
+    }
+
+    fn intersect_shape(
+        &self,
+        o: &Object,
+        ray: &Ray,
+        shear: &RayShear,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, Candidate)> {
+        match &o.shape {
+            Shape::Sphere { center, radius } => intersect_sphere(ray, *center, *radius, tmin, tmax)
+                .map(|t| (t, Candidate::default())),
+            Shape::Quad(q) => q
+                .intersect(ray, tmin, tmax)
+                .map(|(t, b1, b2)| (t, Candidate { b1, b2, inner: 0 })),
+            Shape::Disk {
+                center,
+                frame,
+                radius,
+            } => intersect_disk(ray, *center, frame.n, *radius, tmin, tmax)
+                .map(|t| (t, Candidate::default())),
+            Shape::Mesh { mesh } => {
+                let m = &self.meshes[*mesh as usize];
+                let bvh = o.mesh_bvh.as_ref()?;
+                let mut cand = Candidate::default();
+                let (tri, t) = bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
+                    let [p0, p1, p2] = m.vertices(i as usize);
+                    let (t, b1, b2) = intersect_triangle(ray, shear, p0, p1, p2, tmin, tmax)?;
+                    cand = Candidate { b1, b2, inner: i };
+                    Some(t)
+                })?;
+                cand.inner = tri;
+                Some((t, cand))
+            }
+        }
+    }
+
+    fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
+        let object = prim_object(prim);
+        let o = &self.objects[object as usize];
+        let (local_ray, to_world) = match (prim, o.motion) {
+            (Prim::Object { .. }, Some(m)) => {
+                let (r, mat) = m.to_object(ray);
+                (r, Some(mat))
+            }
+            _ => (*ray, None),
+        };
+        let p = local_ray.at(t);
+        let (ng, ns) = self.local_normals(o, c, p);
+        let (point, ng, ns) = match to_world {
+            None => (ray.at(t), ng, ns),
+            Some(m) => {
+                let nm = m.inverse().transpose();
+                (
+                    m.transform_point3(p),
+                    nm.transform_vector3(ng).normalize_or_zero(),
+                    nm.transform_vector3(ns).normalize_or_zero(),
+                )
+            }
+        };
+        let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
+        Hit {
+            t,
+            point,
+            ng,
+            ns,
+            material: o.material,
+            light: o.light,
+        }
+    }
+
+    fn local_normals(&self, o: &Object, c: Candidate, p: Vec3) -> (Vec3, Vec3) {
+        match &o.shape {
+            Shape::Sphere { center, .. } => {
+                let n = (p - *center).normalize_or_zero();
+                (n, n)
+            }
+            Shape::Quad(q) => (q.normal, q.normal),
+            Shape::Disk { frame, .. } => (frame.n, frame.n),
+            Shape::Mesh { mesh } => {
+                let m = &self.meshes[*mesh as usize];
+                let [p0, p1, p2] = m.vertices(c.inner as usize);
+                let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                let ns = m.shading_normal(c.inner as usize, c.b1, c.b2).unwrap_or(ng);
+                (ng, ns)
+            }
+        }
+    }
+}
+
+fn prim_object(p: Prim) -> u32 {
+    match p {
+        Prim::Triangle { object, .. } | Prim::Object { object } => object,
+    }
+}
+
+fn shape_bounds(shape: &Shape, meshes: &[Mesh]) -> Aabb {
+    match shape {
+        Shape::Sphere { center, radius } => Aabb::new(
+            *center - Vec3::splat(*radius),
+            *center + Vec3::splat(*radius),
+        ),
+        Shape::Quad(q) => Aabb::from_points([
+            q.origin,
+            q.point(1.0, 0.0),
+            q.point(0.0, 1.0),
+            q.point(1.0, 1.0),
+        ]),
+        Shape::Disk {
+            center,
+            frame,
+            radius,
+        } => {
+            let e = Vec3::ONE - frame.n * frame.n;
+            let r = *radius * Vec3::from_array(e.max(Vec3::ZERO).to_array().map(f32::sqrt));
+            Aabb::new(*center - r, *center + r)
+        }
+        Shape::Mesh { mesh } => meshes[*mesh as usize].bounds(),
+    }
+}
+
+/// Ray–disk intersection: the plane hit, then a distance test to the centre.
+fn intersect_disk(ray: &Ray, c: Vec3, n: Vec3, r: f32, tmin: f32, tmax: f32) -> Option<f32> {
+    let denom = n.dot(ray.dir);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = n.dot(c - ray.origin) / denom;
+    (t > tmin && t < tmax && (ray.at(t) - c).length_squared() <= r * r).then_some(t)
+}
+
+/// Builds the BVH of a mesh in its own space (moving meshes).
+pub fn mesh_bvh(mesh: &Mesh) -> Bvh {
+    let bounds: Vec<Aabb> = (0..mesh.triangles.len())
+        .map(|i| mesh.triangle_bounds(i))
+        .collect();
+    Bvh::build(&bounds)
+}
