@@ -1,0 +1,57 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use penumbra::integrator::RayStats;
+use penumbra::render::{render, Image, RenderOptions};
+use penumbra::scene::{LoadOptions, Scene, SceneError, SceneSource};
+
+pub fn scene(toml: &str) -> Scene {
+    try_scene(toml).unwrap_or_else(|e| panic!("scene should be valid: {e}"))
+}
+
+pub fn try_scene(toml: &str) -> Result<Scene, SceneError> {
+    SceneSource::from_toml(
+        toml,
+        Path::new("test.toml"),
+        Path::new("."),
+        &LoadOptions::default(),
+    )?
+    .build()
+}
+
+pub fn render_scene(s: &Scene, threads: usize) -> (Image, RayStats) {
+    let opts = RenderOptions {
+        threads: Some(threads),
+        region: None,
+    };
+    let (img, stats) = render(s, &opts, &|_, _| {}, None).expect("render");
+    (img, stats.rays)
+}
+
+pub fn render_toml(toml: &str) -> (Image, RayStats) {
+    render_scene(&scene(toml), 2)
+}
+
+/// The Stanford bunny if present (tests that need it skip otherwise).
+pub fn bunny() -> Option<PathBuf> {
+    let p = std::env::var_os("PENUMBRA_BUNNY")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bunny.ply")
+        });
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!(
+            "skipping: the Stanford bunny is not at {} (set PENUMBRA_BUNNY)",
+            p.display()
+        );
+        None
+    }
+}
+
+pub fn builtin(name: &str, bunny: Option<PathBuf>) -> SceneSource {
+    SceneSource::open(name, &LoadOptions { bunny }).expect("built-in scene")
+}

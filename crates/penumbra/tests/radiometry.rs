@@ -1,0 +1,289 @@
+//! Known-answer tests: rendered radiance against closed-form values.
+
+mod common;
+
+use std::f32::consts::PI;
+
+use common::*;
+use penumbra::math::Vec3;
+
+/// A camera straight above the origin looking down, 11x11 pixels: the centre
+/// pixel's single grid ray hits the floor exactly at the origin. It sits low,
+/// below every light, since light surfaces are visible and would hide the floor.
+fn looking_down(extra: &str) -> String {
+    format!(
+        r#"
+[render]
+width = 11
+height = 11
+max_depth = 3
+
+[camera]
+position = [0.0, 0.5, 0.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, -1.0]
+fov = 10
+
+[materials.floor]
+albedo = [0.5, 0.25, 0.1]
+
+[[objects]]
+type = "quad"
+material = "floor"
+origin = [-50.0, 0.0, -50.0]
+edge_u = [0.0, 0.0, 100.0]
+edge_v = [100.0, 0.0, 0.0]
+{extra}
+"#
+    )
+}
+
+fn centre(toml: &str) -> Vec3 {
+    let (img, _) = render_toml(toml);
+    img.get(5, 5)
+}
+
+fn assert_close(got: Vec3, want: Vec3, rel: f32) {
+    let err = ((got - want).abs() / want.max(Vec3::splat(1e-6))).max_element();
+    assert!(
+        err <= rel,
+        "got {got:?}, want {want:?} (relative error {err})"
+    );
+}
+
+#[test]
+fn point_light_at_the_foot_gives_rho_i_over_pi_h2() {
+    let h = 2.0;
+    let i = 10.0;
+    let toml = looking_down(&format!(
+        "[[lights]]\ntype = \"point\"\nposition = [0.0, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
+    ));
+    let want = Vec3::new(0.5, 0.25, 0.1) * i / (PI * h * h);
+    assert_close(centre(&toml), want, 1e-4);
+}
+
+#[test]
+fn point_light_off_axis_follows_cosine_over_r2() {
+    // Light at (x, h): irradiance I cos θ / r² = I h / r³.
+    let (x, h, i) = (1.5f32, 2.0f32, 8.0f32);
+    let toml = looking_down(&format!(
+        "[[lights]]\ntype = \"point\"\nposition = [{x}, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
+    ));
+    let r = (x * x + h * h).sqrt();
+    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (i * h / (r * r * r));
+    assert_close(centre(&toml), want, 1e-4);
+}
+
+#[test]
+fn sphere_light_with_one_ray_is_exact() {
+    // An unoccluded sphere light fully above the horizon: E = L π (R/d)² cos θ.
+    let (d, r, l) = (2.5f32, 0.4f32, 6.0f32);
+    let toml = looking_down(&format!(
+        "[[lights]]\ntype = \"sphere\"\ncenter = [0.0, {d}, 0.0]\nradius = {r}\nradiance = [{l}, {l}, {l}]\nmodel = \"thesis\"\n"
+    ));
+    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (l * PI * (r / d) * (r / d));
+    assert_close(centre(&toml), want, 1e-4);
+}
+
+/// Irradiance at the origin (normal +y) from a polygon of constant radiance
+/// `l`: E = l/2 · Σ Θ_i (n · unit(v_i × v_{i+1})), the classic contour integral.
+fn polygon_irradiance(vertices: &[Vec3], l: f32) -> f32 {
+    let n = Vec3::Y;
+    let mut sum = 0.0;
+    for k in 0..vertices.len() {
+        let a = vertices[k].normalize();
+        let b = vertices[(k + 1) % vertices.len()].normalize();
+        let theta = a.dot(b).clamp(-1.0, 1.0).acos();
+        sum += theta * n.dot(a.cross(b).normalize());
+    }
+    0.5 * l * sum.abs()
+}
+
+#[test]
+fn surface_model_converges_to_rectangle_irradiance() {
+    let l = 10.0;
+    let (o, eu, ev) = (
+        Vec3::new(-0.3, 1.5, -0.8),
+        Vec3::new(1.2, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.9),
+    );
+    let light = format!(
+        "[[lights]]\ntype = \"rect\"\norigin = {:?}\nedge_u = {:?}\nedge_v = {:?}\nradiance = [{l}, {l}, {l}]\nmodel = \"surface\"\nshadow_rays = 4096\nshadow_distribution = \"jitter\"\n",
+        o.to_array(),
+        eu.to_array(),
+        ev.to_array()
+    );
+    // The light faces down: edge_u × edge_v = (0, -1.08, 0).
+    let e = polygon_irradiance(&[o, o + eu, o + eu + ev, o + ev], l);
+    let want = Vec3::new(0.5, 0.25, 0.1) / PI * e;
+    assert_close(centre(&looking_down(&light)), want, 5e-3);
+}
+
+#[test]
+fn surface_model_converges_for_disk_and_sphere_lights() {
+    let l = 5.0;
+    // Disk of radius a facing down at height h above the point: E = π L a² / (h² + a²).
+    let (a, h) = (0.7f32, 1.3f32);
+    let disk = format!(
+        "[[lights]]\ntype = \"disk\"\ncenter = [0.0, {h}, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {a}\nradiance = [{l}, {l}, {l}]\nshadow_rays = 4096\nshadow_distribution = \"jitter\"\n"
+    );
+    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (PI * l * a * a / (h * h + a * a));
+    assert_close(centre(&looking_down(&disk)), want, 5e-3);
+    // A sphere light off to the side, fully above the horizon.
+    let (c, r) = (Vec3::new(0.8, 1.6, 0.3), 0.5f32);
+    let sphere = format!(
+        "[[lights]]\ntype = \"sphere\"\ncenter = {:?}\nradius = {r}\nradiance = [{l}, {l}, {l}]\nshadow_rays = 4096\nshadow_distribution = \"jitter\"\n",
+        c.to_array()
+    );
+    let cos = c.normalize().y;
+    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (l * PI * r * r / c.length_squared() * cos);
+    assert_close(centre(&looking_down(&sphere)), want, 5e-3);
+}
+
+#[test]
+fn perfect_mirror_shows_the_background_exactly() {
+    let toml = r#"
+[render]
+width = 9
+height = 9
+background = [0.3, 0.6, 0.9]
+
+[camera]
+position = [0.0, 0.0, 3.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 10
+
+[materials.mirror]
+albedo = [0.0, 0.0, 0.0]
+reflectivity = 1.0
+
+[[objects]]
+type = "quad"
+material = "mirror"
+origin = [-5.0, -5.0, 0.0]
+edge_u = [10.0, 0.0, 0.0]
+edge_v = [0.0, 10.0, 0.0]
+"#;
+    let (img, stats) = render_toml(toml);
+    assert_eq!(img.get(4, 4), Vec3::new(0.3, 0.6, 0.9));
+    assert_eq!(stats.reflection, 81, "one mirror ray per pixel");
+}
+
+#[test]
+fn glass_slab_at_normal_incidence_transmits_one_minus_fresnel_squared() {
+    // A slab of thickness 0.1, max depth 2: the camera ray refracts in and out;
+    // each interface transmits 1 - F with F = 0.04 at normal incidence; the
+    // background behind has radiance 1. Fresnel reflections see black.
+    let toml = r#"
+[render]
+width = 9
+height = 9
+max_depth = 2
+background = [1.0, 1.0, 1.0]
+
+[camera]
+position = [0.0, 0.0, 3.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 5
+
+[materials.glass]
+albedo = [0.0, 0.0, 0.0]
+transparency = 1.0
+ior = 1.5
+translucency = 0.0
+
+[materials.black]
+albedo = [0.0, 0.0, 0.0]
+
+[[objects]]
+type = "quad"
+material = "glass"
+origin = [-5.0, -5.0, 0.0]
+edge_u = [10.0, 0.0, 0.0]
+edge_v = [0.0, 10.0, 0.0]
+
+[[objects]]
+type = "quad"
+material = "glass"
+origin = [-5.0, -5.0, -0.1]
+edge_u = [0.0, 10.0, 0.0]
+edge_v = [10.0, 0.0, 0.0]
+
+# A black wall behind the camera so the Fresnel reflections add nothing.
+[[objects]]
+type = "quad"
+material = "black"
+origin = [-50.0, -50.0, 10.0]
+edge_u = [100.0, 0.0, 0.0]
+edge_v = [0.0, 100.0, 0.0]
+"#;
+    let (img, _) = render_toml(toml);
+    let want = (1.0f32 - 0.04) * (1.0 - 0.04);
+    assert_close(img.get(4, 4), Vec3::splat(want), 1e-3);
+}
+
+#[test]
+fn energy_is_never_created() {
+    // A closed white room lit by one light: every pixel is bounded by the
+    // brightest possible single bounce, and mirrors/glass only redistribute.
+    let toml = r#"
+[render]
+width = 24
+height = 24
+max_depth = 6
+shadow_rays = 4
+reflection_rays = 2
+refraction_rays = 2
+
+[camera]
+position = [0.0, 1.0, 2.5]
+look_at = [0.0, 1.0, 0.0]
+fov = 60
+
+[materials.white]
+albedo = [1.0, 1.0, 1.0]
+
+[materials.mirror]
+albedo = [0.0, 0.0, 0.0]
+reflectivity = 1.0
+glossiness = 0.1
+
+[materials.glass]
+albedo = [0.0, 0.0, 0.0]
+transparency = 1.0
+translucency = 0.05
+
+[[objects]]
+type = "sphere"
+material = "mirror"
+center = [-0.5, 0.5, 0.0]
+radius = 0.4
+
+[[objects]]
+type = "sphere"
+material = "glass"
+center = [0.5, 0.5, 0.0]
+radius = 0.4
+
+[[objects]]
+type = "quad"
+material = "white"
+origin = [-3.0, 0.0, -3.0]
+edge_u = [0.0, 0.0, 6.0]
+edge_v = [6.0, 0.0, 0.0]
+
+[[lights]]
+type = "point"
+position = [0.0, 2.0, 1.0]
+intensity = [1.0, 1.0, 1.0]
+"#;
+    let (img, _) = render_toml(toml);
+    // The brightest diffuse point: albedo/π · I / r² with r ≥ 1 (light at height 2, floor at 0... r ≥ 2).
+    let bound = 1.0 / PI * 1.0 / 4.0;
+    for p in &img.pixels {
+        assert!(
+            p.max_element() <= bound * 1.0001,
+            "pixel {p:?} exceeds the single-bounce bound {bound}"
+        );
+    }
+}
