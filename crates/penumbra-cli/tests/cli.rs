@@ -1,0 +1,211 @@
+//! The `penumbra` binary as a user meets it: exit codes, messages, outputs.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn penumbra(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("PENUMBRA_BUNNY")
+        .output()
+        .expect("run penumbra")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const SMALL: &[&str] = &["--width", "32", "--height", "24", "--quiet"];
+
+#[test]
+fn renders_the_default_scene_with_stats() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = vec!["render", "-o", "out.png", "--stats", "stats.json"];
+    args.extend_from_slice(SMALL);
+    let o = penumbra(&args, dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(dir.path().join("out.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (32, 24));
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("stats.json")).unwrap()).unwrap();
+    for key in ["primary", "shadow", "reflection", "refraction", "total"] {
+        assert!(stats["rays"][key].is_u64(), "rays.{key} missing: {stats}");
+    }
+    let rays = &stats["rays"];
+    let sum: u64 = ["primary", "shadow", "reflection", "refraction"]
+        .iter()
+        .map(|k| rays[k].as_u64().unwrap())
+        .sum();
+    assert_eq!(sum, rays["total"].as_u64().unwrap());
+    assert_eq!(
+        rays["primary"].as_u64().unwrap(),
+        32 * 24 * stats["spp"].as_u64().unwrap()
+    );
+    assert!(stats["time"]["build_s"].is_f64() && stats["time"]["render_s"].is_f64());
+    assert!(stats["mrays_per_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(
+        (stats["width"].as_u64(), stats["height"].as_u64()),
+        (Some(32), Some(24))
+    );
+    assert!(stats["threads"].as_u64().unwrap() >= 1);
+}
+
+#[test]
+fn exr_output_and_thread_counts_agree_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    for (t, name) in [("1", "a.exr"), ("2", "b.exr")] {
+        let mut args = vec!["render", "-o", name, "--threads", t];
+        args.extend_from_slice(SMALL);
+        let o = penumbra(&args, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let a = std::fs::read(dir.path().join("a.exr")).unwrap();
+    let b = std::fs::read(dir.path().join("b.exr")).unwrap();
+    assert!(a == b, "1 and 2 threads wrote different files");
+}
+
+#[test]
+fn a_bad_scene_exits_2_and_leaves_the_old_image_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        "[render]\nwidth = 10\nspp = -3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("out.png"), b"old image").unwrap();
+    let o = penumbra(&["render", "bad.toml", "-o", "out.png"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("bad.toml:3:7:") && e.contains("spp"), "{e}");
+    assert_eq!(
+        std::fs::read(dir.path().join("out.png")).unwrap(),
+        b"old image"
+    );
+}
+
+#[test]
+fn malformed_meshes_exit_2_with_their_location() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("m.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[[objects]]\ntype = \"mesh\"\npath = \"m.ply\"\n",
+    )
+    .unwrap();
+    let o = penumbra(&["render", "s.toml", "-o", "x.png"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("s.toml:3:8:") && e.contains("m.ply"), "{e}");
+    assert!(!dir.path().join("x.png").exists());
+}
+
+#[test]
+fn bad_arguments_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        vec!["render", "--width", "0"],
+        vec!["render", "-o", "out.jpg"],
+        vec!["render", "-o", "no/such/dir/out.png"],
+        vec!["render", "no-such-scene"],
+        vec!["render", "--distribution", "sobol"],
+        vec!["render", "--bogus"],
+        vec!["samples", "--distribution", "nope", "--count", "4"],
+    ] {
+        let o = penumbra(&args, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).is_empty());
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "nothing may be written"
+    );
+}
+
+#[test]
+fn unknown_scene_names_the_built_ins() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["render", "nope"], dir.path());
+    assert!(stderr(&o).contains("showcase") && stderr(&o).contains("bunny"));
+}
+
+#[test]
+fn bunny_scene_without_the_mesh_explains_how_to_supply_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["render", "bunny"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--bunny"), "{}", stderr(&o));
+}
+
+#[test]
+fn scenes_lists_every_built_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["scenes"], dir.path());
+    let out = String::from_utf8_lossy(&o.stdout);
+    for name in [
+        "showcase",
+        "bunny",
+        "bunny-reflect",
+        "bunny-mirror",
+        "bunny-glass",
+        "bunnies-dof",
+        "bunny-motion",
+    ] {
+        assert!(out.contains(name), "{name} missing from:\n{out}");
+    }
+}
+
+#[test]
+fn every_subcommand_has_help() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["render", "scenes", "samples"] {
+        let o = penumbra(&[sub, "--help"], dir.path());
+        assert!(o.status.success());
+        assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn samples_prints_json_in_trace_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(
+        &[
+            "samples",
+            "--distribution",
+            "grid",
+            "--count",
+            "9",
+            "--radius",
+            "2",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["distribution"], "grid");
+    assert_eq!(doc["count"], 9);
+    assert_eq!(doc["radius"], 2.0);
+    let pts = doc["points"].as_array().unwrap();
+    assert_eq!(pts.len(), 9);
+    assert!(pts.iter().all(|p| p.as_array().unwrap().len() == 2));
+    let o = penumbra(&["samples", "-d", "fast-random", "-c", "5"], dir.path());
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(doc["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|p| p.as_array().unwrap().len() == 3));
+    let o = penumbra(
+        &[
+            "samples", "-d", "all", "-c", "16", "-f", "png", "-o", "all.png",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(image::open(dir.path().join("all.png")).is_ok());
+}
