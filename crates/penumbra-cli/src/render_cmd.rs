@@ -7,11 +7,11 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
-use penumbra::render::{render, RenderOptions};
-use penumbra::scene::{LoadOptions, SceneDesc, SceneSource};
+use penumbra::render::{render, stats_document, RenderOptions};
+use penumbra::scene::{LoadOptions, Overrides, SceneSource};
 
 use crate::error::{input, other, CliError};
-use crate::report::{print_summary, stats_json};
+use crate::report::print_summary;
 use crate::{EffectArgs, RenderArgs};
 
 /// Renders shorter than this never show a progress bar.
@@ -28,7 +28,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         bunny: args.bunny.clone(),
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
-    apply_overrides(&mut source.desc, args);
+    overrides(args).apply(&mut source.desc);
     let scene = source.build().map_err(input)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
@@ -62,7 +62,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         );
     }
     write_image(&args.output, &image).map_err(other)?;
-    let json = stats_json(&args.scene, &scene, &stats);
+    let json = stats_document(&args.scene, &scene, &stats);
     if let Some(path) = &args.stats {
         let text = serde_json::to_string_pretty(&json).map_err(other)?;
         write_bytes(path, text.as_bytes()).map_err(other)?;
@@ -96,83 +96,26 @@ fn progress_bar(quiet: bool) -> ProgressBar {
     bar
 }
 
-/// Command-line values win over the file, including per-light and
-/// per-material ray counts and distributions.
-fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) {
-    let r = &mut desc.render;
-    set(&mut r.width, args.width.map(i64::from));
-    set(&mut r.height, args.height.map(i64::from));
-    set(&mut r.max_depth, args.max_depth.map(i64::from));
-    set(&mut r.seed, args.seed.map(i64::from));
-    apply_effects(desc, &args.effects);
-}
-
-fn apply_effects(desc: &mut SceneDesc, e: &EffectArgs) {
-    let r = &mut desc.render;
-    set(&mut r.spp, e.spp.map(i64::from));
-    set(&mut r.shadow_rays, e.shadow_rays.map(i64::from));
-    set(&mut r.reflection_rays, e.reflection_rays.map(i64::from));
-    set(&mut r.refraction_rays, e.refraction_rays.map(i64::from));
-    if let Some(d) = e.distribution {
-        r.distribution = d;
-        for slot in [
-            &mut r.pixel_distribution,
-            &mut r.lens_distribution,
-            &mut r.time_distribution,
-            &mut r.shadow_distribution,
-            &mut r.reflection_distribution,
-            &mut r.refraction_distribution,
-        ] {
-            *slot = None;
-        }
-    }
-    let pick = |cli: Option<_>, all: Option<_>| cli.or(all);
-    let shadow_d = pick(e.shadow_distribution, e.distribution);
-    let reflection_d = pick(e.reflection_distribution, e.distribution);
-    let refraction_d = pick(e.refraction_distribution, e.distribution);
-    set_opt(&mut r.pixel_distribution, e.pixel_distribution);
-    set_opt(&mut r.lens_distribution, e.lens_distribution);
-    set_opt(&mut r.time_distribution, e.time_distribution);
-    set_opt(&mut r.shadow_distribution, shadow_d);
-    set_opt(&mut r.reflection_distribution, reflection_d);
-    set_opt(&mut r.refraction_distribution, refraction_d);
-    for l in &mut desc.lights {
-        if e.shadow_rays.is_some() {
-            l.shadow_rays = None;
-        }
-        if shadow_d.is_some() {
-            l.shadow_distribution = None;
-        }
-    }
-    for m in desc.materials.values_mut() {
-        if e.reflection_rays.is_some() {
-            m.reflection_rays = None;
-        }
-        if e.refraction_rays.is_some() {
-            m.refraction_rays = None;
-        }
-        if reflection_d.is_some() {
-            m.reflection_distribution = None;
-        }
-        if refraction_d.is_some() {
-            m.refraction_distribution = None;
-        }
-    }
-    let c = &mut desc.camera;
-    set(&mut c.aperture, e.aperture);
-    if e.focal_distance.is_some() {
-        c.focal_distance = e.focal_distance;
-    }
-}
-
-fn set<T>(slot: &mut T, v: Option<T>) {
-    if let Some(v) = v {
-        *slot = v;
-    }
-}
-
-fn set_opt<T>(slot: &mut Option<T>, v: Option<T>) {
-    if v.is_some() {
-        *slot = v;
+/// Command-line values win over the file (see [`Overrides`]).
+fn overrides(args: &RenderArgs) -> Overrides {
+    let e: &EffectArgs = &args.effects;
+    Overrides {
+        width: args.width,
+        height: args.height,
+        max_depth: args.max_depth,
+        seed: args.seed,
+        spp: e.spp,
+        shadow_rays: e.shadow_rays,
+        reflection_rays: e.reflection_rays,
+        refraction_rays: e.refraction_rays,
+        distribution: e.distribution,
+        pixel_distribution: e.pixel_distribution,
+        lens_distribution: e.lens_distribution,
+        time_distribution: e.time_distribution,
+        shadow_distribution: e.shadow_distribution,
+        reflection_distribution: e.reflection_distribution,
+        refraction_distribution: e.refraction_distribution,
+        aperture: e.aperture,
+        focal_distance: e.focal_distance,
     }
 }

@@ -3,6 +3,7 @@
 
 mod film;
 mod pixel;
+mod report;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -12,6 +13,7 @@ use serde::Serialize;
 
 pub use film::Image;
 pub use pixel::render_pixel;
+pub use report::stats_document;
 
 use crate::integrator::RayStats;
 use crate::scene::Scene;

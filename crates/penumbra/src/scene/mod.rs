@@ -10,6 +10,7 @@ mod check;
 pub mod desc;
 pub mod error;
 mod load;
+mod overrides;
 pub mod source;
 pub mod world;
 
@@ -19,6 +20,7 @@ pub use build::BuildContext;
 pub use desc::SceneDesc;
 pub use error::SceneError;
 pub use load::{default_bunny_path, LoadOptions, SceneSource};
+pub use overrides::Overrides;
 
 use crate::camera::Camera;
 use crate::light::Light;

@@ -1,0 +1,40 @@
+use serde_json::{json, Value};
+
+use super::RenderStats;
+use crate::scene::Scene;
+
+/// The statistics document written by `--stats` and returned by the Python
+/// API; its schema is documented in `docs/statistics.md`.
+pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> Value {
+    let s = &scene.settings;
+    let r = &stats.rays;
+    let render_s = stats.render_time.as_secs_f64();
+    let mrays = if render_s > 0.0 {
+        r.total() as f64 / render_s / 1e6
+    } else {
+        0.0
+    };
+    json!({
+        "scene": scene_name,
+        "width": s.width,
+        "height": s.height,
+        "threads": stats.threads,
+        "seed": s.seed,
+        "spp": s.spp,
+        "max_depth": s.max_depth,
+        "primitives": scene.world.primitive_count(),
+        "rays": {
+            "primary": r.primary,
+            "shadow": r.shadow,
+            "reflection": r.reflection,
+            "refraction": r.refraction,
+            "total": r.total(),
+        },
+        "time": {
+            "build_s": scene.build_time.as_secs_f64(),
+            "render_s": render_s,
+        },
+        "mrays_per_s": mrays,
+        "bad_samples": stats.bad_samples,
+    })
+}
