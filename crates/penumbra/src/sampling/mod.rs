@@ -7,5 +7,7 @@ pub mod points;
 mod rng;
 pub mod warp;
 
-pub use distribution::Distribution;
+pub use distribution::{
+    poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
+};
 pub use rng::{mix64, Rng};

@@ -1,8 +1,313 @@
-//! TEMPORARY
+//! Pictures of ray distributions, like Figure 2.18 of the thesis: to check a
+//! distribution by eye and to document it.
+//!
+//! Deliberately minimal: plain pixels in an [`RgbImage`], a 5x7 bitmap font
+//! for the titles, no dependency beyond `image`.
+
+use image::{Rgb, RgbImage};
+
+use super::{Distribution, Rng};
 use crate::math::Vec3;
-pub fn draw_points(_p: &[Vec3], _r: f32, size: u32, _t: &str) -> image::RgbImage {
-    image::RgbImage::new(size, size)
+
+const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
+const OUTLINE: Rgb<u8> = Rgb([150, 150, 150]);
+const GUIDE: Rgb<u8> = Rgb([200, 200, 215]);
+const DOT: Rgb<u8> = Rgb([25, 55, 150]);
+const TEXT: Rgb<u8> = Rgb([20, 20, 20]);
+
+/// Draws `points` (their x and y; z is ignored, so fast-random shows its
+/// cube from above) on a `size x size` white image: the `[-r, r]^2` square
+/// outline, a small cross at the centre (the original ray), the radius-`r`
+/// circle when `title` names the `random` distribution (its domain), each
+/// point as a filled dot, and `title` at the top. Points that are not finite
+/// are skipped; a zero or non-finite radius is drawn as if it were 1.
+pub fn draw_points(points: &[Vec3], radius: f32, size: u32, title: &str) -> RgbImage {
+    let mut img = RgbImage::from_pixel(size, size, WHITE);
+    let layout = Layout::new(size, radius);
+    layout.draw_frame(
+        &mut img,
+        Distribution::from_name(title) == Some(Distribution::Random),
+    );
+    for p in points {
+        if let Some((x, y)) = layout.to_pixel(p.x, p.y) {
+            fill_disk(&mut img, x, y, layout.dot, DOT);
+        }
+    }
+    let scale = layout.scale;
+    let x = (i64::from(size) - text_width(title, scale)) / 2;
+    draw_text(&mut img, x, 3 * scale, title, scale, TEXT);
+    img
 }
-pub fn draw_all(_c: usize, _r: f32, _s: u64, size: u32) -> image::RgbImage {
-    image::RgbImage::new(size, size)
+
+/// All six distributions side by side (2 rows of 3 panels of `size x size`,
+/// in the order of [`Distribution::ALL`]), each with `count` points of radius
+/// `radius` and titled with its name. Panel `i` uses the stream
+/// `Rng::new(seed).derive(i)`, so the picture is reproducible.
+pub fn draw_all(count: usize, radius: f32, seed: u64, size: u32) -> RgbImage {
+    let mut img = RgbImage::from_pixel(3 * size, 2 * size, WHITE);
+    let root = Rng::new(seed);
+    let mut points = Vec::new();
+    for (i, d) in Distribution::ALL.into_iter().enumerate() {
+        d.generate(count, radius, &mut root.derive(i as u64), &mut points);
+        let panel = draw_points(&points, radius, size, d.name());
+        let (col, row) = (i as u32 % 3, i as u32 / 3);
+        blit(&mut img, &panel, col * size, row * size);
+    }
+    img
+}
+
+/// Where things go in a panel: a title band on top, the square below it.
+struct Layout {
+    /// Pixel size of one font pixel, and the unit of margins.
+    scale: i64,
+    /// Top-left corner and side of the square, in pixels.
+    x0: f32,
+    y0: f32,
+    side: f32,
+    radius: f32,
+    dot: i64,
+}
+
+impl Layout {
+    fn new(size: u32, radius: f32) -> Self {
+        let size = i64::from(size);
+        let scale = (size / 120).max(1);
+        let band = 13 * scale;
+        let side = (size - band - 6 * scale).min(size - 12 * scale).max(1) as f32;
+        let usable = radius.is_finite() && radius != 0.0;
+        Layout {
+            scale,
+            x0: (size as f32 - side) / 2.0,
+            y0: band as f32,
+            side,
+            radius: if usable { radius.abs() } else { 1.0 },
+            dot: ((side / 60.0) as i64).max(2),
+        }
+    }
+
+    /// Pixel of the point `(x, y)` (y up), `None` if not finite.
+    fn to_pixel(&self, x: f32, y: f32) -> Option<(i64, i64)> {
+        let u = self.x0 + (x / self.radius + 1.0) * 0.5 * self.side;
+        let v = self.y0 + (1.0 - y / self.radius) * 0.5 * self.side;
+        (u.is_finite() && v.is_finite()).then(|| (u.round() as i64, v.round() as i64))
+    }
+
+    /// The outline, the centre cross and (under the outline) the circle.
+    fn draw_frame(&self, img: &mut RgbImage, circle: bool) {
+        let r = self.radius;
+        if circle {
+            let steps = (4.0 * self.side) as usize;
+            for k in 0..steps {
+                let (s, c) = (std::f32::consts::TAU * k as f32 / steps as f32).sin_cos();
+                if let Some((x, y)) = self.to_pixel(r * c, r * s) {
+                    put(img, x, y, GUIDE);
+                }
+            }
+        }
+        let corners = [(-r, -r), (r, -r), (r, r), (-r, r), (-r, -r)];
+        for w in corners.windows(2) {
+            self.line(img, w[0], w[1], OUTLINE);
+        }
+        let arm = 0.04 * r;
+        self.line(img, (-arm, 0.0), (arm, 0.0), GUIDE);
+        self.line(img, (0.0, -arm), (0.0, arm), GUIDE);
+    }
+
+    /// A straight line between two points in world units.
+    fn line(&self, img: &mut RgbImage, a: (f32, f32), b: (f32, f32), color: Rgb<u8>) {
+        let (Some(p), Some(q)) = (self.to_pixel(a.0, a.1), self.to_pixel(b.0, b.1)) else {
+            return;
+        };
+        let steps = (q.0 - p.0).abs().max((q.1 - p.1).abs()).max(1);
+        for k in 0..=steps {
+            let x = p.0 + (q.0 - p.0) * k / steps;
+            put(img, x, p.1 + (q.1 - p.1) * k / steps, color);
+        }
+    }
+}
+
+/// Sets a pixel, ignoring coordinates outside the image.
+fn put(img: &mut RgbImage, x: i64, y: i64, color: Rgb<u8>) {
+    if let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y)) {
+        if x < img.width() && y < img.height() {
+            img.put_pixel(x, y, color);
+        }
+    }
+}
+
+fn fill_disk(img: &mut RgbImage, cx: i64, cy: i64, r: i64, color: Rgb<u8>) {
+    for dy in -r..=r {
+        for dx in -r..=r {
+            if dx * dx + dy * dy <= r * r + r {
+                put(img, cx + dx, cy + dy, color);
+            }
+        }
+    }
+}
+
+fn blit(dst: &mut RgbImage, src: &RgbImage, x0: u32, y0: u32) {
+    for (x, y, &p) in src.enumerate_pixels() {
+        put(dst, i64::from(x0 + x), i64::from(y0 + y), p);
+    }
+}
+
+/// Width in pixels of `text` drawn at `scale` (5 columns and 1 of spacing
+/// per character).
+fn text_width(text: &str, scale: i64) -> i64 {
+    (6 * text.chars().count() as i64 - 1).max(0) * scale
+}
+
+/// Draws `text` with its top-left corner at `(x, y)`, each font pixel a
+/// `scale x scale` block. Upper case is drawn as lower case; characters
+/// without a glyph are left blank.
+fn draw_text(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: i64, color: Rgb<u8>) {
+    for (i, c) in text.chars().enumerate() {
+        let Some(rows) = glyph(c.to_ascii_lowercase()) else {
+            continue;
+        };
+        let left = x + 6 * scale * i as i64;
+        for (row, bits) in rows.iter().enumerate() {
+            for col in 0..5 {
+                if bits & (0b10000 >> col) != 0 {
+                    let (px, py) = (left + col * scale, y + row as i64 * scale);
+                    fill_block(img, px, py, scale, color);
+                }
+            }
+        }
+    }
+}
+
+fn fill_block(img: &mut RgbImage, x: i64, y: i64, scale: i64, color: Rgb<u8>) {
+    for dy in 0..scale {
+        for dx in 0..scale {
+            put(img, x + dx, y + dy, color);
+        }
+    }
+}
+
+/// The 5x7 bitmap of `c`: seven rows, the five low bits of each, the
+/// leftmost column in bit 4. Digits, lower-case letters, '-' and ' '.
+/// Letters with descenders are raised to fit the seven rows.
+fn glyph(c: char) -> Option<[u8; 7]> {
+    let rows = match c {
+        '0' => [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E],
+        '1' => [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E],
+        '2' => [0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F],
+        '3' => [0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E],
+        '4' => [0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02],
+        '5' => [0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E],
+        '6' => [0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E],
+        '7' => [0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08],
+        '8' => [0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E],
+        '9' => [0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C],
+        _ => return letter(c),
+    };
+    Some(rows)
+}
+
+fn letter(c: char) -> Option<[u8; 7]> {
+    let rows = match c {
+        'a' => [0x00, 0x00, 0x0E, 0x01, 0x0F, 0x11, 0x0F],
+        'b' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E],
+        'c' => [0x00, 0x00, 0x0E, 0x10, 0x10, 0x11, 0x0E],
+        'd' => [0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F],
+        'e' => [0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E],
+        'f' => [0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08],
+        'g' => [0x00, 0x00, 0x0F, 0x11, 0x0F, 0x01, 0x0E],
+        'h' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11],
+        'i' => [0x04, 0x00, 0x0C, 0x04, 0x04, 0x04, 0x0E],
+        'j' => [0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0C],
+        'k' => [0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12],
+        'l' => [0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E],
+        'm' => [0x00, 0x00, 0x1A, 0x15, 0x15, 0x11, 0x11],
+        'n' => [0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11],
+        'o' => [0x00, 0x00, 0x0E, 0x11, 0x11, 0x11, 0x0E],
+        'p' => [0x00, 0x00, 0x1E, 0x11, 0x1E, 0x10, 0x10],
+        'q' => [0x00, 0x00, 0x0D, 0x13, 0x0F, 0x01, 0x01],
+        'r' => [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10],
+        's' => [0x00, 0x00, 0x0E, 0x10, 0x0E, 0x01, 0x1E],
+        't' => [0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06],
+        'u' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0D],
+        'v' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x0A, 0x04],
+        'w' => [0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0A],
+        'x' => [0x00, 0x00, 0x11, 0x0A, 0x04, 0x0A, 0x11],
+        'y' => [0x00, 0x00, 0x11, 0x11, 0x0F, 0x01, 0x0E],
+        'z' => [0x00, 0x00, 0x1F, 0x02, 0x04, 0x08, 0x1F],
+        '-' => [0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00],
+        ' ' => [0x00; 7],
+        _ => return None,
+    };
+    Some(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn is_white(p: &Rgb<u8>) -> bool {
+        *p == WHITE
+    }
+
+    #[test]
+    fn font_covers_digits_letters_and_dash() {
+        let chars = ('0'..='9').chain('a'..='z').chain(['-']);
+        for c in chars {
+            let rows = glyph(c).unwrap_or_default();
+            assert!(rows.iter().any(|&r| r != 0), "no glyph for {c:?}");
+            assert!(rows.iter().all(|&r| r < 32), "{c:?} wider than 5");
+        }
+        assert_eq!(glyph(' '), Some([0; 7]));
+        assert_eq!(glyph('?'), None);
+        let distinct: std::collections::HashSet<_> = ('a'..='z').filter_map(glyph).collect();
+        assert_eq!(distinct.len(), 26, "two letters share a glyph");
+    }
+
+    #[test]
+    fn points_land_where_they_should() {
+        let size = 200;
+        let img = draw_points(&[Vec3::ZERO, Vec3::new(0.5, 0.5, 0.0)], 1.0, size, "grid");
+        let layout = Layout::new(size, 1.0);
+        for (x, y) in [(0.0, 0.0), (0.5, 0.5)] {
+            let (px, py) = layout.to_pixel(x, y).unwrap_or((-1, -1));
+            assert_eq!(img.get_pixel(px as u32, py as u32), &DOT, "({x}, {y})");
+        }
+        // Empty quadrant interior stays white; the title band has ink.
+        let (qx, qy) = layout.to_pixel(-0.5, -0.5).unwrap_or((0, 0));
+        assert!(is_white(img.get_pixel(qx as u32, qy as u32)));
+        let band = (0..size).flat_map(|x| (0..12).map(move |y| (x, y)));
+        assert!(band.into_iter().any(|(x, y)| img.get_pixel(x, y) == &TEXT));
+    }
+
+    #[test]
+    fn circle_only_for_random() {
+        let size = 200;
+        let layout = Layout::new(size, 1.0);
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        let on_circle = |img: &RgbImage| {
+            let (x, y) = layout.to_pixel(h, h).unwrap_or((0, 0));
+            let near = (-1..=1).flat_map(|dx| (-1..=1).map(move |dy| (x + dx, y + dy)));
+            near.into_iter()
+                .any(|(x, y)| img.get_pixel(x as u32, y as u32) == &GUIDE)
+        };
+        assert!(on_circle(&draw_points(&[], 1.0, size, "random")));
+        assert!(!on_circle(&draw_points(&[], 1.0, size, "jitter")));
+    }
+
+    #[test]
+    fn draw_all_has_six_panels_and_odd_inputs_are_safe() {
+        let img = draw_all(16, 1.0, 7, 120);
+        assert_eq!((img.width(), img.height()), (360, 240));
+        for (col, row) in [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (2, 1)] {
+            let ink = (0..120)
+                .flat_map(|x| (20..120).map(move |y| (x, y)))
+                .filter(|&(x, y)| img.get_pixel(col * 120 + x, row * 120 + y) == &DOT)
+                .count();
+            assert!(ink > 16 * 4, "panel ({col}, {row}) has {ink} dot pixels");
+        }
+        for size in [0, 1, 5, 13] {
+            let small = draw_points(&[Vec3::splat(f32::NAN), Vec3::ONE], f32::NAN, size, "x?");
+            assert_eq!(small.width(), size);
+        }
+        let _ = draw_all(0, -2.0, 0, 3);
+    }
 }
