@@ -104,6 +104,24 @@ pub struct EffectArgs {
     /// Distance to the plane in focus.
     #[arg(long, value_parser = parse_positive)]
     pub focal_distance: Option<f32>,
+    /// Turn on the acceleration metrics (thesis §3.4): stop a set of rays once more would not change it.
+    #[arg(long, overrides_with = "no_metric")]
+    pub metric: bool,
+    /// Turn the acceleration metrics off (the default unless the scene turns them on).
+    #[arg(long)]
+    pub no_metric: bool,
+    /// Relative change of a set's running average below which it stops (default 0.01).
+    #[arg(long, value_name = "T", value_parser = parse_nonneg)]
+    pub metric_threshold: Option<f32>,
+    /// α: rays always traced before the reflection/refraction metric applies (default 4).
+    #[arg(long, value_name = "ALPHA", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub metric_min_rays: Option<u32>,
+    /// k: shadow rays after which an all-lit or all-blocked set stops (default 4).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub shadow_metric_rays: Option<u32>,
+    /// Apply the metric to the primary rays of each pixel too.
+    #[arg(long)]
+    pub pixel_metric: bool,
 }
 
 /// Options of `penumbra samples`.

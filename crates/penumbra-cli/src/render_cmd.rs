@@ -117,5 +117,14 @@ fn overrides(args: &RenderArgs) -> Overrides {
         refraction_distribution: e.refraction_distribution,
         aperture: e.aperture,
         focal_distance: e.focal_distance,
+        metric: match (e.metric, e.no_metric) {
+            (true, _) => Some(true),
+            (_, true) => Some(false),
+            _ => None,
+        },
+        metric_threshold: e.metric_threshold,
+        metric_min_rays: e.metric_min_rays,
+        shadow_metric_rays: e.shadow_metric_rays,
+        pixel_metric: e.pixel_metric.then_some(true),
     }
 }

@@ -38,8 +38,10 @@
 //!   refraction budget and `translucency` radius (a rough interface blurs both),
 //!   and its rays are counted as reflection rays.
 
+mod metric;
 mod stats;
 mod tracer;
 
-pub use stats::RayStats;
+pub use metric::{change, Metric, RunningMean};
+pub use stats::{RayCounts, RayStats};
 pub use tracer::Tracer;

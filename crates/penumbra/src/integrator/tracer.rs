@@ -6,7 +6,7 @@ use crate::sampling::{Distribution, Rng};
 use crate::scene::world::Hit;
 use crate::scene::Scene;
 
-use super::RayStats;
+use super::{RayStats, RunningMean};
 
 const SHADOW: u64 = 1 << 32;
 const REFLECT_SET: u64 = 1;
@@ -119,31 +119,52 @@ impl<'a> Tracer<'a> {
         let n = light.shadow_rays();
         let d = light.shadow.distribution;
         let points = self.points(d, n, rng);
-        let mut sum = Rgb::ZERO;
+        let k = self
+            .scene
+            .settings
+            .metric
+            .map_or(u32::MAX, |m| m.shadow_rays);
+        let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for point in &points {
-            let Some(ls) = light.sample(s.p, *point, d) else {
-                continue;
-            };
-            let to = ls.target - s.p;
-            let wi = to.normalize_or_zero();
-            let cos = s.n.dot(wi);
-            if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
-                continue;
+            done += 1;
+            match self.shadow_ray(s, m, light, *point, d) {
+                Some(Some(c)) => (sum, reached) = (sum + c, reached + 1),
+                Some(None) => blocked += 1,
+                None => {}
             }
-            let origin = offset_origin(s.p, s.ng, wi);
-            self.stats.shadow += 1;
-            let shadow = Ray::new(origin, ls.target - origin, s.time);
-            let Some(t) =
-                self.scene
-                    .world
-                    .transmittance(&shadow, 0.0, SHADOW_END, &self.scene.transparency)
-            else {
-                continue;
-            };
-            sum += m.local_brdf(s.n, s.wo, wi) * ls.weight * (cos * t);
+            // The shadow metric: after k rays, all reached or all blocked.
+            if done == k && done < n && (reached == 0 || blocked == 0) && reached + blocked > 0 {
+                self.stats.saved.shadow += u64::from(n - done);
+                break;
+            }
         }
         self.pool.push(points);
-        sum / n as f32
+        sum / done.max(1) as f32
+    }
+
+    /// One shadow ray: `None` if not traced (the sample is below the horizon
+    /// or on the back of the light), `Some(None)` if blocked, else the
+    /// reflected radiance it brings.
+    fn shadow_ray(
+        &mut self,
+        s: &Local,
+        m: &Material,
+        light: &Light,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<Option<Rgb>> {
+        let ls = light.sample(s.p, point, d)?;
+        let wi = (ls.target - s.p).normalize_or_zero();
+        let cos = s.n.dot(wi);
+        if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+            return None;
+        }
+        let origin = offset_origin(s.p, s.ng, wi);
+        self.stats.shadow += 1;
+        let ray = Ray::new(origin, ls.target - origin, s.time);
+        let world = &self.scene.world;
+        let t = world.transmittance(&ray, 0.0, SHADOW_END, &self.scene.transparency);
+        Some(t.map(|t| m.local_brdf(s.n, s.wo, wi) * ls.weight * (cos * t)))
     }
 
     /// A dielectric interface: Fresnel-weighted reflection and refraction.
@@ -182,7 +203,8 @@ impl<'a> Tracer<'a> {
         // Rays must leave on the viewer's side for reflection, the other side for refraction.
         let side = if transmit { -s.ng } else { s.ng };
         let children = rng.derive(ray_tag);
-        let mut sum = Rgb::ZERO;
+        let metric = self.scene.settings.metric;
+        let mut mean = RunningMean::default();
         for (k, point) in points.iter().enumerate() {
             let mut w = if radius > 0.0 {
                 end_point(dir, dir, *point, radius, d)
@@ -200,10 +222,19 @@ impl<'a> Tracer<'a> {
                 self.stats.reflection += 1;
             }
             let child = Ray::new(offset_origin(s.p, s.ng, w), w, s.time);
-            sum += self.radiance(&child, depth + 1, children.derive(k as u64));
+            let l = self.radiance(&child, depth + 1, children.derive(k as u64));
+            if mean.push(l, metric.as_ref(), n) {
+                let saved = u64::from(n) - (k as u64 + 1);
+                if transmit {
+                    self.stats.saved.refraction += saved;
+                } else {
+                    self.stats.saved.reflection += saved;
+                }
+                break;
+            }
         }
         self.pool.push(points);
-        sum / n as f32
+        mean.mean()
     }
 
     /// The points of a distribution set, in trace order, from the buffer pool.

@@ -1,6 +1,6 @@
 use super::BadSample;
 use crate::camera::CameraSample;
-use crate::integrator::Tracer;
+use crate::integrator::{RunningMean, Tracer};
 use crate::material::Rgb;
 use crate::math::{Vec2, Vec3};
 use crate::sampling::points::unit_disk;
@@ -31,7 +31,8 @@ pub fn render_pixel(
     if cam.shutter[0] < cam.shutter[1] {
         s.time.generate_1d(n, &mut pixel.derive(2), &mut times);
     }
-    let mut sum = Rgb::ZERO;
+    let metric = s.metric.filter(|m| m.pixels);
+    let mut mean = RunningMean::default();
     for i in 0..n {
         let f = film[i];
         let sample = CameraSample {
@@ -43,16 +44,19 @@ pub fn render_pixel(
         };
         let ray = cam.generate_ray(&sample);
         tracer.stats.primary += 1;
-        let l = tracer.radiance(&ray, 0, pixel.derive(3 + i as u64));
-        if l.is_finite() {
-            sum += l;
-        } else {
+        let mut l = tracer.radiance(&ray, 0, pixel.derive(3 + i as u64));
+        if !l.is_finite() {
             bad.push(BadSample {
                 x,
                 y,
                 sample: i as u32,
             });
+            l = Rgb::ZERO;
+        }
+        if mean.push(l, metric.as_ref(), n as u32) {
+            tracer.stats.saved.primary += (n - i - 1) as u64;
+            break;
         }
     }
-    sum / n as f32
+    mean.mean()
 }

@@ -30,6 +30,19 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
             "refraction": r.refraction,
             "total": r.total(),
         },
+        "saved": {
+            "primary": r.saved.primary,
+            "shadow": r.saved.shadow,
+            "reflection": r.saved.reflection,
+            "refraction": r.saved.refraction,
+            "total": r.saved.total(),
+        },
+        "metric": s.metric.map(|m| json!({
+            "threshold": m.threshold,
+            "min_rays": m.min_rays,
+            "shadow_rays": m.shadow_rays,
+            "pixels": m.pixels,
+        })),
         "time": {
             "build_s": scene.build_time.as_secs_f64(),
             "render_s": render_s,

@@ -12,6 +12,7 @@ use crate::camera::Camera;
 use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
+use crate::integrator::Metric;
 use crate::io::mesh::{read_mesh, MeshError};
 use crate::light::{Light, LightShape, PenumbraModel};
 use crate::material::{EffectSpec, Material};
@@ -136,7 +137,23 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
         pixel: r.pixel_distribution.unwrap_or(r.distribution),
         lens: r.lens_distribution.unwrap_or(r.distribution),
         time: r.time_distribution.unwrap_or(r.distribution),
+        metric: metric(r, &p)?,
     })
+}
+
+fn metric(r: &RenderDesc, p: &KeyPath) -> Result<Option<Metric>, Invalid> {
+    let m = Metric {
+        threshold: range(&p.key("metric_threshold"), r.metric_threshold, 0.0, 1e6)?,
+        min_rays: int(&p.key("metric_min_rays"), r.metric_min_rays, 1, MAX_RAYS)?,
+        shadow_rays: int(
+            &p.key("shadow_metric_rays"),
+            r.shadow_metric_rays,
+            1,
+            MAX_RAYS,
+        )?,
+        pixels: r.pixel_metric,
+    };
+    Ok(r.metric.then_some(m))
 }
 
 fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {

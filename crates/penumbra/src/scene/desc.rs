@@ -48,6 +48,16 @@ pub struct RenderDesc {
     pub shadow_distribution: Option<Distribution>,
     pub reflection_distribution: Option<Distribution>,
     pub refraction_distribution: Option<Distribution>,
+    /// The acceleration metrics of thesis §3.4 (off: the plain algorithm).
+    pub metric: bool,
+    /// Relative change of a set's running average below which it stops.
+    pub metric_threshold: f32,
+    /// α: rays traced before the reflection/refraction metric applies.
+    pub metric_min_rays: i64,
+    /// k: shadow rays after which an all-lit or all-blocked set stops.
+    pub shadow_metric_rays: i64,
+    /// Apply the metric to the primary rays of a pixel as well.
+    pub pixel_metric: bool,
 }
 
 impl Default for RenderDesc {
@@ -69,6 +79,11 @@ impl Default for RenderDesc {
             shadow_distribution: None,
             reflection_distribution: None,
             refraction_distribution: None,
+            metric: false,
+            metric_threshold: 0.01,
+            metric_min_rays: 4,
+            shadow_metric_rays: 4,
+            pixel_metric: false,
         }
     }
 }

@@ -23,6 +23,7 @@ pub use load::{default_bunny_path, LoadOptions, SceneSource};
 pub use overrides::Overrides;
 
 use crate::camera::Camera;
+use crate::integrator::Metric;
 use crate::light::Light;
 use crate::material::{Material, Rgb};
 use crate::sampling::Distribution;
@@ -42,6 +43,8 @@ pub struct Settings {
     pub pixel: Distribution,
     pub lens: Distribution,
     pub time: Distribution,
+    /// The acceleration metrics, if on.
+    pub metric: Option<Metric>,
 }
 
 /// A validated scene ready to render. Immutable: rendering only reads it.

@@ -27,6 +27,12 @@ pub struct Overrides {
     pub refraction_distribution: Option<Distribution>,
     pub aperture: Option<f32>,
     pub focal_distance: Option<f32>,
+    /// Turn the acceleration metrics on or off.
+    pub metric: Option<bool>,
+    pub metric_threshold: Option<f32>,
+    pub metric_min_rays: Option<u32>,
+    pub shadow_metric_rays: Option<u32>,
+    pub pixel_metric: Option<bool>,
 }
 
 impl Overrides {
@@ -68,6 +74,14 @@ impl Overrides {
             clear_if(&mut m.reflection_distribution, reflection_d.is_some());
             clear_if(&mut m.refraction_distribution, refraction_d.is_some());
         }
+        set(&mut r.metric, self.metric);
+        set(&mut r.metric_threshold, self.metric_threshold);
+        set(&mut r.metric_min_rays, self.metric_min_rays.map(i64::from));
+        set(
+            &mut r.shadow_metric_rays,
+            self.shadow_metric_rays.map(i64::from),
+        );
+        set(&mut r.pixel_metric, self.pixel_metric);
         set(&mut desc.camera.aperture, self.aperture);
         set_some(&mut desc.camera.focal_distance, self.focal_distance);
     }
