@@ -33,8 +33,7 @@ pub fn render_pixel(
     }
     let metric = s.metric.filter(|m| m.pixels);
     let mut mean = RunningMean::default();
-    for i in 0..n {
-        let f = film[i];
+    for (i, f) in film.iter().enumerate() {
         let sample = CameraSample {
             film: Vec2::new(x as f32 + 0.5 + f.x, y as f32 + 0.5 + f.y),
             lens: lens

@@ -63,7 +63,7 @@ pub fn disk_to_square(p: Vec2) -> Vec2 {
         (r, r * phi / FRAC_PI_4)
     } else if phi > FRAC_PI_4 && phi <= 3.0 * FRAC_PI_4 {
         (r * (PI / 2.0 - phi) / FRAC_PI_4, r)
-    } else if phi < -FRAC_PI_4 && phi >= -3.0 * FRAC_PI_4 {
+    } else if (-3.0 * FRAC_PI_4..-FRAC_PI_4).contains(&phi) {
         (-r * (-PI / 2.0 - phi) / FRAC_PI_4, -r)
     } else {
         let phi = if phi > 0.0 { phi - PI } else { phi + PI };
