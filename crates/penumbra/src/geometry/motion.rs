@@ -27,6 +27,31 @@ impl Similarity {
         Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
     }
 
+    /// Object-space point of a world point (the inverse, `S⁻¹ R⁻¹ (p − t)`,
+    /// without inverting a matrix).
+    #[inline]
+    pub fn point_to_local(&self, p: Vec3) -> Vec3 {
+        self.rotation.conjugate() * (p - self.translation) / self.scale
+    }
+
+    /// Object-space direction of a world direction (lengths change with scale).
+    #[inline]
+    pub fn vector_to_local(&self, v: Vec3) -> Vec3 {
+        self.rotation.conjugate() * v / self.scale
+    }
+
+    #[inline]
+    pub fn point_to_world(&self, p: Vec3) -> Vec3 {
+        self.rotation * (p * self.scale) + self.translation
+    }
+
+    /// World normal of an object-space normal: the inverse transpose of
+    /// `R S` is `R S⁻¹`.
+    #[inline]
+    pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
+        (self.rotation * (n / self.scale)).normalize_or_zero()
+    }
+
     fn lerp(&self, other: &Similarity, u: f32) -> Similarity {
         Similarity {
             scale: self.scale.lerp(other.scale, u),
@@ -48,22 +73,29 @@ pub struct Motion {
 const BOUND_STEPS: usize = 64;
 
 impl Motion {
-    /// World-from-object matrix at frame time `time` (clamped to [0, 1]).
-    pub fn matrix_at(&self, time: f32) -> Mat4 {
-        self.start.lerp(&self.end, time.clamp(0.0, 1.0)).matrix()
+    /// The placement at frame time `time` (clamped to [0, 1]).
+    #[inline]
+    pub fn at(&self, time: f32) -> Similarity {
+        self.start.lerp(&self.end, time.clamp(0.0, 1.0))
     }
 
-    /// Transforms a world ray into object space at the ray's time.
-    /// The direction is not renormalised, so hit distances `t` are shared.
-    pub fn to_object(&self, ray: &Ray) -> (Ray, Mat4) {
-        let m = self.matrix_at(ray.time);
-        let inv = m.inverse();
+    /// World-from-object matrix at frame time `time`.
+    pub fn matrix_at(&self, time: f32) -> Mat4 {
+        self.at(time).matrix()
+    }
+
+    /// Transforms a world ray into object space at the ray's time, with the
+    /// placement used. The direction is not renormalised, so hit distances
+    /// `t` are the same in both spaces.
+    #[inline]
+    pub fn to_object(&self, ray: &Ray) -> (Ray, Similarity) {
+        let s = self.at(ray.time);
         let r = Ray::new(
-            inv.transform_point3(ray.origin),
-            inv.transform_vector3(ray.dir),
+            s.point_to_local(ray.origin),
+            s.vector_to_local(ray.dir),
             ray.time,
         );
-        (r, m)
+        (r, s)
     }
 
     /// Conservative world bounds of object bounds `b` over the whole frame.
@@ -108,6 +140,26 @@ mod tests {
         let p = m.matrix_at(0.5).transform_point3(Vec3::X);
         let a = std::f32::consts::FRAC_PI_4;
         assert!((p - Vec3::new(1.0 + a.cos(), 0.0, -a.sin())).length() < 1e-5);
+    }
+
+    #[test]
+    fn local_and_world_round_trip() {
+        let s = Similarity {
+            scale: Vec3::new(2.0, 0.5, 3.0),
+            rotation: Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
+            translation: Vec3::new(-1.0, 4.0, 2.0),
+        };
+        let p = Vec3::new(0.3, -0.2, 0.9);
+        assert!((s.point_to_world(s.point_to_local(p)) - p).length() < 1e-5);
+        assert!((s.matrix().transform_point3(s.point_to_local(p)) - p).length() < 1e-5);
+        let n = Vec3::new(0.0, 1.0, 0.0);
+        let want = s
+            .matrix()
+            .inverse()
+            .transpose()
+            .transform_vector3(n)
+            .normalize();
+        assert!((s.normal_to_world(n) - want).length() < 1e-5);
     }
 
     #[test]

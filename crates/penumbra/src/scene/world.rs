@@ -251,25 +251,22 @@ impl World {
     fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
         let object = prim_object(prim);
         let o = &self.objects[object as usize];
-        let (local_ray, to_world) = match (prim, o.motion) {
+        let (local_ray, placement) = match (prim, o.motion) {
             (Prim::Object { .. }, Some(m)) => {
-                let (r, mat) = m.to_object(ray);
-                (r, Some(mat))
+                let (r, s) = m.to_object(ray);
+                (r, Some(s))
             }
             _ => (*ray, None),
         };
         let p = local_ray.at(t);
         let (ng, ns) = self.local_normals(o, c, p);
-        let (point, ng, ns) = match to_world {
+        let (point, ng, ns) = match placement {
             None => (ray.at(t), ng, ns),
-            Some(m) => {
-                let nm = m.inverse().transpose();
-                (
-                    m.transform_point3(p),
-                    nm.transform_vector3(ng).normalize_or_zero(),
-                    nm.transform_vector3(ns).normalize_or_zero(),
-                )
-            }
+            Some(s) => (
+                s.point_to_world(p),
+                s.normal_to_world(ng),
+                s.normal_to_world(ns),
+            ),
         };
         let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
         Hit {
