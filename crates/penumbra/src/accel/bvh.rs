@@ -695,7 +695,7 @@ fn split_range(refs: &mut [PrimRef], bounds: &Box4, cbounds: &Box4, depth: usize
                 continue;
             }
             let cost = half_area(lo, hi) * cnt as f32 + right_cost[i];
-            if best.map_or(true, |(c, _, _)| cost < c) {
+            if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, i));
             }
         }
