@@ -1,0 +1,286 @@
+"""``python -m penumbra``: render a scene here or on a Dask cluster.
+
+    python -m penumbra render SCENE -o OUT.exr [--scheduler tcp://HOST:PORT | --local-workers N]
+                              [--tile N] [render options of `penumbra render`]
+    python -m penumbra scenes
+
+Without ``--scheduler`` or ``--local-workers`` the render runs in this
+process, like the ``penumbra`` binary. With them it goes through
+:func:`penumbra.distributed.render`, the same code path as the tests, and
+gives the same pixels. Exit status as the binary's: 0 on success, 2 for
+invalid input (arguments, scene, mesh, output path), 1 otherwise (130 on
+Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from . import DISTRIBUTIONS, SceneError, load_scene, render, save_image, scenes
+
+INPUT_ERROR = 2
+OTHER_ERROR = 1
+
+
+class InputError(Exception):
+    """Bad arguments or output paths: exit status 2."""
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "scenes":
+            for name, description in scenes().items():
+                print(f"{name:16} {description}")
+            return 0
+        return _render(args)
+    except (InputError, SceneError, ValueError, TypeError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return INPUT_ERROR
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - the command line reports every failure
+        print(f"error: {e}", file=sys.stderr)
+        return OTHER_ERROR
+
+
+def _render(args: argparse.Namespace) -> int:
+    output = Path(args.output)
+    _check_output(output, (".png", ".exr"))
+    if args.stats:
+        _check_output(Path(args.stats), None)
+    scene = load_scene(args.scene, bunny=args.bunny)
+    options = {
+        name: getattr(args, name)
+        for name in (
+            "width",
+            "height",
+            "spp",
+            "shadow_rays",
+            "reflection_rays",
+            "refraction_rays",
+            "distribution",
+            "pixel_distribution",
+            "lens_distribution",
+            "time_distribution",
+            "shadow_distribution",
+            "reflection_distribution",
+            "refraction_distribution",
+            "aperture",
+            "focal_distance",
+            "max_depth",
+            "seed",
+            "metric",
+            "metric_threshold",
+            "metric_min_rays",
+            "shadow_metric_rays",
+            "pixel_metric",
+            "threads",
+        )
+        if getattr(args, name) is not None
+    }
+    bar = _Bar(args.quiet)
+    try:
+        if args.scheduler or args.local_workers:
+            image, stats = _render_distributed(scene, args, options, bar.update)
+        else:
+            image, stats = render(scene, progress=bar.update, **options)
+    finally:
+        bar.close()
+    save_image(output, image)
+    if args.stats:
+        _write_atomic(Path(args.stats), json.dumps(stats, indent=2) + "\n")
+    if not args.quiet:
+        _summary(output, stats)
+    return 0
+
+
+def _render_distributed(scene, args, options, progress):
+    # Imported here: a local render needs neither Dask nor its start-up time.
+    from distributed import Client, LocalCluster
+
+    from . import distributed
+
+    if args.scheduler:
+        with Client(args.scheduler) as client:
+            return distributed.render(
+                scene, client, tile=args.tile, retries=args.retries, progress=progress, **options
+            )
+    with LocalCluster(
+        n_workers=args.local_workers,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    ) as cluster, Client(cluster) as client:
+        return distributed.render(
+            scene, client, tile=args.tile, retries=args.retries, progress=progress, **options
+        )
+
+
+class _Bar:
+    """A tqdm progress bar fed by (done, total) callbacks; hidden when quiet,
+    when stderr is not a terminal, or when tqdm is not installed."""
+
+    def __init__(self, quiet: bool) -> None:
+        self._bar = None
+        self._enabled = not quiet and sys.stderr.isatty()
+
+    def update(self, done: int, total: int) -> None:
+        if not self._enabled:
+            return
+        if self._bar is None:
+            try:
+                from tqdm import tqdm
+            except ImportError:
+                self._enabled = False
+                return
+            self._bar = tqdm(total=total, unit="tile", desc="rendering", leave=False)
+        self._bar.n = done
+        self._bar.refresh()
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+
+
+def _check_output(path: Path, extensions: tuple[str, ...] | None) -> None:
+    if extensions and path.suffix.lower() not in extensions:
+        raise InputError(
+            f"{path}: unsupported output format; use .png (8-bit sRGB) or .exr (32-bit float linear)"
+        )
+    parent = path.parent
+    if str(parent) not in ("", ".") and not parent.is_dir():
+        raise InputError(f"{path}: directory {parent} does not exist")
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    directory = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=".penumbra-", suffix=".partial", dir=directory)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _summary(output: Path, stats: dict[str, Any]) -> None:
+    r, t = stats["rays"], stats["time"]
+    print(f"wrote {output} ({stats['width']}x{stats['height']})")
+    print(
+        f"rays: {r['primary']} primary, {r['shadow']} shadow, {r['reflection']} reflection, "
+        f"{r['refraction']} refraction, {r['total']} total"
+    )
+    line = f"time: build {t['build_s']:.3f} s, render {t['render_s']:.3f} s on {stats['threads']} threads"
+    if "wall_s" in t:
+        line += f" ({stats['workers']} workers, {stats['tiles']} tiles, wall {t['wall_s']:.3f} s)"
+    print(f"{line}, {stats['mrays_per_s']:.2f} Mrays/s")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"`{text}` must be at least 1")
+    return value
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m penumbra",
+        description="Render Penumbra scenes here or on a Dask cluster.",
+    )
+    sub = p.add_subparsers(dest="command", required=True)
+    sub.add_parser("scenes", help="list the built-in scenes")
+    r = sub.add_parser(
+        "render",
+        help="render a scene file or built-in scene to PNG or EXR",
+        description="Render a scene. Options override the scene file, as for `penumbra render`.",
+    )
+    r.add_argument("scene", nargs="?", default="showcase", help="scene file (TOML) or built-in name")
+    r.add_argument("-o", "--output", default="render.png", help="output image: .png or .exr")
+    where = r.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://host:8786")
+    where.add_argument(
+        "--local-workers",
+        type=_positive_int,
+        metavar="N",
+        help="start a local Dask cluster of N single-threaded worker processes",
+    )
+    r.add_argument("--tile", type=_positive_int, default=64, metavar="N", help="tile side in pixels (distributed)")
+    r.add_argument("--retries", type=int, default=3, metavar="N", help="retries per task (distributed)")
+    r.add_argument("--stats", metavar="PATH", help="write render statistics as JSON")
+    r.add_argument("--bunny", metavar="PATH", help="the Stanford bunny PLY for scenes that need it")
+    r.add_argument("-q", "--quiet", action="store_true", help="no progress bar, no summary")
+    for name, meaning in (
+        ("width", "image width (default from the scene)"),
+        ("height", "image height"),
+        ("spp", "primary rays per pixel"),
+        ("shadow-rays", "shadow rays per area light"),
+        ("reflection-rays", "rays per blurry reflection"),
+        ("refraction-rays", "rays per blurry refraction"),
+        ("max-depth", "levels of reflection/refraction rays"),
+        ("seed", "seed of every random number: the same seed gives the same pixels"),
+        ("threads", "render threads (per task when distributed, default 1 there)"),
+    ):
+        r.add_argument(f"--{name}", type=int, metavar="N", help=meaning)
+    r.add_argument(
+        "--distribution",
+        choices=DISTRIBUTIONS,
+        metavar="D",
+        help=f"distribution of every effect: {', '.join(DISTRIBUTIONS)}",
+    )
+    for name in ("pixel", "lens", "time", "shadow", "reflection", "refraction"):
+        r.add_argument(
+            f"--{name}-distribution", choices=DISTRIBUTIONS, metavar="D", help=f"{name} rays' distribution"
+        )
+    r.add_argument("--aperture", type=float, metavar="R", help="lens radius (0: pinhole)")
+    r.add_argument("--focal-distance", type=float, metavar="D", help="distance to the plane in focus")
+    # As in `penumbra render`, the last of --metric and --no-metric wins.
+    r.add_argument(
+        "--metric",
+        action="store_true",
+        default=None,
+        help="acceleration metrics (thesis §3.4): stop a set of rays once more would not change it",
+    )
+    r.add_argument(
+        "--no-metric", dest="metric", action="store_false", help="turn the acceleration metrics off"
+    )
+    r.add_argument(
+        "--metric-threshold",
+        type=float,
+        metavar="T",
+        help="relative change of a set's running average below which it stops",
+    )
+    r.add_argument(
+        "--metric-min-rays", type=int, metavar="ALPHA", help="rays traced before the metric applies"
+    )
+    r.add_argument(
+        "--shadow-metric-rays",
+        type=int,
+        metavar="K",
+        help="shadow rays after which an all-lit or all-blocked set stops",
+    )
+    r.add_argument(
+        "--pixel-metric",
+        action="store_true",
+        default=None,
+        help="apply the metric to the primary rays of each pixel too",
+    )
+    return p
+
+
+if __name__ == "__main__":
+    sys.exit(main())

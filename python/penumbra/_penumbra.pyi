@@ -1,0 +1,213 @@
+"""Type stubs of the Rust extension ``penumbra._penumbra`` (re-exported by ``penumbra``)."""
+
+import os
+from collections.abc import Callable
+from typing import Any, Literal, TypedDict, final
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+#: The six ray distributions, by name: grid, jitter, semi-jitter, poisson, random, fast-random.
+DISTRIBUTIONS: tuple[str, ...]
+
+#: The keyword arguments of ``render`` and ``render_region``.
+RENDER_OPTIONS: tuple[str, ...]
+
+DistributionName = Literal["grid", "jitter", "semi-jitter", "poisson", "random", "fast-random"]
+StrPath = str | os.PathLike[str]
+Image = npt.NDArray[np.float32]
+
+class SceneError(ValueError):
+    """An invalid scene or mesh; the message names ``file:line:column`` (or the key path for a dict)."""
+
+class Rays(TypedDict):
+    primary: int
+    shadow: int
+    reflection: int
+    refraction: int
+    total: int
+
+class Times(TypedDict, total=False):
+    build_s: float
+    render_s: float
+    wall_s: float  # distributed renders only
+
+class Stats(TypedDict, total=False):
+    """The document of ``penumbra render --stats`` (docs/statistics.md)."""
+
+    scene: str
+    width: int
+    height: int
+    threads: int
+    seed: int
+    spp: int
+    max_depth: int
+    primitives: int
+    rays: Rays
+    saved: Rays  # rays the acceleration metrics did not trace, where the library reports them
+    metric: dict[str, Any] | None
+    time: Times
+    mrays_per_s: float
+    bad_samples: int
+    region: list[int]  # render_region only: [x0, y0, x1, y1]
+
+class Settings(TypedDict):
+    width: int
+    height: int
+    seed: int
+    spp: int
+    max_depth: int
+    primitives: int
+    build_s: float
+    warnings: list[str]
+
+@final
+class Scene:
+    """A scene description from a TOML file, a built-in scene or a dict.
+
+    Holds the source text, not a built scene: it pickles small and rebuilds
+    (once per process, cached) where it is rendered.
+    """
+
+    @property
+    def name(self) -> str:
+        """What the stats call the scene (the path or built-in name, or the dict's name)."""
+    @property
+    def format(self) -> Literal["toml", "json"]:
+        """``"toml"`` for a file or built-in scene, ``"json"`` for a dict."""
+    @property
+    def text(self) -> str:
+        """The source text (TOML, or the JSON of the dict)."""
+    @property
+    def base_dir(self) -> str:
+        """The directory relative mesh paths are resolved against."""
+    @property
+    def bunny(self) -> str | None:
+        """The Stanford bunny PLY used for ``path = "@bunny"``, if any."""
+    def to_dict(self) -> dict[str, Any]:
+        """The description as a dict that ``scene_from_dict`` turns back into the same scene."""
+    def settings(
+        self,
+        *,
+        width: int | None = None,
+        height: int | None = None,
+        spp: int | None = None,
+        shadow_rays: int | None = None,
+        reflection_rays: int | None = None,
+        refraction_rays: int | None = None,
+        distribution: DistributionName | None = None,
+        pixel_distribution: DistributionName | None = None,
+        lens_distribution: DistributionName | None = None,
+        time_distribution: DistributionName | None = None,
+        shadow_distribution: DistributionName | None = None,
+        reflection_distribution: DistributionName | None = None,
+        refraction_distribution: DistributionName | None = None,
+        aperture: float | None = None,
+        focal_distance: float | None = None,
+        max_depth: int | None = None,
+        seed: int | None = None,
+        metric: bool | None = None,
+        metric_threshold: float | None = None,
+        metric_min_rays: int | None = None,
+        shadow_metric_rays: int | None = None,
+        pixel_metric: bool | None = None,
+        threads: int | None = None,
+        progress: Callable[[int, int], object] | None = None,
+    ) -> Settings:
+        """Validates (builds and caches) the scene with these options; returns the settings in force."""
+    def __reduce__(self) -> tuple[Any, ...]: ...
+    def __dask_tokenize__(self) -> tuple[Any, ...]: ...
+
+def load_scene(path_or_builtin_name: StrPath, *, bunny: StrPath | None = None) -> Scene:
+    """Reads a scene file, or a built-in scene by name. Raises SceneError (file:line:col)."""
+
+def scene_from_dict(
+    d: dict[str, Any],
+    *,
+    base_dir: StrPath = ".",
+    bunny: StrPath | None = None,
+    name: str | None = None,
+) -> Scene:
+    """A scene from a dict shaped like a scene file. Raises SceneError naming the key path."""
+
+def render(
+    scene: Scene,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    spp: int | None = None,
+    shadow_rays: int | None = None,
+    reflection_rays: int | None = None,
+    refraction_rays: int | None = None,
+    distribution: DistributionName | None = None,
+    pixel_distribution: DistributionName | None = None,
+    lens_distribution: DistributionName | None = None,
+    time_distribution: DistributionName | None = None,
+    shadow_distribution: DistributionName | None = None,
+    reflection_distribution: DistributionName | None = None,
+    refraction_distribution: DistributionName | None = None,
+    aperture: float | None = None,
+    focal_distance: float | None = None,
+    max_depth: int | None = None,
+    seed: int | None = None,
+    metric: bool | None = None,
+    metric_threshold: float | None = None,
+    metric_min_rays: int | None = None,
+    shadow_metric_rays: int | None = None,
+    pixel_metric: bool | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> tuple[Image, Stats]:
+    """Renders the frame: a float32 (height, width, 3) linear-RGB image and the stats document."""
+
+def render_region(
+    scene: Scene,
+    x0: int,
+    y0: int,
+    x1: int,
+    y1: int,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    spp: int | None = None,
+    shadow_rays: int | None = None,
+    reflection_rays: int | None = None,
+    refraction_rays: int | None = None,
+    distribution: DistributionName | None = None,
+    pixel_distribution: DistributionName | None = None,
+    lens_distribution: DistributionName | None = None,
+    time_distribution: DistributionName | None = None,
+    shadow_distribution: DistributionName | None = None,
+    reflection_distribution: DistributionName | None = None,
+    refraction_distribution: DistributionName | None = None,
+    aperture: float | None = None,
+    focal_distance: float | None = None,
+    max_depth: int | None = None,
+    seed: int | None = None,
+    metric: bool | None = None,
+    metric_threshold: float | None = None,
+    metric_min_rays: int | None = None,
+    shadow_metric_rays: int | None = None,
+    pixel_metric: bool | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> tuple[Image, Stats]:
+    """Renders pixels [x0, x1) × [y0, y1) with their full-frame values: tiles stitch exactly."""
+
+def samples(
+    distribution: DistributionName, count: int, radius: float = 1.0, seed: int = 0
+) -> npt.NDArray[np.float32]:
+    """A distribution's points in trace order: shape (count, 2), or (count, 3) for fast-random."""
+
+def save_image(path: StrPath, image: npt.ArrayLike) -> None:
+    """Writes a (height, width, 3) image atomically: .png (8-bit sRGB) or .exr (float linear)."""
+
+def load_image(path: StrPath) -> Image:
+    """Reads an OpenEXR file into a float32 (height, width, 3) array."""
+
+def scenes() -> dict[str, str]:
+    """The built-in scenes: name → description."""
+
+def _check_options(**options: Any) -> None: ...

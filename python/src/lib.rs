@@ -1,0 +1,229 @@
+//! `penumbra._penumbra`: the Rust half of the `penumbra` Python package.
+//!
+//! The binding is thin on purpose: a scene is the library's own
+//! [`SceneDesc`](penumbra::scene::SceneDesc) (one description type, two front
+//! ends: TOML and a Python dict), render options become the library's
+//! [`Overrides`](penumbra::scene::Overrides), and statistics are the CLI's
+//! [`stats_document`](penumbra::render::stats_document). So a Python render
+//! and a `penumbra render` with the same options give the same pixels and the
+//! same numbers, and every validation message is the CLI's.
+
+mod convert;
+mod images;
+mod options;
+mod run;
+mod scene;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use numpy::{PyArray3, PyArrayMethods};
+use penumbra::render::{stats_document, Region, RenderOptions};
+use penumbra::sampling::{Distribution, Rng};
+
+use crate::convert::{image_to_numpy, json_to_py, warn};
+use crate::options::{parse_distribution, parse_options, positive_f32, ranged_int, Options};
+use crate::scene::Scene;
+
+pyo3::create_exception!(
+    penumbra,
+    SceneError,
+    pyo3::exceptions::PyValueError,
+    "An invalid scene or mesh. The message is the command line's: it names the file, \
+     line and column (`scene.toml:12:10: objects[1].radius: ...`) or, for a scene made \
+     from a dict, the key path. A subclass of ValueError, because a bad scene is bad input."
+);
+
+/// Largest point count `samples` draws, as `penumbra samples --count`.
+const MAX_SAMPLES: i64 = 100_000;
+
+/// Renders the whole frame. Returns `(image, stats)`.
+///
+/// The image is a float32 numpy array of shape (height, width, 3), linear RGB,
+/// top row first; the stats are the document `penumbra render --stats`
+/// writes. Options override the scene's values exactly as the command line's
+/// do. The GIL is released while rendering; Ctrl-C stops the render and
+/// raises KeyboardInterrupt.
+#[pyfunction]
+#[pyo3(
+    signature = (scene, **options),
+    text_signature = "(scene, *, width=None, height=None, spp=None, shadow_rays=None, \
+reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
+lens_distribution=None, time_distribution=None, shadow_distribution=None, \
+reflection_distribution=None, refraction_distribution=None, aperture=None, \
+focal_distance=None, max_depth=None, seed=None, metric=None, metric_threshold=None, \
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, threads=None, progress=None)"
+)]
+fn render<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, Scene>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
+    let opts = parse_options("render", options)?;
+    render_impl(py, scene.get(), &opts, None)
+}
+
+/// Renders the pixels `[x0, x1) × [y0, y1)` of the frame. Returns `(image, stats)`.
+///
+/// Every pixel keeps the value it has in the full frame (pixels are seeded by
+/// their frame coordinates), so tiles rendered separately, on any machine,
+/// stitch into exactly the full-frame image. The stats count this region's
+/// rays only and carry a `region` entry `[x0, y0, x1, y1]`.
+#[pyfunction]
+#[pyo3(
+    signature = (scene, x0, y0, x1, y1, **options),
+    text_signature = "(scene, x0, y0, x1, y1, *, width=None, height=None, spp=None, \
+shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
+pixel_distribution=None, lens_distribution=None, time_distribution=None, \
+shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
+aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, metric_threshold=None, \
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, threads=None, progress=None)"
+)]
+#[allow(clippy::too_many_arguments)]
+fn render_region<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, Scene>,
+    x0: &Bound<'py, PyAny>,
+    y0: &Bound<'py, PyAny>,
+    x1: &Bound<'py, PyAny>,
+    y1: &Bound<'py, PyAny>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
+    let opts = parse_options("render_region", options)?;
+    let coord = |name: &str, v: &Bound<'py, PyAny>| -> PyResult<u32> {
+        let v = ranged_int(name, v, 0, i64::from(u32::MAX))?;
+        u32::try_from(v).map_err(|_| options::value_error(format!("{name} is out of range")))
+    };
+    let region = Region {
+        x0: coord("x0", x0)?,
+        y0: coord("y0", y0)?,
+        x1: coord("x1", x1)?,
+        y1: coord("y1", y1)?,
+    };
+    render_impl(py, scene.get(), &opts, Some(region))
+}
+
+fn render_impl<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    opts: &Options,
+    region: Option<Region>,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
+    let built = scene.build(py, &opts.overrides)?;
+    let s = &built.settings;
+    if let Some(r) = region {
+        if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > s.width || r.y1 > s.height {
+            return Err(options::value_error(format!(
+                "region x0={}, y0={}, x1={}, y1={} is empty or outside the {}x{} image \
+                 (it needs 0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height)",
+                r.x0, r.y0, r.x1, r.y1, s.width, s.height
+            )));
+        }
+    }
+    for w in &built.warnings {
+        warn(py, w)?;
+    }
+    let render_opts = RenderOptions {
+        threads: opts.threads,
+        region,
+    };
+    let (image, stats) = run::render(py, &built, &render_opts, opts.progress.as_ref())?;
+    if stats.bad_samples > 0 {
+        let first: Vec<String> = stats
+            .first_bad_samples
+            .iter()
+            .map(|b| format!("({}, {}) sample {}", b.x, b.y, b.sample))
+            .collect();
+        warn(
+            py,
+            &format!(
+                "{} non-finite samples were discarded (pixel, sample): {}",
+                stats.bad_samples,
+                first.join(", ")
+            ),
+        )?;
+    }
+    let mut doc = stats_document(scene.name(), &built, &stats);
+    if let (Some(r), Some(map)) = (region, doc.as_object_mut()) {
+        map.insert("region".into(), serde_json::json!([r.x0, r.y0, r.x1, r.y1]));
+    }
+    let stats = json_to_py(py, &doc)?.cast_into::<PyDict>()?;
+    Ok((image_to_numpy(py, &image)?, stats))
+}
+
+/// The points of a ray distribution, in the order they are traced.
+///
+/// Returns a float32 array of shape (count, 2), or (count, 3) for
+/// `fast-random` (a cube). The values are exactly those of
+/// `penumbra samples --distribution D --count N --radius R --seed S`.
+#[pyfunction]
+#[pyo3(
+    signature = (distribution, count, radius = None, seed = None),
+    text_signature = "(distribution, count, radius=1.0, seed=0)"
+)]
+fn samples<'py>(
+    py: Python<'py>,
+    distribution: &Bound<'py, PyAny>,
+    count: &Bound<'py, PyAny>,
+    radius: Option<&Bound<'py, PyAny>>,
+    seed: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+    let d: Distribution = parse_distribution("distribution", distribution)?;
+    let count = ranged_int("count", count, 1, MAX_SAMPLES)? as usize;
+    let radius = radius.map_or(Ok(1.0), |r| positive_f32("radius", r))?;
+    let seed = seed.map_or(Ok(0), |s| options::u64_arg("seed", s))?;
+    if let Some(w) = d.non_square_warning(count) {
+        warn(py, &w)?;
+    }
+    let mut points = Vec::new();
+    d.generate(count, radius, &mut Rng::new(seed), &mut points);
+    let dims = if d.is_3d() { 3 } else { 2 };
+    let flat: Vec<f32> = points
+        .iter()
+        .flat_map(|p| p.to_array().into_iter().take(dims))
+        .collect();
+    numpy::PyArray1::from_vec(py, flat).reshape([points.len(), dims])
+}
+
+/// Checks render options without rendering (raises TypeError or ValueError
+/// as `render` would). Used by `penumbra.distributed` to fail on the client
+/// rather than in every task.
+#[pyfunction]
+#[pyo3(signature = (**options))]
+fn _check_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+    parse_options("render", options).map(|_| ())
+}
+
+/// The built-in scenes: `{name: description}`, as `penumbra scenes` lists them.
+#[pyfunction]
+fn scenes(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    for b in penumbra::scene::builtin::SCENES {
+        out.set_item(b.name, b.description)?;
+    }
+    Ok(out)
+}
+
+#[pymodule]
+fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add_class::<Scene>()?;
+    m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::scene_from_dict, m)?)?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(render_region, m)?)?;
+    m.add_function(wrap_pyfunction!(samples, m)?)?;
+    m.add_function(wrap_pyfunction!(scenes, m)?)?;
+    m.add_function(wrap_pyfunction!(_check_options, m)?)?;
+    m.add_function(wrap_pyfunction!(images::save_image, m)?)?;
+    m.add_function(wrap_pyfunction!(images::load_image, m)?)?;
+    let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+    m.add("DISTRIBUTIONS", pyo3::types::PyTuple::new(py, names)?)?;
+    m.add(
+        "RENDER_OPTIONS",
+        pyo3::types::PyTuple::new(py, options::NAMES)?,
+    )?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,408 @@
+//! `penumbra.Scene`: a scene description and where it came from.
+//!
+//! A `Scene` holds the description's *text* (the TOML file, or the JSON of a
+//! dict), its base directory and the bunny path, never a built scene: that is
+//! what travels to Dask workers (pickled) and what `render` rebuilds from,
+//! with the same error positions every time. Building (validation, meshes,
+//! BVH) happens on first render and is cached in the object, keyed by the
+//! description after overrides, so rendering many tiles of one scene in one
+//! process builds it once.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple, PyType};
+use serde_json::Value;
+
+use penumbra::scene::{
+    builtin, default_bunny_path, LoadOptions, Overrides, Scene as Built, SceneDesc,
+    SceneError as LibSceneError, SceneSource,
+};
+
+use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
+use crate::options::parse_options;
+use crate::SceneError;
+
+/// Built scenes kept per `Scene` object: enough for a few option sets in
+/// turn (e.g. a preview and a final size) without holding meshes forever.
+const CACHE_SIZE: usize = 4;
+
+/// The text a scene was read from.
+#[derive(Clone, Debug)]
+enum Text {
+    /// A TOML file or built-in scene; `file` labels error positions.
+    Toml { text: String, file: PathBuf },
+    /// The JSON of a dict given to `scene_from_dict`.
+    Json { text: String },
+}
+
+/// A scene description (from a TOML file, a built-in scene or a dict),
+/// ready to render with `penumbra.render`. Picklable: it pickles as its
+/// source text plus base directory and bunny path (made absolute), so it
+/// means the same on a Dask worker; the built scene is rebuilt there once
+/// per process.
+#[pyclass(module = "penumbra._penumbra", frozen)]
+pub struct Scene {
+    name: String,
+    text: Text,
+    base_dir: PathBuf,
+    bunny: Option<PathBuf>,
+    built: Mutex<Vec<(String, Arc<Built>)>>,
+}
+
+/// A library scene error as `penumbra.SceneError`, with the CLI's message.
+pub fn scene_error(e: LibSceneError) -> PyErr {
+    SceneError::new_err(e.to_string())
+}
+
+impl Scene {
+    fn new(name: String, text: Text, base_dir: PathBuf, bunny: Option<PathBuf>) -> Scene {
+        Scene {
+            name,
+            text,
+            base_dir,
+            bunny,
+            built: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The name the stats document reports (`scene`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The parsed source, as the CLI has it before applying overrides.
+    fn source(&self) -> Result<SceneSource, LibSceneError> {
+        let opts = LoadOptions {
+            bunny: self.bunny.clone(),
+        };
+        match &self.text {
+            Text::Toml { text, file } => SceneSource::from_toml(text, file, &self.base_dir, &opts),
+            Text::Json { text } => {
+                let value: Value = serde_json::from_str(text)
+                    .map_err(|e| LibSceneError::new(format!("corrupt scene JSON: {e}")))?;
+                Ok(SceneSource::from_desc(
+                    desc_from_value(value)?,
+                    &self.base_dir,
+                    &opts,
+                ))
+            }
+        }
+    }
+
+    /// The scene built with these overrides, from the cache when it was built before.
+    pub fn build(&self, py: Python<'_>, overrides: &Overrides) -> PyResult<Arc<Built>> {
+        let mut source = self.source().map_err(scene_error)?;
+        overrides.apply(&mut source.desc);
+        let key = serde_json::to_string(&source.desc)
+            .map_err(|e| PyValueError::new_err(format!("cannot key the scene: {e}")))?;
+        if let Some(hit) = self.cached(&key) {
+            return Ok(hit);
+        }
+        let built = Arc::new(py.detach(|| source.build()).map_err(scene_error)?);
+        let mut cache = self.built.lock().unwrap_or_else(|e| e.into_inner());
+        cache.retain(|(k, _)| *k != key);
+        if cache.len() >= CACHE_SIZE {
+            cache.remove(0);
+        }
+        cache.push((key, Arc::clone(&built)));
+        Ok(built)
+    }
+
+    fn cached(&self, key: &str) -> Option<Arc<Built>> {
+        let cache = self.built.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, s)| Arc::clone(s))
+    }
+
+    fn format(&self) -> &'static str {
+        match self.text {
+            Text::Toml { .. } => "toml",
+            Text::Json { .. } => "json",
+        }
+    }
+
+    /// What pickling keeps: paths made absolute so that a worker with another
+    /// working directory finds the same files.
+    fn state(
+        &self,
+    ) -> (
+        String,
+        &'static str,
+        String,
+        Option<String>,
+        String,
+        Option<String>,
+    ) {
+        let abs = |p: &Path| {
+            std::path::absolute(p)
+                .unwrap_or_else(|_| p.to_path_buf())
+                .to_string_lossy()
+                .into_owned()
+        };
+        let (text, file) = match &self.text {
+            Text::Toml { text, file } => (text.clone(), Some(file.to_string_lossy().into_owned())),
+            Text::Json { text } => (text.clone(), None),
+        };
+        (
+            self.name.clone(),
+            self.format(),
+            text,
+            file,
+            abs(&self.base_dir),
+            self.bunny.as_deref().map(abs),
+        )
+    }
+}
+
+/// A description from JSON, with serde's message at the key path
+/// (`objects[1].radius: invalid type: ...`), as a dict has no lines to point at.
+fn desc_from_value(value: Value) -> Result<SceneDesc, LibSceneError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let message = e.inner().to_string();
+        if path == "." {
+            LibSceneError::new(message)
+        } else {
+            LibSceneError::new(format!("{path}: {message}"))
+        }
+    })
+}
+
+#[pymethods]
+impl Scene {
+    /// What the stats call the scene: the path or built-in name given to
+    /// `load_scene`, or the `name` given to `scene_from_dict`.
+    #[getter(name)]
+    fn py_name(&self) -> &str {
+        &self.name
+    }
+
+    /// `"toml"` (a file or built-in scene) or `"json"` (made from a dict).
+    #[getter(format)]
+    fn py_format(&self) -> &'static str {
+        self.format()
+    }
+
+    /// The source text: the TOML file, or the JSON of the dict.
+    #[getter]
+    fn text(&self) -> &str {
+        match &self.text {
+            Text::Toml { text, .. } | Text::Json { text } => text,
+        }
+    }
+
+    /// The directory relative mesh paths are resolved against.
+    #[getter]
+    fn base_dir(&self) -> String {
+        self.base_dir.to_string_lossy().into_owned()
+    }
+
+    /// The Stanford bunny used for `path = "@bunny"`, if one was given or found.
+    #[getter]
+    fn bunny(&self) -> Option<String> {
+        self.bunny
+            .as_deref()
+            .map(|p| p.to_string_lossy().into_owned())
+    }
+
+    /// The description as a dict (defaults filled in, absent values left
+    /// out). `scene_from_dict(scene.to_dict(), base_dir=scene.base_dir)`
+    /// renders exactly like `scene`: this is how animation frames change a
+    /// camera or an object.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let source = self.source().map_err(scene_error)?;
+        let value = serde_json::to_value(&source.desc)
+            .map_err(|e| PyValueError::new_err(format!("cannot convert the scene: {e}")))?;
+        json_to_py_with(
+            py,
+            &value,
+            ToPy {
+                drop_nulls: true,
+                f32_values: true,
+            },
+        )
+    }
+
+    /// Validates the scene with these render options, exactly as `render`
+    /// would (loading meshes and building the BVH, which is then cached), and
+    /// returns the settings in force: width, height, seed, spp, max_depth,
+    /// primitives, build_s and warnings. Raises SceneError for an invalid
+    /// scene. Use it to fail early, before sending work to a cluster.
+    #[pyo3(signature = (**options))]
+    fn settings<'py>(
+        &self,
+        py: Python<'py>,
+        options: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let opts = parse_options("settings", options)?;
+        let built = self.build(py, &opts.overrides)?;
+        let s = &built.settings;
+        let doc = serde_json::json!({
+            "width": s.width,
+            "height": s.height,
+            "seed": s.seed,
+            "spp": s.spp,
+            "max_depth": s.max_depth,
+            "primitives": built.world.primitive_count(),
+            "build_s": built.build_time.as_secs_f64(),
+            "warnings": built.warnings,
+        });
+        json_to_py(py, &doc)
+    }
+
+    /// Rebuilds a scene from `__reduce__`'s state (used by pickle).
+    #[classmethod]
+    fn _restore(
+        _cls: &Bound<'_, PyType>,
+        state: (
+            String,
+            String,
+            String,
+            Option<String>,
+            String,
+            Option<String>,
+        ),
+    ) -> PyResult<Scene> {
+        let (name, format, text, file, base_dir, bunny) = state;
+        let text = match (format.as_str(), file) {
+            ("toml", Some(file)) => Text::Toml {
+                text,
+                file: PathBuf::from(file),
+            },
+            ("json", None) => Text::Json { text },
+            _ => return Err(PyValueError::new_err("corrupt pickled penumbra.Scene")),
+        };
+        let scene = Scene::new(
+            name,
+            text,
+            PathBuf::from(base_dir),
+            bunny.map(PathBuf::from),
+        );
+        // Fail at unpickling, not at the first render, if the text is unusable.
+        scene.source().map_err(scene_error)?;
+        Ok(scene)
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let restore = py.get_type::<Scene>().getattr("_restore")?;
+        let state = slf.get().state().into_pyobject(py)?;
+        PyTuple::new(
+            py,
+            [restore.into_any(), PyTuple::new(py, [state])?.into_any()],
+        )
+    }
+
+    /// Dask's deterministic token: equal descriptions give equal task keys.
+    fn __dask_tokenize__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(("penumbra.Scene", self.state())
+            .into_pyobject(py)?
+            .into_any())
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<penumbra.Scene {:?} ({})>", self.name, self.format())
+    }
+}
+
+/// Reads a scene file, or a built-in scene by name (`penumbra.scenes()`).
+///
+/// Parses the file (syntax, types and unknown keys are checked here, with
+/// `file:line:column` in the SceneError); values are validated when the
+/// scene is rendered, after the render options are applied, as the command
+/// line does (`Scene.settings()` validates early). `bunny` is the Stanford
+/// bunny PLY for `path = "@bunny"` (default: `$PENUMBRA_BUNNY`, then
+/// `../shared/data/bunny.ply`).
+#[pyfunction]
+#[pyo3(signature = (path_or_builtin_name, *, bunny = None))]
+pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyResult<Scene> {
+    let name = path_or_builtin_name
+        .to_str()
+        .ok_or_else(|| PyValueError::new_err("the scene path is not valid UTF-8"))?
+        .to_owned();
+    let bunny = bunny.or_else(default_bunny_path);
+    let opts = LoadOptions {
+        bunny: bunny.clone(),
+    };
+    // The library's own reading, so every error is the CLI's.
+    SceneSource::open(&name, &opts).map_err(scene_error)?;
+    let path = Path::new(&name);
+    let scene = if path.exists() {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            scene_error(LibSceneError {
+                file: Some(path.to_path_buf()),
+                position: None,
+                message: e.to_string(),
+            })
+        })?;
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        Scene::new(
+            name.clone(),
+            Text::Toml {
+                text,
+                file: path.to_path_buf(),
+            },
+            base,
+            bunny,
+        )
+    } else {
+        let b = builtin::find(&name)
+            .ok_or_else(|| SceneError::new_err(format!("{name}: no such scene")))?;
+        Scene::new(
+            name.clone(),
+            Text::Toml {
+                text: b.toml.to_string(),
+                file: PathBuf::from(format!("<built-in scene {}>", b.name)),
+            },
+            PathBuf::from("."),
+            bunny,
+        )
+    };
+    Ok(scene)
+}
+
+/// A scene from a dict with the same structure as a scene file
+/// (`{"render": {...}, "camera": {...}, "materials": {...}, "objects": [...],
+/// "lights": [...]}`), deserialized into the same description type the TOML
+/// parser produces: same keys, defaults and validation. Unknown keys and
+/// wrong types raise SceneError naming the key path. Vectors may be lists,
+/// tuples or numpy arrays. Relative mesh paths are resolved against `base_dir`.
+#[pyfunction]
+#[pyo3(signature = (d, *, base_dir = PathBuf::from("."), bunny = None, name = None))]
+pub fn scene_from_dict(
+    d: &Bound<'_, PyAny>,
+    base_dir: PathBuf,
+    bunny: Option<PathBuf>,
+    name: Option<String>,
+) -> PyResult<Scene> {
+    if !d.is_instance_of::<PyDict>() {
+        return Err(PyTypeError::new_err(
+            "scene_from_dict expects a dict shaped like a scene file",
+        ));
+    }
+    let value = py_to_json(d, "", 0).map_err(|e| {
+        // Bad values are a bad scene; keep the type of a wrong Python type.
+        let py = d.py();
+        if e.is_instance_of::<PyValueError>(py) {
+            SceneError::new_err(e.value(py).to_string())
+        } else {
+            e
+        }
+    })?;
+    let text = value.to_string();
+    desc_from_value(value).map_err(scene_error)?;
+    Ok(Scene::new(
+        name.unwrap_or_else(|| "<dict>".to_string()),
+        Text::Json { text },
+        base_dir,
+        bunny.or_else(default_bunny_path),
+    ))
+}
