@@ -72,7 +72,7 @@ pub struct RenderStats {
 pub enum RenderError {
     #[error("cannot start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
-    #[error("region {0:?} is empty or outside the {1}x{2} image")]
+    #[error("region [{x0}, {x1}) x [{y0}, {y1}) is empty or outside the {1}x{2} image", x0 = .0.x0, x1 = .0.x1, y0 = .0.y0, y1 = .0.y1)]
     Region(Region, u32, u32),
     #[error("render cancelled")]
     Cancelled,

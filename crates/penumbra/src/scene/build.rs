@@ -513,8 +513,8 @@ fn resolve_mesh_path(p: &KeyPath, file: &str, ctx: &BuildContext) -> Result<Path
         return ctx.bunny.clone().ok_or_else(|| {
             Invalid::new(
                 p.clone(),
-                "this scene needs the Stanford bunny (bunny.ply): pass --bunny PATH, set PENUMBRA_BUNNY, \
-                 or place it at ../shared/data/bunny.ply",
+                "this scene needs the Stanford bunny (bunny.ply): pass its path (--bunny PATH on the command \
+                 line, bunny= in Python), set PENUMBRA_BUNNY, or place it at ../shared/data/bunny.ply",
             )
         });
     }
