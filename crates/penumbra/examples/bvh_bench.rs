@@ -1,8 +1,10 @@
 //! BVH build and single-thread traversal throughput on procedurally tessellated
 //! bumpy spheres of about 70k and 1M triangles (the size of the Stanford bunny
-//! and of a large scan).
+//! and of a large scan), for the generic [`Bvh`] (triangles through a closure)
+//! and the [`TriangleBvh`] that static meshes use.
 //!
-//! Run with `cargo run --release --example bench [70k|1M]`. Every figure is
+//! Run with `cargo run --release --example bvh_bench [70k|1M]`. The comparison
+//! with Embree, Mitsuba and POV-Ray is `bench/run.py` (docs/performance.md). Every figure is
 //! the median of five runs, timed in on-CPU time of the measuring thread where
 //! the OS reports it (Linux), so that other load on the machine does not
 //! count; wall-clock time otherwise (and always for the multi-threaded build).
@@ -10,7 +12,7 @@
 //! directions; coherent rays are the 800 x 600 primary rays of a pinhole camera
 //! framing the mesh.
 
-use penumbra::accel::Bvh;
+use penumbra::accel::{Bvh, TriangleBvh};
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::sampling::Rng;
@@ -127,6 +129,27 @@ fn trace(bvh: &Bvh, tris: &[Tri], rays: &[Ray], any: bool) -> (f64, usize) {
     (median(rates), hits)
 }
 
+/// Median Mrays/s over five runs and the number of hits, triangle BVH.
+fn trace_tri(bvh: &TriangleBvh, rays: &[Ray], any: bool) -> (f64, usize) {
+    let mut rates = Vec::new();
+    let mut hits = 0;
+    for _ in 0..5 {
+        let start = now();
+        hits = rays
+            .iter()
+            .filter(|ray| {
+                if any {
+                    bvh.occluded(ray, 0.0, f32::INFINITY)
+                } else {
+                    bvh.closest_hit(ray, 0.0, f32::INFINITY).is_some()
+                }
+            })
+            .count();
+        rates.push(rays.len() as f64 / (now() - start) / 1e6);
+    }
+    (median(rates), hits)
+}
+
 fn build_ms(bounds: &[Aabb], threads: usize) -> f64 {
     let pool = match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
         Ok(p) => p,
@@ -181,17 +204,30 @@ fn main() {
             s.max_depth,
             s.sah_cost
         );
+        let start = Instant::now();
+        let tbvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        let tri_ms = start.elapsed().as_secs_f64() * 1e3;
+        let ts = tbvh.stats();
+        println!(
+            "  triangle BVH: build {tri_ms:.1} ms ({threads} threads, one run); {} nodes, {} packets, {:.1} MiB",
+            ts.nodes,
+            ts.packs,
+            ts.bytes as f64 / (1 << 20) as f64
+        );
         let inc = incoherent_rays(incoherent, &bvh.bounds());
         for (kind, rays) in [("incoherent", &inc), ("coherent", &camera)] {
             let (closest, ch) = trace(&bvh, &tris, rays, false);
             let (any, ah) = trace(&bvh, &tris, rays, true);
+            let (tclosest, tch) = trace_tri(&tbvh, rays, false);
+            let (tany, tah) = trace_tri(&tbvh, rays, true);
             println!(
-                "  {kind:>10} {} rays: closest {closest:.2} Mrays/s, any {any:.2} Mrays/s \
-                 (1 thread; {:.0}% hit)",
+                "  {kind:>10} {} rays, 1 thread ({:.0}% hit), Mrays/s: generic closest {closest:.2}, \
+                 any {any:.2}; triangle closest {tclosest:.2}, any {tany:.2}",
                 rays.len(),
                 100.0 * ch as f64 / rays.len() as f64
             );
             assert_eq!(ch, ah, "closest and any hit disagree on hit counts");
+            assert_eq!((tch, tah), (ch, ch), "the two BVHs disagree on hit counts");
         }
     }
 }

@@ -3,7 +3,10 @@
 //! interface for tests.
 
 pub mod brute;
+mod build;
 pub mod bvh;
+pub mod tri;
 
 pub use brute::{brute_any, brute_closest};
 pub use bvh::{BuildStats, Bvh};
+pub use tri::{TriHit, TriStats, TriangleBvh};

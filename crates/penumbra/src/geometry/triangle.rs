@@ -27,19 +27,20 @@ pub struct RayShear {
     /// Axis permutation: `kz` is the dominant axis of the direction, `kx` and
     /// `ky` the other two, swapped when `d[kz] < 0` to keep the winding (and
     /// hence the sign convention of the edge functions) unchanged.
-    kx: usize,
-    ky: usize,
-    kz: usize,
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
     /// Shear constants `d[kx]/d[kz]`, `d[ky]/d[kz]` and the scale `1/d[kz]`
     /// that makes the sheared z coordinate the ray parameter `t`.
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    pub(crate) sx: f32,
+    pub(crate) sy: f32,
+    pub(crate) sz: f32,
 }
 
 impl RayShear {
     /// Shear constants for `ray`. A zero direction gives non-finite constants,
     /// for which [`intersect_triangle`] reports no hit.
+    #[inline]
     pub fn new(ray: &Ray) -> Self {
         let d = ray.dir;
         let a = d.abs();
@@ -143,7 +144,7 @@ pub fn intersect_triangle(
 /// traversal loop.
 #[cold]
 #[inline(never)]
-fn edge_functions_f64([ax, ay, bx, by, cx, cy]: [f32; 6]) -> (f32, f32, f32) {
+pub(crate) fn edge_functions_f64([ax, ay, bx, by, cx, cy]: [f32; 6]) -> (f32, f32, f32) {
     let (ax, ay, bx, by, cx, cy) = (
         f64::from(ax),
         f64::from(ay),

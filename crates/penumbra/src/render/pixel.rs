@@ -4,8 +4,22 @@ use crate::integrator::{RunningMean, Tracer};
 use crate::material::Rgb;
 use crate::math::{Vec2, Vec3};
 use crate::sampling::points::unit_disk;
-use crate::sampling::Rng;
+use crate::sampling::{Distribution, Rng};
 use crate::scene::Scene;
+use std::cell::RefCell;
+
+/// Per-thread buffers of a pixel's film, lens and time sets, so that
+/// rendering a pixel allocates nothing once the buffers have grown.
+#[derive(Default)]
+struct Scratch {
+    film: Vec<Vec3>,
+    lens: Vec<Vec3>,
+    times: Vec<f32>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::default();
+}
 
 /// The value of pixel (x, y): the average of its primary rays. Film positions,
 /// lens points and times come from three decorrelated streams, each set in its
@@ -17,19 +31,48 @@ pub fn render_pixel(
     y: u32,
     bad: &mut Vec<BadSample>,
 ) -> Rgb {
+    SCRATCH.with(|scratch| {
+        // A worker renders one pixel at a time; should a caller nest pixels
+        // anyway, the inner one falls back to fresh buffers.
+        match scratch.try_borrow_mut() {
+            Ok(mut buf) => pixel_with(scene, tracer, x, y, bad, &mut buf),
+            Err(_) => pixel_with(scene, tracer, x, y, bad, &mut Scratch::default()),
+        }
+    })
+}
+
+fn pixel_with(
+    scene: &Scene,
+    tracer: &mut Tracer<'_>,
+    x: u32,
+    y: u32,
+    bad: &mut Vec<BadSample>,
+    buf: &mut Scratch,
+) -> Rgb {
     let s = &scene.settings;
     let cam = &scene.camera;
     let n = s.spp as usize;
     let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
-    let mut film = Vec::with_capacity(n);
-    s.pixel.generate(n, 0.5, &mut pixel.derive(0), &mut film);
-    let mut lens = Vec::new();
-    if cam.aperture > 0.0 {
-        s.lens.generate(n, 1.0, &mut pixel.derive(1), &mut lens);
+    let Scratch { film, lens, times } = buf;
+    if n == 1 && s.pixel == Distribution::Grid {
+        // The one grid point is the pixel centre (what `generate` returns,
+        // pinned by a test below), without the set machinery: this is every
+        // pixel of a Whitted render.
+        film.clear();
+        film.push(Vec3::ZERO);
+    } else {
+        s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
     }
-    let mut times = Vec::new();
-    if cam.shutter[0] < cam.shutter[1] {
-        s.time.generate_1d(n, &mut pixel.derive(2), &mut times);
+    lens.clear();
+    if cam.aperture > 0.0 {
+        s.lens.generate(n, 1.0, &mut pixel.derive(1), lens);
+    }
+    // Times matter only if something moves: each set has its own stream,
+    // so skipping this one changes no other random number.
+    times.clear();
+    let camera_moves = cam.position[0] != cam.position[1] || cam.look_at[0] != cam.look_at[1];
+    if cam.shutter[0] < cam.shutter[1] && (camera_moves || !scene.world.is_static()) {
+        s.time.generate_1d(n, &mut pixel.derive(2), times);
     }
     let metric = s.metric.filter(|m| m.pixels);
     let mut mean = RunningMean::default();
@@ -58,4 +101,19 @@ pub fn render_pixel(
         }
     }
     mean.mean()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shortcut for one grid ray per pixel gives what the distribution gives.
+    #[test]
+    fn one_grid_point_is_the_pixel_centre() {
+        let mut out = Vec::new();
+        for key in 0..100 {
+            Distribution::Grid.generate(1, 0.5, &mut Rng::new(key), &mut out);
+            assert_eq!(out, [Vec3::ZERO]);
+        }
+    }
 }

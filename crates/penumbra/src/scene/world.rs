@@ -1,12 +1,17 @@
-//! The scene's geometry: every object flattened into primitives under one BVH.
+//! The scene's geometry: the triangles of static meshes in one four-wide
+//! triangle BVH, every other object under a generic BVH.
 //!
-//! Static objects are baked into world space (their triangles go straight into
-//! the top-level BVH, the fastest layout for rays). Moving objects stay in
-//! object space with their own BVH and are intersected by transforming the ray
-//! to the object at the ray's time; in the top-level BVH they appear as one
-//! primitive bounded over the whole shutter interval.
+//! Static meshes are baked into world space and their triangles copied into a
+//! [`TriangleBvh`] in leaf order (the fastest layout for rays: no indirection
+//! per triangle, four triangles per SIMD test). Spheres, quads and disks, and
+//! moving objects, are primitives of a generic [`Bvh`]; moving objects stay in
+//! object space (a moving mesh with its own BVH) and are intersected by
+//! transforming the ray to the object at the ray's time, bounded in the BVH
+//! over the whole shutter interval. A ray is traced through the objects first
+//! and then through the triangles with its range cut at the object hit (a
+//! ground plane in front of a mesh spares the mesh's BVH).
 
-use crate::accel::Bvh;
+use crate::accel::{brute_closest, Bvh, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::Quad;
 use crate::geometry::sphere::intersect_sphere;
@@ -42,7 +47,11 @@ pub struct Object {
     pub mesh_bvh: Option<Bvh>,
 }
 
-/// What the top-level BVH indexes.
+/// Up to this many objects besides static triangles are simply tested one
+/// after the other: cheaper than a BVH traversal (a ground quad and a light).
+const FEW: usize = 4;
+
+/// What the object BVH indexes.
 #[derive(Clone, Copy, Debug)]
 pub enum Prim {
     Triangle { object: u32, tri: u32 },
@@ -65,8 +74,17 @@ pub struct Hit {
 pub struct World {
     pub objects: Vec<Object>,
     pub meshes: Vec<Mesh>,
+    /// Triangles of the static meshes; a hit's id indexes `tri_refs`.
+    tris: TriangleBvh,
+    /// Object and triangle index of each triangle of `tris`.
+    tri_refs: Vec<(u32, u32)>,
+    /// The other objects, under `bvh`.
     prims: Vec<Prim>,
+    /// Indices into `prims` of the objects that cast shadows (not lights).
+    casters: Vec<u32>,
     bvh: Bvh,
+    /// No object moves.
+    is_static: bool,
 }
 
 /// Intersection details kept while the BVH search runs; turned into a [`Hit`]
@@ -80,6 +98,8 @@ struct Candidate {
 
 impl World {
     pub fn new(objects: Vec<Object>, meshes: Vec<Mesh>) -> World {
+        let mut tri_refs = Vec::new();
+        let mut tri_meshes = Vec::new();
         let mut prims = Vec::new();
         let mut bounds = Vec::new();
         for (oi, o) in objects.iter().enumerate() {
@@ -87,13 +107,8 @@ impl World {
             match (&o.shape, o.motion) {
                 (Shape::Mesh { mesh }, None) => {
                     let m = &meshes[*mesh as usize];
-                    for tri in 0..m.triangles.len() {
-                        prims.push(Prim::Triangle {
-                            object,
-                            tri: tri as u32,
-                        });
-                        bounds.push(m.triangle_bounds(tri));
-                    }
+                    tri_refs.extend((0..m.triangles.len() as u32).map(|tri| (object, tri)));
+                    tri_meshes.resize(tri_refs.len(), *mesh);
                 }
                 (shape, motion) => {
                     let b = shape_bounds(shape, &meshes);
@@ -102,33 +117,70 @@ impl World {
                 }
             }
         }
+        let tris = TriangleBvh::build(tri_refs.len(), |i| {
+            meshes[tri_meshes[i] as usize].vertices(tri_refs[i].1 as usize)
+        });
         let bvh = Bvh::build(&bounds);
+        let casters = (0..prims.len() as u32)
+            .filter(|&i| {
+                objects[prim_object(prims[i as usize]) as usize]
+                    .light
+                    .is_none()
+            })
+            .collect();
+        let is_static = objects.iter().all(|o| o.motion.is_none());
         World {
             objects,
             meshes,
+            tris,
+            tri_refs,
             prims,
+            casters,
             bvh,
+            is_static,
         }
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.bvh.bounds()
+        self.bvh.bounds().union(self.tris.bounds())
     }
 
     pub fn primitive_count(&self) -> usize {
-        self.prims.len()
+        self.tri_refs.len() + self.prims.len()
+    }
+
+    /// True when no object moves (the camera may still).
+    pub fn is_static(&self) -> bool {
+        self.is_static
     }
 
     /// The closest surface along the ray within (tmin, tmax).
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        let shear = RayShear::new(ray);
+        // The few other objects first (a ground, a light): their hit cuts the
+        // ray before the triangle BVH, which then often culls at its root.
         let mut cand = Candidate::default();
-        let (prim, t) = self.bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
-            let (t, c) = self.intersect_prim(self.prims[i as usize], ray, &shear, tmin, tmax)?;
+        let test = |i: u32, tmax: f32| {
+            let (t, c) = self.intersect_prim(self.prims[i as usize], ray, tmin, tmax)?;
             cand = c;
             Some(t)
-        })?;
-        Some(self.make_hit(self.prims[prim as usize], ray, t, cand))
+        };
+        let found = if self.prims.len() <= FEW {
+            brute_closest(self.prims.len(), ray, tmin, tmax, test)
+        } else {
+            self.bvh.closest_hit(ray, tmin, tmax, test)
+        };
+        let mut best = found.map(|(i, t)| (self.prims[i as usize], t, cand));
+        let tmax = best.map_or(tmax, |b| b.1);
+        if let Some(h) = self.tris.closest_hit(ray, tmin, tmax) {
+            let (object, tri) = self.tri_refs[h.id as usize];
+            let cand = Candidate {
+                b1: h.b1,
+                b2: h.b2,
+                inner: tri,
+            };
+            best = Some((Prim::Triangle { object, tri }, h.t, cand));
+        }
+        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
     }
 
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
@@ -142,70 +194,82 @@ impl World {
         tmax: f32,
         transparency: &[f32],
     ) -> Option<f32> {
-        let shear = RayShear::new(ray);
         let mut trans = 1.0f32;
-        let blocked = self.bvh.any_hit(ray, tmin, tmax, |i, tmax| {
+        let blocked = self.tris.any_hit(ray, tmin, tmax, |id| {
+            let o = &self.objects[self.tri_refs[id as usize].0 as usize];
+            if o.light.is_some() {
+                return false;
+            }
+            trans *= transparency[o.material as usize];
+            trans <= 0.0
+        });
+        if blocked {
+            return None;
+        }
+        let test = |i: u32, tmax: f32| {
             let prim = self.prims[i as usize];
             let o = &self.objects[prim_object(prim) as usize];
             if o.light.is_some() {
                 return false;
             }
-            let crossings = self.count_crossings(prim, ray, &shear, tmin, tmax);
+            let crossings = self.count_crossings(prim, ray, tmin, tmax);
             if crossings == 0 {
                 return false;
             }
             let kt = transparency[o.material as usize];
             trans *= kt.powi(crossings);
             trans <= 0.0
-        });
+        };
+        let blocked = if self.prims.len() <= FEW {
+            // Only the objects that cast shadows (lights do not).
+            let mut test = test;
+            self.casters.iter().any(|&i| test(i, tmax))
+        } else {
+            self.bvh.any_hit(ray, tmin, tmax, test)
+        };
         (!blocked).then_some(trans)
     }
 
-    fn count_crossings(
-        &self,
-        prim: Prim,
-        ray: &Ray,
-        shear: &RayShear,
-        tmin: f32,
-        tmax: f32,
-    ) -> i32 {
-        let Some((t, _)) = self.intersect_prim(prim, ray, shear, tmin, tmax) else {
+    fn count_crossings(&self, prim: Prim, ray: &Ray, tmin: f32, tmax: f32) -> i32 {
+        let Some((t, _)) = self.intersect_prim(prim, ray, tmin, tmax) else {
             return 0;
         };
         // A sphere can be crossed twice within the segment (in and out).
         let second = match (prim, &self.objects[prim_object(prim) as usize].shape) {
             (Prim::Object { .. }, Shape::Sphere { .. }) => {
-                self.intersect_prim(prim, ray, shear, t, tmax).is_some()
+                self.intersect_prim(prim, ray, t, tmax).is_some()
             }
             _ => false,
         };
         1 + i32::from(second)
     }
 
+    /// Intersects a primitive of the object BVH.
     fn intersect_prim(
         &self,
         prim: Prim,
         ray: &Ray,
-        shear: &RayShear,
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
         match prim {
             Prim::Triangle { object, tri } => {
+                // Static triangles live in the triangle BVH; kept for completeness.
                 let Shape::Mesh { mesh } = self.objects[object as usize].shape else {
                     return None;
                 };
                 let [p0, p1, p2] = self.meshes[mesh as usize].vertices(tri as usize);
-                let (t, b1, b2) = intersect_triangle(ray, shear, p0, p1, p2, tmin, tmax)?;
+                let (t, b1, b2) =
+                    intersect_triangle(ray, &RayShear::new(ray), p0, p1, p2, tmin, tmax)?;
                 Some((t, Candidate { b1, b2, inner: tri }))
             }
             Prim::Object { object } => {
                 let o = &self.objects[object as usize];
                 match o.motion {
-                    None => self.intersect_shape(o, ray, shear, tmin, tmax),
+                    None => self.intersect_shape(o, ray, tmin, tmax),
                     Some(m) => {
                         let (local, _) = m.to_object(ray);
-                        self.intersect_shape(o, &local, &RayShear::new(&local), tmin, tmax)
+                        self.intersect_shape(o, &local, tmin, tmax)
                     }
                 }
             }
@@ -216,7 +280,6 @@ impl World {
         &self,
         o: &Object,
         ray: &Ray,
-        shear: &RayShear,
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
@@ -235,10 +298,11 @@ impl World {
             Shape::Mesh { mesh } => {
                 let m = &self.meshes[*mesh as usize];
                 let bvh = o.mesh_bvh.as_ref()?;
+                let shear = RayShear::new(ray);
                 let mut cand = Candidate::default();
                 let (tri, t) = bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
                     let [p0, p1, p2] = m.vertices(i as usize);
-                    let (t, b1, b2) = intersect_triangle(ray, shear, p0, p1, p2, tmin, tmax)?;
+                    let (t, b1, b2) = intersect_triangle(ray, &shear, p0, p1, p2, tmin, tmax)?;
                     cand = Candidate { b1, b2, inner: i };
                     Some(t)
                 })?;

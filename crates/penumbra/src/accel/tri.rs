@@ -1,0 +1,921 @@
+//! A four-wide BVH over triangles stored in leaf order, intersected four at a
+//! time: the structure that static meshes live in.
+//!
+//! The generic [`Bvh`](super::Bvh) knows primitives only through a closure,
+//! so each triangle test goes through the scene's indirections (primitive →
+//! object → mesh → index buffer → three vertices). Here the triangles are
+//! copied into the tree itself, in the order its leaves visit them, as
+//! packets of four in structure-of-arrays form ([`Pack`]: per vertex and
+//! axis, one 4-lane vector), and the traversal tests all four with the same
+//! SIMD instructions.
+//!
+//! # Layout
+//! A [`Node4`] (128 bytes, two cache lines) holds the boxes of up to four
+//! children as one 4-lane vector per axis and side, and four child
+//! references: an interior child by node index, a leaf as a range of packs
+//! (`LEAF` bit, up to 7 packs, first pack). Unused lanes have the empty box,
+//! which no ray hits, and an empty leaf. The tree is the binned-SAH binary
+//! tree of [`build`](super::build) (leaf cost per started packet of four)
+//! collapsed to four children per node by repeatedly opening the child of
+//! largest surface area. Packs take 160 bytes for four triangles (padding
+//! lanes hold NaN vertices, which never hit); for the bunny, 95% of the lanes
+//! are used and nodes and packs take 54 bytes per triangle.
+//!
+//! # Traversal
+//! Closest hit visits the nearest child hit first and pushes the others,
+//! farthest first, with their entry distances, so that popped subtrees
+//! beyond the closest hit so far are skipped unread. Any hit visits children
+//! in storage order, as Embree's occlusion traversal does: most shadow rays
+//! are not blocked and enter every subtree they hit anyway. The stack keeps
+//! 32 entries inline (initialised for every ray, so it is kept small) and
+//! spills deeper ones to the heap, which real trees never need.
+//!
+//! # Exactness
+//! The triangle test is [`intersect_triangle`]'s watertight algorithm
+//! computed lane-wise with the same operations in the same order (no fused
+//! multiply-adds), so each lane gives bit for bit what the scalar routine
+//! gives, including the double-precision recomputation of edge functions
+//! that round to zero; the box test is the [`Bvh`](super::Bvh)'s robust one
+//! (NaN-skipping slab reduction, far distance enlarged by `1 + 2γ₃`), so the
+//! tree returns exactly what a loop over all triangles returns. The tests
+//! below check this against that loop.
+//!
+//! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
+
+use super::build::{self, Config, Node, MAX_DEPTH};
+use crate::geometry::triangle::{edge_functions_f64, RayShear};
+use crate::math::{Aabb, Ray, Vec3};
+use glam::Vec4;
+use rayon::prelude::*;
+
+/// `1 + 2γ₃`, as in [`Bvh`](super::Bvh): makes the far slab distance conservative.
+const TFAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// Child reference bit marking a leaf.
+const LEAF: u32 = 1 << 31;
+/// Bits of a leaf reference holding its first pack.
+const FIRST_MASK: u32 = (1 << 28) - 1;
+/// A leaf holds at most this many packs (3 bits).
+const MAX_PACKS: usize = 7;
+
+/// Builder settings: leaves of up to four triangles (one packet) always,
+/// up to 16 (four packets) when the SAH prefers them, cost per packet.
+const CONFIG: Config = Config {
+    max_leaf: 4,
+    max_sah_leaf: 16,
+    block_shift: 2,
+};
+
+/// Traversal stack entries kept inline. Each of at most `MAX_DEPTH` levels
+/// pushes at most three children; real trees stay far below this, and deeper
+/// stacks spill to the heap. A smaller array than
+/// the worst case matters: it is initialised for every ray.
+const STACK: usize = 32;
+
+/// The traversal stack: `STACK` entries inline, the rest (never, in
+/// practice) on the heap.
+struct Stack {
+    inline: [(u32, f32); STACK],
+    len: usize,
+    spill: Vec<(u32, f32)>,
+}
+
+impl Stack {
+    #[inline(always)]
+    fn new() -> Self {
+        Stack {
+            inline: [(0, 0.0); STACK],
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, e: (u32, f32)) {
+        if self.len < STACK {
+            self.inline[self.len] = e;
+            self.len += 1;
+        } else {
+            self.spill_push(e);
+        }
+    }
+
+    #[cold]
+    fn spill_push(&mut self, e: (u32, f32)) {
+        debug_assert!(self.spill.len() < 3 * MAX_DEPTH);
+        self.spill.push(e);
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(u32, f32)> {
+        if !self.spill.is_empty() {
+            return self.spill.pop();
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.inline[self.len])
+    }
+}
+
+/// Vectors of four lanes per node side and axis: a node has `4 * HALVES`
+/// children. Eight-wide nodes (two vectors) measured no faster than four-wide
+/// ones on the bunny, for coherent or incoherent rays, and build slower.
+const HALVES: usize = 1;
+/// Children per node.
+const WIDTH: usize = 4 * HALVES;
+
+/// The children of an interior node (128 bytes when four-wide).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Node4 {
+    /// Per axis, `[lo, hi]` of the children, four lanes per vector.
+    b: [[[Vec4; HALVES]; 2]; 3],
+    /// Per lane: node index, or `LEAF | packs << 28 | first pack`.
+    child: [u32; WIDTH],
+}
+
+impl Node4 {
+    const EMPTY: Node4 = Node4 {
+        b: [[[Vec4::INFINITY; HALVES], [Vec4::NEG_INFINITY; HALVES]]; 3],
+        child: [LEAF; WIDTH],
+    };
+
+    fn set(&mut self, lane: usize, b: &Aabb, child: u32) {
+        for axis in 0..3 {
+            self.b[axis][0][lane / 4][lane % 4] = b.min[axis];
+            self.b[axis][1][lane / 4][lane % 4] = b.max[axis];
+        }
+        self.child[lane] = child;
+    }
+
+    /// Tests the boxes against the ray clipped to `[tmin, tmax]`: a bit
+    /// mask of the children hit and their entry distances.
+    #[inline(always)]
+    fn hit(&self, r: &TraversalRay, tmin: Vec4, tmax: Vec4) -> (u32, [f32; WIDTH]) {
+        let mut mask = 0;
+        let mut t = [0.0; WIDTH];
+        for h in 0..HALVES {
+            // The near plane is `lo` for a positive direction, `hi` for a
+            // negative one: chosen by index, so without a branch or blend.
+            let slab = |axis: usize| {
+                let n = r.near[axis] & 1;
+                let near = self.b[axis][n][h];
+                let far = self.b[axis][n ^ 1][h];
+                (
+                    (near - r.o[axis]) * r.inv[axis],
+                    (far - r.o[axis]) * r.inv[axis],
+                )
+            };
+            let (nx, fx) = slab(0);
+            let (ny, fy) = slab(1);
+            let (nz, fz) = slab(2);
+            let near = max_skip_nan(nx, max_skip_nan(ny, max_skip_nan(nz, tmin)));
+            let far = min_skip_nan(fx, min_skip_nan(fy, min_skip_nan(fz, tmax)));
+            mask |= near.cmple(far * TFAR_SCALE).bitmask() << (4 * h);
+            t[4 * h..4 * h + 4].copy_from_slice(&near.to_array());
+        }
+        (mask, t)
+    }
+}
+
+/// Four triangles, structure of arrays: `v[vertex][axis]` holds that
+/// coordinate of the four triangles' vertex, and `id` their indices in the
+/// build input. Unused lanes have NaN vertices and id `u32::MAX`.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+struct Pack {
+    v: [[Vec4; 3]; 3],
+    id: [u32; 4],
+}
+
+impl Pack {
+    const EMPTY: Pack = Pack {
+        v: [[Vec4::NAN; 3]; 3],
+        id: [u32::MAX; 4],
+    };
+
+    /// The watertight test on four triangles. Returns the mask of lanes hit
+    /// within `(tmin, tmax)` and, per lane, `t`, `b1`, `b2` (meaningful in
+    /// the lanes of the mask).
+    #[inline(always)]
+    fn intersect(&self, r: &TraversalRay, tmin: f32, tmax: f32) -> (u32, Vec4, Vec4, Vec4) {
+        // `min(2)` lets the compiler drop the bounds checks (the permutation
+        // entries are below 3 anyway).
+        let (kx, ky, kz) = (r.k[0].min(2), r.k[1].min(2), r.k[2].min(2));
+        let [ox, oy, oz] = r.ok;
+        let [sx, sy, sz] = r.s;
+        // The sheared frame of `RayShear::transform`, lane-wise.
+        let sheared = |p: &[Vec4; 3]| {
+            let x = p[kx] - ox;
+            let y = p[ky] - oy;
+            let z = p[kz] - oz;
+            (x - sx * z, y - sy * z, z)
+        };
+        let (ax, ay, az) = sheared(&self.v[0]);
+        let (bx, by, bz) = sheared(&self.v[1]);
+        let (cx, cy, cz) = sheared(&self.v[2]);
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        let zero = Vec4::ZERO;
+        let exact_zero = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
+        if exact_zero.any() {
+            (u, v, w) = recompute_f64(exact_zero.bitmask(), [ax, ay, bx, by, cx, cy], [u, v, w]);
+        }
+        let neg = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
+        let pos = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+        let det = u + v + w;
+        let t = sz * (u * az + v * bz + w * cz) / det;
+        let ok = !(neg & pos)
+            & det.cmpne(zero)
+            & t.cmpgt(Vec4::splat(tmin))
+            & t.cmplt(Vec4::splat(tmax));
+        let mut mask = ok.bitmask();
+        if mask == 0 {
+            return (0, t, t, t);
+        }
+        let b1 = v / det;
+        let b2 = w / det;
+        mask &= (t.is_finite_mask() & b1.is_finite_mask() & b2.is_finite_mask()).bitmask();
+        (mask, t, b1, b2)
+    }
+}
+
+/// Edge functions of the lanes in `lanes` recomputed in `f64`, as
+/// [`intersect_triangle`](crate::geometry::triangle::intersect_triangle) does
+/// for a value that rounded to exactly zero. Rare: out of line.
+#[cold]
+#[inline(never)]
+fn recompute_f64(lanes: u32, sheared: [Vec4; 6], uvw: [Vec4; 3]) -> (Vec4, Vec4, Vec4) {
+    let s = sheared.map(|x| x.to_array());
+    let [mut u, mut v, mut w] = uvw.map(|x| x.to_array());
+    for i in 0..4 {
+        if lanes & (1 << i) != 0 {
+            (u[i], v[i], w[i]) =
+                edge_functions_f64([s[0][i], s[1][i], s[2][i], s[3][i], s[4][i], s[5][i]]);
+        }
+    }
+    (Vec4::from(u), Vec4::from(v), Vec4::from(w))
+}
+
+/// See [`super::bvh`]'s `max_skip_nan`: lane-wise max returning `b` where
+/// `a` is NaN (`MAXPS` does exactly that on x86-64).
+#[inline(always)]
+fn max_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
+    if cfg!(target_arch = "x86_64") {
+        a.max(b)
+    } else {
+        Vec4::select(a.cmpeq(a), a.max(b), b)
+    }
+}
+
+/// Lane-wise min returning `b` where `a` is NaN (`MINPS` on x86-64).
+#[inline(always)]
+fn min_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
+    if cfg!(target_arch = "x86_64") {
+        a.min(b)
+    } else {
+        Vec4::select(a.cmpeq(a), a.min(b), b)
+    }
+}
+
+/// A ray prepared for node and packet tests.
+struct TraversalRay {
+    /// Origin and reciprocal direction, one splat per axis.
+    o: [Vec4; 3],
+    inv: [Vec4; 3],
+    /// Per axis: 1 if the direction is negative (then the hi planes are
+    /// near), else 0.
+    near: [usize; 3],
+    /// The watertight test's axis permutation, shear constants and permuted origin.
+    k: [usize; 3],
+    s: [Vec4; 3],
+    ok: [Vec4; 3],
+}
+
+impl TraversalRay {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Self {
+        let inv = ray.dir.recip();
+        let sh = RayShear::new(ray);
+        let o = ray.origin.to_array();
+        TraversalRay {
+            o: o.map(Vec4::splat),
+            inv: inv.to_array().map(Vec4::splat),
+            near: inv.to_array().map(|i| usize::from(i < 0.0)),
+            k: [sh.kx, sh.ky, sh.kz],
+            s: [sh.sx, sh.sy, sh.sz].map(Vec4::splat),
+            ok: [o[sh.kx], o[sh.ky], o[sh.kz]].map(Vec4::splat),
+        }
+    }
+}
+
+/// A ray–triangle hit: the triangle's index in the build input, the ray
+/// parameter and the barycentrics of vertices 1 and 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriHit {
+    pub id: u32,
+    pub t: f32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// Shape and size of a built [`TriangleBvh`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriStats {
+    pub triangles: usize,
+    /// Four-wide interior nodes.
+    pub nodes: usize,
+    pub leaves: usize,
+    /// Packets of four triangles (lanes in use: `triangles / (4 * packs)`).
+    pub packs: usize,
+    /// Memory of nodes and packets.
+    pub bytes: usize,
+}
+
+/// A four-wide BVH over triangles; see the module docs.
+#[derive(Clone, Debug, Default)]
+pub struct TriangleBvh {
+    /// Node 0 is the root; empty when built over zero triangles.
+    nodes: Vec<Node4>,
+    packs: Vec<Pack>,
+    bounds: Aabb,
+    len: usize,
+}
+
+impl TriangleBvh {
+    /// Builds the tree over triangles `0..n`, whose vertices `tri(i)` gives
+    /// (finite coordinates). Hits report `i` as their id.
+    ///
+    /// # Panics
+    /// If there are 2²⁸ packets of triangles or more (about a billion triangles).
+    pub fn build(n: usize, tri: impl Fn(usize) -> [Vec3; 3] + Sync) -> TriangleBvh {
+        let bounds: Vec<Aabb> = (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|i| Aabb::from_points(tri(i)))
+            .collect();
+        let (nodes, prims) = build::build_binary(&bounds, &CONFIG);
+        drop(bounds);
+        let Some(root) = nodes.first() else {
+            return TriangleBvh::default();
+        };
+        let mut out = TriangleBvh {
+            nodes: Vec::with_capacity(nodes.len() / 3 + 1),
+            packs: Vec::with_capacity(n / 3 + 1),
+            bounds: root.bounds,
+            len: n,
+        };
+        if root.count > 0 {
+            // A single leaf: a root node with one child.
+            out.nodes.push(Node4::EMPTY);
+            let leaf = out.leaf(&prims[root.first as usize..][..root.count as usize], &tri);
+            out.nodes[0].set(0, &root.bounds, leaf);
+        } else {
+            out.collapse(&nodes, &prims, 0, &tri);
+        }
+        out
+    }
+
+    /// Emits the four-wide node for binary interior node `idx` (and its
+    /// subtree, depth first) and returns its index.
+    fn collapse(
+        &mut self,
+        bin: &[Node],
+        prims: &[u32],
+        idx: usize,
+        tri: &impl Fn(usize) -> [Vec3; 3],
+    ) -> u32 {
+        let slot = self.nodes.len();
+        self.nodes.push(Node4::EMPTY);
+        let first = bin[idx].first as usize;
+        let mut kids = [0; WIDTH];
+        (kids[0], kids[1]) = (first, first + 1);
+        let mut k = 2;
+        // Open the interior child of largest area until there are WIDTH.
+        while k < WIDTH {
+            let open = (0..k)
+                .filter(|&j| bin[kids[j]].count == 0)
+                .max_by(|&a, &b| {
+                    let area = |j: usize| bin[kids[j]].bounds.surface_area();
+                    area(a).total_cmp(&area(b))
+                });
+            let Some(j) = open else { break };
+            let f = bin[kids[j]].first as usize;
+            kids[j] = f;
+            kids[k] = f + 1;
+            k += 1;
+        }
+        for (lane, &kid) in kids[..k].iter().enumerate() {
+            let c = bin[kid];
+            let child = if c.count > 0 {
+                self.leaf(&prims[c.first as usize..][..c.count as usize], tri)
+            } else {
+                self.collapse(bin, prims, kid, tri)
+            };
+            self.nodes[slot].set(lane, &c.bounds, child);
+        }
+        slot as u32
+    }
+
+    /// Appends the packets of a leaf's triangles and returns its reference.
+    fn leaf(&mut self, ids: &[u32], tri: &impl Fn(usize) -> [Vec3; 3]) -> u32 {
+        let first = self.packs.len();
+        for chunk in ids.chunks(4) {
+            let mut p = Pack::EMPTY;
+            for (lane, &id) in chunk.iter().enumerate() {
+                for (vertex, pos) in tri(id as usize).iter().enumerate() {
+                    for axis in 0..3 {
+                        p.v[vertex][axis][lane] = pos[axis];
+                    }
+                }
+                p.id[lane] = id;
+            }
+            self.packs.push(p);
+        }
+        let count = self.packs.len() - first;
+        assert!(count <= MAX_PACKS, "leaf of {} triangles", ids.len());
+        assert!(
+            self.packs.len() <= FIRST_MASK as usize,
+            "too many triangles for 28-bit packet indices"
+        );
+        LEAF | (count as u32) << 28 | first as u32
+    }
+
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Box around all triangles ([`Aabb::EMPTY`] when there are none).
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    pub fn stats(&self) -> TriStats {
+        let leaves = self
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .filter(|&c| c & LEAF != 0 && (c >> 28) & 7 != 0)
+            .count();
+        TriStats {
+            triangles: self.len,
+            nodes: self.nodes.len(),
+            leaves,
+            packs: self.packs.len(),
+            bytes: self.nodes.len() * std::mem::size_of::<Node4>()
+                + self.packs.len() * std::mem::size_of::<Pack>(),
+        }
+    }
+
+    /// The closest triangle hit within `(tmin, tmax)`, with the result of
+    /// [`intersect_triangle`](crate::geometry::triangle::intersect_triangle)
+    /// for it. A ray with a non-finite origin or direction hits nothing.
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<TriHit> {
+        let mut best = None;
+        self.traverse::<true>(ray, tmin, tmax, |p, r, tmax| {
+            let (mask, t, b1, b2) = p.intersect(r, tmin, *tmax);
+            if mask != 0 {
+                let t = t.to_array();
+                let mut lane = mask.trailing_zeros() as usize;
+                let mut rest = mask & (mask - 1);
+                while rest != 0 {
+                    let i = rest.trailing_zeros() as usize;
+                    if t[i] < t[lane] {
+                        lane = i;
+                    }
+                    rest &= rest - 1;
+                }
+                *tmax = t[lane];
+                best = Some(TriHit {
+                    id: p.id[lane],
+                    t: t[lane],
+                    b1: b1[lane],
+                    b2: b2[lane],
+                });
+            }
+            false
+        });
+        best
+    }
+
+    /// Calls `hit(id)` for triangles crossed within `(tmin, tmax)` until it
+    /// returns true (an occluder): then returns true. Each triangle is
+    /// reported at most once. Children are visited in storage order, not by
+    /// distance: most shadow rays are not blocked and must visit every
+    /// subtree they enter anyway, so sorting would be wasted on them.
+    #[inline]
+    pub fn any_hit(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut hit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        self.traverse::<false>(ray, tmin, tmax, |p, r, tmax| {
+            let (mut mask, ..) = p.intersect(r, tmin, *tmax);
+            while mask != 0 {
+                if hit(p.id[mask.trailing_zeros() as usize]) {
+                    return true;
+                }
+                mask &= mask - 1;
+            }
+            false
+        })
+    }
+
+    /// Whether any triangle is crossed within `(tmin, tmax)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
+        self.any_hit(ray, tmin, tmax, |_| true)
+    }
+
+    /// Visits the leaves the ray reaches, skipping subtrees that start beyond
+    /// `tmax` (which `leaf` may shrink), nearer children first if `ORDERED`.
+    /// Stops and returns true when `leaf` returns true.
+    #[inline(always)]
+    fn traverse<const ORDERED: bool>(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut leaf: impl FnMut(&Pack, &TraversalRay, &mut f32) -> bool,
+    ) -> bool {
+        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
+            return false;
+        }
+        let r = TraversalRay::new(ray);
+        let tmin4 = Vec4::splat(tmin);
+        let mut tmax = tmax;
+        let mut stack = Stack::new();
+        let mut cur = 0u32;
+        loop {
+            if cur & LEAF == 0 {
+                let node = &self.nodes[cur as usize];
+                let (mask, t) = node.hit(&r, tmin4, Vec4::splat(tmax));
+                if mask != 0 {
+                    let i0 = mask.trailing_zeros() as usize;
+                    let rest = mask & (mask - 1);
+                    if rest == 0 {
+                        cur = node.child[i0];
+                        continue;
+                    }
+                    if !ORDERED {
+                        // Any order finds an occluder: push the others as they
+                        // come, with no distance (`tmax` never shrinks here).
+                        let mut m = rest;
+                        while m != 0 {
+                            let i = m.trailing_zeros() as usize;
+                            stack.push((node.child[i], f32::NEG_INFINITY));
+                            m &= m - 1;
+                        }
+                        cur = node.child[i0];
+                        continue;
+                    }
+                    let i1 = rest.trailing_zeros() as usize;
+                    if rest & (rest - 1) == 0 {
+                        let (n, f) = if t[i1] < t[i0] { (i1, i0) } else { (i0, i1) };
+                        stack.push((node.child[f], t[f]));
+                        cur = node.child[n];
+                        continue;
+                    }
+                    // More: push all but the nearest, farthest first.
+                    let mut e = [(0u32, 0f32); WIDTH];
+                    let mut k = 0;
+                    let mut m = mask;
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        e[k] = (node.child[i], t[i]);
+                        let mut j = k;
+                        while j > 0 && e[j - 1].1 < e[j].1 {
+                            e.swap(j - 1, j);
+                            j -= 1;
+                        }
+                        k += 1;
+                        m &= m - 1;
+                    }
+                    for &entry in &e[..k - 1] {
+                        stack.push(entry);
+                    }
+                    cur = e[k - 1].0;
+                    continue;
+                }
+            } else {
+                let first = (cur & FIRST_MASK) as usize;
+                let count = ((cur >> 28) & 7) as usize;
+                for p in &self.packs[first..first + count] {
+                    if leaf(p, &r, &mut tmax) {
+                        return true;
+                    }
+                }
+            }
+            // Pop the next subtree that can still hold a closer hit.
+            loop {
+                let Some((c, t)) = stack.pop() else {
+                    return false;
+                };
+                if t <= tmax * TFAR_SCALE {
+                    cur = c;
+                    break;
+                }
+            }
+        }
+    }
+}
+
+// The sizes the module docs state.
+const _: () = assert!(std::mem::size_of::<Pack>() == 160);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::brute::{brute_any, brute_closest};
+    use crate::geometry::triangle::intersect_triangle;
+    use crate::sampling::Rng;
+
+    type Tri = [Vec3; 3];
+
+    fn rand_in(r: &mut Rng, b: &Aabb) -> Vec3 {
+        Vec3::new(
+            r.range(b.min.x, b.max.x),
+            r.range(b.min.y, b.max.y),
+            r.range(b.min.z, b.max.z),
+        )
+    }
+
+    fn rand_dir(r: &mut Rng) -> Vec3 {
+        loop {
+            let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
+            let l = v.length_squared();
+            if l > 1e-4 && l <= 1.0 {
+                return v / l.sqrt();
+            }
+        }
+    }
+
+    fn soup(r: &mut Rng, n: usize, size: f32) -> Vec<Tri> {
+        let world = Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0));
+        (0..n)
+            .map(|_| {
+                let a = rand_in(r, &world);
+                [
+                    a,
+                    a + rand_dir(r) * r.range(0.0, size),
+                    a + rand_dir(r) * r.range(0.0, size),
+                ]
+            })
+            .collect()
+    }
+
+    /// Closest and any hit of the tree against the scalar test over all
+    /// triangles: identical hit/miss, bit-identical distance and barycentrics
+    /// of an equally near triangle, and any-hit reporting exactly the crossed
+    /// triangles, each once. Returns the number of hits.
+    fn check(tris: &[Tri], rays: &[(Ray, f32, f32)]) -> usize {
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        assert_eq!(bvh.len(), tris.len());
+        let mut hits = 0;
+        for &(ray, tmin, tmax) in rays {
+            let shear = RayShear::new(&ray);
+            let f = |p: u32, tm: f32| {
+                let [a, b, c] = tris[p as usize];
+                intersect_triangle(&ray, &shear, a, b, c, tmin, tm)
+            };
+            let got = bvh.closest_hit(&ray, tmin, tmax);
+            let want = brute_closest(tris.len(), &ray, tmin, tmax, |p, tm| f(p, tm).map(|h| h.0));
+            match (got, want) {
+                (None, None) => {}
+                (Some(g), Some((_, wt))) => {
+                    assert_eq!(g.t.to_bits(), wt.to_bits(), "ray {ray:?}: {g:?} vs t {wt}");
+                    // The reported triangle gives exactly the reported hit.
+                    let (t, b1, b2) = f(g.id, tmax).expect("reported triangle is hit");
+                    assert_eq!((t, b1, b2), (g.t, g.b1, g.b2));
+                    hits += 1;
+                }
+                _ => panic!("ray {ray:?} [{tmin}, {tmax}]: tree {got:?} vs brute {want:?}"),
+            }
+            assert_eq!(bvh.occluded(&ray, tmin, tmax), got.is_some());
+            assert_eq!(
+                bvh.occluded(&ray, tmin, tmax),
+                brute_any(tris.len(), &ray, tmin, tmax, |p, tm| f(p, tm).is_some())
+            );
+            let mut seen = Vec::new();
+            assert!(!bvh.any_hit(&ray, tmin, tmax, |id| {
+                seen.push(id);
+                false
+            }));
+            seen.sort_unstable();
+            let all: Vec<u32> = (0..tris.len() as u32)
+                .filter(|&p| f(p, tmax).is_some())
+                .collect();
+            assert_eq!(seen, all, "crossings of {ray:?}");
+        }
+        hits
+    }
+
+    fn random_rays(r: &mut Rng, n: usize, b: &Aabb) -> Vec<(Ray, f32, f32)> {
+        let grown = Aabb::new(b.min - Vec3::splat(2.0), b.max + Vec3::splat(2.0));
+        (0..n)
+            .map(|i| {
+                let o = rand_in(r, &grown);
+                let d = if i % 2 == 0 {
+                    rand_dir(r)
+                } else {
+                    rand_in(r, b) - o
+                };
+                let (tmin, tmax) = match i % 5 {
+                    0 => (0.0, r.range(0.5, 20.0)),
+                    1 => (r.range(0.0, 3.0), f32::INFINITY),
+                    _ => (0.0, f32::INFINITY),
+                };
+                (Ray::new(o, d, 0.0), tmin, tmax)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn random_soups_match_brute_force() {
+        let mut r = Rng::new(21);
+        for (n, size) in [
+            (1, 3.0),
+            (3, 3.0),
+            (5, 3.0),
+            (17, 2.0),
+            (300, 1.0),
+            (3000, 0.5),
+        ] {
+            let tris = soup(&mut r, n, size);
+            let bounds = tris
+                .iter()
+                .fold(Aabb::EMPTY, |b, t| b.union(Aabb::from_points(*t)));
+            let rays = random_rays(&mut r, 3000, &bounds);
+            let hits = check(&tris, &rays);
+            assert!(hits > 0 || n < 5, "{n} triangles: no hit");
+        }
+    }
+
+    #[test]
+    fn flat_scene_with_axis_and_parallel_rays() {
+        // Triangles in the plane y = 0 (zero-height boxes) and standing on
+        // it; rays along the axes, in the plane and exactly on box faces.
+        let mut r = Rng::new(22);
+        let mut tris = Vec::new();
+        for i in 0..2000 {
+            let p = |r: &mut Rng| Vec3::new(r.range(-10.0, 10.0), 0.0, r.range(-10.0, 10.0));
+            let a = p(&mut r);
+            let b = a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0));
+            let c = if i % 3 == 0 {
+                a + Vec3::new(r.range(-1.0, 1.0), r.range(0.1, 1.0), r.range(-1.0, 1.0))
+            } else {
+                a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0))
+            };
+            tris.push([a, b, c]);
+        }
+        let dirs = [
+            Vec3::X,
+            -Vec3::X,
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(-1.0, -0.0, 0.5),
+            Vec3::new(0.3, -0.0, -1.0),
+        ];
+        let rays: Vec<_> = (0..6000)
+            .map(|i| {
+                let d = dirs[i % dirs.len()];
+                let y = match (i / dirs.len()) % 4 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    2 => 1e-3,
+                    _ => r.range(-2.0, 2.0),
+                };
+                let o = Vec3::new(r.range(-12.0, 12.0), y, r.range(-12.0, 12.0));
+                (Ray::new(o, d, 0.0), 0.0, f32::INFINITY)
+            })
+            .collect();
+        assert!(check(&tris, &rays) > 300);
+    }
+
+    #[test]
+    fn empty_single_and_degenerate() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 0.0);
+        let empty = TriangleBvh::build(0, |_| unreachable!());
+        assert!(empty.is_empty() && empty.bounds().is_empty());
+        assert_eq!(empty.closest_hit(&ray, 0.0, f32::INFINITY), None);
+        assert!(!empty.occluded(&ray, 0.0, f32::INFINITY));
+        let tri = [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let one = TriangleBvh::build(1, |_| tri);
+        let h = one.closest_hit(&ray, 0.0, f32::INFINITY).expect("hit");
+        assert_eq!((h.id, h.t), (0, 5.0));
+        assert_eq!(one.closest_hit(&ray, 0.0, 5.0), None);
+        assert_eq!(one.stats().packs, 1);
+        // Degenerate triangles (points, segments) among good ones, and rays
+        // aimed at their points: never a hit from a degenerate one.
+        let mut r = Rng::new(23);
+        let mut tris = soup(&mut r, 500, 1.0);
+        for i in 0..500 {
+            let a = tris[i][0];
+            tris.push(if i % 2 == 0 {
+                [a, a, a]
+            } else {
+                [a, tris[i][1], a + 0.5 * (tris[i][1] - a)]
+            });
+        }
+        let rays: Vec<_> = (0..3000)
+            .map(|i| {
+                let o = rand_dir(&mut r) * 15.0;
+                let target = tris[500 + i % 500][i % 3];
+                (Ray::new(o, target - o, 0.0), 0.0, f32::INFINITY)
+            })
+            .collect();
+        check(&tris, &rays);
+        // Non-finite rays hit nothing.
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        for ray in [
+            Ray::new(Vec3::splat(f32::NAN), Vec3::X, 0.0),
+            Ray::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0), 0.0),
+        ] {
+            assert_eq!(bvh.closest_hit(&ray, 0.0, f32::INFINITY), None);
+            assert!(!bvh.occluded(&ray, 0.0, f32::INFINITY));
+        }
+    }
+
+    #[test]
+    fn identical_boxes_and_large_leaves() {
+        let mut r = Rng::new(24);
+        let unit = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let tris: Vec<Tri> = (0..5000)
+            .map(|_| [Vec3::ZERO, Vec3::ONE, rand_in(&mut r, &unit)])
+            .collect();
+        let rays = random_rays(&mut r, 1000, &unit);
+        assert!(check(&tris, &rays) > 100);
+    }
+
+    #[test]
+    fn stack_spills_in_order() {
+        let mut s = Stack::new();
+        for i in 0..3 * MAX_DEPTH as u32 {
+            s.push((i, i as f32));
+        }
+        for i in (0..3 * MAX_DEPTH as u32).rev() {
+            assert_eq!(s.pop(), Some((i, i as f32)));
+        }
+        assert_eq!(s.pop(), None);
+    }
+
+    #[test]
+    fn closed_mesh_is_watertight() {
+        // A UV sphere; rays aimed exactly at vertices and edge midpoints from
+        // the centre never slip through.
+        use std::f32::consts::{PI, TAU};
+        let (nu, nv) = (60, 31);
+        let pos = |j: usize, i: usize| {
+            let theta = PI * j as f32 / nv as f32;
+            let phi = TAU * (i % nu) as f32 / nu as f32;
+            2.0 * Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            )
+        };
+        let mut tris: Vec<Tri> = Vec::new();
+        for i in 0..nu {
+            tris.push([pos(0, 0), pos(1, i + 1), pos(1, i)]);
+            tris.push([pos(nv, 0), pos(nv - 1, i), pos(nv - 1, i + 1)]);
+        }
+        for j in 1..nv - 1 {
+            for i in 0..nu {
+                let (a, b, c, d) = (pos(j, i), pos(j, i + 1), pos(j + 1, i), pos(j + 1, i + 1));
+                tris.push([a, b, d]);
+                tris.push([a, d, c]);
+            }
+        }
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        let o = Vec3::ZERO;
+        for t in &tris {
+            for k in 0..3 {
+                for p in [t[k], 0.5 * (t[k] + t[(k + 1) % 3])] {
+                    let ray = Ray::new(o, p - o, 0.0);
+                    let h = bvh.closest_hit(&ray, 0.0, f32::INFINITY);
+                    let h = h.unwrap_or_else(|| panic!("ray to {p:?} slipped through"));
+                    assert!((h.t - 1.0).abs() < 1e-4, "t = {}", h.t);
+                    assert!(bvh.occluded(&ray, 0.0, f32::INFINITY));
+                }
+            }
+        }
+    }
+}
