@@ -1,0 +1,582 @@
+#!/usr/bin/env python3
+"""Penumbra's benchmark harness: sets up the reference systems, runs them and
+Penumbra on the same scenes in one run, and prints a table of medians and
+ratios (docs/performance.md explains every figure).
+
+    python3 bench/run.py [--bunny PATH] [--rounds 3] [--quick] [--only a,b,c,...]
+                         [--obvhs] [--baseline REV] [--update-doc] [--no-setup]
+
+Sections (--only takes their names):
+  rays     Embree (embreex) vs Penumbra: build, closest and any hit, per thread
+  a        scene (a): 16 primary rays per pixel + 1 shadow ray, vs Mitsuba 3
+  b        scene (b): 1 primary ray + 64 shadow rays per pixel, vs POV-Ray
+  whitted  the Whitted bunny at 800x600: frames per second, 1 vs 2 threads
+  linear   render time against pixels, primary rays and shadow rays
+  memory   maximum resident memory of `penumbra render bunny`
+  million  a procedural 1,000,000-triangle mesh: build, render, memory
+  before   with --baseline REV: the library of git revision REV against the
+           working tree's on the same scenes (one thread, CPU time)
+
+Setup (bench/setup.sh) installs Mitsuba 3 and embreex into bench/.venv and
+POV-Ray and LLVM's shared library from Debian's packages; the script then
+re-runs itself with the venv's Python. Work files go to bench/.work.
+Rounds alternate the systems compared, so that load from other processes on
+a shared machine hits both alike; each figure is the median over rounds, and
+each ratio the median of the per-round ratios.
+"""
+
+import argparse
+import json
+import os
+import platform
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+VENV_PY = HERE / ".venv" / "bin" / "python"
+BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
+
+
+def log(*a):
+    print(*a, file=sys.stderr, flush=True)
+
+
+def run(cmd, env=None, cwd=None, check=True):
+    log("$", " ".join(str(c) for c in cmd))
+    p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=env, cwd=cwd)
+    if check and p.returncode != 0:
+        sys.stderr.write(p.stdout + p.stderr)
+        raise SystemExit(f"command failed ({p.returncode}): {cmd[0]}")
+    return p
+
+
+def med(xs):
+    xs = [x for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+def llvm_library():
+    """A libLLVM that Dr.Jit accepts (it needs LLVM 15 or later)."""
+    cands = sorted(Path("/usr/lib/x86_64-linux-gnu").glob("libLLVM-*.so.1")) + sorted(
+        Path("/usr/lib").glob("llvm-*/lib/libLLVM*.so*"))
+    def major(p):
+        m = re.search(r"LLVM-(\d+)", p.name)
+        return int(m.group(1)) if m else 0
+    good = [p for p in cands if major(p) >= 15]
+    return str(max(good, key=major)) if good else None
+
+
+# ---------------------------------------------------------------------------
+# Setup and build
+# ---------------------------------------------------------------------------
+
+def ensure_venv(args):
+    if Path(sys.prefix).resolve() == (HERE / ".venv").resolve():
+        return
+    if not args.no_setup:
+        subprocess.run(["bash", str(HERE / "setup.sh")], check=True)
+    os.execv(str(VENV_PY), [str(VENV_PY), str(Path(__file__).resolve())] + sys.argv[1:])
+
+
+def build(args):
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    cmd = ["cargo", "build", "--release", "-p", "penumbra-cli", "-p", "penumbra-bench", "--bins"]
+    if args.obvhs:
+        cmd += ["--features", "penumbra-bench/obvhs"]
+    run(cmd, cwd=ROOT)
+    b = target / "release"
+    return {"penumbra": b / "penumbra", "raybench": b / "raybench", "scenebench": b / "scenebench"}
+
+
+def prepare(args):
+    sys.path.insert(0, str(HERE))
+    import common
+    import povray_bunny
+
+    common.WORK.mkdir(exist_ok=True)
+    w = common.WORK
+    bunny = common.bunny_path(args.bunny)
+    if not bunny.exists():
+        raise SystemExit(f"the Stanford bunny is not at {bunny}: pass --bunny PATH or set PENUMBRA_BUNNY")
+    tris = common.bunny_triangles(bunny)
+    tris.astype("<f4").tofile(w / "bunny.tris")
+    if not (w / "camera.rays").exists():
+        common.camera_rays().astype("<f4").tofile(w / "camera.rays")
+    if not (w / "incoherent.rays").exists():
+        common.incoherent_rays(tris).astype("<f4").tofile(w / "incoherent.rays")
+    povray_bunny.write_pov(bunny, w / "bunny.pov", "area")
+    if not (w / "sphere1m.ply").exists():
+        v, f = common.bumpy_sphere(1000, 501)
+        common.write_ply(w / "sphere1m.ply", v, f)
+    (w / "sphere1m.toml").write_text(
+        "# A procedural bumpy sphere of 1,000,000 triangles on the bunny scene's ground.\n"
+        "[camera]\nposition = [0.0, 1.3, 4.2]\nlook_at = [0.0, 0.8, 0.0]\nfov = 40\n\n"
+        "[[objects]]\ntype = \"quad\"\norigin = [-5.0, 0.0, -5.0]\nedge_u = [0.0, 0.0, 10.0]\nedge_v = [10.0, 0.0, 0.0]\n\n"
+        "[[objects]]\ntype = \"mesh\"\npath = \"sphere1m.ply\"\n"
+        "transform = { scale = 0.8, translate = [0.0, 0.8, 0.0] }\n\n"
+        "[[lights]]\ntype = \"rect\"\norigin = [-0.5, 4.0, -0.5]\nedge_u = [1.0, 0.0, 0.0]\n"
+        "edge_v = [0.0, 0.0, 1.0]\nradiance = [40.0, 40.0, 40.0]\n")
+    return {"bunny": bunny, "triangles": len(tris)}
+
+
+# ---------------------------------------------------------------------------
+# Measurements
+# ---------------------------------------------------------------------------
+
+def scenebench(bins, bunny, scene, *extra, repeat=3):
+    p = run([bins["scenebench"], scene, "--bunny", bunny, "--repeat", repeat, *extra], cwd=ROOT)
+    return json.loads(p.stdout)
+
+
+def build_baseline(rev):
+    """scenebench built against the library of git revision `rev` (its
+    public API: scene loading and render) in bench/.work/baseline."""
+    d = HERE / ".work" / "baseline"
+    shutil.rmtree(d, ignore_errors=True)
+    d.mkdir(parents=True)
+    tar = subprocess.run(["git", "archive", rev], cwd=ROOT, capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(d)], input=tar, check=True)
+    shutil.rmtree(d / "crates" / "penumbra-bench", ignore_errors=True)
+    shutil.copytree(ROOT / "crates" / "penumbra-bench", d / "crates" / "penumbra-bench")
+    toml = (d / "Cargo.toml").read_text()
+    toml = re.sub(r"members = \[[^\]]*\]", 'members = ["crates/penumbra", "crates/penumbra-bench"]', toml)
+    (d / "Cargo.toml").write_text(toml)
+    shutil.copy(ROOT / "Cargo.lock", d / "Cargo.lock")
+    env = dict(os.environ, CARGO_TARGET_DIR=str(d / "target"))
+    run(["cargo", "build", "--release", "-p", "penumbra-bench", "--bin", "scenebench"], cwd=d, env=env)
+    return d / "target" / "release" / "scenebench"
+
+
+def section_before(args, bins, data):
+    if not args.baseline:
+        return {"skipped": "no --baseline REV"}
+    base = {"scenebench": build_baseline(args.baseline)}
+    cases = [
+        ("Whitted bunny (1 ray/pixel, point light)", [HERE / "scenes" / "bunny-whitted.toml"], 5),
+        ("bunny, 4 primary + 1 shadow ray/pixel", ["bunny", "--spp", "4", "--distribution", "jitter"], 1),
+        ("scene (b): bunny, 64 shadow rays/pixel", ["bunny", "--shadow-rays", "64", "--distribution", "grid"], 1),
+    ]
+    rows = []
+    for name, argv, rep in cases:
+        old, new = [], []
+        for _ in range(args.rounds):
+            for b, acc in ((base, old), (bins, new)):
+                acc.append(scenebench(b, data["bunny"], argv[0], *argv[1:], "--threads", "1", repeat=rep))
+        rows.append({
+            "what": name, "rays": new[0]["rays"],
+            "before_cpu": med([x["render_cpu_s"] for x in old]), "after_cpu": med([x["render_cpu_s"] for x in new]),
+            "before_s": med([x["render_s"] for x in old]), "after_s": med([x["render_s"] for x in new]),
+            "ratio_cpu": med([n["render_cpu_s"] / o["render_cpu_s"] for o, n in zip(old, new)]),
+        })
+    return {"rev": args.baseline, "rows": rows}
+
+
+def section_rays(args, bins, data):
+    w = HERE / ".work"
+    rays = ["--rays", f"camera={w / 'camera.rays'}", "--rays", f"incoherent={w / 'incoherent.rays'}"]
+    rounds = []
+    for _ in range(args.rounds):
+        e = json.loads(run([VENV_PY, HERE / "embree_rays.py", "--tris", w / "bunny.tris", *rays,
+                            "--repeat", 3]).stdout)
+        pcmd = [bins["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3, "--generic"]
+        if args.obvhs:
+            pcmd.append("--obvhs")
+        p = json.loads(run(pcmd).stdout)
+        rounds.append((e, p))
+    e1 = json.loads(run([VENV_PY, HERE / "embree_rays.py", "--tris", w / "bunny.tris", "--one-cpu",
+                         "--repeat", 5]).stdout)
+    out = {"rows": [], "build": {}, "tree": rounds[-1][1]["penumbra"]["tree"]}
+    for set_name in ("camera", "incoherent"):
+        for kind in ("closest", "any"):
+            er = [r[0]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+            pr = [r[1]["penumbra"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+            row = {
+                "set": set_name, "kind": kind,
+                "rays": rounds[0][0]["rays"][set_name]["rays"],
+                "embree": med(er), "penumbra": med(pr),
+                "ratio": med([p / e for p, e in zip(pr, er)]),
+                "hits_embree": rounds[0][0]["rays"][set_name][kind]["hits"],
+                "hits_penumbra": rounds[0][1]["penumbra"]["rays"][set_name][kind]["hits"],
+            }
+            gr = [r[1]["generic"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+            row["generic"] = med(gr)
+            row["ratio_generic"] = med([p / g for p, g in zip(pr, gr)])
+            if args.obvhs:
+                orr = [r[1]["obvhs"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+                row["obvhs"] = med(orr)
+            out["rows"].append(row)
+    out["build"] = {
+        "embree_ms_all": med([r[0]["build_ms"] for r in rounds]),
+        "embree_ms_1": e1["build_ms"],
+        "penumbra_ms_all": med([r[1]["penumbra"]["build"]["ms_all_threads"] for r in rounds]),
+        "penumbra_ms_1": med([r[1]["penumbra"]["build"]["ms_1_thread"] for r in rounds]),
+        "generic_ms_all": med([r[1]["generic"]["build"]["ms_all_threads"] for r in rounds]),
+        "generic_ms_1": med([r[1]["generic"]["build"]["ms_1_thread"] for r in rounds]),
+    }
+    if args.obvhs:
+        out["build"]["obvhs_ms_all"] = med([r[1]["obvhs"]["build"]["ms_all_threads"] for r in rounds])
+        out["build"]["obvhs_ms_1"] = med([r[1]["obvhs"]["build"]["ms_1_thread"] for r in rounds])
+    return out
+
+
+def section_a(args, bins, data):
+    bunny = data["bunny"]
+    llvm = llvm_library()
+    env = dict(os.environ)
+    if llvm:
+        env["DRJIT_LIBLLVM_PATH"] = llvm
+    rounds = []
+    for _ in range(args.rounds):
+        p = scenebench(bins, bunny, "bunny", "--spp", "16", "--distribution", "jitter", repeat=2)
+        s = json.loads(run([VENV_PY, HERE / "mitsuba_bunny.py", "scalar_rgb", bunny, "--repeat", 1]).stdout)
+        lp = run([VENV_PY, HERE / "mitsuba_bunny.py", "llvm_ad_rgb", bunny, "--repeat", 2], env=env, check=False)
+        l = json.loads(lp.stdout) if lp.returncode == 0 else {"error": (lp.stderr.strip().splitlines() or ["?"])[-1]}
+        rounds.append((p, s, l))
+    # Same scene, same estimator: the image means agree (see docs).
+    exr = HERE / ".work" / "a_penumbra.exr"
+    run([bins["penumbra"], "render", "bunny", "--bunny", bunny, "--spp", "16", "--distribution", "jitter",
+         "-o", exr, "--quiet"], cwd=ROOT)
+    import mitsuba as mi
+    import numpy as np
+    mi.set_variant("scalar_rgb")
+    pen_mean = [float(x) for x in np.array(mi.Bitmap(str(exr))).reshape(-1, 3).mean(axis=0)]
+    r = {
+        "penumbra_s": med([x[0]["render_s"] for x in rounds]),
+        "penumbra_cpu_s": med([x[0]["render_cpu_s"] for x in rounds]),
+        "penumbra_rays": rounds[0][0]["rays"],
+        "penumbra_shadow_rays": rounds[0][0]["shadow_rays"],
+        "scalar_s": med([x[1]["render_s"] for x in rounds]),
+        "scalar_cpu_s": med([x[1]["render_cpu_s"] for x in rounds]),
+        "ratio_scalar": med([x[0]["render_s"] / x[1]["render_s"] for x in rounds]),
+        "ratio_scalar_cpu": med([x[0]["render_cpu_s"] / x[1]["render_cpu_s"] for x in rounds]),
+        "mean_penumbra": pen_mean,
+        "mean_mitsuba": rounds[0][1]["mean_rgb"],
+        "llvm_library": llvm,
+        "mitsuba_version": rounds[0][1]["version"],
+    }
+    if all("render_s" in x[2] for x in rounds):
+        r.update({
+            "llvm_s": med([x[2]["render_s"] for x in rounds]),
+            "llvm_cpu_s": med([x[2]["render_cpu_s"] for x in rounds]),
+            "llvm_first_s": med([x[2]["first_render_s"] for x in rounds]),
+            "ratio_llvm": med([x[0]["render_s"] / x[2]["render_s"] for x in rounds]),
+            "ratio_llvm_cpu": med([x[0]["render_cpu_s"] / x[2]["render_cpu_s"] for x in rounds]),
+        })
+    else:
+        r["llvm_error"] = next(x[2]["error"] for x in rounds if "error" in x[2])
+    return r
+
+
+POV_TIME = re.compile(r"Trace Time:.*\(([\d.]+) seconds\)\s*\n\s*using (\d+) thread\(s\) with ([\d.]+) CPU-seconds")
+
+
+def povray(pov):
+    p = run(["povray", f"-I{pov.name}", "+W800", "+H600", "-A", "-D", "+WT2", "+FN", "-O/dev/null"],
+            cwd=pov.parent, check=False)
+    text = p.stderr + p.stdout
+    m = POV_TIME.search(text)
+    rays = int(re.search(r"^Rays:\s+(\d+)", text, re.M).group(1))
+    shadow = int(re.search(r"Shadow Ray Tests:\s+(\d+)", text).group(1))
+    if not m:
+        raise SystemExit("cannot read POV-Ray's statistics:\n" + text[-2000:])
+    return {"trace_s": float(m.group(1)), "threads": int(m.group(2)), "cpu_s": float(m.group(3)),
+            "rays": rays, "shadow_rays": shadow, "total_rays": rays + shadow}
+
+
+def section_b(args, bins, data):
+    pov = HERE / ".work" / "bunny.pov"
+    rounds = []
+    for _ in range(args.rounds):
+        pv = povray(pov)
+        pn = scenebench(bins, data["bunny"], "bunny", "--shadow-rays", "64", "--distribution", "grid", repeat=2)
+        rounds.append((pv, pn))
+    rate = lambda rays, s: rays / s / 1e6
+    pv_rate = [rate(x[0]["total_rays"], x[0]["trace_s"]) for x in rounds]
+    pn_rate = [rate(x[1]["rays"], x[1]["render_s"]) for x in rounds]
+    pv_cpu = [rate(x[0]["total_rays"], x[0]["cpu_s"]) for x in rounds]
+    pn_cpu = [rate(x[1]["rays"], x[1]["render_cpu_s"]) for x in rounds]
+    v = run(["povray", "--version"], check=False)
+    return {
+        "povray_version": (v.stdout + v.stderr).strip().splitlines()[0] if (v.stdout + v.stderr).strip() else "?",
+        "povray_s": med([x[0]["trace_s"] for x in rounds]),
+        "povray_rays": rounds[0][0]["total_rays"], "povray_shadow": rounds[0][0]["shadow_rays"],
+        "penumbra_s": med([x[1]["render_s"] for x in rounds]),
+        "penumbra_rays": rounds[0][1]["rays"], "penumbra_shadow": rounds[0][1]["shadow_rays"],
+        "povray_mrays": med(pv_rate), "penumbra_mrays": med(pn_rate),
+        "ratio": med([a / b for a, b in zip(pn_rate, pv_rate)]),
+        "povray_mrays_cpu": med(pv_cpu), "penumbra_mrays_cpu": med(pn_cpu),
+        "ratio_cpu": med([a / b for a, b in zip(pn_cpu, pv_cpu)]),
+    }
+
+
+def section_whitted(args, bins, data):
+    scene = HERE / "scenes" / "bunny-whitted.toml"
+    rounds = []
+    for _ in range(args.rounds):
+        two = scenebench(bins, data["bunny"], scene, "--threads", "2", repeat=9)
+        one = scenebench(bins, data["bunny"], scene, "--threads", "1", repeat=9)
+        rounds.append((one, two))
+    return {
+        "rays": rounds[0][1]["rays"],
+        "s_2": med([x[1]["render_s"] for x in rounds]),
+        "s_1": med([x[0]["render_s"] for x in rounds]),
+        "cpu_2": med([x[1]["render_cpu_s"] for x in rounds]),
+        "cpu_1": med([x[0]["render_cpu_s"] for x in rounds]),
+        "fps_2": med([1 / x[1]["render_s"] for x in rounds]),
+        "efficiency": med([x[0]["render_s"] / (2 * x[1]["render_s"]) for x in rounds]),
+        # What two dedicated cores would do: the frame's CPU time split over 2.
+        "fps_cpu_2": med([2 / x[1]["render_cpu_s"] for x in rounds]),
+    }
+
+
+def section_linear(args, bins, data):
+    scene = HERE / "scenes" / "bunny-whitted.toml"
+    rows = []
+    for w, h in ((400, 300), (800, 600), (1600, 1200)):
+        r = scenebench(bins, data["bunny"], scene, "--width", w, "--height", h, "--threads", "1", repeat=3)
+        rows.append({"what": f"Whitted {w}x{h}", "pixels": w * h, "rays": r["rays"],
+                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
+    for spp in (1, 4, 16):
+        r = scenebench(bins, data["bunny"], "bunny", "--spp", spp, "--distribution", "jitter",
+                       "--threads", "1", repeat=3)
+        rows.append({"what": f"bunny, {spp} primary rays/pixel", "pixels": 480000, "rays": r["rays"],
+                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
+    for n in (1, 4, 16, 64):
+        r = scenebench(bins, data["bunny"], "bunny", "--shadow-rays", n, "--distribution", "grid",
+                       "--threads", "1", repeat=3)
+        rows.append({"what": f"bunny, {n} shadow rays", "pixels": 480000, "rays": r["rays"],
+                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
+    return {"rows": rows}
+
+
+def max_rss(cmd, cwd):
+    p = run(["/usr/bin/time", "-v", *cmd], cwd=cwd)
+    kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr).group(1))
+    return kb / 1024, p
+
+
+def section_memory(args, bins, data):
+    out = {}
+    stats = HERE / ".work" / "memory.json"
+    for name, extra in (("bunny", []), ("bunny, 64 shadow rays", ["--shadow-rays", "64"])):
+        mb, _ = max_rss([bins["penumbra"], "render", "bunny", "--bunny", data["bunny"], *extra,
+                         "-o", HERE / ".work" / "memory.png", "--quiet", "--stats", stats], ROOT)
+        out[name] = mb
+    return out
+
+
+def section_million(args, bins, data):
+    w = HERE / ".work"
+    stats = w / "million.json"
+    mb, _ = max_rss([bins["penumbra"], "render", w / "sphere1m.toml", "-o", w / "million.png",
+                     "--quiet", "--stats", stats], ROOT)
+    s = json.loads(stats.read_text())
+    r = scenebench(bins, data["bunny"], w / "sphere1m.toml", repeat=3)
+    return {"triangles": s["primitives"], "build_s": s["time"]["build_s"], "render_s": r["render_s"],
+            "render_cpu_s": r["render_cpu_s"], "rays": r["rays"], "rss_mb": mb}
+
+
+# ---------------------------------------------------------------------------
+# Report
+# ---------------------------------------------------------------------------
+
+def machine():
+    cpu = "?"
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            cpu = line.split(":", 1)[1].strip()
+            break
+    rustc = run(["rustc", "--version"], check=False).stdout.strip()
+    osr = {}
+    if Path("/etc/os-release").exists():
+        for l in Path("/etc/os-release").read_text().splitlines():
+            if "=" in l:
+                k, v = l.split("=", 1)
+                osr[k] = v.strip('"')
+    return {"cpu": cpu, "cores": os.cpu_count(), "load": os.getloadavg(), "rustc": rustc,
+            "os": osr.get("PRETTY_NAME", platform.platform()), "kernel": platform.release(),
+            "python": platform.python_version()}
+
+
+def f(x, d=2):
+    return "—" if x is None else f"{x:.{d}f}"
+
+
+def report(res):
+    m = res["machine"]
+    L = []
+    L.append(f"Measured {res['date']} on: {m['cpu']}, {m['cores']} cores, {m['os']} (kernel {m['kernel']}); "
+             f"load average {m['load_start'][0]:.1f} at the start, {m['load'][0]:.1f} at the end. "
+             f"{m['rustc']}; Python {m['python']}; " + ", ".join(f"{k} {v}" for k, v in res["versions"].items())
+             + f". {res['rounds']} rounds.")
+    L.append("")
+    L.append("| comparison | reference | Penumbra | ratio (Penumbra / reference) | target | met |")
+    L.append("|---|---|---|---|---|---|")
+    def row(name, ref, pen, ratio, target, met):
+        L.append(f"| {name} | {ref} | {pen} | {ratio} | {target} | {'yes' if met else '**no**'} |")
+    if "rays" in res:
+        r = res["rays"]
+        for x in r["rows"]:
+            tgt = x["set"] == "incoherent"
+            row(f"{x['set']} rays ({x['rays']:,}), {x['kind']} hit, 1 thread, Mrays/s",
+                f"Embree {f(x['embree'])}", f(x["penumbra"]), f"{f(x['ratio'])}×",
+                "≥ 1×" if tgt else "—", (x["ratio"] >= 1) if tgt else True)
+        b = r["build"]
+        row("BVH build, bunny (69,451 triangles), ms, all threads", f"Embree {f(b['embree_ms_all'], 1)}",
+            f(b["penumbra_ms_all"], 1), f"{f(b['penumbra_ms_all'] / b['embree_ms_all'])}×", "≤ 2×",
+            b["penumbra_ms_all"] <= 2 * b["embree_ms_all"])
+        row("BVH build, bunny, ms, 1 thread", f"Embree {f(b['embree_ms_1'], 1)}", f(b["penumbra_ms_1"], 1),
+            f"{f(b['penumbra_ms_1'] / b['embree_ms_1'])}×", "≤ 2×", b["penumbra_ms_1"] <= 2 * b["embree_ms_1"])
+    if "a" in res:
+        a = res["a"]
+        row("scene (a): 800×600, 16 primary + 1 shadow ray, s (wall)", f"Mitsuba scalar_rgb {f(a['scalar_s'])}",
+            f(a["penumbra_s"]), f"{f(a['ratio_scalar'])}×", "≤ 0.5×", a["ratio_scalar"] <= 0.5)
+        row("scene (a), s (CPU time, all threads)", f"Mitsuba scalar_rgb {f(a['scalar_cpu_s'])}",
+            f(a["penumbra_cpu_s"]), f"{f(a['ratio_scalar_cpu'])}×", "≤ 0.5×", a["ratio_scalar_cpu"] <= 0.5)
+        if "llvm_s" in a:
+            row("scene (a), s (wall)", f"Mitsuba llvm_ad_rgb {f(a['llvm_s'])}", f(a["penumbra_s"]),
+                f"{f(a['ratio_llvm'])}×", "≤ 1×", a["ratio_llvm"] <= 1)
+            row("scene (a), s (CPU time)", f"Mitsuba llvm_ad_rgb {f(a['llvm_cpu_s'])}", f(a["penumbra_cpu_s"]),
+                f"{f(a['ratio_llvm_cpu'])}×", "≤ 1×", a["ratio_llvm_cpu"] <= 1)
+        else:
+            row("scene (a)", f"Mitsuba llvm_ad_rgb: {a['llvm_error']}", "—", "—", "≤ 1×", False)
+    if "b" in res:
+        b = res["b"]
+        row("scene (b): 800×600, 1 primary + 64 shadow rays, Mrays/s (wall)", f"POV-Ray {f(b['povray_mrays'])}",
+            f(b["penumbra_mrays"]), f"{f(b['ratio'])}×", "≥ 5×", b["ratio"] >= 5)
+        row("scene (b), Mrays per CPU-second", f"POV-Ray {f(b['povray_mrays_cpu'])}", f(b["penumbra_mrays_cpu"]),
+            f"{f(b['ratio_cpu'])}×", "≥ 5×", b["ratio_cpu"] >= 5)
+    if "whitted" in res:
+        w = res["whitted"]
+        row("Whitted bunny 800×600, frames/s, 2 threads (wall)", "—", f(w["fps_2"]), "—", "≥ 10", w["fps_2"] >= 10)
+        row("Whitted bunny, frames/s from CPU time / 2 cores", "—", f(w["fps_cpu_2"]), "—", "≥ 10",
+            w["fps_cpu_2"] >= 10)
+        row("parallel efficiency, 2 threads (wall: t1 / 2 t2)", "—", f"{100 * w['efficiency']:.0f}%", "—", "≥ 90%",
+            w["efficiency"] >= 0.9)
+    if "memory" in res:
+        for k, v in res["memory"].items():
+            row(f"max resident memory, `penumbra render` {k}, MB", "—", f(v, 0), "—", "< 100", v < 100)
+    if "million" in res:
+        mm = res["million"]
+        row(f"1,000,000-triangle mesh: load + build s / render s / memory MB", "—",
+            f"{f(mm['build_s'])} / {f(mm['render_s'])} / {f(mm['rss_mb'], 0)}", "—", "no surprises", True)
+    L.append("")
+    if "rays" in res:
+        r = res["rays"]
+        L.append(f"Hits (Embree / Penumbra): " + "; ".join(
+            f"{x['set']} {x['kind']} {x['hits_embree']:,} / {x['hits_penumbra']:,}" for x in r["rows"]) + ".")
+        L.append("Before (the generic binary BVH with the scalar watertight test through a closure, as static meshes "
+                 "were traced before), Mrays/s: " + "; ".join(
+                     f"{x['set']} {x['kind']} {f(x['generic'])} (now {f(x['ratio_generic'])}× that)" for x in r["rows"])
+                 + f"; build {f(r['build']['generic_ms_all'], 1)} ms all threads, {f(r['build']['generic_ms_1'], 1)} ms "
+                 "1 thread (boxes only).")
+        t = r["tree"]
+        L.append(f"Penumbra's tree: {t['nodes']:,} four-wide nodes, {t['leaves']:,} leaves, {t['packs']:,} packets "
+                 f"({100 * t['lane_fill']:.0f}% of lanes used), {t['bytes'] / 2**20:.1f} MiB.")
+        if "obvhs" in r["rows"][0]:
+            L.append("obvhs 0.4 CWBVH (medium build, its own triangle test), Mrays/s: " + "; ".join(
+                f"{x['set']} {x['kind']} {f(x['obvhs'])}" for x in r["rows"]) +
+                f"; build {f(r['build']['obvhs_ms_all'], 1)} ms all threads, {f(r['build']['obvhs_ms_1'], 1)} ms 1 thread.")
+    if "a" in res:
+        a = res["a"]
+        L.append(f"Scene (a) image means (linear RGB): Penumbra {', '.join(f(x, 4) for x in a['mean_penumbra'])}; "
+                 f"Mitsuba {', '.join(f(x, 4) for x in a['mean_mitsuba'])}. Penumbra traced {a['penumbra_rays']:,} rays "
+                 f"({a['penumbra_shadow_rays']:,} shadow rays).")
+        if "llvm_s" in a:
+            L.append(f"Mitsuba llvm_ad_rgb with {a['llvm_library']}; its first render (kernel compilation) took "
+                     f"{f(a['llvm_first_s'])} s.")
+    if "b" in res:
+        b = res["b"]
+        L.append(f"Scene (b) rays: POV-Ray {b['povray_rays']:,} ({b['povray_shadow']:,} shadow ray tests) in "
+                 f"{f(b['povray_s'])} s; Penumbra {b['penumbra_rays']:,} ({b['penumbra_shadow']:,} shadow) in "
+                 f"{f(b['penumbra_s'])} s.")
+    if "whitted" in res:
+        w = res["whitted"]
+        L.append(f"Whitted frame: {w['rays']:,} rays; 2 threads {f(w['s_2'], 3)} s wall ({f(w['cpu_2'], 3)} s CPU), "
+                 f"1 thread {f(w['s_1'], 3)} s wall ({f(w['cpu_1'], 3)} s CPU).")
+    if "linear" in res:
+        L.append("")
+        L.append("| linearity (1 thread) | pixels | rays | s (wall) | s (CPU) | ns per ray (CPU) |")
+        L.append("|---|---|---|---|---|---|")
+        for x in res["linear"]["rows"]:
+            L.append(f"| {x['what']} | {x['pixels']:,} | {x['rays']:,} | {f(x['s'], 3)} | {f(x['cpu_s'], 2)} | "
+                     f"{f(1e9 * x['cpu_s'] / x['rays'], 0)} |")
+    if "before" in res and "rows" in res["before"]:
+        L.append("")
+        L.append(f"| before → after (library of `{res['before']['rev']}` → this tree; 1 thread) | rays | "
+                 "before s (CPU) | after s (CPU) | after / before (CPU) | before s (wall) | after s (wall) |")
+        L.append("|---|---|---|---|---|---|---|")
+        for x in res["before"]["rows"]:
+            L.append(f"| {x['what']} | {x['rays']:,} | {f(x['before_cpu'])} | {f(x['after_cpu'])} | "
+                     f"{f(x['ratio_cpu'])}× | {f(x['before_s'])} | {f(x['after_s'])} |")
+    if "million" in res:
+        mm = res["million"]
+        L.append("")
+        L.append(f"1M mesh: {mm['triangles']:,} primitives; load (PLY) and build {f(mm['build_s'])} s; "
+                 f"render (800×600, 1 primary + 1 shadow ray) {f(mm['render_s'])} s wall, "
+                 f"{f(mm['render_cpu_s'])} s CPU; max resident memory {f(mm['rss_mb'], 0)} MB.")
+    return "\n".join(L) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY or ../shared/data/bunny.ply)")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="one round")
+    ap.add_argument("--only", help="comma-separated sections: rays,a,b,whitted,linear,memory,million")
+    ap.add_argument("--obvhs", action="store_true", help="also measure the obvhs crate in the rays section")
+    ap.add_argument("--baseline", help="git revision whose library the 'before' section compares against")
+    ap.add_argument("--update-doc", action="store_true", help="write the results into docs/performance.md")
+    ap.add_argument("--no-setup", action="store_true", help="do not run bench/setup.sh")
+    args = ap.parse_args()
+    ensure_venv(args)
+    if args.quick:
+        args.rounds = 1
+    sections = ["rays", "a", "b", "whitted", "linear", "memory", "million"]
+    if args.baseline:
+        sections.append("before")
+    if args.only:
+        sections = [s for s in args.only.split(",") if s]
+    load_start = os.getloadavg()
+    bins = build(args)
+    data = prepare(args)
+    import importlib.metadata as md
+    versions = {}
+    for pkg in ("mitsuba", "drjit", "embreex", "numpy"):
+        try:
+            versions[pkg] = md.version(pkg)
+        except md.PackageNotFoundError:
+            pass
+    if shutil.which("povray"):
+        v = run(["povray", "--version"], check=False)
+        m = re.search(r"POV-Ray ([\w.]+)", v.stdout + v.stderr)
+        versions["POV-Ray"] = m.group(1) if m else "?"
+    res = {"date": time.strftime("%Y-%m-%d"), "rounds": args.rounds, "versions": versions}
+    fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
+           "linear": section_linear, "memory": section_memory, "million": section_million,
+           "before": section_before}
+    for s in sections:
+        log(f"== {s}")
+        res[s] = fns[s](args, bins, data)
+        log(json.dumps(res[s], default=str))
+    res["machine"] = machine()
+    res["machine"]["load_start"] = load_start
+    (HERE / ".work" / "results.json").write_text(json.dumps(res, indent=1, default=str))
+    text = report(res)
+    print(text)
+    if args.update_doc:
+        doc = ROOT / "docs" / "performance.md"
+        d = doc.read_text()
+        i, j = d.index(BEGIN) + len(BEGIN), d.index(END)
+        doc.write_text(d[:i] + "\n" + text + d[j:])
+        log(f"updated {doc.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()

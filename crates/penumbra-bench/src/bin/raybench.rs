@@ -1,0 +1,301 @@
+//! Traces ray files through Penumbra's triangle BVH and prints what it
+//! measured as JSON: the batch counterpart of what the harness in `bench/`
+//! asks of Embree, on the very same triangles and rays (see the crate docs
+//! for the file formats).
+//!
+//! ```text
+//! raybench --tris bunny.tris --rays camera=camera.rays --rays incoherent=inc.rays
+//!          [--repeat 5] [--generic] [--obvhs]
+//! ```
+//!
+//! For each ray file: closest hit and any hit over `(0, inf)`, one thread,
+//! the number of hits and the median over `--repeat` runs of the on-CPU time
+//! of the tracing thread. Build: median time on one thread (on-CPU) and on
+//! all threads (wall clock). `--generic` also measures the generic
+//! [`Bvh`](penumbra::accel::Bvh) with the scalar watertight test through its
+//! closure (how static meshes were traced before the triangle BVH), and
+//! `--obvhs` (with the `obvhs` feature) the `obvhs` crate's CWBVH, with its
+//! own triangle test.
+
+use penumbra::accel::{Bvh, TriangleBvh};
+use penumbra::geometry::triangle::{intersect_triangle, RayShear};
+use penumbra::math::{Aabb, Ray, Vec3};
+use penumbra_bench::{median, read_rays, read_triangles, thread_time};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+struct Args {
+    tris: PathBuf,
+    rays: Vec<(String, PathBuf)>,
+    repeat: usize,
+    generic: bool,
+    obvhs: bool,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut it = std::env::args().skip(1);
+    let (mut tris, mut rays, mut repeat) = (None, Vec::new(), 5);
+    let (mut generic, mut obvhs) = (false, false);
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--tris" => tris = Some(PathBuf::from(value()?)),
+            "--rays" => {
+                let v = value()?;
+                let (name, path) = v.split_once('=').ok_or("--rays takes NAME=FILE")?;
+                rays.push((name.to_string(), PathBuf::from(path)));
+            }
+            "--repeat" => repeat = value()?.parse().map_err(|e| format!("--repeat: {e}"))?,
+            "--generic" => generic = true,
+            "--obvhs" => obvhs = true,
+            "-h" | "--help" => {
+                return Err(
+                    "usage: raybench --tris FILE --rays NAME=FILE... [--repeat N] [--generic] [--obvhs]".into(),
+                )
+            }
+            _ => return Err(format!("unknown argument {a}")),
+        }
+    }
+    Ok(Args {
+        tris: tris.ok_or("--tris FILE is required")?,
+        rays,
+        repeat: repeat.max(1),
+        generic,
+        obvhs,
+    })
+}
+
+/// Median seconds over `repeat` runs of `f` timed on one thread (on-CPU time).
+fn time_cpu(repeat: usize, mut f: impl FnMut() -> usize) -> (f64, usize) {
+    let mut times = Vec::new();
+    let mut out = 0;
+    for _ in 0..repeat {
+        let start = thread_time();
+        out = f();
+        times.push(thread_time() - start);
+    }
+    (median(times), out)
+}
+
+/// Median build times: one thread (on-CPU) and all threads (wall clock).
+fn time_build<T: Send>(repeat: usize, build: impl Fn() -> T + Sync) -> Value {
+    let threads = rayon::current_num_threads();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+    let serial = one.map(|pool| {
+        pool.install(|| {
+            time_cpu(repeat, || {
+                std::hint::black_box(build());
+                0
+            })
+            .0
+        })
+    });
+    let parallel = median(
+        (0..repeat)
+            .map(|_| {
+                let start = Instant::now();
+                std::hint::black_box(build());
+                start.elapsed().as_secs_f64()
+            })
+            .collect(),
+    );
+    json!({
+        "ms_1_thread": serial.ok().map(|s| s * 1e3),
+        "ms_all_threads": parallel * 1e3,
+        "threads": threads,
+    })
+}
+
+fn rate(n: usize, seconds: f64, hits: usize) -> Value {
+    json!({
+        "hits": hits,
+        "seconds": seconds,
+        "mrays_per_s": n as f64 / seconds / 1e6,
+    })
+}
+
+fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
+    let build = time_build(args.repeat, || TriangleBvh::build(tris.len(), |i| tris[i]));
+    let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+    let s = bvh.stats();
+    let mut out = serde_json::Map::new();
+    for (name, rays) in rays {
+        let (tc, closest) = time_cpu(args.repeat, || {
+            rays.iter()
+                .filter(|r| bvh.closest_hit(r, 0.0, f32::INFINITY).is_some())
+                .count()
+        });
+        let (ta, any) = time_cpu(args.repeat, || {
+            rays.iter()
+                .filter(|r| bvh.occluded(r, 0.0, f32::INFINITY))
+                .count()
+        });
+        out.insert(
+            name.clone(),
+            json!({
+                "rays": rays.len(),
+                "closest": rate(rays.len(), tc, closest),
+                "any": rate(rays.len(), ta, any),
+            }),
+        );
+    }
+    json!({
+        "build": build,
+        "tree": {
+            "nodes": s.nodes,
+            "leaves": s.leaves,
+            "packs": s.packs,
+            "lane_fill": s.triangles as f64 / (4 * s.packs.max(1)) as f64,
+            "bytes": s.bytes,
+        },
+        "rays": out,
+    })
+}
+
+fn generic(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
+    let bounds: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(*t)).collect();
+    let build = time_build(args.repeat, || Bvh::build(&bounds));
+    let bvh = Bvh::build(&bounds);
+    let test = |ray: &Ray, shear: &RayShear, p: u32, tmax: f32| {
+        let [a, b, c] = tris[p as usize];
+        intersect_triangle(ray, shear, a, b, c, 0.0, tmax)
+    };
+    let mut out = serde_json::Map::new();
+    for (name, rays) in rays {
+        let (tc, closest) = time_cpu(args.repeat, || {
+            rays.iter()
+                .filter(|r| {
+                    let s = RayShear::new(r);
+                    bvh.closest_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).map(|h| h.0))
+                        .is_some()
+                })
+                .count()
+        });
+        let (ta, any) = time_cpu(args.repeat, || {
+            rays.iter()
+                .filter(|r| {
+                    let s = RayShear::new(r);
+                    bvh.any_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).is_some())
+                })
+                .count()
+        });
+        out.insert(
+            name.clone(),
+            json!({
+                "rays": rays.len(),
+                "closest": rate(rays.len(), tc, closest),
+                "any": rate(rays.len(), ta, any),
+            }),
+        );
+    }
+    json!({ "build": build, "rays": out })
+}
+
+#[cfg(feature = "obvhs")]
+fn obvhs(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
+    use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+    use obvhs::ray::{Ray as ORay, RayHit};
+    use obvhs::rt_triangle::RtTriangle;
+    use obvhs::triangle::Triangle;
+    use obvhs::BvhBuildParams;
+    use std::time::Duration;
+    let v = |p: Vec3| glam::Vec3A::new(p.x, p.y, p.z);
+    let otris: Vec<Triangle> = tris
+        .iter()
+        .map(|t| Triangle {
+            v0: v(t[0]),
+            v1: v(t[1]),
+            v2: v(t[2]),
+        })
+        .collect();
+    let make = || {
+        build_cwbvh_from_tris(
+            &otris,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        )
+    };
+    let build = time_build(args.repeat, make);
+    let bvh = make();
+    // Triangles in the tree's primitive order, as obvhs's examples do.
+    let rt: Vec<RtTriangle> = bvh
+        .primitive_indices
+        .iter()
+        .map(|&i| RtTriangle::from(&otris[i as usize]))
+        .collect();
+    let mut out = serde_json::Map::new();
+    for (name, rays) in rays {
+        let orays: Vec<ORay> = rays
+            .iter()
+            .map(|r| ORay::new_inf(v(r.origin), v(r.dir)))
+            .collect();
+        let (tc, closest) = time_cpu(args.repeat, || {
+            orays
+                .iter()
+                .filter(|&&r| {
+                    let mut hit = RayHit::none();
+                    bvh.ray_traverse(r, &mut hit, |r, id| rt[id].intersect(r))
+                })
+                .count()
+        });
+        let (ta, any) = time_cpu(args.repeat, || {
+            orays
+                .iter()
+                .filter(|&&r| !bvh.ray_traverse_miss(r, |r, id| rt[id].intersect(r)))
+                .count()
+        });
+        out.insert(
+            name.clone(),
+            json!({
+                "rays": rays.len(),
+                "closest": rate(rays.len(), tc, closest),
+                "any": rate(rays.len(), ta, any),
+            }),
+        );
+    }
+    json!({ "build": build, "rays": out })
+}
+
+#[cfg(not(feature = "obvhs"))]
+fn obvhs(_: &Args, _: &[[Vec3; 3]], _: &[(String, Vec<Ray>)]) -> Value {
+    json!({ "error": "built without the obvhs feature" })
+}
+
+fn main() -> ExitCode {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("raybench: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let loaded = read_triangles(&args.tris).and_then(|t| {
+        let rays = args
+            .rays
+            .iter()
+            .map(|(n, p)| Ok((n.clone(), read_rays(p)?)))
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok((t, rays))
+    });
+    let (tris, rays) = match loaded {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("raybench: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut doc = json!({
+        "triangles": tris.len(),
+        "penumbra": penumbra(&args, &tris, &rays),
+    });
+    if args.generic {
+        doc["generic"] = generic(&args, &tris, &rays);
+    }
+    if args.obvhs {
+        doc["obvhs"] = obvhs(&args, &tris, &rays);
+    }
+    println!("{doc:#}");
+    ExitCode::SUCCESS
+}

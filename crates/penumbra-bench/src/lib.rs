@@ -1,0 +1,125 @@
+//! Shared pieces of Penumbra's benchmarks: clocks, medians, the ray and
+//! triangle files exchanged with the harness in `bench/`, and procedural
+//! meshes.
+//!
+//! # Files
+//! Both are headerless little-endian `f32` arrays, written by the harness
+//! with numpy so that Embree and Penumbra trace exactly the same numbers:
+//!
+//! * triangles: 9 floats per triangle (three vertices, x y z each);
+//! * rays: 6 floats per ray (origin x y z, direction x y z); every ray is
+//!   traced over `(0, inf)`.
+
+use penumbra::math::{Ray, Vec3};
+use std::path::Path;
+use std::time::Instant;
+
+/// On-CPU time of the calling thread in seconds (Linux), else wall-clock
+/// time since the first call. Timing single-threaded work by the thread's
+/// CPU time keeps other load on a shared machine out of the figures.
+pub fn thread_time() -> f64 {
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or_else(
+            || START.get_or_init(Instant::now).elapsed().as_secs_f64(),
+            |ns| ns * 1e-9,
+        )
+}
+
+/// On-CPU time of the whole process in seconds, user and system, including
+/// threads that have ended (Linux, 10 ms resolution; `None` elsewhere).
+pub fn process_time() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may contain spaces), from field 3.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    // USER_HZ is 100 on every Linux configuration in practice.
+    Some(ticks / 100.0)
+}
+
+/// Median of a non-empty sample.
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn read_f32s(path: &Path, group: usize) -> Result<Vec<f32>, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if bytes.len() % (4 * group) != 0 {
+        return Err(format!(
+            "{}: {} bytes is not a whole number of {}-float records",
+            path.display(),
+            bytes.len(),
+            group
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect())
+}
+
+/// Reads a triangle file (9 floats per triangle).
+pub fn read_triangles(path: &Path) -> Result<Vec<[Vec3; 3]>, String> {
+    let f = read_f32s(path, 9)?;
+    Ok(f.chunks_exact(9)
+        .map(|c| {
+            [
+                Vec3::new(c[0], c[1], c[2]),
+                Vec3::new(c[3], c[4], c[5]),
+                Vec3::new(c[6], c[7], c[8]),
+            ]
+        })
+        .collect())
+}
+
+/// Reads a ray file (6 floats per ray).
+pub fn read_rays(path: &Path) -> Result<Vec<Ray>, String> {
+    let f = read_f32s(path, 6)?;
+    Ok(f.chunks_exact(6)
+        .map(|c| {
+            Ray::new(
+                Vec3::new(c[0], c[1], c[2]),
+                Vec3::new(c[3], c[4], c[5]),
+                0.0,
+            )
+        })
+        .collect())
+}
+
+/// A closed UV sphere of radius about 1 with a radial bump pattern:
+/// `2 * nu * (nv - 1)` triangles (`nu = 1000, nv = 501` gives a million).
+pub fn bumpy_sphere(nu: usize, nv: usize) -> Vec<[Vec3; 3]> {
+    use std::f32::consts::{PI, TAU};
+    let pos = |j: usize, i: usize| {
+        let theta = PI * j as f32 / nv as f32;
+        let phi = TAU * (i % nu) as f32 / nu as f32;
+        let r = 1.0 + 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin() + 0.02 * (31.0 * phi).cos();
+        r * Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            theta.sin() * phi.sin(),
+        )
+    };
+    let mut tris = Vec::with_capacity(2 * nu * (nv - 1));
+    for i in 0..nu {
+        tris.push([pos(0, 0), pos(1, i + 1), pos(1, i)]);
+        tris.push([pos(nv, 0), pos(nv - 1, i), pos(nv - 1, i + 1)]);
+    }
+    for j in 1..nv - 1 {
+        for i in 0..nu {
+            let (a, b, c, d) = (pos(j, i), pos(j, i + 1), pos(j + 1, i), pos(j + 1, i + 1));
+            tris.push([a, b, d]);
+            tris.push([a, d, c]);
+        }
+    }
+    tris
+}
