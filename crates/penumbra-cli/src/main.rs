@@ -6,6 +6,7 @@
 mod error;
 mod render_cmd;
 mod report;
+mod reproduce_cmd;
 mod samples_cmd;
 
 use std::path::PathBuf;
@@ -29,6 +30,29 @@ enum Command {
     Scenes,
     /// Print or draw the points of a ray distribution.
     Samples(SamplesArgs),
+    /// Regenerate the thesis's evaluation (Tables 4.1-4.6, Figures 4.1-4.10, plots,
+    /// a convergence study of the distributions) as report.md and report.html.
+    Reproduce(ReproduceArgs),
+}
+
+/// Options of `penumbra reproduce`.
+#[derive(Args)]
+pub struct ReproduceArgs {
+    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    #[arg(long, value_name = "PATH")]
+    pub bunny: Option<PathBuf>,
+    /// Output directory for the report, images and plots (default: reproduce).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// The same pipeline at a small resolution with reduced budgets (about a minute or two).
+    #[arg(long)]
+    pub quick: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Options of `penumbra render`. Every option given here wins over the value
@@ -183,6 +207,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Samples(args) => samples_cmd::run(&args),
+        Command::Reproduce(args) => reproduce_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
