@@ -115,7 +115,14 @@ fn bad_arguments_exit_2() {
         vec!["render", "--distribution", "sobol"],
         vec!["render", "--bogus"],
         vec!["samples", "--distribution", "nope", "--count", "4"],
-        vec!["reproduce", "--bunny", "missing.ply", "--out", "report", "--quiet"],
+        vec![
+            "reproduce",
+            "--bunny",
+            "missing.ply",
+            "--out",
+            "report",
+            "--quiet",
+        ],
     ] {
         let o = penumbra(&args, dir.path());
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
