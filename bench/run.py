@@ -156,7 +156,8 @@ def build_baseline(rev):
 def section_before(args, bins, data):
     if not args.baseline:
         return {"skipped": "no --baseline REV"}
-    base = {"scenebench": build_baseline(args.baseline)}
+    rev = run(["git", "rev-parse", "--short", args.baseline], cwd=ROOT).stdout.strip()
+    base = {"scenebench": build_baseline(rev)}
     cases = [
         ("Whitted bunny (1 ray/pixel, point light)", [HERE / "scenes" / "bunny-whitted.toml"], 5),
         ("bunny, 4 primary + 1 shadow ray/pixel", ["bunny", "--spp", "4", "--distribution", "jitter"], 1),
@@ -174,7 +175,7 @@ def section_before(args, bins, data):
             "before_s": med([x["render_s"] for x in old]), "after_s": med([x["render_s"] for x in new]),
             "ratio_cpu": med([n["render_cpu_s"] / o["render_cpu_s"] for o, n in zip(old, new)]),
         })
-    return {"rev": args.baseline, "rows": rows}
+    return {"rev": rev, "rows": rows}
 
 
 def section_rays(args, bins, data):
