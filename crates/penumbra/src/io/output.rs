@@ -78,6 +78,15 @@ fn write_atomic(
             ))
         })?;
     write(tmp.as_file_mut()).map_err(err)?;
+    // Temporary files are private (0600); a rendered image is an ordinary file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::Permissions::from_mode(0o644);
+        tmp.as_file()
+            .set_permissions(mode)
+            .map_err(|e| err(e.to_string()))?;
+    }
     tmp.as_file().sync_all().map_err(|e| err(e.to_string()))?;
     tmp.persist(path).map_err(|e| err(e.error.to_string()))?;
     Ok(())
@@ -171,6 +180,15 @@ mod tests {
         let mut img = Image::new(3, 2);
         img.pixels[4] = Vec3::new(0.25, 0.5, 2.0);
         write_image(&dir.path().join("a.png"), &img).unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(dir.path().join("a.png"))
+                .unwrap()
+                .permissions()
+                .mode();
+            assert_eq!(mode & 0o777, 0o644);
+        }
         let png = image::open(dir.path().join("a.png")).unwrap().to_rgb8();
         assert_eq!(png.dimensions(), (3, 2));
         assert_eq!(png.get_pixel(1, 1).0, [137, 188, 255]);
