@@ -18,8 +18,9 @@ pub struct CameraSample {
     pub time: f32,
 }
 
+/// What a scene says about its camera (validated by the scene builder).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Camera {
+pub struct CameraSpec {
     pub position: [Vec3; 2],
     pub look_at: [Vec3; 2],
     pub up: Vec3,
@@ -32,38 +33,98 @@ pub struct Camera {
     pub height: u32,
 }
 
+/// The camera's orthonormal view basis at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct View {
+    eye: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+}
+
+/// A camera ready to generate rays. Everything that does not depend on the
+/// sample (the view basis of a still camera, the film-to-direction scale) is
+/// computed once here: per ray it cost a fifth of a 16-sample render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    spec: CameraSpec,
+    /// The view of a still camera; `None` when the camera moves during the
+    /// shutter interval, whose view depends on the ray's time.
+    still: Option<View>,
+    /// NDC to view-plane offsets: `(tan(fov/2) · aspect, tan(fov/2))`.
+    scale: Vec2,
+}
+
 impl Camera {
+    pub fn new(spec: CameraSpec) -> Camera {
+        let tan = (0.5 * spec.fov).tan();
+        let aspect = spec.width as f32 / spec.height as f32;
+        let moving = spec.position[0] != spec.position[1] || spec.look_at[0] != spec.look_at[1];
+        let still = (!moving).then(|| View::new(spec.position[0], spec.look_at[0], spec.up));
+        Camera {
+            spec,
+            still,
+            scale: Vec2::new(tan * aspect, tan),
+        }
+    }
+
+    pub fn spec(&self) -> &CameraSpec {
+        &self.spec
+    }
+
+    /// True if the camera moves during the shutter interval.
+    pub fn moves(&self) -> bool {
+        self.still.is_none()
+    }
+
+    /// True if the camera has a lens (depth of field) rather than a pinhole.
+    pub fn has_lens(&self) -> bool {
+        self.spec.aperture > 0.0
+    }
+
     /// The frame time of a shutter fraction in [0, 1).
     pub fn time(&self, fraction: f32) -> f32 {
-        self.shutter[0] + (self.shutter[1] - self.shutter[0]) * fraction
+        let [open, close] = self.spec.shutter;
+        open + (close - open) * fraction
+    }
+
+    /// True if the shutter stays open for a while (motion blur is possible).
+    pub fn shutter_open(&self) -> bool {
+        self.spec.shutter[0] < self.spec.shutter[1]
     }
 
     pub fn generate_ray(&self, s: &CameraSample) -> Ray {
-        let moving = self.position[0] != self.position[1] || self.look_at[0] != self.look_at[1];
-        let (eye, target) = if moving {
+        let c = &self.spec;
+        let view = self.still.unwrap_or_else(|| {
             let t = s.time.clamp(0.0, 1.0);
-            (
-                self.position[0].lerp(self.position[1], t),
-                self.look_at[0].lerp(self.look_at[1], t),
-            )
-        } else {
-            (self.position[0], self.look_at[0])
-        };
-        let forward = (target - eye).normalize();
-        let right = forward.cross(self.up).normalize();
-        let up = right.cross(forward);
-        let tan = (0.5 * self.fov).tan();
-        let aspect = self.width as f32 / self.height as f32;
-        let ndc_x = 2.0 * s.film.x / self.width as f32 - 1.0;
-        let ndc_y = 1.0 - 2.0 * s.film.y / self.height as f32;
-        let dir = (forward + (ndc_x * tan * aspect) * right + (ndc_y * tan) * up).normalize();
-        if self.aperture <= 0.0 {
-            return Ray::new(eye, dir, s.time);
+            let eye = c.position[0].lerp(c.position[1], t);
+            View::new(eye, c.look_at[0].lerp(c.look_at[1], t), c.up)
+        });
+        let ndc_x = 2.0 * s.film.x / c.width as f32 - 1.0;
+        let ndc_y = 1.0 - 2.0 * s.film.y / c.height as f32;
+        let dir =
+            (view.forward + (ndc_x * self.scale.x) * view.right + (ndc_y * self.scale.y) * view.up)
+                .normalize();
+        if c.aperture <= 0.0 {
+            return Ray::new(view.eye, dir, s.time);
         }
         // The focal plane is perpendicular to the view axis at focal_distance.
-        let focus = eye + dir * (self.focal_distance / dir.dot(forward));
-        let origin = eye + self.aperture * (s.lens.x * right + s.lens.y * up);
+        let focus = view.eye + dir * (c.focal_distance / dir.dot(view.forward));
+        let origin = view.eye + c.aperture * (s.lens.x * view.right + s.lens.y * view.up);
         Ray::new(origin, (focus - origin).normalize(), s.time)
+    }
+}
+
+impl View {
+    fn new(eye: Vec3, target: Vec3, up: Vec3) -> View {
+        let forward = (target - eye).normalize();
+        let right = forward.cross(up).normalize();
+        View {
+            eye,
+            forward,
+            right,
+            up: right.cross(forward),
+        }
     }
 }
 
@@ -72,7 +133,7 @@ mod tests {
     use super::*;
 
     fn cam(aperture: f32) -> Camera {
-        Camera {
+        Camera::new(CameraSpec {
             position: [Vec3::new(0.0, 0.0, 5.0); 2],
             look_at: [Vec3::ZERO; 2],
             up: Vec3::Y,
@@ -82,7 +143,7 @@ mod tests {
             shutter: [0.0, 1.0],
             width: 200,
             height: 100,
-        }
+        })
     }
 
     #[test]

@@ -64,14 +64,13 @@ fn pixel_with(
         s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
     }
     lens.clear();
-    if cam.aperture > 0.0 {
+    if cam.has_lens() {
         s.lens.generate(n, 1.0, &mut pixel.derive(1), lens);
     }
     // Times matter only if something moves: each set has its own stream,
     // so skipping this one changes no other random number.
     times.clear();
-    let camera_moves = cam.position[0] != cam.position[1] || cam.look_at[0] != cam.look_at[1];
-    if cam.shutter[0] < cam.shutter[1] && (camera_moves || !scene.world.is_static()) {
+    if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
         s.time.generate_1d(n, &mut pixel.derive(2), times);
     }
     let metric = s.metric.filter(|m| m.pixels);

@@ -8,7 +8,7 @@ use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::world::{mesh_bvh, Object, Shape, World};
 use super::{Scene, Settings};
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraSpec};
 use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
@@ -201,7 +201,7 @@ fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {
             ),
         ));
     }
-    Ok(Camera {
+    Ok(Camera::new(CameraSpec {
         position: [position, position_end],
         look_at: [look_at, look_at_end],
         up,
@@ -211,7 +211,7 @@ fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {
         shutter: [open, close],
         width: s.width,
         height: s.height,
-    })
+    }))
 }
 
 /// Materials in name order (index 0 is the default grey for objects without one).
