@@ -5,8 +5,10 @@
 pub mod brute;
 mod build;
 pub mod bvh;
+pub mod shaft;
 pub mod tri;
 
 pub use brute::{brute_any, brute_closest};
 pub use bvh::{BuildStats, Bvh};
-pub use tri::{TriHit, TriStats, TriangleBvh};
+pub use shaft::Shaft;
+pub use tri::{LeafSet, TriHit, TriStats, TriangleBvh};

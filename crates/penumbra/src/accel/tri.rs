@@ -43,6 +43,7 @@
 //! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
 
 use super::build::{self, Config, Node, MAX_DEPTH};
+use super::shaft::Shaft;
 use crate::geometry::triangle::{edge_functions_f64, RayShear};
 use crate::math::{Aabb, Ray, Vec3};
 use glam::Vec4;
@@ -125,6 +126,8 @@ impl Stack {
 const HALVES: usize = 1;
 /// Children per node.
 const WIDTH: usize = 4 * HALVES;
+// Shaft gathering reads nodes as single four-lane vectors.
+const _: () = assert!(HALVES == 1);
 
 /// The children of an interior node (128 bytes when four-wide).
 #[derive(Clone, Copy, Debug)]
@@ -148,6 +151,24 @@ impl Node4 {
             self.b[axis][1][lane / 4][lane % 4] = b.max[axis];
         }
         self.child[lane] = child;
+    }
+
+    /// Lower corners of the four children, one vector per axis.
+    fn lo(&self) -> [Vec4; 3] {
+        [self.b[0][0][0], self.b[1][0][0], self.b[2][0][0]]
+    }
+
+    /// Upper corners of the four children, one vector per axis.
+    fn hi(&self) -> [Vec4; 3] {
+        [self.b[0][1][0], self.b[1][1][0], self.b[2][1][0]]
+    }
+
+    fn lane_box(&self, lane: usize) -> Aabb {
+        let (lo, hi) = (self.lo(), self.hi());
+        Aabb {
+            min: Vec3::new(lo[0][lane], lo[1][lane], lo[2][lane]),
+            max: Vec3::new(hi[0][lane], hi[1][lane], hi[2][lane]),
+        }
     }
 
     /// Tests the boxes against the ray clipped to `[tmin, tmax]`: a bit
@@ -521,15 +542,68 @@ impl TriangleBvh {
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
         self.traverse::<false>(ray, tmin, tmax, |p, r, tmax| {
-            let (mut mask, ..) = p.intersect(r, tmin, *tmax);
-            while mask != 0 {
-                if hit(p.id[mask.trailing_zeros() as usize]) {
-                    return true;
-                }
-                mask &= mask - 1;
-            }
-            false
+            pack_any_hit(p, r, tmin, *tmax, &mut hit)
         })
+    }
+
+    /// Collects into `out` the leaves whose boxes may overlap `shaft`, in
+    /// the order [`any_hit`](Self::any_hit) visits leaves (depth first, children in
+    /// storage order). Returns false, with `out` incomplete, once more than
+    /// `limit` leaves are found.
+    pub fn gather(&self, shaft: &Shaft, limit: usize, out: &mut LeafSet) -> bool {
+        out.clear();
+        if self.nodes.is_empty() {
+            return true;
+        }
+        out.push_lanes(0, shaft.overlaps4(&self.nodes[0].lo(), &self.nodes[0].hi()));
+        while let Some(e) = out.stack.pop() {
+            let node = &self.nodes[(e >> 2) as usize];
+            let lane = (e & 3) as usize;
+            let child = node.child[lane];
+            if child & LEAF == 0 {
+                let n = &self.nodes[child as usize];
+                out.push_lanes(child, shaft.overlaps4(&n.lo(), &n.hi()));
+            } else if (child >> 28) & 7 != 0 {
+                if out.len == limit {
+                    return false;
+                }
+                out.push_leaf(node, lane);
+            }
+        }
+        true
+    }
+
+    /// [`any_hit`](Self::any_hit) for a ray that lies in the shaft `set` was
+    /// gathered for: tests only the leaves of `set` (four boxes at a time),
+    /// and reports the same triangles in the same order as `any_hit`.
+    pub fn any_hit_in(
+        &self,
+        set: &LeafSet,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut hit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        if set.len == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
+            return false;
+        }
+        let r = TraversalRay::new(ray);
+        let (tmin4, tmax4) = (Vec4::splat(tmin), Vec4::splat(tmax));
+        for group in &set.groups {
+            let (mut mask, _) = group.hit(&r, tmin4, tmax4);
+            while mask != 0 {
+                let leaf = group.child[mask.trailing_zeros() as usize];
+                mask &= mask - 1;
+                let first = (leaf & FIRST_MASK) as usize;
+                let count = ((leaf >> 28) & 7) as usize;
+                for p in &self.packs[first..first + count] {
+                    if pack_any_hit(p, &r, tmin, tmax, &mut hit) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
     }
 
     /// Whether any triangle is crossed within `(tmin, tmax)`.
@@ -569,13 +643,15 @@ impl TriangleBvh {
                         continue;
                     }
                     if !ORDERED {
-                        // Any order finds an occluder: push the others as they
-                        // come, with no distance (`tmax` never shrinks here).
+                        // Any order finds an occluder; storage order (the
+                        // others pushed last first, with no distance: `tmax`
+                        // never shrinks here) is the order `gather` lists
+                        // leaves in, so `any_hit_in` reports what this does.
                         let mut m = rest;
                         while m != 0 {
-                            let i = m.trailing_zeros() as usize;
+                            let i = 31 - m.leading_zeros() as usize;
                             stack.push((node.child[i], f32::NEG_INFINITY));
-                            m &= m - 1;
+                            m &= !(1 << i);
                         }
                         cur = node.child[i0];
                         continue;
@@ -628,6 +704,74 @@ impl TriangleBvh {
                 }
             }
         }
+    }
+}
+
+/// Reports the triangles of one packet the ray crosses, in lane order, until
+/// `hit` returns true.
+#[inline(always)]
+fn pack_any_hit(
+    p: &Pack,
+    r: &TraversalRay,
+    tmin: f32,
+    tmax: f32,
+    hit: &mut impl FnMut(u32) -> bool,
+) -> bool {
+    let (mut mask, ..) = p.intersect(r, tmin, tmax);
+    while mask != 0 {
+        if hit(p.id[mask.trailing_zeros() as usize]) {
+            return true;
+        }
+        mask &= mask - 1;
+    }
+    false
+}
+
+/// The leaves of a [`TriangleBvh`] a [`Shaft`] may reach, in any-hit order,
+/// with their boxes four to a node so that a ray tests four at once. Kept by
+/// the caller and reused, so that gathering allocates nothing once warm.
+#[derive(Clone, Debug, Default)]
+pub struct LeafSet {
+    groups: Vec<Node4>,
+    len: usize,
+    /// Work list of `gather`: `node << 2 | lane`.
+    stack: Vec<u32>,
+}
+
+impl LeafSet {
+    /// Number of leaves.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn clear(&mut self) {
+        self.groups.clear();
+        self.stack.clear();
+        self.len = 0;
+    }
+
+    /// Schedules the lanes of `mask` of `node`, so that they pop in lane order.
+    fn push_lanes(&mut self, node: u32, mask: u32) {
+        for lane in (0..WIDTH as u32).rev() {
+            if mask >> lane & 1 != 0 {
+                self.stack.push(node << 2 | lane);
+            }
+        }
+    }
+
+    fn push_leaf(&mut self, node: &Node4, lane: usize) {
+        if self.len == self.groups.len() * WIDTH {
+            self.groups.push(Node4::EMPTY);
+        }
+        let b = node.lane_box(lane);
+        if let Some(g) = self.groups.last_mut() {
+            g.set(self.len % WIDTH, &b, node.child[lane]);
+        }
+        self.len += 1;
     }
 }
 
@@ -917,5 +1061,84 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Segments from a small box to a light-sized square, through a soup:
+    /// testing only the gathered leaves reports the triangles full any-hit
+    /// traversal reports, in the same order; a limit below the leaf count
+    /// makes `gather` give up.
+    #[test]
+    fn gathered_leaves_report_what_traversal_reports() {
+        let mut r = Rng::new(23);
+        let mut set = LeafSet::default();
+        let (mut crossed, mut gathered, mut leaves) = (0usize, 0usize, 0usize);
+        for round in 0..30 {
+            let tris = soup(&mut r, 300 + 40 * round, 1.5);
+            let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+            let scene = Aabb::new(Vec3::splat(-12.0), Vec3::splat(12.0));
+            let o = rand_in(&mut r, &scene);
+            let origins = Aabb::new(o, o + Vec3::splat(r.range(0.0, 0.5)));
+            let c = rand_in(&mut r, &scene);
+            let half = Vec3::new(r.range(0.0, 3.0), 0.0, r.range(0.0, 3.0));
+            let targets = Aabb::new(c - half, c + half);
+            let shaft = Shaft::new(origins, targets).expect("finite boxes");
+            assert!(bvh.gather(&shaft, usize::MAX, &mut set));
+            gathered += set.len();
+            leaves += bvh.stats().leaves;
+            for _ in 0..200 {
+                let (a, b) = (rand_in(&mut r, &origins), rand_in(&mut r, &targets));
+                let ray = Ray::new(a, b - a, 0.0);
+                let tmax = 1.0 - 1e-4;
+                let mut full = Vec::new();
+                bvh.any_hit(&ray, 0.0, tmax, |id| {
+                    full.push(id);
+                    false
+                });
+                let mut fast = Vec::new();
+                bvh.any_hit_in(&set, &ray, 0.0, tmax, |id| {
+                    fast.push(id);
+                    false
+                });
+                assert_eq!(full, fast, "round {round}, ray {ray:?}");
+                crossed += full.len();
+                // Stopping at the first occluder agrees too.
+                let first = |v: &Vec<u32>| v.first().copied();
+                let mut stop = None;
+                bvh.any_hit_in(&set, &ray, 0.0, tmax, |id| {
+                    stop = Some(id);
+                    true
+                });
+                assert_eq!(stop, first(&full));
+            }
+            if set.len() > 1 {
+                assert!(!bvh.gather(&shaft, set.len() - 1, &mut set));
+            }
+        }
+        // The case is not vacuous: segments cross triangles, and shafts
+        // leave some leaves out.
+        assert!(crossed > 1000, "{crossed} crossings");
+        assert!(
+            0 < gathered && gathered < leaves / 2,
+            "{gathered} of {leaves}"
+        );
+    }
+
+    /// A shaft far from every triangle gathers nothing.
+    #[test]
+    fn shaft_beside_the_soup_gathers_nothing() {
+        let mut r = Rng::new(29);
+        let tris = soup(&mut r, 500, 1.0);
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        let far = Vec3::splat(100.0);
+        let shaft = Shaft::new(
+            Aabb::new(far, far),
+            Aabb::new(far + Vec3::X, far + Vec3::ONE),
+        )
+        .expect("finite boxes");
+        let mut set = LeafSet::default();
+        assert!(bvh.gather(&shaft, 0, &mut set));
+        assert!(set.is_empty());
+        let ray = Ray::new(far, Vec3::ONE, 0.0);
+        assert!(!bvh.any_hit_in(&set, &ray, 0.0, 1.0, |_| true));
     }
 }

@@ -1,6 +1,7 @@
+use crate::accel::LeafSet;
 use crate::light::Light;
 use crate::material::{fresnel_dielectric, Material, Rgb};
-use crate::math::{offset_origin, reflect, refract, Ray, Vec3};
+use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, Rng};
 use crate::scene::world::Hit;
@@ -20,12 +21,27 @@ const FRESNEL_RAY: u64 = 6;
 /// they aim at (or a surface touching it) does not count as a blocker.
 const SHADOW_END: f32 = 1.0 - 1e-4;
 
+/// Shadow sets of at least this many rays are traced through their shaft
+/// (see [`crate::accel::Shaft`]). Building and gathering a shaft costs a few
+/// rays' worth of work; on the bunny scene (instruction counts) it saved 16%
+/// of a 64-ray render, 4% at 16 rays, and cost 28% at 4.
+const SHAFT_MIN_RAYS: u32 = 16;
+
+/// A shaft reaching more BVH leaves than this is not used: past it, testing
+/// every ray against every leaf costs more than traversing the tree (16 and
+/// 32 measured alike; 64 and more were slower).
+const SHAFT_MAX_LEAVES: usize = 16;
+
 /// One worker's tracer: reads the scene, counts its own rays, and keeps a pool
 /// of point buffers so that distributing rays allocates nothing once warm.
 pub struct Tracer<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
     pool: Vec<Vec<Vec3>>,
+    /// The shadow set being traced (shadow rays do not recurse: one suffices).
+    shadow_set: Vec<Option<ShadowRay>>,
+    /// The BVH leaves of the current shadow set's shaft.
+    leaves: LeafSet,
 }
 
 /// Which secondary set is being traced: selects the ray kind and the streams.
@@ -66,6 +82,8 @@ impl<'a> Tracer<'a> {
             scene,
             stats: RayStats::default(),
             pool: Vec::new(),
+            shadow_set: Vec::new(),
+            leaves: LeafSet::default(),
         }
     }
 
@@ -114,23 +132,38 @@ impl<'a> Tracer<'a> {
     }
 
     /// Direct light from one light: the average over its shadow set of
-    /// `brdf · weight · cos θ · transmittance`.
+    /// `brdf · weight · cos θ · transmittance`. The whole set is prepared
+    /// first, so that a set of several rays can gather once the BVH leaves
+    /// its shaft reaches and test every ray against those only.
     fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
         let n = light.shadow_rays();
         let d = light.shadow.distribution;
         let points = self.points(d, n, rng);
+        let mut set = std::mem::take(&mut self.shadow_set);
+        set.clear();
+        set.extend(points.iter().map(|p| shadow_ray(s, light, *p, d)));
+        self.pool.push(points);
+        let shaft = n >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
         let k = self
             .scene
             .settings
             .metric
             .map_or(u32::MAX, |m| m.shadow_rays);
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
-        for point in &points {
+        for r in &set {
             done += 1;
-            match self.shadow_ray(s, m, light, *point, d) {
-                Some(Some(c)) => (sum, reached) = (sum + c, reached + 1),
-                Some(None) => blocked += 1,
-                None => {}
+            if let Some(r) = r {
+                self.stats.shadow += 1;
+                let world = &self.scene.world;
+                let transparency = &self.scene.transparency;
+                let leaves = shaft.then_some(&self.leaves);
+                match world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, leaves) {
+                    Some(t) => {
+                        sum += m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t);
+                        reached += 1;
+                    }
+                    None => blocked += 1,
+                }
             }
             // The shadow metric: after k rays, all reached or all blocked.
             if done == k && done < n && (reached == 0 || blocked == 0) && reached + blocked > 0 {
@@ -138,33 +171,20 @@ impl<'a> Tracer<'a> {
                 break;
             }
         }
-        self.pool.push(points);
+        self.shadow_set = set;
         sum / done.max(1) as f32
     }
 
-    /// One shadow ray: `None` if not traced (the sample is below the horizon
-    /// or on the back of the light), `Some(None)` if blocked, else the
-    /// reflected radiance it brings.
-    fn shadow_ray(
-        &mut self,
-        s: &Local,
-        m: &Material,
-        light: &Light,
-        point: Vec3,
-        d: Distribution,
-    ) -> Option<Option<Rgb>> {
-        let ls = light.sample(s.p, point, d)?;
-        let wi = (ls.target - s.p).normalize_or_zero();
-        let cos = s.n.dot(wi);
-        if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
-            return None;
+    /// Gathers the static-triangle leaves of the shaft holding every ray of
+    /// the set; false if the shaft reaches too many to be worth it.
+    fn gather_shaft(&mut self, set: &[Option<ShadowRay>]) -> bool {
+        let (mut origins, mut targets) = (Aabb::EMPTY, Aabb::EMPTY);
+        for r in set.iter().flatten() {
+            origins = origins.grow(r.ray.origin);
+            targets = targets.grow(r.ray.at(1.0));
         }
-        let origin = offset_origin(s.p, s.ng, wi);
-        self.stats.shadow += 1;
-        let ray = Ray::new(origin, ls.target - origin, s.time);
         let world = &self.scene.world;
-        let t = world.transmittance(&ray, 0.0, SHADOW_END, &self.scene.transparency);
-        Some(t.map(|t| m.local_brdf(s.n, s.wo, wi) * ls.weight * (cos * t)))
+        world.gather_shaft(origins, targets, SHAFT_MAX_LEAVES, &mut self.leaves)
     }
 
     /// A dielectric interface: Fresnel-weighted reflection and refraction.
@@ -243,4 +263,34 @@ impl<'a> Tracer<'a> {
         d.generate(n as usize, 1.0, &mut rng, &mut buf);
         buf
     }
+}
+
+/// A shadow ray of a set, prepared before any ray of the set is traced.
+#[derive(Clone, Copy)]
+struct ShadowRay {
+    /// From the offset shading point to the light sample (at parameter 1).
+    ray: Ray,
+    wi: Vec3,
+    cos: f32,
+    /// What the light brings along the ray if it is not blocked.
+    weight: Rgb,
+}
+
+/// The shadow ray toward one distribution point of the light; `None` if
+/// there is none to trace (the sample is below the horizon or on the back of
+/// the light).
+fn shadow_ray(s: &Local, light: &Light, point: Vec3, d: Distribution) -> Option<ShadowRay> {
+    let ls = light.sample(s.p, point, d)?;
+    let wi = (ls.target - s.p).normalize_or_zero();
+    let cos = s.n.dot(wi);
+    if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+        return None;
+    }
+    let origin = offset_origin(s.p, s.ng, wi);
+    Some(ShadowRay {
+        ray: Ray::new(origin, ls.target - origin, s.time),
+        wi,
+        cos,
+        weight: ls.weight,
+    })
 }

@@ -11,7 +11,7 @@
 //! and then through the triangles with its range cut at the object hit (a
 //! ground plane in front of a mesh spares the mesh's BVH).
 
-use crate::accel::{brute_closest, Bvh, TriangleBvh};
+use crate::accel::{brute_closest, Bvh, LeafSet, Shaft, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::Quad;
 use crate::geometry::sphere::intersect_sphere;
@@ -183,26 +183,48 @@ impl World {
         best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
     }
 
+    /// Gathers into `out` the static-triangle leaves that segments from the
+    /// box `origins` to the box `targets` may cross (see [`Shaft`]), for
+    /// [`transmittance`](Self::transmittance) of a whole shadow set. Returns
+    /// false if the boxes are not finite or the shaft reaches more than
+    /// `limit` leaves: then the rays are better traced through the tree.
+    pub fn gather_shaft(
+        &self,
+        origins: Aabb,
+        targets: Aabb,
+        limit: usize,
+        out: &mut LeafSet,
+    ) -> bool {
+        Shaft::new(origins, targets).is_some_and(|s| self.tris.gather(&s, limit, out))
+    }
+
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
     /// when an opaque surface blocks it. Transparent surfaces let light
     /// through attenuated by their transparency at every crossing (without
-    /// bending it); light surfaces cast no shadow.
+    /// bending it); light surfaces cast no shadow. With `shaft`, the leaves
+    /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
+    /// segment, only they are tested among the static triangles (the result
+    /// is the same, bit for bit).
     pub fn transmittance(
         &self,
         ray: &Ray,
-        tmin: f32,
-        tmax: f32,
+        (tmin, tmax): (f32, f32),
         transparency: &[f32],
+        shaft: Option<&LeafSet>,
     ) -> Option<f32> {
         let mut trans = 1.0f32;
-        let blocked = self.tris.any_hit(ray, tmin, tmax, |id| {
+        let hit = |id: u32| {
             let o = &self.objects[self.tri_refs[id as usize].0 as usize];
             if o.light.is_some() {
                 return false;
             }
             trans *= transparency[o.material as usize];
             trans <= 0.0
-        });
+        };
+        let blocked = match shaft {
+            None => self.tris.any_hit(ray, tmin, tmax, hit),
+            Some(set) => self.tris.any_hit_in(set, ray, tmin, tmax, hit),
+        };
         if blocked {
             return None;
         }
