@@ -6,6 +6,7 @@ mod pixel;
 mod report;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -106,13 +107,7 @@ pub fn render(
         .threads
         .unwrap_or_else(rayon::current_num_threads)
         .max(1);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| RenderError::Threads {
-            threads,
-            message: e.to_string(),
-        })?;
+    let pool = pool(threads)?;
     let tiles = tiles(region);
     let done = AtomicUsize::new(0);
     let start = Instant::now();
@@ -146,6 +141,29 @@ pub fn render(
     }
     stats.render_time = start.elapsed();
     Ok((image, stats))
+}
+
+/// The worker pool of `threads` threads, made on first use and kept: starting
+/// threads costs about half a millisecond per render, which small renders
+/// (a distributed tile, an interactive preview) and the first tiles of every
+/// render would otherwise pay, and kept workers keep their warm buffers.
+fn pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, RenderError> {
+    static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+    let mut pools = POOLS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, p)) = pools.iter().find(|(n, _)| *n == threads) {
+        return Ok(Arc::clone(p));
+    }
+    let p = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("penumbra-worker-{i}"))
+        .build()
+        .map_err(|e| RenderError::Threads {
+            threads,
+            message: e.to_string(),
+        })?;
+    let p = Arc::new(p);
+    pools.push((threads, Arc::clone(&p)));
+    Ok(p)
 }
 
 /// The region cut into tiles, row by row.
