@@ -8,19 +8,25 @@ pub struct Quad {
     pub edge_v: Vec3,
     /// Unit normal `edge_u × edge_v`, the emitting side of a rectangle light.
     pub normal: Vec3,
-    /// Precomputed `n / (n·n)` for the unnormalised normal, to get (s, t) by dots.
-    w: Vec3,
+    /// Duals of the edges, `edge_v × w` and `w × edge_u` with
+    /// `w = n / (n·n)` for the unnormalised normal `n`: the (s, t)
+    /// coordinates of a point of the plane are its offset from `origin`
+    /// dotted with them (one dot each instead of a cross and a dot).
+    du: Vec3,
+    dv: Vec3,
 }
 
 impl Quad {
     pub fn new(origin: Vec3, edge_u: Vec3, edge_v: Vec3) -> Self {
         let n = edge_u.cross(edge_v);
+        let w = n / n.length_squared().max(f32::MIN_POSITIVE);
         Quad {
             origin,
             edge_u,
             edge_v,
             normal: n.normalize_or_zero(),
-            w: n / n.length_squared().max(f32::MIN_POSITIVE),
+            du: edge_v.cross(w),
+            dv: w.cross(edge_u),
         }
     }
 
@@ -48,9 +54,8 @@ impl Quad {
             return None;
         }
         let rel = ray.at(t) - self.origin;
-        let c = rel.cross(self.edge_v);
-        let s = self.w.dot(c);
-        let tt = self.w.dot(self.edge_u.cross(rel));
+        let s = rel.dot(self.du);
+        let tt = rel.dot(self.dv);
         if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&tt) {
             Some((t, s, tt))
         } else {
