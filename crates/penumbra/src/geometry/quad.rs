@@ -14,6 +14,8 @@ pub struct Quad {
     /// dotted with them (one dot each instead of a cross and a dot).
     du: Vec3,
     dv: Vec3,
+    /// `|edge_u × edge_v|`, asked for by every light sample of a rectangle light.
+    area: f32,
 }
 
 impl Quad {
@@ -27,11 +29,12 @@ impl Quad {
             normal: n.normalize_or_zero(),
             du: edge_v.cross(w),
             dv: w.cross(edge_u),
+            area: n.length(),
         }
     }
 
     pub fn area(&self) -> f32 {
-        self.edge_u.cross(self.edge_v).length()
+        self.area
     }
 
     pub fn point(&self, s: f32, t: f32) -> Vec3 {

@@ -1,10 +1,9 @@
-use crate::accel::LeafSet;
 use crate::light::Light;
 use crate::material::{fresnel_dielectric, Material, Rgb};
 use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, Rng};
-use crate::scene::world::Hit;
+use crate::scene::world::{Hit, ShaftSet};
 use crate::scene::Scene;
 
 use super::{RayStats, RunningMean};
@@ -40,8 +39,8 @@ pub struct Tracer<'a> {
     pool: Vec<Vec<Vec3>>,
     /// The shadow set being traced (shadow rays do not recurse: one suffices).
     shadow_set: Vec<Option<ShadowRay>>,
-    /// The BVH leaves of the current shadow set's shaft.
-    leaves: LeafSet,
+    /// What the current shadow set's shaft may cross.
+    shaft: ShaftSet,
 }
 
 /// Which secondary set is being traced: selects the ray kind and the streams.
@@ -83,7 +82,7 @@ impl<'a> Tracer<'a> {
             stats: RayStats::default(),
             pool: Vec::new(),
             shadow_set: Vec::new(),
-            leaves: LeafSet::default(),
+            shaft: ShaftSet::default(),
         }
     }
 
@@ -156,8 +155,8 @@ impl<'a> Tracer<'a> {
                 self.stats.shadow += 1;
                 let world = &self.scene.world;
                 let transparency = &self.scene.transparency;
-                let leaves = shaft.then_some(&self.leaves);
-                match world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, leaves) {
+                let within = shaft.then_some(&self.shaft);
+                match world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within) {
                     Some(t) => {
                         sum += m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t);
                         reached += 1;
@@ -184,7 +183,7 @@ impl<'a> Tracer<'a> {
             targets = targets.grow(r.ray.at(1.0));
         }
         let world = &self.scene.world;
-        world.gather_shaft(origins, targets, SHAFT_MAX_LEAVES, &mut self.leaves)
+        world.gather_shaft(origins, targets, SHAFT_MAX_LEAVES, &mut self.shaft)
     }
 
     /// A dielectric interface: Fresnel-weighted reflection and refraction.
