@@ -61,6 +61,9 @@ pub struct Light {
 #[derive(Clone, Copy, Debug)]
 pub struct LightSample {
     pub target: Vec3,
+    /// Unit direction from the shading point to `target` (what
+    /// `normalize_or_zero` gives), kept so that callers need not recompute it.
+    pub dir: Vec3,
     pub weight: Rgb,
 }
 
@@ -145,7 +148,11 @@ impl Light {
             return None;
         }
         let weight = self.point_intensity(-to / r2.sqrt()) / r2;
-        Some(LightSample { target, weight })
+        Some(LightSample {
+            target,
+            dir: to.normalize_or_zero(),
+            weight,
+        })
     }
 
     fn sample_surface(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
@@ -174,7 +181,8 @@ impl Light {
     fn area_sample(&self, p: Vec3, target: Vec3, n: Vec3, area: f32) -> Option<LightSample> {
         let to = target - p;
         let r2 = to.length_squared();
-        let cos_l = n.dot(-to) / r2.sqrt();
+        let r = r2.sqrt();
+        let cos_l = n.dot(-to) / r;
         let cos_l = if matches!(self.shape, LightShape::Sphere { .. }) {
             cos_l.abs()
         } else {
@@ -185,6 +193,8 @@ impl Light {
         }
         Some(LightSample {
             target,
+            // `normalize_or_zero`'s own operations, so the same bits.
+            dir: to * r.recip(),
             weight: self.power * (cos_l * area / r2),
         })
     }
@@ -209,6 +219,7 @@ impl Light {
         let target = p + (b - disc.sqrt()) * w;
         Some(LightSample {
             target,
+            dir: (target - p).normalize_or_zero(),
             weight: self.power * (2.0 * PI * (1.0 - cos_max)),
         })
     }

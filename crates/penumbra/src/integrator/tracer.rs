@@ -140,7 +140,10 @@ impl<'a> Tracer<'a> {
         let points = self.points(d, n, rng);
         let mut set = std::mem::take(&mut self.shadow_set);
         set.clear();
-        set.extend(points.iter().map(|p| shadow_ray(s, light, *p, d)));
+        // Every ray of the set leaves on the side the geometric normal points
+        // to (others are not traced), so all start at the same offset point.
+        let origin = offset_origin(s.p, s.ng, s.ng);
+        set.extend(points.iter().map(|p| shadow_ray(s, origin, light, *p, d)));
         self.pool.push(points);
         let shaft = n >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
         let k = self
@@ -275,17 +278,22 @@ struct ShadowRay {
     weight: Rgb,
 }
 
-/// The shadow ray toward one distribution point of the light; `None` if
-/// there is none to trace (the sample is below the horizon or on the back of
-/// the light).
-fn shadow_ray(s: &Local, light: &Light, point: Vec3, d: Distribution) -> Option<ShadowRay> {
+/// The shadow ray from `origin` (the shading point lifted off its surface)
+/// toward one distribution point of the light; `None` if there is none to
+/// trace (the sample is below the horizon or on the back of the light).
+fn shadow_ray(
+    s: &Local,
+    origin: Vec3,
+    light: &Light,
+    point: Vec3,
+    d: Distribution,
+) -> Option<ShadowRay> {
     let ls = light.sample(s.p, point, d)?;
-    let wi = (ls.target - s.p).normalize_or_zero();
+    let wi = ls.dir;
     let cos = s.n.dot(wi);
     if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
         return None;
     }
-    let origin = offset_origin(s.p, s.ng, wi);
     Some(ShadowRay {
         ray: Ray::new(origin, ls.target - origin, s.time),
         wi,
