@@ -137,7 +137,16 @@ impl<'a> Tracer<'a> {
     fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
         let n = light.shadow_rays();
         let d = light.shadow.distribution;
-        let points = self.points(d, n, rng);
+        let metric = self.scene.settings.metric;
+        // The rays of a shadow set are summed: their order matters only to
+        // the metric, which may stop the set early.
+        let points = if metric.is_some() {
+            self.points(d, n, rng)
+        } else {
+            let mut buf = self.pool.pop().unwrap_or_default();
+            d.generate_unordered(n as usize, 1.0, &mut { rng }, &mut buf);
+            buf
+        };
         let mut set = std::mem::take(&mut self.shadow_set);
         set.clear();
         // Every ray of the set leaves on the side the geometric normal points
@@ -146,11 +155,7 @@ impl<'a> Tracer<'a> {
         set.extend(points.iter().map(|p| shadow_ray(s, origin, light, *p, d)));
         self.pool.push(points);
         let shaft = n >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
-        let k = self
-            .scene
-            .settings
-            .metric
-            .map_or(u32::MAX, |m| m.shadow_rays);
+        let k = metric.map_or(u32::MAX, |m| m.shadow_rays);
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for r in &set {
             done += 1;

@@ -306,14 +306,29 @@ impl Distribution {
             return;
         }
         match self {
-            Distribution::Grid => cells(count, radius, rng, out, |_| Vec2::splat(0.5)),
+            Distribution::Grid => cells(count, radius, rng, out, centre),
             Distribution::Jitter => cells(count, radius, rng, out, unit_square),
-            Distribution::SemiJitter => cells(count, radius, rng, out, |rng| {
-                Vec2::splat(0.25) + 0.5 * unit_square(rng)
-            }),
+            Distribution::SemiJitter => cells(count, radius, rng, out, semi_jitter),
             Distribution::Poisson => poisson(count, radius, rng, out),
             Distribution::Random => out.extend((0..count).map(|_| disk(radius, rng))),
             Distribution::FastRandom => out.extend((0..count).map(|_| cube(radius, rng))),
+        }
+    }
+
+    /// The points [`generate`](Self::generate) gives, for a set whose trace
+    /// order cannot matter (a shadow set without the metric, whose rays are
+    /// summed): a square count of the grid family skips the final shuffle,
+    /// since it keeps every cell anyway. Other distributions and counts are
+    /// generated as by `generate`, whose shuffle chooses the cells kept.
+    pub fn generate_unordered(self, count: usize, radius: f32, rng: &mut Rng, out: &mut Vec<Vec3>) {
+        let s = square_side(count);
+        out.clear();
+        match self {
+            _ if s * s != count => self.generate(count, radius, rng, out),
+            Distribution::Grid => cell_points(s, radius, rng, out, centre),
+            Distribution::Jitter => cell_points(s, radius, rng, out, unit_square),
+            Distribution::SemiJitter => cell_points(s, radius, rng, out, semi_jitter),
+            _ => self.generate(count, radius, rng, out),
         }
     }
 
@@ -423,6 +438,16 @@ fn index_below(rng: &mut Rng, n: usize) -> usize {
     }
 }
 
+/// The grid's offset within its cell: the centre.
+fn centre(_: &mut Rng) -> Vec2 {
+    Vec2::splat(0.5)
+}
+
+/// Semi-jitter's offset: uniform in the centred half-size square of the cell.
+fn semi_jitter(rng: &mut Rng) -> Vec2 {
+    Vec2::splat(0.25) + 0.5 * unit_square(rng)
+}
+
 fn unit_square(rng: &mut Rng) -> Vec2 {
     let x = rng.next_f32();
     Vec2::new(x, rng.next_f32())
@@ -442,9 +467,21 @@ fn cells(
     radius: f32,
     rng: &mut Rng,
     out: &mut Vec<Vec3>,
+    offset: impl FnMut(&mut Rng) -> Vec2,
+) {
+    cell_points(square_side(count), radius, rng, out, offset);
+    shuffle(out, rng);
+    out.truncate(count);
+}
+
+/// One point per cell of the `s x s` grid, in row order, appended to `out`.
+fn cell_points(
+    s: usize,
+    radius: f32,
+    rng: &mut Rng,
+    out: &mut Vec<Vec3>,
     mut offset: impl FnMut(&mut Rng) -> Vec2,
 ) {
-    let s = square_side(count);
     let side = s as f32;
     out.reserve(s.saturating_mul(s));
     for j in 0..s {
@@ -458,8 +495,6 @@ fn cells(
             ));
         }
     }
-    shuffle(out, rng);
-    out.truncate(count);
 }
 
 /// Uniform per area in the disk: radius `r * sqrt(u)` (not `r * u`, which
@@ -1098,6 +1133,25 @@ mod tests {
             println!("{d}: sorted orders = {sorted}, first 4 in one row = {same_row} / 2000");
             assert_eq!(sorted, 0, "{d}");
             assert!(same_row < 16, "{d}: {same_row}");
+        }
+    }
+
+    /// The unordered variant gives exactly the points `generate` gives (as a
+    /// set), for every distribution and square and non-square counts.
+    #[test]
+    fn unordered_sets_hold_the_same_points() {
+        let key = |p: &Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+        for d in Distribution::ALL {
+            for count in [1, 2, 4, 9, 10, 16, 64] {
+                let (mut a, mut b) = (Vec::new(), Vec::new());
+                d.generate(count, 0.7, &mut Rng::new(9), &mut a);
+                d.generate_unordered(count, 0.7, &mut Rng::new(9), &mut b);
+                let (mut a, mut b): (Vec<_>, Vec<_>) =
+                    (a.iter().map(key).collect(), b.iter().map(key).collect());
+                a.sort_unstable();
+                b.sort_unstable();
+                assert_eq!(a, b, "{d} with {count} points");
+            }
         }
     }
 
