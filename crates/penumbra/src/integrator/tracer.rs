@@ -136,26 +136,13 @@ impl<'a> Tracer<'a> {
     /// its shaft reaches and test every ray against those only.
     fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
         let n = light.shadow_rays();
-        let d = light.shadow.distribution;
-        let metric = self.scene.settings.metric;
-        // The rays of a shadow set are summed: their order matters only to
-        // the metric, which may stop the set early.
-        let points = if metric.is_some() {
-            self.points(d, n, rng)
-        } else {
-            let mut buf = self.pool.pop().unwrap_or_default();
-            d.generate_unordered(n as usize, 1.0, &mut { rng }, &mut buf);
-            buf
-        };
-        let mut set = std::mem::take(&mut self.shadow_set);
-        set.clear();
-        // Every ray of the set leaves on the side the geometric normal points
-        // to (others are not traced), so all start at the same offset point.
-        let origin = offset_origin(s.p, s.ng, s.ng);
-        set.extend(points.iter().map(|p| shadow_ray(s, origin, light, *p, d)));
-        self.pool.push(points);
+        let set = self.shadow_set(s, light, rng);
         let shaft = n >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
-        let k = metric.map_or(u32::MAX, |m| m.shadow_rays);
+        let k = self
+            .scene
+            .settings
+            .metric
+            .map_or(u32::MAX, |m| m.shadow_rays);
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for r in &set {
             done += 1;
@@ -180,6 +167,28 @@ impl<'a> Tracer<'a> {
         }
         self.shadow_set = set;
         sum / done.max(1) as f32
+    }
+
+    /// The rays of the shadow set toward `light` (`None` for points that
+    /// give no ray), in a buffer to hand back to `self.shadow_set`.
+    fn shadow_set(&mut self, s: &Local, light: &Light, mut rng: Rng) -> Vec<Option<ShadowRay>> {
+        let (n, d) = (light.shadow_rays(), light.shadow.distribution);
+        // The rays are summed: their order matters only to the metric,
+        // which may stop the set early.
+        let mut points = self.pool.pop().unwrap_or_default();
+        if self.scene.settings.metric.is_some() {
+            d.generate(n as usize, 1.0, &mut rng, &mut points);
+        } else {
+            d.generate_unordered(n as usize, 1.0, &mut rng, &mut points);
+        }
+        let mut set = std::mem::take(&mut self.shadow_set);
+        set.clear();
+        // Every ray of the set leaves on the side the geometric normal points
+        // to (others are not traced), so all start at the same offset point.
+        let origin = offset_origin(s.p, s.ng, s.ng);
+        set.extend(points.iter().map(|p| shadow_ray(s, origin, light, *p, d)));
+        self.pool.push(points);
+        set
     }
 
     /// Gathers the static-triangle leaves of the shaft holding every ray of
