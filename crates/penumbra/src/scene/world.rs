@@ -222,10 +222,11 @@ impl World {
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
     /// when an opaque surface blocks it. Transparent surfaces let light
     /// through attenuated by their transparency at every crossing (without
-    /// bending it); light surfaces cast no shadow. With `shaft`, the leaves
+    /// bending it); light surfaces cast no shadow. With `shaft`, what
     /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
-    /// segment, only they are tested among the static triangles (the result
-    /// is the same, bit for bit).
+    /// segment, only its leaves are tested among the static triangles and
+    /// only its casters among the other objects (the result is the same, bit
+    /// for bit).
     pub fn transmittance(
         &self,
         ray: &Ray,
@@ -415,13 +416,6 @@ pub struct ShaftSet {
     leaves: LeafSet,
     /// Bit `i`: the `i`-th of the few non-triangle casters may be crossed.
     casters: u32,
-}
-
-impl ShaftSet {
-    /// Number of BVH leaves in the shaft.
-    pub fn leaves(&self) -> usize {
-        self.leaves.len()
-    }
 }
 
 /// True if every box lies strictly on the same side of the plane through `p`
