@@ -50,19 +50,59 @@ pub(super) struct Tile {
     pub bad: Vec<BadSample>,
 }
 
-pub(super) fn render_tile(scene: &Scene, region: Region) -> Tile {
+/// Renders one tile; `None` if `cancelled` becomes true, which is checked
+/// before every row so that a cancel takes effect within a row of pixels,
+/// not a whole tile (a tile of a costly scene can take seconds).
+pub(super) fn render_tile(
+    scene: &Scene,
+    region: Region,
+    cancelled: &dyn Fn() -> bool,
+) -> Option<Tile> {
     let mut tracer = Tracer::new(scene);
     let mut pixels = Vec::with_capacity((region.width() * region.height()) as usize);
     let mut bad = Vec::new();
     for y in region.y0..region.y1 {
+        if cancelled() {
+            return None;
+        }
         for x in region.x0..region.x1 {
             pixels.push(render_pixel(scene, &mut tracer, x, y, &mut bad));
         }
     }
-    Tile {
+    Some(Tile {
         region,
         pixels,
         rays: tracer.stats,
         bad,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{LoadOptions, SceneSource};
+    use std::cell::Cell;
+
+    /// The cancel flag is read before every row: a tile stops within a row.
+    #[test]
+    fn a_tile_checks_for_cancel_before_every_row() {
+        let src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
+        let scene = src.build().expect("showcase builds");
+        let region = Region {
+            x0: 0,
+            y0: 0,
+            x1: 8,
+            y1: 8,
+        };
+        let checks = Cell::new(0);
+        let after_three_rows = || {
+            checks.set(checks.get() + 1);
+            checks.get() > 3
+        };
+        assert!(render_tile(&scene, region, &after_three_rows).is_none());
+        assert_eq!(checks.get(), 4);
+        let never = || false;
+        let tile = render_tile(&scene, region, &never).expect("not cancelled");
+        assert_eq!(tile.pixels.len(), 64);
     }
 }

@@ -115,10 +115,8 @@ pub fn render(
         tiles
             .par_iter()
             .map(|t| {
-                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    return None;
-                }
-                let tile = film::render_tile(scene, *t);
+                let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+                let tile = film::render_tile(scene, *t, &cancelled)?;
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
                 Some(tile)
             })
