@@ -1,14 +1,14 @@
 //! Running a render without holding the GIL, while staying responsive to
 //! Ctrl-C and reporting progress to Python.
 //!
-//! The render runs on a scoped thread (which hands the tiles to the library's
-//! worker pool). The
-//! calling thread waits for it with the GIL released, waking every
-//! [`POLL`] to re-acquire the GIL, run Python's signal handlers
-//! (`PyErr_CheckSignals`: only the main thread can) and call the progress
-//! callback. On an exception (KeyboardInterrupt, or one raised by the
-//! callback) it sets the render's cancel flag, waits for the tiles in flight
-//! to stop (each checks the flag before every row of pixels), and raises. Python code is never called from a rayon worker.
+//! The render runs on a scoped thread, which hands the tiles to the
+//! library's worker pool. The calling thread waits for it with the GIL
+//! released, waking every [`POLL`] to re-acquire the GIL, run Python's signal
+//! handlers (`PyErr_CheckSignals`: only the main thread can) and call the
+//! progress callback. On an exception (KeyboardInterrupt, or one raised by
+//! the callback) it sets the render's cancel flag, waits for the tiles in
+//! flight to stop (each checks the flag before every row of pixels), and
+//! raises. Python code is never called from a rayon worker.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex};
