@@ -190,7 +190,11 @@ def test_ctrl_c_interrupts_a_render_cleanly():
     """SIGINT during a long render raises KeyboardInterrupt within a moment."""
     code = textwrap.dedent(
         """
-        import sys, time, penumbra
+        import signal, sys, time, penumbra
+        # A test runner started in the background may hand its children
+        # SIGINT ignored, and Python then keeps it ignored: restore Python's
+        # own handler, the one an interactive user has.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         scene = penumbra.load_scene("showcase")
         print("ready", flush=True)
         t = time.perf_counter()
@@ -212,7 +216,11 @@ def test_ctrl_c_interrupts_a_render_cleanly():
 
     time.sleep(0.5)
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
+    try:
+        out, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise
     assert proc.returncode == 0, (out, err)
     assert out.startswith("interrupted"), (out, err)
 
