@@ -1,4 +1,4 @@
-//! Shaft culling (Haines and Wallace, "Shaft Culling for Efficient Ray-Cast
+//! Shaft culling (Haines and Wallace, "Shaft Culling for Efficient Ray-Traced
 //! Radiosity", 1991): the convex hull of two boxes, tested against BVH boxes
 //! so that a whole set of segments between them is culled at once.
 //!
