@@ -5,14 +5,19 @@ mod common;
 
 use common::*;
 use penumbra::render::{render, RenderError, RenderOptions};
+use penumbra::scene::Scene;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+fn showcase(width: i64, height: i64) -> Scene {
+    let mut src = builtin("showcase", None);
+    src.desc.render.width = width;
+    src.desc.render.height = height;
+    src.build().expect("showcase builds")
+}
 
 #[test]
 fn a_cancel_set_before_the_render_stops_it_at_once() {
-    let mut src = builtin("showcase", None);
-    src.desc.render.width = 64;
-    src.desc.render.height = 48;
-    let scene = src.build().expect("showcase builds");
+    let scene = showcase(64, 48);
     let cancel = AtomicBool::new(true);
     let calls = AtomicUsize::new(0);
     let opts = RenderOptions::default();
@@ -28,10 +33,7 @@ fn a_cancel_set_before_the_render_stops_it_at_once() {
 /// that had passed their last row check can still finish.
 #[test]
 fn a_cancel_during_the_render_stops_the_tiles_in_flight() {
-    let mut src = builtin("showcase", None);
-    src.desc.render.width = 640;
-    src.desc.render.height = 480;
-    let scene = src.build().expect("showcase builds");
+    let scene = showcase(640, 480);
     let cancel = AtomicBool::new(false);
     let calls = AtomicUsize::new(0);
     let threads = 2;

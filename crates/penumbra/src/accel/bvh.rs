@@ -425,31 +425,12 @@ fn pack(nodes: &[Node]) -> Vec<NodePair> {
 mod tests {
     use super::*;
     use crate::accel::brute::{brute_any, brute_closest};
+    use crate::accel::testdata::*;
     use crate::geometry::triangle::{intersect_triangle, RayShear};
     use crate::sampling::Rng;
 
-    type Tri = [Vec3; 3];
-
     fn tri_bounds(tris: &[Tri]) -> Vec<Aabb> {
         tris.iter().map(|t| Aabb::from_points(*t)).collect()
-    }
-
-    fn rand_in(r: &mut Rng, b: &Aabb) -> Vec3 {
-        Vec3::new(
-            r.range(b.min.x, b.max.x),
-            r.range(b.min.y, b.max.y),
-            r.range(b.min.z, b.max.z),
-        )
-    }
-
-    fn rand_dir(r: &mut Rng) -> Vec3 {
-        loop {
-            let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
-            let l = v.length_squared();
-            if l > 1e-4 && l <= 1.0 {
-                return v / l.sqrt();
-            }
-        }
     }
 
     /// Directions with exact zeros (including -0.0) and axis directions mixed in.
@@ -665,42 +646,8 @@ mod tests {
     #[test]
     fn flat_scene_with_axis_and_parallel_rays() {
         let mut r = Rng::new(3);
-        let mut tris = Vec::new();
-        for i in 0..3000 {
-            let p = |r: &mut Rng| Vec3::new(r.range(-10.0, 10.0), 0.0, r.range(-10.0, 10.0));
-            let a = p(&mut r);
-            let b = a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0));
-            let c = if i % 3 == 0 {
-                // Standing on the plane.
-                a + Vec3::new(r.range(-1.0, 1.0), r.range(0.1, 1.0), r.range(-1.0, 1.0))
-            } else {
-                a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0))
-            };
-            tris.push([a, b, c]);
-        }
-        let mut rays = Vec::new();
-        let dirs = [
-            Vec3::X,
-            -Vec3::X,
-            Vec3::Y,
-            -Vec3::Y,
-            Vec3::Z,
-            -Vec3::Z,
-            Vec3::new(1.0, 0.0, 1.0),
-            Vec3::new(-1.0, -0.0, 0.5),
-            Vec3::new(0.3, -0.0, -1.0),
-        ];
-        for i in 0..40_000 {
-            let d = dirs[i % dirs.len()];
-            let y = match (i / dirs.len()) % 4 {
-                0 => 0.0,
-                1 => -0.0,
-                2 => 1e-3,
-                _ => r.range(-2.0, 2.0),
-            };
-            let o = Vec3::new(r.range(-12.0, 12.0), y, r.range(-12.0, 12.0));
-            rays.push((Ray::new(o, d, 0.0), 0.0, f32::INFINITY));
-        }
+        let tris = flat_triangles(&mut r, 3000);
+        let rays = axis_and_parallel_rays(&mut r, 40_000);
         let out = check_triangles(&tris, &rays);
         assert!(out.hits > 1000);
         // In-plane rays do hit the bottom edges of standing triangles: that is

@@ -6,6 +6,8 @@ pub mod brute;
 mod build;
 pub mod bvh;
 pub mod shaft;
+#[cfg(test)]
+mod testdata;
 pub mod tri;
 
 pub use brute::{brute_any, brute_closest};

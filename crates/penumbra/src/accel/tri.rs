@@ -783,28 +783,9 @@ const _: () = assert!(std::mem::size_of::<Pack>() == 160);
 mod tests {
     use super::*;
     use crate::accel::brute::{brute_any, brute_closest};
+    use crate::accel::testdata::*;
     use crate::geometry::triangle::intersect_triangle;
     use crate::sampling::Rng;
-
-    type Tri = [Vec3; 3];
-
-    fn rand_in(r: &mut Rng, b: &Aabb) -> Vec3 {
-        Vec3::new(
-            r.range(b.min.x, b.max.x),
-            r.range(b.min.y, b.max.y),
-            r.range(b.min.z, b.max.z),
-        )
-    }
-
-    fn rand_dir(r: &mut Rng) -> Vec3 {
-        loop {
-            let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
-            let l = v.length_squared();
-            if l > 1e-4 && l <= 1.0 {
-                return v / l.sqrt();
-            }
-        }
-    }
 
     fn soup(r: &mut Rng, n: usize, size: f32) -> Vec<Tri> {
         let world = Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0));
@@ -912,42 +893,8 @@ mod tests {
         // Triangles in the plane y = 0 (zero-height boxes) and standing on
         // it; rays along the axes, in the plane and exactly on box faces.
         let mut r = Rng::new(22);
-        let mut tris = Vec::new();
-        for i in 0..2000 {
-            let p = |r: &mut Rng| Vec3::new(r.range(-10.0, 10.0), 0.0, r.range(-10.0, 10.0));
-            let a = p(&mut r);
-            let b = a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0));
-            let c = if i % 3 == 0 {
-                a + Vec3::new(r.range(-1.0, 1.0), r.range(0.1, 1.0), r.range(-1.0, 1.0))
-            } else {
-                a + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0))
-            };
-            tris.push([a, b, c]);
-        }
-        let dirs = [
-            Vec3::X,
-            -Vec3::X,
-            Vec3::Y,
-            -Vec3::Y,
-            Vec3::Z,
-            -Vec3::Z,
-            Vec3::new(1.0, 0.0, 1.0),
-            Vec3::new(-1.0, -0.0, 0.5),
-            Vec3::new(0.3, -0.0, -1.0),
-        ];
-        let rays: Vec<_> = (0..6000)
-            .map(|i| {
-                let d = dirs[i % dirs.len()];
-                let y = match (i / dirs.len()) % 4 {
-                    0 => 0.0,
-                    1 => -0.0,
-                    2 => 1e-3,
-                    _ => r.range(-2.0, 2.0),
-                };
-                let o = Vec3::new(r.range(-12.0, 12.0), y, r.range(-12.0, 12.0));
-                (Ray::new(o, d, 0.0), 0.0, f32::INFINITY)
-            })
-            .collect();
+        let tris = flat_triangles(&mut r, 2000);
+        let rays = axis_and_parallel_rays(&mut r, 6000);
         assert!(check(&tris, &rays) > 300);
     }
 
