@@ -1,4 +1,5 @@
 use crate::math::{Ray, Vec3};
+use glam::{BVec4A, Vec4};
 
 /// A parallelogram `origin + s·edge_u + t·edge_v`, s, t ∈ [0, 1].
 #[derive(Clone, Copy, Debug)]
@@ -67,6 +68,84 @@ impl Quad {
     }
 }
 
+/// Up to four quads in structure-of-arrays form, tested against a ray at
+/// once. A scene's few non-mesh objects are typically a ground and a light:
+/// testing them one by one through the object list cost about 240
+/// instructions per camera ray, a fifth of a 16-sample render's
+/// intersection work; four lanes at once cost a quarter of that.
+///
+/// Each lane computes what [`Quad::intersect`] computes, with the same
+/// operations in the same order, so the results agree bit for bit (a test
+/// checks this). Unused lanes hold NaN normals and never hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Quad4 {
+    normal: [Vec4; 3],
+    origin: [Vec4; 3],
+    du: [Vec4; 3],
+    dv: [Vec4; 3],
+}
+
+/// What [`Quad4::intersect`] finds: the mask of lanes hit and, per lane, the
+/// hit distance and the (s, t) coordinates (meaningful in the mask's lanes).
+#[derive(Clone, Copy, Debug)]
+pub struct Quad4Hits {
+    pub mask: u32,
+    pub t: [f32; 4],
+    pub s: [f32; 4],
+    pub tt: [f32; 4],
+}
+
+impl Quad4 {
+    /// The quads in lane order; `None` for more than four.
+    pub fn new(quads: &[Quad]) -> Option<Quad4> {
+        if quads.len() > 4 {
+            return None;
+        }
+        let lanes = |f: &dyn Fn(&Quad) -> Vec3, nan: f32| {
+            let mut v = [Vec4::splat(nan); 3];
+            for (lane, q) in quads.iter().enumerate() {
+                for (axis, a) in v.iter_mut().enumerate() {
+                    a[lane] = f(q)[axis];
+                }
+            }
+            v
+        };
+        Some(Quad4 {
+            normal: lanes(&|q| q.normal, f32::NAN),
+            origin: lanes(&|q| q.origin, 0.0),
+            du: lanes(&|q| q.du, 0.0),
+            dv: lanes(&|q| q.dv, 0.0),
+        })
+    }
+
+    /// The lanes hit within `(tmin, tmax)`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Quad4Hits {
+        let o = ray.origin.to_array().map(Vec4::splat);
+        let d = ray.dir.to_array().map(Vec4::splat);
+        let dot = |a: &[Vec4; 3], b: &[Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let denom = dot(&self.normal, &d);
+        let to_quad = [0, 1, 2].map(|i| self.origin[i] - o[i]);
+        let t = dot(&self.normal, &to_quad) / denom;
+        let rel = [0, 1, 2].map(|i| (o[i] + t * d[i]) - self.origin[i]);
+        let s = dot(&rel, &self.du);
+        let tt = dot(&rel, &self.dv);
+        let (zero, one) = (Vec4::ZERO, Vec4::ONE);
+        let within = |x: Vec4| x.cmpge(zero) & x.cmple(one);
+        let ok: BVec4A = !denom.abs().cmplt(Vec4::splat(1e-12))
+            & t.cmpgt(Vec4::splat(tmin))
+            & t.cmplt(Vec4::splat(tmax))
+            & within(s)
+            & within(tt);
+        Quad4Hits {
+            mask: ok.bitmask(),
+            t: t.to_array(),
+            s: s.to_array(),
+            tt: tt.to_array(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,5 +166,44 @@ mod tests {
         assert!(q.intersect(&miss, 0.0, 10.0).is_none());
         let parallel = Ray::new(Vec3::new(0.5, 0.0, -1.0), Vec3::Z, 0.0);
         assert!(q.intersect(&parallel, 0.0, 10.0).is_none());
+    }
+
+    /// Every lane gives what `Quad::intersect` gives for its quad, bit for
+    /// bit, for rays hitting, missing, grazing and parallel to the quads.
+    #[test]
+    fn four_at_once_match_one_at_a_time() {
+        use crate::sampling::Rng;
+        let mut r = Rng::new(11);
+        let mut v = |s: f32| Vec3::new(r.range(-s, s), r.range(-s, s), r.range(-s, s));
+        let quads: Vec<Quad> = (0..4).map(|_| Quad::new(v(2.0), v(3.0), v(3.0))).collect();
+        let (mut hits, mut rays) = (0, Vec::new());
+        for _ in 0..4000 {
+            rays.push(Ray::new(v(5.0), v(1.0), 0.0));
+        }
+        // A ray in the plane of quad 0 and one along its normal through its centre.
+        rays.push(Ray::new(quads[0].origin, quads[0].edge_u, 0.0));
+        rays.push(Ray::new(
+            quads[0].center() + quads[0].normal,
+            -quads[0].normal,
+            0.0,
+        ));
+        for n in 0..=4 {
+            let pack = Quad4::new(&quads[..n]).unwrap();
+            for ray in &rays {
+                let h = pack.intersect(ray, 0.01, 8.0);
+                for (lane, q) in quads[..n].iter().enumerate() {
+                    let one = q.intersect(ray, 0.01, 8.0);
+                    let four =
+                        (h.mask >> lane & 1 != 0).then(|| (h.t[lane], h.s[lane], h.tt[lane]));
+                    let bits =
+                        |x: Option<(f32, f32, f32)>| x.map(|(a, b, c)| [a, b, c].map(f32::to_bits));
+                    assert_eq!(bits(one), bits(four), "{ray:?} lane {lane}");
+                    hits += usize::from(one.is_some());
+                }
+                assert_eq!(h.mask >> n, 0);
+            }
+        }
+        assert!(hits > 1000, "{hits} hits");
+        assert!(Quad4::new(&[quads[0]; 5]).is_none());
     }
 }
