@@ -13,4 +13,4 @@ pub mod tri;
 pub use brute::{brute_any, brute_closest};
 pub use bvh::{BuildStats, Bvh};
 pub use shaft::Shaft;
-pub use tri::{LeafSet, TriHit, TriStats, TriangleBvh};
+pub use tri::{LeafSet, RayPacket, TriHit, TriStats, TriangleBvh};

@@ -503,30 +503,69 @@ impl TriangleBvh {
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<TriHit> {
         let mut best = None;
-        self.traverse::<true>(ray, tmin, tmax, |p, r, tmax| {
-            let (mask, t, b1, b2) = p.intersect(r, tmin, *tmax);
-            if mask != 0 {
-                let t = t.to_array();
-                let mut lane = mask.trailing_zeros() as usize;
-                let mut rest = mask & (mask - 1);
-                while rest != 0 {
-                    let i = rest.trailing_zeros() as usize;
-                    if t[i] < t[lane] {
-                        lane = i;
-                    }
-                    rest &= rest - 1;
-                }
-                *tmax = t[lane];
-                best = Some(TriHit {
-                    id: p.id[lane],
-                    t: t[lane],
-                    b1: b1[lane],
-                    b2: b2[lane],
-                });
-            }
+        self.traverse_ray::<true>(ray, tmin, tmax, |p, r, tmax| {
+            closest_in_pack(p, r, tmin, tmax, &mut best);
             false
         });
         best
+    }
+
+    /// The closest hits of several rays from one origin, each within
+    /// `(tmin, tmax[i])`, written to `out` in order: what
+    /// [`closest_hit`](Self::closest_hit) gives each ray, except that of two
+    /// triangles hit at exactly the same distance either may be reported.
+    ///
+    /// Rays that leave one point with directions of the same signs (the
+    /// camera rays of a pixel) are traced together: one interval box test
+    /// per node for the whole packet (see [`Frustum`]) and every ray
+    /// against the triangles of the leaves it reaches. Coherent rays visit
+    /// nearly the same nodes, so the packet pays for about one ray's node
+    /// tests. Other sets of rays are traced one by one.
+    pub fn closest_hits(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        tmax: &[f32],
+        scratch: &mut RayPacket,
+        out: &mut Vec<Option<TriHit>>,
+    ) {
+        out.clear();
+        let frustum = Frustum::new(rays);
+        let Some(frustum) = frustum.filter(|_| !self.nodes.is_empty()) else {
+            let one = |(r, &t): (&Ray, &f32)| self.closest_hit(r, tmin, t);
+            out.extend(rays.iter().zip(tmax).map(one));
+            return;
+        };
+        out.resize(rays.len(), None);
+        let RayPacket {
+            rays: prepared,
+            tmax: limits,
+        } = scratch;
+        prepared.clear();
+        prepared.extend(rays.iter().map(TraversalRay::new));
+        limits.clear();
+        limits.extend_from_slice(&tmax[..rays.len()]);
+        let tmin4 = Vec4::splat(tmin);
+        let widest = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        self.traverse::<true>(
+            widest,
+            |node, tmax| frustum.hit(node, tmin4, Vec4::splat(tmax)),
+            |parent, lane, packs, widest| {
+                for ((r, tmax), best) in prepared.iter().zip(limits.iter_mut()).zip(out.iter_mut())
+                {
+                    // The packet reached the leaf; this ray may not have.
+                    let (mask, _) = parent.hit(r, tmin4, Vec4::splat(*tmax));
+                    if mask >> lane & 1 == 0 {
+                        continue;
+                    }
+                    for p in packs {
+                        closest_in_pack(p, r, tmin, tmax, best);
+                    }
+                }
+                *widest = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+                false
+            },
+        );
     }
 
     /// Calls `hit(id)` for triangles crossed within `(tmin, tmax)` until it
@@ -542,7 +581,7 @@ impl TriangleBvh {
         tmax: f32,
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
-        self.traverse::<false>(ray, tmin, tmax, |p, r, tmax| {
+        self.traverse_ray::<false>(ray, tmin, tmax, |p, r, tmax| {
             pack_any_hit(p, r, tmin, *tmax, &mut hit)
         })
     }
@@ -613,11 +652,10 @@ impl TriangleBvh {
         self.any_hit(ray, tmin, tmax, |_| true)
     }
 
-    /// Visits the leaves the ray reaches, skipping subtrees that start beyond
-    /// `tmax` (which `leaf` may shrink), nearer children first if `ORDERED`.
-    /// Stops and returns true when `leaf` returns true.
+    /// [`traverse`](Self::traverse) for one ray: `leaf` is called for each
+    /// packet of the leaves it reaches, with the ray's current `tmax`.
     #[inline(always)]
-    fn traverse<const ORDERED: bool>(
+    fn traverse_ray<const ORDERED: bool>(
         &self,
         ray: &Ray,
         tmin: f32,
@@ -629,18 +667,51 @@ impl TriangleBvh {
         }
         let r = TraversalRay::new(ray);
         let tmin4 = Vec4::splat(tmin);
+        self.traverse::<ORDERED>(
+            tmax,
+            |node, tmax| node.hit(&r, tmin4, Vec4::splat(tmax)),
+            |_, _, packs, tmax| packs.iter().any(|p| leaf(p, &r, tmax)),
+        )
+    }
+
+    /// Visits the leaves whose boxes `hit_node` reports hit, skipping subtrees
+    /// that start beyond `tmax` (which `leaf` may shrink), nearer children
+    /// first if `ORDERED`. `hit_node(node, tmax)` gives the mask of children
+    /// hit and their entry distances; `leaf(parent, lane, packs, tmax)` gets
+    /// a leaf's packets and where its box is. Stops and returns true when
+    /// `leaf` returns true. The tree must not be empty.
+    ///
+    /// `cur` and stack entries name an interior node by its index and a leaf
+    /// by its parent and lane (`LEAF | parent << 2 | lane`), so that the
+    /// leaf's box is at hand. Interior nodes are fewer than packets, whose
+    /// count `leaf` keeps below 2²⁸, so the parent fits in 29 bits.
+    #[inline(always)]
+    fn traverse<const ORDERED: bool>(
+        &self,
+        tmax: f32,
+        hit_node: impl Fn(&Node4, f32) -> (u32, [f32; WIDTH]),
+        mut leaf: impl FnMut(&Node4, usize, &[Pack], &mut f32) -> bool,
+    ) -> bool {
         let mut tmax = tmax;
         let mut stack = Stack::new();
         let mut cur = 0u32;
         loop {
             if cur & LEAF == 0 {
                 let node = &self.nodes[cur as usize];
-                let (mask, t) = node.hit(&r, tmin4, Vec4::splat(tmax));
+                let (mask, t) = hit_node(node, tmax);
+                let at = |i: usize| {
+                    let c = node.child[i];
+                    if c & LEAF == 0 {
+                        c
+                    } else {
+                        LEAF | cur << 2 | i as u32
+                    }
+                };
                 if mask != 0 {
                     let i0 = mask.trailing_zeros() as usize;
                     let rest = mask & (mask - 1);
                     if rest == 0 {
-                        cur = node.child[i0];
+                        cur = at(i0);
                         continue;
                     }
                     if !ORDERED {
@@ -651,17 +722,17 @@ impl TriangleBvh {
                         let mut m = rest;
                         while m != 0 {
                             let i = 31 - m.leading_zeros() as usize;
-                            stack.push((node.child[i], f32::NEG_INFINITY));
+                            stack.push((at(i), f32::NEG_INFINITY));
                             m &= !(1 << i);
                         }
-                        cur = node.child[i0];
+                        cur = at(i0);
                         continue;
                     }
                     let i1 = rest.trailing_zeros() as usize;
                     if rest & (rest - 1) == 0 {
                         let (n, f) = if t[i1] < t[i0] { (i1, i0) } else { (i0, i1) };
-                        stack.push((node.child[f], t[f]));
-                        cur = node.child[n];
+                        stack.push((at(f), t[f]));
+                        cur = at(n);
                         continue;
                     }
                     // More: push all but the nearest, farthest first.
@@ -670,7 +741,7 @@ impl TriangleBvh {
                     let mut m = mask;
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
-                        e[k] = (node.child[i], t[i]);
+                        e[k] = (at(i), t[i]);
                         let mut j = k;
                         while j > 0 && e[j - 1].1 < e[j].1 {
                             e.swap(j - 1, j);
@@ -686,12 +757,13 @@ impl TriangleBvh {
                     continue;
                 }
             } else {
-                let first = (cur & FIRST_MASK) as usize;
-                let count = ((cur >> 28) & 7) as usize;
-                for p in &self.packs[first..first + count] {
-                    if leaf(p, &r, &mut tmax) {
-                        return true;
-                    }
+                let parent = &self.nodes[((cur & !LEAF) >> 2) as usize];
+                let lane = (cur & 3) as usize;
+                let child = parent.child[lane];
+                let first = (child & FIRST_MASK) as usize;
+                let count = ((child >> 28) & 7) as usize;
+                if leaf(parent, lane, &self.packs[first..first + count], &mut tmax) {
+                    return true;
                 }
             }
             // Pop the next subtree that can still hold a closer hit.
@@ -705,6 +777,117 @@ impl TriangleBvh {
                 }
             }
         }
+    }
+}
+
+/// Tests one packet for a hit nearer than `tmax`; on one, shrinks `tmax`
+/// to it and records it in `best` (of equals, the first lane).
+#[inline(always)]
+fn closest_in_pack(
+    p: &Pack,
+    r: &TraversalRay,
+    tmin: f32,
+    tmax: &mut f32,
+    best: &mut Option<TriHit>,
+) {
+    let (mask, t, b1, b2) = p.intersect(r, tmin, *tmax);
+    if mask == 0 {
+        return;
+    }
+    let t = t.to_array();
+    let mut lane = mask.trailing_zeros() as usize;
+    let mut rest = mask & (mask - 1);
+    while rest != 0 {
+        let i = rest.trailing_zeros() as usize;
+        if t[i] < t[lane] {
+            lane = i;
+        }
+        rest &= rest - 1;
+    }
+    *tmax = t[lane];
+    *best = Some(TriHit {
+        id: p.id[lane],
+        t: t[lane],
+        b1: b1[lane],
+        b2: b2[lane],
+    });
+}
+
+/// Per-worker buffers of [`TriangleBvh::closest_hits`], kept by the caller
+/// so that tracing a packet allocates nothing once warm.
+#[derive(Default)]
+pub struct RayPacket {
+    rays: Vec<TraversalRay>,
+    tmax: Vec<f32>,
+}
+
+/// Rays leaving one origin with directions of the same signs, bounded by the
+/// range of their reciprocal directions per axis: interval arithmetic on the
+/// slab test.
+///
+/// For a plane at signed offset `d` from the common origin, a ray's slab
+/// distance is `d · inv`, rounded once. Rounding is monotone, so over the
+/// packet it lies between `d · lo` and `d · hi` (in whichever order the
+/// sign of `d` gives) exactly, not just approximately: the smallest near
+/// distance and the largest far distance bound every ray's, and a box any
+/// ray's robust test accepts is accepted here. The entry distance returned
+/// is at most every ray's, so culling a subtree by it against the largest
+/// `tmax` of the packet never drops a hit.
+struct Frustum {
+    o: [Vec4; 3],
+    lo: [Vec4; 3],
+    hi: [Vec4; 3],
+    /// Per axis: 1 if the directions are negative, as in [`TraversalRay`].
+    near: [usize; 3],
+}
+
+impl Frustum {
+    /// `None` unless the rays share their origin (bit for bit), are finite
+    /// and have finite reciprocal directions of one sign per axis.
+    fn new(rays: &[Ray]) -> Option<Frustum> {
+        let first = rays.first()?;
+        let o = first.origin;
+        if !o.is_finite() {
+            return None;
+        }
+        let sign = first.dir.recip().to_array().map(|i| i < 0.0);
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for r in rays {
+            let inv = r.dir.recip();
+            let same = inv.to_array().map(|i| i < 0.0) == sign;
+            if r.origin.to_array().map(f32::to_bits) != o.to_array().map(f32::to_bits)
+                || !inv.is_finite()
+                || !same
+            {
+                return None;
+            }
+            (lo, hi) = (lo.min(inv), hi.max(inv));
+        }
+        Some(Frustum {
+            o: o.to_array().map(Vec4::splat),
+            lo: lo.to_array().map(Vec4::splat),
+            hi: hi.to_array().map(Vec4::splat),
+            near: sign.map(usize::from),
+        })
+    }
+
+    /// [`Node4::hit`] for the whole packet: the children that some ray may
+    /// hit within `[tmin, tmax]`, and entry distances no larger than any ray's.
+    #[inline(always)]
+    fn hit(&self, node: &Node4, tmin: Vec4, tmax: Vec4) -> (u32, [f32; WIDTH]) {
+        let slab = |axis: usize| {
+            let n = self.near[axis];
+            let dn = node.b[axis][n][0] - self.o[axis];
+            let df = node.b[axis][n ^ 1][0] - self.o[axis];
+            let (lo, hi) = (self.lo[axis], self.hi[axis]);
+            ((dn * lo).min(dn * hi), (df * lo).max(df * hi))
+        };
+        let (nx, fx) = slab(0);
+        let (ny, fy) = slab(1);
+        let (nz, fz) = slab(2);
+        let near = max_skip_nan(nx, max_skip_nan(ny, max_skip_nan(nz, tmin)));
+        let far = min_skip_nan(fx, min_skip_nan(fy, min_skip_nan(fz, tmax)));
+        (near.cmple(far * TFAR_SCALE).bitmask(), near.to_array())
     }
 }
 
@@ -969,20 +1152,18 @@ mod tests {
         assert_eq!(s.pop(), None);
     }
 
-    #[test]
-    fn closed_mesh_is_watertight() {
-        // A UV sphere; rays aimed exactly at vertices and edge midpoints from
-        // the centre never slip through.
+    /// A closed UV sphere about the origin: `nu` segments, `nv` rings.
+    fn uv_sphere(nu: usize, nv: usize, radius: f32) -> Vec<Tri> {
         use std::f32::consts::{PI, TAU};
-        let (nu, nv) = (60, 31);
         let pos = |j: usize, i: usize| {
             let theta = PI * j as f32 / nv as f32;
             let phi = TAU * (i % nu) as f32 / nu as f32;
-            2.0 * Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            )
+            radius
+                * Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                )
         };
         let mut tris: Vec<Tri> = Vec::new();
         for i in 0..nu {
@@ -996,6 +1177,14 @@ mod tests {
                 tris.push([a, d, c]);
             }
         }
+        tris
+    }
+
+    #[test]
+    fn closed_mesh_is_watertight() {
+        // A UV sphere; rays aimed exactly at vertices and edge midpoints from
+        // the centre never slip through.
+        let tris = uv_sphere(60, 31, 2.0);
         let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
         let o = Vec3::ZERO;
         for t in &tris {
@@ -1007,6 +1196,89 @@ mod tests {
                     assert!((h.t - 1.0).abs() < 1e-4, "t = {}", h.t);
                     assert!(bvh.occluded(&ray, 0.0, f32::INFINITY));
                 }
+            }
+        }
+    }
+
+    /// Packets of rays from one point give what each ray gives alone:
+    /// narrow packets (the camera rays of a pixel), wide ones, ones with
+    /// directions of mixed signs, a zero direction component or several
+    /// origins (traced one by one), with per-ray limits.
+    #[test]
+    fn packets_match_single_rays() {
+        let mut r = Rng::new(23);
+        let tris = soup(&mut r, 3000, 0.5);
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        let grown = Aabb::new(Vec3::splat(-12.0), Vec3::splat(12.0));
+        let (mut scratch, mut out) = (RayPacket::default(), Vec::new());
+        let (mut hits, mut coherent) = (0, 0);
+        for k in 0..600 {
+            let o = rand_in(&mut r, &grown);
+            let axis = rand_in(&mut r, &Aabb::new(Vec3::splat(-8.0), Vec3::splat(8.0))) - o;
+            let spread = [1e-3, 1e-2, 0.1, 1.0][k % 4] * axis.length();
+            let mut rays: Vec<Ray> = (0..16)
+                .map(|_| Ray::new(o, axis + rand_dir(&mut r) * r.range(0.0, spread), 0.0))
+                .collect();
+            match k % 10 {
+                7 => rays[3].origin.x += 1.0,
+                8 => rays[5].dir.y = 0.0,
+                _ => {}
+            }
+            let tmin = if k % 3 == 0 { r.range(0.0, 5.0) } else { 0.0 };
+            let tmax: Vec<f32> = rays
+                .iter()
+                .map(|_| {
+                    if r.next_f32() < 0.3 {
+                        r.range(1.0, 30.0)
+                    } else {
+                        f32::INFINITY
+                    }
+                })
+                .collect();
+            coherent += usize::from(Frustum::new(&rays).is_some());
+            bvh.closest_hits(&rays, tmin, &tmax, &mut scratch, &mut out);
+            assert_eq!(out.len(), rays.len());
+            for ((ray, &tm), got) in rays.iter().zip(&tmax).zip(&out) {
+                let alone = bvh.closest_hit(ray, tmin, tm);
+                let (Some(a), Some(g)) = (alone, *got) else {
+                    assert_eq!(alone, *got, "{ray:?}");
+                    continue;
+                };
+                assert_eq!(a.t.to_bits(), g.t.to_bits(), "{ray:?}");
+                // Another triangle at exactly the same distance may be reported.
+                let [p0, p1, p2] = tris[g.id as usize];
+                let h = intersect_triangle(ray, &RayShear::new(ray), p0, p1, p2, tmin, tm);
+                assert_eq!(h, Some((g.t, g.b1, g.b2)));
+                hits += 1;
+            }
+        }
+        assert!(
+            coherent > 300 && coherent < 600,
+            "{coherent} packets traced together"
+        );
+        assert!(hits > 400, "{hits} hits");
+    }
+
+    /// A packet aimed from the centre of a closed sphere at a triangle's
+    /// vertices and edge midpoints never slips through, as single rays don't.
+    #[test]
+    fn packets_are_watertight() {
+        let tris = uv_sphere(48, 25, 1.0);
+        let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+        let (mut scratch, mut out) = (RayPacket::default(), Vec::new());
+        for t in &tris {
+            let targets = [t[0], t[1], t[2], 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2])];
+            let rays: Vec<Ray> = targets
+                .iter()
+                .map(|&p| Ray::new(Vec3::ZERO, p, 0.0))
+                .collect();
+            bvh.closest_hits(&rays, 0.0, &[f32::INFINITY; 5], &mut scratch, &mut out);
+            for (ray, h) in rays.iter().zip(&out) {
+                let h = h.unwrap_or_else(|| panic!("{ray:?} slipped through"));
+                assert_eq!(
+                    Some(h.t),
+                    bvh.closest_hit(ray, 0.0, f32::INFINITY).map(|a| a.t)
+                );
             }
         }
     }
