@@ -3,7 +3,7 @@ use crate::material::{fresnel_dielectric, Material, Rgb};
 use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, Rng};
-use crate::scene::world::{Hit, ShaftSet};
+use crate::scene::world::{Hit, PacketScratch, ShaftSet};
 use crate::scene::Scene;
 
 use super::{RayStats, RunningMean};
@@ -41,6 +41,9 @@ pub struct Tracer<'a> {
     shadow_set: Vec<Option<ShadowRay>>,
     /// What the current shadow set's shaft may cross.
     shaft: ShaftSet,
+    /// The hits of the current pixel's camera rays, found together.
+    primary: Vec<Option<Hit>>,
+    packet: PacketScratch,
 }
 
 /// Which secondary set is being traced: selects the ray kind and the streams.
@@ -83,14 +86,36 @@ impl<'a> Tracer<'a> {
             pool: Vec::new(),
             shadow_set: Vec::new(),
             shaft: ShaftSet::default(),
+            primary: Vec::new(),
+            packet: PacketScratch::default(),
         }
     }
 
     /// Radiance arriving along `ray`; `depth` counts reflection/refraction levels so far.
     pub fn radiance(&mut self, ray: &Ray, depth: u32, rng: Rng) -> Rgb {
-        match self.scene.world.intersect(ray, 0.0, f32::INFINITY) {
+        let hit = self.scene.world.intersect(ray, 0.0, f32::INFINITY);
+        self.radiance_from(ray, hit.as_ref(), depth, rng)
+    }
+
+    /// Finds where each of a pixel's camera rays hits, all together (see
+    /// [`World::intersect_all`](crate::scene::world::World::intersect_all)),
+    /// for [`radiance_primary`](Self::radiance_primary) to shade.
+    pub fn intersect_primary(&mut self, rays: &[Ray]) {
+        let world = &self.scene.world;
+        world.intersect_all(rays, 0.0, &mut self.packet, &mut self.primary);
+    }
+
+    /// [`radiance`](Self::radiance) along `ray`, the `i`-th of the rays last
+    /// given to [`intersect_primary`](Self::intersect_primary), at depth 0.
+    pub fn radiance_primary(&mut self, i: usize, ray: &Ray, rng: Rng) -> Rgb {
+        let hit = self.primary[i];
+        self.radiance_from(ray, hit.as_ref(), 0, rng)
+    }
+
+    fn radiance_from(&mut self, ray: &Ray, hit: Option<&Hit>, depth: u32, rng: Rng) -> Rgb {
+        match hit {
             None => self.scene.settings.background,
-            Some(hit) => self.shade(ray, &hit, depth, rng),
+            Some(hit) => self.shade(ray, hit, depth, rng),
         }
     }
 

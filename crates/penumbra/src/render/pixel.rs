@@ -2,19 +2,21 @@ use super::BadSample;
 use crate::camera::CameraSample;
 use crate::integrator::{RunningMean, Tracer};
 use crate::material::Rgb;
-use crate::math::{Vec2, Vec3};
+use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
 use crate::sampling::{Distribution, Rng};
 use crate::scene::Scene;
 use std::cell::RefCell;
 
-/// Per-thread buffers of a pixel's film, lens and time sets, so that
-/// rendering a pixel allocates nothing once the buffers have grown.
+/// Per-thread buffers of a pixel's film, lens and time sets and its camera
+/// rays, so that rendering a pixel allocates nothing once the buffers have
+/// grown.
 #[derive(Default)]
 struct Scratch {
     film: Vec<Vec3>,
     lens: Vec<Vec3>,
     times: Vec<f32>,
+    rays: Vec<Ray>,
 }
 
 thread_local! {
@@ -53,7 +55,12 @@ fn pixel_with(
     let cam = &scene.camera;
     let n = s.spp as usize;
     let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
-    let Scratch { film, lens, times } = buf;
+    let Scratch {
+        film,
+        lens,
+        times,
+        rays,
+    } = buf;
     if n == 1 && s.pixel == Distribution::Grid {
         // The one grid point is the pixel centre (what `generate` returns,
         // pinned by a test below), without the set machinery: this is every
@@ -73,19 +80,37 @@ fn pixel_with(
     if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
         s.time.generate_1d(n, &mut pixel.derive(2), times);
     }
-    let metric = s.metric.filter(|m| m.pixels);
-    let mut mean = RunningMean::default();
-    for (i, f) in film.iter().enumerate() {
-        let sample = CameraSample {
+    // All camera rays first: each waits on a square root and divisions, and
+    // made one at a time, just before it is traced, that latency stalled
+    // every primary ray (8% of a 16-sample render); made together they
+    // overlap.
+    rays.clear();
+    rays.extend(film.iter().enumerate().map(|(i, f)| {
+        cam.generate_ray(&CameraSample {
             film: Vec2::new(x as f32 + 0.5 + f.x, y as f32 + 0.5 + f.y),
             lens: lens
                 .get(i)
                 .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
             time: cam.time(times.get(i).copied().unwrap_or(0.0)),
-        };
-        let ray = cam.generate_ray(&sample);
+        })
+    }));
+    let metric = s.metric.filter(|m| m.pixels);
+    // Without the metric every camera ray is traced: their hits are found
+    // together, a packet of nearly parallel rays. With it, a pixel may stop
+    // early, and rays are traced one at a time so that none is wasted.
+    let together = metric.is_none() && rays.len() > 1;
+    if together {
+        tracer.intersect_primary(rays);
+    }
+    let mut mean = RunningMean::default();
+    for (i, ray) in rays.iter().enumerate() {
         tracer.stats.primary += 1;
-        let mut l = tracer.radiance(&ray, 0, pixel.derive(3 + i as u64));
+        let rng = pixel.derive(3 + i as u64);
+        let mut l = if together {
+            tracer.radiance_primary(i, ray, rng)
+        } else {
+            tracer.radiance(ray, 0, rng)
+        };
         if !l.is_finite() {
             bad.push(BadSample {
                 x,

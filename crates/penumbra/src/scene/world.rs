@@ -11,9 +11,9 @@
 //! and then through the triangles with its range cut at the object hit (a
 //! ground plane in front of a mesh spares the mesh's BVH).
 
-use crate::accel::{brute_closest, Bvh, LeafSet, Shaft, TriangleBvh};
+use crate::accel::{brute_closest, Bvh, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
-use crate::geometry::quad::Quad;
+use crate::geometry::quad::{Quad, Quad4};
 use crate::geometry::sphere::intersect_sphere;
 use crate::geometry::triangle::{intersect_triangle, RayShear};
 use crate::geometry::Mesh;
@@ -83,6 +83,9 @@ pub struct World {
     /// Indices into `prims` of the objects that cast shadows (not lights).
     casters: Vec<u32>,
     bvh: Bvh,
+    /// The other objects four lanes at once, when they are at most four
+    /// static quads (a ground and a light): lane `i` is `prims[i]`.
+    quads: Option<Quad4>,
     /// No object moves.
     is_static: bool,
 }
@@ -129,6 +132,7 @@ impl World {
             })
             .collect();
         let is_static = objects.iter().all(|o| o.motion.is_none());
+        let quads = few_quads(&prims, &objects);
         World {
             objects,
             meshes,
@@ -137,6 +141,7 @@ impl World {
             prims,
             casters,
             bvh,
+            quads,
             is_static,
         }
     }
@@ -158,6 +163,81 @@ impl World {
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
         // The few other objects first (a ground, a light): their hit cuts the
         // ray before the triangle BVH, which then often culls at its root.
+        let mut best = self.closest_object(ray, tmin, tmax);
+        let tmax = best.map_or(tmax, |b| b.1);
+        if let Some(h) = self.tris.closest_hit(ray, tmin, tmax) {
+            best = Some(self.triangle_candidate(&h));
+        }
+        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+    }
+
+    /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
+    /// order: the same hits, except that of two static triangles hit at
+    /// exactly the same distance either may be reported. The static
+    /// triangles are searched for all rays at once (see
+    /// [`TriangleBvh::closest_hits`]), which pays off for rays from one
+    /// point in nearly one direction: the camera rays of a pixel.
+    pub fn intersect_all(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        scratch: &mut PacketScratch,
+        out: &mut Vec<Option<Hit>>,
+    ) {
+        let PacketScratch {
+            objects,
+            tmax,
+            tris,
+            packet,
+        } = scratch;
+        objects.clear();
+        objects.extend(
+            rays.iter()
+                .map(|r| self.closest_object(r, tmin, f32::INFINITY)),
+        );
+        tmax.clear();
+        tmax.extend(objects.iter().map(|b| b.map_or(f32::INFINITY, |b| b.1)));
+        self.tris.closest_hits(rays, tmin, tmax, packet, tris);
+        out.clear();
+        let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
+        out.extend(hits.map(|((ray, best), tri)| {
+            let best = match tri {
+                Some(h) => Some(self.triangle_candidate(h)),
+                None => *best,
+            };
+            best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+        }));
+    }
+
+    fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {
+        let (object, tri) = self.tri_refs[h.id as usize];
+        let cand = Candidate {
+            b1: h.b1,
+            b2: h.b2,
+            inner: tri,
+        };
+        (Prim::Triangle { object, tri }, h.t, cand)
+    }
+
+    /// The closest of the objects that are not static triangles.
+    fn closest_object(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<(Prim, f32, Candidate)> {
+        if let Some(q) = &self.quads {
+            let h = q.intersect(ray, tmin, tmax);
+            // The nearest lane, the first of equals (as testing in order does).
+            let lane = (0..4).filter(|i| h.mask >> i & 1 != 0).reduce(|a, b| {
+                if h.t[b] < h.t[a] {
+                    b
+                } else {
+                    a
+                }
+            })?;
+            let cand = Candidate {
+                b1: h.s[lane],
+                b2: h.tt[lane],
+                inner: 0,
+            };
+            return Some((self.prims[lane], h.t[lane], cand));
+        }
         let mut cand = Candidate::default();
         let test = |i: u32, tmax: f32| {
             let (t, c) = self.intersect_prim(self.prims[i as usize], ray, tmin, tmax)?;
@@ -169,18 +249,7 @@ impl World {
         } else {
             self.bvh.closest_hit(ray, tmin, tmax, test)
         };
-        let mut best = found.map(|(i, t)| (self.prims[i as usize], t, cand));
-        let tmax = best.map_or(tmax, |b| b.1);
-        if let Some(h) = self.tris.closest_hit(ray, tmin, tmax) {
-            let (object, tri) = self.tri_refs[h.id as usize];
-            let cand = Candidate {
-                b1: h.b1,
-                b2: h.b2,
-                inner: tri,
-            };
-            best = Some((Prim::Triangle { object, tri }, h.t, cand));
-        }
-        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+        found.map(|(i, t)| (self.prims[i as usize], t, cand))
     }
 
     /// Prepares `out` for the segments from the box `origins` to the box
@@ -267,10 +336,23 @@ impl World {
         let blocked = if self.prims.len() <= FEW {
             // Only the objects that cast shadows (lights do not), and of
             // those only the ones the shaft may cross.
-            let mut test = test;
             let may_cross = shaft.map_or(u32::MAX, |s| s.casters);
             let mut casters = self.casters.iter().enumerate();
-            casters.any(|(bit, &i)| may_cross >> bit & 1 != 0 && test(i, tmax))
+            if let Some(q) = &self.quads {
+                // A quad is crossed at most once: its lane says whether.
+                let crossed = q.intersect(ray, tmin, tmax).mask;
+                casters.any(|(bit, &i)| {
+                    if may_cross >> bit & crossed >> i & 1 == 0 {
+                        return false;
+                    }
+                    let o = &self.objects[prim_object(self.prims[i as usize]) as usize];
+                    trans *= transparency[o.material as usize];
+                    trans <= 0.0
+                })
+            } else {
+                let mut test = test;
+                casters.any(|(bit, &i)| may_cross >> bit & 1 != 0 && test(i, tmax))
+            }
         } else {
             self.bvh.any_hit(ray, tmin, tmax, test)
         };
@@ -409,6 +491,15 @@ impl World {
     }
 }
 
+/// Per-worker buffers of [`World::intersect_all`].
+#[derive(Default)]
+pub struct PacketScratch {
+    objects: Vec<Option<(Prim, f32, Candidate)>>,
+    tmax: Vec<f32>,
+    tris: Vec<Option<TriHit>>,
+    packet: RayPacket,
+}
+
 /// What a shadow set may cross, gathered once by [`World::gather_shaft`] and
 /// read by [`World::transmittance`] for each of its rays.
 #[derive(Clone, Debug, Default)]
@@ -433,6 +524,26 @@ fn one_side(n: Vec3, p: Vec3, boxes: &[Aabb]) -> bool {
     }
     let margin = 16.0 * f32::EPSILON * size;
     lo > margin || hi < -margin
+}
+
+/// The four-lane form of the other objects if they are at most [`FEW`]
+/// static quads.
+fn few_quads(prims: &[Prim], objects: &[Object]) -> Option<Quad4> {
+    if prims.len() > FEW {
+        return None;
+    }
+    let quads: Option<Vec<Quad>> = prims
+        .iter()
+        .map(|&p| match &objects[prim_object(p) as usize] {
+            Object {
+                shape: Shape::Quad(q),
+                motion: None,
+                ..
+            } => Some(*q),
+            _ => None,
+        })
+        .collect();
+    Quad4::new(&quads?)
 }
 
 fn prim_object(p: Prim) -> u32 {
@@ -511,12 +622,9 @@ mod tests {
         assert!(!one_side(n, p, &[below, light]));
     }
 
-    /// A soup of opaque and see-through triangles, a ground quad and a
-    /// see-through sphere under a square light: every shadow ray gives the
-    /// same transmittance, bit for bit, traced alone or through its set's
-    /// shaft (leaves and casters).
-    #[test]
-    fn shaft_gives_what_single_rays_give() {
+    /// 600 small triangles (material 0) over a 10×10 ground quad
+    /// (material 0) and one more object (material 1).
+    fn soup_ground_and_sphere(other: Shape) -> World {
         use crate::sampling::Rng;
         let mut r = Rng::new(31);
         let mut v = || Vec3::new(r.range(-2.0, 2.0), r.range(0.0, 3.0), r.range(-2.0, 2.0));
@@ -540,16 +648,68 @@ mod tests {
             mesh_bvh: None,
         };
         let ground = Quad::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::Z * 10.0, Vec3::X * 10.0);
+        let objects = vec![
+            object(Shape::Mesh { mesh: 0 }, 0),
+            object(Shape::Quad(ground), 0),
+            object(other, 1),
+        ];
+        World::new(objects, vec![mesh])
+    }
+
+    /// The camera rays of pixels, found together, hit what each finds
+    /// alone: with the few objects as four quads at once (a second quad)
+    /// and one by one (a sphere).
+    #[test]
+    fn packets_hit_what_single_rays_hit() {
+        use crate::sampling::Rng;
+        let light = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
         let sphere = Shape::Sphere {
             center: Vec3::new(0.5, 1.0, 0.0),
             radius: 0.4,
         };
-        let objects = vec![
-            object(Shape::Mesh { mesh: 0 }, 0),
-            object(Shape::Quad(ground), 0),
-            object(sphere, 1),
-        ];
-        let world = World::new(objects, vec![mesh]);
+        let (mut scratch, mut out, mut r) = (PacketScratch::default(), Vec::new(), Rng::new(41));
+        for world in [
+            soup_ground_and_sphere(Shape::Quad(light)),
+            soup_ground_and_sphere(sphere),
+        ] {
+            let (mut differ, mut total) = (0, 0);
+            for _ in 0..500 {
+                let eye = Vec3::new(r.range(-6.0, 6.0), r.range(0.5, 6.0), r.range(-6.0, 6.0));
+                let at = Vec3::new(r.range(-2.0, 2.0), r.range(0.0, 3.0), r.range(-2.0, 2.0));
+                let rays: Vec<Ray> = (0..16)
+                    .map(|_| {
+                        let jitter = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), 0.0);
+                        Ray::new(eye, at - eye + jitter * 0.01, 0.0)
+                    })
+                    .collect();
+                world.intersect_all(&rays, 0.0, &mut scratch, &mut out);
+                for (ray, got) in rays.iter().zip(&out) {
+                    let alone = world.intersect(ray, 0.0, f32::INFINITY);
+                    assert_eq!(alone.map(|h| h.t.to_bits()), got.map(|h| h.t.to_bits()));
+                    let key = |h: Option<Hit>| h.map(|h| (h.point, h.ng, h.ns, h.material));
+                    differ += usize::from(key(alone) != key(*got));
+                    total += usize::from(alone.is_some());
+                }
+            }
+            // Only triangles hit at exactly the same distance may differ.
+            assert!(
+                total > 3000 && differ * 1000 <= total,
+                "{differ} of {total}"
+            );
+        }
+    }
+
+    /// A soup of opaque and see-through triangles, a ground quad and a
+    /// see-through sphere under a square light: every shadow ray gives the
+    /// same transmittance, bit for bit, traced alone or through its set's
+    /// shaft (leaves and casters).
+    #[test]
+    fn shaft_gives_what_single_rays_give() {
+        use crate::sampling::Rng;
+        let world = soup_ground_and_sphere(Shape::Sphere {
+            center: Vec3::new(0.5, 1.0, 0.0),
+            radius: 0.4,
+        });
         let transparency = [0.0, 0.5];
         let (mut set, mut r) = (ShaftSet::default(), Rng::new(37));
         let (mut blocked, mut partial, mut culled) = (0, 0, 0);
