@@ -220,24 +220,48 @@ impl World {
     }
 
     /// The closest of the objects that are not static triangles.
+    #[inline]
     fn closest_object(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<(Prim, f32, Candidate)> {
-        if let Some(q) = &self.quads {
-            let h = q.intersect(ray, tmin, tmax);
-            // The nearest lane, the first of equals (as testing in order does).
-            let lane = (0..4).filter(|i| h.mask >> i & 1 != 0).reduce(|a, b| {
-                if h.t[b] < h.t[a] {
-                    b
-                } else {
-                    a
-                }
-            })?;
-            let cand = Candidate {
-                b1: h.s[lane],
-                b2: h.tt[lane],
-                inner: 0,
-            };
-            return Some((self.prims[lane], h.t[lane], cand));
+        match &self.quads {
+            Some(q) => self.closest_quad(q, ray, tmin, tmax),
+            None => self.closest_other(ray, tmin, tmax),
         }
+    }
+
+    /// The nearest lane of the few quads, the first of equals (as testing
+    /// them in order does).
+    #[inline]
+    fn closest_quad(
+        &self,
+        q: &Quad4,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(Prim, f32, Candidate)> {
+        let h = q.intersect(ray, tmin, tmax);
+        if h.mask == 0 {
+            return None;
+        }
+        let mut lane = h.mask.trailing_zeros() as usize;
+        let mut rest = h.mask & (h.mask - 1);
+        while rest != 0 {
+            let i = rest.trailing_zeros() as usize;
+            if h.t[i] < h.t[lane] {
+                lane = i;
+            }
+            rest &= rest - 1;
+        }
+        let cand = Candidate {
+            b1: h.s[lane],
+            b2: h.tt[lane],
+            inner: 0,
+        };
+        Some((self.prims[lane], h.t[lane], cand))
+    }
+
+    /// [`closest_object`](Self::closest_object) one object at a time.
+    #[inline(never)]
+    fn closest_other(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<(Prim, f32, Candidate)> {
         let mut cand = Candidate::default();
         let test = |i: u32, tmax: f32| {
             let (t, c) = self.intersect_prim(self.prims[i as usize], ray, tmin, tmax)?;
