@@ -364,6 +364,11 @@ impl World {
             let mut casters = self.casters.iter().enumerate();
             if let Some(q) = &self.quads {
                 // A quad is crossed at most once: its lane says whether.
+                // (With a shaft, often no caster is left to test.)
+                let listed = self.casters.len().min(FEW);
+                if may_cross & ((1 << listed) - 1) == 0 {
+                    return Some(trans);
+                }
                 let crossed = q.intersect(ray, tmin, tmax).mask;
                 casters.any(|(bit, &i)| {
                     if may_cross >> bit & crossed >> i & 1 == 0 {
