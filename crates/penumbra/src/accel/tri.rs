@@ -45,7 +45,7 @@
 use super::build::{self, Config, Node, MAX_DEPTH};
 use super::shaft::Shaft;
 use crate::geometry::triangle::{edge_functions_f64, RayShear};
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{nearest_lane, Aabb, Ray, Vec3};
 use glam::Vec4;
 use rayon::prelude::*;
 
@@ -803,15 +803,7 @@ fn closest_in_pack(
         return;
     }
     let t = t.to_array();
-    let mut lane = mask.trailing_zeros() as usize;
-    let mut rest = mask & (mask - 1);
-    while rest != 0 {
-        let i = rest.trailing_zeros() as usize;
-        if t[i] < t[lane] {
-            lane = i;
-        }
-        rest &= rest - 1;
-    }
+    let lane = nearest_lane(mask, &t);
     *tmax = t[lane];
     *best = Some(TriHit {
         id: p.id[lane],

@@ -40,6 +40,22 @@ impl Ray {
 /// while staying invisible at image scale.
 const OFFSET_SCALE: f32 = 1.0 / 65536.0;
 
+/// The lane of `mask` (non-zero) with the smallest `t`, the first of equals:
+/// what testing the lanes one after the other with a shrinking range keeps.
+#[inline(always)]
+pub fn nearest_lane(mask: u32, t: &[f32; 4]) -> usize {
+    let mut lane = mask.trailing_zeros() as usize;
+    let mut rest = mask & (mask - 1);
+    while rest != 0 {
+        let i = rest.trailing_zeros() as usize;
+        if t[i] < t[lane] {
+            lane = i;
+        }
+        rest &= rest - 1;
+    }
+    lane
+}
+
 /// Moves `p` off the surface with geometric normal `n`, to the side `toward`
 /// points to, by an amount proportional to the largest coordinate of `p`.
 ///

@@ -17,7 +17,7 @@ use crate::geometry::quad::{Quad, Quad4};
 use crate::geometry::sphere::intersect_sphere;
 use crate::geometry::triangle::{intersect_triangle, RayShear};
 use crate::geometry::Mesh;
-use crate::math::{Aabb, Frame, Ray, Vec3};
+use crate::math::{nearest_lane, Aabb, Frame, Ray, Vec3};
 
 /// A shape in its own space (world space for static objects).
 #[derive(Clone, Debug)]
@@ -163,11 +163,21 @@ impl World {
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
         // The few other objects first (a ground, a light): their hit cuts the
         // ray before the triangle BVH, which then often culls at its root.
-        let mut best = self.closest_object(ray, tmin, tmax);
+        let best = self.closest_object(ray, tmin, tmax);
         let tmax = best.map_or(tmax, |b| b.1);
-        if let Some(h) = self.tris.closest_hit(ray, tmin, tmax) {
-            best = Some(self.triangle_candidate(&h));
-        }
+        let tri = self.tris.closest_hit(ray, tmin, tmax);
+        self.finish(ray, best, tri.as_ref())
+    }
+
+    /// The hit record of the nearer of an object hit and a triangle hit
+    /// found within the object's distance (so the triangle, if any, wins).
+    fn finish(
+        &self,
+        ray: &Ray,
+        object: Option<(Prim, f32, Candidate)>,
+        tri: Option<&TriHit>,
+    ) -> Option<Hit> {
+        let best = tri.map(|h| self.triangle_candidate(h)).or(object);
         best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
     }
 
@@ -200,13 +210,7 @@ impl World {
         self.tris.closest_hits(rays, tmin, tmax, packet, tris);
         out.clear();
         let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
-        out.extend(hits.map(|((ray, best), tri)| {
-            let best = match tri {
-                Some(h) => Some(self.triangle_candidate(h)),
-                None => *best,
-            };
-            best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
-        }));
+        out.extend(hits.map(|((ray, best), tri)| self.finish(ray, *best, tri.as_ref())));
     }
 
     fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {
@@ -242,15 +246,7 @@ impl World {
         if h.mask == 0 {
             return None;
         }
-        let mut lane = h.mask.trailing_zeros() as usize;
-        let mut rest = h.mask & (h.mask - 1);
-        while rest != 0 {
-            let i = rest.trailing_zeros() as usize;
-            if h.t[i] < h.t[lane] {
-                lane = i;
-            }
-            rest &= rest - 1;
-        }
+        let lane = nearest_lane(h.mask, &h.t);
         let cand = Candidate {
             b1: h.s[lane],
             b2: h.tt[lane],
