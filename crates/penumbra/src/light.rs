@@ -15,6 +15,8 @@
 
 use std::f32::consts::PI;
 
+use glam::Vec4;
+
 use crate::geometry::quad::Quad;
 use crate::material::{EffectSpec, Rgb};
 use crate::math::{Frame, Vec3};
@@ -65,6 +67,19 @@ pub struct LightSample {
     /// `normalize_or_zero` gives), kept so that callers need not recompute it.
     pub dir: Vec3,
     pub weight: Rgb,
+}
+
+/// Four light samples, one per lane, as [`Light::sample4`] gives them:
+/// coordinates lane-wise (x, y, z).
+#[derive(Clone, Copy, Debug)]
+pub struct LightSamples4 {
+    pub target: [Vec4; 3],
+    /// Unit directions from the shading point, as [`LightSample::dir`].
+    pub dir: [Vec4; 3],
+    /// Per lane, [`LightSample::weight`] is `power · scale`.
+    pub scale: Vec4,
+    /// Bit `i` set if lane `i` gives a sample (where `sample` gives `Some`).
+    pub valid: u32,
 }
 
 impl Light {
@@ -123,6 +138,49 @@ impl Light {
             PenumbraModel::Thesis => self.sample_thesis(p, point, d),
             PenumbraModel::Surface => self.sample_surface(p, point, d),
         }
+    }
+
+    /// [`sample`](Self::sample) for four distribution points at once, lane
+    /// by lane the same bits (the same operations in the same order, with
+    /// no fused ones), or `None` where there is no four-wide path. It exists
+    /// for the common case, a rectangle sampled on its surface by a square
+    /// distribution: a set of 64 shadow rays spent a quarter of its time
+    /// preparing them one by one, mostly waiting on the divisions.
+    #[inline]
+    pub fn sample4(&self, p: Vec3, points: &[Vec3; 4], d: Distribution) -> Option<LightSamples4> {
+        let LightShape::Rect(q) = self.shape else {
+            return None;
+        };
+        if self.model != PenumbraModel::Surface || d == Distribution::Random {
+            return None;
+        }
+        // `unit_square` and `Quad::point`, lane-wise.
+        let square = |c: Vec4| {
+            let max = Vec4::splat(1.0 - f32::EPSILON);
+            (0.5 * (c + Vec4::ONE)).clamp(Vec4::ZERO, max)
+        };
+        let u = square(Vec4::from_array(points.map(|p| p.x)));
+        let v = square(Vec4::from_array(points.map(|p| p.y)));
+        let (o, eu, ev) = (
+            q.origin.to_array(),
+            q.edge_u.to_array(),
+            q.edge_v.to_array(),
+        );
+        let target: [Vec4; 3] = std::array::from_fn(|k| o[k] + u * eu[k] + v * ev[k]);
+        // `area_sample`, lane-wise.
+        let to: [Vec4; 3] = std::array::from_fn(|k| target[k] - p[k]);
+        let r2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
+        let r = r2.sqrt();
+        let n = q.normal;
+        let cos_l = (n.x * -to[0] + n.y * -to[1] + n.z * -to[2]) / r;
+        let valid = (cos_l.cmpgt(Vec4::ZERO) & r2.cmpgt(Vec4::ZERO)).bitmask();
+        let inv = Vec4::ONE / r;
+        Some(LightSamples4 {
+            target,
+            dir: to.map(|c| c * inv),
+            scale: cos_l * q.area() / r2,
+            valid,
+        })
     }
 
     /// Intensity toward direction `w` (unit, from the light) of the light

@@ -1,4 +1,6 @@
-use crate::light::Light;
+use glam::{Vec3A, Vec4};
+
+use crate::light::{Light, LightSamples4};
 use crate::material::{fresnel_dielectric, Material, Rgb};
 use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
@@ -211,7 +213,16 @@ impl<'a> Tracer<'a> {
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.ng, s.ng);
-        set.extend(points.iter().map(|p| shadow_ray(s, origin, light, *p, d)));
+        let mut fours = points.chunks_exact(4);
+        for four in &mut fours {
+            let four: &[Vec3; 4] = four.try_into().expect("chunks of four");
+            match light.sample4(s.p, four, d) {
+                Some(ls) => shadow_rays4(s, origin, light, &ls, &mut set),
+                None => set.extend(four.iter().map(|p| shadow_ray(s, origin, light, *p, d))),
+            }
+        }
+        let rest = fours.remainder().iter();
+        set.extend(rest.map(|p| shadow_ray(s, origin, light, *p, d)));
         self.pool.push(points);
         set
     }
@@ -219,11 +230,20 @@ impl<'a> Tracer<'a> {
     /// Gathers the static-triangle leaves of the shaft holding every ray of
     /// the set; false if the shaft reaches too many to be worth it.
     fn gather_shaft(&mut self, set: &[Option<ShadowRay>]) -> bool {
-        let (mut origins, mut targets) = (Aabb::EMPTY, Aabb::EMPTY);
+        // Four-wide min and max (glam's `Vec3A`): the same values as
+        // `Aabb::grow`, without a compare and select per coordinate.
+        let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        let (mut o_lo, mut o_hi) = (lo, hi);
         for r in set.iter().flatten() {
-            origins = origins.grow(r.ray.origin);
-            targets = targets.grow(r.ray.at(1.0));
+            let (o, t) = (Vec3A::from(r.ray.origin), Vec3A::from(r.ray.at(1.0)));
+            (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
+            (lo, hi) = (lo.min(t), hi.max(t));
         }
+        let aabb = |lo: Vec3A, hi: Vec3A| Aabb {
+            min: lo.into(),
+            max: hi.into(),
+        };
+        let (origins, targets) = (aabb(o_lo, o_hi), aabb(lo, hi));
         let world = &self.scene.world;
         world.gather_shaft(origins, targets, SHAFT_MAX_LEAVES, &mut self.shaft)
     }
@@ -317,6 +337,34 @@ struct ShadowRay {
     weight: Rgb,
 }
 
+/// [`shadow_ray`] for the four light samples of `ls`, appended to `set`:
+/// lane by lane the same rays.
+fn shadow_rays4(
+    s: &Local,
+    origin: Vec3,
+    light: &Light,
+    ls: &LightSamples4,
+    set: &mut Vec<Option<ShadowRay>>,
+) {
+    let dot = |n: Vec3, d: &[Vec4; 3]| n.x * d[0] + n.y * d[1] + n.z * d[2];
+    let (cos, cos_g) = (dot(s.n, &ls.dir), dot(s.ng, &ls.dir));
+    // Rejected exactly where `shadow_ray` rejects: a cosine at most 0 (a NaN
+    // passes there too).
+    let rejected = cos.cmple(Vec4::ZERO) | cos_g.cmple(Vec4::ZERO);
+    let valid = ls.valid & !rejected.bitmask();
+    let to = std::array::from_fn::<_, 3, _>(|k| (ls.target[k] - origin[k]).to_array());
+    let dir = ls.dir.map(|c| c.to_array());
+    let (cos, scale) = (cos.to_array(), ls.scale.to_array());
+    set.extend((0..4).map(|i| {
+        (valid >> i & 1 != 0).then(|| ShadowRay {
+            ray: Ray::new(origin, Vec3::new(to[0][i], to[1][i], to[2][i]), s.time),
+            wi: Vec3::new(dir[0][i], dir[1][i], dir[2][i]),
+            cos: cos[i],
+            weight: light.power * scale[i],
+        })
+    }));
+}
+
 /// The shadow ray from `origin` (the shading point lifted off its surface)
 /// toward one distribution point of the light; `None` if there is none to
 /// trace (the sample is below the horizon or on the back of the light).
@@ -339,4 +387,95 @@ fn shadow_ray(
         cos,
         weight: ls.weight,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::quad::Quad;
+    use crate::light::{LightShape, PenumbraModel};
+    use crate::material::EffectSpec;
+
+    fn unit(r: &mut Rng) -> Vec3 {
+        let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
+        v.normalize_or(Vec3::Y)
+    }
+
+    fn bits(r: &Option<ShadowRay>) -> Option<[u32; 14]> {
+        r.map(|r| {
+            let mut b = [0; 14];
+            let v = [r.ray.origin, r.ray.dir, r.wi, r.weight];
+            for (k, c) in v.iter().flat_map(|v| v.to_array()).enumerate() {
+                b[k] = c.to_bits();
+            }
+            b[12] = r.cos.to_bits();
+            b[13] = r.ray.time.to_bits();
+            b
+        })
+    }
+
+    /// The four-wide shadow rays of a rectangle light are, lane by lane,
+    /// bit for bit the rays prepared one by one, for every distribution
+    /// that has the four-wide path: points on both sides of the light and
+    /// in its plane, points past the square's edge, surfaces facing away.
+    #[test]
+    fn four_wide_shadow_rays_match_one_by_one() {
+        let mut r = Rng::new(47);
+        let quad = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
+        let mut light = Light {
+            shape: LightShape::Rect(quad),
+            power: Vec3::new(40.0, 30.0, 20.0),
+            model: PenumbraModel::Surface,
+            shadow: EffectSpec {
+                rays: 16,
+                distribution: Distribution::Grid,
+            },
+        };
+        let (mut points, mut four, mut one) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut traced, mut wide) = (0, 0);
+        for k in 0..2000 {
+            let d = Distribution::ALL[k % 6];
+            let p = Vec3::new(r.range(-3.0, 3.0), r.range(0.0, 5.0), r.range(-3.0, 3.0));
+            let p = if k % 50 == 0 {
+                Vec3::new(p.x, 4.0, p.z)
+            } else {
+                p
+            };
+            let (n, ng) = (unit(&mut r), unit(&mut r));
+            let s = Local {
+                p,
+                wo: Vec3::Y,
+                n,
+                ng,
+                front: true,
+                time: r.next_f32(),
+            };
+            d.generate(16, 1.0, &mut r, &mut points);
+            points[0] = Vec3::new(1.5, -1.5, 0.0);
+            light.model = [PenumbraModel::Surface, PenumbraModel::Thesis][usize::from(k % 7 == 0)];
+            let origin = offset_origin(s.p, s.ng, s.ng);
+            for chunk in points.chunks_exact(4) {
+                let chunk: &[Vec3; 4] = chunk.try_into().unwrap();
+                four.clear();
+                one.clear();
+                match light.sample4(s.p, chunk, d) {
+                    Some(ls) => {
+                        shadow_rays4(&s, origin, &light, &ls, &mut four);
+                        wide += 1;
+                    }
+                    None => {
+                        let thesis = light.model == PenumbraModel::Thesis;
+                        assert!(d == Distribution::Random || thesis, "{d:?}");
+                        continue;
+                    }
+                }
+                one.extend(chunk.iter().map(|q| shadow_ray(&s, origin, &light, *q, d)));
+                for (a, b) in four.iter().zip(&one) {
+                    assert_eq!(bits(a), bits(b), "{d:?} {p:?}");
+                    traced += usize::from(a.is_some());
+                }
+            }
+        }
+        assert!(wide > 4000 && traced > 2000, "{wide} fours, {traced} rays");
+    }
 }
