@@ -315,6 +315,23 @@ impl Distribution {
         }
     }
 
+    /// The one point of a set of one, as [`generate`](Self::generate) and
+    /// [`generate_unordered`](Self::generate_unordered) give it for `count =
+    /// 1` (the same bits and the same draws), without a buffer: a camera ray
+    /// with one shadow ray makes hundreds of thousands of such sets.
+    pub fn one(self, radius: f32, rng: &mut Rng) -> Vec3 {
+        // The one cell is the whole square: `(0 + offset) / 1 = offset`.
+        let cell = |o: Vec2| Vec3::new(to_radius(o.x, radius), to_radius(o.y, radius), 0.0);
+        match self {
+            Distribution::Grid => cell(centre(rng)),
+            // Poisson's one point is uniform in the square, as jitter's.
+            Distribution::Jitter | Distribution::Poisson => cell(unit_square(rng)),
+            Distribution::SemiJitter => cell(semi_jitter(rng)),
+            Distribution::Random => disk(radius, rng),
+            Distribution::FastRandom => cube(radius, rng),
+        }
+    }
+
     /// The points [`generate`](Self::generate) gives, for a set whose trace
     /// order cannot matter (a shadow set without the metric, whose rays are
     /// summed): a square count of the grid family skips the final shuffle,
@@ -1151,6 +1168,33 @@ mod tests {
                 a.sort_unstable();
                 b.sort_unstable();
                 assert_eq!(a, b, "{d} with {count} points");
+            }
+        }
+    }
+
+    /// `one` is what a set of one gives, bit for bit, and leaves the stream
+    /// where a set of one leaves it.
+    #[test]
+    fn one_point_is_a_set_of_one() {
+        let mut out = Vec::new();
+        for key in 0..300 {
+            for d in Distribution::ALL {
+                for radius in [1.0, 0.5, 0.0] {
+                    let (mut a, mut b, mut c) = (Rng::new(key), Rng::new(key), Rng::new(key));
+                    let p = d.one(radius, &mut a);
+                    d.generate(1, radius, &mut b, &mut out);
+                    assert_eq!(out.len(), 1);
+                    assert_eq!(
+                        p.to_array().map(f32::to_bits),
+                        out[0].to_array().map(f32::to_bits)
+                    );
+                    d.generate_unordered(1, radius, &mut c, &mut out);
+                    assert_eq!(
+                        p.to_array().map(f32::to_bits),
+                        out[0].to_array().map(f32::to_bits)
+                    );
+                    assert!(a == b && b == c, "{d:?} leaves the stream elsewhere");
+                }
             }
         }
     }
