@@ -541,8 +541,9 @@ impl TriangleBvh {
             rays: prepared,
             tmax: limits,
         } = scratch;
+        // Rays are prepared when the packet first reaches a leaf: most
+        // packets that miss the mesh never do.
         prepared.clear();
-        prepared.extend(rays.iter().map(TraversalRay::new));
         limits.clear();
         limits.extend_from_slice(&tmax[..rays.len()]);
         let tmin4 = Vec4::splat(tmin);
@@ -551,6 +552,9 @@ impl TriangleBvh {
             widest,
             |node, tmax| frustum.hit(node, tmin4, Vec4::splat(tmax)),
             |at, packs, widest| {
+                if prepared.is_empty() {
+                    prepared.extend(rays.iter().map(TraversalRay::new));
+                }
                 for ((r, tmax), best) in prepared.iter().zip(limits.iter_mut()).zip(out.iter_mut())
                 {
                     // The packet reached the leaf; this ray may not have.
