@@ -276,7 +276,8 @@ impl World {
     /// `targets` (a shadow set, see [`Shaft`]): gathers the static-triangle
     /// leaves they may cross, and notes which of the few other shadow casters
     /// they may cross (a quad or disk with every end point on one side of its
-    /// plane cannot be crossed: the ground a shadow set starts from, say).
+    /// plane cannot be crossed: the ground a shadow set starts from, say;
+    /// nor can a still object whose bounding box lies outside the shaft).
     /// Returns false if the boxes are not finite or the shaft reaches more
     /// than `limit` leaves: then the rays are better traced one by one.
     pub fn gather_shaft(
@@ -301,11 +302,27 @@ impl World {
                 _ => None,
             };
             let apart = plane.is_some_and(|(n, p)| one_side(n, p, &[origins, targets]));
-            if !apart {
+            // Otherwise a still object whose box the shaft misses.
+            let outside = || match (&o.shape, o.motion) {
+                (Shape::Sphere { .. } | Shape::Quad(_) | Shape::Disk { .. }, None) => {
+                    !shaft.overlaps(&shape_bounds(&o.shape, &[]))
+                }
+                _ => false,
+            };
+            if !apart && !outside() {
                 out.casters |= 1 << bit;
             }
         }
         true
+    }
+
+    /// True if nothing can block a segment held by the shaft `set` was
+    /// gathered for: no static-triangle leaf and no other caster is within
+    /// it. [`transmittance`](Self::transmittance) within it is then 1 for
+    /// every such segment, and a shadow set need not trace its rays.
+    pub fn shaft_is_clear(&self, set: &ShaftSet) -> bool {
+        let listed = self.casters.len().min(FEW);
+        set.leaves.is_empty() && self.prims.len() <= FEW && set.casters & ((1 << listed) - 1) == 0
     }
 
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
@@ -727,7 +744,8 @@ mod tests {
     /// A soup of opaque and see-through triangles, a ground quad and a
     /// see-through sphere under a square light: every shadow ray gives the
     /// same transmittance, bit for bit, traced alone or through its set's
-    /// shaft (leaves and casters).
+    /// shaft (leaves and casters); and the shafts found clear let every
+    /// ray through.
     #[test]
     fn shaft_gives_what_single_rays_give() {
         use crate::sampling::Rng;
@@ -737,9 +755,12 @@ mod tests {
         });
         let transparency = [0.0, 0.5];
         let (mut set, mut r) = (ShaftSet::default(), Rng::new(37));
-        let (mut blocked, mut partial, mut culled) = (0, 0, 0);
-        for _ in 0..300 {
-            let p = Vec3::new(r.range(-4.0, 4.0), 0.0, r.range(-4.0, 4.0));
+        let (mut blocked, mut partial, mut culled, mut clear) = (0, 0, 0, 0);
+        for i in 0..400 {
+            // Every fourth set starts far out, where its shaft passes above
+            // the soup and beside the sphere.
+            let reach = if i % 4 == 0 { 14.0 } else { 4.0 };
+            let p = Vec3::new(r.range(-reach, reach), 0.0, r.range(-reach, reach));
             let origin = offset_origin(p, Vec3::Y, Vec3::Y);
             let light = Aabb::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::new(0.5, 4.0, 0.5));
             let targets: Vec<Vec3> = (0..16)
@@ -749,23 +770,29 @@ mod tests {
             assert!(world.gather_shaft(origins, light, usize::MAX, &mut set));
             // Casters are numbered in object order without the mesh: the ground is bit 0.
             culled += usize::from(set.casters & 1 == 0);
+            let is_clear = world.shaft_is_clear(&set);
+            clear += usize::from(is_clear);
             for t in targets {
                 let ray = Ray::new(origin, t - origin, 0.0);
                 let range = (0.0, 1.0 - 1e-4);
                 let alone = world.transmittance(&ray, range, &transparency, None);
                 let within = world.transmittance(&ray, range, &transparency, Some(&set));
                 assert_eq!(alone.map(f32::to_bits), within.map(f32::to_bits), "{ray:?}");
+                // A clear shaft lets every segment through whole.
+                assert!(!is_clear || alone == Some(1.0), "{ray:?}");
                 blocked += usize::from(alone.is_none());
                 partial += usize::from(alone.is_some_and(|t| t < 1.0));
             }
         }
         // Not vacuous: some rays are blocked, some dimmed by the sphere, and
         // the ground is culled from the sets that start on it (except near
-        // the origin, where the offset is below the test's rounding margin).
+        // the origin, where the offset is below the test's rounding margin);
+        // some shafts are clear only because the sphere's box is outside them.
         assert!(
             blocked > 100 && partial > 10,
             "{blocked} blocked, {partial} dimmed"
         );
-        assert!(culled > 280, "ground culled from {culled} of 300 sets");
+        assert!(culled > 380, "ground culled from {culled} of 400 sets");
+        assert!(clear > 20 && clear < 100, "{clear} of 400 shafts clear");
     }
 }
