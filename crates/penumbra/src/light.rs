@@ -140,18 +140,31 @@ impl Light {
         }
     }
 
-    /// [`sample`](Self::sample) for four distribution points at once, lane
-    /// by lane the same bits (the same operations in the same order, with
-    /// no fused ones), or `None` where there is no four-wide path. It exists
-    /// for the common case, a rectangle sampled on its surface by a square
-    /// distribution: a set of 64 shadow rays spent a quarter of its time
-    /// preparing them one by one, mostly waiting on the divisions.
+    /// True if [`sample4`](Self::sample4) has a four-wide path for points
+    /// of `d`: a rectangle sampled on its surface by a square distribution.
+    pub fn four_wide(&self, d: Distribution) -> bool {
+        let rect = matches!(self.shape, LightShape::Rect(_));
+        rect && self.model == PenumbraModel::Surface && d != Distribution::Random
+    }
+
+    /// [`sample`](Self::sample) for four distribution points at once, seen
+    /// from the shading points `p` (one per lane: one point four times for a
+    /// set, or the hits of four camera rays), lane by lane the same bits
+    /// (the same operations in the same order, with no fused ones), or
+    /// `None` where there is no [four-wide](Self::four_wide) path. It exists
+    /// for the common case: a set of 64 shadow rays spent a quarter of its
+    /// time preparing them one by one, mostly waiting on the divisions.
     #[inline]
-    pub fn sample4(&self, p: Vec3, points: &[Vec3; 4], d: Distribution) -> Option<LightSamples4> {
+    pub fn sample4(
+        &self,
+        p: &[Vec3; 4],
+        points: &[Vec3; 4],
+        d: Distribution,
+    ) -> Option<LightSamples4> {
         let LightShape::Rect(q) = self.shape else {
             return None;
         };
-        if self.model != PenumbraModel::Surface || d == Distribution::Random {
+        if !self.four_wide(d) {
             return None;
         }
         // `unit_square` and `Quad::point`, lane-wise.
@@ -168,7 +181,7 @@ impl Light {
         );
         let target: [Vec4; 3] = std::array::from_fn(|k| o[k] + u * eu[k] + v * ev[k]);
         // `area_sample`, lane-wise.
-        let to: [Vec4; 3] = std::array::from_fn(|k| target[k] - p[k]);
+        let to: [Vec4; 3] = std::array::from_fn(|k| target[k] - Vec4::from_array(p.map(|p| p[k])));
         let r2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
         let r = r2.sqrt();
         let n = q.normal;

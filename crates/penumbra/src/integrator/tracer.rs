@@ -46,6 +46,21 @@ pub struct Tracer<'a> {
     /// The hits of the current pixel's camera rays, found together.
     primary: Vec<Option<Hit>>,
     packet: PacketScratch,
+    batch: Batch,
+}
+
+/// The direct light of a pixel's camera rays, found together (see
+/// [`Tracer::radiance_primaries`]).
+#[derive(Default)]
+struct Batch {
+    /// The hits that receive direct light: camera ray, material, frame.
+    lit: Vec<(usize, u32, Local)>,
+    /// The shadow sets of all lit hits toward one light, one after another.
+    rays: Vec<Option<ShadowRay>>,
+    /// Where each lit hit's set starts in `rays`, and where the last ends.
+    starts: Vec<usize>,
+    /// Direct light at lit hit `k` from light `j`, at `j * lit.len() + k`.
+    direct: Vec<Rgb>,
 }
 
 /// Which secondary set is being traced: selects the ray kind and the streams.
@@ -80,6 +95,23 @@ struct Local {
     time: f32,
 }
 
+impl Local {
+    /// The frame of `hit`, seen along `ray`: normals flipped to the viewer's side.
+    fn new(ray: &Ray, hit: &Hit) -> Local {
+        let wo = -ray.dir.normalize();
+        let front = hit.ng.dot(wo) >= 0.0;
+        let flip = if front { 1.0 } else { -1.0 };
+        Local {
+            p: hit.point,
+            wo,
+            n: hit.ns * flip,
+            ng: hit.ng * flip,
+            front,
+            time: ray.time,
+        }
+    }
+}
+
 impl<'a> Tracer<'a> {
     pub fn new(scene: &'a Scene) -> Self {
         Tracer {
@@ -90,6 +122,7 @@ impl<'a> Tracer<'a> {
             shaft: ShaftSet::default(),
             primary: Vec::new(),
             packet: PacketScratch::default(),
+            batch: Batch::default(),
         }
     }
 
@@ -107,11 +140,91 @@ impl<'a> Tracer<'a> {
         world.intersect_all(rays, 0.0, &mut self.packet, &mut self.primary);
     }
 
-    /// [`radiance`](Self::radiance) along `ray`, the `i`-th of the rays last
-    /// given to [`intersect_primary`](Self::intersect_primary), at depth 0.
-    pub fn radiance_primary(&mut self, i: usize, ray: &Ray, rng: Rng) -> Rgb {
-        let hit = self.primary[i];
-        self.radiance_from(ray, hit.as_ref(), 0, rng)
+    /// [`radiance`](Self::radiance) along each of the rays last given to
+    /// [`intersect_primary`](Self::intersect_primary), at depth 0, into
+    /// `out`; `rng(i)` is the `i`-th ray's stream. Direct light is found for
+    /// the whole pixel first, light by light, so that sets of few shadow rays
+    /// (one per camera ray, say) can share one shaft, as a set of many rays
+    /// does. The values are those of `radiance`, bit for bit.
+    pub fn radiance_primaries(
+        &mut self,
+        rays: &[Ray],
+        rng: impl Fn(usize) -> Rng,
+        out: &mut Vec<Rgb>,
+    ) {
+        let scene = self.scene;
+        let mut batch = std::mem::take(&mut self.batch);
+        batch.lit.clear();
+        for (i, ray) in rays.iter().enumerate() {
+            let Some(hit) = &self.primary[i] else {
+                continue;
+            };
+            if hit.light.is_none() && scene.materials[hit.material as usize].is_lit() {
+                batch.lit.push((i, hit.material, Local::new(ray, hit)));
+            }
+        }
+        batch.direct.clear();
+        for (j, light) in scene.lights.iter().enumerate() {
+            self.direct_batch(light, |i| rng(i).derive(SHADOW + j as u64), &mut batch);
+        }
+        out.clear();
+        let (lit, lights) = (batch.lit.len(), scene.lights.len());
+        let mut k = 0;
+        for (i, ray) in rays.iter().enumerate() {
+            let Some(hit) = self.primary[i] else {
+                out.push(scene.settings.background);
+                continue;
+            };
+            if let Some(l) = hit.light {
+                out.push(scene.lights[l as usize].emitted(hit.ng, ray.dir));
+                continue;
+            }
+            let m = &scene.materials[hit.material as usize];
+            let s = Local::new(ray, &hit);
+            let mut l = if s.front { m.emission } else { Rgb::ZERO };
+            if m.is_lit() {
+                for j in 0..lights {
+                    l += batch.direct[j * lit + k];
+                }
+                k += 1;
+            }
+            self.indirect(&s, ray, m, 0, rng(i), &mut l);
+            out.push(l);
+        }
+        self.batch = batch;
+    }
+
+    /// Direct light from `light` at every lit hit of `batch`, appended to
+    /// `batch.direct`: [`direct`](Self::direct) for each, except that sets
+    /// too small for a shaft of their own share one if the pixel's sets
+    /// together are large enough.
+    fn direct_batch(&mut self, light: &Light, rng: impl Fn(usize) -> Rng, batch: &mut Batch) {
+        let Batch {
+            lit,
+            rays,
+            starts,
+            direct,
+        } = batch;
+        rays.clear();
+        starts.clear();
+        if self.single_rays(lit, light, &rng, rays) {
+            starts.extend(0..=lit.len());
+        } else {
+            for (i, _, s) in lit.iter() {
+                starts.push(rays.len());
+                self.shadow_set(s, light, rng(*i), rays);
+            }
+            starts.push(rays.len());
+        }
+        let own = light.shadow_rays() >= SHAFT_MIN_RAYS;
+        let traced = rays.iter().flatten().count();
+        let shared = !own && traced >= SHAFT_MIN_RAYS as usize && self.gather_shaft(rays);
+        for (k, (_, material, s)) in lit.iter().enumerate() {
+            let m = &self.scene.materials[*material as usize];
+            let set = &rays[starts[k]..starts[k + 1]];
+            let shaft = shared || (own && self.gather_shaft(set));
+            direct.push(self.trace_set(s, m, light, set, shaft));
+        }
     }
 
     fn radiance_from(&mut self, ray: &Ray, hit: Option<&Hit>, depth: u32, rng: Rng) -> Rgb {
@@ -127,34 +240,30 @@ impl<'a> Tracer<'a> {
         }
         let scene = self.scene;
         let m = &scene.materials[hit.material as usize];
-        let wo = -ray.dir.normalize();
-        let front = hit.ng.dot(wo) >= 0.0;
-        let flip = if front { 1.0 } else { -1.0 };
-        let local = Local {
-            p: hit.point,
-            wo,
-            n: hit.ns * flip,
-            ng: hit.ng * flip,
-            front,
-            time: ray.time,
-        };
-        let mut l = if front { m.emission } else { Rgb::ZERO };
+        let s = Local::new(ray, hit);
+        let mut l = if s.front { m.emission } else { Rgb::ZERO };
         if m.is_lit() {
             for (j, light) in scene.lights.iter().enumerate() {
-                l += self.direct(&local, m, light, rng.derive(SHADOW + j as u64));
+                l += self.direct(&s, m, light, rng.derive(SHADOW + j as u64));
             }
         }
-        if depth < scene.settings.max_depth {
+        self.indirect(&s, ray, m, depth, rng, &mut l);
+        l
+    }
+
+    /// Adds the light reflected and refracted at `s` to `l` (in this order,
+    /// which the pixel-wide path keeps, so that both sum alike).
+    fn indirect(&mut self, s: &Local, ray: &Ray, m: &Material, depth: u32, rng: Rng, l: &mut Rgb) {
+        if depth < self.scene.settings.max_depth {
             if m.reflectivity > 0.0 {
-                let dir = reflect(ray.dir.normalize(), local.n);
+                let dir = reflect(ray.dir.normalize(), s.n);
                 let spec = (m.reflection.rays, m.reflection.distribution, m.glossiness);
-                l += m.reflectivity * self.scatter(&local, dir, spec, Branch::Reflect, depth, rng);
+                *l += m.reflectivity * self.scatter(s, dir, spec, Branch::Reflect, depth, rng);
             }
             if m.transparency > 0.0 {
-                l += m.transparency * self.dielectric(&local, ray, m, depth, rng);
+                *l += m.transparency * self.dielectric(s, ray, m, depth, rng);
             }
         }
-        l
     }
 
     /// Direct light from one light: the average over its shadow set of
@@ -162,23 +271,47 @@ impl<'a> Tracer<'a> {
     /// first, so that a set of several rays can gather once the BVH leaves
     /// its shaft reaches and test every ray against those only.
     fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
+        let mut set = std::mem::take(&mut self.shadow_set);
+        set.clear();
+        self.shadow_set(s, light, rng, &mut set);
+        let shaft = light.shadow_rays() >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
+        let l = self.trace_set(s, m, light, &set, shaft);
+        self.shadow_set = set;
+        l
+    }
+
+    /// The average over a prepared shadow set of `brdf · weight · cos θ ·
+    /// transmittance`, its rays traced one by one, within the shaft last
+    /// gathered if `shaft`, and stopped early by the shadow metric.
+    fn trace_set(
+        &mut self,
+        s: &Local,
+        m: &Material,
+        light: &Light,
+        set: &[Option<ShadowRay>],
+        shaft: bool,
+    ) -> Rgb {
         let n = light.shadow_rays();
-        let set = self.shadow_set(s, light, rng);
-        let shaft = n >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
         let k = self
             .scene
             .settings
             .metric
             .map_or(u32::MAX, |m| m.shadow_rays);
+        let world = &self.scene.world;
+        let within = shaft.then_some(&self.shaft);
+        let clear = within.is_some_and(|s| world.shaft_is_clear(s));
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
-        for r in &set {
+        for r in set {
             done += 1;
             if let Some(r) = r {
                 self.stats.shadow += 1;
-                let world = &self.scene.world;
                 let transparency = &self.scene.transparency;
-                let within = shaft.then_some(&self.shaft);
-                match world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within) {
+                let t = if clear {
+                    Some(1.0)
+                } else {
+                    world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)
+                };
+                match t {
                     Some(t) => {
                         sum += m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t);
                         reached += 1;
@@ -192,39 +325,79 @@ impl<'a> Tracer<'a> {
                 break;
             }
         }
-        self.shadow_set = set;
         sum / done.max(1) as f32
     }
 
-    /// The rays of the shadow set toward `light` (`None` for points that
-    /// give no ray), in a buffer to hand back to `self.shadow_set`.
-    fn shadow_set(&mut self, s: &Local, light: &Light, mut rng: Rng) -> Vec<Option<ShadowRay>> {
-        let (n, d) = (light.shadow_rays(), light.shadow.distribution);
-        // The rays are summed: their order matters only to the metric,
-        // which may stop the set early.
+    /// Appends the rays of the shadow set toward `light` to `set` (`None`
+    /// for points that give no ray).
+    fn shadow_set(
+        &mut self,
+        s: &Local,
+        light: &Light,
+        mut rng: Rng,
+        set: &mut Vec<Option<ShadowRay>>,
+    ) {
+        let d = light.shadow.distribution;
         let mut points = self.pool.pop().unwrap_or_default();
-        if self.scene.settings.metric.is_some() {
-            d.generate(n as usize, 1.0, &mut rng, &mut points);
-        } else {
-            d.generate_unordered(n as usize, 1.0, &mut rng, &mut points);
-        }
-        let mut set = std::mem::take(&mut self.shadow_set);
-        set.clear();
+        self.set_points(light, &mut rng, &mut points);
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.ng, s.ng);
+        let lanes = Lanes::new([s; 4], &[origin; 4]);
         let mut fours = points.chunks_exact(4);
         for four in &mut fours {
             let four: &[Vec3; 4] = four.try_into().expect("chunks of four");
-            match light.sample4(s.p, four, d) {
-                Some(ls) => shadow_rays4(s, origin, light, &ls, &mut set),
+            match light.sample4(&[s.p; 4], four, d) {
+                Some(ls) => shadow_rays4(&lanes, light, &ls, 4, set),
                 None => set.extend(four.iter().map(|p| shadow_ray(s, origin, light, *p, d))),
             }
         }
         let rest = fours.remainder().iter();
         set.extend(rest.map(|p| shadow_ray(s, origin, light, *p, d)));
         self.pool.push(points);
-        set
+    }
+
+    /// The distribution points of a shadow set toward `light`, into `points`.
+    fn set_points(&self, light: &Light, rng: &mut Rng, points: &mut Vec<Vec3>) {
+        let (n, d) = (light.shadow_rays() as usize, light.shadow.distribution);
+        // The rays are summed: their order matters only to the metric,
+        // which may stop the set early.
+        if self.scene.settings.metric.is_some() {
+            d.generate(n, 1.0, rng, points);
+        } else {
+            d.generate_unordered(n, 1.0, rng, points);
+        }
+    }
+
+    /// The one-ray shadow sets toward `light` of all `lit` hits, appended to
+    /// `set`, prepared four hits at a time: lane by lane the rays
+    /// [`shadow_set`](Self::shadow_set) gives. False, and nothing appended,
+    /// if the light's sets are larger or it has no four-wide path.
+    fn single_rays(
+        &mut self,
+        lit: &[(usize, u32, Local)],
+        light: &Light,
+        rng: &impl Fn(usize) -> Rng,
+        set: &mut Vec<Option<ShadowRay>>,
+    ) -> bool {
+        let d = light.shadow.distribution;
+        if light.shadow_rays() != 1 || !light.four_wide(d) {
+            return false;
+        }
+        for chunk in lit.chunks(4) {
+            // A last chunk of fewer hits repeats its last one.
+            let s: [&Local; 4] = std::array::from_fn(|l| &chunk[l.min(chunk.len() - 1)].2);
+            let mut one = [Vec3::ZERO; 4];
+            for (l, &(i, _, _)) in chunk.iter().enumerate() {
+                one[l] = d.one(1.0, &mut rng(i));
+            }
+            let origin = s.map(|s| offset_origin(s.p, s.ng, s.ng));
+            let ls = light
+                .sample4(&s.map(|s| s.p), &one, d)
+                .expect("a four-wide light");
+            shadow_rays4(&Lanes::new(s, &origin), light, &ls, chunk.len(), set);
+        }
+        true
     }
 
     /// Gathers the static-triangle leaves of the shaft holding every ray of
@@ -337,27 +510,54 @@ struct ShadowRay {
     weight: Rgb,
 }
 
-/// [`shadow_ray`] for the four light samples of `ls`, appended to `set`:
-/// lane by lane the same rays.
+/// Four shading points as lanes: what [`shadow_rays4`] needs of them.
+struct Lanes {
+    n: [Vec4; 3],
+    ng: [Vec4; 3],
+    origin: [Vec4; 3],
+    time: [f32; 4],
+}
+
+impl Lanes {
+    /// Lane `l` from frame `s[l]`, its rays leaving from `origin[l]`.
+    fn new(s: [&Local; 4], origin: &[Vec3; 4]) -> Lanes {
+        let soa = |v: [Vec3; 4]| std::array::from_fn(|k| Vec4::from_array(v.map(|v| v[k])));
+        Lanes {
+            n: soa(s.map(|s| s.n)),
+            ng: soa(s.map(|s| s.ng)),
+            origin: soa(*origin),
+            time: s.map(|s| s.time),
+        }
+    }
+}
+
+/// [`shadow_ray`] for the four light samples of `ls`, lane `l` from the
+/// shading point of lane `l` of `s`; the first `count` are appended to
+/// `set`: lane by lane the same rays.
 fn shadow_rays4(
-    s: &Local,
-    origin: Vec3,
+    s: &Lanes,
     light: &Light,
     ls: &LightSamples4,
+    count: usize,
     set: &mut Vec<Option<ShadowRay>>,
 ) {
-    let dot = |n: Vec3, d: &[Vec4; 3]| n.x * d[0] + n.y * d[1] + n.z * d[2];
-    let (cos, cos_g) = (dot(s.n, &ls.dir), dot(s.ng, &ls.dir));
+    let dot = |n: &[Vec4; 3], d: &[Vec4; 3]| n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+    let (cos, cos_g) = (dot(&s.n, &ls.dir), dot(&s.ng, &ls.dir));
     // Rejected exactly where `shadow_ray` rejects: a cosine at most 0 (a NaN
     // passes there too).
     let rejected = cos.cmple(Vec4::ZERO) | cos_g.cmple(Vec4::ZERO);
     let valid = ls.valid & !rejected.bitmask();
-    let to = std::array::from_fn::<_, 3, _>(|k| (ls.target[k] - origin[k]).to_array());
+    let to = std::array::from_fn::<_, 3, _>(|k| (ls.target[k] - s.origin[k]).to_array());
+    let origin = s.origin.map(|c| c.to_array());
     let dir = ls.dir.map(|c| c.to_array());
     let (cos, scale) = (cos.to_array(), ls.scale.to_array());
-    set.extend((0..4).map(|i| {
+    set.extend((0..count).map(|i| {
         (valid >> i & 1 != 0).then(|| ShadowRay {
-            ray: Ray::new(origin, Vec3::new(to[0][i], to[1][i], to[2][i]), s.time),
+            ray: Ray::new(
+                Vec3::new(origin[0][i], origin[1][i], origin[2][i]),
+                Vec3::new(to[0][i], to[1][i], to[2][i]),
+                s.time[i],
+            ),
             wi: Vec3::new(dir[0][i], dir[1][i], dir[2][i]),
             cos: cos[i],
             weight: light.power * scale[i],
@@ -458,9 +658,15 @@ mod tests {
                 let chunk: &[Vec3; 4] = chunk.try_into().unwrap();
                 four.clear();
                 one.clear();
-                match light.sample4(s.p, chunk, d) {
+                match light.sample4(&[s.p; 4], chunk, d) {
                     Some(ls) => {
-                        shadow_rays4(&s, origin, &light, &ls, &mut four);
+                        shadow_rays4(
+                            &Lanes::new([&s; 4], &[origin; 4]),
+                            &light,
+                            &ls,
+                            4,
+                            &mut four,
+                        );
                         wide += 1;
                     }
                     None => {
@@ -477,5 +683,116 @@ mod tests {
             }
         }
         assert!(wide > 4000 && traced > 2000, "{wide} fours, {traced} rays");
+    }
+
+    /// A closed mesh (an octahedron split into 128 triangles) as OBJ text,
+    /// centred at `c` with radius `r`.
+    fn blob_obj(c: Vec3, r: f32) -> String {
+        let mut obj = String::new();
+        let (n, mut verts) = (4usize, 0);
+        let corners = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+        let faces = [(0, 1, 2), (1, 3, 2), (3, 4, 2), (4, 0, 2)];
+        for (a, b, e) in faces
+            .iter()
+            .flat_map(|&(a, b, e)| [(a, b, e), (b, a, e + 3)])
+        {
+            let (a, b, e) = (corners[a], corners[b], corners[e]);
+            for i in 0..n {
+                for j in 0..n - i {
+                    let p = |i: usize, j: usize| {
+                        let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                        let q = (a * u + b * v + e * (1.0 - u - v)).normalize();
+                        c + q * r * (1.0 + 0.2 * (5.0 * q.x).sin())
+                    };
+                    let mut tri = |x: Vec3, y: Vec3, z: Vec3| {
+                        for v in [x, y, z] {
+                            obj += &format!("v {} {} {}\n", v.x, v.y, v.z);
+                        }
+                        obj += &format!("f {} {} {}\n", verts + 1, verts + 2, verts + 3);
+                        verts += 3;
+                    };
+                    tri(p(i, j), p(i + 1, j), p(i, j + 1));
+                    if i + j + 1 < n {
+                        tri(p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+                    }
+                }
+            }
+        }
+        obj
+    }
+
+    /// The pixel-wide path (direct light of all camera rays first, sets of
+    /// one ray four hits at a time, shared shafts) gives every camera ray
+    /// the radiance and the ray counts the one-by-one path gives, bit for
+    /// bit: for one-ray sets on both penumbra models, sets too small for a
+    /// shaft of their own, sets with one, a point light, a transparent
+    /// caster, a mirror and packets hitting ground, mesh, lights and sky.
+    #[test]
+    fn pixel_wide_direct_light_matches_one_by_one() {
+        use crate::scene::{LoadOptions, SceneSource};
+        let dir = tempfile::tempdir().unwrap();
+        let obj = dir.path().join("blob.obj");
+        std::fs::write(&obj, blob_obj(Vec3::new(0.0, 0.6, 0.0), 0.6)).unwrap();
+        let lights = [
+            ("surface", 1, "jitter"),
+            ("thesis", 1, "grid"),
+            ("surface", 1, "random"),
+            ("surface", 4, "poisson"),
+            ("surface", 16, "semi-jitter"),
+        ];
+        let mut compared = 0;
+        for (k, (model, rays, dist)) in lights.into_iter().enumerate() {
+            let toml = format!(
+                "[render]\nmax_depth = 2\n\
+                 [materials.m]\nalbedo = [0.6, 0.5, 0.4]\nspecular = 0.2\nshininess = 20\n\
+                 [materials.mirror]\nreflectivity = 0.8\n\
+                 [materials.clear]\ntransparency = 0.5\n\
+                 [[objects]]\ntype = \"quad\"\nmaterial = \"m\"\norigin = [-5.0, 0.0, -5.0]\n\
+                 edge_u = [0.0, 0.0, 10.0]\nedge_v = [10.0, 0.0, 0.0]\n\
+                 [[objects]]\ntype = \"mesh\"\nmaterial = \"m\"\npath = {obj:?}\n\
+                 [[objects]]\ntype = \"sphere\"\nmaterial = \"clear\"\ncenter = [1.2, 0.5, 0.3]\nradius = 0.4\n\
+                 [[objects]]\ntype = \"sphere\"\nmaterial = \"mirror\"\ncenter = [-1.3, 0.5, 0.2]\nradius = 0.4\n\
+                 [[lights]]\ntype = \"rect\"\norigin = [-0.5, 3.0, -0.5]\nedge_u = [1.0, 0.0, 0.0]\n\
+                 edge_v = [0.0, 0.0, 1.0]\nradiance = [30.0, 30.0, 30.0]\nmodel = \"{model}\"\n\
+                 shadow_rays = {rays}\nshadow_distribution = \"{dist}\"\n\
+                 [[lights]]\ntype = \"point\"\nposition = [2.0, 2.5, 2.0]\nintensity = [3.0, 3.0, 3.0]\n"
+            );
+            let src = SceneSource::from_toml(
+                &toml,
+                std::path::Path::new("test.toml"),
+                dir.path(),
+                &LoadOptions::default(),
+            );
+            let scene = src
+                .and_then(|s| s.build())
+                .unwrap_or_else(|e| panic!("{e}"));
+            let mut r = Rng::new(k as u64);
+            let (mut wide, mut one) = (Tracer::new(&scene), Tracer::new(&scene));
+            let mut out = Vec::new();
+            for _ in 0..300 {
+                // A pixel's rays: one origin, directions in a narrow cone
+                // toward a point of the scene (or past the light, at the sky).
+                let origin = Vec3::new(r.range(-3.0, 3.0), r.range(0.5, 4.0), 5.0);
+                let aim = Vec3::new(r.range(-2.0, 2.0), r.range(-0.5, 3.5), r.range(-2.0, 2.0));
+                let rays: Vec<Ray> = (0..16)
+                    .map(|_| {
+                        let jitter = Vec3::new(r.range(-0.05, 0.05), r.range(-0.05, 0.05), 0.0);
+                        Ray::new(origin, (aim - origin).normalize() + jitter, 0.0)
+                    })
+                    .collect();
+                let stream = |i: usize| Rng::new(99).derive(i as u64);
+                wide.intersect_primary(&rays);
+                wide.radiance_primaries(&rays, stream, &mut out);
+                for (i, ray) in rays.iter().enumerate() {
+                    let l = one.radiance(ray, 0, stream(i));
+                    let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+                    assert_eq!(bits(out[i]), bits(l), "light {k}, ray {ray:?}");
+                    compared += usize::from(l != Rgb::ZERO);
+                }
+            }
+            assert_eq!(wide.stats, one.stats, "light {k}");
+            assert!(wide.stats.shadow > 2_000, "light {k}: {:?}", wide.stats);
+        }
+        assert!(compared > 8_000, "{compared} lit rays compared");
     }
 }

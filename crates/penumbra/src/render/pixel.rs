@@ -17,6 +17,7 @@ struct Scratch {
     lens: Vec<Vec3>,
     times: Vec<f32>,
     rays: Vec<Ray>,
+    radiance: Vec<Rgb>,
 }
 
 thread_local! {
@@ -60,6 +61,7 @@ fn pixel_with(
         lens,
         times,
         rays,
+        radiance,
     } = buf;
     if n == 1 && s.pixel == Distribution::Grid {
         // The one grid point is the pixel centre (what `generate` returns,
@@ -100,15 +102,15 @@ fn pixel_with(
     let together = metric.is_none() && rays.len() > 1;
     if together {
         tracer.intersect_primary(rays);
+        tracer.radiance_primaries(rays, |i| pixel.derive(3 + i as u64), radiance);
     }
     let mut mean = RunningMean::default();
     for (i, ray) in rays.iter().enumerate() {
         tracer.stats.primary += 1;
-        let rng = pixel.derive(3 + i as u64);
         let mut l = if together {
-            tracer.radiance_primary(i, ray, rng)
+            radiance[i]
         } else {
-            tracer.radiance(ray, 0, rng)
+            tracer.radiance(ray, 0, pixel.derive(3 + i as u64))
         };
         if !l.is_finite() {
             bad.push(BadSample {
