@@ -50,6 +50,11 @@ impl Material {
         self.local_weight() > 0.0 && (self.albedo.max_element() > 0.0 || self.specular > 0.0)
     }
 
+    /// True if the material reflects or refracts rays (mirror, gloss, glass).
+    pub fn scatters(&self) -> bool {
+        self.reflectivity > 0.0 || self.transparency > 0.0
+    }
+
     /// The local BRDF for unit vectors `wo` (toward the viewer) and `wi`
     /// (toward the light) around the unit normal `n`, including `local_weight`.
     /// Diffuse is albedo/π; the highlight is the normalised Phong lobe

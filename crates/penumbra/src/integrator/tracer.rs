@@ -180,15 +180,24 @@ impl<'a> Tracer<'a> {
                 continue;
             }
             let m = &scene.materials[hit.material as usize];
-            let s = Local::new(ray, &hit);
+            let fresh;
+            let s = if m.is_lit() {
+                &batch.lit[k].2
+            } else {
+                fresh = Local::new(ray, &hit);
+                &fresh
+            };
             let mut l = if s.front { m.emission } else { Rgb::ZERO };
             if m.is_lit() {
+                // This hit's frame and direct light were found above.
                 for j in 0..lights {
                     l += batch.direct[j * lit + k];
                 }
                 k += 1;
             }
-            self.indirect(&s, ray, m, 0, rng(i), &mut l);
+            if m.scatters() {
+                self.indirect(s, ray, m, 0, rng(i), &mut l);
+            }
             out.push(l);
         }
         self.batch = batch;
@@ -254,7 +263,7 @@ impl<'a> Tracer<'a> {
     /// Adds the light reflected and refracted at `s` to `l` (in this order,
     /// which the pixel-wide path keeps, so that both sum alike).
     fn indirect(&mut self, s: &Local, ray: &Ray, m: &Material, depth: u32, rng: Rng, l: &mut Rgb) {
-        if depth < self.scene.settings.max_depth {
+        if depth < self.scene.settings.max_depth && m.scatters() {
             if m.reflectivity > 0.0 {
                 let dir = reflect(ray.dir.normalize(), s.n);
                 let spec = (m.reflection.rays, m.reflection.distribution, m.glossiness);
@@ -291,29 +300,27 @@ impl<'a> Tracer<'a> {
         set: &[Option<ShadowRay>],
         shaft: bool,
     ) -> Rgb {
+        let world = &self.scene.world;
+        let clear = shaft && world.shaft_is_clear(&self.shaft);
+        if let [one] = set {
+            // No metric acts on one ray, and the average of one is its value
+            // (`0 + x` as the loop sums, so even a -0 comes out alike).
+            let term = one.and_then(|r| self.shadow_term(s, m, &r, shaft, clear));
+            return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
+        }
         let n = light.shadow_rays();
         let k = self
             .scene
             .settings
             .metric
             .map_or(u32::MAX, |m| m.shadow_rays);
-        let world = &self.scene.world;
-        let within = shaft.then_some(&self.shaft);
-        let clear = within.is_some_and(|s| world.shaft_is_clear(s));
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for r in set {
             done += 1;
             if let Some(r) = r {
-                self.stats.shadow += 1;
-                let transparency = &self.scene.transparency;
-                let t = if clear {
-                    Some(1.0)
-                } else {
-                    world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)
-                };
-                match t {
-                    Some(t) => {
-                        sum += m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t);
+                match self.shadow_term(s, m, r, shaft, clear) {
+                    Some(term) => {
+                        sum += term;
                         reached += 1;
                     }
                     None => blocked += 1,
@@ -326,6 +333,29 @@ impl<'a> Tracer<'a> {
             }
         }
         sum / done.max(1) as f32
+    }
+
+    /// Traces one shadow ray (within the shaft last gathered if `shaft`; not
+    /// at all if that shaft is `clear`): `brdf · weight · cos θ ·
+    /// transmittance`, or `None` if it is blocked.
+    #[inline(always)]
+    fn shadow_term(
+        &mut self,
+        s: &Local,
+        m: &Material,
+        r: &ShadowRay,
+        shaft: bool,
+        clear: bool,
+    ) -> Option<Rgb> {
+        self.stats.shadow += 1;
+        let t = if clear {
+            1.0
+        } else {
+            let (world, transparency) = (&self.scene.world, &self.scene.transparency);
+            let within = shaft.then_some(&self.shaft);
+            world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)?
+        };
+        Some(m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
     /// Appends the rays of the shadow set toward `light` to `set` (`None`
