@@ -368,11 +368,16 @@ impl<'a> Tracer<'a> {
         set: &mut Vec<Option<ShadowRay>>,
     ) {
         let d = light.shadow.distribution;
-        let mut points = self.pool.pop().unwrap_or_default();
-        self.set_points(light, &mut rng, &mut points);
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.ng, s.ng);
+        if light.shadow_rays() == 1 {
+            // A point light, or a Whitted shadow ray: no buffer needed.
+            set.push(shadow_ray(s, origin, light, d.one(1.0, &mut rng), d));
+            return;
+        }
+        let mut points = self.pool.pop().unwrap_or_default();
+        self.set_points(light, &mut rng, &mut points);
         let lanes = Lanes::new([s; 4], &[origin; 4]);
         let mut fours = points.chunks_exact(4);
         for four in &mut fours {
