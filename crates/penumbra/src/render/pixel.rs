@@ -7,6 +7,7 @@ use crate::sampling::points::unit_disk;
 use crate::sampling::{Distribution, Rng};
 use crate::scene::Scene;
 use std::cell::RefCell;
+use std::ops::Range;
 
 /// Per-thread buffers of a pixel's film, lens and time sets and its camera
 /// rays, so that rendering a pixel allocates nothing once the buffers have
@@ -44,6 +45,64 @@ pub fn render_pixel(
     })
 }
 
+/// Pixels `xs` of row `y` of a frame with one camera ray per pixel, into
+/// `out`: what [`render_pixel`] gives each (but for the rare tie noted at
+/// [`World::intersect_all`](crate::scene::world::World::intersect_all)),
+/// with the span's camera rays found together and shaded together
+/// ([`Tracer::radiance_primaries`]) as a pixel's rays are when it has
+/// several: a Whitted frame's neighbouring rays are as coherent as those.
+pub fn render_span(
+    scene: &Scene,
+    tracer: &mut Tracer<'_>,
+    xs: Range<u32>,
+    y: u32,
+    bad: &mut Vec<BadSample>,
+    out: &mut Vec<Rgb>,
+) {
+    SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+        Ok(mut buf) => span_with(scene, tracer, xs, y, bad, out, &mut buf),
+        Err(_) => span_with(scene, tracer, xs, y, bad, out, &mut Scratch::default()),
+    })
+}
+
+fn span_with(
+    scene: &Scene,
+    tracer: &mut Tracer<'_>,
+    xs: Range<u32>,
+    y: u32,
+    bad: &mut Vec<BadSample>,
+    out: &mut Vec<Rgb>,
+    buf: &mut Scratch,
+) {
+    debug_assert_eq!(scene.settings.spp, 1);
+    buf.rays.clear();
+    for x in xs.clone() {
+        camera_rays(scene, x, y, buf);
+    }
+    tracer.intersect_primary(&buf.rays);
+    let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).derive(3);
+    tracer.radiance_primaries(&buf.rays, stream, &mut buf.radiance);
+    for (x, &l) in xs.zip(&buf.radiance) {
+        tracer.stats.primary += 1;
+        let l = if l.is_finite() {
+            l
+        } else {
+            bad.push(BadSample { x, y, sample: 0 });
+            Rgb::ZERO
+        };
+        // A pixel metric never stops a set of one.
+        let mut mean = RunningMean::default();
+        mean.push(l, None, 1);
+        out.push(mean.mean());
+    }
+}
+
+/// The root stream of pixel (x, y).
+fn pixel_stream(scene: &Scene, x: u32, y: u32) -> Rng {
+    let s = &scene.settings;
+    Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x))
+}
+
 fn pixel_with(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
@@ -53,48 +112,11 @@ fn pixel_with(
     buf: &mut Scratch,
 ) -> Rgb {
     let s = &scene.settings;
-    let cam = &scene.camera;
     let n = s.spp as usize;
-    let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
-    let Scratch {
-        film,
-        lens,
-        times,
-        rays,
-        radiance,
-    } = buf;
-    if n == 1 && s.pixel == Distribution::Grid {
-        // The one grid point is the pixel centre (what `generate` returns,
-        // pinned by a test below), without the set machinery: this is every
-        // pixel of a Whitted render.
-        film.clear();
-        film.push(Vec3::ZERO);
-    } else {
-        s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
-    }
-    lens.clear();
-    if cam.has_lens() {
-        s.lens.generate(n, 1.0, &mut pixel.derive(1), lens);
-    }
-    // Times matter only if something moves: each set has its own stream,
-    // so skipping this one changes no other random number.
-    times.clear();
-    if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
-        s.time.generate_1d(n, &mut pixel.derive(2), times);
-    }
-    // All camera rays first, so that their hits can be found together
-    // (making a ray costs far less than tracing it, so the few a pixel
-    // metric may leave untraced are no loss).
-    rays.clear();
-    rays.extend(film.iter().enumerate().map(|(i, f)| {
-        cam.generate_ray(&CameraSample {
-            film: Vec2::new(x as f32 + 0.5 + f.x, y as f32 + 0.5 + f.y),
-            lens: lens
-                .get(i)
-                .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
-            time: cam.time(times.get(i).copied().unwrap_or(0.0)),
-        })
-    }));
+    let pixel = pixel_stream(scene, x, y);
+    buf.rays.clear();
+    camera_rays(scene, x, y, buf);
+    let Scratch { rays, radiance, .. } = buf;
     let metric = s.metric.filter(|m| m.pixels);
     // Without the metric every camera ray is traced: their hits are found
     // together, a packet of nearly parallel rays. With it, a pixel may stop
@@ -126,6 +148,55 @@ fn pixel_with(
         }
     }
     mean.mean()
+}
+
+/// Appends the camera rays of pixel (x, y) to `buf.rays`. Film positions,
+/// lens points and times come from three decorrelated streams, each set in
+/// its own shuffled trace order, so pairing them by index mixes them
+/// randomly.
+fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
+    let s = &scene.settings;
+    let cam = &scene.camera;
+    let n = s.spp as usize;
+    let pixel = pixel_stream(scene, x, y);
+    let Scratch {
+        film,
+        lens,
+        times,
+        rays,
+        ..
+    } = buf;
+    if n == 1 && s.pixel == Distribution::Grid {
+        // The one grid point is the pixel centre (what `generate` returns,
+        // pinned by a test below), without the set machinery: this is every
+        // pixel of a Whitted render.
+        film.clear();
+        film.push(Vec3::ZERO);
+    } else {
+        s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
+    }
+    lens.clear();
+    if cam.has_lens() {
+        s.lens.generate(n, 1.0, &mut pixel.derive(1), lens);
+    }
+    // Times matter only if something moves: each set has its own stream,
+    // so skipping this one changes no other random number.
+    times.clear();
+    if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
+        s.time.generate_1d(n, &mut pixel.derive(2), times);
+    }
+    // All camera rays first, so that their hits can be found together
+    // (making a ray costs far less than tracing it, so the few a pixel
+    // metric may leave untraced are no loss).
+    rays.extend(film.iter().enumerate().map(|(i, f)| {
+        cam.generate_ray(&CameraSample {
+            film: Vec2::new(x as f32 + 0.5 + f.x, y as f32 + 0.5 + f.y),
+            lens: lens
+                .get(i)
+                .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
+            time: cam.time(times.get(i).copied().unwrap_or(0.0)),
+        })
+    }));
 }
 
 #[cfg(test)]
