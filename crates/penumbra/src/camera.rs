@@ -6,6 +6,7 @@
 //! sample starts on the aperture and passes through that point.
 
 use crate::math::{Ray, Vec2, Vec3};
+use glam::Vec4;
 
 /// Where on the film, the lens and the shutter one primary ray is taken.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +116,35 @@ impl Camera {
     }
 }
 
+impl Camera {
+    /// [`generate_ray`](Self::generate_ray) for four samples of a still
+    /// pinhole camera at once (film positions and times; no lens), lane by
+    /// lane the same rays: the same operations in the same order, none
+    /// fused. `None` for a lens or a moving camera. The camera rays of a
+    /// 16-sample pixel cost a twentieth of its instructions one by one.
+    pub fn generate_rays4(&self, film: [Vec2; 4], time: [f32; 4]) -> Option<[Ray; 4]> {
+        let view = self.still?;
+        let c = &self.spec;
+        if c.aperture > 0.0 {
+            return None;
+        }
+        let (two, one) = (Vec4::splat(2.0), Vec4::ONE);
+        let (fx, fy) = (film.map(|f| f.x), film.map(|f| f.y));
+        let ndc_x = two * Vec4::from_array(fx) / Vec4::splat(c.width as f32) - one;
+        let ndc_y = one - two * Vec4::from_array(fy) / Vec4::splat(c.height as f32);
+        let (a, b) = (ndc_x * self.scale.x, ndc_y * self.scale.y);
+        let d: [Vec4; 3] = std::array::from_fn(|k| {
+            (Vec4::splat(view.forward[k]) + a * view.right[k]) + b * view.up[k]
+        });
+        // `Vec3::normalize`: times 1 / sqrt(x·x + y·y + z·z).
+        let inv = one / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = d.map(|c| (c * inv).to_array());
+        Some(std::array::from_fn(|i| {
+            Ray::new(view.eye, Vec3::new(d[0][i], d[1][i], d[2][i]), time[i])
+        }))
+    }
+}
+
 impl View {
     fn new(eye: Vec3, target: Vec3, up: Vec3) -> View {
         let forward = (target - eye).normalize();
@@ -144,6 +174,49 @@ mod tests {
             width: 200,
             height: 100,
         })
+    }
+
+    /// Four rays at once are, lane by lane, the rays made one by one, for
+    /// film positions over and past the image and an oblique view; a lens
+    /// or a moving camera has no four-wide path.
+    #[test]
+    fn four_rays_match_one_by_one() {
+        use crate::sampling::Rng;
+        let mut spec = cam(0.0).spec.clone();
+        spec.position = [Vec3::new(1.3, 2.1, 4.7); 2];
+        spec.look_at = [Vec3::new(-0.2, 0.4, 0.1); 2];
+        spec.width = 801;
+        let c = Camera::new(spec);
+        let mut r = Rng::new(3);
+        for _ in 0..5000 {
+            let film = [(); 4].map(|_| Vec2::new(r.range(-5.0, 810.0), r.range(-5.0, 110.0)));
+            let time = [(); 4].map(|_| r.next_f32());
+            let four = c
+                .generate_rays4(film, time)
+                .expect("a still pinhole camera");
+            for i in 0..4 {
+                let lens = Vec2::ZERO;
+                let one = c.generate_ray(&CameraSample {
+                    film: film[i],
+                    lens,
+                    time: time[i],
+                });
+                let bits = |r: &Ray| {
+                    (
+                        r.origin.to_array(),
+                        r.dir.to_array().map(f32::to_bits),
+                        r.time,
+                    )
+                };
+                assert_eq!(bits(&four[i]), bits(&one), "{:?}", film[i]);
+            }
+        }
+        assert!(cam(0.5).generate_rays4([Vec2::ZERO; 4], [0.0; 4]).is_none());
+        let mut moving = cam(0.0).spec.clone();
+        moving.position[1] = Vec3::ONE;
+        assert!(Camera::new(moving)
+            .generate_rays4([Vec2::ZERO; 4], [0.0; 4])
+            .is_none());
     }
 
     #[test]

@@ -188,15 +188,24 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
     // All camera rays first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel
     // metric may leave untraced are no loss).
-    rays.extend(film.iter().enumerate().map(|(i, f)| {
-        cam.generate_ray(&CameraSample {
-            film: Vec2::new(x as f32 + 0.5 + f.x, y as f32 + 0.5 + f.y),
-            lens: lens
-                .get(i)
-                .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
-            time: cam.time(times.get(i).copied().unwrap_or(0.0)),
-        })
-    }));
+    let sample = |i: usize| CameraSample {
+        film: Vec2::new(x as f32 + 0.5 + film[i].x, y as f32 + 0.5 + film[i].y),
+        lens: lens
+            .get(i)
+            .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
+        time: cam.time(times.get(i).copied().unwrap_or(0.0)),
+    };
+    let mut i = 0;
+    // Four at a time where the camera allows (a still pinhole).
+    while i + 4 <= film.len() {
+        let four: [CameraSample; 4] = std::array::from_fn(|k| sample(i + k));
+        let Some(made) = cam.generate_rays4(four.map(|c| c.film), four.map(|c| c.time)) else {
+            break;
+        };
+        rays.extend(made);
+        i += 4;
+    }
+    rays.extend((i..film.len()).map(|i| cam.generate_ray(&sample(i))));
 }
 
 #[cfg(test)]
