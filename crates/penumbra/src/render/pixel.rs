@@ -25,9 +25,18 @@ thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::default();
 }
 
-/// The value of pixel (x, y): the average of its primary rays. Film positions,
-/// lens points and times come from three decorrelated streams, each set in its
-/// own shuffled trace order, so pairing them by index mixes them randomly.
+/// Runs `f` with this thread's buffers. A worker renders one pixel or span
+/// at a time; should a caller nest them anyway, the inner one gets fresh
+/// buffers.
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+        Ok(mut buf) => f(&mut buf),
+        Err(_) => f(&mut Scratch::default()),
+    })
+}
+
+/// The value of pixel (x, y): the average of its primary rays (see
+/// [`camera_rays`] for how they are made).
 pub fn render_pixel(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
@@ -35,14 +44,7 @@ pub fn render_pixel(
     y: u32,
     bad: &mut Vec<BadSample>,
 ) -> Rgb {
-    SCRATCH.with(|scratch| {
-        // A worker renders one pixel at a time; should a caller nest pixels
-        // anyway, the inner one falls back to fresh buffers.
-        match scratch.try_borrow_mut() {
-            Ok(mut buf) => pixel_with(scene, tracer, x, y, bad, &mut buf),
-            Err(_) => pixel_with(scene, tracer, x, y, bad, &mut Scratch::default()),
-        }
-    })
+    with_scratch(|buf| pixel_with(scene, tracer, x, y, bad, buf))
 }
 
 /// Pixels `xs` of row `y` of a frame with one camera ray per pixel, into
@@ -59,10 +61,7 @@ pub fn render_span(
     bad: &mut Vec<BadSample>,
     out: &mut Vec<Rgb>,
 ) {
-    SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
-        Ok(mut buf) => span_with(scene, tracer, xs, y, bad, out, &mut buf),
-        Err(_) => span_with(scene, tracer, xs, y, bad, out, &mut Scratch::default()),
-    })
+    with_scratch(|buf| span_with(scene, tracer, xs, y, bad, out, buf))
 }
 
 fn span_with(
