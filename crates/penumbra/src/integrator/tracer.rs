@@ -134,7 +134,7 @@ impl<'a> Tracer<'a> {
 
     /// Finds where each of a pixel's camera rays hits, all together (see
     /// [`World::intersect_all`](crate::scene::world::World::intersect_all)),
-    /// for [`radiance_primary`](Self::radiance_primary) to shade.
+    /// for [`radiance_primaries`](Self::radiance_primaries) to shade.
     pub fn intersect_primary(&mut self, rays: &[Ray]) {
         let world = &self.scene.world;
         world.intersect_all(rays, 0.0, &mut self.packet, &mut self.primary);

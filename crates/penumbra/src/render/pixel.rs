@@ -35,8 +35,8 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     })
 }
 
-/// The value of pixel (x, y): the average of its primary rays (see
-/// [`camera_rays`] for how they are made).
+/// The value of pixel (x, y): the average of its primary rays (made as the
+/// private `camera_rays` says: film, lens and time from decorrelated streams).
 pub fn render_pixel(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
