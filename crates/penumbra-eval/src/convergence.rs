@@ -107,7 +107,7 @@ pub struct Curve {
     pub slope: f64,
     /// RMSE of one render with as many rays as a reference, for the
     /// distributions whose points do not cover the jittered square (see
-    /// [`LIMIT_DISTRIBUTIONS`]): what they converge to differs from the
+    /// `LIMIT_DISTRIBUTIONS`): what they converge to differs from the
     /// reference by about this much.
     pub limit_rmse: Option<f64>,
     /// The part of `limit_rmse` that noise does not explain: with

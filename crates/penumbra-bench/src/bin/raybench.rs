@@ -12,7 +12,7 @@
 //! the number of hits and the median over `--repeat` runs of the on-CPU time
 //! of the tracing thread. Build: median time on one thread (on-CPU) and on
 //! all threads (wall clock). `--generic` also measures the generic
-//! [`Bvh`](penumbra::accel::Bvh) with the scalar watertight test through its
+//! [`Bvh`] with the scalar watertight test through its
 //! closure (how static meshes were traced before the triangle BVH), and
 //! `--obvhs` (with the `obvhs` feature) the `obvhs` crate's CWBVH, with its
 //! own triangle test.

@@ -8,7 +8,7 @@
 //! then uses the ray time).
 //!
 //! # Layout
-//! Siblings are stored together as a [`NodePair`] of 64 bytes, aligned to a
+//! Siblings are stored together as a `NodePair` of 64 bytes, aligned to a
 //! cache line: 32 bytes per node, holding the two boxes as three 4-lane
 //! vectors `[lo_a, lo_b, hi_a, hi_b]` (one per axis) and the two nodes'
 //! `(first, count)`. A leaf has `count >= 1` primitives at

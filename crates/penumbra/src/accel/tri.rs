@@ -5,17 +5,17 @@
 //! so each triangle test goes through the scene's indirections (primitive →
 //! object → mesh → index buffer → three vertices). Here the triangles are
 //! copied into the tree itself, in the order its leaves visit them, as
-//! packets of four in structure-of-arrays form ([`Pack`]: per vertex and
+//! packets of four in structure-of-arrays form (`Pack`: per vertex and
 //! axis, one 4-lane vector), and the traversal tests all four with the same
 //! SIMD instructions.
 //!
 //! # Layout
-//! A [`Node4`] (128 bytes, two cache lines) holds the boxes of up to four
+//! A `Node4` (128 bytes, two cache lines) holds the boxes of up to four
 //! children as one 4-lane vector per axis and side, and four child
 //! references: an interior child by node index, a leaf as a range of packs
 //! (`LEAF` bit, up to 7 packs, first pack). Unused lanes have the empty box,
 //! which no ray hits, and an empty leaf. The tree is the binned-SAH binary
-//! tree of [`build`](super::build) (leaf cost per started packet of four)
+//! tree of `accel::build` (leaf cost per started packet of four)
 //! collapsed to four children per node by repeatedly opening the child of
 //! largest surface area. Packs take 160 bytes for four triangles (padding
 //! lanes hold NaN vertices, which never hit); for the bunny, 95% of the lanes
@@ -517,7 +517,7 @@ impl TriangleBvh {
     ///
     /// Rays that leave one point with directions of the same signs (the
     /// camera rays of a pixel) are traced together: one interval box test
-    /// per node for the whole packet (see [`Frustum`]) and every ray
+    /// per node for the whole packet (see `Frustum`) and every ray
     /// against the triangles of the leaves it reaches. Coherent rays visit
     /// nearly the same nodes, so the packet pays for about one ray's node
     /// tests. Other sets of rays are traced one by one.
