@@ -61,39 +61,29 @@ pub fn render_span(
     bad: &mut Vec<BadSample>,
     out: &mut Vec<Rgb>,
 ) {
-    with_scratch(|buf| span_with(scene, tracer, xs, y, bad, out, buf))
-}
-
-fn span_with(
-    scene: &Scene,
-    tracer: &mut Tracer<'_>,
-    xs: Range<u32>,
-    y: u32,
-    bad: &mut Vec<BadSample>,
-    out: &mut Vec<Rgb>,
-    buf: &mut Scratch,
-) {
-    debug_assert_eq!(scene.settings.spp, 1);
-    buf.rays.clear();
-    for x in xs.clone() {
-        camera_rays(scene, x, y, buf);
-    }
-    tracer.intersect_primary(&buf.rays);
-    let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).derive(3);
-    tracer.radiance_primaries(&buf.rays, stream, &mut buf.radiance);
-    for (x, &l) in xs.zip(&buf.radiance) {
-        tracer.stats.primary += 1;
-        let l = if l.is_finite() {
-            l
-        } else {
-            bad.push(BadSample { x, y, sample: 0 });
-            Rgb::ZERO
-        };
-        // A pixel metric never stops a set of one.
-        let mut mean = RunningMean::default();
-        mean.push(l, None, 1);
-        out.push(mean.mean());
-    }
+    with_scratch(|buf| {
+        debug_assert_eq!(scene.settings.spp, 1);
+        buf.rays.clear();
+        for x in xs.clone() {
+            camera_rays(scene, x, y, buf);
+        }
+        tracer.intersect_primary(&buf.rays);
+        let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).derive(3);
+        tracer.radiance_primaries(&buf.rays, stream, &mut buf.radiance);
+        for (x, &l) in xs.zip(&buf.radiance) {
+            tracer.stats.primary += 1;
+            let l = if l.is_finite() {
+                l
+            } else {
+                bad.push(BadSample { x, y, sample: 0 });
+                Rgb::ZERO
+            };
+            // A pixel metric never stops a set of one.
+            let mut mean = RunningMean::default();
+            mean.push(l, None, 1);
+            out.push(mean.mean());
+        }
+    })
 }
 
 /// The root stream of pixel (x, y).
