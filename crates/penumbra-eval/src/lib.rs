@@ -28,7 +28,6 @@ mod convergence;
 mod doc;
 mod error;
 mod figures;
-mod font;
 mod format;
 mod growth;
 mod job;

@@ -29,6 +29,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod font;
 pub mod geometry;
 pub mod integrator;
 pub mod io;

@@ -1,12 +1,13 @@
 //! Pictures of ray distributions, like Figure 2.18 of the thesis: to check a
 //! distribution by eye and to document it.
 //!
-//! Deliberately minimal: plain pixels in an [`RgbImage`], a 5x7 bitmap font
-//! for the titles, no dependency beyond `image`.
+//! Deliberately minimal: plain pixels in an [`RgbImage`], the 5×7 bitmap
+//! [`font`](crate::font) for the titles, no dependency beyond `image`.
 
 use image::{Rgb, RgbImage};
 
 use super::{Distribution, Rng};
+use crate::font::{draw_text, put, text_width};
 use crate::math::Vec3;
 
 const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
@@ -126,15 +127,6 @@ impl Layout {
     }
 }
 
-/// Sets a pixel, ignoring coordinates outside the image.
-fn put(img: &mut RgbImage, x: i64, y: i64, color: Rgb<u8>) {
-    if let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y)) {
-        if x < img.width() && y < img.height() {
-            img.put_pixel(x, y, color);
-        }
-    }
-}
-
 fn fill_disk(img: &mut RgbImage, cx: i64, cy: i64, r: i64, color: Rgb<u8>) {
     for dy in -r..=r {
         for dx in -r..=r {
@@ -151,115 +143,12 @@ fn blit(dst: &mut RgbImage, src: &RgbImage, x0: u32, y0: u32) {
     }
 }
 
-/// Width in pixels of `text` drawn at `scale` (5 columns and 1 of spacing
-/// per character).
-fn text_width(text: &str, scale: i64) -> i64 {
-    (6 * text.chars().count() as i64 - 1).max(0) * scale
-}
-
-/// Draws `text` with its top-left corner at `(x, y)`, each font pixel a
-/// `scale x scale` block. Upper case is drawn as lower case; characters
-/// without a glyph are left blank.
-fn draw_text(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: i64, color: Rgb<u8>) {
-    for (i, c) in text.chars().enumerate() {
-        let Some(rows) = glyph(c.to_ascii_lowercase()) else {
-            continue;
-        };
-        let left = x + 6 * scale * i as i64;
-        for (row, bits) in rows.iter().enumerate() {
-            for col in 0..5 {
-                if bits & (0b10000 >> col) != 0 {
-                    let (px, py) = (left + col * scale, y + row as i64 * scale);
-                    fill_block(img, px, py, scale, color);
-                }
-            }
-        }
-    }
-}
-
-fn fill_block(img: &mut RgbImage, x: i64, y: i64, scale: i64, color: Rgb<u8>) {
-    for dy in 0..scale {
-        for dx in 0..scale {
-            put(img, x + dx, y + dy, color);
-        }
-    }
-}
-
-/// The 5x7 bitmap of `c`: seven rows, the five low bits of each, the
-/// leftmost column in bit 4. Digits, lower-case letters, '-' and ' '.
-/// Letters with descenders are raised to fit the seven rows.
-fn glyph(c: char) -> Option<[u8; 7]> {
-    let rows = match c {
-        '0' => [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E],
-        '1' => [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        '2' => [0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F],
-        '3' => [0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E],
-        '4' => [0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02],
-        '5' => [0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E],
-        '6' => [0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E],
-        '7' => [0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08],
-        '8' => [0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E],
-        '9' => [0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C],
-        _ => return letter(c),
-    };
-    Some(rows)
-}
-
-fn letter(c: char) -> Option<[u8; 7]> {
-    let rows = match c {
-        'a' => [0x00, 0x00, 0x0E, 0x01, 0x0F, 0x11, 0x0F],
-        'b' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E],
-        'c' => [0x00, 0x00, 0x0E, 0x10, 0x10, 0x11, 0x0E],
-        'd' => [0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F],
-        'e' => [0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E],
-        'f' => [0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08],
-        'g' => [0x00, 0x00, 0x0F, 0x11, 0x0F, 0x01, 0x0E],
-        'h' => [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11],
-        'i' => [0x04, 0x00, 0x0C, 0x04, 0x04, 0x04, 0x0E],
-        'j' => [0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0C],
-        'k' => [0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12],
-        'l' => [0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        'm' => [0x00, 0x00, 0x1A, 0x15, 0x15, 0x11, 0x11],
-        'n' => [0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11],
-        'o' => [0x00, 0x00, 0x0E, 0x11, 0x11, 0x11, 0x0E],
-        'p' => [0x00, 0x00, 0x1E, 0x11, 0x1E, 0x10, 0x10],
-        'q' => [0x00, 0x00, 0x0D, 0x13, 0x0F, 0x01, 0x01],
-        'r' => [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10],
-        's' => [0x00, 0x00, 0x0E, 0x10, 0x0E, 0x01, 0x1E],
-        't' => [0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06],
-        'u' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0D],
-        'v' => [0x00, 0x00, 0x11, 0x11, 0x11, 0x0A, 0x04],
-        'w' => [0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0A],
-        'x' => [0x00, 0x00, 0x11, 0x0A, 0x04, 0x0A, 0x11],
-        'y' => [0x00, 0x00, 0x11, 0x11, 0x0F, 0x01, 0x0E],
-        'z' => [0x00, 0x00, 0x1F, 0x02, 0x04, 0x08, 0x1F],
-        '-' => [0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00],
-        ' ' => [0x00; 7],
-        _ => return None,
-    };
-    Some(rows)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn is_white(p: &Rgb<u8>) -> bool {
         *p == WHITE
-    }
-
-    #[test]
-    fn font_covers_digits_letters_and_dash() {
-        let chars = ('0'..='9').chain('a'..='z').chain(['-']);
-        for c in chars {
-            let rows = glyph(c).unwrap_or_default();
-            assert!(rows.iter().any(|&r| r != 0), "no glyph for {c:?}");
-            assert!(rows.iter().all(|&r| r < 32), "{c:?} wider than 5");
-        }
-        assert_eq!(glyph(' '), Some([0; 7]));
-        assert_eq!(glyph('?'), None);
-        let distinct: std::collections::HashSet<_> = ('a'..='z').filter_map(glyph).collect();
-        assert_eq!(distinct.len(), 26, "two letters share a glyph");
     }
 
     #[test]

@@ -1,9 +1,9 @@
-//! A 5×7 bitmap font for plot labels and figure captions, so that the
+//! A 5×7 bitmap font for the titles of [`sampling::plot`](crate::sampling::plot)
+//! and the labels and captions of the evaluation's figures, so that the
 //! pictures need no font files and no system libraries.
 //!
-//! The digits and lower-case letters follow `penumbra::sampling::plot`; this
-//! copy adds upper case, punctuation and a few symbols used in labels
-//! (`×`, `·`, `α`). Characters without a glyph are drawn as a hollow box so
+//! Digits, both cases, punctuation and a few symbols used in labels (`×`,
+//! `·`, `α`, `≈`). Characters without a glyph are drawn as a hollow box so
 //! that a missing glyph is visible rather than silently dropped.
 
 use image::{Rgb, RgbImage};
