@@ -98,28 +98,7 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>, String> {
 /// A closed UV sphere of radius about 1 with a radial bump pattern:
 /// `2 * nu * (nv - 1)` triangles (`nu = 1000, nv = 501` gives a million).
 pub fn bumpy_sphere(nu: usize, nv: usize) -> Vec<[Vec3; 3]> {
-    use std::f32::consts::{PI, TAU};
-    let pos = |j: usize, i: usize| {
-        let theta = PI * j as f32 / nv as f32;
-        let phi = TAU * (i % nu) as f32 / nu as f32;
-        let r = 1.0 + 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin() + 0.02 * (31.0 * phi).cos();
-        r * Vec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
-        )
-    };
-    let mut tris = Vec::with_capacity(2 * nu * (nv - 1));
-    for i in 0..nu {
-        tris.push([pos(0, 0), pos(1, i + 1), pos(1, i)]);
-        tris.push([pos(nv, 0), pos(nv - 1, i), pos(nv - 1, i + 1)]);
-    }
-    for j in 1..nv - 1 {
-        for i in 0..nu {
-            let (a, b, c, d) = (pos(j, i), pos(j, i + 1), pos(j + 1, i), pos(j + 1, i + 1));
-            tris.push([a, b, d]);
-            tris.push([a, d, c]);
-        }
-    }
-    tris
+    penumbra::geometry::tessellate::uv_sphere(nu, nv, |theta, phi| {
+        1.0 + 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin() + 0.02 * (31.0 * phi).cos()
+    })
 }

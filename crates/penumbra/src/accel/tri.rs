@@ -1158,30 +1158,7 @@ mod tests {
 
     /// A closed UV sphere about the origin: `nu` segments, `nv` rings.
     fn uv_sphere(nu: usize, nv: usize, radius: f32) -> Vec<Tri> {
-        use std::f32::consts::{PI, TAU};
-        let pos = |j: usize, i: usize| {
-            let theta = PI * j as f32 / nv as f32;
-            let phi = TAU * (i % nu) as f32 / nu as f32;
-            radius
-                * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                )
-        };
-        let mut tris: Vec<Tri> = Vec::new();
-        for i in 0..nu {
-            tris.push([pos(0, 0), pos(1, i + 1), pos(1, i)]);
-            tris.push([pos(nv, 0), pos(nv - 1, i), pos(nv - 1, i + 1)]);
-        }
-        for j in 1..nv - 1 {
-            for i in 0..nu {
-                let (a, b, c, d) = (pos(j, i), pos(j, i + 1), pos(j + 1, i), pos(j + 1, i + 1));
-                tris.push([a, b, d]);
-                tris.push([a, d, c]);
-            }
-        }
-        tris
+        crate::geometry::tessellate::uv_sphere(nu, nv, |_, _| radius)
     }
 
     #[test]

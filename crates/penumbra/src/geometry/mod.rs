@@ -4,6 +4,7 @@ pub mod mesh;
 pub mod motion;
 pub mod quad;
 pub mod sphere;
+pub mod tessellate;
 pub mod triangle;
 
 pub use mesh::Mesh;

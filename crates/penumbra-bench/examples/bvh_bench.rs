@@ -3,7 +3,7 @@
 //! and of a large scan), for the generic [`Bvh`] (triangles through a closure)
 //! and the [`TriangleBvh`] that static meshes use.
 //!
-//! Run with `cargo run --release --example bvh_bench [70k|1M]`. The comparison
+//! Run with `cargo run --release -p penumbra-bench --example bvh_bench [70k|1M]`. The comparison
 //! with Embree, Mitsuba and POV-Ray is `bench/run.py` (docs/performance.md). Every figure is
 //! the median of five runs, timed in on-CPU time of the measuring thread where
 //! the OS reports it (Linux), so that other load on the machine does not
@@ -16,57 +16,13 @@ use penumbra::accel::{Bvh, TriangleBvh};
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::sampling::Rng;
-use std::f32::consts::{PI, TAU};
+use penumbra_bench::{bumpy_sphere, median, thread_time as now};
+use std::f32::consts::TAU;
 use std::time::Instant;
 
 type Tri = [Vec3; 3];
 
-/// A closed UV sphere with a radial bump pattern: `2 * nu * (nv - 1)` triangles.
-fn bumpy_sphere(nu: usize, nv: usize) -> Vec<Tri> {
-    let pos = |j: usize, i: usize| {
-        let theta = PI * j as f32 / nv as f32;
-        let phi = TAU * (i % nu) as f32 / nu as f32;
-        let r = 1.0 + 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin() + 0.02 * (31.0 * phi).cos();
-        r * Vec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
-        )
-    };
-    let mut tris = Vec::with_capacity(2 * nu * (nv - 1));
-    for i in 0..nu {
-        tris.push([pos(0, 0), pos(1, i + 1), pos(1, i)]);
-        tris.push([pos(nv, 0), pos(nv - 1, i), pos(nv - 1, i + 1)]);
-    }
-    for j in 1..nv - 1 {
-        for i in 0..nu {
-            let (a, b, c, d) = (pos(j, i), pos(j, i + 1), pos(j + 1, i), pos(j + 1, i + 1));
-            tris.push([a, b, d]);
-            tris.push([a, d, c]);
-        }
-    }
-    tris
-}
-
-/// On-CPU time of the calling thread in seconds (Linux), else wall-clock time
-/// since the first call.
-fn now() -> f64 {
-    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or_else(
-            || START.get_or_init(Instant::now).elapsed().as_secs_f64(),
-            |ns| ns * 1e-9,
-        )
-}
-
 static WALL: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 fn incoherent_rays(n: usize, b: &Aabb) -> Vec<Ray> {
     let mut r = Rng::new(42);
