@@ -116,31 +116,44 @@ fn rate(n: usize, seconds: f64, hits: usize) -> Value {
     })
 }
 
+/// Times `closest` and `any` (each says whether a ray hit) over every ray
+/// set, after `prepare` turned the set into the rays the tracer takes.
+fn rates<R>(
+    args: &Args,
+    rays: &[(String, Vec<Ray>)],
+    prepare: impl Fn(&[Ray]) -> Vec<R>,
+    closest: impl Fn(&R) -> bool,
+    any: impl Fn(&R) -> bool,
+) -> Value {
+    let mut out = serde_json::Map::new();
+    for (name, set) in rays {
+        let set = prepare(set);
+        let (tc, hits_closest) =
+            time_cpu(args.repeat, || set.iter().filter(|r| closest(r)).count());
+        let (ta, hits_any) = time_cpu(args.repeat, || set.iter().filter(|r| any(r)).count());
+        out.insert(
+            name.clone(),
+            json!({
+                "rays": set.len(),
+                "closest": rate(set.len(), tc, hits_closest),
+                "any": rate(set.len(), ta, hits_any),
+            }),
+        );
+    }
+    Value::Object(out)
+}
+
 fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
     let build = time_build(args.repeat, || TriangleBvh::build(tris.len(), |i| tris[i]));
     let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
     let s = bvh.stats();
-    let mut out = serde_json::Map::new();
-    for (name, rays) in rays {
-        let (tc, closest) = time_cpu(args.repeat, || {
-            rays.iter()
-                .filter(|r| bvh.closest_hit(r, 0.0, f32::INFINITY).is_some())
-                .count()
-        });
-        let (ta, any) = time_cpu(args.repeat, || {
-            rays.iter()
-                .filter(|r| bvh.occluded(r, 0.0, f32::INFINITY))
-                .count()
-        });
-        out.insert(
-            name.clone(),
-            json!({
-                "rays": rays.len(),
-                "closest": rate(rays.len(), tc, closest),
-                "any": rate(rays.len(), ta, any),
-            }),
-        );
-    }
+    let out = rates(
+        args,
+        rays,
+        <[Ray]>::to_vec,
+        |r| bvh.closest_hit(r, 0.0, f32::INFINITY).is_some(),
+        |r| bvh.occluded(r, 0.0, f32::INFINITY),
+    );
     json!({
         "build": build,
         "tree": {
@@ -162,34 +175,20 @@ fn generic(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Valu
         let [a, b, c] = tris[p as usize];
         intersect_triangle(ray, shear, a, b, c, 0.0, tmax)
     };
-    let mut out = serde_json::Map::new();
-    for (name, rays) in rays {
-        let (tc, closest) = time_cpu(args.repeat, || {
-            rays.iter()
-                .filter(|r| {
-                    let s = RayShear::new(r);
-                    bvh.closest_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).map(|h| h.0))
-                        .is_some()
-                })
-                .count()
-        });
-        let (ta, any) = time_cpu(args.repeat, || {
-            rays.iter()
-                .filter(|r| {
-                    let s = RayShear::new(r);
-                    bvh.any_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).is_some())
-                })
-                .count()
-        });
-        out.insert(
-            name.clone(),
-            json!({
-                "rays": rays.len(),
-                "closest": rate(rays.len(), tc, closest),
-                "any": rate(rays.len(), ta, any),
-            }),
-        );
-    }
+    let out = rates(
+        args,
+        rays,
+        <[Ray]>::to_vec,
+        |r| {
+            let s = RayShear::new(r);
+            bvh.closest_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).map(|h| h.0))
+                .is_some()
+        },
+        |r| {
+            let s = RayShear::new(r);
+            bvh.any_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).is_some())
+        },
+    );
     json!({ "build": build, "rays": out })
 }
 
@@ -225,36 +224,20 @@ fn obvhs(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value 
         .iter()
         .map(|&i| RtTriangle::from(&otris[i as usize]))
         .collect();
-    let mut out = serde_json::Map::new();
-    for (name, rays) in rays {
-        let orays: Vec<ORay> = rays
-            .iter()
-            .map(|r| ORay::new_inf(v(r.origin), v(r.dir)))
-            .collect();
-        let (tc, closest) = time_cpu(args.repeat, || {
-            orays
-                .iter()
-                .filter(|&&r| {
-                    let mut hit = RayHit::none();
-                    bvh.ray_traverse(r, &mut hit, |r, id| rt[id].intersect(r))
-                })
-                .count()
-        });
-        let (ta, any) = time_cpu(args.repeat, || {
-            orays
-                .iter()
-                .filter(|&&r| !bvh.ray_traverse_miss(r, |r, id| rt[id].intersect(r)))
-                .count()
-        });
-        out.insert(
-            name.clone(),
-            json!({
-                "rays": rays.len(),
-                "closest": rate(rays.len(), tc, closest),
-                "any": rate(rays.len(), ta, any),
-            }),
-        );
-    }
+    let out = rates(
+        args,
+        rays,
+        |set| {
+            set.iter()
+                .map(|r| ORay::new_inf(v(r.origin), v(r.dir)))
+                .collect::<Vec<ORay>>()
+        },
+        |&r| {
+            let mut hit = RayHit::none();
+            bvh.ray_traverse(r, &mut hit, |r, id| rt[id].intersect(r))
+        },
+        |&r| !bvh.ray_traverse_miss(r, |r, id| rt[id].intersect(r)),
+    );
     json!({ "build": build, "rays": out })
 }
 

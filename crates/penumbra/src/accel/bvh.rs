@@ -150,11 +150,22 @@ fn slab(planes: Vec4, neg: BVec4A, o: Vec4, inv: Vec4) -> Vec4 {
 /// pin it down. Elsewhere (NEON's max propagates NaN) the NaN lanes are
 /// selected away explicitly.
 #[inline(always)]
-fn max_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
+pub(super) fn max_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
     if cfg!(target_arch = "x86_64") {
         a.max(b)
     } else {
         Vec4::select(a.cmpeq(a), a.max(b), b)
+    }
+}
+
+/// Lane-wise `min(a, b)` returning `b` where `a` is NaN (`MINPS` on x86-64):
+/// the counterpart of [`max_skip_nan`] for far distances.
+#[inline(always)]
+pub(super) fn min_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
+    if cfg!(target_arch = "x86_64") {
+        a.min(b)
+    } else {
+        Vec4::select(a.cmpeq(a), a.min(b), b)
     }
 }
 

@@ -43,6 +43,7 @@
 //! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
 
 use super::build::{self, Config, Node, MAX_DEPTH};
+use super::bvh::{max_skip_nan, min_skip_nan};
 use super::shaft::Shaft;
 use crate::geometry::triangle::{edge_functions_f64, RayShear};
 use crate::math::{nearest_lane, Aabb, Ray, Vec3};
@@ -280,27 +281,6 @@ fn recompute_f64(lanes: u32, sheared: [Vec4; 6], uvw: [Vec4; 3]) -> (Vec4, Vec4,
         }
     }
     (Vec4::from(u), Vec4::from(v), Vec4::from(w))
-}
-
-/// See [`super::bvh`]'s `max_skip_nan`: lane-wise max returning `b` where
-/// `a` is NaN (`MAXPS` does exactly that on x86-64).
-#[inline(always)]
-fn max_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
-    if cfg!(target_arch = "x86_64") {
-        a.max(b)
-    } else {
-        Vec4::select(a.cmpeq(a), a.max(b), b)
-    }
-}
-
-/// Lane-wise min returning `b` where `a` is NaN (`MINPS` on x86-64).
-#[inline(always)]
-fn min_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
-    if cfg!(target_arch = "x86_64") {
-        a.min(b)
-    } else {
-        Vec4::select(a.cmpeq(a), a.min(b), b)
-    }
 }
 
 /// A ray prepared for node and packet tests.
