@@ -161,8 +161,15 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
         // pixel of a Whitted render.
         film.clear();
         film.push(Vec3::ZERO);
-    } else {
+    } else if s.metric.is_some_and(|m| m.pixels) {
         s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
+    } else {
+        // Without the pixel metric every camera ray is traced and the
+        // pixel is their mean, so the order of the film points does not
+        // matter; the lens and time sets are still shuffled, which keeps
+        // their pairing with the film points random.
+        s.pixel
+            .generate_unordered(n, 0.5, &mut pixel.derive(0), film);
     }
     lens.clear();
     if cam.has_lens() {
@@ -200,6 +207,7 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{LoadOptions, SceneSource};
 
     /// The shortcut for one grid ray per pixel gives what the distribution gives.
     #[test]
@@ -209,5 +217,52 @@ mod tests {
             Distribution::Grid.generate(1, 0.5, &mut Rng::new(key), &mut out);
             assert_eq!(out, [Vec3::ZERO]);
         }
+    }
+
+    /// Pearson correlation of two samples.
+    fn correlation(a: &[f32], b: &[f32]) -> f32 {
+        let n = a.len() as f32;
+        let (ma, mb) = (a.iter().sum::<f32>() / n, b.iter().sum::<f32>() / n);
+        let cov: f32 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+        let var = |v: &[f32], m: f32| v.iter().map(|x| (x - m) * (x - m)).sum::<f32>();
+        cov / (var(a, ma) * var(b, mb)).sqrt()
+    }
+
+    /// Without the pixel metric a square film set comes in row order, but
+    /// the lens set is still shuffled: a sample's film and lens positions
+    /// are uncorrelated. Had the lens set come in row order too, they would
+    /// correlate strongly (checked below on the same pixels).
+    #[test]
+    fn film_and_lens_points_pair_at_random() {
+        let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
+        src.desc.render.spp = 16;
+        src.desc.render.distribution = Distribution::Jitter;
+        src.desc.render.pixel_metric = false;
+        let scene = src.build().expect("showcase builds");
+        assert!(scene.camera.has_lens());
+        let (mut buf, mut row_order) = (Scratch::default(), Vec::new());
+        let (mut film, mut lens, mut lens_in_rows) = (Vec::new(), Vec::new(), Vec::new());
+        for p in 0..400 {
+            let (x, y) = (p % 20, p / 20);
+            camera_rays(&scene, x, y, &mut buf);
+            let mut expected = Vec::new();
+            let mut rng = pixel_stream(&scene, x, y).derive(0);
+            Distribution::Jitter.generate_unordered(16, 0.5, &mut rng, &mut expected);
+            assert_eq!(buf.film, expected, "film points in row order");
+            film.extend(buf.film.iter().map(|v| v.x));
+            lens.extend(buf.lens.iter().map(|v| v.x));
+            let mut rng = pixel_stream(&scene, x, y).derive(1);
+            Distribution::Jitter.generate_unordered(16, 1.0, &mut rng, &mut row_order);
+            lens_in_rows.extend(row_order.iter().map(|v| v.x));
+        }
+        // 6400 pairs: an independent pairing gives |r| < 0.05 but for one
+        // time in 10^4.
+        let r = correlation(&film, &lens);
+        assert!(r.abs() < 0.05, "film and lens correlate: r = {r}");
+        let r_rows = correlation(&film, &lens_in_rows);
+        assert!(
+            r_rows > 0.5,
+            "row order in both should correlate: r = {r_rows}"
+        );
     }
 }
