@@ -7,11 +7,12 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use penumbra::accel::{Bvh, TriangleBvh};
+use penumbra::geometry::tessellate::uv_sphere;
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::io::mesh::read_mesh;
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::sampling::Rng;
-use penumbra_bench::bumpy_sphere;
+use penumbra_bench::bumpy_radius;
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -32,7 +33,7 @@ fn mesh() -> (String, Vec<[Vec3; 3]>) {
             let tris = m.triangles.iter().map(|t| t.map(p)).collect();
             ("bunny".into(), tris)
         }
-        Err(_) => ("sphere70k".into(), bumpy_sphere(264, 133)),
+        Err(_) => ("sphere70k".into(), uv_sphere(264, 133, bumpy_radius)),
     }
 }
 

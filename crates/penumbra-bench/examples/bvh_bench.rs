@@ -13,10 +13,11 @@
 //! framing the mesh.
 
 use penumbra::accel::{Bvh, TriangleBvh};
+use penumbra::geometry::tessellate::uv_sphere;
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::sampling::Rng;
-use penumbra_bench::{bumpy_sphere, median, thread_time as now};
+use penumbra_bench::{bumpy_radius, median, thread_time as now};
 use std::f32::consts::TAU;
 use std::time::Instant;
 
@@ -145,7 +146,7 @@ fn main() {
         if only.as_deref().is_some_and(|o| o != name) {
             continue;
         }
-        let tris = bumpy_sphere(nu, nv);
+        let tris = uv_sphere(nu, nv, bumpy_radius);
         let bounds: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(*t)).collect();
         let serial = build_ms(&bounds, 1);
         let parallel = build_ms(&bounds, threads);
