@@ -23,7 +23,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from . import DISTRIBUTIONS, SceneError, load_scene, render, save_image, scenes
+from . import DISTRIBUTIONS, RENDER_OPTIONS, SceneError, load_scene, render, save_image, scenes
 
 INPUT_ERROR = 2
 OTHER_ERROR = 1
@@ -58,33 +58,11 @@ def _render(args: argparse.Namespace) -> int:
     if args.stats:
         _check_output(Path(args.stats), None)
     scene = load_scene(args.scene, bunny=args.bunny)
+    # Every render option has a flag of the same name ("progress" is the bar).
     options = {
         name: getattr(args, name)
-        for name in (
-            "width",
-            "height",
-            "spp",
-            "shadow_rays",
-            "reflection_rays",
-            "refraction_rays",
-            "distribution",
-            "pixel_distribution",
-            "lens_distribution",
-            "time_distribution",
-            "shadow_distribution",
-            "reflection_distribution",
-            "refraction_distribution",
-            "aperture",
-            "focal_distance",
-            "max_depth",
-            "seed",
-            "metric",
-            "metric_threshold",
-            "metric_min_rays",
-            "shadow_metric_rays",
-            "pixel_metric",
-            "threads",
-        )
+        for name in RENDER_OPTIONS
+        if name != "progress"
         if getattr(args, name) is not None
     }
     bar = _Bar(args.quiet)
