@@ -11,8 +11,7 @@ use penumbra::geometry::tessellate::uv_sphere;
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::io::mesh::read_mesh;
 use penumbra::math::{Aabb, Ray, Vec3};
-use penumbra::sampling::Rng;
-use penumbra_bench::bumpy_radius;
+use penumbra_bench::{bumpy_radius, random_rays};
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -37,24 +36,6 @@ fn mesh() -> (String, Vec<[Vec3; 3]>) {
     }
 }
 
-/// 100,000 rays from random points of the box toward random directions.
-fn rays(b: &Aabb) -> Vec<Ray> {
-    let mut r = Rng::new(42);
-    (0..100_000)
-        .map(|_| {
-            let o = Vec3::new(
-                r.range(b.min.x, b.max.x),
-                r.range(b.min.y, b.max.y),
-                r.range(b.min.z, b.max.z),
-            );
-            let z = r.range(-1.0, 1.0);
-            let phi = r.range(0.0, std::f32::consts::TAU);
-            let s = (1.0 - z * z).max(0.0).sqrt();
-            Ray::new(o, Vec3::new(s * phi.cos(), s * phi.sin(), z), 0.0)
-        })
-        .collect()
-}
-
 fn accel(c: &mut Criterion) {
     let (name, tris) = mesh();
     let bounds: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(*t)).collect();
@@ -69,7 +50,7 @@ fn accel(c: &mut Criterion) {
 
     let tbvh = TriangleBvh::build(tris.len(), |i| tris[i]);
     let gbvh = Bvh::build(&bounds);
-    let rays = rays(&tbvh.bounds());
+    let rays = random_rays(100_000, &tbvh.bounds(), 42);
     let mut g = c.benchmark_group(format!("trace/{name}"));
     g.sample_size(10);
     g.throughput(Throughput::Elements(rays.len() as u64));

@@ -16,31 +16,12 @@ use penumbra::accel::{Bvh, TriangleBvh};
 use penumbra::geometry::tessellate::uv_sphere;
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
 use penumbra::math::{Aabb, Ray, Vec3};
-use penumbra::sampling::Rng;
-use penumbra_bench::{bumpy_radius, median, thread_time as now};
-use std::f32::consts::TAU;
+use penumbra_bench::{bumpy_radius, median, random_rays, thread_time as now};
 use std::time::Instant;
 
 type Tri = [Vec3; 3];
 
 static WALL: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-
-fn incoherent_rays(n: usize, b: &Aabb) -> Vec<Ray> {
-    let mut r = Rng::new(42);
-    (0..n)
-        .map(|_| {
-            let o = Vec3::new(
-                r.range(b.min.x, b.max.x),
-                r.range(b.min.y, b.max.y),
-                r.range(b.min.z, b.max.z),
-            );
-            let z = r.range(-1.0, 1.0);
-            let phi = r.range(0.0, TAU);
-            let s = (1.0 - z * z).max(0.0).sqrt();
-            Ray::new(o, Vec3::new(s * phi.cos(), s * phi.sin(), z), 0.0)
-        })
-        .collect()
-}
 
 fn camera_rays(w: usize, h: usize) -> Vec<Ray> {
     let eye = Vec3::new(0.4, 0.6, 3.2);
@@ -171,7 +152,7 @@ fn main() {
             ts.packs,
             ts.bytes as f64 / (1 << 20) as f64
         );
-        let inc = incoherent_rays(incoherent, &bvh.bounds());
+        let inc = random_rays(incoherent, &bvh.bounds(), 42);
         for (kind, rays) in [("incoherent", &inc), ("coherent", &camera)] {
             let (closest, ch) = trace(&bvh, &tris, rays, false);
             let (any, ah) = trace(&bvh, &tris, rays, true);

@@ -10,7 +10,8 @@
 //! * rays: 6 floats per ray (origin x y z, direction x y z); every ray is
 //!   traced over `(0, inf)`.
 
-use penumbra::math::{Ray, Vec3};
+use penumbra::math::{Aabb, Ray, Vec3};
+use penumbra::sampling::Rng;
 use std::path::Path;
 use std::time::Instant;
 
@@ -103,4 +104,24 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>, String> {
 /// which lack the tessellator.)
 pub fn bumpy_radius(theta: f32, phi: f32) -> f32 {
     1.0 + 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin() + 0.02 * (31.0 * phi).cos()
+}
+
+/// `n` rays from uniformly random points of `b` in uniformly random
+/// directions (seeded, so every run traces the same rays): the incoherent
+/// rays of the criterion benches and of `bvh_bench`.
+pub fn random_rays(n: usize, b: &Aabb, seed: u64) -> Vec<Ray> {
+    let mut r = Rng::new(seed);
+    (0..n)
+        .map(|_| {
+            let o = Vec3::new(
+                r.range(b.min.x, b.max.x),
+                r.range(b.min.y, b.max.y),
+                r.range(b.min.z, b.max.z),
+            );
+            let z = r.range(-1.0, 1.0);
+            let phi = r.range(0.0, std::f32::consts::TAU);
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            Ray::new(o, Vec3::new(s * phi.cos(), s * phi.sin(), z), 0.0)
+        })
+        .collect()
 }
