@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import os
 import subprocess
 from pathlib import Path
 
@@ -27,7 +28,10 @@ def cli() -> Path:
     subprocess.run(
         ["cargo", "build", "--release", "--quiet", "-p", "penumbra-cli"], cwd=REPO, check=True
     )
-    return REPO / "target" / "release" / "penumbra"
+    # Where cargo put it: $CARGO_TARGET_DIR when set (relative to the
+    # repository, as cargo takes it), else the workspace's target/.
+    target = REPO / os.environ.get("CARGO_TARGET_DIR", "target")
+    return target / "release" / "penumbra"
 
 
 @pytest.fixture(scope="session")
