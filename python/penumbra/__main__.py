@@ -236,6 +236,19 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument(
         "--no-metric", dest="metric", action="store_false", help="turn the acceleration metrics off"
     )
+    for name, rays in (("reflection", "reflection and refraction"), ("shadow", "shadow")):
+        r.add_argument(
+            f"--{name}-metric",
+            action="store_true",
+            default=None,
+            help=f"with the metrics on, stop {rays} sets early (the default)",
+        )
+        r.add_argument(
+            f"--no-{name}-metric",
+            dest=f"{name}_metric",
+            action="store_false",
+            help=f"with the metrics on, trace every {rays} ray",
+        )
     r.add_argument(
         "--metric-threshold",
         type=float,

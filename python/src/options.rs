@@ -14,7 +14,7 @@ use penumbra::sampling::Distribution;
 use penumbra::scene::Overrides;
 
 /// Every keyword the render functions accept, in the documented order.
-pub const NAMES: [&str; 24] = [
+pub const NAMES: [&str; 26] = [
     "width",
     "height",
     "spp",
@@ -33,6 +33,8 @@ pub const NAMES: [&str; 24] = [
     "max_depth",
     "seed",
     "metric",
+    "reflection_metric",
+    "shadow_metric",
     "metric_threshold",
     "metric_min_rays",
     "shadow_metric_rays",
@@ -107,6 +109,8 @@ pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult
             "max_depth" => ov.max_depth = Some(ranged_u32("max_depth", v, 0, 64)?),
             "seed" => ov.seed = Some(ranged_u32("seed", v, 0, u32::MAX)?),
             "metric" => ov.metric = Some(bool_arg("metric", v)?),
+            "reflection_metric" => ov.reflection_metric = Some(bool_arg("reflection_metric", v)?),
+            "shadow_metric" => ov.shadow_metric = Some(bool_arg("shadow_metric", v)?),
             "metric_threshold" => ov.metric_threshold = Some(nonneg_f32("metric_threshold", v)?),
             "metric_min_rays" => {
                 ov.metric_min_rays = Some(ranged_u32("metric_min_rays", v, 1, 65536)?)

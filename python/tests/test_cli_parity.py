@@ -55,13 +55,16 @@ def test_scene_files_render_like_the_cli(cli: Path, tmp_path: Path):
     assert np.array_equal(penumbra.load_image(out), image)
 
 
+# Metric parameters that act on the showcase at OPTIONS' budgets.
+METRIC = {"metric_threshold": 0.05, "metric_min_rays": 2, "shadow_metric_rays": 2}
+
+
 def test_metric_options_match_the_cli(cli: Path, tmp_path: Path):
-    metric = {"metric_threshold": 0.05, "metric_min_rays": 2, "shadow_metric_rays": 2}
     out, stats_path = tmp_path / "m.exr", tmp_path / "m.json"
     run(cli, "render", "showcase", "-o", str(out), "--stats", str(stats_path), "--quiet",
-        "--metric", "--pixel-metric", *cli_args(OPTIONS), *cli_args(metric))
+        "--metric", "--pixel-metric", *cli_args(OPTIONS), *cli_args(METRIC))
     image, stats = penumbra.render(
-        penumbra.load_scene("showcase"), metric=True, pixel_metric=True, **OPTIONS, **metric
+        penumbra.load_scene("showcase"), metric=True, pixel_metric=True, **OPTIONS, **METRIC
     )
     assert np.array_equal(penumbra.load_image(out), image)
     expected = json.loads(stats_path.read_text())
@@ -69,6 +72,24 @@ def test_metric_options_match_the_cli(cli: Path, tmp_path: Path):
     assert stats.get("saved") == expected.get("saved")
     plain, _ = penumbra.render(penumbra.load_scene("showcase"), metric=False, **OPTIONS)
     assert not np.array_equal(plain, image), "the metric changed nothing"
+
+
+@pytest.mark.parametrize("alone", ["reflection", "shadow"])
+def test_one_metric_alone_matches_the_cli(cli: Path, tmp_path: Path, alone: str):
+    other = "shadow" if alone == "reflection" else "reflection"
+    out, stats_path = tmp_path / "m.exr", tmp_path / "m.json"
+    run(cli, "render", "showcase", "-o", str(out), "--stats", str(stats_path), "--quiet",
+        "--metric", f"--no-{other}-metric", *cli_args(OPTIONS), *cli_args(METRIC))
+    image, stats = penumbra.render(
+        penumbra.load_scene("showcase"), metric=True, **{f"{other}_metric": False}, **OPTIONS,
+        **METRIC,
+    )
+    assert np.array_equal(penumbra.load_image(out), image)
+    expected = json.loads(stats_path.read_text())
+    assert stats["rays"] == expected["rays"]
+    assert stats["saved"] == expected["saved"]
+    assert stats["saved"][other] == 0 and stats["saved"][alone] > 0
+    assert stats["metric"][f"{alone}s"] and not stats["metric"][f"{other}s"]
 
 
 @pytest.mark.parametrize("distribution", list(penumbra.DISTRIBUTIONS))

@@ -134,6 +134,18 @@ pub struct EffectArgs {
     /// Turn the acceleration metrics off (the default unless the scene turns them on).
     #[arg(long)]
     pub no_metric: bool,
+    /// With the metrics on, stop reflection and refraction sets by the α/threshold rule (the default).
+    #[arg(long, overrides_with = "no_reflection_metric")]
+    pub reflection_metric: bool,
+    /// With the metrics on, trace every reflection and refraction ray (the shadow metric alone, say).
+    #[arg(long)]
+    pub no_reflection_metric: bool,
+    /// With the metrics on, stop shadow sets by the k rule (the default).
+    #[arg(long, overrides_with = "no_shadow_metric")]
+    pub shadow_metric: bool,
+    /// With the metrics on, trace every shadow ray (the reflection metric alone, say).
+    #[arg(long)]
+    pub no_shadow_metric: bool,
     /// Relative change of a set's running average below which it stops (default 0.01).
     #[arg(long, value_name = "T", value_parser = parse_nonneg)]
     pub metric_threshold: Option<f32>,

@@ -117,14 +117,22 @@ fn overrides(args: &RenderArgs) -> Overrides {
         refraction_distribution: e.refraction_distribution,
         aperture: e.aperture,
         focal_distance: e.focal_distance,
-        metric: match (e.metric, e.no_metric) {
-            (true, _) => Some(true),
-            (_, true) => Some(false),
-            _ => None,
-        },
+        metric: switch(e.metric, e.no_metric),
+        reflection_metric: switch(e.reflection_metric, e.no_reflection_metric),
+        shadow_metric: switch(e.shadow_metric, e.no_shadow_metric),
         metric_threshold: e.metric_threshold,
         metric_min_rays: e.metric_min_rays,
         shadow_metric_rays: e.shadow_metric_rays,
         pixel_metric: e.pixel_metric.then_some(true),
+    }
+}
+
+/// A `--x`/`--no-x` pair (clap keeps only the last one given): on, off, or
+/// as the scene says.
+fn switch(on: bool, off: bool) -> Option<bool> {
+    match (on, off) {
+        (true, _) => Some(true),
+        (_, true) => Some(false),
+        _ => None,
     }
 }

@@ -101,15 +101,15 @@ pub fn alpha(budget: u32) -> u32 {
     (budget / 2).clamp(2, 4)
 }
 
-/// Switches a metric on. A metric is kept off by a threshold no change can
-/// fall below (reflection) or a k larger than any budget (shadow).
+/// Switches the metrics of `kind` on (the thesis measures each alone, then
+/// both).
 pub fn with_metric(mut o: Overrides, kind: MetricKind, reflection: u32, shadow: u32) -> Overrides {
     o.metric = Some(true);
-    let reflect = kind != MetricKind::Shadow;
-    let shade = kind != MetricKind::Reflection;
-    o.metric_threshold = Some(if reflect { METRIC_THRESHOLD } else { 0.0 });
+    o.reflection_metric = Some(kind != MetricKind::Shadow);
+    o.shadow_metric = Some(kind != MetricKind::Reflection);
+    o.metric_threshold = Some(METRIC_THRESHOLD);
     o.metric_min_rays = Some(alpha(reflection));
-    o.shadow_metric_rays = Some(if shade { alpha(shadow) } else { 1 << 16 });
+    o.shadow_metric_rays = Some(alpha(shadow));
     o
 }
 
@@ -455,11 +455,22 @@ mod tests {
     fn metrics_can_be_switched_on_one_at_a_time() {
         let r = with_metric(Overrides::default(), MetricKind::Reflection, 4, 4);
         assert_eq!(r.metric, Some(true));
-        assert_eq!(r.shadow_metric_rays, Some(1 << 16));
+        assert_eq!(
+            (r.reflection_metric, r.shadow_metric),
+            (Some(true), Some(false))
+        );
         assert_eq!(r.metric_threshold, Some(METRIC_THRESHOLD));
         let s = with_metric(Overrides::default(), MetricKind::Shadow, 1, 16);
-        assert_eq!(s.metric_threshold, Some(0.0));
+        assert_eq!(
+            (s.reflection_metric, s.shadow_metric),
+            (Some(false), Some(true))
+        );
         assert_eq!(s.shadow_metric_rays, Some(4));
+        let b = with_metric(Overrides::default(), MetricKind::Both, 4, 4);
+        assert_eq!(
+            (b.reflection_metric, b.shadow_metric),
+            (Some(true), Some(true))
+        );
     }
 
     #[test]

@@ -113,3 +113,49 @@ fn the_pixel_metric_stops_primary_rays_on_uniform_pixels() {
     let without = toml.replace("pixel_metric = true", "pixel_metric = false");
     assert_eq!(render_toml(&without).1.primary, 64 * 16);
 }
+
+#[test]
+fn each_metric_is_switched_on_alone() {
+    // A glossy, partly diffuse floor under a light off to the side: every
+    // reflection set sees the black background (uniform, so it stops at α)
+    // and every shadow set reaches the light (so it stops at k).
+    let render = |switches: &str| {
+        let toml = floor_scene(
+            &format!(
+                "reflection_rays = 16\nshadow_rays = 32\ndistribution = \"jitter\"\n\
+                 metric_min_rays = 4\nshadow_metric_rays = 4\n{switches}"
+            ),
+            "albedo = [0.5, 0.5, 0.5]\nreflectivity = 0.5\nglossiness = 0.3",
+            &light("").replace("origin = [-0.5,", "origin = [20.0,"),
+        );
+        render_toml(&toml)
+    };
+    let both = render("metric = true").1;
+    assert_eq!(
+        (both.saved.reflection, both.saved.shadow),
+        (64 * 12, 64 * 28)
+    );
+    let reflections = render("metric = true\nshadow_metric = false").1;
+    assert_eq!(
+        (reflections.saved.reflection, reflections.saved.shadow),
+        (64 * 12, 0)
+    );
+    assert_eq!(reflections.shadow, 64 * 32);
+    let shadows = render("metric = true\nreflection_metric = false").1;
+    assert_eq!(
+        (shadows.saved.reflection, shadows.saved.shadow),
+        (0, 64 * 28)
+    );
+    assert_eq!(shadows.reflection, 64 * 16);
+    // With every rule off the metric is off: the same pixels, bit for bit.
+    let (none, _) = render("metric = true\nreflection_metric = false\nshadow_metric = false");
+    let (off, _) = render("metric = false");
+    let bits = |img: &penumbra::render::Image| -> Vec<u32> {
+        img.pixels
+            .iter()
+            .flat_map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    };
+    assert_eq!(bits(&none), bits(&off));
+    assert!(off.mean().max_element() > 0.0, "the floor is lit");
+}

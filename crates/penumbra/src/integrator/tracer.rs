@@ -309,10 +309,8 @@ impl<'a> Tracer<'a> {
             return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
         let n = light.shadow_rays();
-        let k = self
-            .scene
-            .settings
-            .metric
+        let k = (self.scene.settings.metric)
+            .filter(|m| m.shadows)
             .map_or(u32::MAX, |m| m.shadow_rays);
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for r in set {
@@ -395,9 +393,9 @@ impl<'a> Tracer<'a> {
     /// The distribution points of a shadow set toward `light`, into `points`.
     fn set_points(&self, light: &Light, rng: &mut Rng, points: &mut Vec<Vec3>) {
         let (n, d) = (light.shadow_rays() as usize, light.shadow.distribution);
-        // The rays are summed: their order matters only to the metric,
-        // which may stop the set early.
-        if self.scene.settings.metric.is_some() {
+        // The rays are summed: their order matters only to the shadow
+        // metric, which may stop the set early.
+        if self.scene.settings.metric.is_some_and(|m| m.shadows) {
             d.generate(n, 1.0, rng, points);
         } else {
             d.generate_unordered(n, 1.0, rng, points);
@@ -492,7 +490,7 @@ impl<'a> Tracer<'a> {
         // Rays must leave on the viewer's side for reflection, the other side for refraction.
         let side = if transmit { -s.ng } else { s.ng };
         let children = rng.derive(ray_tag);
-        let metric = self.scene.settings.metric;
+        let metric = self.scene.settings.metric.filter(|m| m.reflections);
         let mut mean = RunningMean::default();
         for (k, point) in points.iter().enumerate() {
             let mut w = if radius > 0.0 {

@@ -38,6 +38,8 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
             "total": r.saved.total(),
         },
         "metric": s.metric.map(|m| json!({
+            "reflections": m.reflections,
+            "shadows": m.shadows,
             "threshold": m.threshold,
             "min_rays": m.min_rays,
             "shadow_rays": m.shadow_rays,

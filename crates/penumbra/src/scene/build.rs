@@ -143,6 +143,8 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
 
 fn metric(r: &RenderDesc, p: &KeyPath) -> Result<Option<Metric>, Invalid> {
     let m = Metric {
+        reflections: r.reflection_metric,
+        shadows: r.shadow_metric,
         threshold: range(&p.key("metric_threshold"), r.metric_threshold, 0.0, 1e6)?,
         min_rays: int(&p.key("metric_min_rays"), r.metric_min_rays, 1, MAX_RAYS)?,
         shadow_rays: int(
@@ -153,7 +155,8 @@ fn metric(r: &RenderDesc, p: &KeyPath) -> Result<Option<Metric>, Invalid> {
         )?,
         pixels: r.pixel_metric,
     };
-    Ok(r.metric.then_some(m))
+    let any = m.reflections || m.shadows || m.pixels;
+    Ok((r.metric && any).then_some(m))
 }
 
 fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {

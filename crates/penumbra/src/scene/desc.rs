@@ -50,13 +50,17 @@ pub struct RenderDesc {
     pub refraction_distribution: Option<Distribution>,
     /// The acceleration metrics of thesis §3.4 (off: the plain algorithm).
     pub metric: bool,
+    /// With `metric`: stop reflection and refraction sets by the α/threshold rule.
+    pub reflection_metric: bool,
+    /// With `metric`: stop shadow sets by the k rule.
+    pub shadow_metric: bool,
     /// Relative change of a set's running average below which it stops.
     pub metric_threshold: f32,
     /// α: rays traced before the reflection/refraction metric applies.
     pub metric_min_rays: i64,
     /// k: shadow rays after which an all-lit or all-blocked set stops.
     pub shadow_metric_rays: i64,
-    /// Apply the metric to the primary rays of a pixel as well.
+    /// With `metric`: apply the α/threshold rule to a pixel's primary rays as well.
     pub pixel_metric: bool,
 }
 
@@ -80,6 +84,8 @@ impl Default for RenderDesc {
             reflection_distribution: None,
             refraction_distribution: None,
             metric: false,
+            reflection_metric: true,
+            shadow_metric: true,
             metric_threshold: 0.01,
             metric_min_rays: 4,
             shadow_metric_rays: 4,

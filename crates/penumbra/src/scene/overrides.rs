@@ -29,6 +29,10 @@ pub struct Overrides {
     pub focal_distance: Option<f32>,
     /// Turn the acceleration metrics on or off.
     pub metric: Option<bool>,
+    /// Turn the reflection/refraction or the shadow metric on or off
+    /// (they act only with `metric` on).
+    pub reflection_metric: Option<bool>,
+    pub shadow_metric: Option<bool>,
     pub metric_threshold: Option<f32>,
     pub metric_min_rays: Option<u32>,
     pub shadow_metric_rays: Option<u32>,
@@ -75,6 +79,8 @@ impl Overrides {
             clear_if(&mut m.refraction_distribution, refraction_d.is_some());
         }
         set(&mut r.metric, self.metric);
+        set(&mut r.reflection_metric, self.reflection_metric);
+        set(&mut r.shadow_metric, self.shadow_metric);
         set(&mut r.metric_threshold, self.metric_threshold);
         set(&mut r.metric_min_rays, self.metric_min_rays.map(i64::from));
         set(
