@@ -868,20 +868,19 @@ mod tests {
                 let x = (k as f32 + 0.5) / (4 * side) as f32;
                 let own = grid.cell(x);
                 assert_eq!(own, k / 4);
-                let expect = |span: usize| {
-                    let mut v: Vec<usize> = (0..span)
-                        .map(|o| (own + side + o - span / 2) % side)
-                        .collect();
-                    v.sort();
-                    v
-                };
-                let (five, seven) = (grid.around::<5>(x), grid.around::<7>(x));
-                assert_eq!(five[0], own, "the middle row first");
                 let sorted = |a: &[usize]| {
                     let mut v = a.to_vec();
                     v.sort();
                     v
                 };
+                let expect = |span: usize| {
+                    let rows: Vec<usize> = (0..span)
+                        .map(|o| (own + side + o - span / 2) % side)
+                        .collect();
+                    sorted(&rows)
+                };
+                let (five, seven) = (grid.around::<5>(x), grid.around::<7>(x));
+                assert_eq!(five[0], own, "the middle row first");
                 assert_eq!(sorted(&five), expect(5), "side {side}, x {x}");
                 assert_eq!(sorted(&seven), expect(7), "side {side}, x {x}");
             }
