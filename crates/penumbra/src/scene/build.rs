@@ -2,10 +2,12 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::check::*;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
+use super::reuse::{self, WorldCache};
 use super::world::{mesh_bvh, Object, Shape, World};
 use super::{Scene, Settings};
 use crate::camera::{Camera, CameraSpec};
@@ -46,28 +48,37 @@ const MAX_SIDE: i64 = 1 << 15;
 /// Largest ray budget per effect (the exponential growth makes more pointless).
 const MAX_RAYS: i64 = 1 << 16;
 
-pub fn build(desc: &SceneDesc, ctx: &BuildContext) -> Result<Scene, BuildError> {
+/// Validates `desc` and builds the scene, taking the world (meshes and BVH)
+/// from `worlds` when one was built there from the same geometry, and
+/// keeping a new one there.
+pub fn build(
+    desc: &SceneDesc,
+    ctx: &BuildContext,
+    mut worlds: Option<&mut WorldCache>,
+) -> Result<Scene, BuildError> {
     let start = std::time::Instant::now();
     let settings = settings(&desc.render)?;
     let camera = camera(&desc.camera, &settings)?;
     let defaults = Defaults::of(&desc.render)?;
     let (mut materials, names) = materials(desc, &defaults)?;
-    let mut objects = Vec::new();
-    let mut meshes = Vec::new();
-    let mut cache: HashMap<PathBuf, usize> = HashMap::new();
-    let root = KeyPath::root().key("objects");
-    for (i, o) in desc.objects.iter().enumerate() {
-        let path = root.index(i);
-        let material = material_index(&path, o.material.as_deref(), &names)?;
-        objects.push(object(&path, o, material, ctx, &mut meshes, &mut cache)?);
-    }
+    let key = worlds.as_ref().and_then(|_| reuse::key(desc, ctx));
+    // A world built under the same key came from these very objects, which
+    // were valid then and are now: they need neither checking nor loading.
+    let reused = key
+        .as_deref()
+        .zip(worlds.as_deref_mut())
+        .and_then(|(k, w)| w.get(k));
+    let (mut objects, meshes) = match reused {
+        Some(_) => (Vec::new(), Vec::new()),
+        None => objects(desc, ctx, &names)?,
+    };
     let light_material = materials.len() as u32;
     materials.push(black_material(&defaults));
     let mut lights = Vec::new();
     let root = KeyPath::root().key("lights");
     for (i, l) in desc.lights.iter().enumerate() {
         let light = light(&root.index(i), l, &defaults)?;
-        if let Some(shape) = light_shape(&light) {
+        if let Some(shape) = light_shape(&light).filter(|_| reused.is_none()) {
             objects.push(Object {
                 shape,
                 material: light_material,
@@ -80,7 +91,13 @@ pub fn build(desc: &SceneDesc, ctx: &BuildContext) -> Result<Scene, BuildError> 
     }
     let warnings = square_warnings(&settings, &materials, &lights);
     let transparency = materials.iter().map(|m| m.transparency).collect();
-    let world = World::new(objects, meshes);
+    let world = reused.unwrap_or_else(|| {
+        let world = Arc::new(World::new(objects, meshes));
+        if let (Some(k), Some(w)) = (key, worlds) {
+            w.insert(k, Arc::clone(&world));
+        }
+        world
+    });
     Ok(Scene {
         camera,
         materials,
@@ -91,6 +108,23 @@ pub fn build(desc: &SceneDesc, ctx: &BuildContext) -> Result<Scene, BuildError> 
         warnings,
         build_time: start.elapsed(),
     })
+}
+
+/// The objects of `desc` (meshes loaded and baked) and their meshes.
+fn objects(
+    desc: &SceneDesc,
+    ctx: &BuildContext,
+    names: &HashMap<String, u32>,
+) -> Result<(Vec<Object>, Vec<Mesh>), BuildError> {
+    let (mut objects, mut meshes) = (Vec::new(), Vec::new());
+    let mut cache: HashMap<PathBuf, usize> = HashMap::new();
+    let root = KeyPath::root().key("objects");
+    for (i, o) in desc.objects.iter().enumerate() {
+        let path = root.index(i);
+        let material = material_index(&path, o.material.as_deref(), names)?;
+        objects.push(object(&path, o, material, ctx, &mut meshes, &mut cache)?);
+    }
+    Ok((objects, meshes))
 }
 
 /// Global ray budgets and distributions, overridable per light and material.
@@ -511,7 +545,11 @@ fn load_mesh(
 }
 
 /// The bunny placeholder and scene-relative paths.
-fn resolve_mesh_path(p: &KeyPath, file: &str, ctx: &BuildContext) -> Result<PathBuf, Invalid> {
+pub(super) fn resolve_mesh_path(
+    p: &KeyPath,
+    file: &str,
+    ctx: &BuildContext,
+) -> Result<PathBuf, Invalid> {
     if file == "@bunny" {
         return ctx.bunny.clone().ok_or_else(|| {
             Invalid::new(

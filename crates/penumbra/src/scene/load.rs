@@ -7,6 +7,7 @@ use super::build::{build, BuildContext, BuildError};
 use super::builtin;
 use super::desc::SceneDesc;
 use super::error::SceneError;
+use super::reuse::WorldCache;
 use super::source::SourceMap;
 use super::Scene;
 
@@ -86,7 +87,20 @@ impl SceneSource {
 
     /// Validates the description and builds the scene.
     pub fn build(&self) -> Result<Scene, SceneError> {
-        build(&self.desc, &self.ctx).map_err(|e| match e {
+        self.build_with(None)
+    }
+
+    /// [`build`](Self::build), reusing a world from `worlds` built from the
+    /// same geometry (objects, light shapes, material names, mesh files), and
+    /// keeping a newly built one there: for many renders of one scene with
+    /// other settings. The scene is the same as [`build`](Self::build) gives,
+    /// errors included.
+    pub fn build_reusing(&self, worlds: &mut WorldCache) -> Result<Scene, SceneError> {
+        self.build_with(Some(worlds))
+    }
+
+    fn build_with(&self, worlds: Option<&mut WorldCache>) -> Result<Scene, SceneError> {
+        build(&self.desc, &self.ctx, worlds).map_err(|e| match e {
             BuildError::Invalid(i) => match &self.map {
                 Some(map) => map.locate(i),
                 None => SceneError::new(format!("{}: {}", i.path, i.message)),

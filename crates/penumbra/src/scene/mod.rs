@@ -11,9 +11,11 @@ pub mod desc;
 pub mod error;
 mod load;
 mod overrides;
+mod reuse;
 pub mod source;
 pub mod world;
 
+use std::sync::Arc;
 use std::time::Duration;
 
 pub use build::BuildContext;
@@ -21,6 +23,7 @@ pub use desc::SceneDesc;
 pub use error::SceneError;
 pub use load::{default_bunny_path, LoadOptions, SceneSource};
 pub use overrides::Overrides;
+pub use reuse::WorldCache;
 
 use crate::camera::Camera;
 use crate::integrator::Metric;
@@ -52,7 +55,9 @@ pub struct Scene {
     pub camera: Camera,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
-    pub world: World,
+    /// The geometry and its BVH; shared with other scenes built from the
+    /// same geometry through a [`WorldCache`].
+    pub world: Arc<World>,
     pub settings: Settings,
     /// Per-material transparency, for shadow rays.
     pub transparency: Vec<f32>,
