@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use penumbra::scene::desc::LightDesc;
-use penumbra::scene::{LoadOptions, Overrides, Scene, SceneSource};
+use penumbra::scene::{LoadOptions, Overrides, Scene, SceneSource, WorldCache};
 
 use crate::error::EvalError;
 
@@ -98,8 +98,9 @@ impl Job {
         )
     }
 
-    /// Loads the built-in scene, applies the settings and builds it.
-    pub fn build(&self, bunny: &Path) -> Result<Scene, EvalError> {
+    /// Loads the built-in scene, applies the settings and builds it, with
+    /// the world from `worlds` if one was built there from the same geometry.
+    pub fn build(&self, bunny: &Path, worlds: &mut WorldCache) -> Result<Scene, EvalError> {
         let opts = LoadOptions {
             bunny: Some(bunny.to_path_buf()),
         };
@@ -112,7 +113,7 @@ impl Job {
         if self.variant == Variant::PointLight {
             source.desc.lights = source.desc.lights.iter().map(point_light).collect();
         }
-        source.build().map_err(err)
+        source.build_reusing(worlds).map_err(err)
     }
 }
 

@@ -53,7 +53,7 @@ pub use report::Report;
 pub use tables::{CountRow, CountTable, MetricRow, MetricTable, Tables};
 
 use job::Job;
-use penumbra::scene::Overrides;
+use penumbra::scene::{Overrides, WorldCache};
 use plan::Plan;
 use runner::Runner;
 
@@ -136,10 +136,14 @@ fn check_bunny(path: &Path) -> Result<(), EvalError> {
             ..Default::default()
         },
     );
-    probe.build(path).map(|_| ()).map_err(|e| match e {
-        EvalError::Scene { source, .. } => err(source.message),
-        other => other,
-    })
+    let mut worlds = WorldCache::new(1);
+    probe
+        .build(path, &mut worlds)
+        .map(|_| ())
+        .map_err(|e| match e {
+            EvalError::Scene { source, .. } => err(source.message),
+            other => other,
+        })
 }
 
 /// Creates the output directory and its subdirectories and proves it is

@@ -1,5 +1,6 @@
 //! Runs jobs: builds each scene, renders it once, remembers the result, and
-//! reports progress in whole jobs.
+//! reports progress in whole jobs. Jobs that differ only in settings share
+//! one built world (meshes and BVH) through a [`WorldCache`].
 //!
 //! The progress callback of the public API is not `Sync`, so it cannot be
 //! called from the render's worker threads. Each render runs on a helper
@@ -19,7 +20,7 @@ use std::time::Duration;
 const POLL: Duration = Duration::from_millis(250);
 
 use penumbra::render::{render, Image, RenderOptions, RenderStats};
-use penumbra::scene::Scene;
+use penumbra::scene::{Scene, WorldCache};
 
 use crate::error::EvalError;
 use crate::job::Job;
@@ -61,6 +62,7 @@ pub struct Runner<'a> {
     threads: Option<usize>,
     progress: &'a dyn Fn(&str, usize, usize),
     cache: HashMap<String, Rc<Rendered>>,
+    worlds: WorldCache,
     planned: HashSet<String>,
     done: usize,
     warnings: Vec<String>,
@@ -77,6 +79,7 @@ impl<'a> Runner<'a> {
             threads,
             progress,
             cache: HashMap::new(),
+            worlds: WorldCache::default(),
             planned: HashSet::new(),
             done: 0,
             warnings: Vec::new(),
@@ -121,7 +124,7 @@ impl<'a> Runner<'a> {
     }
 
     fn render(&mut self, job: &Job) -> Result<Rendered, EvalError> {
-        let scene = job.build(&self.bunny)?;
+        let scene = job.build(&self.bunny, &mut self.worlds)?;
         for w in &scene.warnings {
             if !self.warnings.contains(w) {
                 self.warnings.push(w.clone());
