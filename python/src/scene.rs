@@ -3,13 +3,14 @@
 //! A `Scene` holds the description's *text* (the TOML file, or the JSON of a
 //! dict), its base directory and the bunny path, never a built scene: that is
 //! what travels to Dask workers (pickled) and what `render` rebuilds from,
-//! with the same error positions every time. Building (validation, meshes,
-//! BVH) happens on first render and is cached in the object, keyed by the
-//! description after overrides, so rendering many tiles of one scene in one
-//! process builds it once.
+//! with the same error positions every time. Each render validates the
+//! description after overrides; the expensive part of a build, loading the
+//! meshes and building the BVH, happens on the first render and is kept in
+//! the object for later renders with the same geometry (other tiles, sample
+//! counts, distributions, image sizes), until a mesh file changes.
 
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -18,16 +19,12 @@ use serde_json::Value;
 
 use penumbra::scene::{
     builtin, default_bunny_path, LoadOptions, Overrides, Scene as Built, SceneDesc,
-    SceneError as LibSceneError, SceneSource,
+    SceneError as LibSceneError, SceneSource, WorldCache,
 };
 
 use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
 use crate::options::parse_options;
 use crate::SceneError;
-
-/// Built scenes kept per `Scene` object: enough for a few option sets in
-/// turn (e.g. a preview and a final size) without holding meshes forever.
-const CACHE_SIZE: usize = 4;
 
 /// The text a scene was read from.
 #[derive(Clone, Debug)]
@@ -41,7 +38,7 @@ enum Text {
 /// A scene description (from a TOML file, a built-in scene or a dict),
 /// ready to render with `penumbra.render`. Picklable: it pickles as its
 /// source text plus base directory and bunny path (made absolute), so it
-/// means the same on a Dask worker; the built scene is rebuilt there once
+/// means the same on a Dask worker; its meshes and BVH are built there once
 /// per process.
 #[pyclass(module = "penumbra._penumbra", frozen)]
 pub struct Scene {
@@ -49,7 +46,9 @@ pub struct Scene {
     text: Text,
     base_dir: PathBuf,
     bunny: Option<PathBuf>,
-    built: Mutex<Vec<(String, Arc<Built>)>>,
+    /// The worlds (meshes and BVH) of the last few builds, shared by builds
+    /// that differ in settings only.
+    worlds: Mutex<WorldCache>,
 }
 
 /// A library scene error as `penumbra.SceneError`, with the CLI's message.
@@ -64,7 +63,7 @@ impl Scene {
             text,
             base_dir,
             bunny,
-            built: Mutex::new(Vec::new()),
+            worlds: Mutex::new(WorldCache::default()),
         }
     }
 
@@ -92,31 +91,16 @@ impl Scene {
         }
     }
 
-    /// The scene built with these overrides, from the cache when it was built before.
-    pub fn build(&self, py: Python<'_>, overrides: &Overrides) -> PyResult<Arc<Built>> {
+    /// The scene built with these overrides, its world (meshes and BVH)
+    /// taken from an earlier build with the same geometry and mesh files.
+    pub fn build(&self, py: Python<'_>, overrides: &Overrides) -> PyResult<Built> {
         let mut source = self.source().map_err(scene_error)?;
         overrides.apply(&mut source.desc);
-        let key = serde_json::to_string(&source.desc)
-            .map_err(|e| PyValueError::new_err(format!("cannot key the scene: {e}")))?;
-        if let Some(hit) = self.cached(&key) {
-            return Ok(hit);
-        }
-        let built = Arc::new(py.detach(|| source.build()).map_err(scene_error)?);
-        let mut cache = self.built.lock().unwrap_or_else(|e| e.into_inner());
-        cache.retain(|(k, _)| *k != key);
-        if cache.len() >= CACHE_SIZE {
-            cache.remove(0);
-        }
-        cache.push((key, Arc::clone(&built)));
-        Ok(built)
-    }
-
-    fn cached(&self, key: &str) -> Option<Arc<Built>> {
-        let cache = self.built.lock().unwrap_or_else(|e| e.into_inner());
-        cache
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, s)| Arc::clone(s))
+        let built = py.detach(|| {
+            let mut worlds = self.worlds.lock().unwrap_or_else(|e| e.into_inner());
+            source.build_reusing(&mut worlds)
+        });
+        built.map_err(scene_error)
     }
 
     fn format(&self) -> &'static str {

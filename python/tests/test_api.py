@@ -124,6 +124,26 @@ def test_relative_mesh_paths_follow_the_scene_file(mesh_scene: Path):
     assert np.array_equal(image, b)
 
 
+def test_a_settings_sweep_renders_what_fresh_scenes_render(mesh_scene: Path):
+    scene = penumbra.load_scene(mesh_scene)
+    sweep = [
+        {"spp": 1},
+        {"spp": 4, "distribution": "poisson"},
+        {"shadow_rays": 9, "width": 20, "height": 15},
+        {"spp": 1},
+    ]
+    for options in sweep:
+        a, sa = penumbra.render(scene, **options)
+        b, sb = penumbra.render(penumbra.load_scene(mesh_scene), **options)
+        assert np.array_equal(a, b), options
+        assert sa["rays"] == sb["rays"]
+    # A mesh file rewritten on disk is read again by the same object.
+    mesh = mesh_scene.parent / "meshes" / "tetra.obj"
+    mesh.write_text(TETRA_OBJ.replace("f 2 3 4\n", ""))
+    _, stats = penumbra.render(scene, spp=1)
+    assert stats["primitives"] == sa["primitives"] - 1
+
+
 def test_scene_pickles_as_text_and_renders_the_same(mesh_scene: Path):
     scene = penumbra.load_scene(mesh_scene)
     data = pickle.dumps(scene)
