@@ -68,7 +68,7 @@ class Scene:
     """A scene description from a TOML file, a built-in scene or a dict.
 
     Holds the source text, not a built scene: it pickles small and rebuilds
-    (once per process, cached) where it is rendered.
+    where it is rendered (meshes and BVH once per geometry, cached).
     """
 
     @property
@@ -88,6 +88,9 @@ class Scene:
         """The Stanford bunny PLY used for ``path = "@bunny"``, if any."""
     def to_dict(self) -> dict[str, Any]:
         """The description as a dict that ``scene_from_dict`` turns back into the same scene."""
+    def derive(self, d: dict[str, Any], *, name: str | None = None) -> Scene:
+        """A scene from a dict (e.g. a changed ``to_dict()``) with this scene's base_dir,
+        bunny and name, sharing its built meshes and BVH where the geometry matches."""
     def settings(
         self,
         *,

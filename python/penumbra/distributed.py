@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from . import _penumbra
-from ._penumbra import RENDER_OPTIONS, Scene, SceneError, scene_from_dict
+from ._penumbra import RENDER_OPTIONS, Scene, SceneError
 
 try:
     from distributed import Client, as_completed, get_worker
@@ -200,9 +200,10 @@ def apply_frame(
       object or light at that index (``{"objects": {2: {"transform":
       {"translate": [0.1, 0, 0]}}}}``); a value of None removes the key.
 
-    The scene is returned unchanged (same object, same cached build) when
-    the frame changes only render options; otherwise it is a new scene made
-    from the changed description, with the same name, base directory and bunny.
+    The scene is returned unchanged when the frame changes only render
+    options; otherwise it is ``scene.derive`` of the changed description: the
+    same name, base directory and bunny, and the scene's built meshes and BVH
+    shared (a frame that moves only the camera does not rebuild them).
     """
     if not isinstance(frame, Mapping):
         raise TypeError(f"a frame must be a dict, got {type(frame).__name__}")
@@ -233,8 +234,8 @@ def apply_frame(
                     f"frame[{key!r}][{index!r}] must be a dict, got {type(item_changes).__name__}"
                 )
             _update(items[i], item_changes)
-    changed = scene_from_dict(d, base_dir=scene.base_dir, bunny=scene.bunny, name=scene.name)
-    return changed, opts
+    # Derived, so that frames with the scene's geometry share its built world.
+    return scene.derive(d), opts
 
 
 def merge_stats(

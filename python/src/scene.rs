@@ -10,7 +10,7 @@
 //! counts, distributions, image sizes), until a mesh file changes.
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -47,8 +47,11 @@ pub struct Scene {
     base_dir: PathBuf,
     bunny: Option<PathBuf>,
     /// The worlds (meshes and BVH) of the last few builds, shared by builds
-    /// that differ in settings only.
-    worlds: Mutex<WorldCache>,
+    /// that differ in settings only, and with the scenes [`derive`]d from
+    /// this one.
+    ///
+    /// [`derive`]: Scene::derive
+    worlds: Arc<Mutex<WorldCache>>,
 }
 
 /// A library scene error as `penumbra.SceneError`, with the CLI's message.
@@ -63,7 +66,7 @@ impl Scene {
             text,
             base_dir,
             bunny,
-            worlds: Mutex::new(WorldCache::default()),
+            worlds: Arc::new(Mutex::new(WorldCache::default())),
         }
     }
 
@@ -210,6 +213,31 @@ impl Scene {
                 f32_values: true,
             },
         )
+    }
+
+    /// A scene from the dict `d` (shaped like a scene file: typically this
+    /// scene's `to_dict()`, changed), with this scene's base directory and
+    /// bunny, and its name unless `name` is given. It shares this scene's
+    /// built meshes and BVHs: a render whose geometry (objects, light
+    /// shapes, material names, mesh files) matches one built for either
+    /// scene reuses it, so animation frames that move only the camera build
+    /// them once. Renders exactly like `scene_from_dict(d, base_dir=...,
+    /// bunny=..., name=...)`.
+    #[pyo3(signature = (d, *, name = None))]
+    fn derive(&self, d: &Bound<'_, PyAny>, name: Option<String>) -> PyResult<Scene> {
+        Ok(Scene {
+            name: name.unwrap_or_else(|| self.name.clone()),
+            text: dict_text("Scene.derive", d)?,
+            base_dir: self.base_dir.clone(),
+            bunny: self.bunny.clone(),
+            worlds: Arc::clone(&self.worlds),
+        })
+    }
+
+    /// Built worlds this scene holds (with the scenes it shares them with);
+    /// for tests.
+    fn _worlds_kept(&self) -> usize {
+        self.worlds.lock().unwrap_or_else(|e| e.into_inner()).len()
     }
 
     /// Validates the scene with these render options, exactly as `render`
@@ -367,10 +395,20 @@ pub fn scene_from_dict(
     bunny: Option<PathBuf>,
     name: Option<String>,
 ) -> PyResult<Scene> {
+    Ok(Scene::new(
+        name.unwrap_or_else(|| "<dict>".to_string()),
+        dict_text("scene_from_dict", d)?,
+        base_dir,
+        bunny.or_else(default_bunny_path),
+    ))
+}
+
+/// The JSON text of a dict shaped like a scene file, checked to deserialize.
+fn dict_text(func: &str, d: &Bound<'_, PyAny>) -> PyResult<Text> {
     if !d.is_instance_of::<PyDict>() {
-        return Err(PyTypeError::new_err(
-            "scene_from_dict expects a dict shaped like a scene file",
-        ));
+        return Err(PyTypeError::new_err(format!(
+            "{func} expects a dict shaped like a scene file"
+        )));
     }
     let value = py_to_json(d, "", 0).map_err(|e| {
         // Bad values are a bad scene; keep the type of a wrong Python type.
@@ -383,10 +421,5 @@ pub fn scene_from_dict(
     })?;
     let text = value.to_string();
     desc_from_value(value).map_err(scene_error)?;
-    Ok(Scene::new(
-        name.unwrap_or_else(|| "<dict>".to_string()),
-        Text::Json { text },
-        base_dir,
-        bunny.or_else(default_bunny_path),
-    ))
+    Ok(Text::Json { text })
 }

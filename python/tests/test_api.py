@@ -144,6 +144,33 @@ def test_a_settings_sweep_renders_what_fresh_scenes_render(mesh_scene: Path):
     assert stats["primitives"] == sa["primitives"] - 1
 
 
+def test_derived_scenes_share_built_worlds(mesh_scene: Path):
+    scene = penumbra.load_scene(mesh_scene)
+    a, _ = penumbra.render(scene, spp=1)
+    assert scene._worlds_kept() == 1
+    d = scene.to_dict()
+    d["camera"]["position"] = [1.0, 2.0, 3.0]
+    moved = scene.derive(d)
+    assert (moved.name, moved.base_dir, moved.bunny) == (scene.name, scene.base_dir, scene.bunny)
+    assert moved._worlds_kept() == 1, "shared before its first render"
+    b, _ = penumbra.render(moved, spp=1)
+    assert scene._worlds_kept() == 1, "the camera is not geometry"
+    fresh = penumbra.scene_from_dict(d, base_dir=scene.base_dir)
+    assert np.array_equal(b, penumbra.render(fresh, spp=1)[0])
+    assert not np.array_equal(a, b)
+    d["objects"][0]["transform"]["rotate_degrees"] = 40.0
+    turned = moved.derive(d, name="turned")
+    c, stats = penumbra.render(turned, spp=1)
+    assert stats["scene"] == "turned"
+    assert scene._worlds_kept() == 2, "a turned mesh is other geometry"
+    fresh = penumbra.scene_from_dict(d, base_dir=scene.base_dir)
+    assert np.array_equal(c, penumbra.render(fresh, spp=1)[0])
+    with pytest.raises(TypeError, match="Scene.derive expects a dict"):
+        scene.derive([1])
+    with pytest.raises(penumbra.SceneError, match="radius"):
+        scene.derive({"objects": [{"type": "sphere", "radius": "big"}]})
+
+
 def test_scene_pickles_as_text_and_renders_the_same(mesh_scene: Path):
     scene = penumbra.load_scene(mesh_scene)
     data = pickle.dumps(scene)
