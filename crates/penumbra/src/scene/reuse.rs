@@ -1,8 +1,8 @@
 //! Reusing built worlds across builds of one scene with other settings.
 //!
-//! Loading the meshes and building the BVH is most of a scene's build (for
-//! the bunny, about 30 ms of 35; for a million triangles, half a second),
-//! and none of it depends on the ray budgets, distributions, metrics, image
+//! Loading the meshes and building the BVH is nearly all of a scene's build
+//! (for the bunny, some 30 ms; for a million triangles, half a second), and
+//! none of it depends on the ray budgets, distributions, metrics, image
 //! size, camera or material parameters. A sweep over those (the evaluation
 //! runner's tables, a Python loop over sample counts) can build the world
 //! once: [`WorldCache`] keeps the last few, keyed by everything a world is
