@@ -10,7 +10,9 @@
 //!
 //! For each ray file: closest hit and any hit over `(0, inf)`, one thread,
 //! the number of hits and the median over `--repeat` runs of the on-CPU time
-//! of the tracing thread. Build: median time on one thread (on-CPU) and on
+//! of the tracing thread, through the batch calls (`closest_hit_each`,
+//! `occluded_each`, which interleave the traversals of eight rays: `rays` in
+//! the output) and one ray per call (`closest_hit`, `occluded`: `single`). Build: median time on one thread (on-CPU) and on
 //! all threads (wall clock). `--generic` also measures the generic
 //! [`Bvh`] with the scalar watertight test through its
 //! closure (how static meshes were traced before the triangle BVH), and
@@ -143,17 +145,45 @@ fn rates<R>(
     Value::Object(out)
 }
 
+/// Times the batch calls (`closest_hit_each`, `occluded_each`: the rays'
+/// traversals interleaved) over every ray set, each ray over `(0, inf)`.
+fn batch_rates(args: &Args, rays: &[(String, Vec<Ray>)], bvh: &TriangleBvh) -> Value {
+    let mut out = serde_json::Map::new();
+    for (name, set) in rays {
+        let tmax = vec![f32::INFINITY; set.len()];
+        let (mut hits, mut blocked) = (Vec::new(), Vec::new());
+        let (tc, hits_closest) = time_cpu(args.repeat, || {
+            bvh.closest_hit_each(set, 0.0, &tmax, &mut hits);
+            hits.iter().filter(|h| h.is_some()).count()
+        });
+        let (ta, hits_any) = time_cpu(args.repeat, || {
+            bvh.occluded_each(set, 0.0, &tmax, &mut blocked);
+            blocked.iter().filter(|&&b| b).count()
+        });
+        out.insert(
+            name.clone(),
+            json!({
+                "rays": set.len(),
+                "closest": rate(set.len(), tc, hits_closest),
+                "any": rate(set.len(), ta, hits_any),
+            }),
+        );
+    }
+    Value::Object(out)
+}
+
 fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
     let build = time_build(args.repeat, || TriangleBvh::build(tris.len(), |i| tris[i]));
     let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
     let s = bvh.stats();
-    let out = rates(
+    let single = rates(
         args,
         rays,
         <[Ray]>::to_vec,
         |r| bvh.closest_hit(r, 0.0, f32::INFINITY).is_some(),
         |r| bvh.occluded(r, 0.0, f32::INFINITY),
     );
+    let batch = batch_rates(args, rays, &bvh);
     json!({
         "build": build,
         "tree": {
@@ -163,7 +193,8 @@ fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Val
             "lane_fill": s.triangles as f64 / (4 * s.packs.max(1)) as f64,
             "bytes": s.bytes,
         },
-        "rays": out,
+        "rays": batch,
+        "single": single,
     })
 }
 

@@ -50,6 +50,8 @@ use crate::math::{nearest_lane, Aabb, Ray, Vec3};
 use glam::Vec4;
 use rayon::prelude::*;
 
+mod stream;
+
 /// `1 + 2γ₃`, as in [`Bvh`](super::Bvh): makes the far slab distance conservative.
 const TFAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
@@ -119,6 +121,24 @@ impl Stack {
         }
         self.len -= 1;
         Some(self.inline[self.len])
+    }
+
+    /// Pops the next subtree that can still hold a hit nearer than `tmax`,
+    /// dropping those that start beyond it.
+    #[inline(always)]
+    fn pop_within(&mut self, tmax: f32) -> Option<u32> {
+        loop {
+            let (c, t) = self.pop()?;
+            if t <= tmax * TFAR_SCALE {
+                return Some(c);
+            }
+        }
+    }
+
+    /// Empties the stack for the next ray.
+    fn clear(&mut self) {
+        self.len = 0;
+        self.spill.clear();
     }
 }
 
@@ -620,9 +640,7 @@ impl TriangleBvh {
             while mask != 0 {
                 let leaf = group.child[mask.trailing_zeros() as usize];
                 mask &= mask - 1;
-                let first = (leaf & FIRST_MASK) as usize;
-                let count = ((leaf >> 28) & 7) as usize;
-                for p in &self.packs[first..first + count] {
+                for p in self.leaf_packs(leaf) {
                     if pack_any_hit(p, &r, tmin, tmax, &mut hit) {
                         return true;
                     }
@@ -636,6 +654,14 @@ impl TriangleBvh {
     #[inline]
     pub fn occluded(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
         self.any_hit(ray, tmin, tmax, |_| true)
+    }
+
+    /// The packets of the leaf `child` refers to.
+    #[inline(always)]
+    fn leaf_packs(&self, child: u32) -> &[Pack] {
+        let first = (child & FIRST_MASK) as usize;
+        let count = ((child >> 28) & 7) as usize;
+        &self.packs[first..first + count]
     }
 
     /// [`traverse`](Self::traverse) for one ray: `leaf` is called for each
@@ -696,52 +722,7 @@ impl TriangleBvh {
                     }
                 };
                 if mask != 0 {
-                    let i0 = mask.trailing_zeros() as usize;
-                    let rest = mask & (mask - 1);
-                    if rest == 0 {
-                        cur = at(i0);
-                        continue;
-                    }
-                    if !ORDERED {
-                        // Any order finds an occluder; storage order (the
-                        // others pushed last first, with no distance: `tmax`
-                        // never shrinks here) is the order `gather` lists
-                        // leaves in, so `any_hit_in` reports what this does.
-                        let mut m = rest;
-                        while m != 0 {
-                            let i = 31 - m.leading_zeros() as usize;
-                            stack.push((at(i), f32::NEG_INFINITY));
-                            m &= !(1 << i);
-                        }
-                        cur = at(i0);
-                        continue;
-                    }
-                    let i1 = rest.trailing_zeros() as usize;
-                    if rest & (rest - 1) == 0 {
-                        let (n, f) = if t[i1] < t[i0] { (i1, i0) } else { (i0, i1) };
-                        stack.push((at(f), t[f]));
-                        cur = at(n);
-                        continue;
-                    }
-                    // More: push all but the nearest, farthest first.
-                    let mut e = [(0u32, 0f32); WIDTH];
-                    let mut k = 0;
-                    let mut m = mask;
-                    while m != 0 {
-                        let i = m.trailing_zeros() as usize;
-                        e[k] = (at(i), t[i]);
-                        let mut j = k;
-                        while j > 0 && e[j - 1].1 < e[j].1 {
-                            e.swap(j - 1, j);
-                            j -= 1;
-                        }
-                        k += 1;
-                        m &= m - 1;
-                    }
-                    for &entry in &e[..k - 1] {
-                        stack.push(entry);
-                    }
-                    cur = e[k - 1].0;
+                    cur = descend::<ORDERED>(mask, &t, at, &mut stack);
                     continue;
                 }
             } else {
@@ -752,24 +733,73 @@ impl TriangleBvh {
                 } else {
                     (cur, None)
                 };
-                let first = (child & FIRST_MASK) as usize;
-                let count = ((child >> 28) & 7) as usize;
-                if leaf(at, &self.packs[first..first + count], &mut tmax) {
+                if leaf(at, self.leaf_packs(child), &mut tmax) {
                     return true;
                 }
             }
-            // Pop the next subtree that can still hold a closer hit.
-            loop {
-                let Some((c, t)) = stack.pop() else {
-                    return false;
-                };
-                if t <= tmax * TFAR_SCALE {
-                    cur = c;
-                    break;
-                }
+            match stack.pop_within(tmax) {
+                Some(c) => cur = c,
+                None => return false,
             }
         }
     }
+}
+
+/// The child to visit after an interior node whose children in `mask` (not
+/// empty) were hit at entry distances `t`; the other children hit are
+/// pushed on `stack`. `at(i)` is the reference of child `i`.
+///
+/// Unordered (any hit), the first child in storage order is next and the
+/// others are pushed last first, with no distance (`tmax` never shrinks
+/// there), so they pop in storage order: the order `gather` lists leaves
+/// in, so that `any_hit_in` reports what `any_hit` does. Ordered, the
+/// nearest is next and the others are pushed farthest first.
+#[inline(always)]
+fn descend<const ORDERED: bool>(
+    mask: u32,
+    t: &[f32; WIDTH],
+    at: impl Fn(usize) -> u32,
+    stack: &mut Stack,
+) -> u32 {
+    let i0 = mask.trailing_zeros() as usize;
+    let rest = mask & (mask - 1);
+    if rest == 0 {
+        return at(i0);
+    }
+    if !ORDERED {
+        let mut m = rest;
+        while m != 0 {
+            let i = 31 - m.leading_zeros() as usize;
+            stack.push((at(i), f32::NEG_INFINITY));
+            m &= !(1 << i);
+        }
+        return at(i0);
+    }
+    let i1 = rest.trailing_zeros() as usize;
+    if rest & (rest - 1) == 0 {
+        let (n, f) = if t[i1] < t[i0] { (i1, i0) } else { (i0, i1) };
+        stack.push((at(f), t[f]));
+        return at(n);
+    }
+    // More: insertion-sort by distance, farthest first.
+    let mut e = [(0u32, 0f32); WIDTH];
+    let mut k = 0;
+    let mut m = mask;
+    while m != 0 {
+        let i = m.trailing_zeros() as usize;
+        e[k] = (at(i), t[i]);
+        let mut j = k;
+        while j > 0 && e[j - 1].1 < e[j].1 {
+            e.swap(j - 1, j);
+            j -= 1;
+        }
+        k += 1;
+        m &= m - 1;
+    }
+    for &entry in &e[..k - 1] {
+        stack.push(entry);
+    }
+    e[k - 1].0
 }
 
 /// Tests one packet for a hit nearer than `tmax`; on one, shrinks `tmax`
@@ -1111,6 +1141,81 @@ mod tests {
             assert_eq!(bvh.closest_hit(&ray, 0.0, f32::INFINITY), None);
             assert!(!bvh.occluded(&ray, 0.0, f32::INFINITY));
         }
+    }
+
+    /// Every crossing `any_hit` reports for `ray`, in its order, until
+    /// `stop` of them (then also whether it stopped).
+    fn crossings(
+        bvh: &TriangleBvh,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        stop: usize,
+    ) -> (bool, Vec<u32>) {
+        let mut seen = Vec::new();
+        let stopped = bvh.any_hit(ray, tmin, tmax, |id| {
+            seen.push(id);
+            seen.len() == stop
+        });
+        (stopped, seen)
+    }
+
+    /// The interleaved batch calls against single rays: the same closest
+    /// hit bit for bit, and the same crossings in the same order, with a
+    /// limit per ray, rays stopped early, non-finite rays and an empty tree.
+    #[test]
+    fn interleaved_batches_match_single_rays() {
+        let mut r = Rng::new(25);
+        let mut cases = vec![(
+            Vec::new(),
+            random_rays(&mut r, 50, &Aabb::new(Vec3::ZERO, Vec3::ONE)),
+        )];
+        for (n, size) in [(1, 3.0), (17, 2.0), (3000, 0.5)] {
+            let tris = soup(&mut r, n, size);
+            let b = tris
+                .iter()
+                .fold(Aabb::EMPTY, |b, t| b.union(Aabb::from_points(*t)));
+            let mut rays = random_rays(&mut r, 2000, &b);
+            rays[7].0 = Ray::new(Vec3::splat(f32::NAN), Vec3::X, 0.0);
+            rays[8].0 = Ray::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0), 0.0);
+            cases.push((tris, rays));
+        }
+        cases.push((
+            flat_triangles(&mut r, 2000),
+            axis_and_parallel_rays(&mut r, 3000),
+        ));
+        let (mut closest, mut blocked) = (Vec::new(), Vec::new());
+        for (tris, rays) in &cases {
+            let bvh = TriangleBvh::build(tris.len(), |i| tris[i]);
+            // One `tmin` per batch: the rays' own limits, and 0.5.
+            for tmin in [0.0, 0.5] {
+                let batch: Vec<Ray> = rays.iter().map(|r| r.0).collect();
+                let tmax: Vec<f32> = rays.iter().map(|r| r.2).collect();
+                bvh.closest_hit_each(&batch, tmin, &tmax, &mut closest);
+                bvh.occluded_each(&batch, tmin, &tmax, &mut blocked);
+                for (i, ray) in batch.iter().enumerate() {
+                    let want = bvh.closest_hit(ray, tmin, tmax[i]);
+                    let bits = |h: Option<TriHit>| {
+                        h.map(|h| (h.id, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits()))
+                    };
+                    assert_eq!(bits(closest[i]), bits(want), "ray {i} {ray:?}");
+                    assert_eq!(blocked[i], bvh.occluded(ray, tmin, tmax[i]), "ray {i}");
+                }
+                for stop in [usize::MAX, 1, 2] {
+                    let mut seen = vec![Vec::new(); batch.len()];
+                    let hit = |i: usize, id: u32| {
+                        seen[i].push(id);
+                        seen[i].len() == stop
+                    };
+                    bvh.any_hit_each(&batch, tmin, &tmax, hit, &mut blocked);
+                    for (i, ray) in batch.iter().enumerate() {
+                        let want = crossings(&bvh, ray, tmin, tmax[i], stop);
+                        assert_eq!((blocked[i], &seen[i]), (want.0, &want.1), "ray {i}");
+                    }
+                }
+            }
+        }
+        assert!(cases.iter().any(|c| c.1.len() > 8), "more rays than lanes");
     }
 
     #[test]
