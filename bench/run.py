@@ -91,6 +91,11 @@ def build(args):
     if args.obvhs:
         cmd += ["--features", "penumbra-bench/obvhs"]
     run(cmd, cwd=ROOT)
+    # The Python module, into the harness's venv: the ray section times
+    # Penumbra's batch call through Python, as it times embreex's.
+    env = dict(os.environ, VIRTUAL_ENV=str(HERE / ".venv"))
+    run([VENV_PY, "-m", "maturin", "develop", "--release", "--quiet", "-m", ROOT / "python" / "Cargo.toml"],
+        cwd=ROOT, env=env)
     b = target / "release"
     return {"penumbra": b / "penumbra", "raybench": b / "raybench", "scenebench": b / "scenebench"}
 
@@ -183,32 +188,43 @@ def section_rays(args, bins, data):
     w = HERE / ".work"
     rays = ["--rays", f"camera={w / 'camera.rays'}", "--rays", f"incoherent={w / 'incoherent.rays'}"]
     rounds = []
-    for _ in range(args.rounds):
-        e = json.loads(run([VENV_PY, HERE / "embree_rays.py", "--tris", w / "bunny.tris", *rays,
-                            "--repeat", 3]).stdout)
+    for k in range(args.rounds):
+        def python_rays(system):
+            return json.loads(run([VENV_PY, HERE / "rays.py", "--system", system, "--tris", w / "bunny.tris",
+                                   *rays, "--repeat", 3]).stdout)
+        # Alternate which system goes first.
+        systems = ["embree", "penumbra"] if k % 2 == 0 else ["penumbra", "embree"]
+        py = {s: python_rays(s) for s in systems}
         pcmd = [bins["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3, "--generic"]
         if args.obvhs:
             pcmd.append("--obvhs")
         p = json.loads(run(pcmd).stdout)
-        rounds.append((e, p))
-    e1 = json.loads(run([VENV_PY, HERE / "embree_rays.py", "--tris", w / "bunny.tris", "--one-cpu",
+        rounds.append((py["embree"], p, py["penumbra"]))
+    e1 = json.loads(run([VENV_PY, HERE / "rays.py", "--system", "embree", "--tris", w / "bunny.tris", "--one-cpu",
                          "--repeat", 5]).stdout)
     out = {"rows": [], "build": {}, "tree": rounds[-1][1]["penumbra"]["tree"]}
     for set_name in ("camera", "incoherent"):
         for kind in ("closest", "any"):
-            er = [r[0]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
-            pr = [r[1]["penumbra"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+            def rates(get):
+                return [get(r)["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
+            er = rates(lambda r: r[0])
+            pr = rates(lambda r: r[2])
+            nb = rates(lambda r: r[1]["penumbra"])
+            ns = [r[1]["penumbra"]["single"][set_name][kind]["mrays_per_s"] for r in rounds]
             row = {
                 "set": set_name, "kind": kind,
                 "rays": rounds[0][0]["rays"][set_name]["rays"],
                 "embree": med(er), "penumbra": med(pr),
                 "ratio": med([p / e for p, e in zip(pr, er)]),
+                "native_batch": med(nb),
+                "single": med(ns), "ratio_single": med([p / e for p, e in zip(ns, er)]),
                 "hits_embree": rounds[0][0]["rays"][set_name][kind]["hits"],
-                "hits_penumbra": rounds[0][1]["penumbra"]["rays"][set_name][kind]["hits"],
+                "hits_penumbra": rounds[0][2]["rays"][set_name][kind]["hits"],
+                "hits_single": rounds[0][1]["penumbra"]["single"][set_name][kind]["hits"],
             }
             gr = [r[1]["generic"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
             row["generic"] = med(gr)
-            row["ratio_generic"] = med([p / g for p, g in zip(pr, gr)])
+            row["ratio_generic"] = med([p / g for p, g in zip(ns, gr)])
             if args.obvhs:
                 orr = [r[1]["obvhs"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
                 row["obvhs"] = med(orr)
@@ -220,6 +236,7 @@ def section_rays(args, bins, data):
         "penumbra_ms_1": med([r[1]["penumbra"]["build"]["ms_1_thread"] for r in rounds]),
         "generic_ms_all": med([r[1]["generic"]["build"]["ms_all_threads"] for r in rounds]),
         "generic_ms_1": med([r[1]["generic"]["build"]["ms_1_thread"] for r in rounds]),
+        "python_ms_all": med([r[2]["build_ms"] for r in rounds]),
     }
     if args.obvhs:
         out["build"]["obvhs_ms_all"] = med([r[1]["obvhs"]["build"]["ms_all_threads"] for r in rounds])
@@ -432,9 +449,13 @@ def report(res):
         r = res["rays"]
         for x in r["rows"]:
             tgt = x["set"] == "incoherent"
-            row(f"{x['set']} rays ({x['rays']:,}), {x['kind']} hit, 1 thread, Mrays/s",
+            row(f"{x['set']} rays ({x['rays']:,}), {x['kind']} hit, 1 thread, Mrays/s (batch call from Python)",
                 f"Embree {f(x['embree'])}", f(x["penumbra"]), f"{f(x['ratio'])}×",
                 "≥ 1×" if tgt else "—", (x["ratio"] >= 1) if tgt else True)
+        for x in r["rows"]:
+            if x["set"] == "incoherent":
+                row(f"incoherent rays, {x['kind']} hit, Penumbra one ray per call (raybench), Mrays/s",
+                    f"Embree {f(x['embree'])}", f(x["single"]), f"{f(x['ratio_single'])}×", "—", True)
         b = r["build"]
         row("BVH build, bunny (69,451 triangles), ms, all threads", f"Embree {f(b['embree_ms_all'], 1)}",
             f(b["penumbra_ms_all"], 1), f"{f(b['penumbra_ms_all'] / b['embree_ms_all'])}×", "≤ 2×",
@@ -481,8 +502,13 @@ def report(res):
     L.append("")
     if "rays" in res:
         r = res["rays"]
-        L.append(f"Hits (Embree / Penumbra): " + "; ".join(
-            f"{x['set']} {x['kind']} {x['hits_embree']:,} / {x['hits_penumbra']:,}" for x in r["rows"]) + ".")
+        L.append(f"Hits (Embree / Penumbra batch / Penumbra one per call): " + "; ".join(
+            f"{x['set']} {x['kind']} {x['hits_embree']:,} / {x['hits_penumbra']:,} / {x['hits_single']:,}"
+            for x in r["rows"]) + ".")
+        L.append("Penumbra's batch call without Python (raybench: `closest_hit_each` / `occluded_each` on the same "
+                 "arrays), Mrays/s: " + "; ".join(f"{x['set']} {x['kind']} {f(x['native_batch'])}" for x in r["rows"])
+                 + f". `TriangleMesh` from Python builds in {f(r['build']['python_ms_all'], 1)} ms (all threads, "
+                 "the copy of the array included).")
         L.append("Before (the generic binary BVH with the scalar watertight test through a closure, as static meshes "
                  "were traced before), Mrays/s: " + "; ".join(
                      f"{x['set']} {x['kind']} {f(x['generic'])} (now {f(x['ratio_generic'])}× that)" for x in r["rows"])

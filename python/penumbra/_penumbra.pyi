@@ -125,6 +125,35 @@ class Scene:
     def __reduce__(self) -> tuple[Any, ...]: ...
     def __dask_tokenize__(self) -> tuple[Any, ...]: ...
 
+class Hits(TypedDict):
+    """What ``TriangleMesh.intersect`` returns: one entry per ray."""
+
+    t: npt.NDArray[np.float32]  # inf for a miss
+    prim: npt.NDArray[np.int64]  # triangle index, -1 for a miss
+    u: npt.NDArray[np.float32]  # barycentric weight of the second vertex
+    v: npt.NDArray[np.float32]  # barycentric weight of the third vertex
+
+@final
+class TriangleMesh:
+    """Triangles in Penumbra's BVH, to trace batches of rays against (docs/python.md)."""
+
+    def __init__(self, vertices: npt.ArrayLike, faces: npt.ArrayLike | None = None) -> None: ...
+    def __len__(self) -> int: ...
+    def intersect(
+        self,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        tmin: float = 0.0,
+        tmax: float | npt.ArrayLike | None = None,
+    ) -> Hits: ...
+    def occluded(
+        self,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        tmin: float = 0.0,
+        tmax: float | npt.ArrayLike | None = None,
+    ) -> npt.NDArray[np.bool_]: ...
+
 def load_scene(path_or_builtin_name: StrPath, *, bunny: StrPath | None = None) -> Scene:
     """Reads a scene file, or a built-in scene by name. Raises SceneError (file:line:col)."""
 

@@ -10,6 +10,7 @@
 
 mod convert;
 mod images;
+mod mesh;
 mod options;
 mod run;
 mod scene;
@@ -211,6 +212,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("SceneError", py.get_type::<SceneError>())?;
     m.add_class::<Scene>()?;
+    m.add_class::<mesh::TriangleMesh>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_dict, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
