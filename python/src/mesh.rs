@@ -1,7 +1,7 @@
 //! `TriangleMesh`: Penumbra's triangle BVH for tracing rays from Python,
 //! the batch call that the benchmark harness times against Embree's.
 
-use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -120,45 +120,102 @@ fn triangles(
     Ok(tris)
 }
 
-/// The rays and per-ray `tmax` of a query, checked.
+/// A float32 array of shape (N, 3) (converted if need be), read.
+fn points<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let np = a.py().import("numpy")?;
+    let arr = np
+        .call_method1("ascontiguousarray", (a, "float32"))
+        .map_err(|e| value_error(format!("{what}: {e}")))?;
+    let arr = arr
+        .cast_into::<PyArray2<f32>>()
+        .map_err(|_| value_error(format!("{what} must have shape (N, 3)")))?;
+    if arr.shape()[1] != 3 {
+        return Err(value_error(format!(
+            "{what} must have shape (N, 3), got {:?}",
+            arr.shape()
+        )));
+    }
+    Ok(arr)
+}
+
+/// The rays and per-ray `tmax` of a query, checked: one pass over the
+/// arrays, since a batch may hold millions of rays.
 fn query(
     origins: &Bound<'_, PyAny>,
     directions: &Bound<'_, PyAny>,
     tmin: f32,
-    tmax: &Bound<'_, PyAny>,
+    tmax: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Vec<Ray>, Vec<f32>)> {
-    let (o, oshape) = rows::<f32>(origins, "float32", 3, "origins")?;
-    let (d, dshape) = rows::<f32>(directions, "float32", 3, "directions")?;
-    if oshape.len() != 2 || oshape != dshape {
+    let (o, d) = (
+        points(origins, "origins")?,
+        points(directions, "directions")?,
+    );
+    if o.shape() != d.shape() {
         return Err(value_error(format!(
-            "origins and directions must both have shape (N, 3), got {oshape:?} and {dshape:?}"
+            "origins and directions must both have shape (N, 3), got {:?} and {:?}",
+            o.shape(),
+            d.shape()
         )));
     }
-    let n = oshape[0];
     if !tmin.is_finite() || tmin < 0.0 {
         return Err(value_error(format!(
             "tmin must be finite and >= 0, got {tmin}"
         )));
     }
-    let np = tmax.py().import("numpy")?;
-    let limits = np
-        .call_method1("broadcast_to", (tmax, (n,)))
-        .map_err(|e| value_error(format!("tmax must be a number or have shape (N,): {e}")))?;
-    let (limits, _) = rows::<f32>(
-        &np.call_method1("reshape", (limits, (n, 1)))?,
-        "float32",
-        1,
-        "tmax",
-    )?;
-    if limits.iter().any(|t| t.is_nan()) {
-        return Err(value_error("tmax must not be NaN"));
-    }
-    let rays = vec3s(&o)
-        .into_iter()
-        .zip(vec3s(&d))
-        .map(|(o, d)| Ray::new(o, d, 0.0))
+    let n = o.shape()[0];
+    let limits = match tmax {
+        None => vec![f32::INFINITY; n],
+        Some(t) => {
+            let np = t.py().import("numpy")?;
+            let b = np.call_method1("broadcast_to", (t, (n,))).map_err(|e| {
+                value_error(format!("tmax must be a number or have shape (N,): {e}"))
+            })?;
+            let arr = np.call_method1("ascontiguousarray", (b, "float32"))?;
+            let arr = arr
+                .cast_into::<PyArray1<f32>>()
+                .map_err(|_| value_error("tmax must be a number or have shape (N,)"))?;
+            let v = arr.to_vec().map_err(|e| value_error(e.to_string()))?;
+            if v.iter().any(|t| t.is_nan()) {
+                return Err(value_error("tmax must not be NaN"));
+            }
+            v
+        }
+    };
+    let (o, d) = (o.readonly(), d.readonly());
+    let (o, d) = (
+        o.as_slice().map_err(|e| value_error(e.to_string()))?,
+        d.as_slice().map_err(|e| value_error(e.to_string()))?,
+    );
+    let rays = o
+        .chunks_exact(3)
+        .zip(d.chunks_exact(3))
+        .map(|(o, d)| Ray::new(Vec3::from_slice(o), Vec3::from_slice(d), 0.0))
         .collect();
     Ok((rays, limits))
+}
+
+/// The columns of `intersect`'s result, in one pass over the hits.
+fn columns(hits: &[Option<TriHit>]) -> (Vec<f32>, Vec<i64>, Vec<f32>, Vec<f32>) {
+    let n = hits.len();
+    let (mut t, mut prim) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let (mut u, mut v) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for h in hits {
+        let h = h.unwrap_or(TriHit {
+            id: u32::MAX,
+            t: f32::INFINITY,
+            b1: 0.0,
+            b2: 0.0,
+        });
+        t.push(h.t);
+        prim.push(if h.id == u32::MAX {
+            -1
+        } else {
+            i64::from(h.id)
+        });
+        u.push(h.b1);
+        v.push(h.b2);
+    }
+    (t, prim, u, v)
 }
 
 #[pymethods]
@@ -196,25 +253,17 @@ impl TriangleMesh {
         tmin: f32,
         tmax: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let inf = f32::INFINITY.into_pyobject(py)?.into_any();
-        let (rays, limits) = query(origins, directions, tmin, tmax.unwrap_or(&inf))?;
-        let hits = py.detach(|| {
-            let mut out = Vec::new();
-            self.bvh.closest_hit_each(&rays, tmin, &limits, &mut out);
-            out
+        let (rays, limits) = query(origins, directions, tmin, tmax)?;
+        let (t, prim, u, v) = py.detach(|| {
+            let mut hits = Vec::new();
+            self.bvh.closest_hit_each(&rays, tmin, &limits, &mut hits);
+            columns(&hits)
         });
-        let col = |f: fn(&TriHit) -> f32, miss: f32| -> Vec<f32> {
-            hits.iter().map(|h| h.as_ref().map_or(miss, f)).collect()
-        };
-        let prim: Vec<i64> = hits
-            .iter()
-            .map(|h| h.map_or(-1, |h| i64::from(h.id)))
-            .collect();
         let d = PyDict::new(py);
-        d.set_item("t", col(|h| h.t, f32::INFINITY).into_pyarray(py))?;
+        d.set_item("t", t.into_pyarray(py))?;
         d.set_item("prim", prim.into_pyarray(py))?;
-        d.set_item("u", col(|h| h.b1, 0.0).into_pyarray(py))?;
-        d.set_item("v", col(|h| h.b2, 0.0).into_pyarray(py))?;
+        d.set_item("u", u.into_pyarray(py))?;
+        d.set_item("v", v.into_pyarray(py))?;
         Ok(d)
     }
 
@@ -230,8 +279,7 @@ impl TriangleMesh {
         tmin: f32,
         tmax: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let inf = f32::INFINITY.into_pyobject(py)?.into_any();
-        let (rays, limits) = query(origins, directions, tmin, tmax.unwrap_or(&inf))?;
+        let (rays, limits) = query(origins, directions, tmin, tmax)?;
         let blocked = py.detach(|| {
             let mut out = Vec::new();
             self.bvh.occluded_each(&rays, tmin, &limits, &mut out);
