@@ -28,7 +28,9 @@
 //! in storage order, as Embree's occlusion traversal does: most shadow rays
 //! are not blocked and enter every subtree they hit anyway. The stack keeps
 //! 24 entries inline (initialised for every ray, so it is kept small) and
-//! spills deeper ones to the heap, which real trees never need.
+//! spills deeper ones to the heap, which real trees never need. Batches of
+//! independent rays can be traced with their traversals interleaved
+//! (`stream`), which overlaps the memory waits of incoherent rays.
 //!
 //! # Exactness
 //! The triangle test is [`intersect_triangle`]'s watertight algorithm
