@@ -118,21 +118,20 @@ fn rate(n: usize, seconds: f64, hits: usize) -> Value {
     })
 }
 
-/// Times `closest` and `any` (each says whether a ray hit) over every ray
-/// set, after `prepare` turned the set into the rays the tracer takes.
-fn rates<R>(
+/// Times `closest` and `any` (each traces a whole set and counts its hits)
+/// over every ray set, after `prepare` turned the set into what they take.
+fn set_rates<S>(
     args: &Args,
     rays: &[(String, Vec<Ray>)],
-    prepare: impl Fn(&[Ray]) -> Vec<R>,
-    closest: impl Fn(&R) -> bool,
-    any: impl Fn(&R) -> bool,
+    prepare: impl Fn(&[Ray]) -> S,
+    mut closest: impl FnMut(&S) -> usize,
+    mut any: impl FnMut(&S) -> usize,
 ) -> Value {
     let mut out = serde_json::Map::new();
     for (name, set) in rays {
-        let set = prepare(set);
-        let (tc, hits_closest) =
-            time_cpu(args.repeat, || set.iter().filter(|r| closest(r)).count());
-        let (ta, hits_any) = time_cpu(args.repeat, || set.iter().filter(|r| any(r)).count());
+        let prepared = prepare(set);
+        let (tc, hits_closest) = time_cpu(args.repeat, || closest(&prepared));
+        let (ta, hits_any) = time_cpu(args.repeat, || any(&prepared));
         out.insert(
             name.clone(),
             json!({
@@ -145,31 +144,41 @@ fn rates<R>(
     Value::Object(out)
 }
 
-/// Times the batch calls (`closest_hit_each`, `occluded_each`: the rays'
-/// traversals interleaved) over every ray set, each ray over `(0, inf)`.
+/// [`set_rates`] one ray per call: `closest` and `any` say whether a ray hit.
+fn rates<R>(
+    args: &Args,
+    rays: &[(String, Vec<Ray>)],
+    prepare: impl Fn(&[Ray]) -> Vec<R>,
+    closest: impl Fn(&R) -> bool,
+    any: impl Fn(&R) -> bool,
+) -> Value {
+    let count = |f: &dyn Fn(&R) -> bool, set: &Vec<R>| set.iter().filter(|r| f(r)).count();
+    set_rates(
+        args,
+        rays,
+        prepare,
+        |set| count(&closest, set),
+        |set| count(&any, set),
+    )
+}
+
+/// [`set_rates`] through the batch calls (`closest_hit_each`,
+/// `occluded_each`: the rays' traversals interleaved), each ray over `(0, inf)`.
 fn batch_rates(args: &Args, rays: &[(String, Vec<Ray>)], bvh: &TriangleBvh) -> Value {
-    let mut out = serde_json::Map::new();
-    for (name, set) in rays {
-        let tmax = vec![f32::INFINITY; set.len()];
-        let (mut hits, mut blocked) = (Vec::new(), Vec::new());
-        let (tc, hits_closest) = time_cpu(args.repeat, || {
-            bvh.closest_hit_each(set, 0.0, &tmax, &mut hits);
+    let (mut hits, mut blocked) = (Vec::new(), Vec::new());
+    set_rates(
+        args,
+        rays,
+        |set| (set.to_vec(), vec![f32::INFINITY; set.len()]),
+        |(set, tmax)| {
+            bvh.closest_hit_each(set, 0.0, tmax, &mut hits);
             hits.iter().filter(|h| h.is_some()).count()
-        });
-        let (ta, hits_any) = time_cpu(args.repeat, || {
-            bvh.occluded_each(set, 0.0, &tmax, &mut blocked);
+        },
+        |(set, tmax)| {
+            bvh.occluded_each(set, 0.0, tmax, &mut blocked);
             blocked.iter().filter(|&&b| b).count()
-        });
-        out.insert(
-            name.clone(),
-            json!({
-                "rays": set.len(),
-                "closest": rate(set.len(), tc, hits_closest),
-                "any": rate(set.len(), ta, hits_any),
-            }),
-        );
-    }
-    Value::Object(out)
+        },
+    )
 }
 
 fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
