@@ -2,16 +2,17 @@
 //! the batch call that the benchmark harness times against Embree's.
 
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use penumbra::accel::{TriHit, TriangleBvh};
 use penumbra::math::{Ray, Vec3};
 
-/// Most triangles a mesh may hold: the BVH numbers its packets of four in
-/// 28 bits.
-const MAX_TRIANGLES: usize = 1 << 29;
+use crate::options::value_error;
+
+/// Most triangles a mesh may hold: the BVH numbers its packets of (up to)
+/// four triangles in 28 bits, and a packet may hold a single triangle.
+const MAX_TRIANGLES: usize = (1 << 28) - 1;
 
 /// Triangles in Penumbra's BVH, to trace batches of rays against.
 ///
@@ -25,10 +26,6 @@ const MAX_TRIANGLES: usize = 1 << 29;
 #[pyclass(frozen, module = "penumbra")]
 pub struct TriangleMesh {
     bvh: TriangleBvh,
-}
-
-fn value_error(message: impl Into<String>) -> PyErr {
-    PyValueError::new_err(message.into())
 }
 
 /// `a` as a contiguous array of `dtype` with `cols` columns (any leading
@@ -58,9 +55,7 @@ fn rows<T: numpy::Element + Copy>(
 }
 
 fn vec3s(flat: &[f32]) -> Vec<Vec3> {
-    flat.chunks_exact(3)
-        .map(|c| Vec3::new(c[0], c[1], c[2]))
-        .collect()
+    flat.chunks_exact(3).map(Vec3::from_slice).collect()
 }
 
 /// The triangles of `TriangleMesh(vertices, faces)` or `TriangleMesh(triangles)`.
