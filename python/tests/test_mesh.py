@@ -117,6 +117,24 @@ def test_results_do_not_depend_on_the_batch():
         assert one["prim"][0] == h["prim"][i] and one["t"][0] == h["t"][i]
 
 
+def test_batches_longer_than_a_chunk_match_short_ones():
+    """A batch is traced in pieces of 4,096 rays: a long one with per-ray
+    limits gives each ray what a short batch of the same rays gives it."""
+    rng = np.random.default_rng(10)
+    tris = soup(rng, 300)
+    o, d = rays_at(rng, tris, 10_000)
+    tmax = rng.uniform(0, 3, len(o)).astype(np.float32)
+    mesh = penumbra.TriangleMesh(tris)
+    whole, blocked = mesh.intersect(o, d, tmax=tmax), mesh.occluded(o, d, tmax=tmax)
+    assert (whole["prim"] != -1).sum() > 2000
+    for s in range(0, len(o), 700):
+        part = slice(s, s + 700)
+        short = mesh.intersect(o[part], d[part], tmax=tmax[part])
+        for k in ("t", "prim", "u", "v"):
+            np.testing.assert_array_equal(whole[k][part], short[k])
+        np.testing.assert_array_equal(blocked[part], mesh.occluded(o[part], d[part], tmax=tmax[part]))
+
+
 def test_empty_mesh_and_odd_rays():
     mesh = penumbra.TriangleMesh(np.zeros((0, 3, 3), np.float32))
     assert len(mesh) == 0 and "0 triangles" in repr(mesh)
