@@ -26,14 +26,30 @@ use crate::math::{Aabb, Vec3};
 use glam::Vec4;
 
 /// A plane parallel to the axis other than `a` and `b`: inside is
-/// `na · x[a] + nb · x[b] <= d`.
+/// `na · x[a] + nb · x[b] <= d`. `ia` and `ib` say which of a box's six
+/// bounds (`lo[0..3]`, then `hi[0..3]`) is its corner farthest inside the
+/// plane along those axes, so that the box test needs no choice per plane.
 #[derive(Clone, Copy, Debug, Default)]
 struct Plane {
-    a: usize,
-    b: usize,
+    ia: u8,
+    ib: u8,
     na: f32,
     nb: f32,
     d: f32,
+}
+
+impl Plane {
+    fn new(a: usize, b: usize, na: f32, nb: f32, d: f32) -> Plane {
+        // The corner farthest inside: the low side where the normal is positive.
+        let side = |axis: usize, n: f32| (axis + if n > 0.0 { 0 } else { 3 }) as u8;
+        Plane {
+            ia: side(a, na),
+            ib: side(b, nb),
+            na,
+            nb,
+            d,
+        }
+    }
 }
 
 /// At most this many slanted planes: three projections, whose hull of two
@@ -50,6 +66,15 @@ pub struct Shaft {
 
 /// Relative size of the margin the boxes are grown by.
 const MARGIN: f32 = 1e-5;
+
+/// +1 for a box's high side along an axis, -1 for its low side.
+fn sign(high: bool) -> f32 {
+    if high {
+        1.0
+    } else {
+        -1.0
+    }
+}
 
 impl Shaft {
     /// The hull of boxes `a` and `b` (grown by a small margin); `None` if
@@ -71,24 +96,24 @@ impl Shaft {
             planes: [Plane::default(); MAX_PLANES],
             len: 0,
         };
+        let bounds = |r: &Aabb| [r.min.to_array(), r.max.to_array()];
+        let (a, b) = (bounds(&a), bounds(&b));
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
             shaft.add_hull_edges(&a, &b, i, j);
         }
         Some(shaft)
     }
 
-    /// Adds the slanted edges of the 2D hull of both boxes projected on axes
-    /// (i, j): at a corner direction (a side of each axis) where one box
-    /// reaches farther along axis i and the other farther along axis j, the
-    /// hull has an edge from the one box's corner to the other's (Haines and
-    /// Wallace's plane construction). Its line has both boxes on one side.
-    fn add_hull_edges(&mut self, a: &Aabb, b: &Aabb, i: usize, j: usize) {
-        for (si, sj) in [(1.0f32, 1.0f32), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-            let corner = |r: &Aabb| {
-                let x = if si > 0.0 { r.max[i] } else { r.min[i] };
-                let y = if sj > 0.0 { r.max[j] } else { r.min[j] };
-                (x, y)
-            };
+    /// Adds the slanted edges of the 2D hull of both boxes (`[min, max]`)
+    /// projected on axes (i, j): at a corner direction (a side of each axis)
+    /// where one box reaches farther along axis i and the other farther
+    /// along axis j, the hull has an edge from the one box's corner to the
+    /// other's (Haines and Wallace's plane construction). Its line has both
+    /// boxes on one side.
+    fn add_hull_edges(&mut self, a: &[[f32; 3]; 2], b: &[[f32; 3]; 2], i: usize, j: usize) {
+        for (hi_i, hi_j) in [(true, true), (true, false), (false, true), (false, false)] {
+            let (si, sj) = (sign(hi_i), sign(hi_j));
+            let corner = |r: &[[f32; 3]; 2]| (r[usize::from(hi_i)][i], r[usize::from(hi_j)][j]);
             let (p, q) = (corner(a), corner(b));
             // Signed reach beyond the other box along each axis.
             let (dx, dy) = (si * (q.0 - p.0), sj * (q.1 - p.1));
@@ -103,13 +128,7 @@ impl Shaft {
             // Both corners lie on the line in exact arithmetic; the farther
             // one keeps rounding from pulling it inward.
             let d = (na * p.0 + nb * p.1).max(na * q.0 + nb * q.1);
-            self.planes[self.len] = Plane {
-                a: i,
-                b: j,
-                na,
-                nb,
-                d,
-            };
+            self.planes[self.len] = Plane::new(i, j, na, nb, d);
             self.len += 1;
         }
     }
@@ -130,11 +149,11 @@ impl Shaft {
             inside &= lo[axis].cmple(Vec4::splat(self.bounds.max[axis]));
             inside &= hi[axis].cmpge(Vec4::splat(self.bounds.min[axis]));
         }
+        let bounds = [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]];
         for p in &self.planes[..self.len] {
             // The box's corner farthest inside the plane.
-            let xa = if p.na > 0.0 { lo[p.a] } else { hi[p.a] };
-            let xb = if p.nb > 0.0 { lo[p.b] } else { hi[p.b] };
-            let near = Vec4::splat(p.na) * xa + Vec4::splat(p.nb) * xb;
+            let near = Vec4::splat(p.na) * bounds[usize::from(p.ia)]
+                + Vec4::splat(p.nb) * bounds[usize::from(p.ib)];
             inside &= near.cmple(Vec4::splat(p.d));
         }
         inside.bitmask()
