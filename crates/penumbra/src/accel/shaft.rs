@@ -25,10 +25,11 @@
 use crate::math::{Aabb, Vec3};
 use glam::Vec4;
 
-/// A plane parallel to the axis other than `a` and `b`: inside is
-/// `na · x[a] + nb · x[b] <= d`. `ia` and `ib` say which of a box's six
-/// bounds (`lo[0..3]`, then `hi[0..3]`) is its corner farthest inside the
-/// plane along those axes, so that the box test needs no choice per plane.
+/// A plane parallel to one axis: inside is `na · x[a] + nb · x[b] <= d` for
+/// the other two axes `a` and `b` (given to [`Plane::new`]). `ia` and `ib`
+/// say which of a box's six bounds (`lo[0..3]`, then `hi[0..3]`) is its
+/// corner farthest inside the plane along `a` and `b`, so that the box test
+/// needs no choice per plane.
 #[derive(Clone, Copy, Debug, Default)]
 struct Plane {
     ia: u8,
