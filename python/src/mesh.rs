@@ -19,10 +19,11 @@ const MAX_TRIANGLES: usize = (1 << 28) - 1;
 /// `TriangleMesh(vertices, faces)` takes float vertices of shape (V, 3) and
 /// integer faces of shape (F, 3) indexing them; `TriangleMesh(triangles)`
 /// takes one float array of shape (N, 3, 3). The BVH is built at once (on
-/// all cores). Rays are traced on the calling thread with the GIL released,
-/// eight at a time with their traversals interleaved; the hits are those of
-/// the watertight test the renderer uses, and do not depend on batch size
-/// or order.
+/// all cores). Rays are traced on the calling thread with the GIL released:
+/// runs of consecutive rays from one point as packets, the others eight at
+/// a time with their traversals interleaved. The hits are those of the
+/// watertight test the renderer uses (of equally near triangles the lowest
+/// index), and do not depend on batch size or order.
 #[pyclass(frozen, module = "penumbra")]
 pub struct TriangleMesh {
     bvh: TriangleBvh,

@@ -117,6 +117,52 @@ def test_results_do_not_depend_on_the_batch():
         assert one["prim"][0] == h["prim"][i] and one["t"][0] == h["t"][i]
 
 
+def grid_mesh(n: int) -> np.ndarray:
+    """The unit square at z = 0.5 as 2 n² triangles sharing edges, (N, 3, 3)."""
+    xs = np.linspace(0, 1, n + 1)
+    x0, y0 = np.meshgrid(xs[:-1], xs[:-1])
+    x1, y1 = x0 + 1 / n, y0 + 1 / n
+    a, b = np.stack([x0, y0], -1), np.stack([x1, y0], -1)
+    c, e = np.stack([x1, y1], -1), np.stack([x0, y1], -1)
+    tris = np.concatenate([np.stack([a, b, c], -2), np.stack([a, c, e], -2)]).reshape(-1, 3, 2)
+    return np.concatenate([tris, np.full(tris.shape[:-1] + (1,), 0.5)], -1).astype(np.float32)
+
+
+def test_rays_from_one_point_match_single_rays():
+    """Consecutive rays from one point (a camera's, in rows) are traced as
+    packets: each gets what it gets alone or in a shuffled batch, also when
+    aimed at edges and vertices shared by several triangles. The grid is in
+    the mesh twice, so every hit on it is a tie between two triangles at
+    exactly the same distance: the lower index is reported."""
+    rng = np.random.default_rng(11)
+    grid = grid_mesh(8)
+    tris = np.concatenate([grid, soup(rng, 300), grid])
+    mesh = penumbra.TriangleMesh(tris)
+    origin = np.array([0.43, 0.37, -1.5], dtype=np.float32)
+    # A 64 x 64 image of the square, and rays at the grid's vertices and edges.
+    px = (np.arange(64) + 0.5) / 64
+    gx, gy = np.meshgrid(px, px)
+    aim = [np.stack([gx, gy], -1).reshape(-1, 2)]
+    vx, vy = np.meshgrid(np.linspace(0, 1, 17), np.linspace(0, 1, 17))
+    aim.append(np.stack([vx, vy], -1).reshape(-1, 2))
+    aim = np.concatenate(aim)
+    target = np.concatenate([aim, np.full((len(aim), 1), 0.5)], -1)
+    o = np.broadcast_to(origin, target.shape).astype(np.float32)
+    d = (target - origin).astype(np.float32)
+    h = mesh.intersect(o, d)
+    assert (h["prim"] != -1).sum() > 4000
+    assert np.all(h["prim"] < len(grid) + 300)
+    perm = rng.permutation(len(o))
+    shuffled = mesh.intersect(o[perm], d[perm])
+    for k in ("t", "prim", "u", "v"):
+        np.testing.assert_array_equal(shuffled[k], h[k][perm])
+    np.testing.assert_array_equal(mesh.occluded(o, d), h["prim"] != -1)
+    np.testing.assert_array_equal(mesh.occluded(o[perm], d[perm]), h["prim"][perm] != -1)
+    for i in rng.choice(len(o), 200, replace=False):
+        one = mesh.intersect(o[i : i + 1], d[i : i + 1])
+        assert (one["prim"][0], one["t"][0]) == (h["prim"][i], h["t"][i])
+
+
 def test_batches_longer_than_a_chunk_match_short_ones():
     """A batch is traced in pieces of 4,096 rays: a long one with per-ray
     limits gives each ray what a short batch of the same rays gives it."""
