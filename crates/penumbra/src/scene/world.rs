@@ -182,8 +182,8 @@ impl World {
     }
 
     /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
-    /// order: the same hits, except that of two static triangles hit at
-    /// exactly the same distance either may be reported. The static
+    /// order: the same hits (of static triangles hit at exactly the same
+    /// distance, the lowest index on both paths). The static
     /// triangles are searched for all rays at once (see
     /// [`TriangleBvh::closest_hits`]), which pays off for rays from one
     /// point in nearly one direction: the camera rays of a pixel.
@@ -714,7 +714,7 @@ mod tests {
             soup_ground_and_sphere(Shape::Quad(light)),
             soup_ground_and_sphere(sphere),
         ] {
-            let (mut differ, mut total) = (0, 0);
+            let mut total = 0;
             for _ in 0..500 {
                 let eye = Vec3::new(r.range(-6.0, 6.0), r.range(0.5, 6.0), r.range(-6.0, 6.0));
                 let at = Vec3::new(r.range(-2.0, 2.0), r.range(0.0, 3.0), r.range(-2.0, 2.0));
@@ -729,15 +729,11 @@ mod tests {
                     let alone = world.intersect(ray, 0.0, f32::INFINITY);
                     assert_eq!(alone.map(|h| h.t.to_bits()), got.map(|h| h.t.to_bits()));
                     let key = |h: Option<Hit>| h.map(|h| (h.point, h.ng, h.ns, h.material));
-                    differ += usize::from(key(alone) != key(*got));
+                    assert_eq!(key(alone), key(*got), "{ray:?}");
                     total += usize::from(alone.is_some());
                 }
             }
-            // Only triangles hit at exactly the same distance may differ.
-            assert!(
-                total > 3000 && differ * 1000 <= total,
-                "{differ} of {total}"
-            );
+            assert!(total > 3000, "{total} hits");
         }
     }
 

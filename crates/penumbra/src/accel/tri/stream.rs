@@ -8,7 +8,7 @@
 //! one interval box test per node for the run. On the harness's camera
 //! rays the batch calls traced 1.3–1.5× as many rays per second with runs
 //! as with interleaving alone (twelfth round). Finding runs costs an
-//! incoherent batch one comparison of origins per ray. The results do not
+//! incoherent batch one comparison per ray. The results do not
 //! depend on which rays form runs: of triangles hit at exactly the same
 //! distance, every path reports the lowest index.
 //!
@@ -275,8 +275,9 @@ impl TriangleBvh {
 /// (interleaving handles it).
 pub(super) struct Stretches<'a> {
     rays: &'a [Ray],
-    /// The next ray to look at, and the first not yet in a stretch.
+    /// The next ray to look at.
     i: usize,
+    /// The first ray not yet given out in a stretch.
     loose: usize,
     /// A run found after loose rays, given out after them.
     run: Option<(Range<usize>, Frustum)>,
@@ -359,7 +360,7 @@ pub(super) fn run_len(rays: &[Ray]) -> usize {
         return rays.len();
     };
     let origin = first.origin.to_array().map(f32::to_bits);
-    // Incoherent rays leave here, at the cost of one comparison.
+    // Rays from different points (with equal x) leave here.
     if second.origin.to_array().map(f32::to_bits) != origin {
         return 1;
     }
