@@ -9,8 +9,9 @@ Both are timed the same way: the on-CPU time of the calling thread
 (time.thread_time) around one Python call that traces a numpy array of
 rays and returns arrays of results. Embree: embreex's run(), which loops in
 C (Cython) calling rtcIntersect1 / rtcOccluded1 per ray. Penumbra:
-TriangleMesh.intersect / occluded, which trace eight rays at a time with
-their traversals interleaved.
+TriangleMesh.intersect / occluded, which trace runs of consecutive rays
+from one point (the camera rays) as packets and the other rays eight at a
+time with their traversals interleaved.
 
 --one-cpu pins the process to one CPU before the system starts its threads,
 so the build runs on one thread.

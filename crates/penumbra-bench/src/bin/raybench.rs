@@ -11,9 +11,10 @@
 //! For each ray file: closest hit and any hit over `(0, inf)`, one thread,
 //! the number of hits and the median over `--repeat` runs of the on-CPU time
 //! of the tracing thread, through the batch calls (`closest_hit_each`,
-//! `occluded_each`, which interleave the traversals of eight rays: `rays` in
-//! the output) and one ray per call (`closest_hit`, `occluded`: `single`). Build: median time on one thread (on-CPU) and on
-//! all threads (wall clock). `--generic` also measures the generic
+//! `occluded_each`, which trace runs of rays from one point as packets and
+//! interleave the traversals of eight other rays: `rays` in the output) and
+//! one ray per call (`closest_hit`, `occluded`: `single`). Build: median
+//! time on one thread (on-CPU) and on all threads (wall clock). `--generic` also measures the generic
 //! [`Bvh`] with the scalar watertight test through its
 //! closure (how static meshes were traced before the triangle BVH), and
 //! `--obvhs` (with the `obvhs` feature) the `obvhs` crate's CWBVH, with its
@@ -163,7 +164,8 @@ fn rates<R>(
 }
 
 /// [`set_rates`] through the batch calls (`closest_hit_each`,
-/// `occluded_each`: the rays' traversals interleaved), each ray over `(0, inf)`.
+/// `occluded_each`: runs as packets, the other rays interleaved), each ray
+/// over `(0, inf)`.
 fn batch_rates(args: &Args, rays: &[(String, Vec<Ray>)], bvh: &TriangleBvh) -> Value {
     let (mut hits, mut blocked) = (Vec::new(), Vec::new());
     set_rates(
