@@ -41,7 +41,7 @@
 use super::{closest_in_pack, descend, pack_any_hit, Frustum, Pack, RayPacket, Run, Stack};
 use super::{TraversalRay, TriHit, TriangleBvh, FIRST_MASK, LEAF};
 use crate::math::Ray;
-use glam::Vec4;
+use glam::{Vec3A, Vec4};
 use std::ops::Range;
 
 /// Rays in flight.
@@ -353,25 +353,26 @@ impl<'a> Run<'a> {
 }
 
 /// How many rays at the start of `rays` (at least one, at most `RUN`) form
-/// a run: the same origin bit for bit, directions of the same signs, each
+/// a run: the same origin, directions of the same signs, each
 /// within 1° of the first's.
 pub(super) fn run_len(rays: &[Ray]) -> usize {
     let [first, second, ..] = rays else {
         return rays.len();
     };
-    let origin = first.origin.to_array().map(f32::to_bits);
     // Rays from different points (with equal x) leave here.
-    if second.origin.to_array().map(f32::to_bits) != origin {
+    if second.origin != first.origin {
         return 1;
     }
-    let (d0, signs) = (first.dir, first.dir.to_array().map(f32::is_sign_negative));
-    let len0 = d0.length_squared();
+    // In SIMD registers (`Vec3A`): scalar tests cost twice the instructions.
+    let (o, d0) = (Vec3A::from(first.origin), Vec3A::from(first.dir));
+    let (signs, len0) = (d0.is_negative_bitmask(), d0.length_squared());
     let close = |r: &Ray| {
-        let dot = r.dir.dot(d0);
-        r.origin.to_array().map(f32::to_bits) == origin
-            && r.dir.to_array().map(f32::is_sign_negative) == signs
-            && dot > 0.0
-            && dot * dot >= RUN_COS2 * r.dir.length_squared() * len0
+        let d = Vec3A::from(r.dir);
+        let dot = d.dot(d0);
+        Vec3A::from(r.origin).cmpeq(o).all()
+            & (d.is_negative_bitmask() == signs)
+            & (dot > 0.0)
+            & (dot * dot >= RUN_COS2 * d.length_squared() * len0)
     };
     1 + rays[1..rays.len().min(RUN)]
         .iter()
