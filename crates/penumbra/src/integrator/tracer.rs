@@ -1,7 +1,7 @@
 use glam::{Vec3A, Vec4};
 
 use crate::light::{Light, LightSamples4};
-use crate::material::{fresnel_dielectric, Material, Rgb};
+use crate::material::{fresnel_dielectric, Material, Rgb, Shading};
 use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, Rng};
@@ -47,6 +47,8 @@ pub struct Tracer<'a> {
     primary: Vec<Option<Hit>>,
     packet: PacketScratch,
     batch: Batch,
+    /// [`Material::shading`] of each of the scene's materials.
+    shading: Vec<Shading>,
 }
 
 /// The direct light of a pixel's camera rays, found together (see
@@ -57,7 +59,8 @@ struct Batch {
     lit: Vec<(usize, u32, Local)>,
     /// The shadow sets of all lit hits toward one light, one after another.
     rays: Vec<Option<ShadowRay>>,
-    /// Where each lit hit's set starts in `rays`, and where the last ends.
+    /// Where each lit hit's set starts in `rays`, and where the last ends
+    /// (not filled for sets of one ray: set `k` is `rays[k]`).
     starts: Vec<usize>,
     /// Direct light at lit hit `k` from light `j`, at `j * lit.len() + k`.
     direct: Vec<Rgb>,
@@ -123,6 +126,7 @@ impl<'a> Tracer<'a> {
             primary: Vec::new(),
             packet: PacketScratch::default(),
             batch: Batch::default(),
+            shading: scene.materials.iter().map(Material::shading).collect(),
         }
     }
 
@@ -159,7 +163,7 @@ impl<'a> Tracer<'a> {
             let Some(hit) = &self.primary[i] else {
                 continue;
             };
-            if hit.light.is_none() && scene.materials[hit.material as usize].is_lit() {
+            if hit.light.is_none() && self.shading[hit.material as usize].lit {
                 batch.lit.push((i, hit.material, Local::new(ray, hit)));
             }
         }
@@ -180,22 +184,23 @@ impl<'a> Tracer<'a> {
                 continue;
             }
             let m = &scene.materials[hit.material as usize];
+            let sh = self.shading[hit.material as usize];
             let fresh;
-            let s = if m.is_lit() {
+            let s = if sh.lit {
                 &batch.lit[k].2
             } else {
                 fresh = Local::new(ray, &hit);
                 &fresh
             };
             let mut l = if s.front { m.emission } else { Rgb::ZERO };
-            if m.is_lit() {
+            if sh.lit {
                 // This hit's frame and direct light were found above.
                 for j in 0..lights {
                     l += batch.direct[j * lit + k];
                 }
                 k += 1;
             }
-            if m.scatters() {
+            if sh.scatters {
                 self.indirect(s, ray, m, 0, rng(i), &mut l);
             }
             out.push(l);
@@ -216,9 +221,8 @@ impl<'a> Tracer<'a> {
         } = batch;
         rays.clear();
         starts.clear();
-        if self.single_rays(lit, light, &rng, rays) {
-            starts.extend(0..=lit.len());
-        } else {
+        let single = self.single_rays(lit, light, &rng, rays);
+        if !single {
             for (i, _, s) in lit.iter() {
                 starts.push(rays.len());
                 self.shadow_set(s, light, rng(*i), rays);
@@ -228,11 +232,21 @@ impl<'a> Tracer<'a> {
         let own = light.shadow_rays() >= SHAFT_MIN_RAYS;
         let traced = rays.iter().flatten().count();
         let shared = !own && traced >= SHAFT_MIN_RAYS as usize && self.gather_shaft(rays);
+        if single {
+            // Sets of one ray: what `trace_set` gives each, with the shared
+            // shaft's emptiness checked once for all.
+            let clear = shared && self.scene.world.shaft_is_clear(&self.shaft);
+            for ((_, material, s), r) in lit.iter().zip(rays.iter()) {
+                let m = self.shading[*material as usize];
+                direct.push(self.single_term(s, &m, r.as_ref(), shared, clear));
+            }
+            return;
+        }
         for (k, (_, material, s)) in lit.iter().enumerate() {
-            let m = &self.scene.materials[*material as usize];
+            let m = self.shading[*material as usize];
             let set = &rays[starts[k]..starts[k + 1]];
             let shaft = shared || (own && self.gather_shaft(set));
-            direct.push(self.trace_set(s, m, light, set, shaft));
+            direct.push(self.trace_set(s, &m, light, set, shaft));
         }
     }
 
@@ -251,9 +265,10 @@ impl<'a> Tracer<'a> {
         let m = &scene.materials[hit.material as usize];
         let s = Local::new(ray, hit);
         let mut l = if s.front { m.emission } else { Rgb::ZERO };
-        if m.is_lit() {
+        let sh = self.shading[hit.material as usize];
+        if sh.lit {
             for (j, light) in scene.lights.iter().enumerate() {
-                l += self.direct(&s, m, light, rng.derive(SHADOW + j as u64));
+                l += self.direct(&s, &sh, light, rng.derive(SHADOW + j as u64));
             }
         }
         self.indirect(&s, ray, m, depth, rng, &mut l);
@@ -279,7 +294,7 @@ impl<'a> Tracer<'a> {
     /// `brdf · weight · cos θ · transmittance`. The whole set is prepared
     /// first, so that a set of several rays can gather once the BVH leaves
     /// its shaft reaches and test every ray against those only.
-    fn direct(&mut self, s: &Local, m: &Material, light: &Light, rng: Rng) -> Rgb {
+    fn direct(&mut self, s: &Local, m: &Shading, light: &Light, rng: Rng) -> Rgb {
         let mut set = std::mem::take(&mut self.shadow_set);
         set.clear();
         self.shadow_set(s, light, rng, &mut set);
@@ -295,7 +310,7 @@ impl<'a> Tracer<'a> {
     fn trace_set(
         &mut self,
         s: &Local,
-        m: &Material,
+        m: &Shading,
         light: &Light,
         set: &[Option<ShadowRay>],
         shaft: bool,
@@ -303,10 +318,7 @@ impl<'a> Tracer<'a> {
         let world = &self.scene.world;
         let clear = shaft && world.shaft_is_clear(&self.shaft);
         if let [one] = set {
-            // No metric acts on one ray, and the average of one is its value
-            // (`0 + x` as the loop sums, so even a -0 comes out alike).
-            let term = one.and_then(|r| self.shadow_term(s, m, &r, shaft, clear));
-            return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
+            return self.single_term(s, m, one.as_ref(), shaft, clear);
         }
         let n = light.shadow_rays();
         let k = (self.scene.settings.metric)
@@ -333,6 +345,22 @@ impl<'a> Tracer<'a> {
         sum / done.max(1) as f32
     }
 
+    /// [`trace_set`](Self::trace_set) of a set of one ray (`None`: a point
+    /// that gives no ray). No metric acts on one ray, and the average of one
+    /// is its value (`0 + x` as the loop sums, so even a -0 comes out alike).
+    #[inline(always)]
+    fn single_term(
+        &mut self,
+        s: &Local,
+        m: &Shading,
+        one: Option<&ShadowRay>,
+        shaft: bool,
+        clear: bool,
+    ) -> Rgb {
+        let term = one.and_then(|r| self.shadow_term(s, m, r, shaft, clear));
+        Rgb::ZERO + term.unwrap_or(Rgb::ZERO)
+    }
+
     /// Traces one shadow ray (within the shaft last gathered if `shaft`; not
     /// at all if that shaft is `clear`): `brdf · weight · cos θ ·
     /// transmittance`, or `None` if it is blocked.
@@ -340,7 +368,7 @@ impl<'a> Tracer<'a> {
     fn shadow_term(
         &mut self,
         s: &Local,
-        m: &Material,
+        m: &Shading,
         r: &ShadowRay,
         shaft: bool,
         clear: bool,
