@@ -78,8 +78,8 @@ impl Material {
 }
 
 /// The parts of a [`Material`] that shading a hit reads, with the
-/// derived values computed once per render instead of at every hit (a
-/// sample of the bunny scene tested `is_lit` three times).
+/// derived values computed once per tracer (a tile) instead of at every
+/// hit (a sample of the bunny scene tested `is_lit` three times).
 #[derive(Clone, Copy, Debug)]
 pub struct Shading {
     /// [`Material::is_lit`].
@@ -95,7 +95,7 @@ pub struct Shading {
 }
 
 impl Shading {
-    /// [`Material::local_brdf`] (the same arithmetic in the same order).
+    /// The local BRDF of [`Material::local_brdf`], which calls this.
     #[inline]
     pub fn local_brdf(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Rgb {
         let mut f = self.diffuse;
