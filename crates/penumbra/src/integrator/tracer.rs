@@ -4,7 +4,7 @@ use crate::light::{Light, LightSamples4};
 use crate::material::{fresnel_dielectric, Material, Rgb, Shading};
 use crate::math::{offset_origin, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
-use crate::sampling::{Distribution, Rng};
+use crate::sampling::{BranchKey, Distribution, Rng};
 use crate::scene::world::{Hit, PacketScratch, ShaftSet};
 use crate::scene::Scene;
 
@@ -49,6 +49,8 @@ pub struct Tracer<'a> {
     batch: Batch,
     /// [`Material::shading`] of each of the scene's materials.
     shading: Vec<Shading>,
+    /// The branch of light `j`'s shadow sets, `SHADOW + j`, hashed once.
+    shadow_keys: Vec<BranchKey>,
 }
 
 /// The direct light of a pixel's camera rays, found together (see
@@ -127,6 +129,9 @@ impl<'a> Tracer<'a> {
             packet: PacketScratch::default(),
             batch: Batch::default(),
             shading: scene.materials.iter().map(Material::shading).collect(),
+            shadow_keys: (0..scene.lights.len() as u64)
+                .map(|j| BranchKey::new(SHADOW + j))
+                .collect(),
         }
     }
 
@@ -169,7 +174,8 @@ impl<'a> Tracer<'a> {
         }
         batch.direct.clear();
         for (j, light) in scene.lights.iter().enumerate() {
-            self.direct_batch(light, |i| rng(i).derive(SHADOW + j as u64), &mut batch);
+            let key = self.shadow_keys[j];
+            self.direct_batch(light, |i| rng(i).derive_key(key), &mut batch);
         }
         out.clear();
         let (lit, lights) = (batch.lit.len(), scene.lights.len());
@@ -268,7 +274,8 @@ impl<'a> Tracer<'a> {
         let sh = self.shading[hit.material as usize];
         if sh.lit {
             for (j, light) in scene.lights.iter().enumerate() {
-                l += self.direct(&s, &sh, light, rng.derive(SHADOW + j as u64));
+                let key = self.shadow_keys[j];
+                l += self.direct(&s, &sh, light, rng.derive_key(key));
             }
         }
         self.indirect(&s, ray, m, depth, rng, &mut l);

@@ -4,7 +4,7 @@ use crate::integrator::{RunningMean, Tracer};
 use crate::material::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
-use crate::sampling::{Distribution, Rng};
+use crate::sampling::{BranchKey, Distribution, Rng};
 use crate::scene::Scene;
 use std::cell::RefCell;
 use std::ops::Range;
@@ -19,6 +19,8 @@ struct Scratch {
     times: Vec<f32>,
     rays: Vec<Ray>,
     radiance: Vec<Rgb>,
+    /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
+    paths: Vec<BranchKey>,
 }
 
 thread_local! {
@@ -105,7 +107,16 @@ fn pixel_with(
     let pixel = pixel_stream(scene, x, y);
     buf.rays.clear();
     camera_rays(scene, x, y, buf);
-    let Scratch { rays, radiance, .. } = buf;
+    let Scratch {
+        rays,
+        radiance,
+        paths,
+        ..
+    } = buf;
+    if paths.len() < n {
+        paths.extend((paths.len()..n).map(|i| BranchKey::new(3 + i as u64)));
+    }
+    let path = |i: usize| pixel.derive_key(paths[i]);
     let metric = s.metric.filter(|m| m.pixels);
     // Without the metric every camera ray is traced: their hits are found
     // together, a packet of nearly parallel rays. With it, a pixel may stop
@@ -113,7 +124,7 @@ fn pixel_with(
     let together = metric.is_none() && rays.len() > 1;
     if together {
         tracer.intersect_primary(rays);
-        tracer.radiance_primaries(rays, |i| pixel.derive(3 + i as u64), radiance);
+        tracer.radiance_primaries(rays, path, radiance);
     }
     let mut mean = RunningMean::default();
     for (i, ray) in rays.iter().enumerate() {
@@ -121,7 +132,7 @@ fn pixel_with(
         let mut l = if together {
             radiance[i]
         } else {
-            tracer.radiance(ray, 0, pixel.derive(3 + i as u64))
+            tracer.radiance(ray, 0, path(i))
         };
         if !l.is_finite() {
             bad.push(BadSample {
@@ -216,6 +227,40 @@ mod tests {
         for key in 0..100 {
             Distribution::Grid.generate(1, 0.5, &mut Rng::new(key), &mut out);
             assert_eq!(out, [Vec3::ZERO]);
+        }
+    }
+
+    /// A pixel is the mean of its camera rays' radiance, ray `i` traced with
+    /// the stream `pixel.derive(3 + i)` (the integrator's table of streams):
+    /// recomputed here one ray at a time, for two sample counts in a row on
+    /// one thread, so that the hashed branches kept between pixels are
+    /// checked as they grow.
+    #[test]
+    fn pixel_streams_are_the_documented_ones() {
+        for spp in [4u32, 16] {
+            let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
+            src.desc.render.spp = spp as _;
+            src.desc.render.pixel_metric = false;
+            let scene = src.build().expect("showcase builds");
+            let (mut tracer, mut bad) = (Tracer::new(&scene), Vec::new());
+            for (x, y) in [(3, 5), (40, 30), (17, 60)] {
+                let got = render_pixel(&scene, &mut tracer, x, y, &mut bad);
+                let mut buf = Scratch::default();
+                camera_rays(&scene, x, y, &mut buf);
+                let pixel = pixel_stream(&scene, x, y);
+                let mut mean = RunningMean::default();
+                for (i, ray) in buf.rays.iter().enumerate() {
+                    mean.push(
+                        tracer.radiance(ray, 0, pixel.derive(3 + i as u64)),
+                        None,
+                        spp,
+                    );
+                }
+                let want = mean.mean();
+                let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+                assert_eq!(bits(got), bits(want), "pixel ({x}, {y}) at {spp} spp");
+            }
+            assert!(bad.is_empty());
         }
     }
 

@@ -10,4 +10,4 @@ pub mod warp;
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
-pub use rng::{mix64, Rng};
+pub use rng::{mix64, BranchKey, Rng};

@@ -10,13 +10,24 @@
 /// Finaliser of SplitMix64: a bijective 64-bit mixer with
 /// full avalanche, good enough to turn counters into independent-looking values.
 #[inline]
-pub fn mix64(mut z: u64) -> u64 {
+pub const fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
 }
 
 const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
+
+/// A branch label of [`Rng::derive`], hashed (half of what deriving costs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BranchKey(u64);
+
+impl BranchKey {
+    #[inline]
+    pub const fn new(branch: u64) -> BranchKey {
+        BranchKey(mix64(branch.wrapping_add(GOLDEN)))
+    }
+}
 
 /// A stream of random numbers identified by a key; see the module docs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,8 +50,16 @@ impl Rng {
     /// so sub-streams do not shift each other.
     #[inline]
     pub fn derive(&self, branch: u64) -> Rng {
+        self.derive_key(BranchKey::new(branch))
+    }
+
+    /// [`derive`](Self::derive) with the branch hashed beforehand: a loop
+    /// that derives the same branches for every pixel (sample `i`'s path,
+    /// light `j`'s shadow set) hashes them once instead of once a sample.
+    #[inline]
+    pub fn derive_key(&self, branch: BranchKey) -> Rng {
         Rng {
-            key: mix64(self.key ^ mix64(branch.wrapping_add(GOLDEN))),
+            key: mix64(self.key ^ branch.0),
             counter: 0,
         }
     }
