@@ -12,6 +12,8 @@ Sections (--only takes their names):
            Penumbra on 1 vs 2 threads (parallel efficiency on a long frame)
   b        scene (b): 1 primary ray + 64 shadow rays per pixel, vs POV-Ray
   whitted  the Whitted bunny at 800x600: frames per second, 1 vs 2 threads
+  scaling  parallel efficiency from many short one- and two-thread pairs of
+           scene (a) at 400x300 (--pairs, default 25), order alternating
   linear   render time against pixels, primary rays and shadow rays
   memory   maximum resident memory of `penumbra render bunny`
   million  a procedural 1,000,000-triangle mesh: build, render, memory
@@ -360,6 +362,23 @@ def section_whitted(args, bins, data):
     }
 
 
+def section_scaling(args, bins, data):
+    """Parallel efficiency as the median of many adjacent pairs: on a shared
+    machine one pair swings by a quarter either way, and a pair of frames
+    seconds apart shares the machine's state better than rounds minutes
+    apart. The order within a pair alternates."""
+    extra = ("bunny", "--spp", "16", "--distribution", "jitter", "--width", "400", "--height", "300")
+    ratios = []
+    for k in range(args.pairs):
+        order = (1, 2) if k % 2 == 0 else (2, 1)
+        t = {n: scenebench(bins, data["bunny"], *extra, "--threads", str(n), repeat=1)["render_s"]
+             for n in order}
+        ratios.append(t[1] / (2 * t[2]))
+    q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else [ratios[0]] * 3
+    return {"pairs": len(ratios), "efficiency": med(ratios), "q1": q[0], "q3": q[2],
+            "min": min(ratios), "max": max(ratios)}
+
+
 def section_linear(args, bins, data):
     scene = HERE / "scenes" / "bunny-whitted.toml"
     rows = []
@@ -492,6 +511,11 @@ def report(res):
         e = res["a"]["efficiency"]
         row("parallel efficiency, 2 threads, scene (a) (wall: t1 / 2 t2)", "—", f"{100 * e:.0f}%", "—", "≥ 90%",
             e >= 0.9)
+    if "scaling" in res:
+        sc = res["scaling"]
+        row(f"parallel efficiency, 2 threads, scene (a) at 400×300, median of {sc['pairs']} adjacent pairs "
+            f"(quartiles {100 * sc['q1']:.0f}–{100 * sc['q3']:.0f}%)", "—", f"{100 * sc['efficiency']:.0f}%", "—",
+            "≥ 90%", sc["efficiency"] >= 0.9)
     if "memory" in res:
         for k, v in res["memory"].items():
             row(f"max resident memory, `penumbra render` {k}, MB", "—", f(v, 0), "—", "< 100", v < 100)
@@ -569,16 +593,17 @@ def main():
     ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY or ../shared/data/bunny.ply)")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--quick", action="store_true", help="one round")
-    ap.add_argument("--only", help="comma-separated sections: rays,a,b,whitted,linear,memory,million")
+    ap.add_argument("--only", help="comma-separated sections: rays,a,b,whitted,scaling,linear,memory,million")
     ap.add_argument("--obvhs", action="store_true", help="also measure the obvhs crate in the rays section")
     ap.add_argument("--baseline", help="git revision whose library the 'before' section compares against")
     ap.add_argument("--update-doc", action="store_true", help="write the results into docs/performance.md")
     ap.add_argument("--no-setup", action="store_true", help="do not run bench/setup.sh")
+    ap.add_argument("--pairs", type=int, default=25, help="one- and two-thread pairs of the scaling section")
     args = ap.parse_args()
     ensure_venv(args)
     if args.quick:
         args.rounds = 1
-    sections = ["rays", "a", "b", "whitted", "linear", "memory", "million"]
+    sections = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million"]
     if args.baseline:
         sections.append("before")
     if args.only:
@@ -599,7 +624,7 @@ def main():
         versions["POV-Ray"] = m.group(1) if m else "?"
     res = {"date": time.strftime("%Y-%m-%d"), "rounds": args.rounds, "versions": versions}
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
-           "linear": section_linear, "memory": section_memory, "million": section_million,
+           "scaling": section_scaling, "linear": section_linear, "memory": section_memory, "million": section_million,
            "before": section_before}
     for s in sections:
         log(f"== {s}")
