@@ -25,19 +25,6 @@ impl Image {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// Copies a tile rendered for `region`'s frame coordinates into place.
-    pub(super) fn put(&mut self, tile: &Tile, region: Region) {
-        let r = tile.region;
-        for y in r.y0..r.y1 {
-            for x in r.x0..r.x1 {
-                let src = ((y - r.y0) * r.width() + (x - r.x0)) as usize;
-                let dst = ((y - region.y0) * self.width + (x - region.x0)) as usize;
-                self.pixels[dst] = tile.pixels[src];
-            }
-        }
-    }
-
-    /// Mean of all pixels (handy in tests and reports).
     pub fn mean(&self) -> Rgb {
         self.pixels.iter().copied().sum::<Rgb>() / self.pixels.len().max(1) as f32
     }
@@ -49,6 +36,23 @@ pub(super) struct Tile {
     pub pixels: Vec<Rgb>,
     pub rays: RayStats,
     pub bad: Vec<BadSample>,
+}
+
+impl Tile {
+    /// Copies the tile into `rows`, the band of the image of `frame` (the
+    /// rendered region, in frame coordinates) that holds the tile's rows,
+    /// starting with its first.
+    pub(super) fn copy_into(&self, rows: &mut [Rgb], frame: Region) {
+        let (w, stride) = (self.region.width() as usize, frame.width() as usize);
+        let x = (self.region.x0 - frame.x0) as usize;
+        for (src, dst) in self
+            .pixels
+            .chunks_exact(w)
+            .zip(rows.chunks_exact_mut(stride))
+        {
+            dst[x..x + w].copy_from_slice(src);
+        }
+    }
 }
 
 /// How many pixels of a row are rendered together in a frame of one
