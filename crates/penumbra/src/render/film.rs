@@ -25,6 +25,7 @@ impl Image {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
+    /// Mean of all pixels (handy in tests and reports).
     pub fn mean(&self) -> Rgb {
         self.pixels.iter().copied().sum::<Rgb>() / self.pixels.len().max(1) as f32
     }
