@@ -368,8 +368,8 @@ def section_scaling(args, bins, data):
     machine one pair swings by a quarter either way, and a pair of frames
     seconds apart shares the machine's state better than rounds minutes
     apart. The order within a pair alternates. Scene (a) at 400x300 (a
-    frame of about a second on one thread) and the Whitted frame (0.15 s,
-    the median of three renders per side)."""
+    third of a second or so on one thread) and the Whitted frame (about
+    0.1 s, so each side is the median of three renders)."""
     scenes = {
         "a": (("bunny", "--spp", "16", "--distribution", "jitter", "--width", "400", "--height", "300"), 1),
         "whitted": ((HERE / "scenes" / "bunny-whitted.toml",), 3),
