@@ -35,9 +35,10 @@ impl Ray {
 }
 
 /// Relative size of the offset applied by [`offset_origin`]. `f32` has a 24-bit
-/// mantissa (ε ≈ 6e-8); intersection routines lose a few ulps of the hit
-/// point's magnitude, so an offset of ~2^-17 of the magnitude clears it safely
-/// while staying invisible at image scale.
+/// mantissa (ε ≈ 6e-8); intersection routines lose a few ulps of the
+/// magnitudes the hit point is computed from ([`reach`]), so an offset of
+/// 2^-16 of that magnitude clears it safely while staying invisible at image
+/// scale.
 const OFFSET_SCALE: f32 = 1.0 / 65536.0;
 
 /// The lane of `mask` (non-zero) with the smallest `t`, the first of equals:
@@ -57,20 +58,32 @@ pub fn nearest_lane(mask: u32, t: &[f32; 4]) -> usize {
 }
 
 /// Moves `p` off the surface with geometric normal `n`, to the side `toward`
-/// points to, by an amount proportional to the largest coordinate of `p`.
+/// points to, by an amount proportional to `reach`: the largest coordinate
+/// magnitude of the computation that found `p` (see [`reach`]).
 ///
 /// A fixed epsilon fails both ways: too small far from the origin (acne), too
 /// large for small objects (light leaks). Scaling with the magnitude of the
 /// coordinates follows the floating-point error of the hit computation.
 #[inline]
-pub fn offset_origin(p: Vec3, n: Vec3, toward: Vec3) -> Vec3 {
-    let magnitude = p.abs().max_element().max(1e-3);
-    let d = magnitude * OFFSET_SCALE;
+pub fn offset_origin(p: Vec3, reach: f32, n: Vec3, toward: Vec3) -> Vec3 {
+    let d = reach * OFFSET_SCALE;
     if n.dot(toward) >= 0.0 {
         p + d * n
     } else {
         p - d * n
     }
+}
+
+/// What [`offset_origin`] scales with for a point `p` found along a ray
+/// from `from`: the largest coordinate magnitude of either (at least
+/// 1e-3). A hit point is `from + t · dir`, which loses a few ulps of both
+/// terms, not of `p`: a point near the world's origin seen from a camera
+/// four units away is off by an ulp of 4 (1e-7 below a ground at y = 0,
+/// say), far more than an ulp of its own coordinates, and an offset scaled
+/// by `p` alone left such points under their surface, shadowed by it.
+#[inline]
+pub fn reach(p: Vec3, from: Vec3) -> f32 {
+    p.abs().max(from.abs()).max_element().max(1e-3)
 }
 
 /// Mirror reflection of the incident direction `d` about the normal `n`.
@@ -100,9 +113,9 @@ mod tests {
     #[test]
     fn offset_moves_to_the_requested_side() {
         let p = Vec3::new(1000.0, 0.0, 0.0);
-        let n = Vec3::Y;
-        assert!(offset_origin(p, n, Vec3::Y).y > 0.0);
-        assert!(offset_origin(p, n, -Vec3::Y).y < 0.0);
+        let (n, r) = (Vec3::Y, reach(p, p));
+        assert!(offset_origin(p, r, n, Vec3::Y).y > 0.0);
+        assert!(offset_origin(p, r, n, -Vec3::Y).y < 0.0);
     }
 
     #[test]

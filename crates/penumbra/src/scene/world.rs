@@ -640,7 +640,7 @@ pub fn mesh_bvh(mesh: &Mesh) -> Bvh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::offset_origin;
+    use crate::math::{self, offset_origin};
 
     fn point(x: f32, y: f32, z: f32) -> Aabb {
         Aabb::new(Vec3::new(x, y, z), Vec3::new(x, y, z))
@@ -755,9 +755,9 @@ mod tests {
         for i in 0..400 {
             // Every fourth set starts far out, where its shaft passes above
             // the soup and beside the sphere.
-            let reach = if i % 4 == 0 { 14.0 } else { 4.0 };
-            let p = Vec3::new(r.range(-reach, reach), 0.0, r.range(-reach, reach));
-            let origin = offset_origin(p, Vec3::Y, Vec3::Y);
+            let far = if i % 4 == 0 { 14.0 } else { 4.0 };
+            let p = Vec3::new(r.range(-far, far), 0.0, r.range(-far, far));
+            let origin = offset_origin(p, math::reach(p, p), Vec3::Y, Vec3::Y);
             let light = Aabb::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::new(0.5, 4.0, 0.5));
             let targets: Vec<Vec3> = (0..16)
                 .map(|_| Vec3::new(r.range(-0.5, 0.5), 4.0, r.range(-0.5, 0.5)))
