@@ -1,0 +1,299 @@
+//! How far scene (a)'s per-sample work is from its floor: the bunny scene
+//! without the bunny (the ground quad under the rectangle light, 16 jittered
+//! camera rays and one shadow ray each) rendered twice on one thread, by
+//! the renderer and by a kernel that does only that scene's arithmetic,
+//! four samples at a time in lanes, with the library's own routines: its
+//! random streams (the same ones, so the same samples), film points,
+//! four-wide camera rays, quad test, four-wide light samples and BRDF.
+//!
+//! The kernel knows the scene in advance: one quad, one light, nothing that
+//! can cast a shadow (so no shadow ray is traced), no metric, no lens, no
+//! motion. What the renderer spends beyond it is what its generality costs
+//! per sample (hit records, per-hit dispatch, the integrator's batches, the
+//! shaft that finds the shadow rays unblocked): the part of scene (a) that
+//! a wavefront integrator, which runs each stage over many samples at once,
+//! could save. The bunny's traversal is not in either.
+//!
+//! The two images are compared before any time is reported: the kernel must
+//! give every pixel the renderer gives, bit for bit, or the run fails.
+//!
+//! ```text
+//! samplefloor [--width W] [--height H] [--spp N] [--rounds R]
+//! ```
+//!
+//! Prints JSON: the median seconds of each, one thread, in alternating
+//! rounds, and the median ratio of adjacent pairs.
+
+use penumbra::geometry::quad::Quad;
+use penumbra::light::{Light, LightShape};
+use penumbra::material::{Rgb, Shading};
+use penumbra::math::{Ray, Vec2, Vec3};
+use penumbra::render::{render, Image, RenderOptions};
+use penumbra::sampling::{BranchKey, Distribution, Rng};
+use penumbra::scene::{LoadOptions, Scene, SceneSource};
+use penumbra_bench::median;
+use serde_json::json;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// The built-in bunny scene without its mesh.
+const SCENE: &str = r#"
+[render]
+width = 800
+height = 600
+spp = 16
+distribution = "jitter"
+
+[camera]
+position = [0.0, 1.3, 4.2]
+look_at = [-0.15, 0.65, 0.0]
+fov = 40
+
+[materials.ground]
+albedo = [0.7, 0.7, 0.7]
+
+[[objects]]
+type = "quad"
+material = "ground"
+origin = [-5.0, 0.0, -5.0]
+edge_u = [0.0, 0.0, 10.0]
+edge_v = [10.0, 0.0, 0.0]
+
+[[lights]]
+type = "rect"
+origin = [-0.5, 4.0, -0.5]
+edge_u = [1.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 1.0]
+radiance = [40.0, 40.0, 40.0]
+"#;
+
+/// The branch labels the integrator uses: sample `i`'s path is `3 + i`,
+/// the first light's shadow sets `1 << 32` (see `integrator::tracer`).
+const PATH: u64 = 3;
+const SHADOW: u64 = 1 << 32;
+
+/// What the kernel reads of the scene, checked to be what it assumes.
+struct Floor<'a> {
+    scene: &'a Scene,
+    ground: Quad,
+    light: &'a Light,
+    shading: Shading,
+    paths: Vec<BranchKey>,
+    shadow: BranchKey,
+}
+
+impl<'a> Floor<'a> {
+    fn new(scene: &'a Scene, ground: Quad) -> Result<Floor<'a>, String> {
+        let s = &scene.settings;
+        let square = (s.spp as f32).sqrt() as u32;
+        if square * square != s.spp || s.spp & 3 != 0 {
+            return Err(format!(
+                "--spp {}: the kernel needs a square multiple of 4",
+                s.spp
+            ));
+        }
+        let [light] = scene.lights.as_slice() else {
+            return Err("the kernel needs exactly one light".into());
+        };
+        if !matches!(light.shape, LightShape::Rect(_)) || light.shadow_rays() != 1 {
+            return Err("the kernel needs a rectangle light with one shadow ray".into());
+        }
+        // The ground's material, as the renderer finds it: what a ray
+        // straight down hits.
+        let down = Ray::new(Vec3::new(0.0, 1.0, 0.0), Vec3::NEG_Y, 0.0);
+        let hit = scene.world.intersect(&down, 0.0, f32::INFINITY);
+        let material = hit.ok_or("the ground is not below the origin")?.material;
+        Ok(Floor {
+            scene,
+            ground,
+            light,
+            shading: scene.materials[material as usize].shading(),
+            paths: (0..u64::from(s.spp))
+                .map(|i| BranchKey::new(PATH + i))
+                .collect(),
+            shadow: BranchKey::new(SHADOW),
+        })
+    }
+
+    /// The whole frame, row by row, into `out`.
+    fn render(&self, out: &mut Vec<Rgb>) {
+        let s = &self.scene.settings;
+        out.clear();
+        let mut film = Vec::new();
+        for y in 0..s.height {
+            for x in 0..s.width {
+                out.push(self.pixel(x, y, &mut film));
+            }
+        }
+    }
+
+    /// Pixel (x, y): its samples four at a time.
+    fn pixel(&self, x: u32, y: u32, film: &mut Vec<Vec3>) -> Rgb {
+        let s = &self.scene.settings;
+        let cam = &self.scene.camera;
+        let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
+        Distribution::Jitter.generate_unordered(s.spp as usize, 0.5, &mut pixel.derive(0), film);
+        let time = [cam.time(0.0); 4];
+        let mut sum = Rgb::ZERO;
+        for (c, four) in film.chunks_exact(4).enumerate() {
+            let f = std::array::from_fn(|k| {
+                Vec2::new(x as f32 + 0.5 + four[k].x, y as f32 + 0.5 + four[k].y)
+            });
+            let Some(rays) = cam.generate_rays4(f, time) else {
+                return Rgb::splat(f32::NAN);
+            };
+            let t = rays.map(|r| self.ground.intersect(&r, 0.0, f32::INFINITY));
+            let p = std::array::from_fn(|k| rays[k].at(t[k].map_or(0.0, |h| h.0)));
+            let points = std::array::from_fn(|k| {
+                let mut rng = pixel
+                    .derive_key(self.paths[4 * c + k])
+                    .derive_key(self.shadow);
+                Distribution::Jitter.one(1.0, &mut rng)
+            });
+            let Some(ls) = self.light.sample4(&p, &points, Distribution::Jitter) else {
+                return Rgb::splat(f32::NAN);
+            };
+            let (dir, scale) = (ls.dir.map(|v| v.to_array()), ls.scale.to_array());
+            for k in 0..4 {
+                if t[k].is_none() {
+                    sum += s.background;
+                    continue;
+                }
+                // The viewer is above the ground: its normal needs no flip.
+                let (n, wo) = (self.ground.normal, -rays[k].dir.normalize());
+                let wi = Vec3::new(dir[0][k], dir[1][k], dir[2][k]);
+                let cos = n.dot(wi);
+                if ls.valid >> k & 1 != 0 && cos > 0.0 {
+                    let weight = self.light.power * scale[k];
+                    sum += self.shading.local_brdf(n, wo, wi) * weight * cos;
+                }
+            }
+        }
+        sum / s.spp as f32
+    }
+}
+
+/// How many pixels of `a` differ from `b`'s, bit for bit.
+fn differing(a: &[Rgb], b: &Image) -> usize {
+    let bits = |c: &Rgb| c.to_array().map(f32::to_bits);
+    a.iter()
+        .zip(&b.pixels)
+        .filter(|(x, y)| bits(x) != bits(y))
+        .count()
+}
+
+/// The scene at `size` with `spp` camera rays per pixel.
+fn build(size: (u32, u32), spp: u32) -> Result<Scene, String> {
+    let here = Path::new(".");
+    let mut src = SceneSource::from_toml(
+        SCENE,
+        Path::new("samplefloor.toml"),
+        here,
+        &LoadOptions::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    (src.desc.render.width, src.desc.render.height) = (size.0 as _, size.1 as _);
+    src.desc.render.spp = spp as _;
+    src.build().map_err(|e| e.to_string())
+}
+
+/// The scene's ground, as its description gives it.
+fn ground() -> Quad {
+    let (origin, u, v) = (
+        Vec3::new(-5.0, 0.0, -5.0),
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::new(10.0, 0.0, 0.0),
+    );
+    Quad::new(origin, u, v)
+}
+
+fn run() -> Result<serde_json::Value, String> {
+    let mut it = std::env::args().skip(1);
+    let (mut size, mut spp, mut rounds) = ((800u32, 600u32), 16u32, 5usize);
+    while let Some(a) = it.next() {
+        let mut num = || {
+            let v = it.next().ok_or(format!("{a} needs a value"))?;
+            v.parse::<u32>().map_err(|e| format!("{a}: {e}"))
+        };
+        match a.as_str() {
+            "--width" => size.0 = num()?,
+            "--height" => size.1 = num()?,
+            "--spp" => spp = num()?,
+            "--rounds" => rounds = num()?.max(1) as usize,
+            _ => return Err(format!("unknown argument {a}")),
+        }
+    }
+    let scene = build(size, spp)?;
+    let floor = Floor::new(&scene, ground())?;
+    let opts = RenderOptions {
+        threads: Some(1),
+        region: None,
+    };
+    let mut pixels = Vec::new();
+    let (mut full, mut kernel) = (Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let t0 = Instant::now();
+        let (image, _) = render(&scene, &opts, &|_, _| {}, None).map_err(|e| e.to_string())?;
+        full.push(t0.elapsed().as_secs_f64());
+        let t0 = Instant::now();
+        floor.render(&mut pixels);
+        kernel.push(t0.elapsed().as_secs_f64());
+        let bad = differing(&pixels, &image);
+        if bad > 0 || pixels.len() != image.pixels.len() {
+            return Err(format!(
+                "{bad} pixels of the kernel's image differ from the renderer's"
+            ));
+        }
+    }
+    let samples = f64::from(size.0) * f64::from(size.1) * f64::from(spp);
+    let ratios: Vec<f64> = full.iter().zip(&kernel).map(|(f, k)| f / k).collect();
+    let ns = |s: &[f64]| median(s.to_vec()) * 1e9 / samples;
+    Ok(json!({
+        "width": size.0, "height": size.1, "spp": spp, "rounds": rounds,
+        "renderer_s": median(full.clone()), "kernel_s": median(kernel.clone()),
+        "renderer_ns_per_sample": ns(&full), "kernel_ns_per_sample": ns(&kernel),
+        "renderer_over_kernel": median(ratios),
+    }))
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(v) => {
+            println!("{v}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("samplefloor: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernel gives the renderer's pixels bit for bit, at the
+    /// benchmark's size and at a small one with 4 samples: a change to
+    /// either that alters the arithmetic of a sample shows here. The
+    /// origin offset that left points near the world's origin shadowed by
+    /// their own surface made 4 pixels of the first differ.
+    #[test]
+    fn kernel_renders_what_the_renderer_renders() {
+        for (size, spp) in [((800, 600), 16), ((64, 48), 4)] {
+            let scene = build(size, spp).expect("the built-in scene");
+            let floor = Floor::new(&scene, ground()).expect("a scene the kernel knows");
+            let mut pixels = Vec::new();
+            floor.render(&mut pixels);
+            let opts = RenderOptions {
+                threads: Some(1),
+                region: None,
+            };
+            let (image, _) = render(&scene, &opts, &|_, _| {}, None).expect("renders");
+            assert_eq!(pixels.len(), image.pixels.len());
+            assert_eq!(differing(&pixels, &image), 0, "{size:?} at {spp} spp");
+            assert!(image.mean().x > 0.05, "the ground is lit");
+        }
+    }
+}
