@@ -84,7 +84,7 @@ struct Floor<'a> {
 }
 
 impl<'a> Floor<'a> {
-    fn new(scene: &'a Scene, ground: Quad) -> Result<Floor<'a>, String> {
+    fn new(scene: &'a Scene) -> Result<Floor<'a>, String> {
         let s = &scene.settings;
         let square = (s.spp as f32).sqrt() as u32;
         if square * square != s.spp || s.spp & 3 != 0 {
@@ -106,7 +106,7 @@ impl<'a> Floor<'a> {
         let material = hit.ok_or("the ground is not below the origin")?.material;
         Ok(Floor {
             scene,
-            ground,
+            ground: ground(),
             light,
             shading: scene.materials[material as usize].shading(),
             paths: (0..u64::from(s.spp))
@@ -227,7 +227,7 @@ fn run() -> Result<serde_json::Value, String> {
         }
     }
     let scene = build(size, spp)?;
-    let floor = Floor::new(&scene, ground())?;
+    let floor = Floor::new(&scene)?;
     let opts = RenderOptions {
         threads: Some(1),
         region: None,
@@ -294,7 +294,7 @@ mod tests {
     fn kernel_renders_what_the_renderer_renders() {
         for (size, spp) in [((800, 600), 16), ((64, 48), 4)] {
             let scene = build(size, spp).expect("the built-in scene");
-            let floor = Floor::new(&scene, ground()).expect("a scene the kernel knows");
+            let floor = Floor::new(&scene).expect("a scene the kernel knows");
             let mut pixels = Vec::new();
             floor.render(&mut pixels);
             let opts = RenderOptions {

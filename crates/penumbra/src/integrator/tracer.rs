@@ -89,7 +89,7 @@ impl Branch {
 /// The local frame of a hit, oriented toward the viewer.
 struct Local {
     p: Vec3,
-    /// What rays leaving `p` are offset by ([`reach`]).
+    /// The magnitude that rays leaving `p` are offset in proportion to ([`reach`]).
     reach: f32,
     wo: Vec3,
     /// Shading normal on the viewer's side.
