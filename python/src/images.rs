@@ -8,7 +8,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 
 use penumbra::io::output::{write_image, Format, OutputError};
-use penumbra::math::Vec3;
+use penumbra::math::Rgb;
 use penumbra::render::Image;
 
 use crate::convert::image_to_numpy;
@@ -40,9 +40,9 @@ pub fn save_image(py: Python<'_>, path: PathBuf, image: &Bound<'_, PyAny>) -> Py
     let flat = data
         .as_slice()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let pixels: Vec<Vec3> = flat
+    let pixels: Vec<Rgb> = flat
         .chunks_exact(3)
-        .map(|c| Vec3::new(c[0], c[1], c[2]))
+        .map(|c| Rgb::new(c[0], c[1], c[2]))
         .collect();
     let img = Image {
         width: w as u32,
@@ -81,7 +81,7 @@ pub fn load_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, Py
             |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
                 let i = pos.1 * img.width as usize + pos.0;
                 if let Some(p) = img.pixels.get_mut(i) {
-                    *p = Vec3::new(r, g, b);
+                    *p = Rgb::new(r, g, b);
                 }
             },
         )

@@ -170,8 +170,8 @@ mod tests {
     fn difference_is_absolute_and_amplified() {
         let mut a = Image::new(2, 1);
         let b = Image::new(2, 1);
-        a.pixels[1] = penumbra::math::Vec3::new(0.1, -0.2, 0.0);
+        a.pixels[1] = penumbra::math::Rgb::new(0.1, -0.2, 0.0);
         let d = difference(&a, &b, 10.0);
-        assert!((d.pixels[1].x - 1.0).abs() < 1e-6 && (d.pixels[1].y - 2.0).abs() < 1e-6);
+        assert!((d.pixels[1].r - 1.0).abs() < 1e-6 && (d.pixels[1].g - 2.0).abs() < 1e-6);
     }
 }

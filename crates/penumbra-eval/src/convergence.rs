@@ -395,7 +395,6 @@ fn write_plot(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use penumbra::math::Vec3;
 
     #[test]
     fn slope_of_a_power_law_is_its_exponent() {
@@ -415,7 +414,7 @@ mod tests {
         let mut a = Image::new(2, 2);
         let b = Image::new(2, 2);
         assert_eq!(mse(&a, &b), 0.0);
-        a.pixels[0] = Vec3::splat(1.0);
+        a.pixels[0] = penumbra::math::Rgb::splat(1.0);
         // One pixel of four, three channels of twelve values, each off by 1.
         assert!((mse(&a, &b) - 0.25).abs() < 1e-12);
         assert!((rel_mse(&a, &b) - 0.25 / REL_EPSILON).abs() < 1e-9);

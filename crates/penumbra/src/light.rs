@@ -18,7 +18,8 @@ use std::f32::consts::PI;
 use glam::Vec4;
 
 use crate::geometry::quad::Quad;
-use crate::material::{EffectSpec, Rgb};
+use crate::material::EffectSpec;
+use crate::math::Rgb;
 use crate::math::{Frame, Vec3};
 use crate::sampling::points::{end_point, unit_disk, unit_square};
 use crate::sampling::warp::{square_to_uniform_cone, square_to_uniform_sphere};

@@ -9,11 +9,8 @@
 
 use std::f32::consts::PI;
 
-use crate::math::Vec3;
+use crate::math::{Rgb, Vec3};
 use crate::sampling::Distribution;
-
-/// Linear RGB radiance or reflectance.
-pub type Rgb = Vec3;
 
 /// How many rays an effect traces and how they are distributed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,7 +100,7 @@ impl Shading {
             let r = 2.0 * wi.dot(n) * n - wi;
             let cos_a = r.dot(wo).max(0.0);
             let s = self.shininess;
-            f += Vec3::splat(self.specular * (s + 2.0) / (2.0 * PI) * cos_a.powf(s));
+            f += Rgb::splat(self.specular * (s + 2.0) / (2.0 * PI) * cos_a.powf(s));
         }
         f * self.weight
     }
@@ -141,13 +138,13 @@ mod tests {
         // Albedo (directional) of the normalised lobe at normal incidence, by quadrature.
         let n = Vec3::Z;
         let m = Material {
-            albedo: Vec3::ZERO,
+            albedo: Rgb::ZERO,
             specular: 1.0,
             shininess: 20.0,
             reflectivity: 0.0,
             transparency: 0.0,
             ior: 1.5,
-            emission: Vec3::ZERO,
+            emission: Rgb::ZERO,
             glossiness: 0.0,
             translucency: 0.0,
             reflection: EffectSpec {
@@ -170,7 +167,7 @@ mod tests {
                     theta.sin() * phi.sin(),
                     theta.cos(),
                 );
-                let f = m.local_brdf(n, n, wi).x;
+                let f = m.local_brdf(n, n, wi).r;
                 sum +=
                     f * theta.cos() * theta.sin() * (PI / 2.0 / nt as f32) * (2.0 * PI / np as f32);
             }

@@ -59,7 +59,7 @@ fn penumbra_pixels(light: &str) -> usize {
     let (with, _) = render_toml(&shadow_scene(light, true));
     let (without, _) = render_toml(&shadow_scene(light, false));
     (0..with.width)
-        .map(|x| with.get(x, 2).x / without.get(x, 2).x.max(1e-12))
+        .map(|x| with.get(x, 2).r / without.get(x, 2).r.max(1e-12))
         .filter(|&v| v > 0.02 && v < 0.98)
         .count()
 }
@@ -148,7 +148,7 @@ edge_v = [0.0, 100.0, 0.0]
 "#
     );
     let (img, _) = render_toml(&toml);
-    let row: Vec<f32> = (0..img.width).map(|x| img.get(x, 1).x).collect();
+    let row: Vec<f32> = (0..img.width).map(|x| img.get(x, 1).r).collect();
     let partial = |range: std::ops::Range<usize>| {
         row[range].iter().filter(|&&v| v > 0.02 && v < 0.98).count()
     };
@@ -208,10 +208,10 @@ transform_end = {{ translate = [1.0, 0.0, 0.0] }}
     );
     let (img, _) = render_toml(&toml);
     // The view is 5 units wide (400 px): 80 px per unit.
-    let covered: f32 = (0..img.width).map(|x| 1.0 - img.get(x, 1).x).sum();
+    let covered: f32 = (0..img.width).map(|x| 1.0 - img.get(x, 1).r).sum();
     // Integrated darkness along the row = diameter × 80 px, whatever the motion;
     // the extent of the smear is diameter + velocity × shutter = 1 + 2 · 0.5 = 2 units.
-    let extent = (0..img.width).filter(|&x| img.get(x, 1).x < 0.99).count() as f32;
+    let extent = (0..img.width).filter(|&x| img.get(x, 1).r < 0.99).count() as f32;
     assert!((covered - 80.0).abs() < 4.0, "covered {covered}");
     assert!(
         (extent - 160.0).abs() < 6.0,

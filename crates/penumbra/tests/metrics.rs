@@ -44,7 +44,7 @@ fn a_uniform_reflection_stops_at_alpha() {
     assert_eq!(r.reflection, 64 * 4, "every set stops after alpha = 4 rays");
     assert_eq!(r.saved.reflection, 64 * 12);
     assert!(
-        (img.get(3, 3) - penumbra::math::Vec3::new(0.2, 0.4, 0.6))
+        (img.get(3, 3) - penumbra::math::Rgb::new(0.2, 0.4, 0.6))
             .abs()
             .max_element()
             < 1e-6

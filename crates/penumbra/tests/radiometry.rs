@@ -5,7 +5,7 @@ mod common;
 use std::f32::consts::PI;
 
 use common::*;
-use penumbra::math::Vec3;
+use penumbra::math::{Rgb, Vec3};
 
 /// A camera straight above the origin looking down, 11x11 pixels: the centre
 /// pixel's single grid ray hits the floor exactly at the origin. It sits low,
@@ -38,13 +38,13 @@ edge_v = [100.0, 0.0, 0.0]
     )
 }
 
-fn centre(toml: &str) -> Vec3 {
+fn centre(toml: &str) -> Rgb {
     let (img, _) = render_toml(toml);
     img.get(5, 5)
 }
 
-fn assert_close(got: Vec3, want: Vec3, rel: f32) {
-    let err = ((got - want).abs() / want.max(Vec3::splat(1e-6))).max_element();
+fn assert_close(got: Rgb, want: Rgb, rel: f32) {
+    let err = ((got - want).abs() / want.max(Rgb::splat(1e-6))).max_element();
     assert!(
         err <= rel,
         "got {got:?}, want {want:?} (relative error {err})"
@@ -58,7 +58,7 @@ fn point_light_at_the_foot_gives_rho_i_over_pi_h2() {
     let toml = looking_down(&format!(
         "[[lights]]\ntype = \"point\"\nposition = [0.0, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
     ));
-    let want = Vec3::new(0.5, 0.25, 0.1) * i / (PI * h * h);
+    let want = Rgb::new(0.5, 0.25, 0.1) * i / (PI * h * h);
     assert_close(centre(&toml), want, 1e-4);
 }
 
@@ -70,7 +70,7 @@ fn point_light_off_axis_follows_cosine_over_r2() {
         "[[lights]]\ntype = \"point\"\nposition = [{x}, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
     ));
     let r = (x * x + h * h).sqrt();
-    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (i * h / (r * r * r));
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * (i * h / (r * r * r));
     assert_close(centre(&toml), want, 1e-4);
 }
 
@@ -81,7 +81,7 @@ fn sphere_light_with_one_ray_is_exact() {
     let toml = looking_down(&format!(
         "[[lights]]\ntype = \"sphere\"\ncenter = [0.0, {d}, 0.0]\nradius = {r}\nradiance = [{l}, {l}, {l}]\nmodel = \"thesis\"\n"
     ));
-    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (l * PI * (r / d) * (r / d));
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * (l * PI * (r / d) * (r / d));
     assert_close(centre(&toml), want, 1e-4);
 }
 
@@ -115,7 +115,7 @@ fn surface_model_converges_to_rectangle_irradiance() {
     );
     // The light faces down: edge_u × edge_v = (0, -1.08, 0).
     let e = polygon_irradiance(&[o, o + eu, o + eu + ev, o + ev], l);
-    let want = Vec3::new(0.5, 0.25, 0.1) / PI * e;
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * e;
     assert_close(centre(&looking_down(&light)), want, 5e-3);
 }
 
@@ -127,7 +127,7 @@ fn surface_model_converges_for_disk_and_sphere_lights() {
     let disk = format!(
         "[[lights]]\ntype = \"disk\"\ncenter = [0.0, {h}, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {a}\nradiance = [{l}, {l}, {l}]\nshadow_rays = 4096\nshadow_distribution = \"jitter\"\n"
     );
-    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (PI * l * a * a / (h * h + a * a));
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * (PI * l * a * a / (h * h + a * a));
     assert_close(centre(&looking_down(&disk)), want, 5e-3);
     // A sphere light off to the side, fully above the horizon.
     let (c, r) = (Vec3::new(0.8, 1.6, 0.3), 0.5f32);
@@ -136,7 +136,7 @@ fn surface_model_converges_for_disk_and_sphere_lights() {
         c.to_array()
     );
     let cos = c.normalize().y;
-    let want = Vec3::new(0.5, 0.25, 0.1) / PI * (l * PI * r * r / c.length_squared() * cos);
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * (l * PI * r * r / c.length_squared() * cos);
     assert_close(centre(&looking_down(&sphere)), want, 5e-3);
 }
 
@@ -165,7 +165,7 @@ edge_u = [10.0, 0.0, 0.0]
 edge_v = [0.0, 10.0, 0.0]
 "#;
     let (img, stats) = render_toml(toml);
-    assert_eq!(img.get(4, 4), Vec3::new(0.3, 0.6, 0.9));
+    assert_eq!(img.get(4, 4), Rgb::new(0.3, 0.6, 0.9));
     assert_eq!(stats.reflection, 81, "one mirror ray per pixel");
 }
 
@@ -219,7 +219,7 @@ edge_v = [0.0, 100.0, 0.0]
 "#;
     let (img, _) = render_toml(toml);
     let want = (1.0f32 - 0.04) * (1.0 - 0.04);
-    assert_close(img.get(4, 4), Vec3::splat(want), 1e-3);
+    assert_close(img.get(4, 4), Rgb::splat(want), 1e-3);
 }
 
 #[test]

@@ -19,7 +19,7 @@
 //! measured against `DARK` instead, so that noise around black does not keep a
 //! set running forever.
 
-use crate::material::Rgb;
+use crate::math::Rgb;
 
 /// Radiance below which changes are judged in absolute terms.
 pub const DARK: f32 = 1e-3;

@@ -1,7 +1,8 @@
 use glam::{Vec3A, Vec4};
 
 use crate::light::{Light, LightSamples4};
-use crate::material::{fresnel_dielectric, Material, Rgb, Shading};
+use crate::material::{fresnel_dielectric, Material, Shading};
+use crate::math::Rgb;
 use crate::math::{offset_origin, reach, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{BranchKey, Distribution, Rng};
@@ -675,8 +676,8 @@ mod tests {
     fn bits(r: &Option<ShadowRay>) -> Option<[u32; 14]> {
         r.map(|r| {
             let mut b = [0; 14];
-            let v = [r.ray.origin, r.ray.dir, r.wi, r.weight];
-            for (k, c) in v.iter().flat_map(|v| v.to_array()).enumerate() {
+            let v = [r.ray.origin, r.ray.dir, r.wi].map(|v| v.to_array());
+            for (k, c) in v.iter().chain([&r.weight.to_array()]).flatten().enumerate() {
                 b[k] = c.to_bits();
             }
             b[12] = r.cos.to_bits();
@@ -695,7 +696,7 @@ mod tests {
         let quad = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
         let mut light = Light {
             shape: LightShape::Rect(quad),
-            power: Vec3::new(40.0, 30.0, 20.0),
+            power: Rgb::new(40.0, 30.0, 20.0),
             model: PenumbraModel::Surface,
             shadow: EffectSpec {
                 rays: 16,

@@ -135,7 +135,7 @@ fn write_exr(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
     let (w, h) = (image.width as usize, image.height as usize);
     let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
         let c = image.pixels[p.1 * w + p.0];
-        (c.x, c.y, c.z)
+        (c.r, c.g, c.b)
     });
     let layer = Layer::new(
         (w, h),
@@ -152,7 +152,7 @@ fn write_exr(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
+    use crate::math::Rgb;
 
     #[test]
     fn srgb_known_values() {
@@ -178,7 +178,7 @@ mod tests {
     fn png_and_exr_round_trip() {
         let dir = tempfile::tempdir().unwrap();
         let mut img = Image::new(3, 2);
-        img.pixels[4] = Vec3::new(0.25, 0.5, 2.0);
+        img.pixels[4] = Rgb::new(0.25, 0.5, 2.0);
         write_image(&dir.path().join("a.png"), &img).unwrap();
         #[cfg(unix)]
         {

@@ -1,4 +1,4 @@
-//! Vectors, rays, bounds and orthonormal frames.
+//! Vectors, rays, bounds, orthonormal frames and colours.
 //!
 //! Penumbra computes in `f32` (as pbrt and Embree do): the precision is ample for
 //! scenes of ordinary extent, and self-intersection is handled by offsetting ray
@@ -6,9 +6,11 @@
 //! not by a fixed epsilon.
 
 mod bounds;
+mod color;
 mod frame;
 
 pub use bounds::Aabb;
+pub use color::Rgb;
 pub use frame::Frame;
 pub use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 

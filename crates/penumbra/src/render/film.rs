@@ -1,7 +1,7 @@
 use super::pixel::{render_pixel, render_span};
 use super::{BadSample, Region};
 use crate::integrator::{RayStats, Tracer};
-use crate::material::Rgb;
+use crate::math::Rgb;
 use crate::scene::Scene;
 
 /// A linear-RGB float image, row-major, top row first.

@@ -17,7 +17,7 @@ pub use pixel::render_pixel;
 pub use report::stats_document;
 
 use crate::integrator::RayStats;
-use crate::material::Rgb;
+use crate::math::Rgb;
 use crate::scene::Scene;
 
 /// Side of the square tiles the image is cut into. Fixed, so that the work

@@ -1,7 +1,7 @@
 use super::BadSample;
 use crate::camera::CameraSample;
 use crate::integrator::{RunningMean, Tracer};
-use crate::material::Rgb;
+use crate::math::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
 use crate::sampling::{BranchKey, Distribution, Rng};

@@ -18,7 +18,7 @@ use crate::integrator::Metric;
 use crate::io::mesh::{read_mesh, MeshError};
 use crate::light::{Light, LightShape, PenumbraModel};
 use crate::material::{EffectSpec, Material};
-use crate::math::{Frame, Mat4, Quat, Vec3};
+use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
 use crate::sampling::Distribution;
 
 /// Where relative mesh paths and the `@bunny` placeholder point.
@@ -273,7 +273,7 @@ fn materials(
 fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Invalid> {
     let albedo = nonneg3(&p.key("albedo"), m.albedo)?;
     let specular = range(&p.key("specular"), m.specular, 0.0, 1.0)?;
-    if (albedo + Vec3::splat(specular)).max_element() > 1.0 {
+    if (albedo + Rgb::splat(specular)).max_element() > 1.0 {
         return Err(Invalid::new(
             p.key("albedo"),
             "albedo + specular must not exceed 1 in any channel (the surface would create light)",
@@ -329,13 +329,13 @@ fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Inv
 /// The surface material of light shapes: black, since their emission is the light's.
 fn black_material(d: &Defaults) -> Material {
     Material {
-        albedo: Vec3::ZERO,
+        albedo: Rgb::ZERO,
         specular: 0.0,
         shininess: 0.0,
         reflectivity: 0.0,
         transparency: 0.0,
         ior: 1.0,
-        emission: Vec3::ZERO,
+        emission: Rgb::ZERO,
         glossiness: 0.0,
         translucency: 0.0,
         reflection: d.reflection,

@@ -1,7 +1,7 @@
 //! Small validation helpers: each checks one value and names its key path.
 
 use super::error::{Invalid, KeyPath};
-use crate::math::Vec3;
+use crate::math::{Rgb, Vec3};
 
 pub type Check<T> = Result<T, Invalid>;
 
@@ -16,8 +16,8 @@ pub fn finite3(path: &KeyPath, v: [f32; 3]) -> Check<Vec3> {
     }
 }
 
-pub fn nonneg3(path: &KeyPath, v: [f32; 3]) -> Check<Vec3> {
-    let x = finite3(path, v)?;
+pub fn nonneg3(path: &KeyPath, v: [f32; 3]) -> Check<Rgb> {
+    let x = Rgb::from_array(finite3(path, v)?.to_array());
     if x.min_element() < 0.0 {
         return Err(Invalid::new(
             path.clone(),

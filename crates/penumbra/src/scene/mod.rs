@@ -28,7 +28,8 @@ pub use reuse::WorldCache;
 use crate::camera::Camera;
 use crate::integrator::Metric;
 use crate::light::Light;
-use crate::material::{Material, Rgb};
+use crate::material::Material;
+use crate::math::Rgb;
 use crate::sampling::Distribution;
 use world::World;
 
