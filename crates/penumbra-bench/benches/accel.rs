@@ -7,9 +7,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use penumbra::accel::{Bvh, TriangleBvh};
+use penumbra::geometry::mesh_file::read_mesh;
 use penumbra::geometry::tessellate::uv_sphere;
 use penumbra::geometry::triangle::{intersect_triangle, RayShear};
-use penumbra::io::mesh::read_mesh;
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra_bench::{bumpy_radius, random_rays};
 use std::hint::black_box;

@@ -1,6 +1,7 @@
 //! Shapes and their intersection routines, and rigid motion over the shutter.
 
 pub mod mesh;
+pub mod mesh_file;
 pub mod motion;
 pub mod quad;
 pub mod sphere;

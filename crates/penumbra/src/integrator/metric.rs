@@ -20,27 +20,10 @@
 //! set running forever.
 
 use crate::math::Rgb;
+pub use crate::scene::Metric;
 
 /// Radiance below which changes are judged in absolute terms.
 pub const DARK: f32 = 1e-3;
-
-/// Settings of the metrics; `None` in the scene settings means they are all
-/// off (the scene builder never makes one with all three rules off).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Metric {
-    /// Apply the α/threshold rule to reflection and refraction sets.
-    pub reflections: bool,
-    /// Apply the k rule to shadow sets.
-    pub shadows: bool,
-    /// Largest relative change of the running average that stops a set.
-    pub threshold: f32,
-    /// α: rays always traced before the reflection/refraction metric applies.
-    pub min_rays: u32,
-    /// k: shadow rays after which an all-lit or all-blocked set stops.
-    pub shadow_rays: u32,
-    /// Apply the α/threshold rule to the primary rays of a pixel too.
-    pub pixels: bool,
-}
 
 /// The change between the running averages after n − 1 and n values.
 pub fn change(previous: Rgb, current: Rgb) -> f32 {

@@ -1,8 +1,3 @@
-//! Files in and out: mesh readers (PLY, OBJ) and image writers (PNG, EXR).
+//! Files out: image writers (PNG, EXR), atomic.
 
-pub mod mesh;
-pub mod obj;
 pub mod output;
-pub mod ply;
-
-pub use mesh::{read_mesh, Location, MeshData, MeshError};

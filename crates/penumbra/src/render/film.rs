@@ -1,5 +1,5 @@
 use super::pixel::{render_pixel, render_span};
-use super::{BadSample, Region};
+use super::region::{BadSample, Region};
 use crate::integrator::{RayStats, Tracer};
 use crate::math::Rgb;
 use crate::scene::Scene;

@@ -3,6 +3,7 @@
 
 mod film;
 mod pixel;
+mod region;
 mod report;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -14,33 +15,12 @@ use serde::Serialize;
 
 pub use film::Image;
 pub use pixel::render_pixel;
+pub use region::{BadSample, Region, TILE};
 pub use report::stats_document;
 
 use crate::integrator::RayStats;
 use crate::math::Rgb;
 use crate::scene::Scene;
-
-/// Side of the square tiles the image is cut into. Fixed, so that the work
-/// split never depends on the thread count (the pixels would not anyway).
-pub const TILE: u32 = 32;
-
-/// A rectangle of pixels `[x0, x1) × [y0, y1)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct Region {
-    pub x0: u32,
-    pub y0: u32,
-    pub x1: u32,
-    pub y1: u32,
-}
-
-impl Region {
-    pub fn width(&self) -> u32 {
-        self.x1 - self.x0
-    }
-    pub fn height(&self) -> u32 {
-        self.y1 - self.y0
-    }
-}
 
 /// How to run a render (what to render is the scene's business).
 #[derive(Clone, Debug, Default)]
@@ -49,14 +29,6 @@ pub struct RenderOptions {
     pub threads: Option<usize>,
     /// Render only this part of the frame (pixels keep their full-frame values).
     pub region: Option<Region>,
-}
-
-/// A non-finite sample: caught where it was made, replaced by black.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BadSample {
-    pub x: u32,
-    pub y: u32,
-    pub sample: u32,
 }
 
 /// What a render measured.

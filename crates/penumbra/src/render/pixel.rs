@@ -1,4 +1,4 @@
-use super::BadSample;
+use super::region::BadSample;
 use crate::camera::CameraSample;
 use crate::integrator::{RunningMean, Tracer};
 use crate::math::Rgb;

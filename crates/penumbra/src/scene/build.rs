@@ -1,34 +1,26 @@
 //! Validation and build: the plain description becomes an immutable [`Scene`].
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::check::*;
+use super::context::resolve_mesh_path;
+pub use super::context::BuildContext;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::reuse::{self, WorldCache};
 use super::world::{mesh_bvh, Object, Shape, World};
-use super::{Scene, Settings};
+use super::{Metric, Scene, Settings};
 use crate::camera::{Camera, CameraSpec};
+use crate::geometry::mesh_file::{read_mesh, MeshError};
 use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
-use crate::integrator::Metric;
-use crate::io::mesh::{read_mesh, MeshError};
 use crate::light::{Light, LightShape, PenumbraModel};
 use crate::material::{EffectSpec, Material};
 use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
 use crate::sampling::Distribution;
-
-/// Where relative mesh paths and the `@bunny` placeholder point.
-#[derive(Clone, Debug, Default)]
-pub struct BuildContext {
-    /// Directory of the scene file; mesh paths are relative to it.
-    pub base_dir: PathBuf,
-    /// The Stanford bunny, for scenes that say `path = "@bunny"`.
-    pub bunny: Option<PathBuf>,
-}
 
 /// Why a description could not be built.
 #[derive(Debug)]
@@ -542,29 +534,6 @@ fn load_mesh(
     meshes.push(mesh);
     cache.insert(path, meshes.len() - 1);
     Ok(meshes.len() - 1)
-}
-
-/// The bunny placeholder and scene-relative paths.
-pub(super) fn resolve_mesh_path(
-    p: &KeyPath,
-    file: &str,
-    ctx: &BuildContext,
-) -> Result<PathBuf, Invalid> {
-    if file == "@bunny" {
-        return ctx.bunny.clone().ok_or_else(|| {
-            Invalid::new(
-                p.clone(),
-                "this scene needs the Stanford bunny (bunny.ply): pass its path (--bunny PATH on the command \
-                 line, bunny= in Python), set PENUMBRA_BUNNY, or place it at ../shared/data/bunny.ply",
-            )
-        });
-    }
-    let path = Path::new(file);
-    Ok(if path.is_absolute() {
-        path.to_path_buf()
-    } else {
-        ctx.base_dir.join(path)
-    })
 }
 
 /// A static mesh baked into world space (cached meshes are copied first).

@@ -7,11 +7,13 @@
 mod build;
 pub mod builtin;
 mod check;
+mod context;
 pub mod desc;
 pub mod error;
 mod load;
 mod overrides;
 mod reuse;
+mod settings;
 pub mod source;
 pub mod world;
 
@@ -24,32 +26,12 @@ pub use error::SceneError;
 pub use load::{default_bunny_path, LoadOptions, SceneSource};
 pub use overrides::Overrides;
 pub use reuse::WorldCache;
+pub use settings::{Metric, Settings};
 
 use crate::camera::Camera;
-use crate::integrator::Metric;
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::Rgb;
-use crate::sampling::Distribution;
 use world::World;
-
-/// Image-wide settings after validation.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
-    pub width: u32,
-    pub height: u32,
-    /// Levels of reflection/refraction rays (the thesis's recursion depth).
-    pub max_depth: u32,
-    pub seed: u64,
-    pub background: Rgb,
-    /// Primary rays per pixel.
-    pub spp: u32,
-    pub pixel: Distribution,
-    pub lens: Distribution,
-    pub time: Distribution,
-    /// The acceleration metrics, if on.
-    pub metric: Option<Metric>,
-}
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
 pub struct Scene {

@@ -12,12 +12,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::SystemTime;
 
-use super::build::{resolve_mesh_path, BuildContext};
+use super::context::{resolve_mesh_path, BuildContext};
 use super::desc::{LightDesc, SceneDesc};
 use super::error::KeyPath;
 use super::world::World;
-#[cfg(doc)]
-use super::SceneSource;
 
 /// Worlds kept by [`WorldCache::default`]: enough for a sweep that
 /// alternates between a few scenes (the evaluation's bunny scenes, with and
@@ -25,7 +23,7 @@ use super::SceneSource;
 const DEFAULT_CAPACITY: usize = 4;
 
 /// Built worlds, most recently used last, each under a key naming
-/// everything it was made from (see [`SceneSource::build_reusing`]).
+/// everything it was made from (see `SceneSource::build_reusing`).
 pub struct WorldCache {
     entries: Vec<(String, Arc<World>)>,
     capacity: usize,

@@ -6,7 +6,8 @@ use std::fmt;
 use std::path::Path;
 
 use super::header::{Element, Header, PropKind, Scalar};
-use crate::io::mesh::{parse_i64, quote, Lines, Location, MeshError, Tokens};
+use crate::geometry::mesh_file::error::{Location, MeshError};
+use crate::geometry::mesh_file::text::{parse_i64, quote, Lines, Tokens};
 
 /// Errors are boxed inside the body readers so that the per-value results on the hot
 /// path stay two words wide and travel in registers.

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use self::header::{parse_header, Element, Format, Header, PropKind, Scalar};
 use self::source::{AsciiSource, BinarySource, Fallible, Source};
-use super::mesh::{Location, MeshData, MeshError};
+use super::error::{Location, MeshData, MeshError};
 
 /// Polygons with more corners than this are taken as a corrupt list count. Real files
 /// stay far below it, while a garbage count of billions would otherwise be read as one

@@ -7,7 +7,8 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::mesh::{parse_i64, quote, Lines, Location, MeshData, MeshError, Tokens};
+use super::error::{Location, MeshData, MeshError};
+use super::text::{parse_i64, quote, Lines, Tokens};
 
 pub fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| MeshError::io(path, e))?;

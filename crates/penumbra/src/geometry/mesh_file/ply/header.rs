@@ -2,7 +2,8 @@
 
 use std::path::Path;
 
-use crate::io::mesh::{quote, Lines, Location, MeshError, Tokens};
+use crate::geometry::mesh_file::error::{Location, MeshError};
+use crate::geometry::mesh_file::text::{quote, Lines, Tokens};
 
 /// A PLY scalar type. Both the classic names (`uchar`) and the sized ones (`uint8`)
 /// occur in the wild, often from the same tool in different versions.

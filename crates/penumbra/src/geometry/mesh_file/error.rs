@@ -1,0 +1,83 @@
+//! The mesh data the file readers produce and the errors they report.
+//!
+//! Readers return plain arrays rather than scene objects so that parsing stays
+//! independent of how the renderer later transforms and accelerates geometry.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Plain mesh data as read from a file, before any transform.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    pub positions: Vec<[f32; 3]>,
+    /// Per-vertex normals when the file has them for every vertex (PLY nx/ny/nz, OBJ vn referenced consistently); otherwise None.
+    pub normals: Option<Vec<[f32; 3]>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Where in a file a problem was found, so users can open the file at that spot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based, as editors count; the column counts bytes.
+    LineColumn {
+        line: usize,
+        column: usize,
+    },
+    /// Binary bodies have no lines, so the offset from the start of the file is reported.
+    ByteOffset(u64),
+    Unknown,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::LineColumn { line, column } => write!(f, "{line}:{column}"),
+            Location::ByteOffset(offset) => write!(f, "byte {offset}"),
+            Location::Unknown => f.write_str("unknown location"),
+        }
+    }
+}
+
+/// Text after the path in an error message: `:12:5` for text, `: byte 10234` for binary,
+/// matching the `file:line:column:` convention that editors and terminals make clickable.
+fn location_suffix(location: &Location) -> String {
+    match location {
+        Location::LineColumn { .. } => format!(":{location}"),
+        Location::ByteOffset(_) => format!(": {location}"),
+        Location::Unknown => String::new(),
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A problem at a known place. Text formats give line and column (1-based); binary PLY bodies give the byte offset.
+    #[error("{path}{}: {message}", location_suffix(.location))]
+    Parse {
+        path: PathBuf,
+        location: Location,
+        message: String,
+    },
+}
+
+impl MeshError {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+        MeshError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    pub(crate) fn parse(path: &Path, location: Location, message: impl Into<String>) -> Self {
+        MeshError::Parse {
+            path: path.to_path_buf(),
+            location,
+            message: message.into(),
+        }
+    }
+}

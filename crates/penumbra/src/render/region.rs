@@ -1,0 +1,34 @@
+//! Where pixels are rendered and what goes wrong there: the rectangles the
+//! image is cut into, and the samples the guard caught.
+
+use serde::Serialize;
+
+/// Side of the square tiles the image is cut into. Fixed, so that the work
+/// split never depends on the thread count (the pixels would not anyway).
+pub const TILE: u32 = 32;
+
+/// A rectangle of pixels `[x0, x1) × [y0, y1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Region {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl Region {
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+}
+
+/// A non-finite sample: caught where it was made, replaced by black.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BadSample {
+    pub x: u32,
+    pub y: u32,
+    pub sample: u32,
+}
