@@ -9,8 +9,10 @@ pub mod shaft;
 #[cfg(test)]
 mod testdata;
 pub mod tri;
+pub mod world;
 
 pub use brute::{brute_any, brute_closest};
 pub use bvh::{BuildStats, Bvh};
 pub use shaft::Shaft;
 pub use tri::{LeafSet, RayPacket, TriHit, TriStats, TriangleBvh};
+pub use world::{Hit, Object, PacketScratch, ShaftSet, World};

@@ -1,12 +1,15 @@
 //! Shapes and their intersection routines, and rigid motion over the shutter.
 
+pub mod disk;
 pub mod mesh;
 pub mod mesh_file;
 pub mod motion;
 pub mod quad;
+pub mod shape;
 pub mod sphere;
 pub mod tessellate;
 pub mod triangle;
 
 pub use mesh::Mesh;
 pub use motion::{Motion, Similarity};
+pub use shape::{Shape, ShapeHit};

@@ -1,12 +1,12 @@
 use glam::{Vec3A, Vec4};
 
+use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::light::{Light, LightSamples4};
 use crate::material::{fresnel_dielectric, Material, Shading};
 use crate::math::Rgb;
 use crate::math::{offset_origin, reach, reflect, refract, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{BranchKey, Distribution, Rng};
-use crate::scene::world::{Hit, PacketScratch, ShaftSet};
 use crate::scene::Scene;
 
 use super::{RayStats, RunningMean};
@@ -146,7 +146,7 @@ impl<'a> Tracer<'a> {
     }
 
     /// Finds where each of a pixel's camera rays hits, all together (see
-    /// [`World::intersect_all`](crate::scene::world::World::intersect_all)),
+    /// [`World::intersect_all`](crate::accel::World::intersect_all)),
     /// for [`radiance_primaries`](Self::radiance_primaries) to shade.
     pub fn intersect_primary(&mut self, rays: &[Ray]) {
         let world = &self.scene.world;

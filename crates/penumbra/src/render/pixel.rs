@@ -51,7 +51,7 @@ pub fn render_pixel(
 
 /// Pixels `xs` of row `y` of a frame with one camera ray per pixel, into
 /// `out`: what [`render_pixel`] gives each (but for the rare tie noted at
-/// [`World::intersect_all`](crate::scene::world::World::intersect_all)),
+/// [`World::intersect_all`](crate::accel::World::intersect_all)),
 /// with the span's camera rays found together and shaded together
 /// ([`Tracer::radiance_primaries`]) as a pixel's rays are when it has
 /// several: a Whitted frame's neighbouring rays are as coherent as those.

@@ -15,7 +15,6 @@ mod overrides;
 mod reuse;
 mod settings;
 pub mod source;
-pub mod world;
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -28,10 +27,10 @@ pub use overrides::Overrides;
 pub use reuse::WorldCache;
 pub use settings::{Metric, Settings};
 
+use crate::accel::World;
 use crate::camera::Camera;
 use crate::light::Light;
 use crate::material::Material;
-use world::World;
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
 pub struct Scene {

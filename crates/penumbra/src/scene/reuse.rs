@@ -15,7 +15,7 @@ use std::time::SystemTime;
 use super::context::{resolve_mesh_path, BuildContext};
 use super::desc::{LightDesc, SceneDesc};
 use super::error::KeyPath;
-use super::world::World;
+use crate::accel::World;
 
 /// Worlds kept by [`WorldCache::default`]: enough for a sweep that
 /// alternates between a few scenes (the evaluation's bunny scenes, with and

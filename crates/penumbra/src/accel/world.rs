@@ -11,31 +11,12 @@
 //! and then through the triangles with its range cut at the object hit (a
 //! ground plane in front of a mesh spares the mesh's BVH).
 
-use crate::accel::{brute_closest, Bvh, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
+use super::{brute_closest, Bvh, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
-use crate::geometry::sphere::intersect_sphere;
-use crate::geometry::triangle::{intersect_triangle, RayShear};
-use crate::geometry::Mesh;
-use crate::math::{nearest_lane, Aabb, Frame, Ray, Vec3};
-
-/// A shape in its own space (world space for static objects).
-#[derive(Clone, Debug)]
-pub enum Shape {
-    Sphere {
-        center: Vec3,
-        radius: f32,
-    },
-    Quad(Quad),
-    Disk {
-        center: Vec3,
-        frame: Frame,
-        radius: f32,
-    },
-    Mesh {
-        mesh: u32,
-    },
-}
+use crate::geometry::triangle::RayShear;
+use crate::geometry::{Mesh, Shape, ShapeHit};
+use crate::math::{nearest_lane, Aabb, Ray, Vec3};
 
 pub struct Object {
     pub shape: Shape,
@@ -90,13 +71,34 @@ pub struct World {
     is_static: bool,
 }
 
-/// Intersection details kept while the BVH search runs; turned into a [`Hit`]
-/// only once, for the closest primitive.
+/// Intersection details kept while the BVH search runs ([`ShapeHit`]
+/// without its distance); turned into a [`Hit`] only once, for the closest
+/// primitive.
 #[derive(Clone, Copy, Default)]
 struct Candidate {
     b1: f32,
     b2: f32,
     inner: u32,
+}
+
+impl Candidate {
+    fn of(h: ShapeHit) -> (f32, Candidate) {
+        let c = Candidate {
+            b1: h.b1,
+            b2: h.b2,
+            inner: h.inner,
+        };
+        (h.t, c)
+    }
+
+    fn at(self, t: f32) -> ShapeHit {
+        ShapeHit {
+            t,
+            b1: self.b1,
+            b2: self.b2,
+            inner: self.inner,
+        }
+    }
 }
 
 impl World {
@@ -114,7 +116,7 @@ impl World {
                     tri_meshes.resize(tri_refs.len(), *mesh);
                 }
                 (shape, motion) => {
-                    let b = shape_bounds(shape, &meshes);
+                    let b = shape.bounds(&meshes);
                     prims.push(Prim::Object { object });
                     bounds.push(motion.map_or(b, |m| m.bounds(b)));
                 }
@@ -296,19 +298,12 @@ impl World {
         out.casters = 0;
         for (bit, &i) in self.casters.iter().enumerate().take(FEW) {
             let o = &self.objects[prim_object(self.prims[i as usize]) as usize];
-            let plane = match (&o.shape, o.motion) {
-                (Shape::Quad(q), None) => Some((q.normal, q.origin)),
-                (Shape::Disk { center, frame, .. }, None) => Some((frame.n, *center)),
-                _ => None,
-            };
+            let still = o.motion.is_none();
+            let plane = o.shape.plane().filter(|_| still);
             let apart = plane.is_some_and(|(n, p)| one_side(n, p, &[origins, targets]));
             // Otherwise a still object whose box the shaft misses.
-            let outside = || match (&o.shape, o.motion) {
-                (Shape::Sphere { .. } | Shape::Quad(_) | Shape::Disk { .. }, None) => {
-                    !shaft.overlaps(&shape_bounds(&o.shape, &[]))
-                }
-                _ => false,
-            };
+            let analytic = !matches!(o.shape, Shape::Mesh { .. });
+            let outside = || still && analytic && !shaft.overlaps(&o.shape.bounds(&[]));
             if !apart && !outside() {
                 out.casters |= 1 << bit;
             }
@@ -405,13 +400,11 @@ impl World {
         let Some((t, _)) = self.intersect_prim(prim, ray, tmin, tmax) else {
             return 0;
         };
-        // A sphere can be crossed twice within the segment (in and out).
-        let second = match (prim, &self.objects[prim_object(prim) as usize].shape) {
-            (Prim::Object { .. }, Shape::Sphere { .. }) => {
-                self.intersect_prim(prim, ray, t, tmax).is_some()
-            }
-            _ => false,
-        };
+        // A closed shape (a sphere) can be crossed twice within the segment (in and out).
+        let closed = self.objects[prim_object(prim) as usize].shape.is_closed();
+        let second = matches!(prim, Prim::Object { .. })
+            && closed
+            && self.intersect_prim(prim, ray, t, tmax).is_some();
         1 + i32::from(second)
     }
 
@@ -429,10 +422,9 @@ impl World {
                 let Shape::Mesh { mesh } = self.objects[object as usize].shape else {
                     return None;
                 };
-                let [p0, p1, p2] = self.meshes[mesh as usize].vertices(tri as usize);
-                let (t, b1, b2) =
-                    intersect_triangle(ray, &RayShear::new(ray), p0, p1, p2, tmin, tmax)?;
-                Some((t, Candidate { b1, b2, inner: tri }))
+                let m = &self.meshes[mesh as usize];
+                let shear = RayShear::new(ray);
+                Shape::intersect_triangle_of(m, tri, ray, &shear, tmin, tmax).map(Candidate::of)
             }
             Prim::Object { object } => {
                 let o = &self.objects[object as usize];
@@ -454,33 +446,22 @@ impl World {
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
-        match &o.shape {
-            Shape::Sphere { center, radius } => intersect_sphere(ray, *center, *radius, tmin, tmax)
-                .map(|t| (t, Candidate::default())),
-            Shape::Quad(q) => q
-                .intersect(ray, tmin, tmax)
-                .map(|(t, b1, b2)| (t, Candidate { b1, b2, inner: 0 })),
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => intersect_disk(ray, *center, frame.n, *radius, tmin, tmax)
-                .map(|t| (t, Candidate::default())),
-            Shape::Mesh { mesh } => {
-                let m = &self.meshes[*mesh as usize];
-                let bvh = o.mesh_bvh.as_ref()?;
-                let shear = RayShear::new(ray);
-                let mut cand = Candidate::default();
-                let (tri, t) = bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
-                    let [p0, p1, p2] = m.vertices(i as usize);
-                    let (t, b1, b2) = intersect_triangle(ray, &shear, p0, p1, p2, tmin, tmax)?;
-                    cand = Candidate { b1, b2, inner: i };
-                    Some(t)
-                })?;
-                cand.inner = tri;
-                Some((t, cand))
-            }
-        }
+        let Shape::Mesh { mesh } = o.shape else {
+            return o.shape.intersect(ray, tmin, tmax).map(Candidate::of);
+        };
+        // A moving mesh: its own BVH, in its own space.
+        let m = &self.meshes[mesh as usize];
+        let bvh = o.mesh_bvh.as_ref()?;
+        let shear = RayShear::new(ray);
+        let mut cand = Candidate::default();
+        let (tri, t) = bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
+            let (t, c) =
+                Candidate::of(Shape::intersect_triangle_of(m, i, ray, &shear, tmin, tmax)?);
+            cand = c;
+            Some(t)
+        })?;
+        cand.inner = tri;
+        Some((t, cand))
     }
 
     fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
@@ -494,7 +475,7 @@ impl World {
             _ => (*ray, None),
         };
         let p = local_ray.at(t);
-        let (ng, ns) = self.local_normals(o, c, p);
+        let (ng, ns) = o.shape.normals(&self.meshes, &c.at(t), p);
         let (point, ng, ns) = match placement {
             None => (ray.at(t), ng, ns),
             Some(s) => (
@@ -511,24 +492,6 @@ impl World {
             ns,
             material: o.material,
             light: o.light,
-        }
-    }
-
-    fn local_normals(&self, o: &Object, c: Candidate, p: Vec3) -> (Vec3, Vec3) {
-        match &o.shape {
-            Shape::Sphere { center, .. } => {
-                let n = (p - *center).normalize_or_zero();
-                (n, n)
-            }
-            Shape::Quad(q) => (q.normal, q.normal),
-            Shape::Disk { frame, .. } => (frame.n, frame.n),
-            Shape::Mesh { mesh } => {
-                let m = &self.meshes[*mesh as usize];
-                let [p0, p1, p2] = m.vertices(c.inner as usize);
-                let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                let ns = m.shading_normal(c.inner as usize, c.b1, c.b2).unwrap_or(ng);
-                (ng, ns)
-            }
         }
     }
 }
@@ -592,41 +555,6 @@ fn prim_object(p: Prim) -> u32 {
     match p {
         Prim::Triangle { object, .. } | Prim::Object { object } => object,
     }
-}
-
-fn shape_bounds(shape: &Shape, meshes: &[Mesh]) -> Aabb {
-    match shape {
-        Shape::Sphere { center, radius } => Aabb::new(
-            *center - Vec3::splat(*radius),
-            *center + Vec3::splat(*radius),
-        ),
-        Shape::Quad(q) => Aabb::from_points([
-            q.origin,
-            q.point(1.0, 0.0),
-            q.point(0.0, 1.0),
-            q.point(1.0, 1.0),
-        ]),
-        Shape::Disk {
-            center,
-            frame,
-            radius,
-        } => {
-            let e = Vec3::ONE - frame.n * frame.n;
-            let r = *radius * Vec3::from_array(e.max(Vec3::ZERO).to_array().map(f32::sqrt));
-            Aabb::new(*center - r, *center + r)
-        }
-        Shape::Mesh { mesh } => meshes[*mesh as usize].bounds(),
-    }
-}
-
-/// Ray–disk intersection: the plane hit, then a distance test to the centre.
-fn intersect_disk(ray: &Ray, c: Vec3, n: Vec3, r: f32, tmin: f32, tmax: f32) -> Option<f32> {
-    let denom = n.dot(ray.dir);
-    if denom.abs() < 1e-12 {
-        return None;
-    }
-    let t = n.dot(c - ray.origin) / denom;
-    (t > tmin && t < tmax && (ray.at(t) - c).length_squared() <= r * r).then_some(t)
 }
 
 /// Builds the BVH of a mesh in its own space (moving meshes).
