@@ -28,13 +28,13 @@
 //! ```
 
 pub mod accel;
+pub mod bsdf;
 pub mod camera;
+pub mod emitter;
 pub mod font;
 pub mod geometry;
 pub mod integrator;
 pub mod io;
-pub mod light;
-pub mod material;
 pub mod math;
 pub mod render;
 pub mod sampling;

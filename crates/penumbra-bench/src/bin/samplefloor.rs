@@ -24,13 +24,14 @@
 //! Prints JSON: the median seconds of each, one thread, in alternating
 //! rounds, and the median ratio of adjacent pairs.
 
+use penumbra::bsdf::{Phong, Surface};
+use penumbra::emitter::Emitter;
 use penumbra::geometry::quad::Quad;
-use penumbra::light::{Light, LightShape};
-use penumbra::material::Shading;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
 use penumbra::render::{render, Image, RenderOptions};
 use penumbra::sampling::{BranchKey, Distribution, Rng};
+use penumbra::scene::LightShape;
 use penumbra::scene::{LoadOptions, Scene, SceneSource};
 use penumbra_bench::median;
 use serde_json::json;
@@ -78,8 +79,8 @@ const SHADOW: u64 = 1 << 32;
 struct Floor<'a> {
     scene: &'a Scene,
     ground: Quad,
-    light: &'a Light,
-    shading: Shading,
+    light: Emitter,
+    shading: Phong,
     paths: Vec<BranchKey>,
     shadow: BranchKey,
 }
@@ -97,7 +98,7 @@ impl<'a> Floor<'a> {
         let [light] = scene.lights.as_slice() else {
             return Err("the kernel needs exactly one light".into());
         };
-        if !matches!(light.shape, LightShape::Rect(_)) || light.shadow_rays() != 1 {
+        if !matches!(light.shape, LightShape::Rect(_)) || light.shadow.rays != 1 {
             return Err("the kernel needs a rectangle light with one shadow ray".into());
         }
         // The ground's material, as the renderer finds it: what a ray
@@ -108,8 +109,8 @@ impl<'a> Floor<'a> {
         Ok(Floor {
             scene,
             ground: ground(),
-            light,
-            shading: scene.materials[material as usize].shading(),
+            light: Emitter::new(light),
+            shading: Surface::new(&scene.materials[material as usize]).local,
             paths: (0..u64::from(s.spp))
                 .map(|i| BranchKey::new(PATH + i))
                 .collect(),
@@ -168,8 +169,8 @@ impl<'a> Floor<'a> {
                 let wi = Vec3::new(dir[0][k], dir[1][k], dir[2][k]);
                 let cos = n.dot(wi);
                 if ls.valid >> k & 1 != 0 && cos > 0.0 {
-                    let weight = self.light.power * scale[k];
-                    sum += self.shading.local_brdf(n, wo, wi) * weight * cos;
+                    let weight = self.light.light().power * scale[k];
+                    sum += self.shading.eval(n, wo, wi) * weight * cos;
                 }
             }
         }

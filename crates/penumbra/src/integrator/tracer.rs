@@ -1,10 +1,10 @@
 use glam::{Vec3A, Vec4};
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
-use crate::light::{Light, LightSamples4};
-use crate::material::{fresnel_dielectric, Material, Shading};
+use crate::bsdf::{Dielectric, Surface};
+use crate::emitter::{Emitter, LightSamples4};
 use crate::math::Rgb;
-use crate::math::{offset_origin, reach, reflect, refract, Aabb, Ray, Vec3};
+use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{BranchKey, Distribution, Rng};
 use crate::scene::Scene;
@@ -48,8 +48,10 @@ pub struct Tracer<'a> {
     primary: Vec<Option<Hit>>,
     packet: PacketScratch,
     batch: Batch,
-    /// [`Material::shading`] of each of the scene's materials.
-    shading: Vec<Shading>,
+    /// The models of each of the scene's materials.
+    surfaces: Vec<Surface>,
+    /// The scene's lights, ready to be sampled.
+    emitters: Vec<Emitter>,
     /// The branch of light `j`'s shadow sets, `SHADOW + j`, hashed once.
     shadow_keys: Vec<BranchKey>,
 }
@@ -132,7 +134,8 @@ impl<'a> Tracer<'a> {
             primary: Vec::new(),
             packet: PacketScratch::default(),
             batch: Batch::default(),
-            shading: scene.materials.iter().map(Material::shading).collect(),
+            surfaces: scene.materials.iter().map(Surface::new).collect(),
+            emitters: scene.lights.iter().map(Emitter::new).collect(),
             shadow_keys: (0..scene.lights.len() as u64)
                 .map(|j| BranchKey::new(SHADOW + j))
                 .collect(),
@@ -172,15 +175,17 @@ impl<'a> Tracer<'a> {
             let Some(hit) = &self.primary[i] else {
                 continue;
             };
-            if hit.light.is_none() && self.shading[hit.material as usize].lit {
+            if hit.light.is_none() && self.surfaces[hit.material as usize].lit {
                 batch.lit.push((i, hit.material, Local::new(ray, hit)));
             }
         }
         batch.direct.clear();
-        for (j, light) in scene.lights.iter().enumerate() {
+        let emitters = std::mem::take(&mut self.emitters);
+        for (j, light) in emitters.iter().enumerate() {
             let key = self.shadow_keys[j];
             self.direct_batch(light, |i| rng(i).derive_key(key), &mut batch);
         }
+        self.emitters = emitters;
         out.clear();
         let (lit, lights) = (batch.lit.len(), scene.lights.len());
         let mut k = 0;
@@ -190,11 +195,10 @@ impl<'a> Tracer<'a> {
                 continue;
             };
             if let Some(l) = hit.light {
-                out.push(scene.lights[l as usize].emitted(hit.ng, ray.dir));
+                out.push(self.emitters[l as usize].emitted(hit.ng, ray.dir));
                 continue;
             }
-            let m = &scene.materials[hit.material as usize];
-            let sh = self.shading[hit.material as usize];
+            let sh = self.surfaces[hit.material as usize];
             let fresh;
             let s = if sh.lit {
                 &batch.lit[k].2
@@ -202,7 +206,7 @@ impl<'a> Tracer<'a> {
                 fresh = Local::new(ray, &hit);
                 &fresh
             };
-            let mut l = if s.front { m.emission } else { Rgb::ZERO };
+            let mut l = if s.front { sh.emission } else { Rgb::ZERO };
             if sh.lit {
                 // This hit's frame and direct light were found above.
                 for j in 0..lights {
@@ -211,7 +215,7 @@ impl<'a> Tracer<'a> {
                 k += 1;
             }
             if sh.scatters {
-                self.indirect(s, ray, m, 0, rng(i), &mut l);
+                self.indirect(s, ray, &sh, 0, rng(i), &mut l);
             }
             out.push(l);
         }
@@ -222,7 +226,7 @@ impl<'a> Tracer<'a> {
     /// `batch.direct`: [`direct`](Self::direct) for each, except that sets
     /// too small for a shaft of their own share one if the pixel's sets
     /// together are large enough.
-    fn direct_batch(&mut self, light: &Light, rng: impl Fn(usize) -> Rng, batch: &mut Batch) {
+    fn direct_batch(&mut self, light: &Emitter, rng: impl Fn(usize) -> Rng, batch: &mut Batch) {
         let Batch {
             lit,
             rays,
@@ -247,13 +251,13 @@ impl<'a> Tracer<'a> {
             // shaft's emptiness checked once for all.
             let clear = shared && self.scene.world.shaft_is_clear(&self.shaft);
             for ((_, material, s), r) in lit.iter().zip(rays.iter()) {
-                let m = self.shading[*material as usize];
+                let m = self.surfaces[*material as usize];
                 direct.push(self.single_term(s, &m, r.as_ref(), shared, clear));
             }
             return;
         }
         for (k, (_, material, s)) in lit.iter().enumerate() {
-            let m = self.shading[*material as usize];
+            let m = self.surfaces[*material as usize];
             let set = &rays[starts[k]..starts[k + 1]];
             let shaft = shared || (own && self.gather_shaft(set));
             direct.push(self.trace_set(s, &m, light, set, shaft));
@@ -269,34 +273,35 @@ impl<'a> Tracer<'a> {
 
     fn shade(&mut self, ray: &Ray, hit: &Hit, depth: u32, rng: Rng) -> Rgb {
         if let Some(l) = hit.light {
-            return self.scene.lights[l as usize].emitted(hit.ng, ray.dir);
+            return self.emitters[l as usize].emitted(hit.ng, ray.dir);
         }
-        let scene = self.scene;
-        let m = &scene.materials[hit.material as usize];
         let s = Local::new(ray, hit);
-        let mut l = if s.front { m.emission } else { Rgb::ZERO };
-        let sh = self.shading[hit.material as usize];
+        let sh = self.surfaces[hit.material as usize];
+        let mut l = if s.front { sh.emission } else { Rgb::ZERO };
         if sh.lit {
-            for (j, light) in scene.lights.iter().enumerate() {
+            let emitters = std::mem::take(&mut self.emitters);
+            for (j, light) in emitters.iter().enumerate() {
                 let key = self.shadow_keys[j];
                 l += self.direct(&s, &sh, light, rng.derive_key(key));
             }
+            self.emitters = emitters;
         }
-        self.indirect(&s, ray, m, depth, rng, &mut l);
+        self.indirect(&s, ray, &sh, depth, rng, &mut l);
         l
     }
 
     /// Adds the light reflected and refracted at `s` to `l` (in this order,
     /// which the pixel-wide path keeps, so that both sum alike).
-    fn indirect(&mut self, s: &Local, ray: &Ray, m: &Material, depth: u32, rng: Rng, l: &mut Rgb) {
-        if depth < self.scene.settings.max_depth && m.scatters() {
-            if m.reflectivity > 0.0 {
-                let dir = reflect(ray.dir.normalize(), s.n);
-                let spec = (m.reflection.rays, m.reflection.distribution, m.glossiness);
-                *l += m.reflectivity * self.scatter(s, dir, spec, Branch::Reflect, depth, rng);
+    fn indirect(&mut self, s: &Local, ray: &Ray, m: &Surface, depth: u32, rng: Rng, l: &mut Rgb) {
+        if depth < self.scene.settings.max_depth && m.scatters {
+            if let Some(mirror) = m.mirror {
+                let dir = mirror.direction(ray.dir.normalize(), s.n);
+                let e = mirror.effect;
+                let spec = (e.rays, e.distribution, mirror.glossiness);
+                *l += mirror.reflectivity * self.scatter(s, dir, spec, Branch::Reflect, depth, rng);
             }
-            if m.transparency > 0.0 {
-                *l += m.transparency * self.dielectric(s, ray, m, depth, rng);
+            if let Some(glass) = m.dielectric {
+                *l += glass.transparency * self.dielectric(s, ray, &glass, depth, rng);
             }
         }
     }
@@ -305,7 +310,7 @@ impl<'a> Tracer<'a> {
     /// `brdf · weight · cos θ · transmittance`. The whole set is prepared
     /// first, so that a set of several rays can gather once the BVH leaves
     /// its shaft reaches and test every ray against those only.
-    fn direct(&mut self, s: &Local, m: &Shading, light: &Light, rng: Rng) -> Rgb {
+    fn direct(&mut self, s: &Local, m: &Surface, light: &Emitter, rng: Rng) -> Rgb {
         let mut set = std::mem::take(&mut self.shadow_set);
         set.clear();
         self.shadow_set(s, light, rng, &mut set);
@@ -321,8 +326,8 @@ impl<'a> Tracer<'a> {
     fn trace_set(
         &mut self,
         s: &Local,
-        m: &Shading,
-        light: &Light,
+        m: &Surface,
+        light: &Emitter,
         set: &[Option<ShadowRay>],
         shaft: bool,
     ) -> Rgb {
@@ -363,7 +368,7 @@ impl<'a> Tracer<'a> {
     fn single_term(
         &mut self,
         s: &Local,
-        m: &Shading,
+        m: &Surface,
         one: Option<&ShadowRay>,
         shaft: bool,
         clear: bool,
@@ -379,7 +384,7 @@ impl<'a> Tracer<'a> {
     fn shadow_term(
         &mut self,
         s: &Local,
-        m: &Shading,
+        m: &Surface,
         r: &ShadowRay,
         shaft: bool,
         clear: bool,
@@ -392,7 +397,7 @@ impl<'a> Tracer<'a> {
             let within = shaft.then_some(&self.shaft);
             world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)?
         };
-        Some(m.local_brdf(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
+        Some(m.local.eval(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
     /// Appends the rays of the shadow set toward `light` to `set` (`None`
@@ -400,11 +405,11 @@ impl<'a> Tracer<'a> {
     fn shadow_set(
         &mut self,
         s: &Local,
-        light: &Light,
+        light: &Emitter,
         mut rng: Rng,
         set: &mut Vec<Option<ShadowRay>>,
     ) {
-        let d = light.shadow.distribution;
+        let d = light.shadow().distribution;
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
@@ -430,8 +435,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// The distribution points of a shadow set toward `light`, into `points`.
-    fn set_points(&self, light: &Light, rng: &mut Rng, points: &mut Vec<Vec3>) {
-        let (n, d) = (light.shadow_rays() as usize, light.shadow.distribution);
+    fn set_points(&self, light: &Emitter, rng: &mut Rng, points: &mut Vec<Vec3>) {
+        let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
         // The rays are summed: their order matters only to the shadow
         // metric, which may stop the set early.
         if self.scene.settings.metric.is_some_and(|m| m.shadows) {
@@ -448,11 +453,11 @@ impl<'a> Tracer<'a> {
     fn single_rays(
         &mut self,
         lit: &[(usize, u32, Local)],
-        light: &Light,
+        light: &Emitter,
         rng: &impl Fn(usize) -> Rng,
         set: &mut Vec<Option<ShadowRay>>,
     ) -> bool {
-        let d = light.shadow.distribution;
+        let d = light.shadow().distribution;
         if light.shadow_rays() != 1 || !light.four_wide(d) {
             return false;
         }
@@ -494,19 +499,16 @@ impl<'a> Tracer<'a> {
     }
 
     /// A dielectric interface: Fresnel-weighted reflection and refraction.
-    fn dielectric(&mut self, s: &Local, ray: &Ray, m: &Material, depth: u32, rng: Rng) -> Rgb {
-        let d = ray.dir.normalize();
-        let eta = if s.front { 1.0 / m.ior } else { m.ior };
-        let spec = (m.refraction.rays, m.refraction.distribution, m.translucency);
-        let cos_i = s.n.dot(s.wo).max(0.0);
-        let f = fresnel_dielectric(cos_i, eta);
+    fn dielectric(&mut self, s: &Local, ray: &Ray, m: &Dielectric, depth: u32, rng: Rng) -> Rgb {
+        let split = m.split(ray.dir.normalize(), s.n, s.front);
+        let spec = (m.effect.rays, m.effect.distribution, m.translucency);
+        let f = split.fresnel;
         let mut l = Rgb::ZERO;
-        if let (Some(t), true) = (refract(d, s.n, eta), f < 1.0) {
+        if let (Some(t), true) = (split.refracted, f < 1.0) {
             l += (1.0 - f) * self.scatter(s, t, spec, Branch::Refract, depth, rng);
         }
         if f > 0.0 {
-            let r = reflect(d, s.n);
-            l += f * self.scatter(s, r, spec, Branch::Fresnel, depth, rng);
+            l += f * self.scatter(s, split.reflected, spec, Branch::Fresnel, depth, rng);
         }
         l
     }
@@ -608,7 +610,7 @@ impl Lanes {
 /// `set`: lane by lane the same rays.
 fn shadow_rays4(
     s: &Lanes,
-    light: &Light,
+    light: &Emitter,
     ls: &LightSamples4,
     count: usize,
     set: &mut Vec<Option<ShadowRay>>,
@@ -632,7 +634,7 @@ fn shadow_rays4(
             ),
             wi: Vec3::new(dir[0][i], dir[1][i], dir[2][i]),
             cos: cos[i],
-            weight: light.power * scale[i],
+            weight: light.light().power * scale[i],
         })
     }));
 }
@@ -643,7 +645,7 @@ fn shadow_rays4(
 fn shadow_ray(
     s: &Local,
     origin: Vec3,
-    light: &Light,
+    light: &Emitter,
     point: Vec3,
     d: Distribution,
 ) -> Option<ShadowRay> {
@@ -665,8 +667,7 @@ fn shadow_ray(
 mod tests {
     use super::*;
     use crate::geometry::quad::Quad;
-    use crate::light::{LightShape, PenumbraModel};
-    use crate::material::EffectSpec;
+    use crate::scene::{EffectSpec, Light, LightShape, PenumbraModel};
 
     fn unit(r: &mut Rng) -> Vec3 {
         let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
@@ -727,15 +728,16 @@ mod tests {
             points[0] = Vec3::new(1.5, -1.5, 0.0);
             light.model = [PenumbraModel::Surface, PenumbraModel::Thesis][usize::from(k % 7 == 0)];
             let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
+            let emitter = Emitter::new(&light);
             for chunk in points.chunks_exact(4) {
                 let chunk: &[Vec3; 4] = chunk.try_into().unwrap();
                 four.clear();
                 one.clear();
-                match light.sample4(&[s.p; 4], chunk, d) {
+                match emitter.sample4(&[s.p; 4], chunk, d) {
                     Some(ls) => {
                         shadow_rays4(
                             &Lanes::new([&s; 4], &[origin; 4]),
-                            &light,
+                            &emitter,
                             &ls,
                             4,
                             &mut four,
@@ -748,7 +750,11 @@ mod tests {
                         continue;
                     }
                 }
-                one.extend(chunk.iter().map(|q| shadow_ray(&s, origin, &light, *q, d)));
+                one.extend(
+                    chunk
+                        .iter()
+                        .map(|q| shadow_ray(&s, origin, &emitter, *q, d)),
+                );
                 for (a, b) in four.iter().zip(&one) {
                     assert_eq!(bits(a), bits(b), "{d:?} {p:?}");
                     traced += usize::from(a.is_some());

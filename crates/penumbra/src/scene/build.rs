@@ -10,6 +10,7 @@ pub use super::context::BuildContext;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::reuse::{self, WorldCache};
+use super::{EffectSpec, Light, LightShape, Material, PenumbraModel};
 use super::{Metric, Scene, Settings};
 use crate::accel::world::{mesh_bvh, Object, World};
 use crate::camera::{Camera, CameraSpec};
@@ -18,8 +19,6 @@ use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::light::{Light, LightShape, PenumbraModel};
-use crate::material::{EffectSpec, Material};
 use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
 use crate::sampling::Distribution;
 

@@ -10,7 +10,9 @@ mod check;
 mod context;
 pub mod desc;
 pub mod error;
+mod light;
 mod load;
+mod material;
 mod overrides;
 mod reuse;
 mod settings;
@@ -22,15 +24,15 @@ use std::time::Duration;
 pub use build::BuildContext;
 pub use desc::SceneDesc;
 pub use error::SceneError;
+pub use light::{Light, LightShape, PenumbraModel};
 pub use load::{default_bunny_path, LoadOptions, SceneSource};
+pub use material::{EffectSpec, Material};
 pub use overrides::Overrides;
 pub use reuse::WorldCache;
 pub use settings::{Metric, Settings};
 
 use crate::accel::World;
 use crate::camera::Camera;
-use crate::light::Light;
-use crate::material::Material;
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
 pub struct Scene {

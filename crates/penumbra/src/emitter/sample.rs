@@ -1,0 +1,64 @@
+//! What sampling an emitter gives, and the uniform area sampling the
+//! area lights share.
+
+use glam::Vec4;
+
+use crate::math::{Rgb, Vec3};
+
+/// Where to send a shadow ray and what it brings if unoccluded.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    pub target: Vec3,
+    /// Unit direction from the shading point to `target` (what
+    /// `normalize_or_zero` gives), kept so that callers need not recompute it.
+    pub dir: Vec3,
+    pub weight: Rgb,
+}
+
+/// Four light samples, one per lane, as [`Emitter::sample4`] gives them:
+/// coordinates lane-wise (x, y, z).
+#[derive(Clone, Copy, Debug)]
+pub struct LightSamples4 {
+    pub target: [Vec4; 3],
+    /// Unit directions from the shading point, as [`LightSample::dir`].
+    pub dir: [Vec4; 3],
+    /// Per lane, [`LightSample::weight`] is `power · scale`.
+    pub scale: Vec4,
+    /// Bit `i` set if lane `i` gives a sample (where `sample` gives `Some`).
+    pub valid: u32,
+}
+
+/// Uniform area sampling of a one-sided light (of a sphere, two-sided when
+/// `two_sided`): weight = L · cos θ_light · A / r².
+pub(super) fn area_sample(
+    power: Rgb,
+    p: Vec3,
+    target: Vec3,
+    n: Vec3,
+    area: f32,
+    two_sided: bool,
+) -> Option<LightSample> {
+    let to = target - p;
+    let r2 = to.length_squared();
+    let r = r2.sqrt();
+    let cos_l = n.dot(-to) / r;
+    let cos_l = if two_sided { cos_l.abs() } else { cos_l };
+    if !(cos_l > 0.0 && r2 > 0.0) {
+        return None;
+    }
+    Some(LightSample {
+        target,
+        // `normalize_or_zero`'s own operations, so the same bits.
+        dir: to * r.recip(),
+        weight: power * (cos_l * area / r2),
+    })
+}
+
+/// The solid-angle density of uniform area sampling: r² / (cos θ_light · A).
+pub(super) fn area_pdf(cos_l: f32, r2: f32, area: f32) -> f32 {
+    if cos_l > 0.0 && area > 0.0 {
+        r2 / (cos_l * area)
+    } else {
+        0.0
+    }
+}
