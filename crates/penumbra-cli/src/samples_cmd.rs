@@ -3,8 +3,9 @@
 use std::path::PathBuf;
 
 use penumbra::io::output::write_bytes;
+use penumbra::io::plot;
 use penumbra::math::Vec3;
-use penumbra::sampling::{plot, Distribution, Rng};
+use penumbra::sampling::{Distribution, Rng};
 use serde_json::json;
 
 use crate::error::{input, other, CliError};

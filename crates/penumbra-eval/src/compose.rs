@@ -8,7 +8,7 @@ use penumbra::io::output::to_srgb8;
 use penumbra::render::Image;
 
 use crate::error::EvalError;
-use penumbra::font::{draw_text, text_width, HEIGHT};
+use penumbra::io::font::{draw_text, text_width, HEIGHT};
 
 const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
 const INK: Rgb<u8> = Rgb([20, 20, 20]);

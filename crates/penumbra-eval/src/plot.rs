@@ -1,5 +1,5 @@
 //! Line charts with axes, ticks, log scales and a legend, drawn into an
-//! [`RgbImage`] with the bitmap [`font`](penumbra::font).
+//! [`RgbImage`] with the bitmap [`font`](penumbra::io::font).
 //!
 //! Written here rather than taken from a plotting crate so that the report
 //! needs no system libraries and no font files: the pictures are the same on
@@ -7,7 +7,7 @@
 
 use image::{Rgb, RgbImage};
 
-use penumbra::font::{draw_text, draw_text_up, put, text_width, HEIGHT};
+use penumbra::io::font::{draw_text, draw_text_up, put, text_width, HEIGHT};
 
 /// How values map onto an axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -31,7 +31,6 @@ pub mod accel;
 pub mod bsdf;
 pub mod camera;
 pub mod emitter;
-pub mod font;
 pub mod geometry;
 pub mod integrator;
 pub mod io;

@@ -25,6 +25,7 @@
 //! rounds, and the median ratio of adjacent pairs.
 
 use penumbra::bsdf::{Phong, Surface};
+use penumbra::camera::CameraSample;
 use penumbra::emitter::Emitter;
 use penumbra::geometry::quad::Quad;
 use penumbra::math::Rgb;
@@ -139,12 +140,19 @@ impl<'a> Floor<'a> {
         let time = [cam.time(0.0); 4];
         let mut sum = Rgb::ZERO;
         for (c, four) in film.chunks_exact(4).enumerate() {
-            let f = std::array::from_fn(|k| {
+            let f: [Vec2; 4] = std::array::from_fn(|k| {
                 Vec2::new(x as f32 + 0.5 + four[k].x, y as f32 + 0.5 + four[k].y)
             });
             // A camera or light without a four-wide path (not this scene's)
             // gives NaN pixels, which fail the comparison with the renderer.
-            let Some(rays) = cam.generate_rays4(f, time) else {
+            let samples: [CameraSample; 4] = std::array::from_fn(|k| CameraSample {
+                film: f[k],
+                lens: Vec2::ZERO,
+                time: time[k],
+            });
+            let mut made = Vec::with_capacity(4);
+            cam.generate(&samples, &mut made);
+            let Ok(rays) = <[Ray; 4]>::try_from(made) else {
                 return Rgb::splat(f32::NAN);
             };
             let t = rays.map(|r| self.ground.intersect(&r, 0.0, f32::INFINITY));

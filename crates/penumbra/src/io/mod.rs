@@ -1,3 +1,6 @@
-//! Files out: image writers (PNG, EXR), atomic.
+//! Files out: image writers (PNG, EXR, written atomically), and pictures of
+//! ray distributions with the bitmap font their titles use.
 
+pub mod font;
 pub mod output;
+pub mod plot;

@@ -17,6 +17,7 @@ struct Scratch {
     film: Vec<Vec3>,
     lens: Vec<Vec3>,
     times: Vec<f32>,
+    samples: Vec<CameraSample>,
     rays: Vec<Ray>,
     radiance: Vec<Rgb>,
     /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
@@ -163,6 +164,7 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
         film,
         lens,
         times,
+        samples,
         rays,
         ..
     } = buf;
@@ -202,17 +204,9 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
             .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
         time: cam.time(times.get(i).copied().unwrap_or(0.0)),
     };
-    let mut i = 0;
-    // Four at a time where the camera allows (a still pinhole).
-    while i + 4 <= film.len() {
-        let four: [CameraSample; 4] = std::array::from_fn(|k| sample(i + k));
-        let Some(made) = cam.generate_rays4(four.map(|c| c.film), four.map(|c| c.time)) else {
-            break;
-        };
-        rays.extend(made);
-        i += 4;
-    }
-    rays.extend((i..film.len()).map(|i| cam.generate_ray(&sample(i))));
+    samples.clear();
+    samples.extend((0..film.len()).map(sample));
+    cam.generate(samples, rays);
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 //! # The six distributions
 //!
 //! Sets of 16 points each, in the square `[-r, r]^2` (`o` is a point, `8`
-//! two; fast-random seen from above, its x and y; [`draw_all`](super::plot::draw_all) draws the
+//! two; fast-random seen from above, its x and y; `io::plot::draw_all` draws the
 //! same as an image):
 //!
 //! ```text

@@ -2,7 +2,6 @@
 //! onto pixels, lenses, lights and directions.
 
 pub mod distribution;
-pub mod plot;
 pub mod points;
 mod rng;
 pub mod warp;

@@ -94,7 +94,23 @@ impl Camera {
         self.spec.shutter[0] < self.spec.shutter[1]
     }
 
-    pub fn generate_ray(&self, s: &CameraSample) -> Ray {
+    /// The camera rays of `samples`, appended to `out` in order: the only
+    /// way rays are made. A still pinhole camera makes them four at a time
+    /// (`rays4`), each lane the ray the portable form (`ray`) makes, bit
+    /// for bit; a lens or a moving camera uses the portable form.
+    pub fn generate(&self, samples: &[CameraSample], out: &mut Vec<Ray>) {
+        let wide = self.still.is_some() && self.spec.aperture <= 0.0;
+        let split = if wide { samples.len() / 4 * 4 } else { 0 };
+        for four in samples[..split].chunks_exact(4) {
+            let film = std::array::from_fn(|k| four[k].film);
+            let time = std::array::from_fn(|k| four[k].time);
+            out.extend(self.rays4(film, time).expect("a still pinhole camera"));
+        }
+        out.extend(samples[split..].iter().map(|s| self.ray(s)));
+    }
+
+    /// The portable form: one ray, for any camera.
+    fn ray(&self, s: &CameraSample) -> Ray {
         let c = &self.spec;
         let view = self.still.unwrap_or_else(|| {
             let t = s.time.clamp(0.0, 1.0);
@@ -117,12 +133,11 @@ impl Camera {
 }
 
 impl Camera {
-    /// [`generate_ray`](Self::generate_ray) for four samples of a still
-    /// pinhole camera at once (film positions and times; no lens), lane by
-    /// lane the same rays: the same operations in the same order, none
-    /// fused. `None` for a lens or a moving camera. The camera rays of a
-    /// 16-sample pixel cost a twentieth of its instructions one by one.
-    pub fn generate_rays4(&self, film: [Vec2; 4], time: [f32; 4]) -> Option<[Ray; 4]> {
+    /// The four-wide form of [`ray`](Self::ray) for a still pinhole camera
+    /// (film positions and times; no lens), lane by lane the same rays: the
+    /// same operations in the same order, none fused. `None` for a lens or a
+    /// moving camera.
+    fn rays4(&self, film: [Vec2; 4], time: [f32; 4]) -> Option<[Ray; 4]> {
         let view = self.still?;
         let c = &self.spec;
         if c.aperture > 0.0 {
@@ -191,12 +206,10 @@ mod tests {
         for _ in 0..5000 {
             let film = [(); 4].map(|_| Vec2::new(r.range(-5.0, 810.0), r.range(-5.0, 110.0)));
             let time = [(); 4].map(|_| r.next_f32());
-            let four = c
-                .generate_rays4(film, time)
-                .expect("a still pinhole camera");
+            let four = c.rays4(film, time).expect("a still pinhole camera");
             for i in 0..4 {
                 let lens = Vec2::ZERO;
-                let one = c.generate_ray(&CameraSample {
+                let one = c.ray(&CameraSample {
                     film: film[i],
                     lens,
                     time: time[i],
@@ -211,17 +224,46 @@ mod tests {
                 assert_eq!(bits(&four[i]), bits(&one), "{:?}", film[i]);
             }
         }
-        assert!(cam(0.5).generate_rays4([Vec2::ZERO; 4], [0.0; 4]).is_none());
+        assert!(cam(0.5).rays4([Vec2::ZERO; 4], [0.0; 4]).is_none());
         let mut moving = cam(0.0).spec.clone();
         moving.position[1] = Vec3::ONE;
         assert!(Camera::new(moving)
-            .generate_rays4([Vec2::ZERO; 4], [0.0; 4])
+            .rays4([Vec2::ZERO; 4], [0.0; 4])
             .is_none());
+    }
+
+    /// A batch is the portable rays in order, whatever its length and
+    /// camera (the four-wide path covers the multiples of four).
+    #[test]
+    fn batches_are_the_portable_rays_in_order() {
+        use crate::sampling::Rng;
+        let mut r = Rng::new(8);
+        let mut moving = cam(0.0).spec.clone();
+        moving.position[1] = Vec3::ONE;
+        for c in [cam(0.0), cam(0.5), Camera::new(moving)] {
+            for n in [0, 1, 3, 4, 7, 16] {
+                let samples: Vec<CameraSample> = (0..n)
+                    .map(|_| CameraSample {
+                        film: Vec2::new(r.range(0.0, 200.0), r.range(0.0, 100.0)),
+                        lens: Vec2::new(r.range(-0.7, 0.7), r.range(-0.7, 0.7)),
+                        time: r.next_f32(),
+                    })
+                    .collect();
+                let mut out = vec![Ray::new(Vec3::ZERO, Vec3::X, 0.0)];
+                c.generate(&samples, &mut out);
+                assert_eq!(out.len(), n + 1, "appends");
+                for (s, got) in samples.iter().zip(&out[1..]) {
+                    let want = c.ray(s);
+                    assert_eq!(want.dir.to_array(), got.dir.to_array());
+                    assert_eq!(want.origin.to_array(), got.origin.to_array());
+                }
+            }
+        }
     }
 
     #[test]
     fn centre_pixel_looks_at_target() {
-        let r = cam(0.0).generate_ray(&CameraSample {
+        let r = cam(0.0).ray(&CameraSample {
             film: Vec2::new(100.0, 50.0),
             lens: Vec2::ZERO,
             time: 0.0,
@@ -233,7 +275,7 @@ mod tests {
     fn lens_rays_meet_on_focal_plane() {
         let c = cam(0.5);
         let film = Vec2::new(30.0, 80.0);
-        let pin = cam(0.0).generate_ray(&CameraSample {
+        let pin = cam(0.0).ray(&CameraSample {
             film,
             lens: Vec2::ZERO,
             time: 0.0,
@@ -244,7 +286,7 @@ mod tests {
             Vec2::new(-0.3, 0.7),
             Vec2::new(0.0, -1.0),
         ] {
-            let r = c.generate_ray(&CameraSample {
+            let r = c.ray(&CameraSample {
                 film,
                 lens,
                 time: 0.0,

@@ -1,4 +1,4 @@
-//! A 5×7 bitmap font for the titles of [`sampling::plot`](crate::sampling::plot)
+//! A 5×7 bitmap font for the titles of [`plot`](super::plot)
 //! and the labels and captions of the evaluation's figures, so that the
 //! pictures need no font files and no system libraries.
 //!

@@ -2,13 +2,13 @@
 //! distribution by eye and to document it.
 //!
 //! Deliberately minimal: plain pixels in an [`RgbImage`], the 5×7 bitmap
-//! [`font`](crate::font) for the titles, no dependency beyond `image`.
+//! [`font`](super::font) for the titles, no dependency beyond `image`.
 
 use image::{Rgb, RgbImage};
 
-use super::{Distribution, Rng};
-use crate::font::{draw_text, put, text_width};
+use super::font::{draw_text, put, text_width};
 use crate::math::Vec3;
+use crate::sampling::{Distribution, Rng};
 
 const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
 const OUTLINE: Rgb<u8> = Rgb([150, 150, 150]);
