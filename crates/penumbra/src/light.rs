@@ -152,8 +152,8 @@ impl Light {
     /// set, or the hits of four camera rays), lane by lane the same bits
     /// (the same operations in the same order, with no fused ones), or
     /// `None` where there is no [four-wide](Self::four_wide) path. It exists
-    /// for the common case: a set of 64 shadow rays spent a quarter of its
-    /// time preparing them one by one, mostly waiting on the divisions.
+    /// for the common case: prepared one by one, a set of 64 shadow rays spends
+    /// a quarter of its time on them, mostly waiting on the divisions.
     #[inline]
     pub fn sample4(
         &self,

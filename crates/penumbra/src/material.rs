@@ -79,7 +79,7 @@ impl Material {
 
 /// The parts of a [`Material`] that shading a hit reads, with the
 /// derived values computed once per tracer (a tile) instead of at every
-/// hit (a sample of the bunny scene tested `is_lit` three times).
+/// hit (a lit sample of the bunny scene reads `is_lit` three times).
 #[derive(Clone, Copy, Debug)]
 pub struct Shading {
     /// [`Material::is_lit`].
