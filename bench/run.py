@@ -543,9 +543,9 @@ def report(res):
                  "arrays), Mrays/s: " + "; ".join(f"{x['set']} {x['kind']} {f(x['native_batch'])}" for x in r["rows"])
                  + f". `TriangleMesh` from Python builds in {f(r['build']['python_ms_all'], 1)} ms (all threads, "
                  "the copy of the array included).")
-        L.append("Before (the generic binary BVH with the scalar watertight test through a closure, as static meshes "
-                 "were traced before), Mrays/s: " + "; ".join(
-                     f"{x['set']} {x['kind']} {f(x['generic'])} (now {f(x['ratio_generic'])}× that)" for x in r["rows"])
+        L.append("Generic BVH (the binary `Bvh` with the scalar watertight test through a closure, as moving meshes "
+                 "are traced), Mrays/s: " + "; ".join(
+                     f"{x['set']} {x['kind']} {f(x['generic'])} (triangle BVH one ray per call {f(x['ratio_generic'])}× that)" for x in r["rows"])
                  + f"; build {f(r['build']['generic_ms_all'], 1)} ms all threads, {f(r['build']['generic_ms_1'], 1)} ms "
                  "1 thread (boxes only).")
         t = r["tree"]

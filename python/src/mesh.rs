@@ -136,7 +136,7 @@ fn points<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyArray
 
 /// Rays converted and traced at a time: a batch of millions goes through
 /// buffers that stay in the cache, and nothing of its size is allocated
-/// but the result arrays. Converting a whole batch first took 52 bytes per
+/// but the result arrays. Converting a whole batch first would take 52 bytes per
 /// ray of temporary memory (rays, limits, hits): 52 MB for the harness's
 /// million rays, and 2% more instructions for camera rays.
 const CHUNK: usize = 4096;

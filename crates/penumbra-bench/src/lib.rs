@@ -19,9 +19,8 @@ use std::time::Instant;
 /// since the first call. Timing single-threaded work by the thread's CPU
 /// time keeps other load on a shared machine out of the figures. It is
 /// read with `clock_gettime`, which brings the count up to date first:
-/// `/proc/thread-self/schedstat`, read before, advanced only at scheduler
-/// ticks while a thread computed (every 4 ms here), a tenth of a camera-ray
-/// batch.
+/// `/proc/thread-self/schedstat` advances only at scheduler ticks while a
+/// thread computes (every 4 ms here), a tenth of a camera-ray batch.
 pub fn thread_time() -> f64 {
     static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
     cpu_time::ThreadTime::try_now().map_or_else(
@@ -32,8 +31,8 @@ pub fn thread_time() -> f64 {
 
 /// On-CPU time of the whole process in seconds, user and system, including
 /// threads that have ended (`clock_gettime`; `None` where the clock is
-/// missing). `/proc/self/stat`, read before, counts in 10 ms ticks: ±7% of
-/// a Whitted frame's 0.15 CPU-seconds.
+/// missing). `/proc/self/stat` counts in 10 ms ticks: ±7% of a Whitted
+/// frame's 0.15 CPU-seconds.
 pub fn process_time() -> Option<f64> {
     cpu_time::ProcessTime::try_now()
         .ok()

@@ -16,7 +16,7 @@
 //! one ray per call (`closest_hit`, `occluded`: `single`). Build: median
 //! time on one thread (on-CPU) and on all threads (wall clock). `--generic` also measures the generic
 //! [`Bvh`] with the scalar watertight test through its
-//! closure (how static meshes were traced before the triangle BVH), and
+//! closure (the structure moving meshes use), and
 //! `--obvhs` (with the `obvhs` feature) the `obvhs` crate's CWBVH, with its
 //! own triangle test.
 

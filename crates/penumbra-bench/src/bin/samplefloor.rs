@@ -297,9 +297,9 @@ mod tests {
 
     /// The kernel gives the renderer's pixels bit for bit, at the
     /// benchmark's size and at a small one with 4 samples: a change to
-    /// either that alters the arithmetic of a sample shows here. The
-    /// origin offset that left points near the world's origin shadowed by
-    /// their own surface made 4 pixels of the first differ.
+    /// either that alters the arithmetic of a sample shows here. An
+    /// origin offset that leaves points near the world's origin shadowed by
+    /// their own surface makes 4 pixels of the first differ.
     #[test]
     fn kernel_renders_what_the_renderer_renders() {
         for (size, spp) in [((800, 600), 16), ((64, 48), 4)] {

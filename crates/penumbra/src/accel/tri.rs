@@ -80,7 +80,7 @@ const CONFIG: Config = Config {
 /// Traversal stack entries kept inline. Each of at most `MAX_DEPTH` levels
 /// pushes at most three children; real trees stay far below this, and deeper
 /// stacks spill to the heap. A smaller array than the worst case matters: it
-/// is initialised for every ray, and at 32 entries that was a call to
+/// is initialised for every ray, and at 32 entries that is a call to
 /// `memset` costing 2.5% of a 16-sample render (24 costs no more than 16).
 const STACK: usize = 24;
 

@@ -45,7 +45,7 @@ struct View {
 
 /// A camera ready to generate rays. Everything that does not depend on the
 /// sample (the view basis of a still camera, the film-to-direction scale) is
-/// computed once here: per ray it cost a fifth of a 16-sample render.
+/// computed once here: per ray it would cost a fifth of a 16-sample render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     spec: CameraSpec,

@@ -34,9 +34,9 @@ pub(super) fn sample(
 }
 
 /// [`sample`] for four points at once, lane by lane the same bits (the same
-/// operations in the same order, with no fused ones). A set of 64 shadow
-/// rays spent a quarter of its time preparing them one by one, mostly
-/// waiting on the divisions.
+/// operations in the same order, with no fused ones). Prepared one by one, a
+/// set of 64 shadow rays spends a quarter of its time on them, mostly waiting
+/// on the divisions.
 #[inline]
 pub(super) fn sample4(q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -> LightSamples4 {
     // `unit_square` and `Quad::point`, lane-wise.

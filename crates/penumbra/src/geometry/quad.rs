@@ -70,7 +70,7 @@ impl Quad {
 
 /// Up to four quads in structure-of-arrays form, tested against a ray at
 /// once. A scene's few non-mesh objects are typically a ground and a light:
-/// testing them one by one through the object list cost about 240
+/// testing them one by one through the object list costs about 240
 /// instructions per camera ray, a fifth of a 16-sample render's
 /// intersection work; four lanes at once cost a quarter of that.
 ///

@@ -767,9 +767,9 @@ mod tests {
     /// Shadow rays from the ground near the world's origin, seen from a
     /// camera four units away, reach the light above: the hit points there
     /// are off by an ulp of the camera's coordinates (1e-7, often below the
-    /// ground), so an offset scaled by the points' own tiny coordinates left
-    /// them under the ground, which then shadowed them (a few dark samples
-    /// in the bunny scene's ground, found by `samplefloor`).
+    /// ground), so an offset scaled by the points' own tiny coordinates would
+    /// leave them under the ground, which would then shadow them (a few dark
+    /// samples in the bunny scene's ground).
     #[test]
     fn points_near_the_origin_are_not_shadowed_by_their_own_surface() {
         use crate::scene::{LoadOptions, SceneSource};

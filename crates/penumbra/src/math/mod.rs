@@ -82,7 +82,7 @@ pub fn offset_origin(p: Vec3, reach: f32, n: Vec3, toward: Vec3) -> Vec3 {
 /// terms, not of `p`: a point near the world's origin seen from a camera
 /// four units away is off by an ulp of 4 (1e-7 below a ground at y = 0,
 /// say), far more than an ulp of its own coordinates, and an offset scaled
-/// by `p` alone left such points under their surface, shadowed by it.
+/// by `p` alone would leave such points under their surface, shadowed by it.
 #[inline]
 pub fn reach(p: Vec3, from: Vec3) -> f32 {
     p.abs().max(from.abs()).max_element().max(1e-3)

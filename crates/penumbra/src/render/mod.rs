@@ -87,7 +87,7 @@ pub fn render(
     let mut image = Image::new(region.width(), region.height());
     // Each finished tile is copied into its band of rows (a band per row of
     // tiles) while the other workers go on: copying the whole image after
-    // the last tile took a few percent of a Whitted frame on two threads.
+    // the last tile would take a few percent of a Whitted frame on two threads.
     let band = region.width() as usize * TILE as usize;
     let bands: Vec<Mutex<&mut [Rgb]>> = image.pixels.chunks_mut(band).map(Mutex::new).collect();
     let results: Vec<Option<(RayStats, Vec<BadSample>)>> = pool.install(|| {

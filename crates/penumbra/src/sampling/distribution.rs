@@ -699,8 +699,8 @@ struct BackgroundGrid {
     /// hot loop reads positions without a branch on emptiness.
     at: Vec<Vec2>,
     /// `wrapped[i] = i mod side` for `i < 3 side + WINDOW`: row and column
-    /// indices around the torus without a division or a loop (which took a
-    /// fifth of the time of a set).
+    /// indices around the torus without a division or a loop (which would take
+    /// a fifth of the time of a set).
     wrapped: Vec<usize>,
 }
 

@@ -7,7 +7,7 @@
 //! [`closest_hits`](TriangleBvh::closest_hits) traces a pixel's camera rays:
 //! one interval box test per node for the run. On the harness's camera
 //! rays the batch calls traced 1.3–1.5× as many rays per second with runs
-//! as with interleaving alone (twelfth round). Finding runs costs an
+//! as with interleaving alone. Finding runs costs an
 //! incoherent batch one comparison per ray. The results do not
 //! depend on which rays form runs: of triangles hit at exactly the same
 //! distance, every path reports the lowest index.
@@ -28,15 +28,15 @@
 //! On the harness's million incoherent rays over the bunny, interleaving
 //! alone traced 1.3× as many rays per second as one ray after another;
 //! camera rays, whose nodes stay in the cache, gained nothing and lost
-//! nothing (see `docs/performance.md`, ninth round). Four, eight and sixteen rays in
+//! nothing (see `docs/performance.md`). Four, eight and sixteen rays in
 //! flight measured alike; eight leaves room for slower memory.
 //!
 //! Interleaving alone leaves each load to be issued when its ray's turn
 //! comes. So a step that chooses where its ray goes next also prefetches
 //! it (through `safe_arch`'s safe wrapper of `prefetcht0`): the load then
-//! has the other rays' steps to complete in. That added about 7% on the
+//! has the other rays' steps to complete in. That adds about 7% on the
 //! incoherent rays (medians of interleaved series 1.00–1.15×; camera rays,
-//! already in the cache, lost up to 6%: tenth round).
+//! already in the cache, lose up to 6%).
 
 use super::{closest_in_pack, descend, pack_any_hit, Frustum, Pack, RayPacket, Run, Stack};
 use super::{TraversalRay, TriHit, TriangleBvh, FIRST_MASK, LEAF};
@@ -68,7 +68,7 @@ pub(super) const MIN_RUN: usize = 4;
 /// Square of the cosine of 1°, the widest angle a run's rays may make with
 /// its first: a packet enters every box any of its rays enters, so a wide
 /// one tests each ray against leaves it never reaches (a glossy set of
-/// 16 rays as a packet took 2.3× the instructions: tenth round).
+/// 16 rays as a packet took 2.3× the instructions).
 const RUN_COS2: f32 = 0.999_695;
 
 impl TriangleBvh {
