@@ -11,14 +11,13 @@
 //!
 //! # Random streams
 //!
-//! Every random number is a pure function of (seed, pixel, sample, branch),
-//! fixed here and nowhere else:
+//! Every random number is a pure function of (seed, pixel, sample, branch).
+//! The pixel's streams come from the [`Sampler`](crate::sampling::Sampler);
+//! below a primary sample's path they are fixed here and nowhere else:
 //!
 //! | stream | derived as |
 //! |---|---|
-//! | pixel `p` | `Rng::new(seed).derive(p)`, `p = y · width + x` |
-//! | film, lens, time sets of the pixel | `pixel.derive(0)`, `.derive(1)`, `.derive(2)` |
-//! | path of primary sample `i` | `pixel.derive(3 + i)` |
+//! | pixel `p`, its film, lens and time sets, path of primary sample `i` | see [`Sampler`](crate::sampling::Sampler) |
 //! | shadow set toward light `j` at a hit | `path.derive(SHADOW + j)` |
 //! | reflection / refraction / Fresnel-reflection set | `path.derive(REFLECT_SET)` … |
 //! | path of the k-th ray of such a set | `path.derive(REFLECT_RAY).derive(k)` … |
@@ -38,10 +37,12 @@
 //!   refraction budget and `translucency` radius (a rough interface blurs both),
 //!   and its rays are counted as reflection rays.
 
+mod interface;
 mod metric;
 mod stats;
-mod tracer;
+mod whitted;
 
+pub use interface::{BadSample, Integrator, PixelWorker};
 pub use metric::{change, Metric, RunningMean};
 pub use stats::{RayCounts, RayStats};
-pub use tracer::Tracer;
+pub use whitted::{Tracer, Whitted, WhittedWorker};

@@ -1,6 +1,5 @@
-use super::pixel::{render_pixel, render_span};
-use super::region::{BadSample, Region};
-use crate::integrator::{RayStats, Tracer};
+use super::region::Region;
+use crate::integrator::{BadSample, Integrator, PixelWorker, RayStats};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -56,47 +55,28 @@ impl Tile {
     }
 }
 
-/// How many pixels of a row are rendered together in a frame of one
-/// camera ray per pixel (see [`render_span`]): about 2% of the image's
-/// width, from 2 to 16. Wider spans hold less coherent rays than a lone
-/// ray is worth: on the bunny's Whitted frame (instruction counts) 16 was
-/// best at 800 pixels across (8 and 32 cost 5% more) and 4 at 200 (16
-/// cost 3% more than tracing pixel by pixel).
-fn span_width(width: u32) -> u32 {
-    (width / 50).clamp(2, 16)
-}
-
 /// Renders one tile; `None` if `cancelled` becomes true, which is checked
 /// before every row so that a cancel takes effect within a row of pixels,
 /// not a whole tile (a tile of a costly scene can take seconds).
-pub(super) fn render_tile(
+pub(super) fn render_tile<I: Integrator>(
+    integrator: &I,
     scene: &Scene,
     region: Region,
     cancelled: &dyn Fn() -> bool,
 ) -> Option<Tile> {
-    let mut tracer = Tracer::new(scene);
+    let mut worker = integrator.worker(scene);
     let mut pixels = Vec::with_capacity((region.width() * region.height()) as usize);
     let mut bad = Vec::new();
     for y in region.y0..region.y1 {
         if cancelled() {
             return None;
         }
-        if scene.settings.spp == 1 {
-            let span = span_width(scene.settings.width);
-            for x0 in (region.x0..region.x1).step_by(span as usize) {
-                let xs = x0..(x0 + span).min(region.x1);
-                render_span(scene, &mut tracer, xs, y, &mut bad, &mut pixels);
-            }
-            continue;
-        }
-        for x in region.x0..region.x1 {
-            pixels.push(render_pixel(scene, &mut tracer, x, y, &mut bad));
-        }
+        worker.row(y, region.x0..region.x1, &mut pixels, &mut bad);
     }
     Some(Tile {
         region,
         pixels,
-        rays: tracer.stats,
+        rays: *worker.stats(),
         bad,
     })
 }
@@ -104,39 +84,9 @@ pub(super) fn render_tile(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::Whitted;
     use crate::scene::{LoadOptions, SceneSource};
     use std::cell::Cell;
-
-    /// A frame of one camera ray per pixel is rendered in spans of a row;
-    /// every pixel is what rendering it alone gives (the showcase at one
-    /// sample: lens, motion, mirror, glass and an area light), and the rays
-    /// are counted alike.
-    #[test]
-    fn spans_give_what_single_pixels_give() {
-        let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
-        src.desc.render.spp = 1;
-        let scene = src.build().expect("showcase builds");
-        assert_eq!(scene.settings.spp, 1);
-        let region = Region {
-            x0: 3,
-            y0: 5,
-            x1: 3 + span_width(scene.settings.width) * 2 + 5,
-            y1: 12,
-        };
-        let tile = render_tile(&scene, region, &|| false).expect("not cancelled");
-        let mut tracer = Tracer::new(&scene);
-        let (mut bad, mut lit) = (Vec::new(), 0);
-        let pixels =
-            (region.y0..region.y1).flat_map(|y| (region.x0..region.x1).map(move |x| (x, y)));
-        for (k, (x, y)) in pixels.enumerate() {
-            let alone = render_pixel(&scene, &mut tracer, x, y, &mut bad);
-            let bits = |c: Rgb| c.to_array().map(f32::to_bits);
-            assert_eq!(bits(tile.pixels[k]), bits(alone), "pixel ({x}, {y})");
-            lit += usize::from(alone != Rgb::ZERO);
-        }
-        assert_eq!(tile.rays, tracer.stats);
-        assert!(lit > 100, "{lit} pixels not black");
-    }
 
     /// The cancel flag is read before every row: a tile stops within a row.
     #[test]
@@ -154,10 +104,10 @@ mod tests {
             checks.set(checks.get() + 1);
             checks.get() > 3
         };
-        assert!(render_tile(&scene, region, &after_three_rows).is_none());
+        assert!(render_tile(&Whitted, &scene, region, &after_three_rows).is_none());
         assert_eq!(checks.get(), 4);
         let never = || false;
-        let tile = render_tile(&scene, region, &never).expect("not cancelled");
+        let tile = render_tile(&Whitted, &scene, region, &never).expect("not cancelled");
         assert_eq!(tile.pixels.len(), 64);
     }
 }

@@ -2,7 +2,6 @@
 //! progress reporting, and the guard that keeps NaN and infinity out of images.
 
 mod film;
-mod pixel;
 mod region;
 mod report;
 
@@ -14,11 +13,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use film::Image;
-pub use pixel::render_pixel;
-pub use region::{BadSample, Region, TILE};
+pub use region::{Region, TILE};
 pub use report::stats_document;
 
-use crate::integrator::RayStats;
+use crate::integrator::{BadSample, RayStats, Whitted};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -95,7 +93,7 @@ pub fn render(
             .par_iter()
             .map(|t| {
                 let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-                let tile = film::render_tile(scene, *t, &cancelled)?;
+                let tile = film::render_tile(&Whitted, scene, *t, &cancelled)?;
                 let rows = &bands[((t.y0 - region.y0) / TILE) as usize];
                 let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
                 tile.copy_into(&mut rows, region);

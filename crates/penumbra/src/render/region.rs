@@ -1,5 +1,4 @@
-//! Where pixels are rendered and what goes wrong there: the rectangles the
-//! image is cut into, and the samples the guard caught.
+//! The rectangles of pixels an image is cut into.
 
 use serde::Serialize;
 
@@ -23,12 +22,4 @@ impl Region {
     pub fn height(&self) -> u32 {
         self.y1 - self.y0
     }
-}
-
-/// A non-finite sample: caught where it was made, replaced by black.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BadSample {
-    pub x: u32,
-    pub y: u32,
-    pub sample: u32,
 }

@@ -4,9 +4,11 @@
 pub mod distribution;
 pub mod points;
 mod rng;
+mod sampler;
 pub mod warp;
 
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
 pub use rng::{mix64, BranchKey, Rng};
+pub use sampler::{Dimension, PixelSampler, Sampler};

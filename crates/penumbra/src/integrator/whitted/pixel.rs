@@ -1,10 +1,14 @@
-use super::region::BadSample;
+//! A pixel's camera rays and their mean: one pixel with its samples, or a
+//! span of pixels of one sample each.
+
+use super::tracer::Tracer;
 use crate::camera::CameraSample;
-use crate::integrator::{RunningMean, Tracer};
+use crate::integrator::interface::BadSample;
+use crate::integrator::metric::RunningMean;
 use crate::math::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
-use crate::sampling::{BranchKey, Distribution, Rng};
+use crate::sampling::{BranchKey, Dimension, Distribution, PixelSampler, Sampler};
 use crate::scene::Scene;
 use std::cell::RefCell;
 use std::ops::Range;
@@ -71,7 +75,7 @@ pub fn render_span(
             camera_rays(scene, x, y, buf);
         }
         tracer.intersect_primary(&buf.rays);
-        let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).derive(3);
+        let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).path(0);
         tracer.radiance_primaries(&buf.rays, stream, &mut buf.radiance);
         for (x, &l) in xs.zip(&buf.radiance) {
             tracer.stats.primary += 1;
@@ -89,10 +93,10 @@ pub fn render_span(
     })
 }
 
-/// The root stream of pixel (x, y).
-fn pixel_stream(scene: &Scene, x: u32, y: u32) -> Rng {
+/// The streams of pixel (x, y).
+fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     let s = &scene.settings;
-    Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x))
+    Sampler::new(s.seed, s.width).pixel(x, y)
 }
 
 fn pixel_with(
@@ -115,9 +119,9 @@ fn pixel_with(
         ..
     } = buf;
     if paths.len() < n {
-        paths.extend((paths.len()..n).map(|i| BranchKey::new(3 + i as u64)));
+        paths.extend((paths.len()..n).map(PixelSampler::path_key));
     }
-    let path = |i: usize| pixel.derive_key(paths[i]);
+    let path = |i: usize| pixel.path_of(paths[i]);
     let metric = s.metric.filter(|m| m.pixels);
     // Without the metric every camera ray is traced: their hits are found
     // together, a packet of nearly parallel rays. With it, a pixel may stop
@@ -174,25 +178,23 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
         // pixel of a Whitted render.
         film.clear();
         film.push(Vec3::ZERO);
-    } else if s.metric.is_some_and(|m| m.pixels) {
-        s.pixel.generate(n, 0.5, &mut pixel.derive(0), film);
     } else {
         // Without the pixel metric every camera ray is traced and the
         // pixel is their mean, so the order of the film points does not
         // matter; the lens and time sets are still shuffled, which keeps
         // their pairing with the film points random.
-        s.pixel
-            .generate_unordered(n, 0.5, &mut pixel.derive(0), film);
+        let ordered = s.metric.is_some_and(|m| m.pixels);
+        pixel.points(Dimension::Film, s.pixel, n, 0.5, ordered, film);
     }
     lens.clear();
     if cam.has_lens() {
-        s.lens.generate(n, 1.0, &mut pixel.derive(1), lens);
+        pixel.points(Dimension::Lens, s.lens, n, 1.0, true, lens);
     }
     // Times matter only if something moves: each set has its own stream,
     // so skipping this one changes no other random number.
     times.clear();
     if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
-        s.time.generate_1d(n, &mut pixel.derive(2), times);
+        pixel.values(Dimension::Time, s.time, n, times);
     }
     // All camera rays first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel
@@ -212,6 +214,7 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::Rng;
     use crate::scene::{LoadOptions, SceneSource};
 
     /// The shortcut for one grid ray per pixel gives what the distribution gives.
@@ -225,7 +228,7 @@ mod tests {
     }
 
     /// A pixel is the mean of its camera rays' radiance, ray `i` traced with
-    /// the stream `pixel.derive(3 + i)` (the integrator's table of streams):
+    /// the stream `pixel.derive(3 + i)` (the sampler's table of streams):
     /// recomputed here one ray at a time, for two sample counts in a row on
     /// one thread, so that the hashed branches kept between pixels are
     /// checked as they grow.
@@ -244,11 +247,7 @@ mod tests {
                 let pixel = pixel_stream(&scene, x, y);
                 let mut mean = RunningMean::default();
                 for (i, ray) in buf.rays.iter().enumerate() {
-                    mean.push(
-                        tracer.radiance(ray, 0, pixel.derive(3 + i as u64)),
-                        None,
-                        spp,
-                    );
+                    mean.push(tracer.radiance(ray, 0, pixel.path(i)), None, spp);
                 }
                 let want = mean.mean();
                 let bits = |c: Rgb| c.to_array().map(f32::to_bits);
@@ -285,12 +284,12 @@ mod tests {
             let (x, y) = (p % 20, p / 20);
             camera_rays(&scene, x, y, &mut buf);
             let mut expected = Vec::new();
-            let mut rng = pixel_stream(&scene, x, y).derive(0);
+            let mut rng = pixel_stream(&scene, x, y).stream(Dimension::Film);
             Distribution::Jitter.generate_unordered(16, 0.5, &mut rng, &mut expected);
             assert_eq!(buf.film, expected, "film points in row order");
             film.extend(buf.film.iter().map(|v| v.x));
             lens.extend(buf.lens.iter().map(|v| v.x));
-            let mut rng = pixel_stream(&scene, x, y).derive(1);
+            let mut rng = pixel_stream(&scene, x, y).stream(Dimension::Lens);
             Distribution::Jitter.generate_unordered(16, 1.0, &mut rng, &mut row_order);
             lens_in_rows.extend(row_order.iter().map(|v| v.x));
         }

@@ -9,7 +9,8 @@ use crate::sampling::points::end_point;
 use crate::sampling::{BranchKey, Distribution, Rng};
 use crate::scene::Scene;
 
-use super::{RayStats, RunningMean};
+use crate::integrator::metric::RunningMean;
+use crate::integrator::stats::RayStats;
 
 const SHADOW: u64 = 1 << 32;
 const REFLECT_SET: u64 = 1;

@@ -1,0 +1,145 @@
+//! The random streams of a render, fixed in one place: every value is a pure
+//! function of (seed, pixel, sample index, dimension), so an image is the
+//! same on any number of threads, tiles or machines, and one sample can be
+//! replayed alone.
+//!
+//! | stream | derived as |
+//! |---|---|
+//! | pixel `p` | `Rng::new(seed).derive(p)`, `p = y · width + x` |
+//! | film, lens, time sets of the pixel | `pixel.derive(0)`, `.derive(1)`, `.derive(2)` ([`Dimension`]) |
+//! | path of primary sample `i` | `pixel.derive(3 + i)` |
+//!
+//! Below a path, the integrator derives the streams of each event's set of
+//! rays from the path's stream (see the integrator's documentation).
+
+use super::{BranchKey, Distribution, Rng};
+use crate::math::Vec3;
+
+/// The sets of a pixel drawn from its own streams, one per dimension of the
+/// camera sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dimension {
+    /// Positions on the film within the pixel (supersampling).
+    Film = 0,
+    /// Points of the lens (depth of field).
+    Lens = 1,
+    /// Times in the shutter interval (motion blur).
+    Time = 2,
+}
+
+/// The first branch number of the primary samples' paths.
+const FIRST_PATH: u64 = 3;
+
+/// The streams of a render with a given seed and image width.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampler {
+    seed: u64,
+    width: u32,
+}
+
+impl Sampler {
+    pub fn new(seed: u64, width: u32) -> Sampler {
+        Sampler { seed, width }
+    }
+
+    /// The streams of pixel (x, y).
+    pub fn pixel(&self, x: u32, y: u32) -> PixelSampler {
+        let index = u64::from(y) * u64::from(self.width) + u64::from(x);
+        PixelSampler {
+            root: Rng::new(self.seed).derive(index),
+        }
+    }
+}
+
+/// The streams of one pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelSampler {
+    root: Rng,
+}
+
+impl PixelSampler {
+    /// The stream of a dimension's set.
+    pub fn stream(&self, d: Dimension) -> Rng {
+        self.root.derive(d as u64)
+    }
+
+    /// The `count` points of a dimension's set from `distribution` within
+    /// `radius`, into `out`: in shuffled trace order if `ordered` (a metric
+    /// may stop the set early), else in the distribution's own order.
+    pub fn points(
+        &self,
+        d: Dimension,
+        distribution: Distribution,
+        count: usize,
+        radius: f32,
+        ordered: bool,
+        out: &mut Vec<Vec3>,
+    ) {
+        let mut rng = self.stream(d);
+        if ordered {
+            distribution.generate(count, radius, &mut rng, out);
+        } else {
+            distribution.generate_unordered(count, radius, &mut rng, out);
+        }
+    }
+
+    /// The `count` values in [0, 1) of a one-dimensional set (times).
+    pub fn values(
+        &self,
+        d: Dimension,
+        distribution: Distribution,
+        count: usize,
+        out: &mut Vec<f32>,
+    ) {
+        distribution.generate_1d(count, &mut self.stream(d), out);
+    }
+
+    /// The branch of primary sample `i`'s path; hashed once, it can be kept
+    /// (see [`path_of`](Self::path_of)).
+    pub fn path_key(i: usize) -> BranchKey {
+        BranchKey::new(FIRST_PATH + i as u64)
+    }
+
+    /// The stream of the path of primary sample `i`.
+    pub fn path(&self, i: usize) -> Rng {
+        self.root.derive(FIRST_PATH + i as u64)
+    }
+
+    /// The stream of the path whose branch is `key` (from
+    /// [`path_key`](Self::path_key)).
+    pub fn path_of(&self, key: BranchKey) -> Rng {
+        self.root.derive_key(key)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The streams are the documented derivations, and distinct pixels,
+    /// dimensions and paths give distinct streams.
+    #[test]
+    fn streams_are_the_documented_ones() {
+        let s = Sampler::new(7, 640);
+        let p = s.pixel(5, 3);
+        let root = Rng::new(7).derive(3 * 640 + 5);
+        let first = |mut r: Rng| r.next_u64();
+        assert_eq!(first(p.stream(Dimension::Film)), first(root.derive(0)));
+        assert_eq!(first(p.stream(Dimension::Time)), first(root.derive(2)));
+        assert_eq!(first(p.path(4)), first(root.derive(7)));
+        assert_eq!(
+            first(p.path_of(PixelSampler::path_key(4))),
+            first(p.path(4))
+        );
+        let mut seen = std::collections::HashSet::new();
+        for (x, y) in [(0, 0), (1, 0), (0, 1)] {
+            let p = s.pixel(x, y);
+            for d in [Dimension::Film, Dimension::Lens, Dimension::Time] {
+                assert!(seen.insert(first(p.stream(d))));
+            }
+            for i in 0..8 {
+                assert!(seen.insert(first(p.path(i))));
+            }
+        }
+    }
+}
