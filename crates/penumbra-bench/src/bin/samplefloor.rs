@@ -143,8 +143,6 @@ impl<'a> Floor<'a> {
             let f: [Vec2; 4] = std::array::from_fn(|k| {
                 Vec2::new(x as f32 + 0.5 + four[k].x, y as f32 + 0.5 + four[k].y)
             });
-            // A camera or light without a four-wide path (not this scene's)
-            // gives NaN pixels, which fail the comparison with the renderer.
             let samples: [CameraSample; 4] = std::array::from_fn(|k| CameraSample {
                 film: f[k],
                 lens: Vec2::ZERO,
@@ -152,6 +150,8 @@ impl<'a> Floor<'a> {
             });
             let mut made = Vec::with_capacity(4);
             cam.generate(&samples, &mut made);
+            // Four samples make four rays; anything else would be a NaN
+            // pixel, which fails the comparison with the renderer.
             let Ok(rays) = <[Ray; 4]>::try_from(made) else {
                 return Rgb::splat(f32::NAN);
             };
@@ -163,10 +163,11 @@ impl<'a> Floor<'a> {
                     .derive_key(self.shadow);
                 Distribution::Jitter.one(1.0, &mut rng)
             });
-            let Some(ls) = self.light.sample4(&p, &points, Distribution::Jitter) else {
-                return Rgb::splat(f32::NAN);
-            };
-            let (dir, scale) = (ls.dir.map(|v| v.to_array()), ls.scale.to_array());
+            let ls = self.light.sample4(&p, &points, Distribution::Jitter);
+            let (dir, weight) = (
+                ls.dir.map(|v| v.to_array()),
+                ls.weight.map(|v| v.to_array()),
+            );
             for k in 0..4 {
                 if t[k].is_none() {
                     sum += s.background;
@@ -177,7 +178,7 @@ impl<'a> Floor<'a> {
                 let wi = Vec3::new(dir[0][k], dir[1][k], dir[2][k]);
                 let cos = n.dot(wi);
                 if ls.valid >> k & 1 != 0 && cos > 0.0 {
-                    let weight = self.light.light().power * scale[k];
+                    let weight = Rgb::new(weight[0][k], weight[1][k], weight[2][k]);
                     sum += self.shading.eval(n, wo, wi) * weight * cos;
                 }
             }

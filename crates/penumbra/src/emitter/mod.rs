@@ -28,6 +28,8 @@ mod sphere;
 
 pub use sample::{LightSample, LightSamples4};
 
+use glam::Vec4;
+
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::Distribution;
@@ -106,7 +108,9 @@ impl Emitter {
         }
     }
 
-    /// Samples the light from shading point `p` with one distribution point.
+    /// Samples the light from shading point `p` with one distribution point:
+    /// the portable form, the specification [`sample4`](Self::sample4)'s
+    /// kernels are tested against.
     pub fn sample(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
         match self.light.model {
             _ if self.is_delta() => self.sample_thesis(p, Vec3::ZERO, d),
@@ -134,32 +138,44 @@ impl Emitter {
         }
     }
 
-    /// True if [`sample4`](Self::sample4) has a four-wide path for points
+    /// True if [`sample4`](Self::sample4) has a four-wide kernel for points
     /// of `d`: a rectangle sampled on its surface by a square distribution.
     pub fn four_wide(&self, d: Distribution) -> bool {
         let rect = matches!(self.light.shape, LightShape::Rect(_));
         rect && self.light.model == PenumbraModel::Surface && d != Distribution::Random
     }
 
-    /// [`sample`](Self::sample) for four distribution points at once, seen
-    /// from the shading points `p` (one per lane: one point four times for a
-    /// set, or the hits of four camera rays), lane by lane the same bits
-    /// (the same operations in the same order, with no fused ones), or
-    /// `None` where there is no [four-wide](Self::four_wide) path.
+    /// Samples the light for four distribution points at once, seen from
+    /// the shading points `p` (one per lane: one point four times for a
+    /// set, or the hits of four camera rays): the only way the integrator
+    /// samples a light. Where the light has a [four-wide](Self::four_wide)
+    /// kernel it runs, lane by lane the bits of the portable form
+    /// ([`sample`](Self::sample): the same operations in the same order,
+    /// with no fused ones); elsewhere each lane is the portable form's.
     #[inline]
-    pub fn sample4(
-        &self,
-        p: &[Vec3; 4],
-        points: &[Vec3; 4],
-        d: Distribution,
-    ) -> Option<LightSamples4> {
-        let LightShape::Rect(q) = self.light.shape else {
-            return None;
-        };
-        if !self.four_wide(d) {
-            return None;
+    pub fn sample4(&self, p: &[Vec3; 4], points: &[Vec3; 4], d: Distribution) -> LightSamples4 {
+        if let (LightShape::Rect(q), true) = (self.light.shape, self.four_wide(d)) {
+            return rect::sample4(self.light.power, &q, p, points);
         }
-        Some(rect::sample4(&q, p, points))
+        let mut out = LightSamples4 {
+            target: [Vec4::ZERO; 3],
+            dir: [Vec4::ZERO; 3],
+            weight: [Vec4::ZERO; 3],
+            valid: 0,
+        };
+        for l in 0..4 {
+            let Some(s) = self.sample(p[l], points[l], d) else {
+                continue;
+            };
+            let w = s.weight.to_array();
+            for (k, w) in w.into_iter().enumerate() {
+                out.target[k][l] = s.target[k];
+                out.dir[k][l] = s.dir[k];
+                out.weight[k][l] = w;
+            }
+            out.valid |= 1 << l;
+        }
+        out
     }
 
     fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
@@ -275,5 +291,67 @@ mod tests {
             }
             assert!(found > 1000);
         }
+    }
+
+    /// Four samples at once are, lane by lane, the portable samples bit for
+    /// bit: through the rectangle's kernel (every square distribution, points
+    /// inside and outside the square, shading points all around the light)
+    /// and through the portable lanes (the thesis model, other shapes).
+    #[test]
+    fn four_lanes_are_the_portable_samples() {
+        let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
+        let shapes = [
+            LightShape::Rect(rect),
+            LightShape::Sphere {
+                center: Vec3::new(0.5, 2.5, 0.0),
+                radius: 0.5,
+            },
+            LightShape::Point {
+                position: Vec3::new(0.0, 3.0, 0.0),
+            },
+        ];
+        let mut rng = Rng::new(23);
+        let mut kernel = 0;
+        for shape in shapes {
+            for model in [PenumbraModel::Surface, PenumbraModel::Thesis] {
+                for d in Distribution::ALL {
+                    let mut light = emitter(shape);
+                    light.light.model = model;
+                    kernel += usize::from(light.four_wide(d));
+                    for _ in 0..200 {
+                        let p: [Vec3; 4] = std::array::from_fn(|_| {
+                            Vec3::new(
+                                rng.range(-3.0, 3.0),
+                                rng.range(-1.0, 4.0),
+                                rng.range(-3.0, 3.0),
+                            )
+                        });
+                        let points: [Vec3; 4] = std::array::from_fn(|_| {
+                            Vec3::new(
+                                rng.range(-1.2, 1.2),
+                                rng.range(-1.2, 1.2),
+                                rng.range(-1.0, 1.0),
+                            )
+                        });
+                        let four = light.sample4(&p, &points, d);
+                        for l in 0..4 {
+                            let one = light.sample(p[l], points[l], d);
+                            assert_eq!(one.is_some(), four.valid >> l & 1 != 0, "{shape:?} {d:?}");
+                            let Some(one) = one else { continue };
+                            let lane =
+                                |v: &[Vec4; 3]| [v[0][l], v[1][l], v[2][l]].map(f32::to_bits);
+                            assert_eq!(lane(&four.target), one.target.to_array().map(f32::to_bits));
+                            assert_eq!(lane(&four.dir), one.dir.to_array().map(f32::to_bits));
+                            assert_eq!(lane(&four.weight), one.weight.to_array().map(f32::to_bits));
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(
+            kernel,
+            Distribution::ALL.len() - 1,
+            "the rectangle's kernel runs"
+        );
     }
 }

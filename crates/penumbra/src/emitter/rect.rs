@@ -38,7 +38,7 @@ pub(super) fn sample(
 /// set of 64 shadow rays spends a quarter of its time on them, mostly waiting
 /// on the divisions.
 #[inline]
-pub(super) fn sample4(q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -> LightSamples4 {
+pub(super) fn sample4(power: Rgb, q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -> LightSamples4 {
     // `unit_square` and `Quad::point`, lane-wise.
     let square = |c: Vec4| {
         let max = Vec4::splat(1.0 - f32::EPSILON);
@@ -60,10 +60,12 @@ pub(super) fn sample4(q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -> LightSampl
     let cos_l = (n.x * -to[0] + n.y * -to[1] + n.z * -to[2]) / r;
     let valid = (cos_l.cmpgt(Vec4::ZERO) & r2.cmpgt(Vec4::ZERO)).bitmask();
     let inv = Vec4::ONE / r;
+    // `power * (cos_l * area / r2)`, channel by channel.
+    let scale = cos_l * q.area() / r2;
     LightSamples4 {
         target,
         dir: to.map(|c| c * inv),
-        scale: cos_l * q.area() / r2,
+        weight: power.to_array().map(|c| c * scale),
         valid,
     }
 }

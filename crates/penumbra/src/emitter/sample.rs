@@ -22,8 +22,8 @@ pub struct LightSamples4 {
     pub target: [Vec4; 3],
     /// Unit directions from the shading point, as [`LightSample::dir`].
     pub dir: [Vec4; 3],
-    /// Per lane, [`LightSample::weight`] is `power · scale`.
-    pub scale: Vec4,
+    /// Per lane, [`LightSample::weight`]: red, green and blue.
+    pub weight: [Vec4; 3],
     /// Bit `i` set if lane `i` gives a sample (where `sample` gives `Some`).
     pub valid: u32,
 }

@@ -414,24 +414,15 @@ impl<'a> Tracer<'a> {
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
-        if light.shadow_rays() == 1 {
-            // A point light, or a Whitted shadow ray: no buffer needed.
-            set.push(shadow_ray(s, origin, light, d.one(1.0, &mut rng), d));
-            return;
-        }
         let mut points = self.pool.pop().unwrap_or_default();
-        self.set_points(light, &mut rng, &mut points);
-        let lanes = Lanes::new([s; 4], &[origin; 4]);
-        let mut fours = points.chunks_exact(4);
-        for four in &mut fours {
-            let four: &[Vec3; 4] = four.try_into().expect("chunks of four");
-            match light.sample4(&[s.p; 4], four, d) {
-                Some(ls) => shadow_rays4(&lanes, light, &ls, 4, set),
-                None => set.extend(four.iter().map(|p| shadow_ray(s, origin, light, *p, d))),
-            }
+        if light.shadow_rays() == 1 {
+            // A point light, or a Whitted shadow ray.
+            points.clear();
+            points.push(d.one(1.0, &mut rng));
+        } else {
+            self.set_points(light, &mut rng, &mut points);
         }
-        let rest = fours.remainder().iter();
-        set.extend(rest.map(|p| shadow_ray(s, origin, light, *p, d)));
+        shadow_rays(|_| (s, origin), &points, light, set);
         self.pool.push(points);
     }
 
@@ -448,9 +439,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// The one-ray shadow sets toward `light` of all `lit` hits, appended to
-    /// `set`, prepared four hits at a time: lane by lane the rays
-    /// [`shadow_set`](Self::shadow_set) gives. False, and nothing appended,
-    /// if the light's sets are larger or it has no four-wide path.
+    /// `set`: the rays [`shadow_set`](Self::shadow_set) gives each, prepared
+    /// together. False, and nothing appended, if the light's sets are larger.
     fn single_rays(
         &mut self,
         lit: &[(usize, u32, Local)],
@@ -459,22 +449,18 @@ impl<'a> Tracer<'a> {
         set: &mut Vec<Option<ShadowRay>>,
     ) -> bool {
         let d = light.shadow().distribution;
-        if light.shadow_rays() != 1 || !light.four_wide(d) {
+        if light.shadow_rays() != 1 {
             return false;
         }
-        for chunk in lit.chunks(4) {
-            // A last chunk of fewer hits repeats its last one.
-            let s: [&Local; 4] = std::array::from_fn(|l| &chunk[l.min(chunk.len() - 1)].2);
-            let mut one = [Vec3::ZERO; 4];
-            for (l, &(i, _, _)) in chunk.iter().enumerate() {
-                one[l] = d.one(1.0, &mut rng(i));
-            }
-            let origin = s.map(|s| offset_origin(s.p, s.reach, s.ng, s.ng));
-            let ls = light
-                .sample4(&s.map(|s| s.p), &one, d)
-                .expect("a four-wide light");
-            shadow_rays4(&Lanes::new(s, &origin), light, &ls, chunk.len(), set);
-        }
+        let mut points = self.pool.pop().unwrap_or_default();
+        points.clear();
+        points.extend(lit.iter().map(|&(i, _, _)| d.one(1.0, &mut rng(i))));
+        let frame = |k: usize| {
+            let s = &lit[k].2;
+            (s, offset_origin(s.p, s.reach, s.ng, s.ng))
+        };
+        shadow_rays(frame, &points, light, set);
+        self.pool.push(points);
         true
     }
 
@@ -606,26 +592,44 @@ impl Lanes {
     }
 }
 
-/// [`shadow_ray`] for the four light samples of `ls`, lane `l` from the
-/// shading point of lane `l` of `s`; the first `count` are appended to
-/// `set`: lane by lane the same rays.
-fn shadow_rays4(
-    s: &Lanes,
+/// Appends to `set` the shadow rays toward `light` for the distribution
+/// points `points`, point `k` seen from the frame and ray origin `frame(k)`
+/// (`None` for a point that gives no ray: below the horizon, or on the back
+/// of the light). Four at a time, through [`Emitter::sample4`]; a last group
+/// of fewer repeats its last point and keeps only its own rays.
+fn shadow_rays<'a>(
+    frame: impl Fn(usize) -> (&'a Local, Vec3),
+    points: &[Vec3],
     light: &Emitter,
-    ls: &LightSamples4,
-    count: usize,
     set: &mut Vec<Option<ShadowRay>>,
 ) {
+    let d = light.shadow().distribution;
+    for start in (0..points.len()).step_by(4) {
+        let count = (points.len() - start).min(4);
+        let k = |l: usize| start + l.min(count - 1);
+        let (s, origin): ([&Local; 4], [Vec3; 4]) = (
+            std::array::from_fn(|l| frame(k(l)).0),
+            std::array::from_fn(|l| frame(k(l)).1),
+        );
+        let four: [Vec3; 4] = std::array::from_fn(|l| points[k(l)]);
+        let ls = light.sample4(&s.map(|s| s.p), &four, d);
+        shadow_rays4(&Lanes::new(s, &origin), &ls, count, set);
+    }
+}
+
+/// The shadow rays of the four light samples of `ls`, lane `l` from the
+/// shading point of lane `l` of `s`; the first `count` are appended to
+/// `set`. A lane gives no ray where its sample is invalid or a cosine at
+/// the receiver is at most 0 (a NaN cosine too).
+fn shadow_rays4(s: &Lanes, ls: &LightSamples4, count: usize, set: &mut Vec<Option<ShadowRay>>) {
     let dot = |n: &[Vec4; 3], d: &[Vec4; 3]| n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
     let (cos, cos_g) = (dot(&s.n, &ls.dir), dot(&s.ng, &ls.dir));
-    // Rejected exactly where `shadow_ray` rejects: a cosine at most 0 (a NaN
-    // passes there too).
     let rejected = cos.cmple(Vec4::ZERO) | cos_g.cmple(Vec4::ZERO);
     let valid = ls.valid & !rejected.bitmask();
     let to = std::array::from_fn::<_, 3, _>(|k| (ls.target[k] - s.origin[k]).to_array());
     let origin = s.origin.map(|c| c.to_array());
     let dir = ls.dir.map(|c| c.to_array());
-    let (cos, scale) = (cos.to_array(), ls.scale.to_array());
+    let (cos, weight) = (cos.to_array(), ls.weight.map(|c| c.to_array()));
     set.extend((0..count).map(|i| {
         (valid >> i & 1 != 0).then(|| ShadowRay {
             ray: Ray::new(
@@ -635,33 +639,9 @@ fn shadow_rays4(
             ),
             wi: Vec3::new(dir[0][i], dir[1][i], dir[2][i]),
             cos: cos[i],
-            weight: light.light().power * scale[i],
+            weight: Rgb::new(weight[0][i], weight[1][i], weight[2][i]),
         })
     }));
-}
-
-/// The shadow ray from `origin` (the shading point lifted off its surface)
-/// toward one distribution point of the light; `None` if there is none to
-/// trace (the sample is below the horizon or on the back of the light).
-fn shadow_ray(
-    s: &Local,
-    origin: Vec3,
-    light: &Emitter,
-    point: Vec3,
-    d: Distribution,
-) -> Option<ShadowRay> {
-    let ls = light.sample(s.p, point, d)?;
-    let wi = ls.dir;
-    let cos = s.n.dot(wi);
-    if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
-        return None;
-    }
-    Some(ShadowRay {
-        ray: Ray::new(origin, ls.target - origin, s.time),
-        wi,
-        cos,
-        weight: ls.weight,
-    })
 }
 
 #[cfg(test)]
@@ -688,12 +668,31 @@ mod tests {
         })
     }
 
-    /// The four-wide shadow rays of a rectangle light are, lane by lane,
-    /// bit for bit the rays prepared one by one, for every distribution
-    /// that has the four-wide path: points on both sides of the light and
-    /// in its plane, points past the square's edge, surfaces facing away.
+    /// The shadow ray of one distribution point, one by one from the
+    /// emitter's portable sample: the oracle the prepared sets are checked
+    /// against.
+    fn oracle(s: &Local, origin: Vec3, light: &Emitter, point: Vec3) -> Option<ShadowRay> {
+        let ls = light.sample(s.p, point, light.shadow().distribution)?;
+        let cos = s.n.dot(ls.dir);
+        if cos <= 0.0 || s.ng.dot(ls.dir) <= 0.0 {
+            return None;
+        }
+        Some(ShadowRay {
+            ray: Ray::new(origin, ls.target - origin, s.time),
+            wi: ls.dir,
+            cos,
+            weight: ls.weight,
+        })
+    }
+
+    /// Shadow rays prepared four at a time (a set of 16 from one frame, and
+    /// sets of one from 13 frames: a last group of one) are, ray by ray, bit
+    /// for bit the oracle's, for rectangle lights through the kernel (every
+    /// square distribution) and the portable lanes (the thesis model, random
+    /// points): points on both sides of the light and in its plane, points
+    /// past the square's edge, surfaces facing away.
     #[test]
-    fn four_wide_shadow_rays_match_one_by_one() {
+    fn prepared_shadow_rays_are_the_one_by_one_rays() {
         let mut r = Rng::new(47);
         let quad = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
         let mut light = Light {
@@ -705,64 +704,64 @@ mod tests {
                 distribution: Distribution::Grid,
             },
         };
-        let (mut points, mut four, mut one) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut points, mut set) = (Vec::new(), Vec::new());
         let (mut traced, mut wide) = (0, 0);
-        for k in 0..2000 {
-            let d = Distribution::ALL[k % 6];
+        let frame = |r: &mut Rng, k: usize| {
             let p = Vec3::new(r.range(-3.0, 3.0), r.range(0.0, 5.0), r.range(-3.0, 3.0));
-            let p = if k % 50 == 0 {
+            let p = if k.is_multiple_of(50) {
                 Vec3::new(p.x, 4.0, p.z)
             } else {
                 p
             };
-            let (n, ng) = (unit(&mut r), unit(&mut r));
-            let s = Local {
+            Local {
                 p,
                 reach: reach(p, Vec3::new(0.0, 1.3, 4.2)),
                 wo: Vec3::Y,
-                n,
-                ng,
+                n: unit(r),
+                ng: unit(r),
                 front: true,
                 time: r.next_f32(),
-            };
-            d.generate(16, 1.0, &mut r, &mut points);
-            points[0] = Vec3::new(1.5, -1.5, 0.0);
+            }
+        };
+        for k in 0..2000 {
+            light.shadow.distribution = Distribution::ALL[k % 6];
             light.model = [PenumbraModel::Surface, PenumbraModel::Thesis][usize::from(k % 7 == 0)];
-            let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
             let emitter = Emitter::new(&light);
-            for chunk in points.chunks_exact(4) {
-                let chunk: &[Vec3; 4] = chunk.try_into().unwrap();
-                four.clear();
-                one.clear();
-                match emitter.sample4(&[s.p; 4], chunk, d) {
-                    Some(ls) => {
-                        shadow_rays4(
-                            &Lanes::new([&s; 4], &[origin; 4]),
-                            &emitter,
-                            &ls,
-                            4,
-                            &mut four,
-                        );
-                        wide += 1;
-                    }
-                    None => {
-                        let thesis = light.model == PenumbraModel::Thesis;
-                        assert!(d == Distribution::Random || thesis, "{d:?}");
-                        continue;
-                    }
-                }
-                one.extend(
-                    chunk
-                        .iter()
-                        .map(|q| shadow_ray(&s, origin, &emitter, *q, d)),
-                );
-                for (a, b) in four.iter().zip(&one) {
-                    assert_eq!(bits(a), bits(b), "{d:?} {p:?}");
-                    traced += usize::from(a.is_some());
-                }
+            wide += usize::from(emitter.four_wide(light.shadow.distribution));
+            let frames: Vec<Local> = (0..13).map(|j| frame(&mut r, k + j)).collect();
+            let origin = |s: &Local| offset_origin(s.p, s.reach, s.ng, s.ng);
+            // One frame, a set of 16.
+            light
+                .shadow
+                .distribution
+                .generate(16, 1.0, &mut r, &mut points);
+            points[0] = Vec3::new(1.5, -1.5, 0.0);
+            set.clear();
+            let s = &frames[0];
+            shadow_rays(|_| (s, origin(s)), &points, &emitter, &mut set);
+            for (q, got) in points.iter().zip(&set) {
+                let want = oracle(s, origin(s), &emitter, *q);
+                assert_eq!(bits(got), bits(&want), "{light:?} {q:?}");
+                traced += usize::from(got.is_some());
+            }
+            // Thirteen frames, one point each.
+            points.truncate(13);
+            set.clear();
+            shadow_rays(
+                |j| (&frames[j], origin(&frames[j])),
+                &points,
+                &emitter,
+                &mut set,
+            );
+            assert_eq!(set.len(), 13);
+            for ((s, q), got) in frames.iter().zip(&points).zip(&set) {
+                assert_eq!(bits(got), bits(&oracle(s, origin(s), &emitter, *q)));
             }
         }
-        assert!(wide > 4000 && traced > 2000, "{wide} fours, {traced} rays");
+        assert!(
+            wide > 1000 && traced > 5000,
+            "{wide} kernel sets, {traced} rays"
+        );
     }
 
     /// Shadow rays from the ground near the world's origin, seen from a
