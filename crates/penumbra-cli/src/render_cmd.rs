@@ -1,18 +1,125 @@
 //! `penumbra render`.
 
 use std::io::IsTerminal;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
+use penumbra::sampling::Distribution;
 use penumbra::scene::{LoadOptions, Overrides, SceneSource};
 
 use crate::error::{input, other, CliError};
+use crate::flags::{parse_distribution, parse_nonneg, parse_positive};
 use crate::report::print_summary;
-use crate::{EffectArgs, RenderArgs};
+
+/// Options of `penumbra render`. Every option given here wins over the value
+/// in the scene file (ray counts and distributions override per-light and
+/// per-material values too).
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML) or built-in scene name (see `penumbra scenes`).
+    #[arg(default_value = "showcase")]
+    pub scene: String,
+    /// Output image; the extension picks the format: .png (8-bit sRGB) or .exr (32-bit linear).
+    #[arg(short, long, default_value = "render.png")]
+    pub output: PathBuf,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    pub width: Option<u32>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    pub height: Option<u32>,
+    /// Levels of reflection/refraction rays (the thesis's recursion depth, default 3).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub max_depth: Option<u32>,
+    /// Seed of every random number; the same seed gives the same pixels.
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Write render statistics as JSON to this file.
+    #[arg(long, value_name = "PATH")]
+    pub stats: Option<PathBuf>,
+    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    #[arg(long, value_name = "PATH")]
+    pub bunny: Option<PathBuf>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+    #[command(flatten)]
+    pub effects: EffectArgs,
+}
+
+/// Ray budgets, distributions and lens settings.
+#[derive(Args)]
+pub struct EffectArgs {
+    /// Primary rays per pixel (supersampling, depth of field, motion blur).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: Option<u32>,
+    /// Shadow rays per area light (penumbra).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub shadow_rays: Option<u32>,
+    /// Rays per blurry reflection.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub reflection_rays: Option<u32>,
+    /// Rays per blurry refraction.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub refraction_rays: Option<u32>,
+    /// Distribution for every effect.
+    #[arg(long, value_parser = parse_distribution)]
+    pub distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub pixel_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub lens_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub time_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub shadow_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub reflection_distribution: Option<Distribution>,
+    #[arg(long, value_parser = parse_distribution)]
+    pub refraction_distribution: Option<Distribution>,
+    /// Lens radius (0 = pinhole).
+    #[arg(long, value_parser = parse_nonneg)]
+    pub aperture: Option<f32>,
+    /// Distance to the plane in focus.
+    #[arg(long, value_parser = parse_positive)]
+    pub focal_distance: Option<f32>,
+    /// Turn on the acceleration metrics (thesis §3.4): stop a set of rays once more would not change it.
+    #[arg(long, overrides_with = "no_metric")]
+    pub metric: bool,
+    /// Turn the acceleration metrics off (the default unless the scene turns them on).
+    #[arg(long)]
+    pub no_metric: bool,
+    /// With the metrics on, stop reflection and refraction sets by the α/threshold rule (the default).
+    #[arg(long, overrides_with = "no_reflection_metric")]
+    pub reflection_metric: bool,
+    /// With the metrics on, trace every reflection and refraction ray (the shadow metric alone, say).
+    #[arg(long)]
+    pub no_reflection_metric: bool,
+    /// With the metrics on, stop shadow sets by the k rule (the default).
+    #[arg(long, overrides_with = "no_shadow_metric")]
+    pub shadow_metric: bool,
+    /// With the metrics on, trace every shadow ray (the reflection metric alone, say).
+    #[arg(long)]
+    pub no_shadow_metric: bool,
+    /// Relative change of a set's running average below which it stops (default 0.01).
+    #[arg(long, value_name = "T", value_parser = parse_nonneg)]
+    pub metric_threshold: Option<f32>,
+    /// α: rays always traced before the reflection/refraction metric applies (default 4).
+    #[arg(long, value_name = "ALPHA", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub metric_min_rays: Option<u32>,
+    /// k: shadow rays after which an all-lit or all-blocked set stops (default 4).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub shadow_metric_rays: Option<u32>,
+    /// Apply the metric to the primary rays of each pixel too.
+    #[arg(long)]
+    pub pixel_metric: bool,
+}
 
 /// Renders shorter than this never show a progress bar.
 const BAR_DELAY: Duration = Duration::from_secs(1);
