@@ -10,6 +10,7 @@ mod check;
 pub mod desc;
 pub mod error;
 mod load;
+pub mod options;
 mod overrides;
 mod reuse;
 pub mod source;
@@ -22,6 +23,7 @@ pub use build::BuildContext;
 pub use desc::SceneDesc;
 pub use error::SceneError;
 pub use load::{default_bunny_path, LoadOptions, SceneSource};
+pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
 pub use reuse::WorldCache;
 
