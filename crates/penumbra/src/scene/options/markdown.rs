@@ -101,16 +101,27 @@ fn value_type(kind: Kind) -> String {
     }
 }
 
+/// The default's table cell: values and names as code, prose as it is.
 fn default(o: &RenderOption, view: View) -> String {
+    let text = default_text(o, view);
+    match o.default {
+        DefaultValue::Fixed(Value::Switch(_)) if view == View::CommandLine => text,
+        DefaultValue::Fixed(_) | DefaultValue::Follows(_) => format!("`{text}`"),
+        DefaultValue::Computed(_) => text,
+    }
+}
+
+/// An option's default as the view's users write it (`on`, `800`,
+/// `--distribution`, `all cores` for the command line).
+pub fn default_text(o: &RenderOption, view: View) -> String {
     let cli = view == View::CommandLine;
     match o.default {
         DefaultValue::Fixed(Value::Switch(on)) if cli => (if on { "on" } else { "off" }).into(),
-        DefaultValue::Fixed(v) => format!("`{}`", value_text(v, view)),
-        DefaultValue::Follows(name) if cli => match super::find(name) {
-            Some(other) => format!("`--{}`", other.long()),
-            None => name.into(),
+        DefaultValue::Fixed(v) => value_text(v, view),
+        DefaultValue::Follows(name) => match super::find(name) {
+            Some(other) if cli => format!("--{}", other.long()),
+            _ => name.into(),
         },
-        DefaultValue::Follows(name) => format!("`{name}`"),
         DefaultValue::Computed(text) => text.into(),
     }
 }
