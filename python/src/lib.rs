@@ -219,8 +219,9 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DISTRIBUTIONS", pyo3::types::PyTuple::new(py, names)?)?;
     m.add(
         "RENDER_OPTIONS",
-        pyo3::types::PyTuple::new(py, options::NAMES)?,
+        pyo3::types::PyTuple::new(py, options::names())?,
     )?;
+    m.add("_OPTION_FLAGS", options::flag_table(py)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
