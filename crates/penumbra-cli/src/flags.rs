@@ -188,6 +188,41 @@ mod tests {
         }
     }
 
+    /// Each flag takes exactly its option's values.
+    #[test]
+    fn each_flag_accepts_exactly_its_range() {
+        for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
+            let (good, bad): (Vec<String>, Vec<String>) = match o.kind {
+                Kind::Int { min, max } => {
+                    let mut bad = vec![(u64::from(max) + 1).to_string()];
+                    bad.extend(min.checked_sub(1).map(|m| m.to_string()));
+                    (vec![min.to_string(), max.to_string()], bad)
+                }
+                Kind::NonNegative => (
+                    vec!["0".into(), "3.5".into()],
+                    vec!["-0.5".into(), "inf".into()],
+                ),
+                Kind::Positive => (vec!["0.001".into()], vec!["0".into(), "nan".into()]),
+                Kind::Distribution => (
+                    Distribution::ALL
+                        .iter()
+                        .map(|d| d.name().to_string())
+                        .collect(),
+                    vec!["sobol".into()],
+                ),
+                Kind::Switch | Kind::Colour => continue,
+            };
+            for v in good {
+                let arg = format!("--{}={v}", o.long());
+                assert!(parse(&[&arg]).is_ok(), "{arg}");
+            }
+            for v in bad {
+                let arg = format!("--{}={v}", o.long());
+                assert!(parse(&[&arg]).is_err(), "{arg}");
+            }
+        }
+    }
+
     #[test]
     fn of_a_switch_and_its_off_flag_the_last_wins() {
         for o in OPTIONS.iter().filter(|o| o.kind == Kind::Switch) {
