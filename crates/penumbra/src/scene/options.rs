@@ -7,7 +7,7 @@
 //! The front ends are made from it:
 //!
 //! * the command line builds its flags from it (clap's builder API), with
-//!   this ranges, value names and help;
+//!   its ranges, value names and help;
 //! * the Python module accepts, checks and exports (`RENDER_OPTIONS`)
 //!   exactly its keyword arguments, and `python -m penumbra` builds its
 //!   flags from it;
