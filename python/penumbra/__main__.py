@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from . import DISTRIBUTIONS, RENDER_OPTIONS, SceneError, load_scene, render, save_image, scenes
+from ._penumbra import _OPTION_FLAGS
 
 INPUT_ERROR = 2
 OTHER_ERROR = 1
@@ -62,8 +63,7 @@ def _render(args: argparse.Namespace) -> int:
     options = {
         name: getattr(args, name)
         for name in RENDER_OPTIONS
-        if name != "progress"
-        if getattr(args, name) is not None
+        if getattr(args, name, None) is not None
     }
     bar = _Bar(args.quiet)
     try:
@@ -175,6 +175,24 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _add_render_options(r: argparse.ArgumentParser) -> None:
+    """The flags of `penumbra render`'s render options, from the library's
+    options table: the same names, switches and --no- flags, each stored
+    under its keyword argument."""
+    for o in _OPTION_FLAGS:
+        name, help = o["name"], o["help"].replace("%", "%%")
+        if o["kind"] == "bool":
+            # As in `penumbra render`, the last of --x and --no-x wins.
+            r.add_argument(o["flag"], dest=name, action="store_true", default=None, help=help)
+            if o["off_flag"]:
+                r.add_argument(o["off_flag"], dest=name, action="store_false", help=o["off_help"])
+        elif o["kind"] == "distribution":
+            r.add_argument(o["flag"], dest=name, choices=DISTRIBUTIONS, metavar=o["metavar"], help=help)
+        else:
+            kind = int if o["kind"] == "int" else float
+            r.add_argument(o["flag"], dest=name, type=kind, metavar=o["metavar"], help=help)
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="python -m penumbra",
@@ -185,7 +203,8 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser(
         "render",
         help="render a scene file or built-in scene to PNG or EXR",
-        description="Render a scene. Options override the scene file, as for `penumbra render`.",
+        description="Render a scene. Options override the scene file, as for `penumbra render`. "
+        "When distributed, --threads is per task and defaults to 1.",
     )
     r.add_argument("scene", nargs="?", default="showcase", help="scene file (TOML) or built-in name")
     r.add_argument("-o", "--output", default="render.png", help="output image: .png or .exr")
@@ -202,74 +221,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--stats", metavar="PATH", help="write render statistics as JSON")
     r.add_argument("--bunny", metavar="PATH", help="the Stanford bunny PLY for scenes that need it")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar, no summary")
-    for name, meaning in (
-        ("width", "image width (default from the scene)"),
-        ("height", "image height"),
-        ("spp", "primary rays per pixel"),
-        ("shadow-rays", "shadow rays per area light"),
-        ("reflection-rays", "rays per blurry reflection"),
-        ("refraction-rays", "rays per blurry refraction"),
-        ("max-depth", "levels of reflection/refraction rays"),
-        ("seed", "seed of every random number: the same seed gives the same pixels"),
-        ("threads", "render threads (per task when distributed, default 1 there)"),
-    ):
-        r.add_argument(f"--{name}", type=int, metavar="N", help=meaning)
-    r.add_argument(
-        "--distribution",
-        choices=DISTRIBUTIONS,
-        metavar="D",
-        help=f"distribution of every effect: {', '.join(DISTRIBUTIONS)}",
-    )
-    for name in ("pixel", "lens", "time", "shadow", "reflection", "refraction"):
-        r.add_argument(
-            f"--{name}-distribution", choices=DISTRIBUTIONS, metavar="D", help=f"{name} rays' distribution"
-        )
-    r.add_argument("--aperture", type=float, metavar="R", help="lens radius (0: pinhole)")
-    r.add_argument("--focal-distance", type=float, metavar="D", help="distance to the plane in focus")
-    # As in `penumbra render`, the last of --metric and --no-metric wins.
-    r.add_argument(
-        "--metric",
-        action="store_true",
-        default=None,
-        help="acceleration metrics (thesis §3.4): stop a set of rays once more would not change it",
-    )
-    r.add_argument(
-        "--no-metric", dest="metric", action="store_false", help="turn the acceleration metrics off"
-    )
-    for name, rays in (("reflection", "reflection and refraction"), ("shadow", "shadow")):
-        r.add_argument(
-            f"--{name}-metric",
-            action="store_true",
-            default=None,
-            help=f"with the metrics on, stop {rays} sets early (the default)",
-        )
-        r.add_argument(
-            f"--no-{name}-metric",
-            dest=f"{name}_metric",
-            action="store_false",
-            help=f"with the metrics on, trace every {rays} ray",
-        )
-    r.add_argument(
-        "--metric-threshold",
-        type=float,
-        metavar="T",
-        help="relative change of a set's running average below which it stops",
-    )
-    r.add_argument(
-        "--metric-min-rays", type=int, metavar="ALPHA", help="rays traced before the metric applies"
-    )
-    r.add_argument(
-        "--shadow-metric-rays",
-        type=int,
-        metavar="K",
-        help="shadow rays after which an all-lit or all-blocked set stops",
-    )
-    r.add_argument(
-        "--pixel-metric",
-        action="store_true",
-        default=None,
-        help="apply the metric to the primary rays of each pixel too",
-    )
+    _add_render_options(r)
     return p
 
 

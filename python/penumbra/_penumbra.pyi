@@ -15,6 +15,9 @@ DISTRIBUTIONS: tuple[str, ...]
 #: The keyword arguments of ``render`` and ``render_region``.
 RENDER_OPTIONS: tuple[str, ...]
 
+#: The ``penumbra render`` flags of the render options, for ``python -m penumbra``.
+_OPTION_FLAGS: tuple[dict[str, Any], ...]
+
 DistributionName = Literal["grid", "jitter", "semi-jitter", "poisson", "random", "fast-random"]
 StrPath = str | os.PathLike[str]
 Image = npt.NDArray[np.float32]

@@ -217,7 +217,8 @@ def apply_frame(
                 raise TypeError(f"frame[{key!r}] must be a dict, got {type(value).__name__}")
             desc_changes[key] = value
         else:
-            valid = ", ".join([*FRAME_TABLES, *FRAME_LISTS, *RENDER_OPTIONS[:-1]])
+            options = [name for name in RENDER_OPTIONS if name != "progress"]
+            valid = ", ".join([*FRAME_TABLES, *FRAME_LISTS, *options])
             raise ValueError(f"unknown frame key {key!r}; valid keys are: {valid}")
     if not desc_changes:
         return scene, opts

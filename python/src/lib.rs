@@ -9,6 +9,7 @@
 //! same numbers, and every validation message is the CLI's.
 
 mod convert;
+mod error;
 mod images;
 mod mesh;
 mod options;
@@ -23,17 +24,9 @@ use penumbra::render::{stats_document, Region, RenderOptions};
 use penumbra::sampling::{Distribution, Rng};
 
 use crate::convert::{image_to_numpy, json_to_py, warn};
+use crate::error::SceneError;
 use crate::options::{parse_distribution, parse_options, positive_f32, ranged_int, Options};
 use crate::scene::Scene;
-
-pyo3::create_exception!(
-    penumbra,
-    SceneError,
-    pyo3::exceptions::PyValueError,
-    "An invalid scene or mesh. The message is the command line's: it names the file, \
-     line and column (`scene.toml:12:10: objects[1].radius: ...`) or, for a scene made \
-     from a dict, the key path. A subclass of ValueError, because a bad scene is bad input."
-);
 
 /// Largest point count `samples` draws, as `penumbra samples --count`.
 const MAX_SAMPLES: i64 = 100_000;
@@ -226,8 +219,9 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DISTRIBUTIONS", pyo3::types::PyTuple::new(py, names)?)?;
     m.add(
         "RENDER_OPTIONS",
-        pyo3::types::PyTuple::new(py, options::NAMES)?,
+        pyo3::types::PyTuple::new(py, options::names())?,
     )?;
+    m.add("_OPTION_FLAGS", options::flag_table(py)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -2,46 +2,30 @@
 //!
 //! One parser for `render`, `render_region` and `Scene.settings`, so the
 //! three accept exactly the same names and reject bad values with the same
-//! messages. Ranges are the command line's (`penumbra render --help`): a value
-//! the CLI refuses is refused here before any work is done, and `None` always
-//! means "keep the scene's value".
+//! messages. The names, kinds and ranges are the library's options table
+//! ([`penumbra::scene::OPTIONS`]), the one the command line builds its
+//! flags from: a value the CLI refuses is refused here before any work is
+//! done, and `None` always means "keep the scene's value".
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 use penumbra::sampling::Distribution;
-use penumbra::scene::Overrides;
+use penumbra::scene::options::markdown::{default_text, View};
+use penumbra::scene::options::{Kind, Value};
+use penumbra::scene::{Choices, Overrides, RenderOption, OPTIONS};
 
-/// Every keyword the render functions accept, in the documented order.
-pub const NAMES: [&str; 26] = [
-    "width",
-    "height",
-    "spp",
-    "shadow_rays",
-    "reflection_rays",
-    "refraction_rays",
-    "distribution",
-    "pixel_distribution",
-    "lens_distribution",
-    "time_distribution",
-    "shadow_distribution",
-    "reflection_distribution",
-    "refraction_distribution",
-    "aperture",
-    "focal_distance",
-    "max_depth",
-    "seed",
-    "metric",
-    "reflection_metric",
-    "shadow_metric",
-    "metric_threshold",
-    "metric_min_rays",
-    "shadow_metric_rays",
-    "pixel_metric",
-    "threads",
-    "progress",
-];
+/// The keyword argument that is not a render option: the progress callback.
+const PROGRESS: &str = "progress";
+
+/// Every keyword the render functions accept, in the documented order: the
+/// table's Python options, then `progress`.
+pub fn names() -> Vec<&'static str> {
+    let mut names: Vec<&str> = penumbra::scene::options::python_names().collect();
+    names.push(PROGRESS);
+    names
+}
 
 /// Parsed render options.
 #[derive(Default)]
@@ -66,80 +50,92 @@ fn type_error(name: &str, expected: &str, got: &Bound<'_, PyAny>) -> PyErr {
     PyTypeError::new_err(format!("{name} must be {expected}, got {ty}"))
 }
 
+fn python_option(name: &str) -> Option<&'static RenderOption> {
+    OPTIONS.iter().find(|o| o.python && o.name == name)
+}
+
 /// Parses keyword arguments; `func` names the function in errors about unknown keywords.
 pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
-    let mut o = Options::default();
-    let Some(kwargs) = kwargs else {
-        return Ok(o);
-    };
-    for (key, value) in kwargs.iter() {
+    let mut choices = Choices::default();
+    let mut progress = None;
+    for (key, value) in kwargs.into_iter().flat_map(|k| k.iter()) {
         let key: String = key.extract()?;
+        let option = python_option(&key);
+        if option.is_none() && key != PROGRESS {
+            return Err(unknown(func, &key));
+        }
         if value.is_none() {
-            if !NAMES.contains(&key.as_str()) {
-                return Err(unknown(func, &key));
-            }
             continue;
         }
-        let v = &value;
-        let ov = &mut o.overrides;
-        match key.as_str() {
-            "width" => ov.width = Some(ranged_u32("width", v, 1, 32768)?),
-            "height" => ov.height = Some(ranged_u32("height", v, 1, 32768)?),
-            "spp" => ov.spp = Some(ranged_u32("spp", v, 1, 65536)?),
-            "shadow_rays" => ov.shadow_rays = Some(ranged_u32("shadow_rays", v, 1, 65536)?),
-            "reflection_rays" => {
-                ov.reflection_rays = Some(ranged_u32("reflection_rays", v, 1, 65536)?)
+        match option {
+            Some(o) => o.store(&mut choices, parse_value(o, &value)?),
+            None if value.is_callable() => progress = Some(value.unbind()),
+            None => {
+                return Err(type_error(
+                    PROGRESS,
+                    "a callable progress(done_tiles, total_tiles) or None",
+                    &value,
+                ))
             }
-            "refraction_rays" => {
-                ov.refraction_rays = Some(ranged_u32("refraction_rays", v, 1, 65536)?)
-            }
-            "distribution" => ov.distribution = Some(parse_distribution(&key, v)?),
-            "pixel_distribution" => ov.pixel_distribution = Some(parse_distribution(&key, v)?),
-            "lens_distribution" => ov.lens_distribution = Some(parse_distribution(&key, v)?),
-            "time_distribution" => ov.time_distribution = Some(parse_distribution(&key, v)?),
-            "shadow_distribution" => ov.shadow_distribution = Some(parse_distribution(&key, v)?),
-            "reflection_distribution" => {
-                ov.reflection_distribution = Some(parse_distribution(&key, v)?)
-            }
-            "refraction_distribution" => {
-                ov.refraction_distribution = Some(parse_distribution(&key, v)?)
-            }
-            "aperture" => ov.aperture = Some(nonneg_f32("aperture", v)?),
-            "focal_distance" => ov.focal_distance = Some(positive_f32("focal_distance", v)?),
-            "max_depth" => ov.max_depth = Some(ranged_u32("max_depth", v, 0, 64)?),
-            "seed" => ov.seed = Some(ranged_u32("seed", v, 0, u32::MAX)?),
-            "metric" => ov.metric = Some(bool_arg("metric", v)?),
-            "reflection_metric" => ov.reflection_metric = Some(bool_arg("reflection_metric", v)?),
-            "shadow_metric" => ov.shadow_metric = Some(bool_arg("shadow_metric", v)?),
-            "metric_threshold" => ov.metric_threshold = Some(nonneg_f32("metric_threshold", v)?),
-            "metric_min_rays" => {
-                ov.metric_min_rays = Some(ranged_u32("metric_min_rays", v, 1, 65536)?)
-            }
-            "shadow_metric_rays" => {
-                ov.shadow_metric_rays = Some(ranged_u32("shadow_metric_rays", v, 1, 65536)?)
-            }
-            "pixel_metric" => ov.pixel_metric = Some(bool_arg("pixel_metric", v)?),
-            "threads" => o.threads = Some(ranged_u32("threads", v, 1, 1024)? as usize),
-            "progress" => {
-                if !v.is_callable() {
-                    return Err(type_error(
-                        "progress",
-                        "a callable progress(done_tiles, total_tiles) or None",
-                        v,
-                    ));
-                }
-                o.progress = Some(v.clone().unbind());
-            }
-            _ => return Err(unknown(func, &key)),
         }
     }
-    Ok(o)
+    Ok(Options {
+        overrides: choices.overrides,
+        threads: choices.threads.map(|t| t as usize),
+        progress,
+    })
+}
+
+/// The `penumbra render` flags of the render options, for `python -m
+/// penumbra` to build the same ones: a dict per flag with `name` (the
+/// keyword), `flag`, `kind` (`int`, `float`, `bool` or `distribution`),
+/// `metavar`, `help`, and for a switch `off_flag` and `off_help` (or None).
+pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
+    let mut rows = Vec::new();
+    for o in OPTIONS.iter().filter(|o| o.python) {
+        let Some(flag) = o.flag else { continue };
+        let kind = match o.kind {
+            Kind::Int { .. } => "int",
+            Kind::NonNegative | Kind::Positive => "float",
+            Kind::Switch => "bool",
+            Kind::Distribution => "distribution",
+            Kind::Colour => continue,
+        };
+        let d = PyDict::new(py);
+        d.set_item("name", o.name)?;
+        d.set_item("flag", format!("--{}", o.long()))?;
+        d.set_item("kind", kind)?;
+        d.set_item("metavar", o.metavar())?;
+        let default = default_text(o, View::CommandLine);
+        d.set_item("help", format!("{} (default: {default})", o.doc))?;
+        d.set_item("off_flag", o.long_off().map(|l| format!("--{l}")))?;
+        d.set_item("off_help", flag.off)?;
+        rows.push(d);
+    }
+    PyTuple::new(py, rows)
+}
+
+/// A keyword's value, checked against its option's kind and range.
+fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
+    let name = o.name;
+    Ok(match o.kind {
+        Kind::Int { min, max } => Value::Int(ranged_u32(name, v, min, max)?),
+        Kind::NonNegative => Value::Number(nonneg_f32(name, v)?),
+        Kind::Positive => Value::Number(positive_f32(name, v)?),
+        Kind::Switch => Value::Switch(bool_arg(name, v)?),
+        Kind::Distribution => Value::Distribution(parse_distribution(name, v)?),
+        Kind::Colour => {
+            return Err(PyTypeError::new_err(format!(
+                "{name} is set in the scene, not as a render option"
+            )))
+        }
+    })
 }
 
 fn unknown(func: &str, key: &str) -> PyErr {
     PyTypeError::new_err(format!(
         "{func}() got an unexpected keyword argument '{key}' (render options are: {})",
-        NAMES.join(", ")
+        names().join(", ")
     ))
 }
 

@@ -24,7 +24,7 @@ use penumbra::scene::{
 
 use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
 use crate::options::parse_options;
-use crate::SceneError;
+use crate::error::SceneError;
 
 /// The text a scene was read from.
 #[derive(Clone, Debug)]

@@ -1,18 +1,47 @@
 //! `penumbra render`.
 
 use std::io::IsTerminal;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
-use penumbra::scene::{LoadOptions, Overrides, SceneSource};
+use penumbra::scene::{LoadOptions, SceneSource};
 
 use crate::error::{input, other, CliError};
+use crate::flags::OptionFlags;
 use crate::report::print_summary;
-use crate::{EffectArgs, RenderArgs};
+
+/// Options of `penumbra render`.
+#[derive(Args)]
+#[command(
+    after_help = "The render options win over the scene file's values (the ray counts and \
+distributions over per-light and per-material values too); a default is what a scene file that \
+does not set the option gets."
+)]
+pub struct RenderArgs {
+    /// Scene file (TOML) or built-in scene name (see `penumbra scenes`).
+    #[arg(default_value = "showcase")]
+    pub scene: String,
+    /// Output image; the extension picks the format: .png (8-bit sRGB) or .exr (32-bit linear).
+    #[arg(short, long, default_value = "render.png")]
+    pub output: PathBuf,
+    /// Write render statistics as JSON to this file.
+    #[arg(long, value_name = "PATH")]
+    pub stats: Option<PathBuf>,
+    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    #[arg(long, value_name = "PATH")]
+    pub bunny: Option<PathBuf>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// The render options (`--width`, `--spp`, `--metric`, ...).
+    #[command(flatten)]
+    pub options: OptionFlags,
+}
 
 /// Renders shorter than this never show a progress bar.
 const BAR_DELAY: Duration = Duration::from_secs(1);
@@ -28,7 +57,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         bunny: args.bunny.clone(),
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
-    overrides(args).apply(&mut source.desc);
+    let choices = &args.options.0;
+    choices.overrides.apply(&mut source.desc);
     let scene = source.build().map_err(input)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
@@ -44,7 +74,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         bar.set_position(done as u64);
     };
     let render_opts = RenderOptions {
-        threads: args.threads.map(|t| t as usize),
+        threads: choices.threads.map(|t| t as usize),
         region: None,
     };
     let (image, stats) = render(&scene, &render_opts, &progress, None).map_err(other)?;
@@ -94,45 +124,4 @@ fn progress_bar(quiet: bool) -> ProgressBar {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
-}
-
-/// Command-line values win over the file (see [`Overrides`]).
-fn overrides(args: &RenderArgs) -> Overrides {
-    let e: &EffectArgs = &args.effects;
-    Overrides {
-        width: args.width,
-        height: args.height,
-        max_depth: args.max_depth,
-        seed: args.seed,
-        spp: e.spp,
-        shadow_rays: e.shadow_rays,
-        reflection_rays: e.reflection_rays,
-        refraction_rays: e.refraction_rays,
-        distribution: e.distribution,
-        pixel_distribution: e.pixel_distribution,
-        lens_distribution: e.lens_distribution,
-        time_distribution: e.time_distribution,
-        shadow_distribution: e.shadow_distribution,
-        reflection_distribution: e.reflection_distribution,
-        refraction_distribution: e.refraction_distribution,
-        aperture: e.aperture,
-        focal_distance: e.focal_distance,
-        metric: switch(e.metric, e.no_metric),
-        reflection_metric: switch(e.reflection_metric, e.no_reflection_metric),
-        shadow_metric: switch(e.shadow_metric, e.no_shadow_metric),
-        metric_threshold: e.metric_threshold,
-        metric_min_rays: e.metric_min_rays,
-        shadow_metric_rays: e.shadow_metric_rays,
-        pixel_metric: e.pixel_metric.then_some(true),
-    }
-}
-
-/// A `--x`/`--no-x` pair (clap keeps only the last one given): on, off, or
-/// as the scene says.
-fn switch(on: bool, off: bool) -> Option<bool> {
-    match (on, off) {
-        (true, _) => Some(true),
-        (_, true) => Some(false),
-        _ => None,
-    }
 }

@@ -3,12 +3,32 @@
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
+use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::scene::default_bunny_path;
 use penumbra_eval::{reproduce, ReproduceOptions};
 
 use crate::error::{input, other, CliError};
-use crate::ReproduceArgs;
+
+/// Options of `penumbra reproduce`.
+#[derive(Args)]
+pub struct ReproduceArgs {
+    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    #[arg(long, value_name = "PATH")]
+    pub bunny: Option<PathBuf>,
+    /// Output directory for the report, images and plots (default: reproduce).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// The same pipeline at a small resolution with reduced budgets (about a minute or two).
+    #[arg(long)]
+    pub quick: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
 
 pub fn run(a: &ReproduceArgs) -> Result<(), CliError> {
     let bunny = a.bunny.clone().or_else(default_bunny_path).ok_or_else(|| {

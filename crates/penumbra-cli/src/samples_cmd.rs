@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use clap::Args;
 use penumbra::io::output::write_bytes;
 use penumbra::io::plot;
 use penumbra::math::Vec3;
@@ -9,7 +10,33 @@ use penumbra::sampling::{Distribution, Rng};
 use serde_json::json;
 
 use crate::error::{input, other, CliError};
-use crate::{SampleFormat, SamplesArgs};
+use crate::flags::parse_positive;
+
+/// Options of `penumbra samples`.
+#[derive(Args)]
+pub struct SamplesArgs {
+    /// grid, jitter, semi-jitter, poisson, random, fast-random, or `all` (PNG only).
+    #[arg(long, short)]
+    pub distribution: String,
+    /// Number of points.
+    #[arg(long, short, value_parser = clap::value_parser!(u32).range(1..=100000))]
+    pub count: u32,
+    #[arg(long, short, default_value_t = 1.0, value_parser = parse_positive)]
+    pub radius: f32,
+    #[arg(long, short, default_value_t = 0)]
+    pub seed: u64,
+    #[arg(long, short, value_enum, default_value = "json")]
+    pub format: SampleFormat,
+    /// Output file (default: standard output for JSON, samples.png for PNG).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum SampleFormat {
+    Json,
+    Png,
+}
 
 pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
     let all = a.distribution == "all";

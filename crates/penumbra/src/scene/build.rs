@@ -35,10 +35,8 @@ impl From<Invalid> for BuildError {
     }
 }
 
-/// Largest image side; keeps `width * height` and the film allocation sane.
-const MAX_SIDE: i64 = 1 << 15;
-/// Largest ray budget per effect (the exponential growth makes more pointless).
-const MAX_RAYS: i64 = 1 << 16;
+const MAX_SIDE: i64 = super::options::MAX_SIDE as i64;
+const MAX_RAYS: i64 = super::options::MAX_RAYS as i64;
 
 /// Validates `desc` and builds the scene, taking the world (meshes and BVH)
 /// from `worlds` when one was built there from the same geometry, and

@@ -27,6 +27,9 @@ pub struct SceneDesc {
 }
 
 /// `[render]`: image size, recursion, seed and the global ray budgets.
+///
+/// Every key is a [render option](super::options::OPTIONS); a test checks
+/// the names, defaults and accepted ranges here against that table.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderDesc {

@@ -1,0 +1,253 @@
+//! The render options' flags, made from the library's table
+//! ([`penumbra::scene::OPTIONS`]), and the value parsers of the command line.
+
+use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
+use penumbra::sampling::Distribution;
+use penumbra::scene::options::markdown::{default_text, View};
+use penumbra::scene::options::{Flag, Kind, Value};
+use penumbra::scene::{Choices, RenderOption, OPTIONS};
+
+/// What the render options' flags say: `--width 320`, `--no-metric`, ...
+/// Flags not given leave the scene's values alone.
+#[derive(Debug, Default)]
+pub struct OptionFlags(pub Choices);
+
+impl Args for OptionFlags {
+    fn augment_args(cmd: Command) -> Command {
+        let flagged = OPTIONS.iter().filter_map(|o| o.flag.map(|f| (o, f)));
+        cmd.args(flagged.flat_map(|(o, f)| args(o, f)))
+    }
+
+    fn augment_args_for_update(cmd: Command) -> Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl FromArgMatches for OptionFlags {
+    fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut flags = OptionFlags::default();
+        flags.update_from_arg_matches(m)?;
+        Ok(flags)
+    }
+
+    fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
+        for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
+            if let Some(v) = given(o, m) {
+                o.store(&mut self.0, v);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The flag of an option, and a switch's `--no-` flag.
+fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
+    let arg = Arg::new(o.name).long(o.long()).help(help(o));
+    let with_value = |arg: Arg| arg.value_name(o.metavar()).action(ArgAction::Set);
+    match o.kind {
+        Kind::Switch => {
+            let on = arg.action(ArgAction::SetTrue);
+            match (flag.off, o.long_off()) {
+                (Some(off_help), Some(long)) => vec![
+                    on.overrides_with(off_id(o)),
+                    Arg::new(off_id(o))
+                        .long(long)
+                        .action(ArgAction::SetTrue)
+                        .help(capitalised(off_help)),
+                ],
+                _ => vec![on],
+            }
+        }
+        Kind::Int { min, max } => vec![with_value(
+            arg.value_parser(clap::value_parser!(u32).range(i64::from(min)..=i64::from(max))),
+        )],
+        Kind::NonNegative => vec![with_value(arg.value_parser(parse_nonneg))],
+        Kind::Positive => vec![with_value(arg.value_parser(parse_positive))],
+        Kind::Distribution => vec![with_value(arg.value_parser(parse_distribution))],
+        // Colours are set in scene files only.
+        Kind::Colour => Vec::new(),
+    }
+}
+
+/// The option's value if its flag was given; for a switch, of `--x` and
+/// `--no-x` the last one given (clap keeps only that one).
+fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
+    match o.kind {
+        Kind::Int { .. } => m.get_one::<u32>(o.name).copied().map(Value::Int),
+        Kind::NonNegative | Kind::Positive => m.get_one::<f32>(o.name).copied().map(Value::Number),
+        Kind::Distribution => m
+            .get_one::<Distribution>(o.name)
+            .copied()
+            .map(Value::Distribution),
+        Kind::Switch => {
+            let off = o.long_off().is_some() && m.get_flag(&off_id(o));
+            match (m.get_flag(o.name), off) {
+                (true, _) => Some(Value::Switch(true)),
+                (_, true) => Some(Value::Switch(false)),
+                _ => None,
+            }
+        }
+        Kind::Colour => None,
+    }
+}
+
+fn off_id(o: &RenderOption) -> String {
+    format!("no_{}", o.name)
+}
+
+/// The one-line doc, capitalised, with the default a scene that does not
+/// set the option gets.
+fn help(o: &RenderOption) -> String {
+    format!(
+        "{} [default: {}]",
+        capitalised(o.doc),
+        default_text(o, View::CommandLine)
+    )
+}
+
+fn capitalised(s: &str) -> String {
+    let mut chars = s.chars();
+    chars
+        .next()
+        .map(|c| c.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
+}
+
+pub fn parse_distribution(s: &str) -> Result<Distribution, String> {
+    Distribution::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+        format!(
+            "unknown distribution `{s}`; valid choices are: {}",
+            names.join(", ")
+        )
+    })
+}
+
+pub fn parse_nonneg(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number >= 0")),
+    }
+}
+
+pub fn parse_positive(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number > 0")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra::scene::options::DefaultValue;
+
+    fn parse(args: &[&str]) -> Result<Choices, clap::Error> {
+        let cmd = OptionFlags::augment_args(Command::new("render").no_binary_name(true));
+        let m = cmd.try_get_matches_from(args)?;
+        Ok(OptionFlags::from_arg_matches(&m)?.0)
+    }
+
+    /// Every option with a flag has it, documented, and nothing else is
+    /// made: the flags are the table's.
+    #[test]
+    fn the_flags_are_the_tables() {
+        let cmd = OptionFlags::augment_args(Command::new("render"));
+        let mut expected = Vec::new();
+        for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
+            expected.push(o.long());
+            expected.extend(o.long_off());
+        }
+        let longs: Vec<String> = cmd
+            .get_arguments()
+            .map(|a| a.get_long().unwrap_or_default().to_string())
+            .collect();
+        assert_eq!(longs, expected);
+        for a in cmd.get_arguments() {
+            let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+            assert!(help.len() > 10, "--{:?} has no help", a.get_long());
+        }
+    }
+
+    /// A value given as a flag lands where the library stores that option.
+    #[test]
+    fn each_flag_stores_its_option() {
+        for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
+            let (text, value) = match o.kind {
+                Kind::Int { min, .. } => (min.to_string(), Value::Int(min)),
+                Kind::NonNegative | Kind::Positive => ("0.5".into(), Value::Number(0.5)),
+                Kind::Distribution => {
+                    ("poisson".into(), Value::Distribution(Distribution::Poisson))
+                }
+                Kind::Switch | Kind::Colour => continue,
+            };
+            let mut expected = Choices::default();
+            o.store(&mut expected, value);
+            let got = parse(&[&format!("--{}", o.long()), &text]).unwrap();
+            assert_eq!(got, expected, "--{}", o.long());
+        }
+    }
+
+    /// Each flag takes exactly its option's values.
+    #[test]
+    fn each_flag_accepts_exactly_its_range() {
+        for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
+            let (good, bad): (Vec<String>, Vec<String>) = match o.kind {
+                Kind::Int { min, max } => {
+                    let mut bad = vec![(u64::from(max) + 1).to_string()];
+                    bad.extend(min.checked_sub(1).map(|m| m.to_string()));
+                    (vec![min.to_string(), max.to_string()], bad)
+                }
+                Kind::NonNegative => (
+                    vec!["0".into(), "3.5".into()],
+                    vec!["-0.5".into(), "inf".into()],
+                ),
+                Kind::Positive => (vec!["0.001".into()], vec!["0".into(), "nan".into()]),
+                Kind::Distribution => (
+                    Distribution::ALL
+                        .iter()
+                        .map(|d| d.name().to_string())
+                        .collect(),
+                    vec!["sobol".into()],
+                ),
+                Kind::Switch | Kind::Colour => continue,
+            };
+            for v in good {
+                let arg = format!("--{}={v}", o.long());
+                assert!(parse(&[&arg]).is_ok(), "{arg}");
+            }
+            for v in bad {
+                let arg = format!("--{}={v}", o.long());
+                assert!(parse(&[&arg]).is_err(), "{arg}");
+            }
+        }
+    }
+
+    #[test]
+    fn of_a_switch_and_its_off_flag_the_last_wins() {
+        for o in OPTIONS.iter().filter(|o| o.kind == Kind::Switch) {
+            let on = format!("--{}", o.long());
+            let stored = |b: bool| {
+                let mut c = Choices::default();
+                o.store(&mut c, Value::Switch(b));
+                c
+            };
+            assert_eq!(parse(&[&on]).unwrap(), stored(true));
+            assert_eq!(parse(&[]).unwrap(), Choices::default());
+            if let Some(off) = o.long_off() {
+                let off = format!("--{off}");
+                assert_eq!(parse(&[&off]).unwrap(), stored(false));
+                assert_eq!(parse(&[&on, &off]).unwrap(), stored(false));
+                assert_eq!(parse(&[&off, &on]).unwrap(), stored(true));
+            }
+        }
+    }
+
+    #[test]
+    fn help_states_the_scene_default() {
+        let o = OPTIONS.iter().find(|o| o.name == "max_depth").unwrap();
+        assert_eq!(o.default, DefaultValue::Fixed(Value::Int(3)));
+        assert!(help(o).ends_with("[default: 3]"), "{}", help(o));
+        assert!(help(o).starts_with("Levels of"), "{}", help(o));
+    }
+}

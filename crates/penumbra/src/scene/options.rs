@@ -1,0 +1,575 @@
+//! The render options, defined once.
+//!
+//! [`OPTIONS`] lists every setting a user chooses for a render: its name,
+//! value type and range, default, one-line meaning, and where it appears —
+//! a key of the scene file's `[render]` or `[camera]` table, a flag of
+//! `penumbra render`, a keyword argument of the Python `render` functions.
+//! The front ends are made from it:
+//!
+//! * the command line builds its flags from it (clap's builder API), with
+//!   its ranges, value names and help;
+//! * the Python module accepts, checks and exports (`RENDER_OPTIONS`)
+//!   exactly its keyword arguments, and `python -m penumbra` builds its
+//!   flags from it;
+//! * the options tables of README.md, docs/scene-format.md and
+//!   docs/python.md are [`markdown`] tables of it, kept in step by a test
+//!   (`PENUMBRA_UPDATE_DOCS=1 cargo test --release -p penumbra --test options`
+//!   rewrites them);
+//! * the scene file's keys are the fields of
+//!   [`RenderDesc`](super::desc::RenderDesc) and
+//!   [`CameraDesc`](super::desc::CameraDesc), which serde reads with located
+//!   errors; a test checks their names, defaults and accepted ranges against
+//!   this table.
+//!
+//! Adding an option is one entry here, plus its field in [`Overrides`] (and
+//! in the description, for a scene-file key) and the code that uses it.
+
+use super::overrides::Overrides;
+use crate::sampling::Distribution;
+
+pub mod markdown;
+
+/// Largest image side; keeps `width * height` and the film allocation sane.
+pub const MAX_SIDE: u32 = 1 << 15;
+/// Largest ray budget per effect (the exponential growth makes more pointless).
+pub const MAX_RAYS: u32 = 1 << 16;
+
+/// One render option.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOption {
+    /// The scene-file key and the Python keyword argument; the flag is
+    /// `--` and the name with dashes (`max_depth` is `--max-depth`).
+    pub name: &'static str,
+    pub kind: Kind,
+    /// The value when neither the scene file nor a front end gives one.
+    pub default: DefaultValue,
+    /// What it does: one line, lower case (`--help` capitalises it).
+    pub doc: &'static str,
+    /// The scene-file table that has it as a key, if any.
+    pub table: Option<Table>,
+    /// Its `penumbra render` flag, if any.
+    pub flag: Option<Flag>,
+    /// Whether the Python render functions take it as a keyword argument.
+    pub python: bool,
+    /// Keeps a value given on the command line or in Python. Only called with
+    /// a value of this option's [`Kind`]; `None` for a scene-file-only key.
+    pub set: Option<fn(&mut Choices, Value)>,
+}
+
+/// The value type and the values allowed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// An integer in `min..=max`.
+    Int { min: u32, max: u32 },
+    /// A finite number ≥ 0.
+    NonNegative,
+    /// A finite number > 0.
+    Positive,
+    /// On or off.
+    Switch,
+    /// A ray distribution, by name ([`Distribution::name`]).
+    Distribution,
+    /// A linear RGB colour with no negative channel (scene file only).
+    Colour,
+}
+
+/// A value of an option.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    Int(u32),
+    Number(f32),
+    Switch(bool),
+    Distribution(Distribution),
+    Colour([f32; 3]),
+}
+
+impl Value {
+    pub fn int(self) -> Option<u32> {
+        match self {
+            Value::Int(n) => Some(n),
+            _ => None,
+        }
+    }
+
+    pub fn number(self) -> Option<f32> {
+        match self {
+            Value::Number(x) => Some(x),
+            _ => None,
+        }
+    }
+
+    pub fn switch(self) -> Option<bool> {
+        match self {
+            Value::Switch(b) => Some(b),
+            _ => None,
+        }
+    }
+
+    pub fn distribution(self) -> Option<Distribution> {
+        match self {
+            Value::Distribution(d) => Some(d),
+            _ => None,
+        }
+    }
+}
+
+/// Where an option's default comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DefaultValue {
+    Fixed(Value),
+    /// The value of the option of this name (the per-effect distributions
+    /// follow `distribution`).
+    Follows(&'static str),
+    /// Worked out from the scene or the machine, as the text says.
+    Computed(&'static str),
+}
+
+/// A table of the scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Table {
+    Render,
+    Camera,
+}
+
+impl Table {
+    pub fn name(self) -> &'static str {
+        match self {
+            Table::Render => "render",
+            Table::Camera => "camera",
+        }
+    }
+}
+
+/// A `penumbra render` flag: `--NAME VALUE`, or `--NAME` for a switch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flag {
+    /// What `--help` calls the value; `None`: the name in capitals.
+    pub metavar: Option<&'static str>,
+    /// For a switch, the help of its `--no-NAME` flag, which turns it off
+    /// (of the two, the last one given wins); `None`: no such flag.
+    pub off: Option<&'static str>,
+}
+
+impl Flag {
+    const PLAIN: Option<Flag> = Some(Flag {
+        metavar: None,
+        off: None,
+    });
+
+    const fn metavar(name: &'static str) -> Option<Flag> {
+        Some(Flag {
+            metavar: Some(name),
+            off: None,
+        })
+    }
+
+    const fn with_off(help: &'static str) -> Option<Flag> {
+        Some(Flag {
+            metavar: None,
+            off: Some(help),
+        })
+    }
+}
+
+/// What a front end was given: the values that replace the scene's, and the
+/// render's thread count.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Choices {
+    pub overrides: Overrides,
+    /// Worker threads; `None`: every core.
+    pub threads: Option<u32>,
+}
+
+impl RenderOption {
+    /// The command-line flag, `--max-depth` for `max_depth`.
+    pub fn long(&self) -> String {
+        self.name.replace('_', "-")
+    }
+
+    /// The `--no-...` flag of a switch that has one.
+    pub fn long_off(&self) -> Option<String> {
+        self.flag
+            .and_then(|f| f.off)
+            .map(|_| format!("no-{}", self.long()))
+    }
+
+    /// What `--help` calls the value.
+    pub fn metavar(&self) -> String {
+        match self.flag.and_then(|f| f.metavar) {
+            Some(m) => m.to_string(),
+            None => self.name.to_uppercase(),
+        }
+    }
+
+    /// Keeps `value` (which must be of this option's kind) in `choices`.
+    pub fn store(&self, choices: &mut Choices, value: Value) {
+        if let Some(set) = self.set {
+            set(choices, value);
+        }
+    }
+}
+
+/// The option of this name.
+pub fn find(name: &str) -> Option<&'static RenderOption> {
+    OPTIONS.iter().find(|o| o.name == name)
+}
+
+/// The names of the options the Python render functions take, in order.
+pub fn python_names() -> impl Iterator<Item = &'static str> {
+    OPTIONS.iter().filter(|o| o.python).map(|o| o.name)
+}
+
+const fn int(n: u32) -> DefaultValue {
+    DefaultValue::Fixed(Value::Int(n))
+}
+
+const fn switch(b: bool) -> DefaultValue {
+    DefaultValue::Fixed(Value::Switch(b))
+}
+
+const RAYS: Kind = Kind::Int {
+    min: 1,
+    max: MAX_RAYS,
+};
+const SIDE: Kind = Kind::Int {
+    min: 1,
+    max: MAX_SIDE,
+};
+const FOLLOWS_DISTRIBUTION: DefaultValue = DefaultValue::Follows("distribution");
+
+/// Every render option, in the order of `--help`, the docs and Python's
+/// `RENDER_OPTIONS`.
+pub const OPTIONS: &[RenderOption] = &[
+    RenderOption {
+        name: "width",
+        kind: SIDE,
+        default: int(800),
+        doc: "image width in pixels",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.width = v.int()),
+    },
+    RenderOption {
+        name: "height",
+        kind: SIDE,
+        default: int(600),
+        doc: "image height in pixels",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.height = v.int()),
+    },
+    RenderOption {
+        name: "spp",
+        kind: RAYS,
+        default: int(1),
+        doc: "primary rays per pixel (supersampling, depth of field, motion blur)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.spp = v.int()),
+    },
+    RenderOption {
+        name: "shadow_rays",
+        kind: RAYS,
+        default: int(1),
+        doc: "shadow rays per area light and shading point (penumbra)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.shadow_rays = v.int()),
+    },
+    RenderOption {
+        name: "reflection_rays",
+        kind: RAYS,
+        default: int(1),
+        doc: "rays per blurry reflection",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.reflection_rays = v.int()),
+    },
+    RenderOption {
+        name: "refraction_rays",
+        kind: RAYS,
+        default: int(1),
+        doc: "rays per blurry refraction",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.refraction_rays = v.int()),
+    },
+    RenderOption {
+        name: "distribution",
+        kind: Kind::Distribution,
+        default: DefaultValue::Fixed(Value::Distribution(Distribution::Grid)),
+        doc: "distribution of every effect unless a more specific option says otherwise",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "pixel_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "film positions of the primary rays (radius: half a pixel)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.pixel_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "lens_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "lens positions (depth of field)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.lens_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "time_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "shutter times (motion blur), stratified in 1D",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.time_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "shadow_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "shadow rays towards area lights",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.shadow_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "reflection_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "blurry reflection rays",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.reflection_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "refraction_distribution",
+        kind: Kind::Distribution,
+        default: FOLLOWS_DISTRIBUTION,
+        doc: "blurry refraction rays",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.refraction_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "aperture",
+        kind: Kind::NonNegative,
+        default: DefaultValue::Fixed(Value::Number(0.0)),
+        doc: "lens radius in scene units; 0 is a pinhole (everything sharp)",
+        table: Some(Table::Camera),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.aperture = v.number()),
+    },
+    RenderOption {
+        name: "focal_distance",
+        kind: Kind::Positive,
+        default: DefaultValue::Computed("distance to `look_at`"),
+        doc: "distance of the plane in focus (measured along the view axis)",
+        table: Some(Table::Camera),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.focal_distance = v.number()),
+    },
+    RenderOption {
+        name: "max_depth",
+        kind: Kind::Int { min: 0, max: 64 },
+        default: int(3),
+        doc: "levels of reflection/refraction rays (the thesis's recursion depth); 0 disables them",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.max_depth = v.int()),
+    },
+    RenderOption {
+        name: "seed",
+        kind: Kind::Int {
+            min: 0,
+            max: u32::MAX,
+        },
+        default: int(0),
+        doc: "seed of every random number; the same seed gives the same pixels on any thread count",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.seed = v.int()),
+    },
+    RenderOption {
+        name: "background",
+        kind: Kind::Colour,
+        default: DefaultValue::Fixed(Value::Colour([0.0; 3])),
+        doc: "radiance of rays that hit nothing",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
+    },
+    RenderOption {
+        name: "metric",
+        kind: Kind::Switch,
+        default: switch(false),
+        doc: "the acceleration metrics of thesis §3.4: stop a set of rays once more would not \
+              change it (off: the plain algorithm)",
+        table: Some(Table::Render),
+        flag: Flag::with_off("turn the acceleration metrics off"),
+        python: true,
+        set: Some(|c, v| c.overrides.metric = v.switch()),
+    },
+    RenderOption {
+        name: "reflection_metric",
+        kind: Kind::Switch,
+        default: switch(true),
+        doc: "with the metrics on, stop reflection and refraction sets by the α/threshold rule \
+              (off, with the shadow metric on: the shadow metric alone, as in the thesis's Table 4.6)",
+        table: Some(Table::Render),
+        flag: Flag::with_off("with the metrics on, trace every reflection and refraction ray"),
+        python: true,
+        set: Some(|c, v| c.overrides.reflection_metric = v.switch()),
+    },
+    RenderOption {
+        name: "shadow_metric",
+        kind: Kind::Switch,
+        default: switch(true),
+        doc: "with the metrics on, stop shadow sets by the k rule \
+              (off: the reflection metric alone, as in the thesis's Table 4.4)",
+        table: Some(Table::Render),
+        flag: Flag::with_off("with the metrics on, trace every shadow ray"),
+        python: true,
+        set: Some(|c, v| c.overrides.shadow_metric = v.switch()),
+    },
+    RenderOption {
+        name: "metric_threshold",
+        kind: Kind::NonNegative,
+        default: DefaultValue::Fixed(Value::Number(0.01)),
+        doc: "a reflection/refraction set stops once its running average changes by less than \
+              this, relative to the average's largest channel",
+        table: Some(Table::Render),
+        flag: Flag::metavar("T"),
+        python: true,
+        set: Some(|c, v| c.overrides.metric_threshold = v.number()),
+    },
+    RenderOption {
+        name: "metric_min_rays",
+        kind: RAYS,
+        default: int(4),
+        doc: "rays always traced before the α/threshold rule applies (α)",
+        table: Some(Table::Render),
+        flag: Flag::metavar("ALPHA"),
+        python: true,
+        set: Some(|c, v| c.overrides.metric_min_rays = v.int()),
+    },
+    RenderOption {
+        name: "shadow_metric_rays",
+        kind: RAYS,
+        default: int(4),
+        doc: "shadow rays after which a set stops if all reached the light or all were blocked (k)",
+        table: Some(Table::Render),
+        flag: Flag::metavar("K"),
+        python: true,
+        set: Some(|c, v| c.overrides.shadow_metric_rays = v.int()),
+    },
+    RenderOption {
+        name: "pixel_metric",
+        kind: Kind::Switch,
+        default: switch(false),
+        doc: "with the metrics on, apply the α/threshold rule to the primary rays of each pixel too",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.pixel_metric = v.switch()),
+    },
+    RenderOption {
+        name: "threads",
+        kind: Kind::Int { min: 1, max: 1024 },
+        default: DefaultValue::Computed("all cores"),
+        doc: "worker threads; the pixels do not depend on it",
+        table: None,
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.threads = v.int()),
+    },
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_snake_case_and_fronts_can_store_their_values() {
+        for (i, o) in OPTIONS.iter().enumerate() {
+            assert!(
+                o.name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_'),
+                "{}",
+                o.name
+            );
+            assert!(OPTIONS[..i].iter().all(|p| p.name != o.name), "{}", o.name);
+            let front = o.flag.is_some() || o.python;
+            assert_eq!(
+                front,
+                o.set.is_some(),
+                "{}: a front end needs `set`",
+                o.name
+            );
+            assert!(front || o.table.is_some(), "{}: set nowhere", o.name);
+            let off = o.flag.and_then(|f| f.off).is_some();
+            assert!(
+                !off || o.kind == Kind::Switch,
+                "{}: only switches have --no-",
+                o.name
+            );
+            if let DefaultValue::Follows(other) = o.default {
+                assert_eq!(find(other).map(|p| p.kind), Some(o.kind), "{}", o.name);
+            }
+        }
+    }
+
+    /// A value of every option's kind other than its default, stored through
+    /// `set`, lands in `Choices`: no entry's setter is a no-op or writes
+    /// another option's field.
+    #[test]
+    fn every_setter_stores_its_own_value() {
+        let mut seen = Vec::new();
+        for o in OPTIONS.iter().filter(|o| o.set.is_some()) {
+            let mut c = Choices::default();
+            o.store(&mut c, sample(o.kind));
+            assert_ne!(c, Choices::default(), "{} stored nothing", o.name);
+            let text = format!("{c:?}");
+            assert!(
+                !seen.contains(&text),
+                "{} stores where another does",
+                o.name
+            );
+            seen.push(text);
+        }
+    }
+
+    /// A valid value of `kind` that no option has as its default.
+    pub(crate) fn sample(kind: Kind) -> Value {
+        match kind {
+            Kind::Int { min, max } => Value::Int(max.min(min.max(7))),
+            Kind::NonNegative | Kind::Positive => Value::Number(0.5),
+            Kind::Switch => Value::Switch(true),
+            Kind::Distribution => Value::Distribution(Distribution::Poisson),
+            Kind::Colour => Value::Colour([0.5; 3]),
+        }
+    }
+}

@@ -1,0 +1,192 @@
+//! The render options' one definition (`penumbra::scene::options`) against
+//! the scene file and the docs: every test here fails when one of them
+//! drifts from the table.
+//!
+//! `PENUMBRA_UPDATE_DOCS=1 cargo test --release -p penumbra --test options`
+//! rewrites the docs' options tables from the definition.
+
+use std::path::{Path, PathBuf};
+
+use penumbra::sampling::Distribution;
+use penumbra::scene::desc::{CameraDesc, RenderDesc};
+use penumbra::scene::options::markdown::{replace_section, table, View};
+use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
+use penumbra::scene::{LoadOptions, SceneDesc, SceneSource, OPTIONS};
+use serde_json::{json, Value as Json};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn the_docs_tables_are_the_definitions() {
+    let update = std::env::var_os("PENUMBRA_UPDATE_DOCS").is_some();
+    let docs = [
+        ("README.md", View::CommandLine),
+        ("docs/scene-format.md", View::SceneFile(Table::Render)),
+        ("docs/python.md", View::Python),
+    ];
+    let mut stale = Vec::new();
+    for (file, view) in docs {
+        let path = repo().join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let fresh = replace_section(&text, view).unwrap_or_else(|| {
+            panic!(
+                "{file}: no `<!-- options:{} begin/end -->` markers",
+                view.id()
+            )
+        });
+        if fresh != text {
+            if update {
+                std::fs::write(&path, fresh).unwrap();
+            } else {
+                stale.push(file);
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "the options tables of {stale:?} differ from crates/penumbra/src/scene/options.rs; \
+         rerun with PENUMBRA_UPDATE_DOCS=1 to rewrite them:\n{}",
+        table(View::CommandLine)
+    );
+}
+
+fn in_table(t: Table) -> impl Iterator<Item = &'static RenderOption> {
+    OPTIONS.iter().filter(move |o| o.table == Some(t))
+}
+
+fn fields(desc: impl serde::Serialize) -> serde_json::Map<String, Json> {
+    match serde_json::to_value(desc).unwrap() {
+        Json::Object(m) => m,
+        other => panic!("not a table: {other}"),
+    }
+}
+
+#[test]
+fn the_render_table_has_exactly_the_options_keys() {
+    let mut keys: Vec<String> = fields(RenderDesc::default()).keys().cloned().collect();
+    let mut names: Vec<String> = in_table(Table::Render).map(|o| o.name.into()).collect();
+    keys.sort();
+    names.sort();
+    assert_eq!(keys, names);
+    let camera = fields(CameraDesc::default());
+    for o in in_table(Table::Camera) {
+        assert!(camera.contains_key(o.name), "[camera] has no `{}`", o.name);
+    }
+}
+
+/// The JSON a description holds for an option's default.
+fn default_json(o: &RenderOption) -> Json {
+    match o.default {
+        DefaultValue::Fixed(v) => value_json(v),
+        DefaultValue::Follows(_) | DefaultValue::Computed(_) => Json::Null,
+    }
+}
+
+fn value_json(v: Value) -> Json {
+    match v {
+        Value::Int(n) => json!(n),
+        Value::Number(x) => json!(x),
+        Value::Switch(b) => json!(b),
+        Value::Distribution(d) => json!(d.name()),
+        Value::Colour(c) => json!(c),
+    }
+}
+
+#[test]
+fn scene_file_defaults_are_the_options_defaults() {
+    for (t, desc) in [
+        (Table::Render, fields(RenderDesc::default())),
+        (Table::Camera, fields(CameraDesc::default())),
+    ] {
+        for o in in_table(t) {
+            assert_eq!(desc[o.name], default_json(o), "[{}] {}", t.name(), o.name);
+        }
+    }
+}
+
+fn build(text: &str) -> Result<(), String> {
+    let opts = LoadOptions::default();
+    SceneSource::from_toml(text, Path::new("s.toml"), Path::new("."), &opts)
+        .and_then(|s| s.build())
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+/// Values just inside and just outside the option's range, as TOML.
+fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
+    let names = Distribution::ALL
+        .iter()
+        .map(|d| format!("\"{}\"", d.name()));
+    match o.kind {
+        Kind::Int { min, max } => {
+            let mut bad = vec![(i64::from(max) + 1).to_string()];
+            bad.extend((min > 0).then(|| (min - 1).to_string()));
+            (vec![min.to_string(), max.to_string()], bad)
+        }
+        Kind::NonNegative => (vec!["0.0".into(), "2.5".into()], vec!["-0.001".into()]),
+        Kind::Positive => (vec!["0.001".into()], vec!["0.0".into(), "-1.0".into()]),
+        Kind::Switch => (vec!["true".into(), "false".into()], vec!["1".into()]),
+        Kind::Distribution => (names.collect(), vec!["\"sobol\"".into()]),
+        Kind::Colour => (
+            vec!["[0.0, 2.0, 0.5]".into()],
+            vec!["[0.0, -1.0, 0.0]".into()],
+        ),
+    }
+}
+
+/// Every scene-file option accepts its range and refuses what lies outside,
+/// with an error located at the value.
+#[test]
+fn scene_files_accept_exactly_the_options_ranges() {
+    for o in OPTIONS {
+        let Some(t) = o.table else { continue };
+        let (good, bad) = boundaries(o);
+        for v in good {
+            let text = format!("[{}]\n{} = {v}\n", t.name(), o.name);
+            assert_eq!(build(&text), Ok(()), "{text}");
+        }
+        for v in bad {
+            let text = format!("[{}]\n{} = {v}\n", t.name(), o.name);
+            let e = build(&text).expect_err(&text);
+            assert!(e.starts_with("s.toml:2:"), "{text}: {e}");
+            if let Kind::Int { min, max } = o.kind {
+                let expected = format!(
+                    "{}.{}: must be an integer from {min} to {max}",
+                    t.name(),
+                    o.name
+                );
+                assert!(e.contains(&expected), "{text}: {e}");
+            }
+        }
+    }
+}
+
+/// A value given for an option on the command line or in Python lands on
+/// the scene-file key of the same name.
+#[test]
+fn front_end_values_replace_the_key_of_the_same_name() {
+    for o in OPTIONS {
+        let Some(t) = o.table else { continue };
+        if o.set.is_none() {
+            continue;
+        }
+        let v = match o.kind {
+            Kind::Int { min, max } => Value::Int(max.min(min.max(7))),
+            Kind::NonNegative | Kind::Positive => Value::Number(0.5),
+            Kind::Switch => Value::Switch(!matches!(
+                o.default,
+                DefaultValue::Fixed(Value::Switch(true))
+            )),
+            Kind::Distribution => Value::Distribution(Distribution::Poisson),
+            Kind::Colour => Value::Colour([0.5; 3]),
+        };
+        let mut c = Choices::default();
+        o.store(&mut c, v);
+        let mut desc = SceneDesc::default();
+        c.overrides.apply(&mut desc);
+        let table = fields(&desc)[t.name()].clone();
+        assert_eq!(table[o.name], value_json(v), "{}", o.name);
+    }
+}

@@ -1,0 +1,77 @@
+"""The Python front end against the library's options table
+(crates/penumbra/src/scene/options.rs): every list of render options here,
+the keyword arguments, their signatures and stubs, and the flags of
+`python -m penumbra`, must be the table's."""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import penumbra
+from penumbra import _penumbra
+
+FLAGS = _penumbra._OPTION_FLAGS
+STUB = Path(_penumbra.__file__).with_name("_penumbra.pyi")
+ANNOTATIONS = {
+    "int": "int | None",
+    "float": "float | None",
+    "bool": "bool | None",
+    "distribution": "DistributionName | None",
+}
+VALID = {"int": 1, "float": 0.5, "bool": True, "distribution": "poisson"}
+
+
+def test_render_options_are_the_tables_and_progress():
+    assert [f["name"] for f in FLAGS] + ["progress"] == list(penumbra.RENDER_OPTIONS)
+
+
+@pytest.mark.parametrize("func", [penumbra.render, penumbra.render_region])
+def test_signatures_list_every_option(func):
+    params = inspect.signature(func).parameters.values()
+    assert [p.name for p in params if p.kind is p.KEYWORD_ONLY] == list(penumbra.RENDER_OPTIONS)
+
+
+def _stub(name: str) -> ast.FunctionDef:
+    cls, _, func = name.rpartition(".")
+    body = ast.parse(STUB.read_text()).body
+    if cls:
+        body = next(n for n in body if isinstance(n, ast.ClassDef) and n.name == cls).body
+    return next(n for n in body if isinstance(n, ast.FunctionDef) and n.name == func)
+
+
+@pytest.mark.parametrize("name", ["render", "render_region", "Scene.settings"])
+def test_stubs_type_every_option(name):
+    stub = {a.arg: ast.unparse(a.annotation) for a in _stub(name).args.kwonlyargs}
+    assert list(stub) == list(penumbra.RENDER_OPTIONS)
+    for f in FLAGS:
+        assert stub[f["name"]] == ANNOTATIONS[f["kind"]], f["name"]
+
+
+@pytest.mark.parametrize("flag", FLAGS, ids=lambda f: f["name"])
+def test_every_option_is_accepted_and_checked(flag):
+    _penumbra._check_options(**{flag["name"]: VALID[flag["kind"]]})
+    with pytest.raises(TypeError, match=flag["name"]):
+        _penumbra._check_options(**{flag["name"]: object()})
+
+
+def _flags(help_text: str) -> set[str]:
+    return set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", help_text))
+
+
+def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
+    expected = {f["flag"] for f in FLAGS} | {f["off_flag"] for f in FLAGS if f["off_flag"]}
+    binary = subprocess.run([str(cli), "render", "--help"], capture_output=True, text=True, check=True)
+    assert _flags(binary.stdout) - {"--output", "--stats", "--bunny", "--quiet", "--help"} == expected
+    module = subprocess.run(
+        [sys.executable, "-m", "penumbra", "render", "--help"], capture_output=True, text=True, check=True
+    )
+    others = {"--output", "--scheduler", "--local-workers", "--tile", "--retries", "--stats", "--bunny",
+              "--quiet", "--help"}
+    assert _flags(module.stdout) - others == expected
