@@ -41,33 +41,12 @@ pub struct WhittedWorker<'s> {
 
 impl PixelWorker for WhittedWorker<'_> {
     fn row(&mut self, y: u32, xs: Range<u32>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) {
-        let scene = self.scene;
-        if scene.settings.spp == 1 {
-            let span = span_width(scene.settings.width);
-            for x0 in xs.clone().step_by(span as usize) {
-                let span = x0..(x0 + span).min(xs.end);
-                pixel::render_span(scene, &mut self.tracer, span, y, bad, out);
-            }
-            return;
-        }
-        for x in xs {
-            out.push(pixel::render_pixel(scene, &mut self.tracer, x, y, bad));
-        }
+        pixel::render_pixels(self.scene, &mut self.tracer, xs, y, bad, out);
     }
 
     fn stats(&self) -> &RayStats {
         &self.tracer.stats
     }
-}
-
-/// How many pixels of a row are rendered together in a frame of one
-/// camera ray per pixel (a span): about 2% of the image's width, from 2 to
-/// 16. Wider spans hold less coherent rays than a lone ray is worth: on the
-/// bunny's Whitted frame (instruction counts) 16 is best at 800 pixels
-/// across (8 and 32 cost 5% more) and 4 at 200 (16 costs 3% more than
-/// tracing pixel by pixel).
-fn span_width(width: u32) -> u32 {
-    (width / 50).clamp(2, 16)
 }
 
 #[cfg(test)]
@@ -85,7 +64,7 @@ mod tests {
         src.desc.render.spp = 1;
         let scene = src.build().expect("showcase builds");
         assert_eq!(scene.settings.spp, 1);
-        let (xs, ys) = (3..3 + span_width(scene.settings.width) * 2 + 5, 5..12);
+        let (xs, ys) = (3..3 + 16 * 2 + 5, 5..12);
         let mut worker = Whitted.worker(&scene);
         let (mut pixels, mut bad) = (Vec::new(), Vec::new());
         for y in ys.clone() {
@@ -95,7 +74,9 @@ mod tests {
         let mut lit = 0;
         let coords = ys.flat_map(|y| xs.clone().map(move |x| (x, y)));
         for (k, (x, y)) in coords.enumerate() {
-            let alone = pixel::render_pixel(&scene, &mut tracer, x, y, &mut bad);
+            let mut one = Vec::new();
+            pixel::render_pixels(&scene, &mut tracer, x..x + 1, y, &mut bad, &mut one);
+            let alone = one[0];
             let bits = |c: Rgb| c.to_array().map(f32::to_bits);
             assert_eq!(bits(pixels[k]), bits(alone), "pixel ({x}, {y})");
             lit += usize::from(alone != Rgb::ZERO);

@@ -4,7 +4,7 @@
 use super::tracer::Tracer;
 use crate::camera::CameraSample;
 use crate::integrator::interface::BadSample;
-use crate::integrator::metric::RunningMean;
+use crate::integrator::metric::{Metric, RunningMean};
 use crate::math::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
@@ -26,6 +26,8 @@ struct Scratch {
     radiance: Vec<Rgb>,
     /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
     paths: Vec<BranchKey>,
+    /// The streams of the pixels traced together.
+    pixels: Vec<PixelSampler>,
 }
 
 thread_local! {
@@ -42,25 +44,18 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     })
 }
 
-/// The value of pixel (x, y): the average of its primary rays (made as the
-/// private `camera_rays` says: film, lens and time from decorrelated streams).
-pub fn render_pixel(
-    scene: &Scene,
-    tracer: &mut Tracer<'_>,
-    x: u32,
-    y: u32,
-    bad: &mut Vec<BadSample>,
-) -> Rgb {
-    with_scratch(|buf| pixel_with(scene, tracer, x, y, bad, buf))
-}
-
-/// Pixels `xs` of row `y` of a frame with one camera ray per pixel, into
-/// `out`: what [`render_pixel`] gives each (but for the rare tie noted at
-/// [`World::intersect_all`](crate::accel::World::intersect_all)),
-/// with the span's camera rays found together and shaded together
-/// ([`Tracer::radiance_primaries`]) as a pixel's rays are when it has
-/// several: a Whitted frame's neighbouring rays are as coherent as those.
-pub fn render_span(
+/// Pixels `xs` of row `y`, appended to `out`: each the mean of its camera
+/// rays (made as the private `camera_rays` says: film, lens and time from
+/// decorrelated streams). Without the pixel metric the camera rays of a
+/// group of pixels are traced together: a pixel's own when it has several,
+/// a span of neighbouring pixels ([`span_width`]) when each has one. Their
+/// hits are found together (a packet of nearly parallel rays) and their
+/// direct light prepared together ([`Tracer::radiance_primaries`]). With the
+/// metric, a pixel's rays are traced one at a time, so that none is wasted
+/// when the pixel stops early. A pixel's value does not depend on its group
+/// (but for the rare tie noted at
+/// [`World::intersect_all`](crate::accel::World::intersect_all)).
+pub fn render_pixels(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
     xs: Range<u32>,
@@ -69,28 +64,69 @@ pub fn render_span(
     out: &mut Vec<Rgb>,
 ) {
     with_scratch(|buf| {
-        debug_assert_eq!(scene.settings.spp, 1);
-        buf.rays.clear();
-        for x in xs.clone() {
-            camera_rays(scene, x, y, buf);
+        let s = &scene.settings;
+        let n = s.spp as usize;
+        if buf.paths.len() < n {
+            let have = buf.paths.len();
+            buf.paths.extend((have..n).map(PixelSampler::path_key));
         }
-        tracer.intersect_primary(&buf.rays);
-        let stream = |i: usize| pixel_stream(scene, xs.start + i as u32, y).path(0);
-        tracer.radiance_primaries(&buf.rays, stream, &mut buf.radiance);
-        for (x, &l) in xs.zip(&buf.radiance) {
-            tracer.stats.primary += 1;
-            let l = if l.is_finite() {
-                l
-            } else {
-                bad.push(BadSample { x, y, sample: 0 });
-                Rgb::ZERO
-            };
-            // A pixel metric never stops a set of one.
-            let mut mean = RunningMean::default();
-            mean.push(l, None, 1);
-            out.push(mean.mean());
+        let metric = s.metric.filter(|m| m.pixels && n > 1);
+        let group = if n == 1 { span_width(s.width) } else { 1 };
+        for x0 in xs.clone().step_by(group as usize) {
+            let x1 = (x0 + group).min(xs.end);
+            buf.rays.clear();
+            for x in x0..x1 {
+                camera_rays(scene, x, y, buf);
+            }
+            if let Some(m) = &metric {
+                out.push(one_by_one(scene, tracer, x0, y, m, bad, buf));
+                continue;
+            }
+            let Scratch {
+                rays,
+                radiance,
+                paths,
+                pixels,
+                ..
+            } = buf;
+            pixels.clear();
+            pixels.extend((x0..x1).map(|x| pixel_stream(scene, x, y)));
+            tracer.intersect_primary(rays);
+            let path = |i: usize| pixels[i / n].path_of(paths[i % n]);
+            tracer.radiance_primaries(rays, path, radiance);
+            for (x, samples) in (x0..x1).zip(radiance.chunks_exact(n)) {
+                let mut mean = RunningMean::default();
+                for (i, &l) in samples.iter().enumerate() {
+                    tracer.stats.primary += 1;
+                    mean.push(guard(l, x, y, i, bad), None, n as u32);
+                }
+                out.push(mean.mean());
+            }
         }
     })
+}
+
+/// How many pixels of a row are traced together in a frame of one camera
+/// ray per pixel (a span): about 2% of the image's width, from 2 to 16.
+/// Wider spans hold less coherent rays than a lone ray is worth: on the
+/// bunny's Whitted frame (instruction counts) 16 is best at 800 pixels
+/// across (8 and 32 cost 5% more) and 4 at 200 (16 costs 3% more than
+/// tracing pixel by pixel).
+fn span_width(width: u32) -> u32 {
+    (width / 50).clamp(2, 16)
+}
+
+/// `l`, or black if it is not finite (reported as sample `i` of pixel (x, y)).
+fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
+    if l.is_finite() {
+        return l;
+    }
+    bad.push(BadSample {
+        x,
+        y,
+        sample: i as u32,
+    });
+    Rgb::ZERO
 }
 
 /// The streams of pixel (x, y).
@@ -99,55 +135,24 @@ fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     Sampler::new(s.seed, s.width).pixel(x, y)
 }
 
-fn pixel_with(
+/// Pixel (x, y), whose camera rays are in `buf.rays`, traced one at a time
+/// and stopped by the pixel metric `metric`.
+fn one_by_one(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
     x: u32,
     y: u32,
+    metric: &Metric,
     bad: &mut Vec<BadSample>,
-    buf: &mut Scratch,
+    buf: &Scratch,
 ) -> Rgb {
-    let s = &scene.settings;
-    let n = s.spp as usize;
+    let n = scene.settings.spp as usize;
     let pixel = pixel_stream(scene, x, y);
-    buf.rays.clear();
-    camera_rays(scene, x, y, buf);
-    let Scratch {
-        rays,
-        radiance,
-        paths,
-        ..
-    } = buf;
-    if paths.len() < n {
-        paths.extend((paths.len()..n).map(PixelSampler::path_key));
-    }
-    let path = |i: usize| pixel.path_of(paths[i]);
-    let metric = s.metric.filter(|m| m.pixels);
-    // Without the metric every camera ray is traced: their hits are found
-    // together, a packet of nearly parallel rays. With it, a pixel may stop
-    // early, and rays are traced one at a time so that none is wasted.
-    let together = metric.is_none() && rays.len() > 1;
-    if together {
-        tracer.intersect_primary(rays);
-        tracer.radiance_primaries(rays, path, radiance);
-    }
     let mut mean = RunningMean::default();
-    for (i, ray) in rays.iter().enumerate() {
+    for (i, ray) in buf.rays.iter().enumerate() {
         tracer.stats.primary += 1;
-        let mut l = if together {
-            radiance[i]
-        } else {
-            tracer.radiance(ray, 0, path(i))
-        };
-        if !l.is_finite() {
-            bad.push(BadSample {
-                x,
-                y,
-                sample: i as u32,
-            });
-            l = Rgb::ZERO;
-        }
-        if mean.push(l, metric.as_ref(), n as u32) {
+        let l = tracer.radiance(ray, 0, pixel.path_of(buf.paths[i]));
+        if mean.push(guard(l, x, y, i, bad), Some(metric), n as u32) {
             tracer.stats.saved.primary += (n - i - 1) as u64;
             break;
         }
@@ -241,7 +246,9 @@ mod tests {
             let scene = src.build().expect("showcase builds");
             let (mut tracer, mut bad) = (Tracer::new(&scene), Vec::new());
             for (x, y) in [(3, 5), (40, 30), (17, 60)] {
-                let got = render_pixel(&scene, &mut tracer, x, y, &mut bad);
+                let mut got = Vec::new();
+                render_pixels(&scene, &mut tracer, x..x + 1, y, &mut bad, &mut got);
+                let got = got[0];
                 let mut buf = Scratch::default();
                 camera_rays(&scene, x, y, &mut buf);
                 let pixel = pixel_stream(&scene, x, y);
