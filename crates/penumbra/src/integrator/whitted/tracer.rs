@@ -1,7 +1,7 @@
 use glam::{Vec3A, Vec4};
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
-use crate::bsdf::{Dielectric, Surface};
+use crate::bsdf::{Dielectric, Phong, Surface};
 use crate::emitter::{Emitter, LightSamples4};
 use crate::math::Rgb;
 use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
@@ -199,24 +199,25 @@ impl<'a> Tracer<'a> {
                 out.push(self.emitters[l as usize].emitted(hit.ng, ray.dir));
                 continue;
             }
-            let sh = self.surfaces[hit.material as usize];
+            let sh = &self.surfaces[hit.material as usize];
+            let (lit_here, scatters, emission) = (sh.lit, sh.scatters, sh.emission);
             let fresh;
-            let s = if sh.lit {
+            let s = if lit_here {
                 &batch.lit[k].2
             } else {
                 fresh = Local::new(ray, &hit);
                 &fresh
             };
-            let mut l = if s.front { sh.emission } else { Rgb::ZERO };
-            if sh.lit {
+            let mut l = if s.front { emission } else { Rgb::ZERO };
+            if lit_here {
                 // This hit's frame and direct light were found above.
                 for j in 0..lights {
                     l += batch.direct[j * lit + k];
                 }
                 k += 1;
             }
-            if sh.scatters {
-                self.indirect(s, ray, &sh, 0, rng(i), &mut l);
+            if scatters {
+                self.indirect(s, ray, hit.material, 0, rng(i), &mut l);
             }
             out.push(l);
         }
@@ -252,13 +253,13 @@ impl<'a> Tracer<'a> {
             // shaft's emptiness checked once for all.
             let clear = shared && self.scene.world.shaft_is_clear(&self.shaft);
             for ((_, material, s), r) in lit.iter().zip(rays.iter()) {
-                let m = self.surfaces[*material as usize];
+                let m = self.surfaces[*material as usize].local;
                 direct.push(self.single_term(s, &m, r.as_ref(), shared, clear));
             }
             return;
         }
         for (k, (_, material, s)) in lit.iter().enumerate() {
-            let m = self.surfaces[*material as usize];
+            let m = self.surfaces[*material as usize].local;
             let set = &rays[starts[k]..starts[k + 1]];
             let shaft = shared || (own && self.gather_shaft(set));
             direct.push(self.trace_set(s, &m, light, set, shaft));
@@ -277,31 +278,34 @@ impl<'a> Tracer<'a> {
             return self.emitters[l as usize].emitted(hit.ng, ray.dir);
         }
         let s = Local::new(ray, hit);
-        let sh = self.surfaces[hit.material as usize];
+        let sh = &self.surfaces[hit.material as usize];
         let mut l = if s.front { sh.emission } else { Rgb::ZERO };
         if sh.lit {
+            let local = sh.local;
             let emitters = std::mem::take(&mut self.emitters);
             for (j, light) in emitters.iter().enumerate() {
                 let key = self.shadow_keys[j];
-                l += self.direct(&s, &sh, light, rng.derive_key(key));
+                l += self.direct(&s, &local, light, rng.derive_key(key));
             }
             self.emitters = emitters;
         }
-        self.indirect(&s, ray, &sh, depth, rng, &mut l);
+        self.indirect(&s, ray, hit.material, depth, rng, &mut l);
         l
     }
 
     /// Adds the light reflected and refracted at `s` to `l` (in this order,
     /// which the pixel-wide path keeps, so that both sum alike).
-    fn indirect(&mut self, s: &Local, ray: &Ray, m: &Surface, depth: u32, rng: Rng, l: &mut Rgb) {
+    fn indirect(&mut self, s: &Local, ray: &Ray, material: u32, depth: u32, rng: Rng, l: &mut Rgb) {
+        let m = &self.surfaces[material as usize];
         if depth < self.scene.settings.max_depth && m.scatters {
-            if let Some(mirror) = m.mirror {
+            let (mirror, dielectric) = (m.mirror, m.dielectric);
+            if let Some(mirror) = mirror {
                 let dir = mirror.direction(ray.dir.normalize(), s.n);
                 let e = mirror.effect;
                 let spec = (e.rays, e.distribution, mirror.glossiness);
                 *l += mirror.reflectivity * self.scatter(s, dir, spec, Branch::Reflect, depth, rng);
             }
-            if let Some(glass) = m.dielectric {
+            if let Some(glass) = dielectric {
                 *l += glass.transparency * self.dielectric(s, ray, &glass, depth, rng);
             }
         }
@@ -311,7 +315,7 @@ impl<'a> Tracer<'a> {
     /// `brdf · weight · cos θ · transmittance`. The whole set is prepared
     /// first, so that a set of several rays can gather once the BVH leaves
     /// its shaft reaches and test every ray against those only.
-    fn direct(&mut self, s: &Local, m: &Surface, light: &Emitter, rng: Rng) -> Rgb {
+    fn direct(&mut self, s: &Local, m: &Phong, light: &Emitter, rng: Rng) -> Rgb {
         let mut set = std::mem::take(&mut self.shadow_set);
         set.clear();
         self.shadow_set(s, light, rng, &mut set);
@@ -327,7 +331,7 @@ impl<'a> Tracer<'a> {
     fn trace_set(
         &mut self,
         s: &Local,
-        m: &Surface,
+        m: &Phong,
         light: &Emitter,
         set: &[Option<ShadowRay>],
         shaft: bool,
@@ -369,7 +373,7 @@ impl<'a> Tracer<'a> {
     fn single_term(
         &mut self,
         s: &Local,
-        m: &Surface,
+        m: &Phong,
         one: Option<&ShadowRay>,
         shaft: bool,
         clear: bool,
@@ -385,7 +389,7 @@ impl<'a> Tracer<'a> {
     fn shadow_term(
         &mut self,
         s: &Local,
-        m: &Surface,
+        m: &Phong,
         r: &ShadowRay,
         shaft: bool,
         clear: bool,
@@ -398,7 +402,7 @@ impl<'a> Tracer<'a> {
             let within = shaft.then_some(&self.shaft);
             world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)?
         };
-        Some(m.local.eval(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
+        Some(m.eval(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
     /// Appends the rays of the shadow set toward `light` to `set` (`None`
@@ -607,10 +611,8 @@ fn shadow_rays<'a>(
     for start in (0..points.len()).step_by(4) {
         let count = (points.len() - start).min(4);
         let k = |l: usize| start + l.min(count - 1);
-        let (s, origin): ([&Local; 4], [Vec3; 4]) = (
-            std::array::from_fn(|l| frame(k(l)).0),
-            std::array::from_fn(|l| frame(k(l)).1),
-        );
+        let lanes: [(&Local, Vec3); 4] = std::array::from_fn(|l| frame(k(l)));
+        let (s, origin) = (lanes.map(|f| f.0), lanes.map(|f| f.1));
         let four: [Vec3; 4] = std::array::from_fn(|l| points[k(l)]);
         let ls = light.sample4(&s.map(|s| s.p), &four, d);
         shadow_rays4(&Lanes::new(s, &origin), &ls, count, set);
