@@ -25,9 +25,9 @@ BUNNY_TRANSLATE = np.array([0.0, -0.33, 0.0])
 
 
 def bunny_path(arg=None):
-    """The bunny: argument, else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply."""
-    p = arg or os.environ.get("PENUMBRA_BUNNY") or str(ROOT.parent / "shared" / "data" / "bunny.ply")
-    return Path(p)
+    """The bunny: the argument, else $PENUMBRA_BUNNY; None when neither is given."""
+    p = arg or os.environ.get("PENUMBRA_BUNNY")
+    return Path(p).resolve() if p else None
 
 
 def read_ply(path):

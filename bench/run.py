@@ -111,8 +111,10 @@ def prepare(args):
     common.WORK.mkdir(exist_ok=True)
     w = common.WORK
     bunny = common.bunny_path(args.bunny)
+    if bunny is None:
+        raise SystemExit("the harness needs the Stanford bunny: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     if not bunny.exists():
-        raise SystemExit(f"the Stanford bunny is not at {bunny}: pass --bunny PATH or set PENUMBRA_BUNNY")
+        raise SystemExit(f"the Stanford bunny is not at {bunny}: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     tris = common.bunny_triangles(bunny)
     tris.astype("<f4").tofile(w / "bunny.tris")
     if not (w / "camera.rays").exists():
@@ -600,7 +602,7 @@ def report(res):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY or ../shared/data/bunny.ply)")
+    ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY)")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--quick", action="store_true", help="one round")
     ap.add_argument("--only", help="comma-separated sections: rays,a,b,whitted,scaling,linear,memory,million")

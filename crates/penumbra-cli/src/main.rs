@@ -38,7 +38,7 @@ enum Command {
 /// Options of `penumbra reproduce`.
 #[derive(Args)]
 pub struct ReproduceArgs {
-    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY).
     #[arg(long, value_name = "PATH")]
     pub bunny: Option<PathBuf>,
     /// Output directory for the report, images and plots (default: reproduce).
@@ -82,7 +82,7 @@ pub struct RenderArgs {
     /// Write render statistics as JSON to this file.
     #[arg(long, value_name = "PATH")]
     pub stats: Option<PathBuf>,
-    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY).
     #[arg(long, value_name = "PATH")]
     pub bunny: Option<PathBuf>,
     /// No progress bar and no summary.

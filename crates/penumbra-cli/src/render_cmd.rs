@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
-use penumbra::scene::{LoadOptions, Overrides, SceneSource};
+use penumbra::scene::{default_bunny_path, LoadOptions, Overrides, SceneSource};
 
 use crate::error::{input, other, CliError};
 use crate::report::print_summary;
@@ -25,7 +25,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         check_parent(stats)?;
     }
     let opts = LoadOptions {
-        bunny: args.bunny.clone(),
+        bunny: args.bunny.clone().or_else(default_bunny_path),
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     overrides(args).apply(&mut source.desc);

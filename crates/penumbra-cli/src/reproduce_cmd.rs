@@ -12,7 +12,7 @@ use crate::ReproduceArgs;
 
 pub fn run(a: &ReproduceArgs) -> Result<(), CliError> {
     let bunny = a.bunny.clone().or_else(default_bunny_path).ok_or_else(|| {
-        input("the evaluation needs the Stanford bunny: pass --bunny PATH, set PENUMBRA_BUNNY, or place it at ../shared/data/bunny.ply")
+        input("the evaluation needs the Stanford bunny: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     })?;
     let opts = ReproduceOptions {
         bunny,

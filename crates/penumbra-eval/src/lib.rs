@@ -13,7 +13,7 @@
 //! use penumbra_eval::{reproduce, ReproduceOptions};
 //!
 //! let opts = ReproduceOptions {
-//!     bunny: "../shared/data/bunny.ply".into(),
+//!     bunny: "bunny.ply".into(),
 //!     out: "reproduce".into(),
 //!     quick: true,
 //!     threads: None,
