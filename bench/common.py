@@ -7,6 +7,10 @@ numbers.
 
 import math
 import os
+import shutil
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -25,9 +29,79 @@ BUNNY_TRANSLATE = np.array([0.0, -0.33, 0.0])
 
 
 def bunny_path(arg=None):
-    """The bunny: argument, else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply."""
-    p = arg or os.environ.get("PENUMBRA_BUNNY") or str(ROOT.parent / "shared" / "data" / "bunny.ply")
-    return Path(p)
+    """The bunny: the argument, else $PENUMBRA_BUNNY; None when neither is given."""
+    p = arg or os.environ.get("PENUMBRA_BUNNY")
+    return Path(p).resolve() if p else None
+
+
+def target_dir():
+    """This checkout's cargo target directory."""
+    return Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")).resolve()
+
+
+def build_current(packages, features=(), run=subprocess.run):
+    """Release binaries of this checkout: {name: path}. `packages` maps a
+    package to the binaries wanted from it."""
+    cmd = ["cargo", "build", "--release", "--bins"]
+    for p in packages:
+        cmd += ["-p", p]
+    for f in features:
+        cmd += ["--features", f]
+    run(cmd, cwd=ROOT, check=True)
+    return {b: target_dir() / "release" / b for bins in packages.values() for b in bins}
+
+
+def revision(rev):
+    """The full commit id of a git revision of this repository."""
+    p = subprocess.run(["git", "rev-parse", "--verify", f"{rev}^{{commit}}"], cwd=ROOT,
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        raise SystemExit(f"not a commit of this repository: {rev}")
+    return p.stdout.strip()
+
+
+def build_revision(rev, packages, features=(), run=subprocess.run):
+    """Release binaries of git revision `rev`, built from its own sources:
+    {name: path}. `packages` maps a package to the binaries wanted from it.
+
+    The revision is checked out into a temporary `git worktree` (removed
+    afterwards) and built with a target directory of its own,
+    bench/.work/rev-target, which starts as a copy of this checkout's so
+    that the third-party crates compile only if the revision changed them.
+    The binaries are kept in bench/.work/rev/COMMIT-KEY and reused while
+    the compiler stays the same."""
+    sha = revision(rev)
+    rustc = subprocess.run(["rustc", "-V"], capture_output=True, text=True).stdout.strip()
+    key = "-".join([sha[:12], *sorted(packages), *sorted(f.replace("/", "_") for f in features)])
+    keep = WORK / "rev" / key
+    names = [b for bins in packages.values() for b in bins]
+    stamp = keep / "rustc"
+    if stamp.exists() and stamp.read_text() == rustc and all((keep / b).exists() for b in names):
+        return {b: keep / b for b in names}
+    target = WORK / "rev-target"
+    if not target.exists() and (target_dir() / "release").is_dir():
+        print(f"copying {target_dir()} to {target} (once)", file=sys.stderr, flush=True)
+        target.mkdir(parents=True)
+        shutil.copytree(target_dir() / "release", target / "release", symlinks=True)
+    with tempfile.TemporaryDirectory(prefix="penumbra-rev-") as tmp:
+        src = Path(tmp) / "src"
+        run(["git", "worktree", "add", "--detach", "--quiet", str(src), sha], cwd=ROOT, check=True)
+        try:
+            cmd = ["cargo", "build", "--release", "--bins"]
+            for p in packages:
+                cmd += ["-p", p]
+            for f in features:
+                cmd += ["--features", f]
+            run(cmd, cwd=src, env=dict(os.environ, CARGO_TARGET_DIR=str(target)), check=True)
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(src)], cwd=ROOT)
+            subprocess.run(["git", "worktree", "prune"], cwd=ROOT)
+    shutil.rmtree(keep, ignore_errors=True)
+    keep.mkdir(parents=True)
+    for b in names:
+        shutil.copy2(target / "release" / b, keep / b)
+    stamp.write_text(rustc)
+    return {b: keep / b for b in names}
 
 
 def read_ply(path):

@@ -3,7 +3,7 @@
 Penumbra on the same scenes in one run, and prints a table of medians and
 ratios (docs/performance.md explains every figure).
 
-    python3 bench/run.py [--bunny PATH] [--rounds 3] [--quick] [--only a,b,c,...]
+    python3 bench/run.py [--bunny PATH] [--rounds N] [--quick] [--only a,b,c,...]
                          [--obvhs] [--baseline REV] [--update-doc] [--no-setup]
 
 Sections (--only takes their names):
@@ -18,8 +18,19 @@ Sections (--only takes their names):
   linear   render time against pixels, primary rays and shadow rays
   memory   maximum resident memory of `penumbra render bunny`
   million  a procedural 1,000,000-triangle mesh: build, render, memory
-  before   with --baseline REV: the library of git revision REV against the
-           working tree's on the same scenes (one thread, CPU time)
+  before   with --baseline REV: git revision REV against the working tree
+           on three bunny scenes (one thread, CPU time)
+
+--baseline REV builds git revision REV (penumbra, raybench, scenebench) in a
+temporary git worktree with a target directory of its own (bench/common.py)
+and runs every Penumbra figure of the sections chosen for REV's binaries and
+this tree's side by side: in each round both builds, the one going first
+alternating from round to round; --rounds defaults to 5 then (the linear and
+million sections, which otherwise run once, run --rounds times too). A table
+gives both medians, the median of the per-round ratios (this tree / REV) and
+whether this tree is worse (slower, more memory) by more than 3%. Rows of Embree, Mitsuba and
+POV-Ray, and Penumbra's figures timed through its Python module, have no
+baseline column. REV's binaries are kept in bench/.work/rev and reused.
 
 Setup (bench/setup.sh) installs Mitsuba 3 and embreex into bench/.venv and
 POV-Ray and LLVM's shared library from Debian's packages; the script then
@@ -45,6 +56,12 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 VENV_PY = HERE / ".venv" / "bin" / "python"
 BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
+# A row of the baseline table is flagged when this tree is worse (slower, or
+# more memory) than the baseline by more than this fraction.
+SLOWER = 0.03
+SECTIONS = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million", "before"]
+# bench/common.py needs numpy: it is imported where used, once the venv runs the script.
+sys.path.insert(0, str(HERE))
 
 
 def log(*a):
@@ -88,31 +105,74 @@ def ensure_venv(args):
     os.execv(str(VENV_PY), [str(VENV_PY), str(Path(__file__).resolve())] + sys.argv[1:])
 
 
+# The binaries the harness runs, by package.
+BINARIES = {"penumbra-cli": ["penumbra"], "penumbra-bench": ["raybench", "scenebench"]}
+
+
+def features(args):
+    return ["penumbra-bench/obvhs"] if args.obvhs else []
+
+
 def build(args):
-    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    cmd = ["cargo", "build", "--release", "-p", "penumbra-cli", "-p", "penumbra-bench", "--bins"]
-    if args.obvhs:
-        cmd += ["--features", "penumbra-bench/obvhs"]
-    run(cmd, cwd=ROOT)
+    import common
+
+    bins = common.build_current(BINARIES, features(args), run=run)
     # The Python module, into the harness's venv: the ray section times
     # Penumbra's batch call through Python, as it times embreex's.
     env = dict(os.environ, VIRTUAL_ENV=str(HERE / ".venv"))
     run([VENV_PY, "-m", "maturin", "develop", "--release", "--quiet", "-m", ROOT / "python" / "Cargo.toml"],
         cwd=ROOT, env=env)
-    b = target / "release"
-    return {"penumbra": b / "penumbra", "raybench": b / "raybench", "scenebench": b / "scenebench"}
+    return bins
+
+
+def build_baseline(args):
+    """The same binaries of git revision --baseline, built from its own
+    sources in a temporary git worktree (bench/common.py): what `base` is
+    in the sections. Its Python module is not built: the rows timed through
+    Python (and those of Embree, Mitsuba and POV-Ray) have no baseline
+    column."""
+    import common
+
+    sha = common.revision(args.baseline)
+    log(f"== building the baseline {args.baseline} ({sha[:12]})")
+    return {"rev": sha[:12], "bins": common.build_revision(sha, BINARIES, features(args), run=run)}
+
+
+def both(bins, base, k, fn):
+    """fn(binaries) for this tree's binaries and, when `base` is given, for
+    the baseline's, which goes first alternating with k (the round), so
+    that load from other processes hits both alike: (this tree's result,
+    the baseline's or None)."""
+    if base is None:
+        return fn(bins), None
+    order = [("cur", bins), ("base", base["bins"])]
+    if k % 2 == 0:
+        order.reverse()
+    out = {who: fn(b) for who, b in order}
+    return out["cur"], out["base"]
+
+
+def versus(what, cur, base, higher=False):
+    """A row of the baseline table from per-round figures of this tree and
+    of the baseline: medians, and the median of the per-round ratios
+    (this tree / baseline). `higher`: a larger figure is faster."""
+    ratio = med([c / b for c, b in zip(cur, base) if c is not None and b])
+    slower = ratio is not None and (ratio < 1 / (1 + SLOWER) if higher else ratio > 1 + SLOWER)
+    return {"what": what, "cur": med(cur), "base": med(base), "ratio": ratio, "higher": higher,
+            "runs": len(cur), "slower": slower}
 
 
 def prepare(args):
-    sys.path.insert(0, str(HERE))
     import common
     import povray_bunny
 
     common.WORK.mkdir(exist_ok=True)
     w = common.WORK
     bunny = common.bunny_path(args.bunny)
+    if bunny is None:
+        raise SystemExit("the harness needs the Stanford bunny: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     if not bunny.exists():
-        raise SystemExit(f"the Stanford bunny is not at {bunny}: pass --bunny PATH or set PENUMBRA_BUNNY")
+        raise SystemExit(f"the Stanford bunny is not at {bunny}: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     tris = common.bunny_triangles(bunny)
     tris.astype("<f4").tofile(w / "bunny.tris")
     if not (w / "camera.rays").exists():
@@ -143,30 +203,10 @@ def scenebench(bins, bunny, scene, *extra, repeat=3):
     return json.loads(p.stdout)
 
 
-def build_baseline(rev):
-    """scenebench built against the library of git revision `rev` (its
-    public API: scene loading and render) in bench/.work/baseline."""
-    d = HERE / ".work" / "baseline"
-    shutil.rmtree(d, ignore_errors=True)
-    d.mkdir(parents=True)
-    tar = subprocess.run(["git", "archive", rev], cwd=ROOT, capture_output=True, check=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(d)], input=tar, check=True)
-    shutil.rmtree(d / "crates" / "penumbra-bench", ignore_errors=True)
-    shutil.copytree(ROOT / "crates" / "penumbra-bench", d / "crates" / "penumbra-bench")
-    toml = (d / "Cargo.toml").read_text()
-    toml = re.sub(r"members = \[[^\]]*\]", 'members = ["crates/penumbra", "crates/penumbra-bench"]', toml)
-    (d / "Cargo.toml").write_text(toml)
-    shutil.copy(ROOT / "Cargo.lock", d / "Cargo.lock")
-    env = dict(os.environ, CARGO_TARGET_DIR=str(d / "target"))
-    run(["cargo", "build", "--release", "-p", "penumbra-bench", "--bin", "scenebench"], cwd=d, env=env)
-    return d / "target" / "release" / "scenebench"
-
-
 def section_before(args, bins, data):
-    if not args.baseline:
+    base = data["base"]
+    if base is None:
         return {"skipped": "no --baseline REV"}
-    rev = run(["git", "rev-parse", "--short", args.baseline], cwd=ROOT).stdout.strip()
-    base = {"scenebench": build_baseline(rev)}
     cases = [
         ("Whitted bunny (1 ray/pixel, point light)", [HERE / "scenes" / "bunny-whitted.toml"], 5),
         ("bunny, 4 primary + 1 shadow ray/pixel", ["bunny", "--spp", "4", "--distribution", "jitter"], 1),
@@ -175,16 +215,18 @@ def section_before(args, bins, data):
     rows = []
     for name, argv, rep in cases:
         old, new = [], []
-        for _ in range(args.rounds):
-            for b, acc in ((base, old), (bins, new)):
-                acc.append(scenebench(b, data["bunny"], argv[0], *argv[1:], "--threads", "1", repeat=rep))
+        for k in range(args.rounds):
+            n, o = both(bins, base, k, lambda b: scenebench(b, data["bunny"], argv[0], *argv[1:], "--threads", "1",
+                                                             repeat=rep))
+            new.append(n)
+            old.append(o)
         rows.append({
             "what": name, "rays": new[0]["rays"],
             "before_cpu": med([x["render_cpu_s"] for x in old]), "after_cpu": med([x["render_cpu_s"] for x in new]),
             "before_s": med([x["render_s"] for x in old]), "after_s": med([x["render_s"] for x in new]),
             "ratio_cpu": med([n["render_cpu_s"] / o["render_cpu_s"] for o, n in zip(old, new)]),
         })
-    return {"rev": rev, "rows": rows}
+    return {"rev": base["rev"], "rows": rows}
 
 
 def section_rays(args, bins, data):
@@ -198,11 +240,13 @@ def section_rays(args, bins, data):
         # Alternate which system goes first.
         systems = ["embree", "penumbra"] if k % 2 == 0 else ["penumbra", "embree"]
         py = {s: python_rays(s) for s in systems}
-        pcmd = [bins["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3, "--generic"]
-        if args.obvhs:
-            pcmd.append("--obvhs")
-        p = json.loads(run(pcmd).stdout)
-        rounds.append((py["embree"], p, py["penumbra"]))
+        def raybench(b):
+            cmd = [b["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3, "--generic"]
+            if args.obvhs:
+                cmd.append("--obvhs")
+            return json.loads(run(cmd).stdout)
+        p, pb = both(bins, data["base"], k, raybench)
+        rounds.append((py["embree"], p, py["penumbra"], pb))
     e1 = json.loads(run([VENV_PY, HERE / "rays.py", "--system", "embree", "--tris", w / "bunny.tris", "--one-cpu",
                          "--repeat", 5]).stdout)
     out = {"rows": [], "build": {}, "tree": rounds[-1][1]["penumbra"]["tree"]}
@@ -244,6 +288,26 @@ def section_rays(args, bins, data):
     if args.obvhs:
         out["build"]["obvhs_ms_all"] = med([r[1]["obvhs"]["build"]["ms_all_threads"] for r in rounds])
         out["build"]["obvhs_ms_1"] = med([r[1]["obvhs"]["build"]["ms_1_thread"] for r in rounds])
+    if data["base"] is not None:
+        def pick(get, r):
+            try:
+                return get(r)
+            except (KeyError, TypeError):
+                return None
+        def vs(what, get, higher):
+            return versus(what, [pick(get, r[1]) for r in rounds], [pick(get, r[3]) for r in rounds], higher)
+        rows = []
+        for set_name in ("camera", "incoherent"):
+            for kind in ("closest", "any"):
+                rows.append(vs(f"raybench {set_name} rays, {kind} hit, batch, Mrays/s",
+                               lambda r: r["penumbra"]["rays"][set_name][kind]["mrays_per_s"], True))
+                rows.append(vs(f"raybench {set_name} rays, {kind} hit, one ray per call, Mrays/s",
+                               lambda r: r["penumbra"]["single"][set_name][kind]["mrays_per_s"], True))
+                rows.append(vs(f"raybench {set_name} rays, {kind} hit, generic BVH, Mrays/s",
+                               lambda r: r["generic"]["rays"][set_name][kind]["mrays_per_s"], True))
+        rows.append(vs("BVH build, bunny, ms, all threads", lambda r: r["penumbra"]["build"]["ms_all_threads"], False))
+        rows.append(vs("BVH build, bunny, ms, 1 thread", lambda r: r["penumbra"]["build"]["ms_1_thread"], False))
+        out["vs"] = rows
     return out
 
 
@@ -253,13 +317,17 @@ def section_a(args, bins, data):
     env = dict(os.environ)
     if llvm:
         env["DRJIT_LIBLLVM_PATH"] = llvm
-    rounds = []
-    for _ in range(args.rounds):
-        p = scenebench(bins, bunny, "bunny", "--spp", "16", "--distribution", "jitter", repeat=2)
-        # One thread right after: a frame of seconds, so that the parallel
-        # efficiency does not rest on the Whitted frame's 0.1 s alone.
-        p1 = scenebench(bins, bunny, "bunny", "--spp", "16", "--distribution", "jitter", "--threads", "1",
-                        repeat=2)
+    rounds, base = [], []
+    for k in range(args.rounds):
+        def penumbra(b):
+            two = scenebench(b, bunny, "bunny", "--spp", "16", "--distribution", "jitter", repeat=2)
+            # One thread right after: a frame of seconds, so that the parallel
+            # efficiency does not rest on the Whitted frame's 0.1 s alone.
+            one = scenebench(b, bunny, "bunny", "--spp", "16", "--distribution", "jitter", "--threads", "1",
+                             repeat=2)
+            return two, one
+        (p, p1), pb = both(bins, data["base"], k, penumbra)
+        base.append(pb)
         s = json.loads(run([VENV_PY, HERE / "mitsuba_bunny.py", "scalar_rgb", bunny, "--repeat", 1]).stdout)
         lp = run([VENV_PY, HERE / "mitsuba_bunny.py", "llvm_ad_rgb", bunny, "--repeat", 2], env=env, check=False)
         l = json.loads(lp.stdout) if lp.returncode == 0 else {"error": (lp.stderr.strip().splitlines() or ["?"])[-1]}
@@ -298,6 +366,15 @@ def section_a(args, bins, data):
         })
     else:
         r["llvm_error"] = next(x[2]["error"] for x in rounds if "error" in x[2])
+    if data["base"] is not None:
+        r["vs"] = [
+            versus("scene (a), 2 threads, s (wall)", [x[0]["render_s"] for x in rounds],
+                   [x[0]["render_s"] for x in base]),
+            versus("scene (a), 2 threads, s (CPU)", [x[0]["render_cpu_s"] for x in rounds],
+                   [x[0]["render_cpu_s"] for x in base]),
+            versus("scene (a), 1 thread, s (wall)", [x[3]["render_s"] for x in rounds],
+                   [x[1]["render_s"] for x in base]),
+        ]
     return r
 
 
@@ -320,17 +397,25 @@ def povray(pov):
 def section_b(args, bins, data):
     pov = HERE / ".work" / "bunny.pov"
     rounds = []
-    for _ in range(args.rounds):
+    for k in range(args.rounds):
         pv = povray(pov)
-        pn = scenebench(bins, data["bunny"], "bunny", "--shadow-rays", "64", "--distribution", "grid", repeat=2)
-        rounds.append((pv, pn))
+        pn, pb = both(bins, data["base"], k, lambda b: scenebench(b, data["bunny"], "bunny", "--shadow-rays", "64",
+                                                                  "--distribution", "grid", repeat=2))
+        rounds.append((pv, pn, pb))
     rate = lambda rays, s: rays / s / 1e6
     pv_rate = [rate(x[0]["total_rays"], x[0]["trace_s"]) for x in rounds]
     pn_rate = [rate(x[1]["rays"], x[1]["render_s"]) for x in rounds]
     pv_cpu = [rate(x[0]["total_rays"], x[0]["cpu_s"]) for x in rounds]
     pn_cpu = [rate(x[1]["rays"], x[1]["render_cpu_s"]) for x in rounds]
     v = run(["povray", "--version"], check=False)
-    return {
+    vs = {}
+    if data["base"] is not None:
+        vs["vs"] = [
+            versus("scene (b), Mrays/s (wall)", pn_rate, [rate(x[2]["rays"], x[2]["render_s"]) for x in rounds], True),
+            versus("scene (b), Mrays per CPU-second", pn_cpu,
+                   [rate(x[2]["rays"], x[2]["render_cpu_s"]) for x in rounds], True),
+        ]
+    return vs | {
         "povray_version": (v.stdout + v.stderr).strip().splitlines()[0] if (v.stdout + v.stderr).strip() else "?",
         "povray_s": med([x[0]["trace_s"] for x in rounds]),
         "povray_rays": rounds[0][0]["total_rays"], "povray_shadow": rounds[0][0]["shadow_rays"],
@@ -345,12 +430,26 @@ def section_b(args, bins, data):
 
 def section_whitted(args, bins, data):
     scene = HERE / "scenes" / "bunny-whitted.toml"
-    rounds = []
-    for _ in range(args.rounds):
-        two = scenebench(bins, data["bunny"], scene, "--threads", "2", repeat=9)
-        one = scenebench(bins, data["bunny"], scene, "--threads", "1", repeat=9)
-        rounds.append((one, two))
-    return {
+    rounds, base = [], []
+    for k in range(args.rounds):
+        def frames(b):
+            two = scenebench(b, data["bunny"], scene, "--threads", "2", repeat=9)
+            one = scenebench(b, data["bunny"], scene, "--threads", "1", repeat=9)
+            return one, two
+        cur, old = both(bins, data["base"], k, frames)
+        rounds.append(cur)
+        base.append(old)
+    vs = {}
+    if data["base"] is not None:
+        vs["vs"] = [
+            versus("Whitted bunny, 2 threads, frames/s (wall)", [1 / x[1]["render_s"] for x in rounds],
+                   [1 / x[1]["render_s"] for x in base], True),
+            versus("Whitted bunny, 2 threads, s (CPU)", [x[1]["render_cpu_s"] for x in rounds],
+                   [x[1]["render_cpu_s"] for x in base]),
+            versus("Whitted bunny, 1 thread, s (wall)", [x[0]["render_s"] for x in rounds],
+                   [x[0]["render_s"] for x in base]),
+        ]
+    return vs | {
         "rays": rounds[0][1]["rays"],
         "s_2": med([x[1]["render_s"] for x in rounds]),
         "s_1": med([x[0]["render_s"] for x in rounds]),
@@ -374,38 +473,50 @@ def section_scaling(args, bins, data):
         "a": (("bunny", "--spp", "16", "--distribution", "jitter", "--width", "400", "--height", "300"), 1),
         "whitted": ((HERE / "scenes" / "bunny-whitted.toml",), 3),
     }
-    out = {}
+    out, vs = {}, []
     for name, (extra, repeat) in scenes.items():
-        ratios = []
+        ratios, base = [], []
         for k in range(args.pairs):
             order = (1, 2) if k % 2 == 0 else (2, 1)
-            t = {n: scenebench(bins, data["bunny"], *extra, "--threads", str(n), repeat=repeat)["render_s"]
-                 for n in order}
-            ratios.append(t[1] / (2 * t[2]))
+            def pair(b):
+                t = {n: scenebench(b, data["bunny"], *extra, "--threads", str(n), repeat=repeat)["render_s"]
+                     for n in order}
+                return t[1] / (2 * t[2])
+            cur, old = both(bins, data["base"], k // 2, pair)
+            ratios.append(cur)
+            base.append(old)
         q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else [ratios[0]] * 3
         out[name] = {"pairs": len(ratios), "efficiency": med(ratios), "q1": q[0], "q3": q[2],
                      "min": min(ratios), "max": max(ratios)}
+        if data["base"] is not None:
+            what = {"a": "scene (a) at 400×300", "whitted": "Whitted frame"}[name]
+            vs.append(versus(f"parallel efficiency, 2 threads, {what}, pairs", ratios, base, True))
+    if vs:
+        out["vs"] = vs
     return out
 
 
 def section_linear(args, bins, data):
+    """One run of each row; with --baseline, --rounds runs of each row for
+    both builds, alternating, and the medians."""
     scene = HERE / "scenes" / "bunny-whitted.toml"
-    rows = []
-    for w, h in ((400, 300), (800, 600), (1600, 1200)):
-        r = scenebench(bins, data["bunny"], scene, "--width", w, "--height", h, "--threads", "1", repeat=3)
-        rows.append({"what": f"Whitted {w}x{h}", "pixels": w * h, "rays": r["rays"],
-                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
-    for spp in (1, 4, 16):
-        r = scenebench(bins, data["bunny"], "bunny", "--spp", spp, "--distribution", "jitter",
-                       "--threads", "1", repeat=3)
-        rows.append({"what": f"bunny, {spp} primary rays/pixel", "pixels": 480000, "rays": r["rays"],
-                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
-    for n in (1, 4, 16, 64):
-        r = scenebench(bins, data["bunny"], "bunny", "--shadow-rays", n, "--distribution", "grid",
-                       "--threads", "1", repeat=3)
-        rows.append({"what": f"bunny, {n} shadow rays", "pixels": 480000, "rays": r["rays"],
-                     "s": r["render_s"], "cpu_s": r["render_cpu_s"]})
-    return {"rows": rows}
+    cases = [(f"Whitted {w}x{h}", w * h, [scene, "--width", w, "--height", h])
+             for w, h in ((400, 300), (800, 600), (1600, 1200))]
+    cases += [(f"bunny, {spp} primary rays/pixel", 480000, ["bunny", "--spp", spp, "--distribution", "jitter"])
+              for spp in (1, 4, 16)]
+    cases += [(f"bunny, {n} shadow rays", 480000, ["bunny", "--shadow-rays", n, "--distribution", "grid"])
+              for n in (1, 4, 16, 64)]
+    rows, vs = [], []
+    for what, pixels, argv in cases:
+        runs = [both(bins, data["base"], k, lambda b: scenebench(b, data["bunny"], *argv, "--threads", "1", repeat=3))
+                for k in range(args.rounds if data["base"] is not None else 1)]
+        cur = [c for c, _ in runs]
+        rows.append({"what": what, "pixels": pixels, "rays": cur[0]["rays"],
+                     "s": med([x["render_s"] for x in cur]), "cpu_s": med([x["render_cpu_s"] for x in cur])})
+        if data["base"] is not None:
+            vs.append(versus(f"linearity: {what}, 1 thread, s (CPU)", [x["render_cpu_s"] for x in cur],
+                             [b["render_cpu_s"] for _, b in runs]))
+    return {"rows": rows} | ({"vs": vs} if vs else {})
 
 
 def max_rss(cmd, cwd):
@@ -415,24 +526,41 @@ def max_rss(cmd, cwd):
 
 
 def section_memory(args, bins, data):
-    out = {}
+    out, vs = {}, []
     stats = HERE / ".work" / "memory.json"
     for name, extra in (("bunny", []), ("bunny, 64 shadow rays", ["--shadow-rays", "64"])):
-        mb, _ = max_rss([bins["penumbra"], "render", "bunny", "--bunny", data["bunny"], *extra,
-                         "-o", HERE / ".work" / "memory.png", "--quiet", "--stats", stats], ROOT)
-        out[name] = mb
-    return out
+        def rss(b):
+            mb, _ = max_rss([b["penumbra"], "render", "bunny", "--bunny", data["bunny"], *extra,
+                             "-o", HERE / ".work" / "memory.png", "--quiet", "--stats", stats], ROOT)
+            return mb
+        out[name], base = both(bins, data["base"], 0, rss)
+        if base is not None:
+            vs.append(versus(f"max resident memory, `penumbra render` {name}, MB", [out[name]], [base]))
+    return {"rss_mb": out} | ({"vs": vs} if vs else {})
 
 
 def section_million(args, bins, data):
+    """One render for the build time and the memory, scenebench for the
+    render time; with --baseline, --rounds of both for both builds."""
     w = HERE / ".work"
     stats = w / "million.json"
-    mb, _ = max_rss([bins["penumbra"], "render", w / "sphere1m.toml", "-o", w / "million.png",
-                     "--quiet", "--stats", stats], ROOT)
-    s = json.loads(stats.read_text())
-    r = scenebench(bins, data["bunny"], w / "sphere1m.toml", repeat=3)
-    return {"triangles": s["primitives"], "build_s": s["time"]["build_s"], "render_s": r["render_s"],
-            "render_cpu_s": r["render_cpu_s"], "rays": r["rays"], "rss_mb": mb}
+    def million(b):
+        mb, _ = max_rss([b["penumbra"], "render", w / "sphere1m.toml", "-o", w / "million.png",
+                         "--quiet", "--stats", stats], ROOT)
+        s = json.loads(stats.read_text())
+        r = scenebench(b, data["bunny"], w / "sphere1m.toml", repeat=3)
+        return {"triangles": s["primitives"], "build_s": s["time"]["build_s"], "render_s": r["render_s"],
+                "render_cpu_s": r["render_cpu_s"], "rays": r["rays"], "rss_mb": mb}
+    runs = [both(bins, data["base"], k, million) for k in range(args.rounds if data["base"] is not None else 1)]
+    cur = [c for c, _ in runs]
+    out = {k: med([x[k] for x in cur]) for k in ("build_s", "render_s", "render_cpu_s", "rss_mb")}
+    out |= {"triangles": cur[0]["triangles"], "rays": cur[0]["rays"]}
+    if data["base"] is not None:
+        base = [b for _, b in runs]
+        out["vs"] = [versus(f"1,000,000-triangle mesh: {what}", [x[key] for x in cur], [x[key] for x in base])
+                     for what, key in (("load + build, s", "build_s"), ("render, s (wall)", "render_s"),
+                                       ("render, s (CPU)", "render_cpu_s"), ("memory, MB", "rss_mb"))]
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -527,7 +655,7 @@ def report(res):
                 f"(quartiles {100 * sc['q1']:.0f}–{100 * sc['q3']:.0f}%)", "—", f"{100 * sc['efficiency']:.0f}%",
                 "—", "≥ 90%", sc["efficiency"] >= 0.9)
     if "memory" in res:
-        for k, v in res["memory"].items():
+        for k, v in res["memory"]["rss_mb"].items():
             row(f"max resident memory, `penumbra render` {k}, MB", "—", f(v, 0), "—", "< 100", v < 100)
     if "million" in res:
         mm = res["million"]
@@ -595,17 +723,33 @@ def report(res):
         L.append(f"1M mesh: {mm['triangles']:,} primitives; load (PLY) and build {f(mm['build_s'])} s; "
                  f"render (800×600, 1 primary + 1 shadow ray) {f(mm['render_s'])} s wall, "
                  f"{f(mm['render_cpu_s'])} s CPU; max resident memory {f(mm['rss_mb'], 0)} MB.")
+    vs = [(s, x) for s in SECTIONS if isinstance(res.get(s), dict) for x in res[s].get("vs", [])]
+    if vs:
+        L.append("")
+        L.append(f"| this tree against `{res['baseline']}` (side by side, order alternating) | runs | baseline | "
+                 f"this tree | this tree / baseline | worse by more than {100 * SLOWER:.0f}% |")
+        L.append("|---|---|---|---|---|---|")
+        for s, x in vs:
+            L.append(f"| {x['what']} | {x['runs']} | {f(x['base'], 3)} | {f(x['cur'], 3)} | {f(x['ratio'], 3)}× | "
+                     f"{'**yes**' if x['slower'] else 'no'} |")
+        slower = [x["what"] for _, x in vs if x["slower"]]
+        L.append("")
+        L.append(f"{len(slower)} of {len(vs)} rows worse than `{res['baseline']}` by more than "
+                 f"{100 * SLOWER:.0f}%" + (": " + "; ".join(slower) + "." if slower else "."))
     return "\n".join(L) + "\n"
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY or ../shared/data/bunny.ply)")
-    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--bunny", help="the Stanford bunny PLY (default: $PENUMBRA_BUNNY)")
+    ap.add_argument("--rounds", type=int, help="rounds of each section (default 3; 5 with --baseline)")
     ap.add_argument("--quick", action="store_true", help="one round")
-    ap.add_argument("--only", help="comma-separated sections: rays,a,b,whitted,scaling,linear,memory,million")
+    ap.add_argument("--only", help="comma-separated sections: " + ",".join(SECTIONS))
     ap.add_argument("--obvhs", action="store_true", help="also measure the obvhs crate in the rays section")
-    ap.add_argument("--baseline", help="git revision whose library the 'before' section compares against")
+    ap.add_argument("--baseline", metavar="REV",
+                    help="also build git revision REV in a temporary worktree and run every Penumbra row for it "
+                         "and this tree side by side, alternating; adds a table of both columns and their ratio, "
+                         "and the 'before' section")
     ap.add_argument("--update-doc", action="store_true", help="write the results into docs/performance.md")
     ap.add_argument("--no-setup", action="store_true", help="do not run bench/setup.sh")
     ap.add_argument("--pairs", type=int, default=25, help="one- and two-thread pairs of the scaling section")
@@ -613,14 +757,20 @@ def main():
     ensure_venv(args)
     if args.quick:
         args.rounds = 1
-    sections = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million"]
+    elif args.rounds is None:
+        args.rounds = 5 if args.baseline else 3
+    sections = SECTIONS[:-1]
     if args.baseline:
         sections.append("before")
     if args.only:
         sections = [s for s in args.only.split(",") if s]
+        unknown = [s for s in sections if s not in SECTIONS]
+        if unknown:
+            raise SystemExit(f"unknown sections: {', '.join(unknown)} (sections: {', '.join(SECTIONS)})")
     load_start = os.getloadavg()
     bins = build(args)
     data = prepare(args)
+    data["base"] = build_baseline(args) if args.baseline else None
     import importlib.metadata as md
     versions = {}
     for pkg in ("mitsuba", "drjit", "embreex", "numpy"):
@@ -633,6 +783,8 @@ def main():
         m = re.search(r"POV-Ray ([\w.]+)", v.stdout + v.stderr)
         versions["POV-Ray"] = m.group(1) if m else "?"
     res = {"date": time.strftime("%Y-%m-%d"), "rounds": args.rounds, "versions": versions}
+    if data["base"] is not None:
+        res["baseline"] = data["base"]["rev"]
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
            "scaling": section_scaling, "linear": section_linear, "memory": section_memory, "million": section_million,
            "before": section_before}

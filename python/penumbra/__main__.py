@@ -219,7 +219,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--tile", type=_positive_int, default=64, metavar="N", help="tile side in pixels (distributed)")
     r.add_argument("--retries", type=int, default=3, metavar="N", help="retries per task (distributed)")
     r.add_argument("--stats", metavar="PATH", help="write render statistics as JSON")
-    r.add_argument("--bunny", metavar="PATH", help="the Stanford bunny PLY for scenes that need it")
+    r.add_argument("--bunny", metavar="PATH",
+                   help="the Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar, no summary")
     _add_render_options(r)
     return p

@@ -328,8 +328,7 @@ impl Scene {
 /// `file:line:column` in the SceneError); values are validated when the
 /// scene is rendered, after the render options are applied, as the command
 /// line does (`Scene.settings()` validates early). `bunny` is the Stanford
-/// bunny PLY for `path = "@bunny"` (default: `$PENUMBRA_BUNNY`, then
-/// `../shared/data/bunny.ply`).
+/// bunny PLY for `path = "@bunny"` (default: `$PENUMBRA_BUNNY`).
 #[pyfunction]
 #[pyo3(signature = (path_or_builtin_name, *, bunny = None))]
 pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyResult<Scene> {

@@ -1,7 +1,7 @@
 //! BVH build, closest hit and any hit of the triangle BVH (the structure
 //! static meshes live in) and of the generic BVH, on the Stanford bunny when
-//! it is there (`$PENUMBRA_BUNNY`, else `../shared/data/bunny.ply` from the
-//! workspace root) and on a procedural mesh of the same size otherwise.
+//! it is there (`$PENUMBRA_BUNNY`, else `shared/data/bunny.ply` in the folder
+//! beside the checkout) and on a procedural mesh of the same size otherwise.
 //!
 //! `cargo bench -p penumbra-bench --bench accel`
 

@@ -9,7 +9,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
-use penumbra::scene::{LoadOptions, SceneSource};
+use penumbra::scene::{default_bunny_path, LoadOptions, SceneSource};
 
 use crate::error::{input, other, CliError};
 use crate::flags::OptionFlags;
@@ -32,7 +32,7 @@ pub struct RenderArgs {
     /// Write render statistics as JSON to this file.
     #[arg(long, value_name = "PATH")]
     pub stats: Option<PathBuf>,
-    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    /// The Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY).
     #[arg(long, value_name = "PATH")]
     pub bunny: Option<PathBuf>,
     /// No progress bar and no summary.
@@ -54,7 +54,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         check_parent(stats)?;
     }
     let opts = LoadOptions {
-        bunny: args.bunny.clone(),
+        bunny: args.bunny.clone().or_else(default_bunny_path),
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;

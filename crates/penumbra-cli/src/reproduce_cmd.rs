@@ -13,7 +13,7 @@ use crate::error::{input, other, CliError};
 /// Options of `penumbra reproduce`.
 #[derive(Args)]
 pub struct ReproduceArgs {
-    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY, else ../shared/data/bunny.ply).
+    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY).
     #[arg(long, value_name = "PATH")]
     pub bunny: Option<PathBuf>,
     /// Output directory for the report, images and plots (default: reproduce).
@@ -32,7 +32,7 @@ pub struct ReproduceArgs {
 
 pub fn run(a: &ReproduceArgs) -> Result<(), CliError> {
     let bunny = a.bunny.clone().or_else(default_bunny_path).ok_or_else(|| {
-        input("the evaluation needs the Stanford bunny: pass --bunny PATH, set PENUMBRA_BUNNY, or place it at ../shared/data/bunny.ply")
+        input("the evaluation needs the Stanford bunny: pass --bunny PATH or set PENUMBRA_BUNNY to it")
     })?;
     let opts = ReproduceOptions {
         bunny,

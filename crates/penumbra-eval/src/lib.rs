@@ -13,7 +13,7 @@
 //! use penumbra_eval::{reproduce, ReproduceOptions};
 //!
 //! let opts = ReproduceOptions {
-//!     bunny: "../shared/data/bunny.ply".into(),
+//!     bunny: "bunny.ply".into(),
 //!     out: "reproduce".into(),
 //!     quick: true,
 //!     threads: None,
@@ -26,6 +26,7 @@
 mod compose;
 mod convergence;
 mod doc;
+mod document;
 mod error;
 mod figures;
 mod format;
@@ -108,7 +109,7 @@ pub fn reproduce(
         warnings: runner.warnings().to_vec(),
         out: opts.out.clone(),
     };
-    report.write()?;
+    document::write(&report)?;
     runner.report("done");
     Ok(report)
 }

@@ -11,7 +11,7 @@
 //! SCENE is a scene file or a built-in name, as for `penumbra render`.
 
 use penumbra::render::{render, RenderOptions};
-use penumbra::scene::{LoadOptions, Overrides, SceneSource};
+use penumbra::scene::{default_bunny_path, LoadOptions, Overrides, SceneSource};
 use penumbra_bench::{median, process_time};
 use serde_json::json;
 use std::path::PathBuf;
@@ -21,7 +21,9 @@ use std::time::Instant;
 fn run() -> Result<serde_json::Value, String> {
     let mut it = std::env::args().skip(1);
     let mut scene = None;
-    let mut load = LoadOptions::default();
+    let mut load = LoadOptions {
+        bunny: default_bunny_path(),
+    };
     let mut ov = Overrides::default();
     let (mut threads, mut repeat) = (None, 5usize);
     while let Some(a) = it.next() {

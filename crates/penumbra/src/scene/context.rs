@@ -25,7 +25,7 @@ pub(super) fn resolve_mesh_path(
             Invalid::new(
                 p.clone(),
                 "this scene needs the Stanford bunny (bunny.ply): pass its path (--bunny PATH on the command \
-                 line, bunny= in Python), set PENUMBRA_BUNNY, or place it at ../shared/data/bunny.ply",
+                 line, bunny= in Python) or set PENUMBRA_BUNNY to it",
             )
         });
     }

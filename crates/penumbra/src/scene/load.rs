@@ -17,17 +17,16 @@ const MAX_SCENE_BYTES: u64 = 16 << 20;
 /// Options that affect where a scene's external files come from.
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {
-    /// The Stanford bunny (`--bunny`); else `$PENUMBRA_BUNNY`, else `../shared/data/bunny.ply`.
+    /// The Stanford bunny for `path = "@bunny"`. The library looks nowhere
+    /// else: the front ends fill it from `--bunny`, `bunny=` or
+    /// [`default_bunny_path`].
     pub bunny: Option<PathBuf>,
 }
 
-/// The bunny from the environment or the conventional location, if it exists.
+/// The bunny named by `$PENUMBRA_BUNNY`, if set: what the command line and
+/// Python use when no path is given.
 pub fn default_bunny_path() -> Option<PathBuf> {
-    if let Some(p) = std::env::var_os("PENUMBRA_BUNNY") {
-        return Some(PathBuf::from(p));
-    }
-    let p = PathBuf::from("../shared/data/bunny.ply");
-    p.exists().then_some(p)
+    std::env::var_os("PENUMBRA_BUNNY").map(PathBuf::from)
 }
 
 /// A parsed scene description together with where it came from.
@@ -119,7 +118,7 @@ impl SceneSource {
 fn context(base_dir: &Path, opts: &LoadOptions) -> BuildContext {
     BuildContext {
         base_dir: base_dir.to_path_buf(),
-        bunny: opts.bunny.clone().or_else(default_bunny_path),
+        bunny: opts.bunny.clone(),
     }
 }
 
