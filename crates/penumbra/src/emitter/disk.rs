@@ -14,11 +14,13 @@ pub(super) fn area(radius: f32) -> f32 {
 
 /// Intensity toward direction `w` (unit, from the light) of the disk
 /// collapsed to a point: `L · π r² · cos θ`.
+#[inline]
 pub(super) fn intensity(power: Rgb, n: Vec3, radius: f32, w: Vec3) -> Rgb {
     power * (PI * radius * radius * n.dot(w).max(0.0))
 }
 
 /// A uniform point of the disk for the distribution point `point`.
+#[inline]
 pub(super) fn sample(
     power: Rgb,
     center: Vec3,

@@ -55,6 +55,7 @@ impl Emitter {
     }
 
     /// Rays per shadow set and their distribution.
+    #[inline]
     pub fn shadow(&self) -> EffectSpec {
         self.light.shadow
     }
@@ -68,11 +69,13 @@ impl Emitter {
     }
 
     /// A point light has no extent: every shadow ray would be identical.
+    #[inline]
     pub fn is_delta(&self) -> bool {
         self.light.is_delta()
     }
 
     /// Shadow rays actually traced per shading point.
+    #[inline]
     pub fn shadow_rays(&self) -> u32 {
         if self.is_delta() {
             1
@@ -93,6 +96,7 @@ impl Emitter {
 
     /// Radiance leaving the light's surface toward `-dir` at a point with
     /// outward normal `n` (area lights are one-sided except spheres).
+    #[inline]
     pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
         let power = self.light.power;
         match self.light.shape {
@@ -140,6 +144,7 @@ impl Emitter {
 
     /// True if [`sample4`](Self::sample4) has a four-wide kernel for points
     /// of `d`: a rectangle sampled on its surface by a square distribution.
+    #[inline]
     pub fn four_wide(&self, d: Distribution) -> bool {
         let rect = matches!(self.light.shape, LightShape::Rect(_));
         rect && self.light.model == PenumbraModel::Surface && d != Distribution::Random
@@ -157,6 +162,17 @@ impl Emitter {
         if let (LightShape::Rect(q), true) = (self.light.shape, self.four_wide(d)) {
             return rect::sample4(self.light.power, &q, p, points);
         }
+        self.sample4_portable(p, points, d)
+    }
+
+    /// [`sample4`](Self::sample4) lane by lane through the portable form.
+    #[inline(never)]
+    fn sample4_portable(
+        &self,
+        p: &[Vec3; 4],
+        points: &[Vec3; 4],
+        d: Distribution,
+    ) -> LightSamples4 {
         let mut out = LightSamples4 {
             target: [Vec4::ZERO; 3],
             dir: [Vec4::ZERO; 3],

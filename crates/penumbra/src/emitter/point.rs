@@ -4,6 +4,7 @@
 use crate::math::Rgb;
 
 /// Intensity toward any direction.
+#[inline]
 pub(super) fn intensity(power: Rgb) -> Rgb {
     power
 }

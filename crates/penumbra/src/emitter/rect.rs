@@ -11,17 +11,20 @@ use crate::sampling::points::unit_square;
 use crate::sampling::Distribution;
 
 /// The thesis's light size: half the side of the square of equal area.
+#[inline]
 pub(super) fn size(q: &Quad) -> f32 {
     0.5 * q.area().sqrt()
 }
 
 /// Intensity toward direction `w` (unit, from the light) of the rectangle
 /// collapsed to a point: `L · A · cos θ`.
+#[inline]
 pub(super) fn intensity(power: Rgb, q: &Quad, w: Vec3) -> Rgb {
     power * (q.area() * q.normal.dot(w).max(0.0))
 }
 
 /// A uniform point of the rectangle for the distribution point `point`.
+#[inline]
 pub(super) fn sample(
     power: Rgb,
     q: &Quad,

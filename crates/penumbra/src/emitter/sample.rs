@@ -30,6 +30,7 @@ pub struct LightSamples4 {
 
 /// Uniform area sampling of a one-sided light (of a sphere, two-sided when
 /// `two_sided`): weight = L · cos θ_light · A / r².
+#[inline]
 pub(super) fn area_sample(
     power: Rgb,
     p: Vec3,

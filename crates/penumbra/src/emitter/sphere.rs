@@ -11,6 +11,7 @@ use crate::sampling::warp::{square_to_uniform_cone, square_to_uniform_sphere};
 use crate::sampling::Distribution;
 
 /// Intensity of the sphere collapsed to a point: `L · π r²` in every direction.
+#[inline]
 pub(super) fn intensity(power: Rgb, radius: f32) -> Rgb {
     power * (PI * radius * radius)
 }
@@ -21,6 +22,7 @@ fn cos_max(radius: f32, d2: f32) -> f32 {
     (1.0 - radius * radius / d2).max(0.0).sqrt()
 }
 
+#[inline]
 pub(super) fn sample(
     power: Rgb,
     c: Vec3,

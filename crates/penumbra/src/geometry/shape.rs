@@ -124,11 +124,13 @@ impl Shape {
     }
 
     /// True if a segment can cross the shape twice (in and out): a sphere.
+    #[inline]
     pub fn is_closed(&self) -> bool {
         matches!(self, Shape::Sphere { .. })
     }
 
     /// The plane of a flat analytic shape: its unit normal and a point of it.
+    #[inline]
     pub fn plane(&self) -> Option<(Vec3, Vec3)> {
         match self {
             Shape::Quad(q) => Some((q.normal, q.origin)),
@@ -139,6 +141,7 @@ impl Shape {
 
     /// The geometric and shading normals at `p`, found by `hit` (unit; the
     /// geometric one as the shape defines it, not turned toward a ray).
+    #[inline]
     pub fn normals(&self, meshes: &[Mesh], hit: &ShapeHit, p: Vec3) -> (Vec3, Vec3) {
         match self {
             Shape::Sphere { center, .. } => {
