@@ -28,8 +28,6 @@ mod sphere;
 
 pub use sample::{LightSample, LightSamples4};
 
-use glam::Vec4;
-
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::Distribution;
@@ -114,7 +112,7 @@ impl Emitter {
 
     /// Samples the light from shading point `p` with one distribution point:
     /// the portable form, the specification [`sample4`](Self::sample4)'s
-    /// kernels are tested against.
+    /// kernel is tested against.
     pub fn sample(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
         match self.light.model {
             _ if self.is_delta() => self.sample_thesis(p, Vec3::ZERO, d),
@@ -150,48 +148,25 @@ impl Emitter {
         rect && self.light.model == PenumbraModel::Surface && d != Distribution::Random
     }
 
-    /// Samples the light for four distribution points at once, seen from
-    /// the shading points `p` (one per lane: one point four times for a
-    /// set, or the hits of four camera rays): the only way the integrator
-    /// samples a light. Where the light has a [four-wide](Self::four_wide)
-    /// kernel it runs, lane by lane the bits of the portable form
-    /// ([`sample`](Self::sample): the same operations in the same order,
-    /// with no fused ones); elsewhere each lane is the portable form's.
+    /// [`sample`](Self::sample) for four distribution points at once, seen
+    /// from the shading points `p` (one per lane: one point four times for a
+    /// set, or the hits of four camera rays), through the light's
+    /// [four-wide](Self::four_wide) kernel: lane by lane the bits of the
+    /// portable form (the same operations in the same order, with no fused
+    /// ones). `None` where the light has no kernel for `d`.
     #[inline]
-    pub fn sample4(&self, p: &[Vec3; 4], points: &[Vec3; 4], d: Distribution) -> LightSamples4 {
-        if let (LightShape::Rect(q), true) = (self.light.shape, self.four_wide(d)) {
-            return rect::sample4(self.light.power, &q, p, points);
-        }
-        self.sample4_portable(p, points, d)
-    }
-
-    /// [`sample4`](Self::sample4) lane by lane through the portable form.
-    #[inline(never)]
-    fn sample4_portable(
+    pub fn sample4(
         &self,
         p: &[Vec3; 4],
         points: &[Vec3; 4],
         d: Distribution,
-    ) -> LightSamples4 {
-        let mut out = LightSamples4 {
-            target: [Vec4::ZERO; 3],
-            dir: [Vec4::ZERO; 3],
-            weight: [Vec4::ZERO; 3],
-            valid: 0,
-        };
-        for l in 0..4 {
-            let Some(s) = self.sample(p[l], points[l], d) else {
-                continue;
-            };
-            let w = s.weight.to_array();
-            for (k, w) in w.into_iter().enumerate() {
-                out.target[k][l] = s.target[k];
-                out.dir[k][l] = s.dir[k];
-                out.weight[k][l] = w;
+    ) -> Option<LightSamples4> {
+        match self.light.shape {
+            LightShape::Rect(q) if self.four_wide(d) => {
+                Some(rect::sample4(self.light.power, &q, p, points))
             }
-            out.valid |= 1 << l;
+            _ => None,
         }
-        out
     }
 
     fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
@@ -246,6 +221,7 @@ mod tests {
     use crate::geometry::quad::Quad;
     use crate::math::Frame;
     use crate::sampling::Rng;
+    use glam::Vec4;
 
     fn emitter(shape: LightShape) -> Emitter {
         Emitter::new(&Light {
@@ -310,9 +286,9 @@ mod tests {
     }
 
     /// Four samples at once are, lane by lane, the portable samples bit for
-    /// bit: through the rectangle's kernel (every square distribution, points
-    /// inside and outside the square, shading points all around the light)
-    /// and through the portable lanes (the thesis model, other shapes).
+    /// bit, where there is a kernel (a rectangle under the surface model,
+    /// every square distribution; points inside and outside the square,
+    /// shading points all around the light); elsewhere there is none.
     #[test]
     fn four_lanes_are_the_portable_samples() {
         let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
@@ -349,7 +325,10 @@ mod tests {
                                 rng.range(-1.0, 1.0),
                             )
                         });
-                        let four = light.sample4(&p, &points, d);
+                        let Some(four) = light.sample4(&p, &points, d) else {
+                            assert!(!light.four_wide(d));
+                            continue;
+                        };
                         for l in 0..4 {
                             let one = light.sample(p[l], points[l], d);
                             assert_eq!(one.is_some(), four.valid >> l & 1 != 0, "{shape:?} {d:?}");

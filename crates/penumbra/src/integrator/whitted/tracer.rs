@@ -418,14 +418,14 @@ impl<'a> Tracer<'a> {
         // Every ray of the set leaves on the side the geometric normal points
         // to (others are not traced), so all start at the same offset point.
         let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
-        let mut points = self.pool.pop().unwrap_or_default();
         if light.shadow_rays() == 1 {
-            // A point light, or a Whitted shadow ray.
-            points.clear();
-            points.push(d.one(1.0, &mut rng));
-        } else {
-            self.set_points(light, &mut rng, &mut points);
+            // A point light, or a Whitted shadow ray: no buffer needed.
+            let one = [d.one(1.0, &mut rng)];
+            shadow_rays(|_| (s, origin), &one, light, set);
+            return;
         }
+        let mut points = self.pool.pop().unwrap_or_default();
+        self.set_points(light, &mut rng, &mut points);
         shadow_rays(|_| (s, origin), &points, light, set);
         self.pool.push(points);
     }
@@ -599,8 +599,10 @@ impl Lanes {
 /// Appends to `set` the shadow rays toward `light` for the distribution
 /// points `points`, point `k` seen from the frame and ray origin `frame(k)`
 /// (`None` for a point that gives no ray: below the horizon, or on the back
-/// of the light). Four at a time, through [`Emitter::sample4`]; a last group
-/// of fewer repeats its last point and keeps only its own rays.
+/// of the light). Groups of four go through the light's four-wide kernel
+/// ([`Emitter::sample4`]) where it has one; the rest, and every point of a
+/// light without one, through the portable form ([`shadow_ray`]), which the
+/// kernel matches bit for bit.
 fn shadow_rays<'a>(
     frame: impl Fn(usize) -> (&'a Local, Vec3),
     points: &[Vec3],
@@ -608,22 +610,56 @@ fn shadow_rays<'a>(
     set: &mut Vec<Option<ShadowRay>>,
 ) {
     let d = light.shadow().distribution;
-    for start in (0..points.len()).step_by(4) {
-        let count = (points.len() - start).min(4);
-        let k = |l: usize| start + l.min(count - 1);
-        let lanes: [(&Local, Vec3); 4] = std::array::from_fn(|l| frame(k(l)));
+    let wide = if light.four_wide(d) {
+        points.len() / 4 * 4
+    } else {
+        0
+    };
+    for (g, four) in points[..wide].chunks_exact(4).enumerate() {
+        let lanes: [(&Local, Vec3); 4] = std::array::from_fn(|l| frame(4 * g + l));
         let (s, origin) = (lanes.map(|f| f.0), lanes.map(|f| f.1));
-        let four: [Vec3; 4] = std::array::from_fn(|l| points[k(l)]);
-        let ls = light.sample4(&s.map(|s| s.p), &four, d);
-        shadow_rays4(&Lanes::new(s, &origin), &ls, count, set);
+        let four: &[Vec3; 4] = four.try_into().expect("chunks of four");
+        let ls = light
+            .sample4(&s.map(|s| s.p), four, d)
+            .expect("a light with a kernel");
+        shadow_rays4(&Lanes::new(s, &origin), &ls, set);
     }
+    set.extend((wide..points.len()).map(|k| {
+        let (s, origin) = frame(k);
+        shadow_ray(s, origin, light, points[k], d)
+    }));
 }
 
-/// The shadow rays of the four light samples of `ls`, lane `l` from the
-/// shading point of lane `l` of `s`; the first `count` are appended to
-/// `set`. A lane gives no ray where its sample is invalid or a cosine at
-/// the receiver is at most 0 (a NaN cosine too).
-fn shadow_rays4(s: &Lanes, ls: &LightSamples4, count: usize, set: &mut Vec<Option<ShadowRay>>) {
+/// The shadow ray from `origin` (the shading point lifted off its surface)
+/// toward one distribution point of the light; `None` if there is none to
+/// trace (the sample is below the horizon or on the back of the light). The
+/// portable form of [`shadow_rays4`].
+fn shadow_ray(
+    s: &Local,
+    origin: Vec3,
+    light: &Emitter,
+    point: Vec3,
+    d: Distribution,
+) -> Option<ShadowRay> {
+    let ls = light.sample(s.p, point, d)?;
+    let wi = ls.dir;
+    let cos = s.n.dot(wi);
+    if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+        return None;
+    }
+    Some(ShadowRay {
+        ray: Ray::new(origin, ls.target - origin, s.time),
+        wi,
+        cos,
+        weight: ls.weight,
+    })
+}
+
+/// [`shadow_ray`] for the four light samples of `ls`, lane `l` from the
+/// shading point of lane `l` of `s`, appended to `set`: lane by lane the
+/// same rays. A lane gives no ray where its sample is invalid or a cosine
+/// at the receiver is at most 0 (a NaN cosine too, as in `shadow_ray`).
+fn shadow_rays4(s: &Lanes, ls: &LightSamples4, set: &mut Vec<Option<ShadowRay>>) {
     let dot = |n: &[Vec4; 3], d: &[Vec4; 3]| n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
     let (cos, cos_g) = (dot(&s.n, &ls.dir), dot(&s.ng, &ls.dir));
     let rejected = cos.cmple(Vec4::ZERO) | cos_g.cmple(Vec4::ZERO);
@@ -632,7 +668,7 @@ fn shadow_rays4(s: &Lanes, ls: &LightSamples4, count: usize, set: &mut Vec<Optio
     let origin = s.origin.map(|c| c.to_array());
     let dir = ls.dir.map(|c| c.to_array());
     let (cos, weight) = (cos.to_array(), ls.weight.map(|c| c.to_array()));
-    set.extend((0..count).map(|i| {
+    set.extend((0..4).map(|i| {
         (valid >> i & 1 != 0).then(|| ShadowRay {
             ray: Ray::new(
                 Vec3::new(origin[0][i], origin[1][i], origin[2][i]),
@@ -670,29 +706,12 @@ mod tests {
         })
     }
 
-    /// The shadow ray of one distribution point, one by one from the
-    /// emitter's portable sample: the oracle the prepared sets are checked
-    /// against.
-    fn oracle(s: &Local, origin: Vec3, light: &Emitter, point: Vec3) -> Option<ShadowRay> {
-        let ls = light.sample(s.p, point, light.shadow().distribution)?;
-        let cos = s.n.dot(ls.dir);
-        if cos <= 0.0 || s.ng.dot(ls.dir) <= 0.0 {
-            return None;
-        }
-        Some(ShadowRay {
-            ray: Ray::new(origin, ls.target - origin, s.time),
-            wi: ls.dir,
-            cos,
-            weight: ls.weight,
-        })
-    }
-
-    /// Shadow rays prepared four at a time (a set of 16 from one frame, and
-    /// sets of one from 13 frames: a last group of one) are, ray by ray, bit
-    /// for bit the oracle's, for rectangle lights through the kernel (every
-    /// square distribution) and the portable lanes (the thesis model, random
-    /// points): points on both sides of the light and in its plane, points
-    /// past the square's edge, surfaces facing away.
+    /// Shadow rays prepared in groups (a set of 16 from one frame, and sets
+    /// of one from 13 frames: a last group of one) are, ray by ray, bit for
+    /// bit the portable form's, through the rectangle's kernel (every square
+    /// distribution) and without it (the thesis model, random points):
+    /// points on both sides of the light and in its plane, points past the
+    /// square's edge, surfaces facing away.
     #[test]
     fn prepared_shadow_rays_are_the_one_by_one_rays() {
         let mut r = Rng::new(47);
@@ -742,7 +761,7 @@ mod tests {
             let s = &frames[0];
             shadow_rays(|_| (s, origin(s)), &points, &emitter, &mut set);
             for (q, got) in points.iter().zip(&set) {
-                let want = oracle(s, origin(s), &emitter, *q);
+                let want = shadow_ray(s, origin(s), &emitter, *q, light.shadow.distribution);
                 assert_eq!(bits(got), bits(&want), "{light:?} {q:?}");
                 traced += usize::from(got.is_some());
             }
@@ -757,7 +776,16 @@ mod tests {
             );
             assert_eq!(set.len(), 13);
             for ((s, q), got) in frames.iter().zip(&points).zip(&set) {
-                assert_eq!(bits(got), bits(&oracle(s, origin(s), &emitter, *q)));
+                assert_eq!(
+                    bits(got),
+                    bits(&shadow_ray(
+                        s,
+                        origin(s),
+                        &emitter,
+                        *q,
+                        light.shadow.distribution
+                    ))
+                );
             }
         }
         assert!(
