@@ -74,10 +74,7 @@ pub fn render_pixels(
         let group = if n == 1 { span_width(s.width) } else { 1 };
         for x0 in xs.clone().step_by(group as usize) {
             let x1 = (x0 + group).min(xs.end);
-            buf.rays.clear();
-            for x in x0..x1 {
-                camera_rays(scene, x, y, buf);
-            }
+            camera_rays(scene, x0..x1, y, buf);
             if let Some(m) = &metric {
                 out.push(one_by_one(scene, tracer, x0, y, m, bad, buf));
                 continue;
@@ -160,11 +157,22 @@ fn one_by_one(
     mean.mean()
 }
 
-/// Appends the camera rays of pixel (x, y) to `buf.rays`. Film positions,
-/// lens points and times come from three decorrelated streams, each set in
-/// its own shuffled trace order, so pairing them by index mixes them
-/// randomly.
-fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
+/// The camera rays of pixels `xs` of row `y`, pixel by pixel, into
+/// `buf.rays`: one batch from the camera.
+fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
+    buf.samples.clear();
+    for x in xs {
+        camera_samples(scene, x, y, buf);
+    }
+    buf.rays.clear();
+    scene.camera.generate(&buf.samples, &mut buf.rays);
+}
+
+/// Appends the camera samples of pixel (x, y) to `buf.samples`. Film
+/// positions, lens points and times come from three decorrelated streams,
+/// each set in its own shuffled trace order, so pairing them by index mixes
+/// them randomly.
+fn camera_samples(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
     let s = &scene.settings;
     let cam = &scene.camera;
     let n = s.spp as usize;
@@ -174,7 +182,6 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
         lens,
         times,
         samples,
-        rays,
         ..
     } = buf;
     if n == 1 && s.pixel == Distribution::Grid {
@@ -201,7 +208,7 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
     if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
         pixel.values(Dimension::Time, s.time, n, times);
     }
-    // All camera rays first, so that their hits can be found together
+    // All camera samples first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel
     // metric may leave untraced are no loss).
     let sample = |i: usize| CameraSample {
@@ -211,9 +218,7 @@ fn camera_rays(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
             .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
         time: cam.time(times.get(i).copied().unwrap_or(0.0)),
     };
-    samples.clear();
     samples.extend((0..film.len()).map(sample));
-    cam.generate(samples, rays);
 }
 
 #[cfg(test)]
@@ -250,7 +255,7 @@ mod tests {
                 render_pixels(&scene, &mut tracer, x..x + 1, y, &mut bad, &mut got);
                 let got = got[0];
                 let mut buf = Scratch::default();
-                camera_rays(&scene, x, y, &mut buf);
+                camera_rays(&scene, x..x + 1, y, &mut buf);
                 let pixel = pixel_stream(&scene, x, y);
                 let mut mean = RunningMean::default();
                 for (i, ray) in buf.rays.iter().enumerate() {
@@ -289,7 +294,7 @@ mod tests {
         let (mut film, mut lens, mut lens_in_rows) = (Vec::new(), Vec::new(), Vec::new());
         for p in 0..400 {
             let (x, y) = (p % 20, p / 20);
-            camera_rays(&scene, x, y, &mut buf);
+            camera_rays(&scene, x..x + 1, y, &mut buf);
             let mut expected = Vec::new();
             let mut rng = pixel_stream(&scene, x, y).stream(Dimension::Film);
             Distribution::Jitter.generate_unordered(16, 0.5, &mut rng, &mut expected);
