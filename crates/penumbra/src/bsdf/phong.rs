@@ -123,25 +123,29 @@ mod tests {
     use super::*;
     use crate::sampling::Rng;
 
-    /// Directional albedo by quadrature over the hemisphere.
-    fn albedo(p: &Phong, n: Vec3, wo: Vec3) -> f32 {
-        let (nt, np) = (400, 400);
+    /// The integral of `f` over the hemisphere around +z by the midpoint
+    /// rule in (θ, φ), `n` × `n` cells.
+    fn hemisphere(n: u32, f: impl Fn(Vec3) -> f32) -> f32 {
+        let (dt, dp) = (PI / 2.0 / n as f32, 2.0 * PI / n as f32);
         let mut sum = 0.0;
-        for i in 0..nt {
-            let theta = (i as f32 + 0.5) / nt as f32 * PI / 2.0;
-            for j in 0..np {
-                let phi = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
-                let wi = Vec3::new(
+        for i in 0..n {
+            let theta = (i as f32 + 0.5) * dt;
+            for j in 0..n {
+                let phi = (j as f32 + 0.5) * dp;
+                let w = Vec3::new(
                     theta.sin() * phi.cos(),
                     theta.sin() * phi.sin(),
                     theta.cos(),
                 );
-                let f = p.eval(n, wo, wi).r;
-                sum +=
-                    f * theta.cos() * theta.sin() * (PI / 2.0 / nt as f32) * (2.0 * PI / np as f32);
+                sum += f(w) * theta.sin() * dt * dp;
             }
         }
         sum
+    }
+
+    /// Directional albedo: the integral of `eval · cos θ`.
+    fn albedo(p: &Phong, n: Vec3, wo: Vec3) -> f32 {
+        hemisphere(400, |wi| p.eval(n, wo, wi).r * wi.z)
     }
 
     #[test]
@@ -159,23 +163,7 @@ mod tests {
         let n = Vec3::Z;
         let wo = Vec3::new(0.3, 0.1, 0.9).normalize();
         let p = Phong::new(Rgb::new(0.5, 0.4, 0.3), 0.4, 30.0, 0.9);
-        let (nt, np) = (600, 600);
-        let mut total = 0.0;
-        for i in 0..nt {
-            let theta = (i as f32 + 0.5) / nt as f32 * PI / 2.0;
-            for j in 0..np {
-                let phi = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
-                let wi = Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                );
-                total += p.pdf(n, wo, wi)
-                    * theta.sin()
-                    * (PI / 2.0 / nt as f32)
-                    * (2.0 * PI / np as f32);
-            }
-        }
+        let total = hemisphere(600, |wi| p.pdf(n, wo, wi));
         assert!((total - 1.0).abs() < 0.01, "pdf integrates to {total}");
         let mut rng = Rng::new(3);
         let count = 200_000;
