@@ -6,13 +6,18 @@
 //! distributions selectable per effect, penumbra, blurry reflection and
 //! refraction, supersampling, depth of field and motion blur.
 //!
-//! The pipeline, one module per stage:
+//! The library is a stack of layers, each a folder that uses only the ones
+//! before it: [`math`] (with the colour type [`math::Rgb`]) → [`sampling`] →
+//! [`geometry`], [`accel`] and [`camera`] → [`scene`] → [`bsdf`] and
+//! [`emitter`] → [`integrator`] → [`render`] → [`io`]. A render goes:
 //!
 //! * [`scene`] parses a TOML scene (or a built-in one) into a plain
 //!   [`scene::SceneDesc`], validates it with errors at `file:line:column`, and
-//!   builds an immutable [`scene::Scene`] (meshes from [`io`], BVH from [`accel`]).
-//! * [`render::render`] cuts the image into tiles, renders them in parallel with
-//!   an [`integrator::Tracer`] per worker, and returns an [`render::Image`] plus
+//!   builds an immutable [`scene::Scene`] (meshes read by
+//!   [`geometry::mesh_file`], the world's BVHs from [`accel`]).
+//! * [`render::render`] cuts the image into tiles and renders them in
+//!   parallel, each with a worker of an [`integrator::Integrator`] (the
+//!   thesis's [`integrator::Whitted`]), and returns an [`render::Image`] plus
 //!   [`render::RenderStats`] (rays by kind, time).
 //! * [`io::output`] writes PNG or EXR atomically.
 //!

@@ -36,7 +36,7 @@ impl BitOr for BsdfFlags {
     }
 }
 
-/// A direction drawn by [`Bsdf::sample`].
+/// A direction drawn by `Bsdf::sample`.
 #[derive(Clone, Copy, Debug)]
 pub struct BsdfSample {
     /// Unit direction toward where light comes from.

@@ -15,7 +15,7 @@ pub struct LightSample {
     pub weight: Rgb,
 }
 
-/// Four light samples, one per lane, as [`Emitter::sample4`] gives them:
+/// Four light samples, one per lane, as `Emitter::sample4` gives them:
 /// coordinates lane-wise (x, y, z).
 #[derive(Clone, Copy, Debug)]
 pub struct LightSamples4 {
