@@ -188,6 +188,8 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
                 r.add_argument(o["off_flag"], dest=name, action="store_false", help=o["off_help"])
         elif o["kind"] == "distribution":
             r.add_argument(o["flag"], dest=name, choices=DISTRIBUTIONS, metavar=o["metavar"], help=help)
+        elif o["kind"] == "filter":
+            r.add_argument(o["flag"], dest=name, choices=("box", "tent", "gaussian"), metavar=o["metavar"], help=help)
         else:
             kind = int if o["kind"] == "int" else float
             r.add_argument(o["flag"], dest=name, type=kind, metavar=o["metavar"], help=help)

@@ -19,6 +19,8 @@ RENDER_OPTIONS: tuple[str, ...]
 _OPTION_FLAGS: tuple[dict[str, Any], ...]
 
 DistributionName = Literal["grid", "jitter", "semi-jitter", "poisson", "random", "fast-random"]
+#: The pixel filters, by name.
+FilterName = Literal["box", "tent", "gaussian"]
 StrPath = str | os.PathLike[str]
 Image = npt.NDArray[np.float32]
 
@@ -110,6 +112,7 @@ class Scene:
         shadow_distribution: DistributionName | None = None,
         reflection_distribution: DistributionName | None = None,
         refraction_distribution: DistributionName | None = None,
+        filter: FilterName | None = None,
         aperture: float | None = None,
         focal_distance: float | None = None,
         max_depth: int | None = None,
@@ -185,6 +188,7 @@ def render(
     shadow_distribution: DistributionName | None = None,
     reflection_distribution: DistributionName | None = None,
     refraction_distribution: DistributionName | None = None,
+    filter: FilterName | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,
@@ -221,6 +225,7 @@ def render_region(
     shadow_distribution: DistributionName | None = None,
     reflection_distribution: DistributionName | None = None,
     refraction_distribution: DistributionName | None = None,
+    filter: FilterName | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,

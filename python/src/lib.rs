@@ -44,7 +44,7 @@ const MAX_SAMPLES: i64 = 100_000;
     text_signature = "(scene, *, width=None, height=None, spp=None, shadow_rays=None, \
 reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
 lens_distribution=None, time_distribution=None, shadow_distribution=None, \
-reflection_distribution=None, refraction_distribution=None, aperture=None, \
+reflection_distribution=None, refraction_distribution=None, filter=None, aperture=None, \
 focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, threads=None, progress=None)"
@@ -71,7 +71,7 @@ fn render<'py>(
 shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
 pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
-aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
+filter=None, aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, threads=None, progress=None)"
 )]

@@ -11,7 +11,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
-use penumbra::sampling::Distribution;
+use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
 use penumbra::scene::{Choices, Overrides, RenderOption, OPTIONS};
@@ -88,7 +88,7 @@ pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult
 
 /// The `penumbra render` flags of the render options, for `python -m
 /// penumbra` to build the same ones: a dict per flag with `name` (the
-/// keyword), `flag`, `kind` (`int`, `float`, `bool` or `distribution`),
+/// keyword), `flag`, `kind` (`int`, `float`, `bool`, `distribution` or `filter`),
 /// `metavar`, `help`, and for a switch `off_flag` and `off_help` (or None).
 pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
     let mut rows = Vec::new();
@@ -99,6 +99,7 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
             Kind::NonNegative | Kind::Positive => "float",
             Kind::Switch => "bool",
             Kind::Distribution => "distribution",
+            Kind::Filter => "filter",
             Kind::Colour => continue,
         };
         let d = PyDict::new(py);
@@ -124,6 +125,7 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
         Kind::Positive => Value::Number(positive_f32(name, v)?),
         Kind::Switch => Value::Switch(bool_arg(name, v)?),
         Kind::Distribution => Value::Distribution(parse_distribution(name, v)?),
+        Kind::Filter => Value::Filter(parse_filter(name, v)?),
         Kind::Colour => {
             return Err(PyTypeError::new_err(format!(
                 "{name} is set in the scene, not as a render option"
@@ -213,6 +215,22 @@ fn nonneg_f32(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f32> {
 }
 
 /// A distribution by name, with the CLI's message for an unknown one.
+/// A pixel filter's name.
+pub fn parse_filter(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Filter> {
+    let s = v
+        .cast::<PyString>()
+        .map_err(|_| type_error(name, "a filter name (str)", v))?
+        .to_str()?
+        .to_owned();
+    Filter::from_name(&s).ok_or_else(|| {
+        let names: Vec<&str> = Filter::ALL.iter().map(|f| f.name()).collect();
+        value_error(format!(
+            "{name}: unknown filter `{s}`; valid choices are: {}",
+            names.join(", ")
+        ))
+    })
+}
+
 pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
     let s = v
         .cast::<PyString>()

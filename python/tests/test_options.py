@@ -24,8 +24,9 @@ ANNOTATIONS = {
     "float": "float | None",
     "bool": "bool | None",
     "distribution": "DistributionName | None",
+    "filter": "FilterName | None",
 }
-VALID = {"int": 1, "float": 0.5, "bool": True, "distribution": "poisson"}
+VALID = {"int": 1, "float": 0.5, "bool": True, "distribution": "poisson", "filter": "tent"}
 
 
 def test_render_options_are_the_tables_and_progress():

@@ -2,7 +2,7 @@
 //! ([`penumbra::scene::OPTIONS`]), and the value parsers of the command line.
 
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
-use penumbra::sampling::Distribution;
+use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Flag, Kind, Value};
 use penumbra::scene::{Choices, RenderOption, OPTIONS};
@@ -64,6 +64,7 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         Kind::NonNegative => vec![with_value(arg.value_parser(parse_nonneg))],
         Kind::Positive => vec![with_value(arg.value_parser(parse_positive))],
         Kind::Distribution => vec![with_value(arg.value_parser(parse_distribution))],
+        Kind::Filter => vec![with_value(arg.value_parser(parse_filter))],
         // Colours are set in scene files only.
         Kind::Colour => Vec::new(),
     }
@@ -79,6 +80,7 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
             .get_one::<Distribution>(o.name)
             .copied()
             .map(Value::Distribution),
+        Kind::Filter => m.get_one::<Filter>(o.name).copied().map(Value::Filter),
         Kind::Switch => {
             let off = o.long_off().is_some() && m.get_flag(&off_id(o));
             match (m.get_flag(o.name), off) {
@@ -118,6 +120,16 @@ pub fn parse_distribution(s: &str) -> Result<Distribution, String> {
         let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
         format!(
             "unknown distribution `{s}`; valid choices are: {}",
+            names.join(", ")
+        )
+    })
+}
+
+pub fn parse_filter(s: &str) -> Result<Filter, String> {
+    Filter::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Filter::ALL.iter().map(|f| f.name()).collect();
+        format!(
+            "unknown filter `{s}`; valid choices are: {}",
             names.join(", ")
         )
     })
@@ -179,6 +191,7 @@ mod tests {
                 Kind::Distribution => {
                     ("poisson".into(), Value::Distribution(Distribution::Poisson))
                 }
+                Kind::Filter => ("gaussian".into(), Value::Filter(Filter::Gaussian)),
                 Kind::Switch | Kind::Colour => continue,
             };
             let mut expected = Choices::default();
@@ -209,6 +222,10 @@ mod tests {
                         .map(|d| d.name().to_string())
                         .collect(),
                     vec!["sobol".into()],
+                ),
+                Kind::Filter => (
+                    Filter::ALL.iter().map(|f| f.name().to_string()).collect(),
+                    vec!["mitchell".into()],
                 ),
                 Kind::Switch | Kind::Colour => continue,
             };

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use penumbra::sampling::Distribution;
+use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::desc::{CameraDesc, RenderDesc};
 use penumbra::scene::options::markdown::{replace_section, table, View};
 use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
@@ -90,6 +90,7 @@ fn value_json(v: Value) -> Json {
         Value::Number(x) => json!(x),
         Value::Switch(b) => json!(b),
         Value::Distribution(d) => json!(d.name()),
+        Value::Filter(f) => json!(f.name()),
         Value::Colour(c) => json!(c),
     }
 }
@@ -129,6 +130,13 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
         Kind::Positive => (vec!["0.001".into()], vec!["0.0".into(), "-1.0".into()]),
         Kind::Switch => (vec!["true".into(), "false".into()], vec!["1".into()]),
         Kind::Distribution => (names.collect(), vec!["\"sobol\"".into()]),
+        Kind::Filter => (
+            Filter::ALL
+                .iter()
+                .map(|f| format!("\"{}\"", f.name()))
+                .collect(),
+            vec!["\"mitchell\"".into()],
+        ),
         Kind::Colour => (
             vec!["[0.0, 2.0, 0.5]".into()],
             vec!["[0.0, -1.0, 0.0]".into()],
@@ -180,6 +188,7 @@ fn front_end_values_replace_the_key_of_the_same_name() {
                 DefaultValue::Fixed(Value::Switch(true))
             )),
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
+            Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::Colour => Value::Colour([0.5; 3]),
         };
         let mut c = Choices::default();

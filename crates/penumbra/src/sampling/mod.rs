@@ -2,6 +2,7 @@
 //! onto pixels, lenses, lights and directions.
 
 pub mod distribution;
+mod filter;
 pub mod points;
 mod rng;
 mod sampler;
@@ -10,5 +11,6 @@ pub mod warp;
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
+pub use filter::Filter;
 pub use rng::{mix64, BranchKey, Rng};
 pub use sampler::{Dimension, PixelSampler, Sampler};

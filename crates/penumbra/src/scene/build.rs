@@ -161,6 +161,7 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
         pixel: r.pixel_distribution.unwrap_or(r.distribution),
         lens: r.lens_distribution.unwrap_or(r.distribution),
         time: r.time_distribution.unwrap_or(r.distribution),
+        filter: r.filter,
         metric: metric(r, &p)?,
     })
 }

@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::sampling::Distribution;
+use crate::sampling::{Distribution, Filter};
 
 /// A whole scene file.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -51,6 +51,8 @@ pub struct RenderDesc {
     pub shadow_distribution: Option<Distribution>,
     pub reflection_distribution: Option<Distribution>,
     pub refraction_distribution: Option<Distribution>,
+    /// The pixel filter.
+    pub filter: Filter,
     /// The acceleration metrics of thesis §3.4 (off: the plain algorithm).
     pub metric: bool,
     /// With `metric`: stop reflection and refraction sets by the α/threshold rule.
@@ -86,6 +88,7 @@ impl Default for RenderDesc {
             shadow_distribution: None,
             reflection_distribution: None,
             refraction_distribution: None,
+            filter: Filter::Box,
             metric: false,
             reflection_metric: true,
             shadow_metric: true,

@@ -25,7 +25,7 @@
 //! in the description, for a scene-file key) and the code that uses it.
 
 use super::overrides::Overrides;
-use crate::sampling::Distribution;
+use crate::sampling::{Distribution, Filter};
 
 pub mod markdown;
 
@@ -69,6 +69,8 @@ pub enum Kind {
     Switch,
     /// A ray distribution, by name ([`Distribution::name`]).
     Distribution,
+    /// A pixel filter, by name ([`Filter::name`]).
+    Filter,
     /// A linear RGB colour with no negative channel (scene file only).
     Colour,
 }
@@ -80,6 +82,7 @@ pub enum Value {
     Number(f32),
     Switch(bool),
     Distribution(Distribution),
+    Filter(Filter),
     Colour([f32; 3]),
 }
 
@@ -108,6 +111,13 @@ impl Value {
     pub fn distribution(self) -> Option<Distribution> {
         match self {
             Value::Distribution(d) => Some(d),
+            _ => None,
+        }
+    }
+
+    pub fn filter(self) -> Option<Filter> {
+        match self {
+            Value::Filter(f) => Some(f),
             _ => None,
         }
     }
@@ -371,6 +381,16 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.refraction_distribution = v.distribution()),
     },
     RenderOption {
+        name: "filter",
+        kind: Kind::Filter,
+        default: DefaultValue::Fixed(Value::Filter(Filter::Box)),
+        doc: "pixel filter the film points are drawn by: box (the pixel), tent or gaussian",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.filter = v.filter()),
+    },
+    RenderOption {
         name: "aperture",
         kind: Kind::NonNegative,
         default: DefaultValue::Fixed(Value::Number(0.0)),
@@ -569,6 +589,7 @@ mod tests {
             Kind::NonNegative | Kind::Positive => Value::Number(0.5),
             Kind::Switch => Value::Switch(true),
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
+            Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::Colour => Value::Colour([0.5; 3]),
         }
     }

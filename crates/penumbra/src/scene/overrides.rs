@@ -2,7 +2,7 @@
 //! arguments) that win over the file's.
 
 use super::desc::SceneDesc;
-use crate::sampling::Distribution;
+use crate::sampling::{Distribution, Filter};
 
 /// Settings that replace the scene description's. Ray counts and
 /// distributions given here also replace per-light and per-material values:
@@ -20,6 +20,7 @@ pub struct Overrides {
     /// Distribution for every effect (replaces every more specific one in the file).
     pub distribution: Option<Distribution>,
     pub pixel_distribution: Option<Distribution>,
+    pub filter: Option<Filter>,
     pub lens_distribution: Option<Distribution>,
     pub time_distribution: Option<Distribution>,
     pub shadow_distribution: Option<Distribution>,
@@ -63,6 +64,9 @@ impl Overrides {
         let reflection_d = self.reflection_distribution.or(self.distribution);
         let refraction_d = self.refraction_distribution.or(self.distribution);
         set_some(&mut r.pixel_distribution, self.pixel_distribution);
+        if let Some(f) = self.filter {
+            r.filter = f;
+        }
         set_some(&mut r.lens_distribution, self.lens_distribution);
         set_some(&mut r.time_distribution, self.time_distribution);
         set_some(&mut r.shadow_distribution, shadow_d);

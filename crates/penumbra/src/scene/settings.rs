@@ -2,7 +2,7 @@
 //! acceleration metrics (whose rules live in the integrator).
 
 use crate::math::Rgb;
-use crate::sampling::Distribution;
+use crate::sampling::{Distribution, Filter};
 
 /// Image-wide settings after validation.
 #[derive(Clone, Debug, PartialEq)]
@@ -18,6 +18,8 @@ pub struct Settings {
     pub pixel: Distribution,
     pub lens: Distribution,
     pub time: Distribution,
+    /// The pixel filter the film points are drawn by.
+    pub filter: Filter,
     /// The acceleration metrics, if on.
     pub metric: Option<Metric>,
 }

@@ -18,6 +18,7 @@ pub(crate) fn quote(token: &[u8]) -> String {
 
 /// Parses a decimal integer with optional sign straight from bytes: integers dominate
 /// mesh text, and skipping UTF-8 validation and `str` parsing roughly halves their cost.
+#[inline]
 pub(crate) fn parse_i64(token: &[u8]) -> Option<i64> {
     let (negative, digits) = match token.split_first()? {
         (b'-', rest) => (true, rest),
@@ -52,6 +53,7 @@ pub(crate) struct Lines<'a> {
 }
 
 impl<'a> Lines<'a> {
+    #[inline]
     pub(crate) fn new(text: &'a [u8], offset: usize, number: usize) -> Self {
         Lines {
             text,
@@ -64,6 +66,7 @@ impl<'a> Lines<'a> {
 impl<'a> Iterator for Lines<'a> {
     type Item = &'a [u8];
 
+    #[inline]
     fn next(&mut self) -> Option<&'a [u8]> {
         let rest = self.text.get(self.offset..).filter(|r| !r.is_empty())?;
         let (line, consumed) = match rest.iter().position(|&b| b == b'\n') {
@@ -83,11 +86,13 @@ pub(crate) struct Tokens<'a> {
 }
 
 impl<'a> Tokens<'a> {
+    #[inline]
     pub(crate) fn new(line: &'a [u8]) -> Self {
         Tokens { line, offset: 0 }
     }
 
     /// Column just past the last byte of the line, where a missing value would have gone.
+    #[inline]
     pub(crate) fn end_column(&self) -> usize {
         let content = self.line.trim_ascii_end();
         content.len() + 1
@@ -97,6 +102,7 @@ impl<'a> Tokens<'a> {
 impl<'a> Iterator for Tokens<'a> {
     type Item = (usize, &'a [u8]);
 
+    #[inline]
     fn next(&mut self) -> Option<(usize, &'a [u8])> {
         let rest = self.line.get(self.offset..)?;
         let start = self.offset + rest.iter().position(|b| !b.is_ascii_whitespace())?;

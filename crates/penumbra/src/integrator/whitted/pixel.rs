@@ -211,8 +211,13 @@ fn camera_samples(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
     // All camera samples first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel
     // metric may leave untraced are no loss).
+    // The film points, warped by the pixel filter (the box leaves them).
+    let f = s.filter;
     let sample = |i: usize| CameraSample {
-        film: Vec2::new(x as f32 + 0.5 + film[i].x, y as f32 + 0.5 + film[i].y),
+        film: Vec2::new(
+            x as f32 + 0.5 + f.warp(film[i].x),
+            y as f32 + 0.5 + f.warp(film[i].y),
+        ),
         lens: lens
             .get(i)
             .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
@@ -226,6 +231,39 @@ mod tests {
     use super::*;
     use crate::sampling::Rng;
     use crate::scene::{LoadOptions, SceneSource};
+
+    /// Film positions follow the pixel filter: within the pixel for the
+    /// box, spread over the filter's radius (beyond the pixel) for the tent
+    /// and the Gaussian, centred on the pixel's centre.
+    #[test]
+    fn film_positions_follow_the_filter() {
+        use crate::sampling::Filter;
+        for f in Filter::ALL {
+            let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
+            src.desc.render.spp = 64;
+            src.desc.render.filter = f;
+            let scene = src.build().expect("showcase builds");
+            let mut buf = Scratch::default();
+            camera_rays(&scene, 5..6, 7, &mut buf);
+            let (r, c) = (f.radius(), Vec2::new(5.5, 7.5));
+            let offsets: Vec<Vec2> = buf.samples.iter().map(|s| s.film - c).collect();
+            assert!(
+                offsets.iter().all(|o| o.abs().max_element() <= r + 1e-5),
+                "{f:?}"
+            );
+            let outside = offsets
+                .iter()
+                .filter(|o| o.abs().max_element() > 0.5)
+                .count();
+            assert_eq!(
+                outside == 0,
+                f == Filter::Box,
+                "{f:?}: {outside} outside the pixel"
+            );
+            let mean = offsets.iter().sum::<Vec2>() / offsets.len() as f32;
+            assert!(mean.length() < 0.1, "{f:?}: mean offset {mean:?}");
+        }
+    }
 
     /// The shortcut for one grid ray per pixel gives what the distribution gives.
     #[test]

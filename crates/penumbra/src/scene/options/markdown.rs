@@ -97,6 +97,7 @@ fn value_type(kind: Kind) -> String {
         Kind::Positive => "number > 0".into(),
         Kind::Switch => "bool".into(),
         Kind::Distribution => "distribution".into(),
+        Kind::Filter => "box, tent or gaussian".into(),
         Kind::Colour => "colour ≥ 0".into(),
     }
 }
@@ -135,6 +136,8 @@ pub fn value_text(v: Value, view: View) -> String {
         Value::Switch(b) => b.to_string(),
         Value::Distribution(d) if view == View::CommandLine => d.name().into(),
         Value::Distribution(d) => format!("\"{}\"", d.name()),
+        Value::Filter(f) if view == View::CommandLine => f.name().into(),
+        Value::Filter(f) => format!("\"{}\"", f.name()),
         Value::Colour(c) => format!("[{}, {}, {}]", c[0], c[1], c[2]),
     }
 }
