@@ -2,7 +2,7 @@
 //! onto pixels, lenses, lights and directions.
 
 pub mod distribution;
-mod filter;
+pub mod filter;
 pub mod points;
 mod rng;
 mod sampler;
