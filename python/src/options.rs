@@ -215,32 +215,34 @@ fn nonneg_f32(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f32> {
 }
 
 /// A distribution by name, with the CLI's message for an unknown one.
-/// A pixel filter's name.
-pub fn parse_filter(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Filter> {
-    let s = v
-        .cast::<PyString>()
-        .map_err(|_| type_error(name, "a filter name (str)", v))?
-        .to_str()?
-        .to_owned();
-    Filter::from_name(&s).ok_or_else(|| {
-        let names: Vec<&str> = Filter::ALL.iter().map(|f| f.name()).collect();
-        value_error(format!(
-            "{name}: unknown filter `{s}`; valid choices are: {}",
-            names.join(", ")
-        ))
-    })
+pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
+    let from = Distribution::from_name;
+    by_name(name, "distribution", v, from, &Distribution::ALL, Distribution::name)
 }
 
-pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
+/// A pixel filter by name, with the CLI's message for an unknown one.
+pub fn parse_filter(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Filter> {
+    by_name(name, "filter", v, Filter::from_name, &Filter::ALL, Filter::name)
+}
+
+/// The `what` (a distribution, a filter) that keyword `name` names.
+fn by_name<T: Copy>(
+    name: &str,
+    what: &str,
+    v: &Bound<'_, PyAny>,
+    from: fn(&str) -> Option<T>,
+    all: &[T],
+    label: fn(T) -> &'static str,
+) -> PyResult<T> {
     let s = v
         .cast::<PyString>()
-        .map_err(|_| type_error(name, "a distribution name (str)", v))?
+        .map_err(|_| type_error(name, &format!("a {what} name (str)"), v))?
         .to_str()?
         .to_owned();
-    Distribution::from_name(&s).ok_or_else(|| {
-        let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+    from(&s).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&x| label(x)).collect();
         value_error(format!(
-            "{name}: unknown distribution `{s}`; valid choices are: {}",
+            "{name}: unknown {what} `{s}`; valid choices are: {}",
             names.join(", ")
         ))
     })

@@ -116,20 +116,37 @@ fn capitalised(s: &str) -> String {
 }
 
 pub fn parse_distribution(s: &str) -> Result<Distribution, String> {
-    Distribution::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
-        format!(
-            "unknown distribution `{s}`; valid choices are: {}",
-            names.join(", ")
-        )
-    })
+    by_name(
+        "distribution",
+        s,
+        Distribution::from_name(s),
+        &Distribution::ALL,
+        Distribution::name,
+    )
 }
 
 pub fn parse_filter(s: &str) -> Result<Filter, String> {
-    Filter::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Filter::ALL.iter().map(|f| f.name()).collect();
+    by_name(
+        "filter",
+        s,
+        Filter::from_name(s),
+        &Filter::ALL,
+        Filter::name,
+    )
+}
+
+/// `found`, the `what` named `s`, or a message listing the valid names.
+fn by_name<T: Copy>(
+    what: &str,
+    s: &str,
+    found: Option<T>,
+    all: &[T],
+    name: fn(T) -> &'static str,
+) -> Result<T, String> {
+    found.ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&x| name(x)).collect();
         format!(
-            "unknown filter `{s}`; valid choices are: {}",
+            "unknown {what} `{s}`; valid choices are: {}",
             names.join(", ")
         )
     })
