@@ -51,6 +51,7 @@
 use super::build::{self, Config, Node, INTERSECT_COST, MAX_DEPTH, TRAVERSAL_COST};
 #[cfg(test)]
 use super::build::{MAX_LEAF, MAX_SAH_LEAF};
+use super::bvh4::max_skip_nan;
 use crate::math::{Aabb, Ray, Vec3};
 use glam::{BVec4A, Vec4, Vec4Swizzles};
 
@@ -138,35 +139,6 @@ impl PairRay {
 fn slab(planes: Vec4, neg: BVec4A, o: Vec4, inv: Vec4) -> Vec4 {
     let planes = Vec4::select(neg, planes.zwxy(), planes);
     (planes - o) * inv
-}
-
-/// Lane-wise `max(a, b)` for a `b` free of NaN, returning `b` where `a` is
-/// NaN: such a slab constrains nothing.
-///
-/// On x86-64, glam's `max` is `MAXPS`, which returns its second operand when
-/// either is NaN: exactly this, in one instruction (and glam's scalar fallback
-/// uses `f32::max`, which ignores NaN as well). glam leaves NaN behaviour
-/// unspecified, so the grazing-ray tests (`flat_scene_with_axis_and_parallel_rays`)
-/// pin it down. Elsewhere (NEON's max propagates NaN) the NaN lanes are
-/// selected away explicitly.
-#[inline(always)]
-pub(super) fn max_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
-    if cfg!(target_arch = "x86_64") {
-        a.max(b)
-    } else {
-        Vec4::select(a.cmpeq(a), a.max(b), b)
-    }
-}
-
-/// Lane-wise `min(a, b)` returning `b` where `a` is NaN (`MINPS` on x86-64):
-/// the counterpart of [`max_skip_nan`] for far distances.
-#[inline(always)]
-pub(super) fn min_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
-    if cfg!(target_arch = "x86_64") {
-        a.min(b)
-    } else {
-        Vec4::select(a.cmpeq(a), a.min(b), b)
-    }
 }
 
 impl NodePair {

@@ -5,6 +5,7 @@
 pub mod brute;
 mod build;
 pub mod bvh;
+pub mod bvh4;
 pub mod shaft;
 #[cfg(test)]
 mod testdata;
@@ -13,6 +14,7 @@ pub mod world;
 
 pub use brute::{brute_any, brute_closest};
 pub use bvh::{BuildStats, Bvh};
+pub use bvh4::{Bvh4, LeafSet, RayPacket};
 pub use shaft::Shaft;
-pub use tri::{LeafSet, RayPacket, TriHit, TriStats, TriangleBvh};
+pub use tri::{TriHit, TriStats, TriangleBvh};
 pub use world::{Hit, Object, PacketScratch, ShaftSet, World};

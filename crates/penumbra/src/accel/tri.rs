@@ -1,44 +1,33 @@
-//! A four-wide BVH over triangles stored in leaf order, intersected four at a
-//! time: the structure that static meshes live in.
+//! Triangle meshes in the four-wide BVH, stored in leaf order and
+//! intersected four at a time.
 //!
-//! The generic [`Bvh`](super::Bvh) knows primitives only through a closure,
-//! so each triangle test goes through the scene's indirections (primitive →
-//! object → mesh → index buffer → three vertices). Here the triangles are
-//! copied into the tree itself, in the order its leaves visit them, as
+//! A test through the scene's indirections (primitive → object → mesh →
+//! index buffer → three vertices) would load scattered memory for every
+//! triangle. Here the triangles are copied into the tree itself, in the order its leaves visit them, as
 //! packets of four in structure-of-arrays form (`Pack`: per vertex and
 //! axis, one 4-lane vector), and the traversal tests all four with the same
 //! SIMD instructions.
 //!
 //! # Layout
-//! A `Node4` (128 bytes, two cache lines) holds the boxes of up to four
-//! children as one 4-lane vector per axis and side, and four child
-//! references: an interior child by node index, a leaf as a range of packs
-//! (`LEAF` bit, up to 7 packs, first pack). Unused lanes have the empty box,
-//! which no ray hits, and an empty leaf. The tree is the binned-SAH binary
-//! tree of `accel::build` (leaf cost per started packet of four)
-//! collapsed to four children per node by repeatedly opening the child of
-//! largest surface area. Packs take 160 bytes for four triangles (padding
-//! lanes hold NaN vertices, which never hit); for the bunny, 95% of the lanes
-//! are used and nodes and packs take 54 bytes per triangle.
+//! The tree is a [`Bvh4`] whose leaf items are `Pack`s: its leaves hold up
+//! to four packets (sixteen triangles) when the SAH prefers them, and the
+//! builder charges a leaf per started packet. Packs take 160 bytes for four
+//! triangles (padding lanes hold NaN vertices, which never hit); for the
+//! bunny, 95% of the lanes are used and nodes and packs take 54 bytes per
+//! triangle.
 //!
 //! # Traversal
-//! Closest hit visits the nearest child hit first and pushes the others,
-//! farthest first, with their entry distances, so that popped subtrees
-//! beyond the closest hit so far are skipped unread. Any hit visits children
-//! in storage order, as Embree's occlusion traversal does: most shadow rays
-//! are not blocked and enter every subtree they hit anyway. The stack keeps
-//! 24 entries inline (initialised for every ray, so it is kept small) and
-//! spills deeper ones to the heap, which real trees never need. Batches of
-//! independent rays can be traced with their traversals interleaved
-//! (`stream`), which overlaps the memory waits of incoherent rays; runs of
-//! a batch's rays from one point go as packets.
+//! Closest and any hit are [`Bvh4`]'s traversal with the packet test at the
+//! leaves. Batches of independent rays can be traced with their traversals
+//! interleaved (`stream`), which overlaps the memory waits of incoherent
+//! rays; runs of a batch's rays from one point go as packets.
 //!
 //! # Exactness
 //! The triangle test is [`intersect_triangle`]'s watertight algorithm
 //! computed lane-wise with the same operations in the same order (no fused
 //! multiply-adds), so each lane gives bit for bit what the scalar routine
 //! gives, including the double-precision recomputation of edge functions
-//! that round to zero; the box test is the [`Bvh`](super::Bvh)'s robust one
+//! that round to zero; the box test is [`Bvh4`]'s robust one
 //! (NaN-skipping slab reduction, far distance enlarged by `1 + 2γ₃`), so the
 //! tree returns exactly what a loop over all triangles returns. Of
 //! triangles hit at exactly the same distance (a shared edge can give equal
@@ -49,25 +38,15 @@
 //!
 //! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
 
-use super::build::{self, Config, Node, MAX_DEPTH};
-use super::bvh::{max_skip_nan, min_skip_nan};
+use super::build::Config;
+use super::bvh4::{reaches, Bvh4, Frustum, LeafSet, RayPacket, Run, TraversalRay};
 use super::shaft::Shaft;
-use crate::geometry::triangle::{edge_functions_f64, RayShear};
+use crate::geometry::triangle::edge_functions_f64;
 use crate::math::{Aabb, Ray, Vec3};
-use glam::{Vec3A, Vec4};
+use glam::Vec4;
 use rayon::prelude::*;
 
 mod stream;
-
-/// `1 + 2γ₃`, as in [`Bvh`](super::Bvh): makes the far slab distance conservative.
-const TFAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
-
-/// Child reference bit marking a leaf.
-const LEAF: u32 = 1 << 31;
-/// Bits of a leaf reference holding its first pack.
-const FIRST_MASK: u32 = (1 << 28) - 1;
-/// A leaf holds at most this many packs (3 bits).
-const MAX_PACKS: usize = 7;
 
 /// Builder settings: leaves of up to four triangles (one packet) always,
 /// up to 16 (four packets) when the SAH prefers them, cost per packet.
@@ -76,159 +55,6 @@ const CONFIG: Config = Config {
     max_sah_leaf: 16,
     block_shift: 2,
 };
-
-/// Traversal stack entries kept inline. Each of at most `MAX_DEPTH` levels
-/// pushes at most three children; real trees stay far below this, and deeper
-/// stacks spill to the heap. A smaller array than the worst case matters: it
-/// is initialised for every ray, and at 32 entries that is a call to
-/// `memset` costing 2.5% of a 16-sample render (24 costs no more than 16).
-const STACK: usize = 24;
-
-/// The traversal stack: `STACK` entries inline, the rest (never, in
-/// practice) on the heap.
-struct Stack {
-    inline: [(u32, f32); STACK],
-    len: usize,
-    spill: Vec<(u32, f32)>,
-}
-
-impl Stack {
-    #[inline(always)]
-    fn new() -> Self {
-        Stack {
-            inline: [(0, 0.0); STACK],
-            len: 0,
-            spill: Vec::new(),
-        }
-    }
-
-    #[inline(always)]
-    fn push(&mut self, e: (u32, f32)) {
-        if self.len < STACK {
-            self.inline[self.len] = e;
-            self.len += 1;
-        } else {
-            self.spill_push(e);
-        }
-    }
-
-    #[cold]
-    fn spill_push(&mut self, e: (u32, f32)) {
-        debug_assert!(self.spill.len() < 3 * MAX_DEPTH);
-        self.spill.push(e);
-    }
-
-    #[inline(always)]
-    fn pop(&mut self) -> Option<(u32, f32)> {
-        if !self.spill.is_empty() {
-            return self.spill.pop();
-        }
-        if self.len == 0 {
-            return None;
-        }
-        self.len -= 1;
-        Some(self.inline[self.len])
-    }
-
-    /// Pops the next subtree that can still hold a hit nearer than `tmax`,
-    /// dropping those that start beyond it.
-    #[inline(always)]
-    fn pop_within(&mut self, tmax: f32) -> Option<u32> {
-        loop {
-            let (c, t) = self.pop()?;
-            if t <= tmax * TFAR_SCALE {
-                return Some(c);
-            }
-        }
-    }
-
-    /// Empties the stack for the next ray.
-    fn clear(&mut self) {
-        self.len = 0;
-        self.spill.clear();
-    }
-}
-
-/// Vectors of four lanes per node side and axis: a node has `4 * HALVES`
-/// children. Eight-wide nodes (two vectors) measured no faster than four-wide
-/// ones on the bunny, for coherent or incoherent rays, and build slower.
-const HALVES: usize = 1;
-/// Children per node.
-const WIDTH: usize = 4 * HALVES;
-// Shaft gathering reads nodes as single four-lane vectors.
-const _: () = assert!(HALVES == 1);
-
-/// The children of an interior node (128 bytes when four-wide).
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-struct Node4 {
-    /// Per axis, `[lo, hi]` of the children, four lanes per vector.
-    b: [[[Vec4; HALVES]; 2]; 3],
-    /// Per lane: node index, or `LEAF | packs << 28 | first pack`.
-    child: [u32; WIDTH],
-}
-
-impl Node4 {
-    const EMPTY: Node4 = Node4 {
-        b: [[[Vec4::INFINITY; HALVES], [Vec4::NEG_INFINITY; HALVES]]; 3],
-        child: [LEAF; WIDTH],
-    };
-
-    fn set(&mut self, lane: usize, b: &Aabb, child: u32) {
-        for axis in 0..3 {
-            self.b[axis][0][lane / 4][lane % 4] = b.min[axis];
-            self.b[axis][1][lane / 4][lane % 4] = b.max[axis];
-        }
-        self.child[lane] = child;
-    }
-
-    /// Lower corners of the four children, one vector per axis.
-    fn lo(&self) -> [Vec4; 3] {
-        [self.b[0][0][0], self.b[1][0][0], self.b[2][0][0]]
-    }
-
-    /// Upper corners of the four children, one vector per axis.
-    fn hi(&self) -> [Vec4; 3] {
-        [self.b[0][1][0], self.b[1][1][0], self.b[2][1][0]]
-    }
-
-    fn lane_box(&self, lane: usize) -> Aabb {
-        let (lo, hi) = (self.lo(), self.hi());
-        Aabb {
-            min: Vec3::new(lo[0][lane], lo[1][lane], lo[2][lane]),
-            max: Vec3::new(hi[0][lane], hi[1][lane], hi[2][lane]),
-        }
-    }
-
-    /// Tests the boxes against the ray clipped to `[tmin, tmax]`: a bit
-    /// mask of the children hit and their entry distances.
-    #[inline(always)]
-    fn hit(&self, r: &TraversalRay, tmin: Vec4, tmax: Vec4) -> (u32, [f32; WIDTH]) {
-        let mut mask = 0;
-        let mut t = [0.0; WIDTH];
-        for h in 0..HALVES {
-            // The near plane is `lo` for a positive direction, `hi` for a
-            // negative one: chosen by index, so without a branch or blend.
-            let slab = |axis: usize| {
-                let n = r.near[axis] & 1;
-                let near = self.b[axis][n][h];
-                let far = self.b[axis][n ^ 1][h];
-                (
-                    (near - r.o[axis]) * r.inv[axis],
-                    (far - r.o[axis]) * r.inv[axis],
-                )
-            };
-            let (nx, fx) = slab(0);
-            let (ny, fy) = slab(1);
-            let (nz, fz) = slab(2);
-            let near = max_skip_nan(nx, max_skip_nan(ny, max_skip_nan(nz, tmin)));
-            let far = min_skip_nan(fx, min_skip_nan(fy, min_skip_nan(fz, tmax)));
-            mask |= near.cmple(far * TFAR_SCALE).bitmask() << (4 * h);
-            t[4 * h..4 * h + 4].copy_from_slice(&near.to_array());
-        }
-        (mask, t)
-    }
-}
 
 /// Four triangles, structure of arrays: `v[vertex][axis]` holds that
 /// coordinate of the four triangles' vertex, and `id` their indices in the
@@ -245,6 +71,21 @@ impl Pack {
         v: [[Vec4::NAN; 3]; 3],
         id: [u32::MAX; 4],
     };
+
+    /// The packet of triangles `ids` (at most four), whose vertices `tri` gives.
+    #[inline(always)]
+    fn of(ids: &[u32], tri: &impl Fn(usize) -> [Vec3; 3]) -> Pack {
+        let mut p = Pack::EMPTY;
+        for (lane, &id) in ids.iter().enumerate() {
+            for (vertex, pos) in tri(id as usize).iter().enumerate() {
+                for axis in 0..3 {
+                    p.v[vertex][axis][lane] = pos[axis];
+                }
+            }
+            p.id[lane] = id;
+        }
+        p
+    }
 
     /// The watertight test on four triangles. Returns the mask of lanes hit
     /// within `(tmin, tmax)` (`(tmin, tmax]` if `CLOSED`) and, per lane,
@@ -317,37 +158,6 @@ fn recompute_f64(lanes: u32, sheared: [Vec4; 6], uvw: [Vec4; 3]) -> (Vec4, Vec4,
     (Vec4::from(u), Vec4::from(v), Vec4::from(w))
 }
 
-/// A ray prepared for node and packet tests.
-struct TraversalRay {
-    /// Origin and reciprocal direction, one splat per axis.
-    o: [Vec4; 3],
-    inv: [Vec4; 3],
-    /// Per axis: 1 if the direction is negative (then the hi planes are
-    /// near), else 0.
-    near: [usize; 3],
-    /// The watertight test's axis permutation, shear constants and permuted origin.
-    k: [usize; 3],
-    s: [Vec4; 3],
-    ok: [Vec4; 3],
-}
-
-impl TraversalRay {
-    #[inline(always)]
-    fn new(ray: &Ray) -> Self {
-        let inv = ray.dir.recip();
-        let sh = RayShear::new(ray);
-        let o = ray.origin.to_array();
-        TraversalRay {
-            o: o.map(Vec4::splat),
-            inv: inv.to_array().map(Vec4::splat),
-            near: inv.to_array().map(|i| usize::from(i < 0.0)),
-            k: [sh.kx, sh.ky, sh.kz],
-            s: [sh.sx, sh.sy, sh.sz].map(Vec4::splat),
-            ok: [o[sh.kx], o[sh.ky], o[sh.kz]].map(Vec4::splat),
-        }
-    }
-}
-
 /// A ray–triangle hit: the triangle's index in the build input, the ray
 /// parameter and the barycentrics of vertices 1 and 2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -374,10 +184,7 @@ pub struct TriStats {
 /// A four-wide BVH over triangles; see the module docs.
 #[derive(Clone, Debug, Default)]
 pub struct TriangleBvh {
-    /// Node 0 is the root; empty when built over zero triangles.
-    nodes: Vec<Node4>,
-    packs: Vec<Pack>,
-    bounds: Aabb,
+    tree: Bvh4<Pack>,
     len: usize,
 }
 
@@ -393,91 +200,10 @@ impl TriangleBvh {
             .with_min_len(4096)
             .map(|i| Aabb::from_points(tri(i)))
             .collect();
-        let (nodes, prims) = build::build_binary(&bounds, &CONFIG);
-        drop(bounds);
-        let Some(root) = nodes.first() else {
-            return TriangleBvh::default();
-        };
-        let mut out = TriangleBvh {
-            nodes: Vec::with_capacity(nodes.len() / 3 + 1),
-            packs: Vec::with_capacity(n / 3 + 1),
-            bounds: root.bounds,
-            len: n,
-        };
-        if root.count > 0 {
-            // A single leaf: a root node with one child.
-            out.nodes.push(Node4::EMPTY);
-            let leaf = out.leaf(&prims[root.first as usize..][..root.count as usize], &tri);
-            out.nodes[0].set(0, &root.bounds, leaf);
-        } else {
-            out.collapse(&nodes, &prims, 0, &tri);
-        }
-        out
-    }
-
-    /// Emits the four-wide node for binary interior node `idx` (and its
-    /// subtree, depth first) and returns its index.
-    fn collapse(
-        &mut self,
-        bin: &[Node],
-        prims: &[u32],
-        idx: usize,
-        tri: &impl Fn(usize) -> [Vec3; 3],
-    ) -> u32 {
-        let slot = self.nodes.len();
-        self.nodes.push(Node4::EMPTY);
-        let first = bin[idx].first as usize;
-        let mut kids = [0; WIDTH];
-        (kids[0], kids[1]) = (first, first + 1);
-        let mut k = 2;
-        // Open the interior child of largest area until there are WIDTH.
-        while k < WIDTH {
-            let open = (0..k)
-                .filter(|&j| bin[kids[j]].count == 0)
-                .max_by(|&a, &b| {
-                    let area = |j: usize| bin[kids[j]].bounds.surface_area();
-                    area(a).total_cmp(&area(b))
-                });
-            let Some(j) = open else { break };
-            let f = bin[kids[j]].first as usize;
-            kids[j] = f;
-            kids[k] = f + 1;
-            k += 1;
-        }
-        for (lane, &kid) in kids[..k].iter().enumerate() {
-            let c = bin[kid];
-            let child = if c.count > 0 {
-                self.leaf(&prims[c.first as usize..][..c.count as usize], tri)
-            } else {
-                self.collapse(bin, prims, kid, tri)
-            };
-            self.nodes[slot].set(lane, &c.bounds, child);
-        }
-        slot as u32
-    }
-
-    /// Appends the packets of a leaf's triangles and returns its reference.
-    fn leaf(&mut self, ids: &[u32], tri: &impl Fn(usize) -> [Vec3; 3]) -> u32 {
-        let first = self.packs.len();
-        for chunk in ids.chunks(4) {
-            let mut p = Pack::EMPTY;
-            for (lane, &id) in chunk.iter().enumerate() {
-                for (vertex, pos) in tri(id as usize).iter().enumerate() {
-                    for axis in 0..3 {
-                        p.v[vertex][axis][lane] = pos[axis];
-                    }
-                }
-                p.id[lane] = id;
-            }
-            self.packs.push(p);
-        }
-        let count = self.packs.len() - first;
-        assert!(count <= MAX_PACKS, "leaf of {} triangles", ids.len());
-        assert!(
-            self.packs.len() <= FIRST_MASK as usize,
-            "too many triangles for 28-bit packet indices"
-        );
-        LEAF | (count as u32) << 28 | first as u32
+        let tree = Bvh4::build(&bounds, &CONFIG, |ids, packs| {
+            packs.extend(ids.chunks(4).map(|chunk| Pack::of(chunk, &tri)));
+        });
+        TriangleBvh { tree, len: n }
     }
 
     /// Number of triangles.
@@ -491,23 +217,17 @@ impl TriangleBvh {
 
     /// Box around all triangles ([`Aabb::EMPTY`] when there are none).
     pub fn bounds(&self) -> Aabb {
-        self.bounds
+        self.tree.bounds()
     }
 
     pub fn stats(&self) -> TriStats {
-        let leaves = self
-            .nodes
-            .iter()
-            .flat_map(|n| n.child)
-            .filter(|&c| c & LEAF != 0 && (c >> 28) & 7 != 0)
-            .count();
+        let (nodes, leaves, packs) = self.tree.counts();
         TriStats {
             triangles: self.len,
-            nodes: self.nodes.len(),
+            nodes,
             leaves,
-            packs: self.packs.len(),
-            bytes: self.nodes.len() * std::mem::size_of::<Node4>()
-                + self.packs.len() * std::mem::size_of::<Pack>(),
+            packs,
+            bytes: self.tree.bytes(),
         }
     }
 
@@ -517,10 +237,13 @@ impl TriangleBvh {
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<TriHit> {
         let mut best = None;
-        self.traverse_ray::<true>(ray, tmin, tmax, |p, r, tmax| {
-            closest_in_pack(p, r, tmin, tmax, &mut best);
-            false
-        });
+        self.tree
+            .traverse_ray::<true>(ray, tmin, tmax, |packs, r, tmax| {
+                for p in packs {
+                    closest_in_pack(p, r, tmin, tmax, &mut best);
+                }
+                false
+            });
         best
     }
 
@@ -543,7 +266,7 @@ impl TriangleBvh {
         out: &mut Vec<Option<TriHit>>,
     ) {
         out.clear();
-        match Frustum::new(rays).filter(|_| !self.nodes.is_empty()) {
+        match Frustum::new(rays).filter(|_| !self.tree.is_empty()) {
             Some(frustum) => {
                 out.resize(rays.len(), None);
                 let run = Run {
@@ -566,7 +289,7 @@ impl TriangleBvh {
     fn closest_packet(&self, run: &Run, scratch: &mut RayPacket, out: &mut [Option<TriHit>]) {
         let tmin = run.tmin;
         let tmin4 = Vec4::splat(tmin);
-        self.traverse::<true, true>(
+        self.tree.traverse::<true, true>(
             scratch.reset(run.tmax),
             |node, tmax| run.frustum.hit(node, tmin4, Vec4::splat(tmax)),
             |at, packs, widest| {
@@ -603,7 +326,7 @@ impl TriangleBvh {
     ) {
         let tmin = run.tmin;
         let tmin4 = Vec4::splat(tmin);
-        self.traverse::<false, true>(
+        self.tree.traverse::<false, true>(
             scratch.reset(run.tmax),
             |node, tmax| run.frustum.hit(node, tmin4, Vec4::splat(tmax)),
             |at, packs, widest| {
@@ -641,9 +364,12 @@ impl TriangleBvh {
         tmax: f32,
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
-        self.traverse_ray::<false>(ray, tmin, tmax, |p, r, tmax| {
-            pack_any_hit(p, r, tmin, *tmax, &mut hit)
-        })
+        self.tree
+            .traverse_ray::<false>(ray, tmin, tmax, |packs, r, tmax| {
+                packs
+                    .iter()
+                    .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut hit))
+            })
     }
 
     /// Collects into `out` the leaves whose boxes may overlap `shaft`, in
@@ -651,26 +377,7 @@ impl TriangleBvh {
     /// storage order). Returns false, with `out` incomplete, once more than
     /// `limit` leaves are found.
     pub fn gather(&self, shaft: &Shaft, limit: usize, out: &mut LeafSet) -> bool {
-        out.clear();
-        if self.nodes.is_empty() {
-            return true;
-        }
-        out.push_lanes(0, shaft.overlaps4(&self.nodes[0].lo(), &self.nodes[0].hi()));
-        while let Some(e) = out.stack.pop() {
-            let node = &self.nodes[(e >> 2) as usize];
-            let lane = (e & 3) as usize;
-            let child = node.child[lane];
-            if child & LEAF == 0 {
-                let n = &self.nodes[child as usize];
-                out.push_lanes(child, shaft.overlaps4(&n.lo(), &n.hi()));
-            } else if (child >> 28) & 7 != 0 {
-                if out.len == limit {
-                    return false;
-                }
-                out.push_leaf(node, lane);
-            }
-        }
-        true
+        self.tree.gather(shaft, limit, out)
     }
 
     /// [`any_hit`](Self::any_hit) for a ray that lies in the shaft `set` was
@@ -684,24 +391,11 @@ impl TriangleBvh {
         tmax: f32,
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
-        if set.len == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
-            return false;
-        }
-        let r = TraversalRay::new(ray);
-        let (tmin4, tmax4) = (Vec4::splat(tmin), Vec4::splat(tmax));
-        for group in &set.groups {
-            let (mut mask, _) = group.hit(&r, tmin4, tmax4);
-            while mask != 0 {
-                let leaf = group.child[mask.trailing_zeros() as usize];
-                mask &= mask - 1;
-                for p in self.leaf_packs(leaf) {
-                    if pack_any_hit(p, &r, tmin, tmax, &mut hit) {
-                        return true;
-                    }
-                }
-            }
-        }
-        false
+        self.tree.any_hit_in(set, ray, tmin, tmax, |packs, r| {
+            packs
+                .iter()
+                .any(|p| pack_any_hit(p, r, tmin, tmax, &mut hit))
+        })
     }
 
     /// Whether any triangle is crossed within `(tmin, tmax)`.
@@ -709,151 +403,6 @@ impl TriangleBvh {
     pub fn occluded(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
         self.any_hit(ray, tmin, tmax, |_| true)
     }
-
-    /// The packets of the leaf `child` refers to.
-    #[inline(always)]
-    fn leaf_packs(&self, child: u32) -> &[Pack] {
-        let first = (child & FIRST_MASK) as usize;
-        let count = ((child >> 28) & 7) as usize;
-        &self.packs[first..first + count]
-    }
-
-    /// [`traverse`](Self::traverse) for one ray: `leaf` is called for each
-    /// packet of the leaves it reaches, with the ray's current `tmax`.
-    #[inline(always)]
-    fn traverse_ray<const ORDERED: bool>(
-        &self,
-        ray: &Ray,
-        tmin: f32,
-        tmax: f32,
-        mut leaf: impl FnMut(&Pack, &TraversalRay, &mut f32) -> bool,
-    ) -> bool {
-        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
-            return false;
-        }
-        let r = TraversalRay::new(ray);
-        let tmin4 = Vec4::splat(tmin);
-        self.traverse::<ORDERED, false>(
-            tmax,
-            |node, tmax| node.hit(&r, tmin4, Vec4::splat(tmax)),
-            |_, packs, tmax| packs.iter().any(|p| leaf(p, &r, tmax)),
-        )
-    }
-
-    /// Visits the leaves whose boxes `hit_node` reports hit, skipping subtrees
-    /// that start beyond `tmax` (which `leaf` may shrink), nearer children
-    /// first if `ORDERED`. `hit_node(node, tmax)` gives the mask of children
-    /// hit and their entry distances; `leaf(parent, lane, packs, tmax)` gets
-    /// a leaf's packets and where its box is. Stops and returns true when
-    /// `leaf` returns true. The tree must not be empty.
-    ///
-    /// With `BOXED`, `cur` and stack entries name a leaf by its parent and
-    /// lane (`LEAF | parent << 2 | lane`) rather than by its packets, so that
-    /// the leaf's box is at hand for `leaf` (else it gets `None`): packets
-    /// use it, single rays need not pay the extra load (10–19% on the
-    /// Whitted and 64-shadow-ray frames). Interior nodes are fewer than packets, whose
-    /// count `leaf` keeps below 2²⁸, so the parent fits in 29 bits.
-    #[inline(always)]
-    fn traverse<const ORDERED: bool, const BOXED: bool>(
-        &self,
-        tmax: f32,
-        hit_node: impl Fn(&Node4, f32) -> (u32, [f32; WIDTH]),
-        mut leaf: impl FnMut(Option<(&Node4, usize)>, &[Pack], &mut f32) -> bool,
-    ) -> bool {
-        let mut tmax = tmax;
-        let mut stack = Stack::new();
-        let mut cur = 0u32;
-        loop {
-            if cur & LEAF == 0 {
-                let node = &self.nodes[cur as usize];
-                let (mask, t) = hit_node(node, tmax);
-                let at = |i: usize| {
-                    let c = node.child[i];
-                    if !BOXED || c & LEAF == 0 {
-                        c
-                    } else {
-                        LEAF | cur << 2 | i as u32
-                    }
-                };
-                if mask != 0 {
-                    cur = descend::<ORDERED>(mask, &t, at, &mut stack);
-                    continue;
-                }
-            } else {
-                let (child, at) = if BOXED {
-                    let parent = &self.nodes[((cur & !LEAF) >> 2) as usize];
-                    let lane = (cur & 3) as usize;
-                    (parent.child[lane], Some((parent, lane)))
-                } else {
-                    (cur, None)
-                };
-                if leaf(at, self.leaf_packs(child), &mut tmax) {
-                    return true;
-                }
-            }
-            match stack.pop_within(tmax) {
-                Some(c) => cur = c,
-                None => return false,
-            }
-        }
-    }
-}
-
-/// The child to visit after an interior node whose children in `mask` (not
-/// empty) were hit at entry distances `t`; the other children hit are
-/// pushed on `stack`. `at(i)` is the reference of child `i`.
-///
-/// Unordered (any hit), the first child in storage order is next and the
-/// others are pushed last first, with no distance (`tmax` never shrinks
-/// there), so they pop in storage order: the order `gather` lists leaves
-/// in, so that `any_hit_in` reports what `any_hit` does. Ordered, the
-/// nearest is next and the others are pushed farthest first.
-#[inline(always)]
-fn descend<const ORDERED: bool>(
-    mask: u32,
-    t: &[f32; WIDTH],
-    at: impl Fn(usize) -> u32,
-    stack: &mut Stack,
-) -> u32 {
-    let i0 = mask.trailing_zeros() as usize;
-    let rest = mask & (mask - 1);
-    if rest == 0 {
-        return at(i0);
-    }
-    if !ORDERED {
-        let mut m = rest;
-        while m != 0 {
-            let i = 31 - m.leading_zeros() as usize;
-            stack.push((at(i), f32::NEG_INFINITY));
-            m &= !(1 << i);
-        }
-        return at(i0);
-    }
-    let i1 = rest.trailing_zeros() as usize;
-    if rest & (rest - 1) == 0 {
-        let (n, f) = if t[i1] < t[i0] { (i1, i0) } else { (i0, i1) };
-        stack.push((at(f), t[f]));
-        return at(n);
-    }
-    // More: insertion-sort by distance, farthest first.
-    let mut e = [(0u32, 0f32); WIDTH];
-    let mut k = 0;
-    let mut m = mask;
-    while m != 0 {
-        let i = m.trailing_zeros() as usize;
-        e[k] = (at(i), t[i]);
-        let mut j = k;
-        while j > 0 && e[j - 1].1 < e[j].1 {
-            e.swap(j - 1, j);
-            j -= 1;
-        }
-        k += 1;
-        m &= m - 1;
-    }
-    for &entry in &e[..k - 1] {
-        stack.push(entry);
-    }
-    e[k - 1].0
 }
 
 /// Tests one packet for a hit nearer than `tmax`, or as near as `best` but
@@ -892,13 +441,6 @@ fn closest_in_pack(
     });
 }
 
-/// Whether ray `r` hits, within `[tmin, tmax]`, the box of the leaf a
-/// packet reached at lane `lane` of `parent` (always, without one).
-#[inline(always)]
-fn reaches(at: Option<(&Node4, usize)>, r: &TraversalRay, tmin: Vec4, tmax: f32) -> bool {
-    at.is_none_or(|(parent, lane)| parent.hit(r, tmin, Vec4::splat(tmax)).0 >> lane & 1 != 0)
-}
-
 /// The lane of `mask` (not empty) with the smallest `t`, of equals the one
 /// with the lowest `id`.
 #[inline(always)]
@@ -913,118 +455,6 @@ fn nearest_lane_by_id(mask: u32, t: &[f32; 4], id: &[u32; 4]) -> usize {
         rest &= rest - 1;
     }
     lane
-}
-
-/// Per-worker buffers of [`TriangleBvh::closest_hits`], kept by the caller
-/// so that tracing a packet allocates nothing once warm.
-#[derive(Default)]
-pub struct RayPacket {
-    rays: Vec<TraversalRay>,
-    tmax: Vec<f32>,
-}
-
-impl RayPacket {
-    /// Starts a packet of rays with limits `tmax`; returns the widest.
-    fn reset(&mut self, tmax: &[f32]) -> f32 {
-        self.rays.clear();
-        self.tmax.clear();
-        self.tmax.extend_from_slice(tmax);
-        self.widest()
-    }
-
-    /// The largest limit of a ray of the packet.
-    fn widest(&self) -> f32 {
-        self.tmax.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b))
-    }
-
-    /// The packet's rays prepared for per-ray tests, and their limits. Rays
-    /// are prepared when the packet first reaches a leaf: most packets that
-    /// miss the mesh never do.
-    fn prepared(&mut self, rays: &[Ray]) -> (&[TraversalRay], &mut [f32]) {
-        if self.rays.is_empty() {
-            self.rays.extend(rays.iter().map(TraversalRay::new));
-        }
-        (&self.rays, &mut self.tmax)
-    }
-}
-
-/// Rays from one point traced as one packet: the frustum around them, the
-/// rays and the interval each is traced over (`tmax` one per ray).
-struct Run<'a> {
-    frustum: &'a Frustum,
-    rays: &'a [Ray],
-    tmin: f32,
-    tmax: &'a [f32],
-}
-
-/// Rays leaving one origin with directions of the same signs, bounded by the
-/// range of their reciprocal directions per axis: interval arithmetic on the
-/// slab test.
-///
-/// For a plane at signed offset `d` from the common origin, a ray's slab
-/// distance is `d · inv`, rounded once. Rounding is monotone, so over the
-/// packet it lies between `d · lo` and `d · hi` (in whichever order the
-/// sign of `d` gives) exactly, not just approximately: the smallest near
-/// distance and the largest far distance bound every ray's, and a box any
-/// ray's robust test accepts is accepted here. The entry distance returned
-/// is at most every ray's, so culling a subtree by it against the largest
-/// `tmax` of the packet never drops a hit.
-struct Frustum {
-    o: [Vec4; 3],
-    lo: [Vec4; 3],
-    hi: [Vec4; 3],
-    /// Per axis: 1 if the directions are negative, as in [`TraversalRay`].
-    near: [usize; 3],
-}
-
-impl Frustum {
-    /// `None` unless the rays share their origin (equal coordinates; a zero
-    /// of either sign gives the same slab distances), and have finite
-    /// directions with finite reciprocals of one sign per axis.
-    fn new(rays: &[Ray]) -> Option<Frustum> {
-        let first = rays.first()?;
-        let o = Vec3A::from(first.origin);
-        let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
-        // Checked for all rays without a branch per ray, in SIMD registers
-        // (`Vec3A`): sets are small and nearly always coherent (a pixel's
-        // camera rays, a batch's run), and scalar checks cost 80
-        // instructions a ray.
-        let mut ok = o.is_finite_mask();
-        for r in rays {
-            let dir = Vec3A::from(r.dir);
-            let inv = dir.recip();
-            ok &= Vec3A::from(r.origin).cmpeq(o) & dir.is_finite_mask() & inv.is_finite_mask();
-            (lo, hi) = (lo.min(inv), hi.max(inv));
-        }
-        // One sign per axis: the smallest and the largest reciprocal (all
-        // finite, so none is zero) agree.
-        let sign = lo.is_negative_bitmask();
-        (ok.all() && sign == hi.is_negative_bitmask()).then(|| Frustum {
-            o: o.to_array().map(Vec4::splat),
-            lo: lo.to_array().map(Vec4::splat),
-            hi: hi.to_array().map(Vec4::splat),
-            near: [0, 1, 2].map(|axis| (sign >> axis & 1) as usize),
-        })
-    }
-
-    /// [`Node4::hit`] for the whole packet: the children that some ray may
-    /// hit within `[tmin, tmax]`, and entry distances no larger than any ray's.
-    #[inline(always)]
-    fn hit(&self, node: &Node4, tmin: Vec4, tmax: Vec4) -> (u32, [f32; WIDTH]) {
-        let slab = |axis: usize| {
-            let n = self.near[axis];
-            let dn = node.b[axis][n][0] - self.o[axis];
-            let df = node.b[axis][n ^ 1][0] - self.o[axis];
-            let (lo, hi) = (self.lo[axis], self.hi[axis]);
-            ((dn * lo).min(dn * hi), (df * lo).max(df * hi))
-        };
-        let (nx, fx) = slab(0);
-        let (ny, fy) = slab(1);
-        let (nz, fz) = slab(2);
-        let near = max_skip_nan(nx, max_skip_nan(ny, max_skip_nan(nz, tmin)));
-        let far = min_skip_nan(fx, min_skip_nan(fy, min_skip_nan(fz, tmax)));
-        (near.cmple(far * TFAR_SCALE).bitmask(), near.to_array())
-    }
 }
 
 /// Reports the triangles of one packet the ray crosses, in lane order, until
@@ -1047,54 +477,6 @@ fn pack_any_hit(
     false
 }
 
-/// The leaves of a [`TriangleBvh`] a [`Shaft`] may reach, in any-hit order,
-/// with their boxes four to a node so that a ray tests four at once. Kept by
-/// the caller and reused, so that gathering allocates nothing once warm.
-#[derive(Clone, Debug, Default)]
-pub struct LeafSet {
-    groups: Vec<Node4>,
-    len: usize,
-    /// Work list of `gather`: `node << 2 | lane`.
-    stack: Vec<u32>,
-}
-
-impl LeafSet {
-    /// Number of leaves.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
-    fn clear(&mut self) {
-        self.groups.clear();
-        self.stack.clear();
-        self.len = 0;
-    }
-
-    /// Schedules the lanes of `mask` of `node`, so that they pop in lane order.
-    fn push_lanes(&mut self, node: u32, mask: u32) {
-        for lane in (0..WIDTH as u32).rev() {
-            if mask >> lane & 1 != 0 {
-                self.stack.push(node << 2 | lane);
-            }
-        }
-    }
-
-    fn push_leaf(&mut self, node: &Node4, lane: usize) {
-        if self.len == self.groups.len() * WIDTH {
-            self.groups.push(Node4::EMPTY);
-        }
-        let b = node.lane_box(lane);
-        if let Some(g) = self.groups.last_mut() {
-            g.set(self.len % WIDTH, &b, node.child[lane]);
-        }
-        self.len += 1;
-    }
-}
-
 // The sizes the module docs state.
 const _: () = assert!(std::mem::size_of::<Pack>() == 160);
 
@@ -1105,6 +487,7 @@ mod tests {
     use crate::accel::brute::{brute_any, brute_closest};
     use crate::accel::testdata::*;
     use crate::geometry::triangle::intersect_triangle;
+    use crate::geometry::triangle::RayShear;
     use crate::sampling::Rng;
 
     fn soup(r: &mut Rng, n: usize, size: f32) -> Vec<Tri> {
@@ -1437,18 +820,6 @@ mod tests {
             .collect();
         let rays = random_rays(&mut r, 1000, &unit);
         assert!(check(&tris, &rays) > 100);
-    }
-
-    #[test]
-    fn stack_spills_in_order() {
-        let mut s = Stack::new();
-        for i in 0..3 * MAX_DEPTH as u32 {
-            s.push((i, i as f32));
-        }
-        for i in (0..3 * MAX_DEPTH as u32).rev() {
-            assert_eq!(s.pop(), Some((i, i as f32)));
-        }
-        assert_eq!(s.pop(), None);
     }
 
     /// A closed UV sphere about the origin: `nu` segments, `nv` rings.

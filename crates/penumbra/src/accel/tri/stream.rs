@@ -38,8 +38,8 @@
 //! incoherent rays (medians of interleaved series 1.00–1.15×; camera rays,
 //! already in the cache, lose up to 6%).
 
-use super::{closest_in_pack, descend, pack_any_hit, Frustum, Pack, RayPacket, Run, Stack};
-use super::{TraversalRay, TriHit, TriangleBvh, FIRST_MASK, LEAF};
+use super::super::bvh4::{Cursor, Frustum, Node4, RayPacket, Run, TraversalRay};
+use super::{closest_in_pack, pack_any_hit, Pack, TriHit, TriangleBvh};
 use crate::math::Ray;
 use glam::{Vec3A, Vec4};
 use std::ops::Range;
@@ -52,10 +52,7 @@ struct Walk {
     r: TraversalRay,
     /// Index of the ray in the batch.
     ray: usize,
-    tmax: f32,
-    /// The node or leaf to visit next.
-    cur: u32,
-    stack: Stack,
+    at: Cursor,
 }
 
 /// Most rays of a run traced as one packet. On the harness's camera rays
@@ -166,7 +163,7 @@ impl TriangleBvh {
             while let Some(ray) = rays.get(next) {
                 let i = next;
                 next += 1;
-                if !self.nodes.is_empty() && ray.origin.is_finite() && ray.dir.is_finite() {
+                if !self.tree.is_empty() && ray.origin.is_finite() && ray.dir.is_finite() {
                     return Some((i, TraversalRay::new(ray)));
                 }
                 done(i, false);
@@ -179,14 +176,8 @@ impl TriangleBvh {
             let Some((ray, r)) = start(&mut done) else {
                 break;
             };
-            let (tmax, cur, stack) = (tmax[ray], 0, Stack::new());
-            *slot = Some(Walk {
-                r,
-                ray,
-                tmax,
-                cur,
-                stack,
-            });
+            let at = Cursor::new(tmax[ray]);
+            *slot = Some(Walk { r, ray, at });
             live += 1;
         }
         let tmin4 = Vec4::splat(tmin);
@@ -201,8 +192,8 @@ impl TriangleBvh {
                 done(w.ray, stopped);
                 match start(&mut done) {
                     Some((ray, r)) => {
-                        (w.r, w.ray, w.tmax, w.cur) = (r, ray, tmax[ray], 0);
-                        w.stack.clear();
+                        (w.r, w.ray) = (r, ray);
+                        w.at.restart(tmax[ray]);
                     }
                     None => {
                         *slot = None;
@@ -213,9 +204,9 @@ impl TriangleBvh {
         }
     }
 
-    /// Advances a ray by one node or one leaf: `Some(stopped)` once it is
-    /// finished, with whether `leaf` stopped it. The loop body of
-    /// [`traverse`](Self::traverse) for a single ray.
+    /// Advances a ray by one node or one leaf (the tree's
+    /// [`step`](super::Bvh4::step)): `Some(stopped)` once it is finished,
+    /// with whether `leaf` stopped it. Prefetches what it visits next.
     #[inline(always)]
     fn step<const ORDERED: bool>(
         &self,
@@ -223,28 +214,17 @@ impl TriangleBvh {
         tmin4: Vec4,
         leaf: &mut impl FnMut(usize, &Pack, &TraversalRay, &mut f32) -> bool,
     ) -> Option<bool> {
-        if w.cur & LEAF == 0 {
-            let node = &self.nodes[w.cur as usize];
-            let (mask, t) = node.hit(&w.r, tmin4, Vec4::splat(w.tmax));
-            if mask != 0 {
-                w.cur = descend::<ORDERED>(mask, &t, |i| node.child[i], &mut w.stack);
-                self.prefetch(w.cur);
-                return None;
-            }
-        } else {
-            let (i, r, tmax) = (w.ray, &w.r, &mut w.tmax);
-            if self.leaf_packs(w.cur).iter().any(|p| leaf(i, p, r, tmax)) {
-                return Some(true);
-            }
+        let (i, r) = (w.ray, &w.r);
+        let hit_node = |node: &Node4, tmax| node.hit(r, tmin4, Vec4::splat(tmax));
+        let mut packs = |_: Option<(&Node4, usize)>, packs: &[Pack], tmax: &mut f32| {
+            packs.iter().any(|p| leaf(i, p, r, tmax))
+        };
+        let at = (&mut w.at.cur, &mut w.at.tmax, &mut w.at.stack);
+        let done = self.tree.step::<ORDERED, false>(at, &hit_node, &mut packs);
+        if done.is_none() {
+            self.prefetch(w.at.cur);
         }
-        match w.stack.pop_within(w.tmax) {
-            Some(c) => {
-                w.cur = c;
-                self.prefetch(c);
-                None
-            }
-            None => Some(false),
-        }
+        done
     }
 
     /// Asks the processor to start loading what a ray visits next (both
@@ -253,13 +233,11 @@ impl TriangleBvh {
     /// this ray's next one. A hint only: no result depends on it.
     #[inline(always)]
     fn prefetch(&self, cur: u32) {
-        if cur & LEAF == 0 {
-            if let Some(n) = self.nodes.get(cur as usize) {
-                // The two lines of a node (128 bytes, aligned to 64).
-                fetch(&n.b[0][0]);
-                fetch(&n.b[2][0]);
-            }
-        } else if let Some(p) = self.packs.get((cur & FIRST_MASK) as usize) {
+        if let Some(n) = self.tree.node(cur) {
+            // The two lines of a node (128 bytes, aligned to 64).
+            fetch(&n.b[0][0]);
+            fetch(&n.b[2][0]);
+        } else if let Some(p) = self.tree.first_item(cur) {
             // The lines of its first 128 of 160 bytes (aligned to 16: a
             // packet starts anywhere in a line): all four lines measured
             // alike, the nodes alone slower than none.
@@ -286,7 +264,7 @@ pub(super) struct Stretches<'a> {
 impl<'a> Stretches<'a> {
     pub(super) fn new(bvh: &TriangleBvh, rays: &'a [Ray]) -> Self {
         // With an empty tree, all rays are loose.
-        let i = if bvh.nodes.is_empty() { rays.len() } else { 0 };
+        let i = if bvh.tree.is_empty() { rays.len() } else { 0 };
         Stretches {
             rays,
             i,
