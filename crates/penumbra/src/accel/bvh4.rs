@@ -278,6 +278,8 @@ pub struct Bvh4<P> {
     /// Leaf items, in leaf order.
     items: Vec<P>,
     bounds: Aabb,
+    /// The items of the only leaf, when the tree is one leaf.
+    single: Option<Box<[P]>>,
 }
 
 impl<P> Default for Bvh4<P> {
@@ -286,6 +288,7 @@ impl<P> Default for Bvh4<P> {
             nodes: Vec::new(),
             items: Vec::new(),
             bounds: Aabb::EMPTY,
+            single: None,
         }
     }
 }
@@ -315,7 +318,7 @@ impl Cursor {
     }
 }
 
-impl<P> Bvh4<P> {
+impl<P: Copy> Bvh4<P> {
     /// Builds the tree over primitives with boxes `prim_bounds` (finite).
     /// `leaf(ids, items)` appends the items of a leaf holding primitives
     /// `ids` (at most `MAX_ITEMS` of them): one per primitive, or packets.
@@ -335,6 +338,7 @@ impl<P> Bvh4<P> {
             nodes: Vec::with_capacity(nodes.len() / 3 + 1),
             items: Vec::with_capacity(prims.len() / 3 + 1),
             bounds: root.bounds,
+            single: None,
         };
         if root.count > 0 {
             // A single leaf: a root node with one child.
@@ -342,6 +346,7 @@ impl<P> Bvh4<P> {
             let ids = &prims[root.first as usize..][..root.count as usize];
             let child = out.leaf(ids, &mut leaf);
             out.nodes[0].set(0, &root.bounds, child);
+            out.single = Some(out.leaf_items(child).into());
         } else {
             out.collapse(&nodes, &prims, 0, &mut leaf);
         }
@@ -469,17 +474,67 @@ impl<P> Bvh4<P> {
         ray: &Ray,
         tmin: f32,
         tmax: f32,
-        mut leaf: impl FnMut(&[P], &TraversalRay, &mut f32) -> bool,
+        leaf: impl FnMut(&[P], &TraversalRay, &mut f32) -> bool,
     ) -> bool {
         if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
             return false;
         }
-        let r = TraversalRay::new(ray);
+        self.traverse_prepared::<ORDERED>(&TraversalRay::new(ray), tmin, tmax, leaf)
+    }
+
+    /// [`traverse_ray`](Self::traverse_ray) for a tree whose items are
+    /// tested with the ray itself: a tree of one leaf (a few objects) has
+    /// its items tested directly, without preparing the ray for box tests
+    /// (nearly every ray enters the box around them all), and `leaf` gets
+    /// no prepared ray then; a ray with a non-finite origin or direction
+    /// is given to the items' own tests, which then find no hit.
+    #[inline(always)]
+    pub(super) fn traverse_items<const ORDERED: bool>(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut leaf: impl FnMut(&[P], Option<&TraversalRay>, &mut f32) -> bool,
+    ) -> bool {
+        if let Some(items) = self.single_leaf() {
+            let mut tmax = tmax;
+            return leaf(items, None, &mut tmax);
+        }
+        self.traverse_outlined::<ORDERED>(ray, tmin, tmax, leaf)
+    }
+
+    /// The traversal of [`traverse_items`](Self::traverse_items), kept out
+    /// of line so that the callers' code for a tree of one leaf stays small.
+    #[inline(never)]
+    fn traverse_outlined<const ORDERED: bool>(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut leaf: impl FnMut(&[P], Option<&TraversalRay>, &mut f32) -> bool,
+    ) -> bool {
+        self.traverse_ray::<ORDERED>(ray, tmin, tmax, |items, r, tmax| leaf(items, Some(r), tmax))
+    }
+
+    /// [`traverse_ray`](Self::traverse_ray) for a ray already prepared
+    /// (with a finite origin and direction): a level below another one
+    /// that shares its space.
+    #[inline(always)]
+    pub(super) fn traverse_prepared<const ORDERED: bool>(
+        &self,
+        r: &TraversalRay,
+        tmin: f32,
+        tmax: f32,
+        mut leaf: impl FnMut(&[P], &TraversalRay, &mut f32) -> bool,
+    ) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
         let tmin4 = Vec4::splat(tmin);
         self.traverse::<ORDERED, false>(
             tmax,
-            |node, tmax| node.hit(&r, tmin4, Vec4::splat(tmax)),
-            |_, items, tmax| leaf(items, &r, tmax),
+            |node, tmax| node.hit(r, tmin4, Vec4::splat(tmax)),
+            |_, items, tmax| leaf(items, r, tmax),
         )
     }
 
@@ -586,6 +641,23 @@ impl<P> Bvh4<P> {
             }
         }
         true
+    }
+
+    /// The items of the tree when it is a single leaf.
+    #[inline(always)]
+    pub(super) fn single_leaf(&self) -> Option<&[P]> {
+        self.single.as_deref()
+    }
+
+    /// Calls `leaf` with the items of each leaf of `set`, in order.
+    pub(super) fn in_leaves(&self, set: &LeafSet, mut leaf: impl FnMut(&[P])) {
+        for group in &set.groups {
+            for &child in &group.child[..] {
+                if child & LEAF != 0 && (child >> 28) & 7 != 0 {
+                    leaf(self.leaf_items(child));
+                }
+            }
+        }
     }
 
     /// An any-hit traversal restricted to the leaves of `set` (gathered for
@@ -821,7 +893,7 @@ impl LeafSet {
         self.len == 0
     }
 
-    fn clear(&mut self) {
+    pub(super) fn clear(&mut self) {
         self.groups.clear();
         self.stack.clear();
         self.len = 0;

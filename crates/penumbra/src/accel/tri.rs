@@ -247,6 +247,25 @@ impl TriangleBvh {
         best
     }
 
+    /// [`closest_hit`](Self::closest_hit) for a ray prepared by the level above.
+    #[inline]
+    pub(super) fn closest_hit_prepared(
+        &self,
+        r: &TraversalRay,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<TriHit> {
+        let mut best = None;
+        self.tree
+            .traverse_prepared::<true>(r, tmin, tmax, |packs, r, tmax| {
+                for p in packs {
+                    closest_in_pack(p, r, tmin, tmax, &mut best);
+                }
+                false
+            });
+        best
+    }
+
     /// The closest hits of several rays from one origin, each within
     /// `(tmin, tmax[i])`, written to `out` in order: what
     /// [`closest_hit`](Self::closest_hit) gives each ray, bit for bit.
@@ -366,6 +385,23 @@ impl TriangleBvh {
     ) -> bool {
         self.tree
             .traverse_ray::<false>(ray, tmin, tmax, |packs, r, tmax| {
+                packs
+                    .iter()
+                    .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut hit))
+            })
+    }
+
+    /// [`any_hit`](Self::any_hit) for a ray prepared by the level above.
+    #[inline]
+    pub(super) fn any_hit_prepared(
+        &self,
+        r: &TraversalRay,
+        tmin: f32,
+        tmax: f32,
+        mut hit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        self.tree
+            .traverse_prepared::<false>(r, tmin, tmax, |packs, r, tmax| {
                 packs
                     .iter()
                     .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut hit))

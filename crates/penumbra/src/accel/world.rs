@@ -1,20 +1,28 @@
-//! The scene's geometry: the triangles of static meshes in one four-wide
-//! triangle BVH, every other object under a generic BVH.
+//! The scene's geometry in two levels of one kind of tree, a [`Bvh4`].
 //!
-//! Static meshes are baked into world space and their triangles copied into a
-//! [`TriangleBvh`] in leaf order (the fastest layout for rays: no indirection
-//! per triangle, four triangles per SIMD test). Spheres, quads and disks, and
-//! moving objects, are primitives of a generic [`Bvh`]; moving objects stay in
-//! object space (a moving mesh with its own BVH) and are intersected by
-//! transforming the ray to the object at the ray's time, bounded in the BVH
-//! over the whole shutter interval. A ray is traced through the objects first
-//! and then through the triangles with its range cut at the object hit (a
-//! ground plane in front of a mesh spares the mesh's BVH).
+//! The top level holds the scene's objects: spheres, quads, disks, moving
+//! objects, and one item for the triangles of all static meshes. Those
+//! triangles are baked into world space and copied, in leaf order, into a
+//! [`TriangleBvh`] of their own (the fastest layout for rays: no
+//! indirection per triangle, four triangles per SIMD test), which the top
+//! level enters like an instance with the identity transform. A moving
+//! object stays in its own space (a moving mesh with its own
+//! [`TriangleBvh`]) and is intersected by transforming the ray to the
+//! object at the ray's time; its top-level box bounds it over the whole
+//! shutter interval. Every query, closest or any hit, one ray or a packet,
+//! is the tree's one traversal step at both levels.
+//!
+//! Within a top-level leaf the objects come before the static triangles,
+//! so that a ray that hits the ground in front of a mesh cuts its range
+//! before entering the mesh's tree (which then often culls at its root).
+//! A scene of at most four objects besides its static meshes (a ground and
+//! a light) has a single top-level leaf.
 
-use super::{brute_closest, Bvh, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
+use super::build::Config;
+use super::bvh4::TraversalRay;
+use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
-use crate::geometry::triangle::RayShear;
 use crate::geometry::{Mesh, Shape, ShapeHit};
 use crate::math::{nearest_lane, Aabb, Ray, Vec3};
 
@@ -24,18 +32,43 @@ pub struct Object {
     /// The light this object is the visible surface of, if any.
     pub light: Option<u32>,
     pub motion: Option<Motion>,
-    /// BVH over the mesh's triangles, for moving meshes only.
-    pub mesh_bvh: Option<Bvh>,
+    /// The mesh's triangles in its own space, for moving meshes only.
+    pub mesh_bvh: Option<TriangleBvh>,
 }
 
-/// Up to this many objects besides static triangles are simply tested one
-/// after the other: cheaper than a BVH traversal (a ground quad and a light).
-const FEW: usize = 4;
+/// Builder settings of the top level: up to four objects in a leaf always
+/// (tested one after the other, cheaper than more box tests), up to the
+/// most a leaf holds when the SAH prefers them.
+const TOP: Config = Config {
+    max_leaf: 4,
+    max_sah_leaf: super::bvh4::MAX_ITEMS,
+    block_shift: 0,
+};
 
-/// What the object BVH indexes.
+/// What a top-level leaf holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Item {
+    /// An object other than a static mesh, by index.
+    Object(u32),
+    /// Two to four static quads of one leaf, tested at once: an index into
+    /// `World::quads`.
+    Quads(u32),
+    /// The triangles of the static meshes.
+    Meshes,
+}
+
+/// Static quads of a top-level leaf, four lanes at once (a ground and a
+/// light, the walls of a room), and their objects (`u32::MAX` in unused
+/// lanes).
+struct QuadPack {
+    quads: Quad4,
+    objects: [u32; 4],
+}
+
+/// What a hit is on.
 #[derive(Clone, Copy, Debug)]
-pub enum Prim {
-    Triangle { object: u32, tri: u32 },
+enum Prim {
+    Triangle { object: u32 },
     Object { object: u32 },
 }
 
@@ -55,23 +88,20 @@ pub struct Hit {
 pub struct World {
     pub objects: Vec<Object>,
     pub meshes: Vec<Mesh>,
+    /// The top level; see the module docs.
+    top: Bvh4<Item>,
+    quads: Vec<QuadPack>,
     /// Triangles of the static meshes; a hit's id indexes `tri_refs`.
     tris: TriangleBvh,
     /// Object and triangle index of each triangle of `tris`.
     tri_refs: Vec<(u32, u32)>,
-    /// The other objects, under `bvh`.
-    prims: Vec<Prim>,
-    /// Indices into `prims` of the objects that cast shadows (not lights).
-    casters: Vec<u32>,
-    bvh: Bvh,
-    /// The other objects four lanes at once, when they are at most four
-    /// static quads (a ground and a light): lane `i` is `prims[i]`.
-    quads: Option<Quad4>,
+    /// Objects other than static meshes.
+    others: usize,
     /// No object moves.
     is_static: bool,
 }
 
-/// Intersection details kept while the BVH search runs ([`ShapeHit`]
+/// Intersection details kept while the search runs ([`ShapeHit`]
 /// without its distance); turned into a [`Hit`] only once, for the closest
 /// primitive.
 #[derive(Clone, Copy, Default)]
@@ -101,11 +131,14 @@ impl Candidate {
     }
 }
 
+/// The closest hit found so far by a query.
+type Best = Option<(Prim, f32, Candidate)>;
+
 impl World {
     pub fn new(objects: Vec<Object>, meshes: Vec<Mesh>) -> World {
         let mut tri_refs = Vec::new();
         let mut tri_meshes = Vec::new();
-        let mut prims = Vec::new();
+        let mut items = Vec::new();
         let mut bounds = Vec::new();
         for (oi, o) in objects.iter().enumerate() {
             let object = oi as u32;
@@ -117,7 +150,7 @@ impl World {
                 }
                 (shape, motion) => {
                     let b = shape.bounds(&meshes);
-                    prims.push(Prim::Object { object });
+                    items.push(Item::Object(object));
                     bounds.push(motion.map_or(b, |m| m.bounds(b)));
                 }
             }
@@ -125,35 +158,65 @@ impl World {
         let tris = TriangleBvh::build(tri_refs.len(), |i| {
             meshes[tri_meshes[i] as usize].vertices(tri_refs[i].1 as usize)
         });
-        let bvh = Bvh::build(&bounds);
-        let casters = (0..prims.len() as u32)
-            .filter(|&i| {
-                objects[prim_object(prims[i as usize]) as usize]
-                    .light
-                    .is_none()
-            })
-            .collect();
+        let others = items.len();
+        if !tris.is_empty() {
+            items.push(Item::Meshes);
+            bounds.push(tris.bounds());
+        }
+        let mut quads = Vec::new();
+        let top = Bvh4::build(&bounds, &TOP, |ids, out| {
+            // The static quads of a leaf first (four at once if there are
+            // several), then its other objects, then the triangles.
+            let static_quad = |item: &Item| match *item {
+                Item::Object(o) => match &objects[o as usize] {
+                    Object {
+                        shape: Shape::Quad(q),
+                        motion: None,
+                        ..
+                    } => Some((o, *q)),
+                    _ => None,
+                },
+                _ => None,
+            };
+            let leaf: Vec<Item> = ids.iter().map(|&i| items[i as usize]).collect();
+            let (q, rest): (Vec<Item>, Vec<Item>) =
+                leaf.iter().partition(|i| static_quad(i).is_some());
+            if q.len() >= 2 {
+                let (ids, q): (Vec<u32>, Vec<Quad>) = q.iter().filter_map(static_quad).unzip();
+                let mut objects = [u32::MAX; 4];
+                objects[..ids.len()].copy_from_slice(&ids);
+                if let Some(quads4) = Quad4::new(&q) {
+                    out.push(Item::Quads(quads.len() as u32));
+                    quads.push(QuadPack {
+                        quads: quads4,
+                        objects,
+                    });
+                }
+            } else {
+                out.extend(q);
+            }
+            out.extend(rest.iter().filter(|&&i| i != Item::Meshes));
+            out.extend(rest.iter().filter(|&&i| i == Item::Meshes));
+        });
         let is_static = objects.iter().all(|o| o.motion.is_none());
-        let quads = few_quads(&prims, &objects);
         World {
             objects,
             meshes,
+            top,
+            quads,
             tris,
             tri_refs,
-            prims,
-            casters,
-            bvh,
-            quads,
+            others,
             is_static,
         }
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.bvh.bounds().union(self.tris.bounds())
+        self.top.bounds()
     }
 
     pub fn primitive_count(&self) -> usize {
-        self.tri_refs.len() + self.prims.len()
+        self.tri_refs.len() + self.others
     }
 
     /// True when no object moves (the camera may still).
@@ -163,32 +226,71 @@ impl World {
 
     /// The closest surface along the ray within (tmin, tmax).
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        // The few other objects first (a ground, a light): their hit cuts the
-        // ray before the triangle BVH, which then often culls at its root.
-        let best = self.closest_object(ray, tmin, tmax);
-        let tmax = best.map_or(tmax, |b| b.1);
-        let tri = self.tris.closest_hit(ray, tmin, tmax);
-        self.finish(ray, best, tri.as_ref())
+        let mut best = None;
+        self.top
+            .traverse_items::<true>(ray, tmin, tmax, |items, r, tmax| {
+                for &item in items {
+                    match item {
+                        Item::Object(object) => {
+                            self.closest_object(object, ray, tmin, tmax, &mut best)
+                        }
+                        Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, &mut best),
+                        Item::Meshes => {
+                            let h = match r {
+                                Some(r) => self.tris.closest_hit_prepared(r, tmin, *tmax),
+                                None => self.tris.closest_hit(ray, tmin, *tmax),
+                            };
+                            if let Some(h) = h {
+                                *tmax = h.t;
+                                best = Some(self.triangle_candidate(&h));
+                            }
+                        }
+                    }
+                }
+                false
+            });
+        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
     }
 
-    /// The hit record of the nearer of an object hit and a triangle hit
-    /// found within the object's distance (so the triangle, if any, wins).
-    fn finish(
-        &self,
-        ray: &Ray,
-        object: Option<(Prim, f32, Candidate)>,
-        tri: Option<&TriHit>,
-    ) -> Option<Hit> {
-        let best = tri.map(|h| self.triangle_candidate(h)).or(object);
-        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+    /// Tests one object for a hit nearer than `tmax`; on one, shrinks
+    /// `tmax` to it and records it in `best`.
+    #[inline]
+    fn closest_object(&self, object: u32, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
+        let prim = Prim::Object { object };
+        if let Some((t, c)) = self.intersect_prim(prim, ray, tmin, *tmax) {
+            *tmax = t;
+            *best = Some((prim, t, c));
+        }
+    }
+
+    /// [`closest_object`](Self::closest_object) for the quads of
+    /// `self.quads[i]`: the nearest lane, the first of equals (as testing
+    /// them in order does).
+    #[inline]
+    fn closest_quad(&self, i: u32, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
+        let pack = &self.quads[i as usize];
+        let h = pack.quads.intersect(ray, tmin, *tmax);
+        if h.mask == 0 {
+            return;
+        }
+        let lane = nearest_lane(h.mask, &h.t);
+        let cand = Candidate {
+            b1: h.s[lane],
+            b2: h.tt[lane],
+            inner: 0,
+        };
+        let object = pack.objects[lane];
+        *tmax = h.t[lane];
+        *best = Some((Prim::Object { object }, h.t[lane], cand));
     }
 
     /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
     /// order: the same hits (of static triangles hit at exactly the same
-    /// distance, the lowest index on both paths). The static
-    /// triangles are searched for all rays at once (see
-    /// [`TriangleBvh::closest_hits`]), which pays off for rays from one
-    /// point in nearly one direction: the camera rays of a pixel.
+    /// distance, the lowest index on both paths). Each ray passes the top
+    /// level's objects alone; the static triangles are then searched for
+    /// all rays at once (see [`TriangleBvh::closest_hits`]), which pays off
+    /// for rays from one point in nearly one direction: the camera rays of
+    /// a pixel.
     pub fn intersect_all(
         &self,
         rays: &[Ray],
@@ -203,16 +305,32 @@ impl World {
             packet,
         } = scratch;
         objects.clear();
-        objects.extend(
-            rays.iter()
-                .map(|r| self.closest_object(r, tmin, f32::INFINITY)),
-        );
+        objects.extend(rays.iter().map(|ray| {
+            let mut best = None;
+            self.top
+                .traverse_items::<true>(ray, tmin, f32::INFINITY, |items, _, tmax| {
+                    for &item in items {
+                        match item {
+                            Item::Object(object) => {
+                                self.closest_object(object, ray, tmin, tmax, &mut best)
+                            }
+                            Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, &mut best),
+                            Item::Meshes => {}
+                        }
+                    }
+                    false
+                });
+            best
+        }));
         tmax.clear();
         tmax.extend(objects.iter().map(|b| b.map_or(f32::INFINITY, |b| b.1)));
         self.tris.closest_hits(rays, tmin, tmax, packet, tris);
         out.clear();
         let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
-        out.extend(hits.map(|((ray, best), tri)| self.finish(ray, *best, tri.as_ref())));
+        out.extend(hits.map(|((ray, best), tri)| {
+            let best = tri.map(|h| self.triangle_candidate(&h)).or(*best);
+            best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+        }));
     }
 
     fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {
@@ -222,66 +340,18 @@ impl World {
             b2: h.b2,
             inner: tri,
         };
-        (Prim::Triangle { object, tri }, h.t, cand)
-    }
-
-    /// The closest of the objects that are not static triangles.
-    #[inline]
-    fn closest_object(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<(Prim, f32, Candidate)> {
-        match &self.quads {
-            Some(q) => self.closest_quad(q, ray, tmin, tmax),
-            None => self.closest_other(ray, tmin, tmax),
-        }
-    }
-
-    /// The nearest lane of the few quads, the first of equals (as testing
-    /// them in order does).
-    #[inline]
-    fn closest_quad(
-        &self,
-        q: &Quad4,
-        ray: &Ray,
-        tmin: f32,
-        tmax: f32,
-    ) -> Option<(Prim, f32, Candidate)> {
-        let h = q.intersect(ray, tmin, tmax);
-        if h.mask == 0 {
-            return None;
-        }
-        let lane = nearest_lane(h.mask, &h.t);
-        let cand = Candidate {
-            b1: h.s[lane],
-            b2: h.tt[lane],
-            inner: 0,
-        };
-        Some((self.prims[lane], h.t[lane], cand))
-    }
-
-    /// [`closest_object`](Self::closest_object) one object at a time.
-    #[inline(never)]
-    fn closest_other(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<(Prim, f32, Candidate)> {
-        let mut cand = Candidate::default();
-        let test = |i: u32, tmax: f32| {
-            let (t, c) = self.intersect_prim(self.prims[i as usize], ray, tmin, tmax)?;
-            cand = c;
-            Some(t)
-        };
-        let found = if self.prims.len() <= FEW {
-            brute_closest(self.prims.len(), ray, tmin, tmax, test)
-        } else {
-            self.bvh.closest_hit(ray, tmin, tmax, test)
-        };
-        found.map(|(i, t)| (self.prims[i as usize], t, cand))
+        (Prim::Triangle { object }, h.t, cand)
     }
 
     /// Prepares `out` for the segments from the box `origins` to the box
-    /// `targets` (a shadow set, see [`Shaft`]): gathers the static-triangle
-    /// leaves they may cross, and notes which of the few other shadow casters
-    /// they may cross (a quad or disk with every end point on one side of its
-    /// plane cannot be crossed: the ground a shadow set starts from, say;
-    /// nor can a still object whose bounding box lies outside the shaft).
-    /// Returns false if the boxes are not finite or the shaft reaches more
-    /// than `limit` leaves: then the rays are better traced one by one.
+    /// `targets` (a shadow set, see [`Shaft`]): gathers the top-level
+    /// leaves and the static-triangle leaves they may cross, and lists the
+    /// shadow casters among the objects of those leaves that they may cross
+    /// (a quad or disk with every end point on one side of its plane cannot
+    /// be crossed: the ground a shadow set starts from, say; nor can a
+    /// still object whose bounding box lies outside the shaft). Returns
+    /// false if the boxes are not finite or the shaft reaches more than
+    /// `limit` leaves or objects: then the rays are better traced one by one.
     pub fn gather_shaft(
         &self,
         origins: Aabb,
@@ -292,12 +362,14 @@ impl World {
         let Some(shaft) = Shaft::new(origins, targets) else {
             return false;
         };
-        if !self.tris.gather(&shaft, limit, &mut out.leaves) {
-            return false;
-        }
-        out.casters = 0;
-        for (bit, &i) in self.casters.iter().enumerate().take(FEW) {
-            let o = &self.objects[prim_object(self.prims[i as usize]) as usize];
+        out.items.clear();
+        out.leaves.clear();
+        let mut ok = true;
+        let consider = |object: u32, out: &mut ShaftSet| {
+            let o = &self.objects[object as usize];
+            if o.light.is_some() {
+                return;
+            }
             let still = o.motion.is_none();
             let plane = o.shape.plane().filter(|_| still);
             let apart = plane.is_some_and(|(n, p)| one_side(n, p, &[origins, targets]));
@@ -305,19 +377,50 @@ impl World {
             let analytic = !matches!(o.shape, Shape::Mesh { .. });
             let outside = || still && analytic && !shaft.overlaps(&o.shape.bounds(&[]));
             if !apart && !outside() {
-                out.casters |= 1 << bit;
+                out.items.push(Item::Object(object));
             }
+        };
+        let mut leaf = |items: &[Item], out: &mut ShaftSet| {
+            for &item in items {
+                match item {
+                    Item::Object(object) => consider(object, out),
+                    // Lane by lane: the crossings come in the same order.
+                    Item::Quads(i) => {
+                        let objects = self.quads[i as usize].objects;
+                        for object in objects.into_iter().filter(|&o| o != u32::MAX) {
+                            consider(object, out);
+                        }
+                    }
+                    Item::Meshes => {
+                        ok = self.tris.gather(&shaft, limit, &mut out.leaves);
+                        if !out.leaves.is_empty() {
+                            out.items.push(item);
+                        }
+                    }
+                }
+            }
+        };
+        // A top level of one leaf (a few objects) is taken whole.
+        if let Some(items) = self.top.single_leaf() {
+            leaf(items, out);
+        } else {
+            let mut top = std::mem::take(&mut out.top);
+            if !self.top.gather(&shaft, limit, &mut top) {
+                out.top = top;
+                return false;
+            }
+            self.top.in_leaves(&top, |items| leaf(items, out));
+            out.top = top;
         }
-        true
+        ok && out.items.len() <= limit
     }
 
     /// True if nothing can block a segment held by the shaft `set` was
-    /// gathered for: no static-triangle leaf and no other caster is within
-    /// it. [`transmittance`](Self::transmittance) within it is then 1 for
-    /// every such segment, and a shadow set need not trace its rays.
+    /// gathered for: no static-triangle leaf and no caster is within it.
+    /// [`transmittance`](Self::transmittance) within it is then 1 for every
+    /// such segment, and a shadow set need not trace its rays.
     pub fn shaft_is_clear(&self, set: &ShaftSet) -> bool {
-        let listed = self.casters.len().min(FEW);
-        set.leaves.is_empty() && self.prims.len() <= FEW && set.casters & ((1 << listed) - 1) == 0
+        set.items.is_empty()
     }
 
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
@@ -325,9 +428,9 @@ impl World {
     /// through attenuated by their transparency at every crossing (without
     /// bending it); light surfaces cast no shadow. With `shaft`, what
     /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
-    /// segment, only its leaves are tested among the static triangles and
-    /// only its casters among the other objects (the result is the same, bit
-    /// for bit).
+    /// segment, only its casters and static-triangle leaves are tested, in
+    /// the order a traversal meets them (the result is the same, bit for
+    /// bit).
     pub fn transmittance(
         &self,
         ray: &Ray,
@@ -335,80 +438,40 @@ impl World {
         transparency: &[f32],
         shaft: Option<&ShaftSet>,
     ) -> Option<f32> {
-        let mut trans = 1.0f32;
-        let hit = |id: u32| {
-            let o = &self.objects[self.tri_refs[id as usize].0 as usize];
-            if o.light.is_some() {
-                return false;
-            }
-            trans *= transparency[o.material as usize];
-            trans <= 0.0
+        let mut seg = Segment {
+            world: self,
+            ray,
+            tmin,
+            tmax,
+            transparency,
+            leaves: shaft.map(|s| &s.leaves),
+            trans: 1.0,
         };
         let blocked = match shaft {
-            None => self.tris.any_hit(ray, tmin, tmax, hit),
-            Some(set) => self.tris.any_hit_in(&set.leaves, ray, tmin, tmax, hit),
+            Some(set) => set.items.iter().any(|&i| seg.blocked_by(i, None)),
+            None => self
+                .top
+                .traverse_items::<false>(ray, tmin, tmax, |items, r, _| {
+                    items.iter().any(|&i| seg.blocked_by(i, r))
+                }),
         };
-        if blocked {
-            return None;
-        }
-        let test = |i: u32, tmax: f32| {
-            let prim = self.prims[i as usize];
-            let o = &self.objects[prim_object(prim) as usize];
-            if o.light.is_some() {
-                return false;
-            }
-            let crossings = self.count_crossings(prim, ray, tmin, tmax);
-            if crossings == 0 {
-                return false;
-            }
-            let kt = transparency[o.material as usize];
-            trans *= kt.powi(crossings);
-            trans <= 0.0
-        };
-        let blocked = if self.prims.len() <= FEW {
-            // Only the objects that cast shadows (lights do not), and of
-            // those only the ones the shaft may cross.
-            let may_cross = shaft.map_or(u32::MAX, |s| s.casters);
-            let mut casters = self.casters.iter().enumerate();
-            if let Some(q) = &self.quads {
-                // A quad is crossed at most once: its lane says whether.
-                // (With a shaft, often no caster is left to test.)
-                let listed = self.casters.len().min(FEW);
-                if may_cross & ((1 << listed) - 1) == 0 {
-                    return Some(trans);
-                }
-                let crossed = q.intersect(ray, tmin, tmax).mask;
-                casters.any(|(bit, &i)| {
-                    if may_cross >> bit & crossed >> i & 1 == 0 {
-                        return false;
-                    }
-                    let o = &self.objects[prim_object(self.prims[i as usize]) as usize];
-                    trans *= transparency[o.material as usize];
-                    trans <= 0.0
-                })
-            } else {
-                let mut test = test;
-                casters.any(|(bit, &i)| may_cross >> bit & 1 != 0 && test(i, tmax))
-            }
-        } else {
-            self.bvh.any_hit(ray, tmin, tmax, test)
-        };
-        (!blocked).then_some(trans)
+        (!blocked).then_some(seg.trans)
     }
 
-    fn count_crossings(&self, prim: Prim, ray: &Ray, tmin: f32, tmax: f32) -> i32 {
+    /// How often the ray crosses the object within (tmin, tmax): a closed
+    /// shape (a sphere) can be crossed twice (in and out).
+    fn count_crossings(&self, object: u32, ray: &Ray, tmin: f32, tmax: f32) -> i32 {
+        let prim = Prim::Object { object };
         let Some((t, _)) = self.intersect_prim(prim, ray, tmin, tmax) else {
             return 0;
         };
-        // A closed shape (a sphere) can be crossed twice within the segment (in and out).
-        let closed = self.objects[prim_object(prim) as usize].shape.is_closed();
-        let second = matches!(prim, Prim::Object { .. })
-            && closed
-            && self.intersect_prim(prim, ray, t, tmax).is_some();
+        let closed = self.objects[object as usize].shape.is_closed();
+        let second = closed && self.intersect_prim(prim, ray, t, tmax).is_some();
         1 + i32::from(second)
     }
 
-    /// Intersects a primitive of the object BVH.
+    /// Intersects an object of the top level (a static triangle is found
+    /// through the triangle tree instead).
     fn intersect_prim(
         &self,
         prim: Prim,
@@ -416,25 +479,15 @@ impl World {
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
-        match prim {
-            Prim::Triangle { object, tri } => {
-                // Static triangles live in the triangle BVH; kept for completeness.
-                let Shape::Mesh { mesh } = self.objects[object as usize].shape else {
-                    return None;
-                };
-                let m = &self.meshes[mesh as usize];
-                let shear = RayShear::new(ray);
-                Shape::intersect_triangle_of(m, tri, ray, &shear, tmin, tmax).map(Candidate::of)
-            }
-            Prim::Object { object } => {
-                let o = &self.objects[object as usize];
-                match o.motion {
-                    None => self.intersect_shape(o, ray, tmin, tmax),
-                    Some(m) => {
-                        let (local, _) = m.to_object(ray);
-                        self.intersect_shape(o, &local, tmin, tmax)
-                    }
-                }
+        let Prim::Object { object } = prim else {
+            return None;
+        };
+        let o = &self.objects[object as usize];
+        match o.motion {
+            None => self.intersect_shape(o, ray, tmin, tmax),
+            Some(m) => {
+                let (local, _) = m.to_object(ray);
+                self.intersect_shape(o, &local, tmin, tmax)
             }
         }
     }
@@ -446,22 +499,17 @@ impl World {
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
-        let Shape::Mesh { mesh } = o.shape else {
+        if !matches!(o.shape, Shape::Mesh { .. }) {
             return o.shape.intersect(ray, tmin, tmax).map(Candidate::of);
+        }
+        // A moving mesh: its own tree, in its own space.
+        let h = o.mesh_bvh.as_ref()?.closest_hit(ray, tmin, tmax)?;
+        let cand = Candidate {
+            b1: h.b1,
+            b2: h.b2,
+            inner: h.id,
         };
-        // A moving mesh: its own BVH, in its own space.
-        let m = &self.meshes[mesh as usize];
-        let bvh = o.mesh_bvh.as_ref()?;
-        let shear = RayShear::new(ray);
-        let mut cand = Candidate::default();
-        let (tri, t) = bvh.closest_hit(ray, tmin, tmax, |i, tmax| {
-            let (t, c) =
-                Candidate::of(Shape::intersect_triangle_of(m, i, ray, &shear, tmin, tmax)?);
-            cand = c;
-            Some(t)
-        })?;
-        cand.inner = tri;
-        Some((t, cand))
+        Some((h.t, cand))
     }
 
     fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
@@ -496,10 +544,81 @@ impl World {
     }
 }
 
+/// A shadow segment being traced by [`World::transmittance`], and the
+/// fraction of light it lets through so far.
+struct Segment<'a> {
+    world: &'a World,
+    ray: &'a Ray,
+    tmin: f32,
+    tmax: f32,
+    transparency: &'a [f32],
+    /// The static-triangle leaves of the shaft holding the segment, if any.
+    leaves: Option<&'a LeafSet>,
+    trans: f32,
+}
+
+impl Segment<'_> {
+    /// Attenuates the light by `crossings` crossings of a surface of `o`;
+    /// true once nothing passes.
+    #[inline(always)]
+    fn cross(&mut self, o: &Object, crossings: i32) -> bool {
+        let kt = self.transparency[o.material as usize];
+        self.trans *= if crossings == 1 {
+            kt
+        } else {
+            kt.powi(crossings)
+        };
+        self.trans <= 0.0
+    }
+
+    /// Crosses what the segment meets of a top-level item (light surfaces
+    /// cast no shadow); true once nothing passes. `r` is the ray prepared
+    /// by the top level, if it was.
+    #[inline(always)]
+    fn blocked_by(&mut self, item: Item, r: Option<&TraversalRay>) -> bool {
+        let (w, ray, tmin, tmax) = (self.world, self.ray, self.tmin, self.tmax);
+        match item {
+            Item::Object(object) => {
+                let o = &w.objects[object as usize];
+                if o.light.is_some() {
+                    return false;
+                }
+                let n = w.count_crossings(object, ray, tmin, tmax);
+                n > 0 && self.cross(o, n)
+            }
+            Item::Quads(i) => {
+                // A quad is crossed at most once: its lane says whether.
+                let pack = &w.quads[i as usize];
+                let mut mask = pack.quads.intersect(ray, tmin, tmax).mask;
+                while mask != 0 {
+                    let o = &w.objects[pack.objects[mask.trailing_zeros() as usize] as usize];
+                    mask &= mask - 1;
+                    if o.light.is_none() && self.cross(o, 1) {
+                        return true;
+                    }
+                }
+                false
+            }
+            Item::Meshes => {
+                let leaves = self.leaves;
+                let hit = |id: u32| {
+                    let o = &w.objects[w.tri_refs[id as usize].0 as usize];
+                    o.light.is_none() && self.cross(o, 1)
+                };
+                match (leaves, r) {
+                    (Some(set), _) => w.tris.any_hit_in(set, ray, tmin, tmax, hit),
+                    (None, Some(r)) => w.tris.any_hit_prepared(r, tmin, tmax, hit),
+                    (None, None) => w.tris.any_hit(ray, tmin, tmax, hit),
+                }
+            }
+        }
+    }
+}
+
 /// Per-worker buffers of [`World::intersect_all`].
 #[derive(Default)]
 pub struct PacketScratch {
-    objects: Vec<Option<(Prim, f32, Candidate)>>,
+    objects: Vec<Best>,
     tmax: Vec<f32>,
     tris: Vec<Option<TriHit>>,
     packet: RayPacket,
@@ -509,9 +628,14 @@ pub struct PacketScratch {
 /// read by [`World::transmittance`] for each of its rays.
 #[derive(Clone, Debug, Default)]
 pub struct ShaftSet {
+    /// Top-level leaves the shaft may reach.
+    top: LeafSet,
+    /// Static-triangle leaves the shaft may reach.
     leaves: LeafSet,
-    /// Bit `i`: the `i`-th of the few non-triangle casters may be crossed.
-    casters: u32,
+    /// What its segments may cross, in the order a traversal meets it: the
+    /// casters among the objects of `top` and, if `leaves` is not empty,
+    /// the static triangles.
+    items: Vec<Item>,
 }
 
 /// True if every box lies strictly on the same side of the plane through `p`
@@ -531,38 +655,15 @@ fn one_side(n: Vec3, p: Vec3, boxes: &[Aabb]) -> bool {
     lo > margin || hi < -margin
 }
 
-/// The four-lane form of the other objects if they are at most [`FEW`]
-/// static quads.
-fn few_quads(prims: &[Prim], objects: &[Object]) -> Option<Quad4> {
-    if prims.len() > FEW {
-        return None;
-    }
-    let quads: Option<Vec<Quad>> = prims
-        .iter()
-        .map(|&p| match &objects[prim_object(p) as usize] {
-            Object {
-                shape: Shape::Quad(q),
-                motion: None,
-                ..
-            } => Some(*q),
-            _ => None,
-        })
-        .collect();
-    Quad4::new(&quads?)
-}
-
 fn prim_object(p: Prim) -> u32 {
     match p {
-        Prim::Triangle { object, .. } | Prim::Object { object } => object,
+        Prim::Triangle { object } | Prim::Object { object } => object,
     }
 }
 
-/// Builds the BVH of a mesh in its own space (moving meshes).
-pub fn mesh_bvh(mesh: &Mesh) -> Bvh {
-    let bounds: Vec<Aabb> = (0..mesh.triangles.len())
-        .map(|i| mesh.triangle_bounds(i))
-        .collect();
-    Bvh::build(&bounds)
+/// Builds the tree of a mesh in its own space (moving meshes).
+pub fn mesh_bvh(mesh: &Mesh) -> TriangleBvh {
+    TriangleBvh::build(mesh.triangles.len(), |i| mesh.vertices(i))
 }
 
 #[cfg(test)]
@@ -692,8 +793,8 @@ mod tests {
                 .collect();
             let origins = Aabb::new(origin, origin);
             assert!(world.gather_shaft(origins, light, usize::MAX, &mut set));
-            // Casters are numbered in object order without the mesh: the ground is bit 0.
-            culled += usize::from(set.casters & 1 == 0);
+            // The ground is object 1.
+            culled += usize::from(!set.items.contains(&Item::Object(1)));
             let is_clear = world.shaft_is_clear(&set);
             clear += usize::from(is_clear);
             for t in targets {

@@ -119,7 +119,7 @@ impl Quad4 {
     }
 
     /// The lanes hit within `(tmin, tmax)`.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Quad4Hits {
         let o = ray.origin.to_array().map(Vec4::splat);
         let d = ray.dir.to_array().map(Vec4::splat);
