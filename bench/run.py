@@ -241,7 +241,7 @@ def section_rays(args, bins, data):
         systems = ["embree", "penumbra"] if k % 2 == 0 else ["penumbra", "embree"]
         py = {s: python_rays(s) for s in systems}
         def raybench(b):
-            cmd = [b["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3, "--generic"]
+            cmd = [b["raybench"], "--tris", w / "bunny.tris", *rays, "--repeat", 3]
             if args.obvhs:
                 cmd.append("--obvhs")
             return json.loads(run(cmd).stdout)
@@ -269,9 +269,6 @@ def section_rays(args, bins, data):
                 "hits_penumbra": rounds[0][2]["rays"][set_name][kind]["hits"],
                 "hits_single": rounds[0][1]["penumbra"]["single"][set_name][kind]["hits"],
             }
-            gr = [r[1]["generic"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
-            row["generic"] = med(gr)
-            row["ratio_generic"] = med([p / g for p, g in zip(ns, gr)])
             if args.obvhs:
                 orr = [r[1]["obvhs"]["rays"][set_name][kind]["mrays_per_s"] for r in rounds]
                 row["obvhs"] = med(orr)
@@ -281,8 +278,6 @@ def section_rays(args, bins, data):
         "embree_ms_1": e1["build_ms"],
         "penumbra_ms_all": med([r[1]["penumbra"]["build"]["ms_all_threads"] for r in rounds]),
         "penumbra_ms_1": med([r[1]["penumbra"]["build"]["ms_1_thread"] for r in rounds]),
-        "generic_ms_all": med([r[1]["generic"]["build"]["ms_all_threads"] for r in rounds]),
-        "generic_ms_1": med([r[1]["generic"]["build"]["ms_1_thread"] for r in rounds]),
         "python_ms_all": med([r[2]["build_ms"] for r in rounds]),
     }
     if args.obvhs:
@@ -303,8 +298,6 @@ def section_rays(args, bins, data):
                                lambda r: r["penumbra"]["rays"][set_name][kind]["mrays_per_s"], True))
                 rows.append(vs(f"raybench {set_name} rays, {kind} hit, one ray per call, Mrays/s",
                                lambda r: r["penumbra"]["single"][set_name][kind]["mrays_per_s"], True))
-                rows.append(vs(f"raybench {set_name} rays, {kind} hit, generic BVH, Mrays/s",
-                               lambda r: r["generic"]["rays"][set_name][kind]["mrays_per_s"], True))
         rows.append(vs("BVH build, bunny, ms, all threads", lambda r: r["penumbra"]["build"]["ms_all_threads"], False))
         rows.append(vs("BVH build, bunny, ms, 1 thread", lambda r: r["penumbra"]["build"]["ms_1_thread"], False))
         out["vs"] = rows
@@ -671,11 +664,6 @@ def report(res):
                  "arrays), Mrays/s: " + "; ".join(f"{x['set']} {x['kind']} {f(x['native_batch'])}" for x in r["rows"])
                  + f". `TriangleMesh` from Python builds in {f(r['build']['python_ms_all'], 1)} ms (all threads, "
                  "the copy of the array included).")
-        L.append("Generic BVH (the binary `Bvh` with the scalar watertight test through a closure, as moving meshes "
-                 "are traced), Mrays/s: " + "; ".join(
-                     f"{x['set']} {x['kind']} {f(x['generic'])} (triangle BVH one ray per call {f(x['ratio_generic'])}× that)" for x in r["rows"])
-                 + f"; build {f(r['build']['generic_ms_all'], 1)} ms all threads, {f(r['build']['generic_ms_1'], 1)} ms "
-                 "1 thread (boxes only).")
         t = r["tree"]
         L.append(f"Penumbra's tree: {t['nodes']:,} four-wide nodes, {t['leaves']:,} leaves, {t['packs']:,} packets "
                  f"({100 * t['lane_fill']:.0f}% of lanes used), {t['bytes'] / 2**20:.1f} MiB.")

@@ -106,7 +106,7 @@ pub fn bumpy_radius(theta: f32, phi: f32) -> f32 {
 
 /// `n` rays from uniformly random points of `b` in uniformly random
 /// directions (seeded, so every run traces the same rays): the incoherent
-/// rays of the criterion benches and of `bvh_bench`.
+/// rays of the criterion benches.
 pub fn random_rays(n: usize, b: &Aabb, seed: u64) -> Vec<Ray> {
     let mut r = Rng::new(seed);
     (0..n)

@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! raybench --tris bunny.tris --rays camera=camera.rays --rays incoherent=inc.rays
-//!          [--repeat 5] [--generic] [--obvhs]
+//!          [--repeat 5] [--obvhs]
 //! ```
 //!
 //! For each ray file: closest hit and any hit over `(0, inf)`, one thread,
@@ -14,15 +14,12 @@
 //! `occluded_each`, which trace runs of rays from one point as packets and
 //! interleave the traversals of eight other rays: `rays` in the output) and
 //! one ray per call (`closest_hit`, `occluded`: `single`). Build: median
-//! time on one thread (on-CPU) and on all threads (wall clock). `--generic` also measures the generic
-//! [`Bvh`] with the scalar watertight test through its
-//! closure (the structure moving meshes use), and
-//! `--obvhs` (with the `obvhs` feature) the `obvhs` crate's CWBVH, with its
-//! own triangle test.
+//! time on one thread (on-CPU) and on all threads (wall clock). `--obvhs`
+//! (with the `obvhs` feature) also measures the `obvhs` crate's CWBVH, with
+//! its own triangle test.
 
-use penumbra::accel::{Bvh, TriangleBvh};
-use penumbra::geometry::triangle::{intersect_triangle, RayShear};
-use penumbra::math::{Aabb, Ray, Vec3};
+use penumbra::accel::TriangleBvh;
+use penumbra::math::{Ray, Vec3};
 use penumbra_bench::{median, read_rays, read_triangles, thread_time};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -33,14 +30,13 @@ struct Args {
     tris: PathBuf,
     rays: Vec<(String, PathBuf)>,
     repeat: usize,
-    generic: bool,
     obvhs: bool,
 }
 
 fn parse_args() -> Result<Args, String> {
     let mut it = std::env::args().skip(1);
     let (mut tris, mut rays, mut repeat) = (None, Vec::new(), 5);
-    let (mut generic, mut obvhs) = (false, false);
+    let mut obvhs = false;
     while let Some(a) = it.next() {
         let mut value = || it.next().ok_or(format!("{a} needs a value"));
         match a.as_str() {
@@ -51,11 +47,10 @@ fn parse_args() -> Result<Args, String> {
                 rays.push((name.to_string(), PathBuf::from(path)));
             }
             "--repeat" => repeat = value()?.parse().map_err(|e| format!("--repeat: {e}"))?,
-            "--generic" => generic = true,
             "--obvhs" => obvhs = true,
             "-h" | "--help" => {
                 return Err(
-                    "usage: raybench --tris FILE --rays NAME=FILE... [--repeat N] [--generic] [--obvhs]".into(),
+                    "usage: raybench --tris FILE --rays NAME=FILE... [--repeat N] [--obvhs]".into(),
                 )
             }
             _ => return Err(format!("unknown argument {a}")),
@@ -65,7 +60,6 @@ fn parse_args() -> Result<Args, String> {
         tris: tris.ok_or("--tris FILE is required")?,
         rays,
         repeat: repeat.max(1),
-        generic,
         obvhs,
     })
 }
@@ -209,31 +203,6 @@ fn penumbra(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Val
     })
 }
 
-fn generic(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
-    let bounds: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(*t)).collect();
-    let build = time_build(args.repeat, || Bvh::build(&bounds));
-    let bvh = Bvh::build(&bounds);
-    let test = |ray: &Ray, shear: &RayShear, p: u32, tmax: f32| {
-        let [a, b, c] = tris[p as usize];
-        intersect_triangle(ray, shear, a, b, c, 0.0, tmax)
-    };
-    let out = rates(
-        args,
-        rays,
-        <[Ray]>::to_vec,
-        |r| {
-            let s = RayShear::new(r);
-            bvh.closest_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).map(|h| h.0))
-                .is_some()
-        },
-        |r| {
-            let s = RayShear::new(r);
-            bvh.any_hit(r, 0.0, f32::INFINITY, |p, t| test(r, &s, p, t).is_some())
-        },
-    );
-    json!({ "build": build, "rays": out })
-}
-
 #[cfg(feature = "obvhs")]
 fn obvhs(args: &Args, tris: &[[Vec3; 3]], rays: &[(String, Vec<Ray>)]) -> Value {
     use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -315,9 +284,6 @@ fn main() -> ExitCode {
         "triangles": tris.len(),
         "penumbra": penumbra(&args, &tris, &rays),
     });
-    if args.generic {
-        doc["generic"] = generic(&args, &tris, &rays);
-    }
     if args.obvhs {
         doc["obvhs"] = obvhs(&args, &tris, &rays);
     }

@@ -1,14 +1,13 @@
-//! Brute-force intersection over all primitives: the oracle that BVH tests (and
-//! tests of anything built on the BVH) compare against. It has the same closure
-//! interface as [`Bvh`](super::Bvh), so a test calls the very same primitive
-//! routine through both and can demand bit-identical distances.
+//! Brute-force intersection over all primitives: the oracle that the tests
+//! of the trees (and of anything built on them) compare against. A test
+//! calls the very same primitive routine through both and can demand
+//! bit-identical distances.
 
 use crate::math::Ray;
 
 /// Closest hit among primitives `0..n`, testing each in index order with the
 /// closest distance so far as `tmax`. The ray and `tmin` are taken for
-/// symmetry with [`Bvh::closest_hit`](super::Bvh::closest_hit): the closure
-/// applies them itself.
+/// symmetry with the trees' queries: the closure applies them itself.
 pub fn brute_closest(
     n: usize,
     _ray: &Ray,

@@ -1,8 +1,7 @@
-//! The binned-SAH builder shared by the BVHs of this module: it produces a
-//! binary tree of [`Node`]s over primitive boxes and the primitive order of
-//! its leaves, which each BVH then packs into its own traversal layout
-//! ([`Bvh`](super::Bvh): sibling pairs; [`TriangleBvh`](super::TriangleBvh):
-//! four-wide nodes over packets of four triangles).
+//! The binned-SAH builder of the four-wide BVH ([`Bvh4`](super::Bvh4)): it
+//! produces a binary tree of [`Node`]s over primitive boxes and the
+//! primitive order of its leaves, which the four-wide tree then collapses
+//! into its own layout.
 //!
 //! Primitive references (box and index, 32 bytes) are partitioned in place,
 //! so each level is one linear pass and the build is O(n log n). Large ranges
@@ -20,19 +19,10 @@ const BINS: usize = 16;
 /// Ranges smaller than this are binned into `BINS / 2` bins.
 const SMALL_RANGE: usize = 64;
 
-/// Ranges of at most this many primitives always become leaves: the SAH cost
-/// model is too coarse to gain anything below that, and four primitives of a
-/// leaf share one box test.
-pub(crate) const MAX_LEAF: usize = 4;
-
-/// Ranges larger than this are split even when the SAH prefers a leaf (heavily
-/// overlapping primitives), which bounds the work done in one leaf.
-pub(crate) const MAX_SAH_LEAF: usize = 16;
-
-/// SAH cost of one traversal step (a pair of box tests) relative to one
+/// SAH cost of one traversal step (a node's box tests) relative to one
 /// primitive intersection.
-pub(crate) const TRAVERSAL_COST: f32 = 1.0;
-pub(crate) const INTERSECT_COST: f32 = 1.0;
+const TRAVERSAL_COST: f32 = 1.0;
+const INTERSECT_COST: f32 = 1.0;
 
 /// Maximum depth of a leaf (the root has depth 0). The build falls back to
 /// median splits when the remaining budget gets tight, which guarantees the
@@ -58,13 +48,6 @@ pub(crate) struct Config {
 }
 
 impl Config {
-    /// One primitive at a time: the generic [`Bvh`](super::Bvh).
-    pub const SINGLE: Config = Config {
-        max_leaf: MAX_LEAF,
-        max_sah_leaf: MAX_SAH_LEAF,
-        block_shift: 0,
-    };
-
     /// Cost units of `n` primitives: the number of blocks they occupy.
     #[inline(always)]
     fn blocks(&self, n: usize) -> f32 {

@@ -58,6 +58,15 @@ pub(super) const FIRST_MASK: u32 = (1 << 28) - 1;
 /// A leaf holds at most this many items (3 bits).
 pub(super) const MAX_ITEMS: usize = 7;
 
+/// Builder settings for one item per primitive (objects): leaves of up to
+/// four always (the SAH cost model is too coarse to gain anything below
+/// that), up to `MAX_ITEMS` when the SAH prefers them.
+pub(super) const ONE_PER_ITEM: Config = Config {
+    max_leaf: 4,
+    max_sah_leaf: MAX_ITEMS,
+    block_shift: 0,
+};
+
 /// Lane-wise `max(a, b)` for a `b` free of NaN, returning `b` where `a` is
 /// NaN: such a slab constrains nothing.
 ///
@@ -926,6 +935,148 @@ const _: () = assert!(std::mem::size_of::<Node4>() == 128);
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::brute::{brute_any, brute_closest};
+    use crate::accel::testdata::{rand_dir, rand_in};
+    use crate::sampling::Rng;
+
+    /// A tree over `bounds` whose items are the primitives' indices.
+    fn tree(bounds: &[Aabb]) -> Bvh4<u32> {
+        Bvh4::build(bounds, &ONE_PER_ITEM, |ids, out| out.extend_from_slice(ids))
+    }
+
+    /// Depth of the deepest leaf below node `cur` (the root has depth 1).
+    fn depth<P: Copy>(t: &Bvh4<P>, cur: u32) -> usize {
+        match t.node(cur) {
+            None => 0,
+            Some(n) => 1 + n.child.iter().map(|&c| depth(t, c)).max().unwrap_or(0),
+        }
+    }
+
+    /// Spheres moving during the shutter, intersected at the ray's time,
+    /// under boxes around their whole sweep: the tree's closest and any hit
+    /// against a loop over all of them, with the very same sphere test.
+    #[test]
+    fn moving_spheres_match_brute_force() {
+        let mut r = Rng::new(6);
+        let spheres: Vec<(Vec3, Vec3, f32)> = (0..3000)
+            .map(|_| {
+                let c = rand_in(&mut r, &Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0)));
+                (c, rand_dir(&mut r) * r.range(0.0, 1.0), r.range(0.05, 0.5))
+            })
+            .collect();
+        let bounds: Vec<Aabb> = spheres
+            .iter()
+            .map(|&(c, v, rad)| {
+                let at = |p: Vec3| Aabb::new(p - Vec3::splat(rad), p + Vec3::splat(rad));
+                at(c).union(at(c + v))
+            })
+            .collect();
+        let t = tree(&bounds);
+        assert!(depth(&t, 0) <= MAX_DEPTH);
+        let all = t.bounds();
+        let mut hits = 0;
+        for _ in 0..20_000 {
+            let o = rand_in(&mut r, &all);
+            let ray = Ray::new(o, rand_dir(&mut r), r.next_f32());
+            let (tmin, tmax) = (r.range(0.0, 0.5), r.range(1.0, 40.0));
+            let f = |p: u32, tm: f32| {
+                let (c0, v, rad) = spheres[p as usize];
+                let oc = ray.origin - (c0 + ray.time * v);
+                let a = ray.dir.length_squared();
+                let hb = oc.dot(ray.dir);
+                let disc = hb * hb - a * (oc.length_squared() - rad * rad);
+                if disc < 0.0 {
+                    return None;
+                }
+                let s = disc.sqrt();
+                [(-hb - s) / a, (-hb + s) / a]
+                    .into_iter()
+                    .find(|&t| t > tmin && t < tm)
+            };
+            let mut got = None;
+            t.traverse_ray::<true>(&ray, tmin, tmax, |items, _, tm| {
+                for &p in items {
+                    if let Some(h) = f(p, *tm) {
+                        (*tm, got) = (h, Some(h));
+                    }
+                }
+                false
+            });
+            let want = brute_closest(spheres.len(), &ray, tmin, tmax, f);
+            assert_eq!(got.map(f32::to_bits), want.map(|h| h.1.to_bits()));
+            let any = t.traverse_ray::<false>(&ray, tmin, tmax, |items, _, tm| {
+                items.iter().any(|&p| f(p, *tm).is_some())
+            });
+            let some = |p, tm| f(p, tm).is_some();
+            assert_eq!(any, brute_any(spheres.len(), &ray, tmin, tmax, some));
+            hits += usize::from(got.is_some());
+        }
+        assert!(hits > 1000, "{hits} hits");
+    }
+
+    /// Rays with a NaN or infinite origin or direction reach no leaf (and
+    /// end); a zero direction is finite and enters the boxes holding its
+    /// origin.
+    #[test]
+    fn non_finite_rays_reach_nothing() {
+        let mut r = Rng::new(8);
+        let world = Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0));
+        let bounds: Vec<Aabb> = (0..500)
+            .map(|_| {
+                let p = rand_in(&mut r, &world);
+                Aabb::new(p, p + Vec3::splat(1.0))
+            })
+            .collect();
+        let t = tree(&bounds);
+        let (nan, inf) = (f32::NAN, f32::INFINITY);
+        let rays = [
+            Ray::new(Vec3::splat(nan), Vec3::X, 0.0),
+            Ray::new(Vec3::ZERO, Vec3::splat(nan), 0.0),
+            Ray::new(Vec3::ZERO, Vec3::new(nan, 1.0, 0.0), 0.0),
+            Ray::new(Vec3::new(inf, 0.0, 0.0), -Vec3::X, 0.0),
+            Ray::new(Vec3::ZERO, Vec3::splat(inf), 0.0),
+            Ray::new(Vec3::ZERO, Vec3::new(-inf, 0.0, 0.0), 0.0),
+        ];
+        for ray in rays {
+            let mut calls = 0;
+            t.traverse_ray::<true>(&ray, 0.0, inf, |_, _, _| {
+                calls += 1;
+                false
+            });
+            assert_eq!(calls, 0, "{ray:?}");
+            assert!(!t.traverse_ray::<false>(&ray, 0.0, inf, |_, _, _| true));
+        }
+        let inside = Ray::new(bounds[3].min + Vec3::splat(0.5), Vec3::ZERO, 0.0);
+        let mut reached = Vec::new();
+        t.traverse_ray::<false>(&inside, 0.0, inf, |items, _, _| {
+            reached.extend_from_slice(items);
+            false
+        });
+        assert!(reached.contains(&3), "{reached:?}");
+    }
+
+    /// Points on a line (boxes of zero area) still give a balanced tree,
+    /// and every primitive lands in exactly one leaf.
+    #[test]
+    fn zero_area_boxes_give_a_balanced_tree() {
+        let line: Vec<Aabb> = (0..1000)
+            .map(|i| {
+                let p = Vec3::new(i as f32, 0.0, 0.0);
+                Aabb::new(p, p)
+            })
+            .collect();
+        let t = tree(&line);
+        assert!(depth(&t, 0) <= 10, "depth {}", depth(&t, 0));
+        let mut items = t.items.clone();
+        items.sort_unstable();
+        assert_eq!(items, (0..1000).collect::<Vec<u32>>());
+        let (_, leaves, n) = t.counts();
+        assert_eq!(n, 1000);
+        assert!(leaves >= 1000 / MAX_ITEMS, "{leaves} leaves");
+        // One primitive, and none.
+        assert_eq!(tree(&line[..1]).single_leaf(), Some(&[0u32][..]));
+        assert!(tree(&[]).is_empty());
+    }
 
     #[test]
     fn stack_spills_in_order() {

@@ -1,10 +1,10 @@
-//! Acceleration structures: a binned-SAH bounding volume hierarchy, generic over
-//! the primitive type through closures, and a brute-force oracle with the same
-//! interface for tests.
+//! Acceleration: the four-wide bounding volume hierarchy ([`Bvh4`]) with its
+//! one traversal kernel, the triangle packets of meshes ([`TriangleBvh`]),
+//! the scene's two levels of it ([`World`]), and shafts around shadow sets.
 
-pub mod brute;
+#[cfg(test)]
+mod brute;
 mod build;
-pub mod bvh;
 pub mod bvh4;
 pub mod shaft;
 #[cfg(test)]
@@ -12,8 +12,6 @@ mod testdata;
 pub mod tri;
 pub mod world;
 
-pub use brute::{brute_any, brute_closest};
-pub use bvh::{BuildStats, Bvh};
 pub use bvh4::{Bvh4, LeafSet, RayPacket};
 pub use shaft::Shaft;
 pub use tri::{TriHit, TriStats, TriangleBvh};

@@ -18,8 +18,7 @@
 //! A scene of at most four objects besides its static meshes (a ground and
 //! a light) has a single top-level leaf.
 
-use super::build::Config;
-use super::bvh4::TraversalRay;
+use super::bvh4::{TraversalRay, ONE_PER_ITEM};
 use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
@@ -35,15 +34,6 @@ pub struct Object {
     /// The mesh's triangles in its own space, for moving meshes only.
     pub mesh_bvh: Option<TriangleBvh>,
 }
-
-/// Builder settings of the top level: up to four objects in a leaf always
-/// (tested one after the other, cheaper than more box tests), up to the
-/// most a leaf holds when the SAH prefers them.
-const TOP: Config = Config {
-    max_leaf: 4,
-    max_sah_leaf: super::bvh4::MAX_ITEMS,
-    block_shift: 0,
-};
 
 /// What a top-level leaf holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -164,7 +154,7 @@ impl World {
             bounds.push(tris.bounds());
         }
         let mut quads = Vec::new();
-        let top = Bvh4::build(&bounds, &TOP, |ids, out| {
+        let top = Bvh4::build(&bounds, &ONE_PER_ITEM, |ids, out| {
             // The static quads of a leaf first (four at once if there are
             // several), then its other objects, then the triangles.
             let static_quad = |item: &Item| match *item {
@@ -725,6 +715,159 @@ mod tests {
             object(other, 1),
         ];
         World::new(objects, vec![mesh])
+    }
+
+    /// The nearest hit over every object, one after the other, with the
+    /// objects' own tests (a static mesh's triangles in world space, a moving
+    /// object's in its space at the ray's time): the oracle of the tree.
+    fn brute_nearest(w: &World, ray: &Ray) -> Option<(f32, u32)> {
+        use crate::geometry::triangle::RayShear;
+        let mut best: Option<(f32, u32)> = None;
+        for (i, o) in w.objects.iter().enumerate() {
+            let tmax = best.map_or(f32::INFINITY, |b| b.0);
+            let local = o.motion.map_or(*ray, |m| m.to_object(ray).0);
+            let t = match o.shape {
+                Shape::Mesh { mesh } => {
+                    let m = &w.meshes[mesh as usize];
+                    let shear = RayShear::new(&local);
+                    let mut near = tmax;
+                    for tri in 0..m.triangles.len() as u32 {
+                        let hit = Shape::intersect_triangle_of(m, tri, &local, &shear, 0.0, near);
+                        if let Some(h) = hit {
+                            near = h.t;
+                        }
+                    }
+                    (near < tmax).then_some(near)
+                }
+                ref shape => shape.intersect(&local, 0.0, tmax).map(|h| h.t),
+            };
+            if let Some(t) = t {
+                best = Some((t, i as u32));
+            }
+        }
+        best
+    }
+
+    /// A scene of every kind of object: a static mesh, a moving mesh,
+    /// static and moving spheres, quads (four of them packed together) and
+    /// disks, over 300 objects so that the top level is a real tree. Each
+    /// object has a material of its own, so a hit names its object.
+    #[test]
+    fn every_object_kind_matches_brute_force() {
+        use crate::geometry::motion::{Motion, Similarity};
+        use crate::geometry::quad::Quad;
+        use crate::math::Frame;
+        use crate::sampling::Rng;
+        use glam::Quat;
+        let mut r = Rng::new(53);
+        let point =
+            |r: &mut Rng| Vec3::new(r.range(-8.0, 8.0), r.range(-8.0, 8.0), r.range(-8.0, 8.0));
+        let soup = |r: &mut Rng, n: u32, c: Vec3| {
+            let positions = (0..3 * n)
+                .map(|_| c + Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)))
+                .collect();
+            let triangles = (0..n).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+            Mesh {
+                positions,
+                normals: None,
+                triangles,
+            }
+        };
+        let meshes = vec![soup(&mut r, 400, Vec3::ZERO), soup(&mut r, 200, Vec3::ZERO)];
+        let mut objects = Vec::new();
+        let mut add = |shape, motion: Option<Motion>| {
+            let material = objects.len() as u32;
+            let mesh_bvh = match (&shape, motion) {
+                (Shape::Mesh { mesh }, Some(_)) => Some(mesh_bvh(&meshes[*mesh as usize])),
+                _ => None,
+            };
+            objects.push(Object {
+                shape,
+                material,
+                light: None,
+                motion,
+                mesh_bvh,
+            });
+        };
+        let slide = |r: &mut Rng| {
+            let at = |t| Similarity {
+                translation: t,
+                ..Similarity::IDENTITY
+            };
+            let start = point(r);
+            let end = Similarity {
+                rotation: Quat::from_rotation_y(r.range(0.0, 1.0)),
+                ..at(start + Vec3::new(r.range(-1.0, 1.0), 0.0, r.range(-1.0, 1.0)))
+            };
+            Some(Motion {
+                start: at(start),
+                end,
+            })
+        };
+        add(Shape::Mesh { mesh: 0 }, None);
+        let m = slide(&mut r);
+        add(Shape::Mesh { mesh: 1 }, m);
+        for i in 0..320 {
+            let c = point(&mut r);
+            match i % 4 {
+                0 => add(
+                    Shape::Sphere {
+                        center: c,
+                        radius: r.range(0.1, 0.6),
+                    },
+                    None,
+                ),
+                1 => {
+                    let m = slide(&mut r);
+                    add(
+                        Shape::Sphere {
+                            center: Vec3::ZERO,
+                            radius: r.range(0.1, 0.6),
+                        },
+                        m,
+                    )
+                }
+                2 => {
+                    let (u, v) = (Vec3::X * r.range(0.2, 1.0), Vec3::Z * r.range(0.2, 1.0));
+                    add(Shape::Quad(Quad::new(c, u, v)), None)
+                }
+                _ => {
+                    let frame = Frame::from_normal(Vec3::new(0.3, 1.0, 0.2).normalize());
+                    add(
+                        Shape::Disk {
+                            center: c,
+                            frame,
+                            radius: r.range(0.1, 0.6),
+                        },
+                        None,
+                    )
+                }
+            }
+        }
+        let world = World::new(objects, meshes);
+        assert!(world.top.single_leaf().is_none());
+        assert!(!world.quads.is_empty(), "no quad packet was formed");
+        let (mut hits, mut scratch, mut out) = (0, PacketScratch::default(), Vec::new());
+        for _ in 0..4000 {
+            let o = Vec3::new(
+                r.range(-12.0, 12.0),
+                r.range(-12.0, 12.0),
+                r.range(-12.0, 12.0),
+            );
+            let ray = Ray::new(o, point(&mut r) - o, r.next_f32());
+            let got = world.intersect(&ray, 0.0, f32::INFINITY);
+            let want = brute_nearest(&world, &ray);
+            let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.material));
+            assert_eq!(key(got), want.map(|(t, i)| (t.to_bits(), i)), "{ray:?}");
+            // The same through a packet of one ray, and through any hit.
+            world.intersect_all(&[ray], 0.0, &mut scratch, &mut out);
+            assert_eq!(key(out[0]), key(got));
+            let none = vec![0.0; world.objects.len()];
+            let blocked = world.transmittance(&ray, (0.0, f32::INFINITY), &none, None);
+            assert_eq!(blocked.is_none(), got.is_some(), "{ray:?}");
+            hits += usize::from(got.is_some());
+        }
+        assert!(hits > 1000 && hits < 3900, "{hits} hits");
     }
 
     /// The camera rays of pixels, found together, hit what each finds
