@@ -295,25 +295,51 @@ impl World {
             packet,
         } = scratch;
         objects.clear();
-        objects.extend(rays.iter().map(|ray| {
-            let mut best = None;
-            self.top
-                .traverse_items::<true>(ray, tmin, f32::INFINITY, |items, _, tmax| {
-                    for &item in items {
-                        match item {
-                            Item::Object(object) => {
-                                self.closest_object(object, ray, tmin, tmax, &mut best)
-                            }
-                            Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, &mut best),
-                            Item::Meshes => {}
-                        }
-                    }
-                    false
-                });
-            best
-        }));
+        objects.resize(rays.len(), None);
         tmax.clear();
-        tmax.extend(objects.iter().map(|b| b.map_or(f32::INFINITY, |b| b.1)));
+        tmax.resize(rays.len(), f32::INFINITY);
+        let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+        match self.top.single_leaf() {
+            // A top level of one leaf: item by item, all rays (each item's
+            // data loaded once), in the order a ray alone meets them.
+            Some(items) => {
+                for &item in items {
+                    let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+                    match item {
+                        Item::Object(object) => {
+                            for ((ray, best), tmax) in rays_items {
+                                self.closest_object(object, ray, tmin, tmax, best);
+                            }
+                        }
+                        Item::Quads(i) => {
+                            for ((ray, best), tmax) in rays_items {
+                                self.closest_quad(i, ray, tmin, tmax, best);
+                            }
+                        }
+                        Item::Meshes => {}
+                    }
+                }
+            }
+            None => {
+                for ((ray, best), tmax) in rays_items {
+                    self.top
+                        .traverse_items::<true>(ray, tmin, *tmax, |items, _, tmax| {
+                            for &item in items {
+                                match item {
+                                    Item::Object(object) => {
+                                        self.closest_object(object, ray, tmin, tmax, best)
+                                    }
+                                    Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, best),
+                                    Item::Meshes => {}
+                                }
+                            }
+                            false
+                        });
+                    // The top level's traversal keeps its own limit.
+                    *tmax = best.map_or(f32::INFINITY, |b| b.1);
+                }
+            }
+        }
         self.tris.closest_hits(rays, tmin, tmax, packet, tris);
         out.clear();
         let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
@@ -370,8 +396,9 @@ impl World {
                 out.items.push(Item::Object(object));
             }
         };
+        // In the order of an any-hit traversal (see `transmittance`).
         let mut leaf = |items: &[Item], out: &mut ShaftSet| {
-            for &item in items {
+            for &item in items.iter().rev() {
                 match item {
                     Item::Object(object) => consider(object, out),
                     // Lane by lane: the crossings come in the same order.
@@ -420,7 +447,9 @@ impl World {
     /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
     /// segment, only its casters and static-triangle leaves are tested, in
     /// the order a traversal meets them (the result is the same, bit for
-    /// bit).
+    /// bit). A leaf's items are tested last to first, the static triangles
+    /// before the objects: an opaque mesh ends most of the shadow rays that
+    /// meet it.
     pub fn transmittance(
         &self,
         ray: &Ray,
@@ -442,7 +471,7 @@ impl World {
             None => self
                 .top
                 .traverse_items::<false>(ray, tmin, tmax, |items, r, _| {
-                    items.iter().any(|&i| seg.blocked_by(i, r))
+                    items.iter().rev().any(|&i| seg.blocked_by(i, r))
                 }),
         };
         (!blocked).then_some(seg.trans)
