@@ -485,10 +485,17 @@ impl<P: Copy> Bvh4<P> {
         tmax: f32,
         leaf: impl FnMut(&[P], &TraversalRay, &mut f32) -> bool,
     ) -> bool {
-        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
-            return false;
-        }
-        self.traverse_prepared::<ORDERED>(&TraversalRay::new(ray), tmin, tmax, leaf)
+        let r = self.prepare(ray);
+        r.is_some_and(|r| self.traverse_prepared::<ORDERED>(&r, tmin, tmax, leaf))
+    }
+
+    /// The ray prepared for the tree's tests; `None` when the tree is
+    /// empty or the ray's origin or direction is not finite (it reaches
+    /// nothing).
+    #[inline(always)]
+    pub(super) fn prepare(&self, ray: &Ray) -> Option<TraversalRay> {
+        let finite = ray.origin.is_finite() && ray.dir.is_finite();
+        (finite && !self.nodes.is_empty()).then(|| TraversalRay::new(ray))
     }
 
     /// [`traverse_ray`](Self::traverse_ray) for a tree whose items are

@@ -236,15 +236,8 @@ impl TriangleBvh {
     /// for it. A ray with a non-finite origin or direction hits nothing.
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<TriHit> {
-        let mut best = None;
-        self.tree
-            .traverse_ray::<true>(ray, tmin, tmax, |packs, r, tmax| {
-                for p in packs {
-                    closest_in_pack(p, r, tmin, tmax, &mut best);
-                }
-                false
-            });
-        best
+        let r = self.tree.prepare(ray)?;
+        self.closest_hit_prepared(&r, tmin, tmax)
     }
 
     /// [`closest_hit`](Self::closest_hit) for a ray prepared by the level above.
@@ -376,19 +369,9 @@ impl TriangleBvh {
     /// distance: most shadow rays are not blocked and must visit every
     /// subtree they enter anyway, so sorting would be wasted on them.
     #[inline]
-    pub fn any_hit(
-        &self,
-        ray: &Ray,
-        tmin: f32,
-        tmax: f32,
-        mut hit: impl FnMut(u32) -> bool,
-    ) -> bool {
-        self.tree
-            .traverse_ray::<false>(ray, tmin, tmax, |packs, r, tmax| {
-                packs
-                    .iter()
-                    .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut hit))
-            })
+    pub fn any_hit(&self, ray: &Ray, tmin: f32, tmax: f32, hit: impl FnMut(u32) -> bool) -> bool {
+        let r = self.tree.prepare(ray);
+        r.is_some_and(|r| self.any_hit_prepared(&r, tmin, tmax, hit))
     }
 
     /// [`any_hit`](Self::any_hit) for a ray prepared by the level above.

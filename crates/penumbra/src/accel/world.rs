@@ -155,8 +155,8 @@ impl World {
         }
         let mut quads = Vec::new();
         let top = Bvh4::build(&bounds, &ONE_PER_ITEM, |ids, out| {
-            // The static quads of a leaf first (four at once if there are
-            // several), then its other objects, then the triangles.
+            // The static quads of a leaf first (up to four at once), then
+            // its other objects, then the triangles.
             let static_quad = |item: &Item| match *item {
                 Item::Object(o) => match &objects[o as usize] {
                     Object {
@@ -171,19 +171,21 @@ impl World {
             let leaf: Vec<Item> = ids.iter().map(|&i| items[i as usize]).collect();
             let (q, rest): (Vec<Item>, Vec<Item>) =
                 leaf.iter().partition(|i| static_quad(i).is_some());
-            if q.len() >= 2 {
-                let (ids, q): (Vec<u32>, Vec<Quad>) = q.iter().filter_map(static_quad).unzip();
-                let mut objects = [u32::MAX; 4];
-                objects[..ids.len()].copy_from_slice(&ids);
-                if let Some(quads4) = Quad4::new(&q) {
-                    out.push(Item::Quads(quads.len() as u32));
-                    quads.push(QuadPack {
-                        quads: quads4,
-                        objects,
-                    });
+            let q: Vec<(u32, Quad)> = q.iter().filter_map(static_quad).collect();
+            for chunk in q.chunks(4) {
+                let (ids, q): (Vec<u32>, Vec<Quad>) = chunk.iter().copied().unzip();
+                match Quad4::new(&q).filter(|_| q.len() >= 2) {
+                    Some(quads4) => {
+                        let mut objects = [u32::MAX; 4];
+                        objects[..ids.len()].copy_from_slice(&ids);
+                        out.push(Item::Quads(quads.len() as u32));
+                        quads.push(QuadPack {
+                            quads: quads4,
+                            objects,
+                        });
+                    }
+                    None => out.extend(ids.into_iter().map(Item::Object)),
                 }
-            } else {
-                out.extend(q);
             }
             out.extend(rest.iter().filter(|&&i| i != Item::Meshes));
             out.extend(rest.iter().filter(|&&i| i == Item::Meshes));
@@ -897,6 +899,51 @@ mod tests {
             hits += usize::from(got.is_some());
         }
         assert!(hits > 1000 && hits < 3900, "{hits} hits");
+    }
+
+    /// Seven quads across one cube (identical boxes, so one leaf holds
+    /// them all): packed four and three, every one is still found.
+    #[test]
+    fn a_leaf_of_many_quads_keeps_them_all() {
+        use crate::geometry::quad::Quad;
+        use crate::sampling::Rng;
+        let v = Vec3::new;
+        let quads = [
+            (v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 1.0)),
+            (v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(1.0, 0.0, 1.0)),
+            (v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 1.0, 0.0)),
+            (v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, -1.0, 1.0)),
+            (v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(-1.0, 0.0, 1.0)),
+            (v(0.0, 0.0, 1.0), v(0.0, 1.0, 0.0), v(1.0, 0.0, -1.0)),
+            (v(0.0, 0.0, 1.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, -1.0)),
+        ];
+        let objects = quads
+            .iter()
+            .enumerate()
+            .map(|(i, &(o, a, b))| Object {
+                shape: Shape::Quad(Quad::new(o, a, b)),
+                material: i as u32,
+                light: None,
+                motion: None,
+                mesh_bvh: None,
+            })
+            .collect();
+        let world = World::new(objects, Vec::new());
+        assert_eq!(world.quads.len(), 2, "packs of 4 and 3");
+        let (mut r, mut seen) = (Rng::new(59), [0; 7]);
+        for _ in 0..3000 {
+            let o = Vec3::new(r.range(-2.0, 3.0), r.range(-2.0, 3.0), r.range(-2.0, 3.0));
+            let at = Vec3::new(r.range(0.0, 1.0), r.range(0.0, 1.0), r.range(0.0, 1.0));
+            let ray = Ray::new(o, at - o, 0.0);
+            let got = world.intersect(&ray, 0.0, f32::INFINITY);
+            let want = brute_nearest(&world, &ray);
+            let key = got.map(|h| (h.t.to_bits(), h.material));
+            assert_eq!(key, want.map(|(t, i)| (t.to_bits(), i)), "{ray:?}");
+            if let Some(h) = got {
+                seen[h.material as usize] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&n| n > 50), "{seen:?}");
     }
 
     /// The camera rays of pixels, found together, hit what each finds
