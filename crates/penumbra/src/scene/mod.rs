@@ -26,7 +26,7 @@ pub use build::BuildContext;
 pub use desc::SceneDesc;
 pub use error::SceneError;
 pub use light::{Light, LightShape, PenumbraModel};
-pub use load::{default_bunny_path, LoadOptions, SceneSource};
+pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE};
 pub use material::{EffectSpec, Material};
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;

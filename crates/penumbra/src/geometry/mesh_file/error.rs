@@ -56,6 +56,9 @@ pub enum MeshError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a file that is read (a FIFO, device, directory) or one over the size limit.
+    #[error(transparent)]
+    File(crate::input::InputError),
     /// A problem at a known place. Text formats give line and column (1-based); binary PLY bodies give the byte offset.
     #[error("{path}{}: {message}", location_suffix(.location))]
     Parse {
@@ -66,10 +69,11 @@ pub enum MeshError {
 }
 
 impl MeshError {
-    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        MeshError::Io {
-            path: path.to_path_buf(),
-            source,
+    /// The error of the bounded reader: an I/O failure stays [`MeshError::Io`].
+    pub(crate) fn input(e: crate::input::InputError) -> Self {
+        match e {
+            crate::input::InputError::Io { path, source } => MeshError::Io { path, source },
+            other => MeshError::File(other),
         }
     }
 

@@ -2,8 +2,9 @@
 //! arrays ([`MeshData`]) with errors that name the file, line and column.
 //!
 //! A shape reads its own file, as Mitsuba's `ply` and `obj` shape plugins do:
-//! the readers depend on nothing but the standard library, so the scene's
-//! builder can call them without reaching up into the output layer.
+//! the readers depend on nothing but the standard library and the bounded
+//! reader of [`crate::input`] (regular files only, size-capped), so the
+//! scene's builder can call them without reaching up into the output layer.
 
 mod error;
 pub mod obj;

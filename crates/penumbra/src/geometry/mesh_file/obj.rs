@@ -11,7 +11,7 @@ use super::error::{Location, MeshData, MeshError};
 use super::text::{parse_i64, quote, Lines, Tokens};
 
 pub fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
-    let bytes = std::fs::read(path).map_err(|e| MeshError::io(path, e))?;
+    let bytes = crate::input::read_file(path).map_err(MeshError::input)?;
     parse_obj(&bytes, path)
 }
 

@@ -20,7 +20,7 @@ use super::error::{Location, MeshData, MeshError};
 const MAX_FACE_CORNERS: i64 = 1 << 16;
 
 pub fn read_ply(path: &Path) -> Result<MeshData, MeshError> {
-    let bytes = std::fs::read(path).map_err(|e| MeshError::io(path, e))?;
+    let bytes = crate::input::read_file(path).map_err(MeshError::input)?;
     parse_ply(&bytes, path)
 }
 
