@@ -4,6 +4,7 @@
 //! A scene file and a built-in scene go through exactly the same path; see
 //! `docs/scene-format.md` for the format.
 
+mod arity;
 mod build;
 pub mod builtin;
 mod check;
