@@ -71,8 +71,7 @@ impl SceneSource {
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
         let map = SourceMap::new(file, text.to_string());
-        let desc: SceneDesc = toml::from_str(text)
-            .map_err(|e| map.error_at(e.span(), e.message().trim().to_string()))?;
+        let desc: SceneDesc = toml::from_str(text).map_err(|e| map.toml_error(&e))?;
         Ok(SceneSource {
             desc,
             map: Some(map),

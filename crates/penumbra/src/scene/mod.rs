@@ -14,6 +14,7 @@ pub mod error;
 mod light;
 mod load;
 mod material;
+mod nesting;
 pub mod options;
 mod overrides;
 mod reuse;
