@@ -2,7 +2,10 @@
 
 mod common;
 
+use std::path::Path;
+
 use common::try_scene;
+use penumbra::scene::{LoadOptions, SceneSource};
 
 fn err(toml: &str) -> String {
     match try_scene(toml) {
@@ -241,10 +244,18 @@ fn nesting_too_deep_is_located() {
         assert!(e.starts_with(&format!("test.toml:{line}:")), "{e}");
         assert!(e.contains("200 dotted parts"), "{e}");
     }
-    let arrays = format!("[render]\nbackground = {}{}\n", "[".repeat(500), "]".repeat(500));
+    let arrays = format!(
+        "[render]\nbackground = {}{}\n",
+        "[".repeat(500),
+        "]".repeat(500)
+    );
     let e = err(&arrays);
     assert!(e.starts_with("test.toml:2:"), "{e}");
-    let tables = format!("[render]\nwidth = 3\nx = {}1{}\n", "{a = ".repeat(300), "}".repeat(300));
+    let tables = format!(
+        "[render]\nwidth = 3\nx = {}1{}\n",
+        "{a = ".repeat(300),
+        "}".repeat(300)
+    );
     let e = err(&tables);
     assert!(e.starts_with("test.toml:3:"), "{e}");
 }
@@ -295,4 +306,56 @@ fn every_located_error_has_a_line() {
         let line: String = rest.chars().take_while(char::is_ascii_digit).collect();
         assert!(!line.is_empty(), "{e}");
     }
+}
+
+/// A frame too large to hold in memory is refused before anything is
+/// allocated, whichever side is large.
+#[test]
+fn an_image_too_large_for_memory_is_refused() {
+    let e = err("[render]\nwidth = 32768\nheight = 32768\n");
+    assert!(e.starts_with("test.toml:3:10: render.height:"), "{e}");
+    assert!(e.contains("1073741824 pixels"), "{e}");
+    for (w, h) in [(16384, 16384), (32768, 8192), (32768, 1)] {
+        let toml = format!("[render]\nwidth = {w}\nheight = {h}\n");
+        let r = common::try_scene(&toml);
+        assert!(r.is_ok(), "{w} x {h}: {:?}", r.err());
+    }
+}
+
+/// Objects sharing a mesh multiply it: a short scene naming one mesh
+/// thousands of times is refused (at the object that passes the bound)
+/// before it fills memory.
+#[test]
+fn a_mesh_used_too_many_times_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // A strip of 40,000 triangles.
+    let n = 20_000;
+    let mut obj = String::new();
+    for i in 0..=n {
+        obj.push_str(&format!("v {i} 0 0\nv {i} 1 0\n"));
+    }
+    for i in 0..n {
+        let (a, b) = (2 * i + 1, 2 * i + 2);
+        obj.push_str(&format!("f {a} {} {b}\nf {b} {} {}\n", a + 2, a + 2, b + 2));
+    }
+    std::fs::write(dir.path().join("strip.obj"), obj).unwrap();
+    let one = "[[objects]]\ntype = \"mesh\"\npath = \"strip.obj\"\n";
+    let build = |count: usize| {
+        let toml = one.repeat(count);
+        SceneSource::from_toml(
+            &toml,
+            Path::new("test.toml"),
+            dir.path(),
+            &LoadOptions::default(),
+        )
+        .and_then(|s| s.build())
+    };
+    assert!(build(3).is_ok());
+    // 4,194,304 / 40,000: 104 uses are allowed, the 105th is not.
+    let e = build(5000).err().expect("refused").to_string();
+    assert!(e.starts_with("test.toml:315:8: objects[104].path:"), "{e}");
+    assert!(
+        e.contains("4200000 triangles") && e.contains("40000 triangles of its mesh files"),
+        "{e}"
+    );
 }
