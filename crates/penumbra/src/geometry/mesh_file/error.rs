@@ -77,11 +77,14 @@ impl MeshError {
         }
     }
 
+    /// A problem at a place; the message is bounded (values from the file
+    /// it quotes cut to a few dozen characters, a few lines at most).
     pub(crate) fn parse(path: &Path, location: Location, message: impl Into<String>) -> Self {
+        let message = message.into();
         MeshError::Parse {
             path: path.to_path_buf(),
             location,
-            message: message.into(),
+            message: crate::input::quote::bounded(&message).into_owned(),
         }
     }
 }

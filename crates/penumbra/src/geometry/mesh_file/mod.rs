@@ -103,6 +103,29 @@ mod tests {
     }
 
     #[test]
+    fn names_from_the_file_are_cut_in_messages() {
+        let name = "e".repeat(100_000);
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+             property float z\nelement {name} 1\nproperty float {name}\nend_header\n0 0 0\n"
+        );
+        let error = ply::parse_ply(text.as_bytes(), Path::new("long.ply")).unwrap_err();
+        let message = error.to_string();
+        assert!(message.starts_with("long.ply:"), "{message}");
+        assert!(message.len() < 300 && message.contains("eee…"), "{message}");
+    }
+
+    #[test]
+    fn special_files_are_refused_as_meshes() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("folder.ply");
+        std::fs::create_dir(&path).unwrap();
+        let error = read_mesh(&path).unwrap_err();
+        assert!(matches!(error, MeshError::File(_)), "{error:?}");
+        assert!(error.to_string().contains("is a directory"), "{error}");
+    }
+
+    #[test]
     fn tokens_carry_one_based_columns() {
         let tokens: Vec<_> = Tokens::new(b"  v 1.5\t-2 \r").collect();
         assert_eq!(
