@@ -22,6 +22,8 @@ enum Entry {
     Link(&'static str),
     /// A named pipe no one writes to.
     Fifo,
+    /// A sparse file of this many zero bytes.
+    Sparse(u64),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -331,6 +333,11 @@ fn corpus() -> Vec<Case> {
         File("scene.toml"),
     ));
     cases.push(special(
+        "scene of 3 GiB of zeros",
+        Entry::Sparse(3 << 30),
+        File("scene.toml"),
+    ));
+    cases.push(special(
         "scene is a dangling link",
         Entry::Link("/nonexistent/x.toml"),
         File("scene.toml"),
@@ -366,6 +373,27 @@ fn corpus() -> Vec<Case> {
         1,
     );
     mesh("mesh is a directory", "m.ply", Entry::Dir, Mesh("m.ply"), 1);
+    mesh(
+        "PLY of 3 GiB of zeros",
+        "m.ply",
+        Entry::Sparse(3 << 30),
+        Mesh("m.ply"),
+        1,
+    );
+    mesh(
+        "OBJ of 3 GiB of zeros",
+        "m.obj",
+        Entry::Sparse(3 << 30),
+        Mesh("m.obj"),
+        1,
+    );
+    mesh(
+        "PLY of 5 GiB of zeros",
+        "m.ply",
+        Entry::Sparse(5 << 30),
+        Mesh("m.ply"),
+        1,
+    );
     mesh(
         "mesh is missing",
         "m.ply",
@@ -588,6 +616,12 @@ fn make(dir: &Path, name: &str, entry: &Entry) -> bool {
             #[cfg(not(unix))]
             {
                 let _ = target;
+                return false;
+            }
+        }
+        Entry::Sparse(len) => {
+            let file = std::fs::File::create(&path).unwrap();
+            if file.set_len(*len).is_err() {
                 return false;
             }
         }

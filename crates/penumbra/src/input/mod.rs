@@ -152,42 +152,94 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>, InputError> {
 /// (after following symbolic links), opened without blocking, and no more
 /// bytes than it had when it was opened.
 pub fn read_file_within(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
-    let io = |source: std::io::Error| InputError::Io {
+    InputFile::open(path, limit)?.read_rest(Vec::new())
+}
+
+/// An input file opened and judged (a regular file within its size limit),
+/// not yet read: a reader can look at its first bytes and refuse a file
+/// that is not of its format before reading the rest.
+pub struct InputFile {
+    path: PathBuf,
+    file: File,
+    size: u64,
+}
+
+impl InputFile {
+    /// Opens `path` without blocking and refuses anything but a regular file
+    /// of at most `limit` bytes.
+    pub fn open(path: &Path, limit: u64) -> Result<InputFile, InputError> {
+        let file = open(path)?;
+        // The opened handle is judged, not the path: what is read is what was checked.
+        let meta = file.metadata().map_err(|e| io_error(path, e))?;
+        if let Some(kind) = not_regular(&meta.file_type()) {
+            return Err(InputError::NotRegular {
+                path: path.to_path_buf(),
+                kind,
+            });
+        }
+        let size = meta.len();
+        if size > limit {
+            return Err(InputError::TooLarge {
+                path: path.to_path_buf(),
+                size,
+                limit,
+            });
+        }
+        Ok(InputFile {
+            path: path.to_path_buf(),
+            file,
+            size,
+        })
+    }
+
+    /// The file's size when it was opened.
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+
+    /// Its first `n` bytes (all of it if it is shorter).
+    pub fn read_head(&mut self, n: usize) -> Result<Vec<u8>, InputError> {
+        let n = (n as u64).min(self.size);
+        let mut head = Vec::with_capacity(n as usize);
+        (&self.file)
+            .take(n)
+            .read_to_end(&mut head)
+            .map_err(|e| io_error(&self.path, e))?;
+        Ok(head)
+    }
+
+    /// The whole file: `head` (what [`read_head`](Self::read_head) gave, or
+    /// nothing) followed by the rest, up to the size the file had when it
+    /// was opened.
+    pub fn read_rest(self, head: Vec<u8>) -> Result<Vec<u8>, InputError> {
+        let mut bytes = head;
+        let rest = self.size.saturating_sub(bytes.len() as u64);
+        let room = usize::try_from(rest)
+            .ok()
+            .and_then(|r| bytes.try_reserve_exact(r).ok());
+        if room.is_none() {
+            return Err(io_error(
+                &self.path,
+                std::io::Error::new(
+                    std::io::ErrorKind::OutOfMemory,
+                    format!("cannot allocate {} bytes to read the file", self.size),
+                ),
+            ));
+        }
+        // `take`: a file that grows while it is read is read as it was at open time.
+        (&self.file)
+            .take(rest)
+            .read_to_end(&mut bytes)
+            .map_err(|e| io_error(&self.path, e))?;
+        Ok(bytes)
+    }
+}
+
+fn io_error(path: &Path, source: std::io::Error) -> InputError {
+    InputError::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let file = open(path)?;
-    // The opened handle is judged, not the path: what is read is what was checked.
-    let meta = file.metadata().map_err(io)?;
-    if let Some(kind) = not_regular(&meta.file_type()) {
-        return Err(InputError::NotRegular {
-            path: path.to_path_buf(),
-            kind,
-        });
     }
-    let size = meta.len();
-    if size > limit {
-        return Err(InputError::TooLarge {
-            path: path.to_path_buf(),
-            size,
-            limit,
-        });
-    }
-    let capacity = usize::try_from(size).map_err(|_| InputError::TooLarge {
-        path: path.to_path_buf(),
-        size,
-        limit: usize::MAX as u64,
-    })?;
-    let mut bytes = Vec::new();
-    bytes.try_reserve_exact(capacity).map_err(|_| {
-        io(std::io::Error::new(
-            std::io::ErrorKind::OutOfMemory,
-            format!("cannot allocate {size} bytes to read the file"),
-        ))
-    })?;
-    // `take`: a file that grows while it is read is read as it was at open time.
-    file.take(size).read_to_end(&mut bytes).map_err(io)?;
-    Ok(bytes)
 }
 
 /// Opens for reading without waiting: on Unix with `O_NONBLOCK`, so that a
@@ -277,6 +329,36 @@ mod tests {
         let path = dir.path().join("a.txt");
         std::fs::write(&path, b"hello").unwrap();
         assert_eq!(read_file_within(&path, 5).unwrap(), b"hello");
+    }
+
+    #[test]
+    fn the_head_and_the_rest_make_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.txt");
+        std::fs::write(&path, b"0123456789").unwrap();
+        let mut f = InputFile::open(&path, 10).unwrap();
+        assert_eq!(f.size(), 10);
+        let head = f.read_head(4).unwrap();
+        assert_eq!(head, b"0123");
+        assert_eq!(f.read_rest(head).unwrap(), b"0123456789");
+        let mut f = InputFile::open(&path, 10).unwrap();
+        let head = f.read_head(100).unwrap();
+        assert_eq!(f.read_rest(head).unwrap(), b"0123456789");
+    }
+
+    #[test]
+    fn a_file_is_read_as_long_as_it_was_at_open() {
+        use std::io::Write;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("growing.obj");
+        std::fs::write(&path, b"v 0 0 0\n").unwrap();
+        let f = InputFile::open(&path, 1 << 20).unwrap();
+        let mut more = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .unwrap();
+        more.write_all(&[b'x'; 4096]).unwrap();
+        assert_eq!(f.read_rest(Vec::new()).unwrap(), b"v 0 0 0\n");
     }
 
     #[test]

@@ -13,7 +13,18 @@ mod text;
 
 use std::path::Path;
 
+use crate::input::{self, InputFile, DEFAULT_MAX_FILE_SIZE};
 pub use error::{Location, MeshData, MeshError};
+
+/// Bytes of a mesh file looked at before the rest is read: a file that is
+/// plainly not of its format (a large file of zeros) is refused from them.
+const HEAD: usize = 4096;
+
+/// Opens a mesh file through the bounded reader, within the input size limit.
+fn open_mesh(path: &Path) -> Result<InputFile, MeshError> {
+    let limit = input::size_limit(DEFAULT_MAX_FILE_SIZE).map_err(MeshError::input)?;
+    InputFile::open(path, limit).map_err(MeshError::input)
+}
 
 /// Reads a triangle mesh, choosing the format by extension because neither PLY nor
 /// OBJ content is reliably recognisable from a few leading bytes (OBJ has no magic).
@@ -123,6 +134,41 @@ mod tests {
         let error = read_mesh(&path).unwrap_err();
         assert!(matches!(error, MeshError::File(_)), "{error:?}");
         assert!(error.to_string().contains("is a directory"), "{error}");
+    }
+
+    /// A large file that is plainly not a mesh (a sparse file of zeros) is
+    /// refused from its first bytes, never read whole.
+    #[test]
+    fn a_large_file_of_zeros_is_refused_from_its_head() {
+        let dir = tempfile::tempdir().unwrap();
+        let start = std::time::Instant::now();
+        for name in ["zeros.ply", "zeros.obj"] {
+            let path = dir.path().join(name);
+            let file = std::fs::File::create(&path).unwrap();
+            if file.set_len(3 << 30).is_err() {
+                eprintln!("skipped {name}: no sparse files here");
+                continue;
+            }
+            let error = read_mesh(&path).unwrap_err();
+            let MeshError::Parse { location, .. } = &error else {
+                panic!("{error:?}");
+            };
+            assert_eq!(
+                *location,
+                Location::LineColumn { line: 1, column: 1 },
+                "{error}"
+            );
+        }
+        assert!(start.elapsed().as_secs_f64() < 1.0, "{:?}", start.elapsed());
+    }
+
+    #[test]
+    fn nul_bytes_in_an_obj_are_binary_data_at_their_place() {
+        let error = obj::parse_obj(b"v 0 0 0\nv 1\x000 0\n", Path::new("b.obj")).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "b.obj:2:4: a NUL byte: this is binary data, not OBJ text"
+        );
     }
 
     #[test]
