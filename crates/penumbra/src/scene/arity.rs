@@ -10,8 +10,6 @@ use std::marker::PhantomData;
 
 use serde::de::{Deserialize, Deserializer, Error, IgnoredAny, SeqAccess, Visitor};
 
-use super::desc::Scale;
-
 /// An array of exactly `N` values.
 struct Exact<T, const N: usize>([T; N]);
 
@@ -76,36 +74,10 @@ fn wrong_length<T: Named, E: Error>(expected: usize, got: usize) -> E {
     E::custom(format!("expected {expected} {}, got {got}", T::PLURAL))
 }
 
-impl<'de> Deserialize<'de> for Scale {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        d.deserialize_any(ScaleVisitor)
-    }
-}
-
-struct ScaleVisitor;
-
-impl<'de> Visitor<'de> for ScaleVisitor {
-    type Value = Scale;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a number or an array of 3 numbers")
-    }
-
-    fn visit_f64<E: Error>(self, v: f64) -> Result<Scale, E> {
-        Ok(Scale::Uniform(v as f32))
-    }
-
-    fn visit_i64<E: Error>(self, v: i64) -> Result<Scale, E> {
-        Ok(Scale::Uniform(v as f32))
-    }
-
-    fn visit_u64<E: Error>(self, v: u64) -> Result<Scale, E> {
-        Ok(Scale::Uniform(v as f32))
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Scale, A::Error> {
-        exact_seq::<A, f32, 3>(seq).map(Scale::PerAxis)
-    }
+/// Exactly `N` numbers from a sequence being read (for types read by hand,
+/// such as a per-axis scale).
+pub fn numbers<'de, A: SeqAccess<'de>, const N: usize>(seq: A) -> Result<[f32; N], A::Error> {
+    exact_seq::<A, f32, N>(seq)
 }
 
 /// `N` numbers, exactly.

@@ -236,12 +236,44 @@ pub struct TransformDesc {
 }
 
 /// A uniform (`scale = 2.0`) or per-axis (`scale = [1, 2, 1]`) scale; read
-/// by hand (in `arity`) so that a per-axis scale must have exactly 3 numbers.
+/// by hand so that a per-axis scale must have exactly 3 numbers.
 #[derive(Clone, Copy, Debug, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum Scale {
     Uniform(f32),
     PerAxis([f32; 3]),
+}
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(ScaleVisitor)
+    }
+}
+
+struct ScaleVisitor;
+
+impl<'de> serde::de::Visitor<'de> for ScaleVisitor {
+    type Value = Scale;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a number or an array of 3 numbers")
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Scale, A::Error> {
+        arity::numbers::<A, 3>(seq).map(Scale::PerAxis)
+    }
 }
 
 /// `[[lights]]`: one record for every light; `type` selects which keys apply.

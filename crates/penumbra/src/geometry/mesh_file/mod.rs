@@ -8,23 +8,13 @@
 
 mod error;
 pub mod obj;
+mod open;
 pub mod ply;
 mod text;
 
 use std::path::Path;
 
-use crate::input::{self, InputFile, DEFAULT_MAX_FILE_SIZE};
 pub use error::{Location, MeshData, MeshError};
-
-/// Bytes of a mesh file looked at before the rest is read: a file that is
-/// plainly not of its format (a large file of zeros) is refused from them.
-const HEAD: usize = 4096;
-
-/// Opens a mesh file through the bounded reader, within the input size limit.
-fn open_mesh(path: &Path) -> Result<InputFile, MeshError> {
-    let limit = input::size_limit(DEFAULT_MAX_FILE_SIZE).map_err(MeshError::input)?;
-    InputFile::open(path, limit).map_err(MeshError::input)
-}
 
 /// Reads a triangle mesh, choosing the format by extension because neither PLY nor
 /// OBJ content is reliably recognisable from a few leading bytes (OBJ has no magic).

@@ -11,8 +11,10 @@ use super::error::{Location, MeshData, MeshError};
 use super::text::{parse_i64, quote, Lines, Tokens};
 
 pub fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
-    let mut file = super::open_mesh(path)?;
-    let head = file.read_head(super::HEAD).map_err(MeshError::input)?;
+    let mut file = super::open::open_mesh(path)?;
+    let head = file
+        .read_head(super::open::HEAD)
+        .map_err(MeshError::input)?;
     // Binary data from the first bytes: refused without reading the rest.
     binary_data(&head, path)?;
     let bytes = file.read_rest(head).map_err(MeshError::input)?;

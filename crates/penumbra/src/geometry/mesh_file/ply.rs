@@ -20,8 +20,10 @@ use super::error::{Location, MeshData, MeshError};
 const MAX_FACE_CORNERS: i64 = 1 << 16;
 
 pub fn read_ply(path: &Path) -> Result<MeshData, MeshError> {
-    let mut file = super::open_mesh(path)?;
-    let head = file.read_head(super::HEAD).map_err(MeshError::input)?;
+    let mut file = super::open::open_mesh(path)?;
+    let head = file
+        .read_head(super::open::HEAD)
+        .map_err(MeshError::input)?;
     // Not a PLY file from its first line: refused without reading the rest.
     let first = head.split(|&b| b == b'\n').next().unwrap_or_default();
     if first.trim_ascii() != b"ply" {
