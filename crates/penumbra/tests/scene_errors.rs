@@ -338,10 +338,27 @@ fn a_mesh_used_too_many_times_is_refused() {
         let (a, b) = (2 * i + 1, 2 * i + 2);
         obj.push_str(&format!("f {a} {} {b}\nf {b} {} {}\n", a + 2, a + 2, b + 2));
     }
-    std::fs::write(dir.path().join("strip.obj"), obj).unwrap();
-    let one = "[[objects]]\ntype = \"mesh\"\npath = \"strip.obj\"\n";
+    std::fs::create_dir(dir.path().join("d")).unwrap();
+    std::fs::write(dir.path().join("d/strip.obj"), obj).unwrap();
+    // The same file under several names counts as one file.
+    let mut names = vec![
+        "d/strip.obj",
+        "d/./strip.obj",
+        "d//strip.obj",
+        "d/../d/strip.obj",
+    ];
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("d/strip.obj", dir.path().join("link.obj")).unwrap();
+        names.push("link.obj".into());
+    }
     let build = |count: usize| {
-        let toml = one.repeat(count);
+        let toml: String = (0..count)
+            .map(|i| {
+                let name = &names[i % names.len()];
+                format!("[[objects]]\ntype = \"mesh\"\npath = \"{name}\"\n")
+            })
+            .collect();
         SceneSource::from_toml(
             &toml,
             Path::new("test.toml"),

@@ -1,7 +1,7 @@
 //! Validation and build: the plain description becomes an immutable [`Scene`].
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::check::*;
@@ -136,11 +136,36 @@ fn objects(
 /// using them add up to.
 #[derive(Default)]
 struct MeshFiles {
-    cache: HashMap<PathBuf, usize>,
+    /// Meshes by file: a file named by several paths (`m.ply`, `./m.ply`, a
+    /// link to it) is read once, and counted once in `read`.
+    cache: HashMap<FileKey, usize>,
     /// Triangles in the files read.
     read: u64,
     /// Triangles of the objects, a mesh counted once for each object using it.
     used: u64,
+}
+
+/// Which file a path names: on Unix its device and inode, elsewhere its
+/// canonical path (the path as given if it cannot be resolved; reading it
+/// then fails with the error to report).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum FileKey {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+impl FileKey {
+    fn of(path: &Path) -> FileKey {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            // stat only: it follows links and never blocks, whatever the file is.
+            if let Ok(m) = std::fs::metadata(path) {
+                return FileKey::Inode(m.dev(), m.ino());
+            }
+        }
+        FileKey::Path(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()))
+    }
 }
 
 impl MeshFiles {
@@ -560,7 +585,8 @@ fn load_mesh(
     smooth: bool,
 ) -> Result<usize, BuildError> {
     let path = resolve_mesh_path(p, file, ctx)?;
-    if let Some(&i) = files.cache.get(&path) {
+    let key = FileKey::of(&path);
+    if let Some(&i) = files.cache.get(&key) {
         if smooth && meshes[i].normals.is_none() {
             meshes[i].compute_vertex_normals();
         }
@@ -593,7 +619,7 @@ fn load_mesh(
     }
     files.read += mesh.triangles.len() as u64;
     meshes.push(mesh);
-    files.cache.insert(path, meshes.len() - 1);
+    files.cache.insert(key, meshes.len() - 1);
     Ok(meshes.len() - 1)
 }
 
