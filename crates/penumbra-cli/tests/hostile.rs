@@ -937,6 +937,21 @@ fn the_file_size_limit_can_be_raised_and_lowered() {
     )
     .unwrap();
     assert_eq!(r.code, Some(2), "{}", r.stderr);
+    // An empty variable is no variable.
+    let r = run_with(
+        dir.path(),
+        &args(&[]),
+        Some(""),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("more than the limit of 4194304 bytes"),
+        "{}",
+        r.stderr
+    );
     let r = run_with(
         dir.path(),
         &args(&[]),

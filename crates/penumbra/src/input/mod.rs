@@ -1,12 +1,13 @@
 //! Input files, read as hostile: every file the renderer reads (scenes,
 //! meshes, and later textures and environment maps) comes through
-//! [`read_file`], and every piece of one quoted in a message through
-//! [`quote`].
+//! [`read_file`] or, for a reader that judges a file by its first bytes
+//! before reading the rest, [`InputFile`]; every piece of one quoted in a
+//! message goes through [`quote`].
 //!
-//! [`read_file`] opens without blocking (a named pipe with no writer would
-//! otherwise wait for ever), judges the opened handle (symbolic links are
-//! followed first) and refuses anything but a regular file, refuses a file
-//! larger than its [`size_limit`], and reads no more than the size the file had
+//! Both open without blocking (a named pipe with no writer would
+//! otherwise wait for ever), judge the opened handle (symbolic links are
+//! followed first) and refuse anything but a regular file, refuse a file
+//! larger than its [`size_limit`], and read no more than the size the file had
 //! when it was opened (a device or a growing file cannot make it read without
 //! bound). The readers on top check every count in a file against the bytes
 //! actually present before they allocate.
@@ -39,14 +40,15 @@ pub fn set_max_file_size(bytes: u64) {
 
 /// The largest input file read: the one [`set_max_file_size`] set, else
 /// [`MAX_FILE_SIZE_VAR`]'s, else `default` (each kind of file has its own:
-/// [`DEFAULT_MAX_FILE_SIZE`] for meshes, a smaller one for scenes). A
-/// malformed variable is an error rather than silently the default.
+/// [`DEFAULT_MAX_FILE_SIZE`] for meshes, a smaller one for scenes). An empty
+/// variable counts as unset; a malformed one is an error rather than
+/// silently the default.
 pub fn size_limit(default: u64) -> Result<u64, InputError> {
     let set = LIMIT_SET.load(Ordering::Relaxed);
     if set > 0 {
         return Ok(set);
     }
-    match std::env::var_os(MAX_FILE_SIZE_VAR) {
+    match std::env::var_os(MAX_FILE_SIZE_VAR).filter(|v| !v.is_empty()) {
         None => Ok(default),
         Some(v) => {
             let text = v.to_string_lossy();
