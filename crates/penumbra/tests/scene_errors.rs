@@ -350,7 +350,7 @@ fn a_mesh_used_too_many_times_is_refused() {
     #[cfg(unix)]
     {
         std::os::unix::fs::symlink("d/strip.obj", dir.path().join("link.obj")).unwrap();
-        names.push("link.obj".into());
+        names.push("link.obj");
     }
     let build = |count: usize| {
         let toml: String = (0..count)
