@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde_json::{Map, Number, Value};
 
+use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::render::Image;
 
 /// How deep a scene dict may nest; real scenes are four levels deep. The
@@ -82,10 +83,13 @@ fn shortest_f32(f: f64) -> f64 {
 /// names the value in errors, in the scene-error style `objects[1].center`.
 pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Value> {
     if depth > MAX_DEPTH {
-        return Err(PyValueError::new_err(format!(
-            "{}: nested more than {MAX_DEPTH} levels deep",
-            show(path)
-        )));
+        return Err(PyValueError::new_err(
+            bounded(&format!(
+                "{}: nested more than {MAX_DEPTH} levels deep",
+                show(path)
+            ))
+            .into_owned(),
+        ));
     }
     if v.is_none() {
         return Ok(Value::Null);
@@ -100,16 +104,18 @@ pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Va
         if let Ok(u) = v.extract::<u64>() {
             return Ok(Value::from(u));
         }
-        return Err(PyValueError::new_err(format!(
+        return Err(PyValueError::new_err(bounded(&format!(
             "{}: integer {} is out of range",
             show(path),
-            v.repr()?
-        )));
+            clip(&v.repr()?.to_string(), MAX_QUOTED_CHARS)
+        )).into_owned()));
     }
     if v.is_instance_of::<PyFloat>() {
         let f: f64 = v.extract()?;
         return Number::from_f64(f).map(Value::Number).ok_or_else(|| {
-            PyValueError::new_err(format!("{}: must be a finite number, got {f}", show(path)))
+            PyValueError::new_err(
+                bounded(&format!("{}: must be a finite number, got {f}", show(path))).into_owned(),
+            )
         });
     }
     if let Ok(s) = v.cast::<PyString>() {
@@ -119,11 +125,17 @@ pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Va
         let mut m = Map::new();
         for (k, x) in d.iter() {
             let k: String = k.extract().map_err(|_| {
-                PyTypeError::new_err(format!(
-                    "{}: keys must be strings, got {}",
-                    show(path),
-                    k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
-                ))
+                PyTypeError::new_err(
+                    bounded(&format!(
+                        "{}: keys must be strings, got {}",
+                        show(path),
+                        k.repr().map_or_else(
+                            |_| "?".into(),
+                            |r| clip(&r.to_string(), MAX_QUOTED_CHARS).into_owned()
+                        )
+                    ))
+                    .into_owned(),
+                )
             })?;
             let sub = if path.is_empty() {
                 k.clone()
@@ -148,10 +160,13 @@ pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Va
         .get_type()
         .name()
         .map_or_else(|_| "?".to_string(), |n| n.to_string());
-    Err(PyTypeError::new_err(format!(
-        "{}: cannot use a {ty} in a scene (use dict, list, str, int, float, bool or None)",
-        show(path)
-    )))
+    Err(PyTypeError::new_err(
+        bounded(&format!(
+            "{}: cannot use a {ty} in a scene (use dict, list, str, int, float, bool or None)",
+            show(path)
+        ))
+        .into_owned(),
+    ))
 }
 
 fn show(path: &str) -> &str {

@@ -11,6 +11,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
+use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
@@ -38,8 +39,10 @@ pub struct Options {
     pub progress: Option<Py<PyAny>>,
 }
 
+/// A `ValueError`, its message bounded as every error about input is (a
+/// value it quotes is cut to a few dozen characters).
 pub fn value_error(message: impl Into<String>) -> PyErr {
-    PyValueError::new_err(message.into())
+    PyValueError::new_err(bounded(&message.into()).into_owned())
 }
 
 fn type_error(name: &str, expected: &str, got: &Bound<'_, PyAny>) -> PyErr {
@@ -136,7 +139,8 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
 
 fn unknown(func: &str, key: &str) -> PyErr {
     PyTypeError::new_err(format!(
-        "{func}() got an unexpected keyword argument '{key}' (render options are: {})",
+        "{func}() got an unexpected keyword argument '{}' (render options are: {})",
+        clip(key, MAX_QUOTED_CHARS),
         names().join(", ")
     ))
 }
@@ -150,7 +154,8 @@ pub fn ranged_int(name: &str, v: &Bound<'_, PyAny>, lo: i64, hi: i64) -> PyResul
         Ok(n) if (lo..=hi).contains(&n) => Ok(n),
         _ => Err(value_error(format!(
             "{name} must be an integer in {lo}..={hi}, got {}",
-            v.repr().map_or_else(|_| "?".to_string(), |r| r.to_string())
+            v.repr()
+                .map_or_else(|_| "?".to_string(), |r| clip(&r.to_string(), MAX_QUOTED_CHARS).into_owned())
         ))),
     }
 }

@@ -18,7 +18,7 @@ use pyo3::types::{PyDict, PyTuple, PyType};
 use serde_json::Value;
 
 use penumbra::scene::{
-    builtin, default_bunny_path, LoadOptions, Overrides, Scene as Built, SceneDesc,
+    default_bunny_path, LoadOptions, Overrides, Scene as Built, SceneDesc,
     SceneError as LibSceneError, SceneSource, WorldCache,
 };
 
@@ -340,43 +340,30 @@ pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyRe
     let opts = LoadOptions {
         bunny: bunny.clone(),
     };
-    // The library's own reading, so every error is the CLI's.
-    SceneSource::open(&name, &opts).map_err(scene_error)?;
+    // The library's own reading (bounded, regular files only), so every
+    // error is the CLI's; the text kept is the text it parsed.
+    let source = SceneSource::open(&name, &opts).map_err(scene_error)?;
+    let (file, text) = source
+        .text()
+        .ok_or_else(|| SceneError::new_err(format!("{name}: no such scene")))?;
     let path = Path::new(&name);
-    let scene = if path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            scene_error(LibSceneError {
-                file: Some(path.to_path_buf()),
-                position: None,
-                message: e.to_string(),
-            })
-        })?;
-        let base = path
-            .parent()
+    // As the library resolves it: a file if one exists, else a built-in scene.
+    let base = if path.exists() {
+        path.parent()
             .filter(|p| !p.as_os_str().is_empty())
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-        Scene::new(
-            name.clone(),
-            Text::Toml {
-                text,
-                file: path.to_path_buf(),
-            },
-            base,
-            bunny,
-        )
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
     } else {
-        let b = builtin::find(&name)
-            .ok_or_else(|| SceneError::new_err(format!("{name}: no such scene")))?;
-        Scene::new(
-            name.clone(),
-            Text::Toml {
-                text: b.toml.to_string(),
-                file: PathBuf::from(format!("<built-in scene {}>", b.name)),
-            },
-            PathBuf::from("."),
-            bunny,
-        )
+        PathBuf::from(".")
     };
+    let scene = Scene::new(
+        name.clone(),
+        Text::Toml {
+            text: text.to_string(),
+            file: file.to_path_buf(),
+        },
+        base,
+        bunny,
+    );
     Ok(scene)
 }
 

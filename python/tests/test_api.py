@@ -315,6 +315,57 @@ def test_dict_errors_name_the_key_path():
         penumbra.scene_from_dict([1, 2])
 
 
+@pytest.mark.parametrize(
+    ("key", "value", "expected", "got"),
+    [
+        (("camera", "position"), np.zeros(4), 3, 4),
+        (("camera", "position"), np.zeros(2), 3, 2),
+        (("camera", "up"), np.zeros((2, 3)), 3, 2),
+        (("camera", "shutter"), np.array([0.0, 0.5, 1.0]), 2, 3),
+        (("render", "background"), np.zeros(100_000), 3, 100_000),
+    ],
+)
+def test_arrays_of_the_wrong_shape_are_value_errors_naming_the_key(key, value, expected, got):
+    table, name = key
+    with pytest.raises(ValueError) as info:
+        penumbra.scene_from_dict({table: {name: value}})
+    assert isinstance(info.value, penumbra.SceneError)
+    message = str(info.value)
+    assert message.startswith(f"{table}.{name}"), message
+    assert f"expected {expected} numbers, got {got}" in message or "invalid type" in message, message
+    assert len(message) < 300, message
+    matrix = {"type": "sphere", "transform": {"matrix": np.eye(4)[:3]}}
+    with pytest.raises(penumbra.SceneError, match=r"objects\[0\]\.transform\.matrix: expected 4 rows, got 3"):
+        penumbra.scene_from_dict({"objects": [matrix]})
+
+
+def test_special_files_and_huge_values_are_refused_quickly(tmp_path: Path):
+    import os
+    import time
+
+    start = time.monotonic()
+    for path in [Path("/dev/zero"), tmp_path]:
+        if path.exists():
+            with pytest.raises(penumbra.SceneError, match="not a regular file"):
+                penumbra.load_scene(path)
+    if hasattr(os, "mkfifo"):
+        fifo = tmp_path / "pipe.toml"
+        os.mkfifo(fifo)
+        with pytest.raises(penumbra.SceneError, match=r"pipe\.toml: is a named pipe"):
+            penumbra.load_scene(fifo)
+    else:
+        print("skipped the FIFO: this platform has none")
+    assert time.monotonic() - start < 1.0
+    huge = tmp_path / "huge.toml"
+    huge.write_text('[[objects]]\ntype = "' + "y" * 1_000_000 + '"\n')
+    with pytest.raises(penumbra.SceneError) as info:
+        penumbra.render(penumbra.load_scene(huge), width=8, height=6)
+    assert len(str(info.value)) < 300 and "yyy…" in str(info.value), str(info.value)[:300]
+    with pytest.raises(penumbra.SceneError) as info:
+        penumbra.scene_from_dict({"objects": [{"type": "z" * 1_000_000}]}).settings()
+    assert len(str(info.value)) < 300, str(info.value)[:300]
+
+
 def test_numpy_values_are_accepted_in_dicts(small):
     d = {
         "camera": {"position": np.array([0.0, 1.0, 5.0]), "fov": np.float64(40.0)},

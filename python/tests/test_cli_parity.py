@@ -110,6 +110,9 @@ def test_samples_match_the_cli_json(cli: Path, distribution: str):
         ("[camera]\nfov = 30\nzoom = 2\n", "load"),
         ('[[objects]]\ntype = "mesh"\npath = "missing.obj"\n', "render"),
         ('[[objects]]\ntype = "sphere"\nmaterial = "gold"\n', "render"),
+        ("[camera]\nposition = [0, 1, 5, 1]\n", "load"),
+        ("[render]\n" + ".".join(["a"] * 200) + " = 1\n", "load"),
+        ('[render]\nfilter = "' + "x" * 100_000 + '"\n', "load"),
     ],
 )
 def test_scene_errors_have_the_cli_message(cli: Path, tmp_path: Path, text: str, stage: str):

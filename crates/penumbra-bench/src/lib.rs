@@ -51,7 +51,8 @@ pub fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn read_f32s(path: &Path, group: usize) -> Result<Vec<f32>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    // The library's bounded reader: a regular file within the size limit.
+    let bytes = penumbra::input::read_file(path).map_err(|e| e.to_string())?;
     if bytes.len() % (4 * group) != 0 {
         return Err(format!(
             "{}: {} bytes is not a whole number of {}-float records",

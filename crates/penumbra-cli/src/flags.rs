@@ -152,6 +152,13 @@ fn by_name<T: Copy>(
     })
 }
 
+/// A file size: bytes, or a number with K, M, G or T (binary multiples).
+pub fn parse_size(s: &str) -> Result<u64, String> {
+    penumbra::input::parse_size(s).ok_or_else(|| {
+        format!("`{s}` is not a size: give bytes, or a number with K, M, G or T (for example 8G)")
+    })
+}
+
 pub fn parse_nonneg(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),

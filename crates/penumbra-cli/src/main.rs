@@ -13,6 +13,7 @@ mod samples_cmd;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use penumbra::input::quote::bounded;
 
 use render_cmd::RenderArgs;
 use reproduce_cmd::ReproduceArgs;
@@ -23,6 +24,10 @@ use samples_cmd::SamplesArgs;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Largest input file (scene, mesh) read, in bytes or with K, M, G or T (8G)
+    /// [default: 4M for scene files, 4G for other files; also $PENUMBRA_MAX_FILE_SIZE]
+    #[arg(long, global = true, value_name = "SIZE", value_parser = flags::parse_size)]
+    max_file_size: Option<u64>,
 }
 
 #[derive(Subcommand)]
@@ -40,6 +45,9 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(limit) = cli.max_file_size {
+        penumbra::input::set_max_file_size(limit);
+    }
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(&args),
         Command::Scenes => {
@@ -52,7 +60,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            // Bounded whatever the input: quoted values cut, a few lines at most.
+            eprintln!("error: {}", bounded(&e.to_string()));
             ExitCode::from(e.exit_code())
         }
     }

@@ -7,7 +7,8 @@
 //! refraction, supersampling, depth of field and motion blur.
 //!
 //! The library is a stack of layers, each a folder that uses only the ones
-//! before it: [`math`] (with the colour type [`math::Rgb`]) → [`sampling`] →
+//! before it: [`math`] (with the colour type [`math::Rgb`]) and [`input`]
+//! (every input file read bounded, every quoted value cut) → [`sampling`] →
 //! [`geometry`], [`accel`] and [`camera`] → [`scene`] → [`bsdf`] and
 //! [`emitter`] → [`integrator`] → [`render`] → [`io`]. A render goes:
 //!
@@ -37,6 +38,7 @@ pub mod bsdf;
 pub mod camera;
 pub mod emitter;
 pub mod geometry;
+pub mod input;
 pub mod integrator;
 pub mod io;
 pub mod math;

@@ -2,7 +2,10 @@
 
 mod common;
 
+use std::path::Path;
+
 use common::try_scene;
+use penumbra::scene::{LoadOptions, SceneSource};
 
 fn err(toml: &str) -> String {
     match try_scene(toml) {
@@ -129,5 +132,247 @@ fn bunny_scene_without_bunny_says_how_to_supply_it() {
     assert!(
         !e.contains("shared"),
         "no default location may be offered: {e}"
+    );
+}
+
+/// Every fixed-length array of the format, given one element too few and one
+/// too many (and, for one, a hundred thousand), is an error at its line
+/// naming the key and both lengths: nothing is cut to size in silence.
+#[test]
+fn every_fixed_length_array_has_exactly_its_length() {
+    // (table header, other keys the table needs, key, length)
+    let sphere = "type = \"sphere\"";
+    let mesh = "type = \"mesh\"\npath = \"m.ply\"";
+    let point = "type = \"point\"";
+    let rect = "type = \"rect\"";
+    let disk = "type = \"disk\"";
+    let cases: [(&str, &str, &str, usize); 20] = [
+        ("[render]", "", "background", 3),
+        ("[camera]", "", "position", 3),
+        ("[camera]", "", "look_at", 3),
+        ("[camera]", "", "up", 3),
+        ("[camera]", "", "shutter", 2),
+        ("[camera]", "", "position_end", 3),
+        ("[camera]", "", "look_at_end", 3),
+        ("[materials.m]", "", "albedo", 3),
+        ("[materials.m]", "", "emission", 3),
+        ("[[objects]]", sphere, "center", 3),
+        ("[[objects]]", "type = \"quad\"", "origin", 3),
+        ("[[objects]]", "type = \"quad\"", "edge_u", 3),
+        ("[[objects]]", "type = \"quad\"", "edge_v", 3),
+        ("[[lights]]", point, "position", 3),
+        ("[[lights]]", point, "intensity", 3),
+        ("[[lights]]", rect, "radiance", 3),
+        ("[[lights]]", rect, "origin", 3),
+        ("[[lights]]", rect, "edge_u", 3),
+        ("[[lights]]", disk, "center", 3),
+        ("[[lights]]", disk, "normal", 3),
+    ];
+    let table_key = |header: &str, key: &str| -> String {
+        let name = header.trim_matches(['[', ']']);
+        match header {
+            "[[objects]]" | "[[lights]]" => format!("{name}[0].{key}"),
+            _ => format!("{name}.{key}"),
+        }
+    };
+    for (header, needs, key, n) in cases {
+        for got in [n - 1, n + 1] {
+            let values = vec!["1.0"; got].join(", ");
+            let toml = match needs {
+                "" => format!("{header}\n{key} = [{values}]\n"),
+                _ => format!("{header}\n{needs}\n{key} = [{values}]\n"),
+            };
+            let line = 2 + needs.lines().count();
+            let e = err(&toml);
+            let at = format!("test.toml:{line}:{}:", key.len() + 4);
+            let what = format!(
+                "{}: expected {n} numbers, got {got}",
+                table_key(header, key)
+            );
+            assert!(e.starts_with(&at) && e.contains(&what), "{e}\n{toml}");
+        }
+    }
+    for (key, n) in [("translate", 3), ("rotate_axis", 3), ("scale", 3)] {
+        for got in [n - 1, n + 1] {
+            let values = vec!["1.0"; got].join(", ");
+            let toml = format!("[[objects]]\n{mesh}\n[objects.transform]\n{key} = [{values}]\n");
+            let e = err(&toml);
+            let what = format!("objects[0].transform.{key}: expected {n} numbers, got {got}");
+            assert!(e.starts_with("test.toml:5:") && e.contains(&what), "{e}");
+        }
+    }
+    let rows = |rows: &[&str]| {
+        format!(
+            "[[objects]]\n{mesh}\ntransform.matrix = [{}]\n",
+            rows.join(", ")
+        )
+    };
+    let row = "[1, 0, 0, 0]";
+    let e = err(&rows(&[row, row, row]));
+    assert!(
+        e.starts_with("test.toml:4:") && e.contains("transform.matrix: expected 4 rows, got 3"),
+        "{e}"
+    );
+    let e = err(&rows(&[row, row, row, row, row]));
+    assert!(e.contains("expected 4 rows, got 5"), "{e}");
+    let e = err(&rows(&[row, row, row, "[0, 0, 1]"]));
+    assert!(
+        e.contains("transform.matrix[3]: expected 4 numbers, got 3"),
+        "{e}"
+    );
+    let many = vec!["0.5"; 100_000].join(",");
+    let e = err(&format!("[render]\nbackground = [{many}]\n"));
+    assert!(
+        e.starts_with("test.toml:2:14: render.background: expected 3 numbers, got 100000"),
+        "{e}"
+    );
+    assert!(e.len() < 200, "{e}");
+}
+
+/// The TOML parser refuses keys and values nested too deeply, some of them
+/// without a position: every such error still names its line.
+#[test]
+fn nesting_too_deep_is_located() {
+    let key = vec!["a"; 200].join(".");
+    for (toml, line) in [
+        (format!("[render]\nwidth = 8\n{key} = 1\n"), 3),
+        (format!("[render]\n\n[{key}]\n"), 3),
+        (format!("[[objects]]\ntype = \"sphere\"\n[[{key}]]\n"), 3),
+        (format!("x = 1\ny = {{ {key} = 1 }}\n"), 2),
+    ] {
+        let e = err(&toml);
+        assert!(e.starts_with(&format!("test.toml:{line}:")), "{e}");
+        assert!(e.contains("200 dotted parts"), "{e}");
+    }
+    let arrays = format!(
+        "[render]\nbackground = {}{}\n",
+        "[".repeat(500),
+        "]".repeat(500)
+    );
+    let e = err(&arrays);
+    assert!(e.starts_with("test.toml:2:"), "{e}");
+    let tables = format!(
+        "[render]\nwidth = 3\nx = {}1{}\n",
+        "{a = ".repeat(300),
+        "}".repeat(300)
+    );
+    let e = err(&tables);
+    assert!(e.starts_with("test.toml:3:"), "{e}");
+}
+
+/// Values quoted in errors are cut to a few dozen characters, and no message
+/// is longer than a few lines, whatever the scene holds.
+#[test]
+fn messages_stay_short_whatever_the_input() {
+    let huge = "x".repeat(1 << 20);
+    let cases = [
+        format!("[render]\nwidth = \"{huge}\"\n"),
+        format!("[render]\n{huge} = 1\n"),
+        format!("[[objects]]\ntype = \"{huge}\"\n"),
+        format!("[[objects]]\ntype = \"sphere\"\nmaterial = \"{huge}\"\n"),
+        format!("[materials.{huge}]\nalbedo = [2, 2, 2]\n"),
+        format!("[render]\ndistribution = \"{huge}\"\n"),
+        format!("[render]\nwidth = {huge}\n"),
+        format!("[[objects]]\ntype = \"mesh\"\npath = \"{huge}.ply\"\n"),
+        format!("[[lights]]\ntype = \"rect\"\nmodel = \"{huge}\"\n"),
+        format!("# {huge}\n[render]\nwidth = -1\n"),
+        format!("x = \"\"\"\n{}\"\"\"\n", "line\n".repeat(100_000)),
+    ];
+    for toml in &cases {
+        let e = err(toml);
+        assert!(e.starts_with("test.toml:"), "{}", &e[..e.len().min(200)]);
+        assert!(e.len() < 1200, "{} bytes: {}", e.len(), &e[..200]);
+        assert!(e.lines().count() <= 5, "{e}");
+    }
+    // What is cut is marked.
+    let e = err(&cases[0]);
+    assert!(e.contains("xxx…\""), "{e}");
+}
+
+#[test]
+fn every_located_error_has_a_line() {
+    for toml in [
+        "[render]\nwidth = 0\n",
+        "[[objects]]\n",
+        "[[objects]]\ntype = \"sphere\"\ncenter = [1, 2, 3, 4]\n",
+        "objects = 3\n",
+        "[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 0]\n",
+        "[render\n",
+        "= 1\n",
+        "[materials.m]\nalbedo = [0.9, 0.9, 0.9]\nspecular = 0.5\n",
+    ] {
+        let e = err(toml);
+        let rest = e.strip_prefix("test.toml:").expect(&e);
+        let line: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        assert!(!line.is_empty(), "{e}");
+    }
+}
+
+/// A frame too large to hold in memory is refused before anything is
+/// allocated, whichever side is large.
+#[test]
+fn an_image_too_large_for_memory_is_refused() {
+    let e = err("[render]\nwidth = 32768\nheight = 32768\n");
+    assert!(e.starts_with("test.toml:3:10: render.height:"), "{e}");
+    assert!(e.contains("1073741824 pixels"), "{e}");
+    for (w, h) in [(16384, 16384), (32768, 8192), (32768, 1)] {
+        let toml = format!("[render]\nwidth = {w}\nheight = {h}\n");
+        let r = common::try_scene(&toml);
+        assert!(r.is_ok(), "{w} x {h}: {:?}", r.err());
+    }
+}
+
+/// Objects sharing a mesh multiply it: a short scene naming one mesh
+/// thousands of times is refused (at the object that passes the bound)
+/// before it fills memory.
+#[test]
+fn a_mesh_used_too_many_times_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // A strip of 40,000 triangles.
+    let n = 20_000;
+    let mut obj = String::new();
+    for i in 0..=n {
+        obj.push_str(&format!("v {i} 0 0\nv {i} 1 0\n"));
+    }
+    for i in 0..n {
+        let (a, b) = (2 * i + 1, 2 * i + 2);
+        obj.push_str(&format!("f {a} {} {b}\nf {b} {} {}\n", a + 2, a + 2, b + 2));
+    }
+    std::fs::create_dir(dir.path().join("d")).unwrap();
+    std::fs::write(dir.path().join("d/strip.obj"), obj).unwrap();
+    // The same file under several names counts as one file.
+    let mut names = vec![
+        "d/strip.obj",
+        "d/./strip.obj",
+        "d//strip.obj",
+        "d/../d/strip.obj",
+    ];
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("d/strip.obj", dir.path().join("link.obj")).unwrap();
+        names.push("link.obj");
+    }
+    let build = |count: usize| {
+        let toml: String = (0..count)
+            .map(|i| {
+                let name = &names[i % names.len()];
+                format!("[[objects]]\ntype = \"mesh\"\npath = \"{name}\"\n")
+            })
+            .collect();
+        SceneSource::from_toml(
+            &toml,
+            Path::new("test.toml"),
+            dir.path(),
+            &LoadOptions::default(),
+        )
+        .and_then(|s| s.build())
+    };
+    assert!(build(3).is_ok());
+    // 4,194,304 / 40,000: 104 uses are allowed, the 105th is not.
+    let e = build(5000).err().expect("refused").to_string();
+    assert!(e.starts_with("test.toml:315:8: objects[104].path:"), "{e}");
+    assert!(
+        e.contains("4200000 triangles") && e.contains("40000 triangles of its mesh files"),
+        "{e}"
     );
 }

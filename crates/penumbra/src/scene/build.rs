@@ -1,7 +1,7 @@
 //! Validation and build: the plain description becomes an immutable [`Scene`].
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::check::*;
@@ -37,6 +37,21 @@ impl From<Invalid> for BuildError {
 
 const MAX_SIDE: i64 = super::options::MAX_SIDE as i64;
 const MAX_RAYS: i64 = super::options::MAX_RAYS as i64;
+
+/// Most pixels an image may have (16384 × 16384): the frame is held in
+/// memory as 32-bit floats, 12 bytes a pixel, 3 GiB at this size.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// Triangles a scene may always hold, counting a mesh once for every
+/// object that uses it (each is a copy in world space, or a BVH of its own).
+pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
+
+/// How many times the triangles of its mesh files a scene may hold, when
+/// that is more than [`INSTANCED_TRIANGLES`]: objects sharing a mesh
+/// multiply it, and a few hundred bytes of scene naming one small mesh
+/// thousands of times would otherwise fill memory (as entities do in the
+/// "billion laughs" of XML, whose parsers bound the same ratio).
+pub const INSTANCING_FACTOR: u64 = 16;
 
 /// Validates `desc` and builds the scene, taking the world (meshes and BVH)
 /// from `worlds` when one was built there from the same geometry, and
@@ -107,14 +122,72 @@ fn objects(
     names: &HashMap<String, u32>,
 ) -> Result<(Vec<Object>, Vec<Mesh>), BuildError> {
     let (mut objects, mut meshes) = (Vec::new(), Vec::new());
-    let mut cache: HashMap<PathBuf, usize> = HashMap::new();
+    let mut files = MeshFiles::default();
     let root = KeyPath::root().key("objects");
     for (i, o) in desc.objects.iter().enumerate() {
         let path = root.index(i);
         let material = material_index(&path, o.material.as_deref(), names)?;
-        objects.push(object(&path, o, material, ctx, &mut meshes, &mut cache)?);
+        objects.push(object(&path, o, material, ctx, &mut meshes, &mut files)?);
     }
     Ok((objects, meshes))
+}
+
+/// The mesh files read so far (each once) and the triangles the objects
+/// using them add up to.
+#[derive(Default)]
+struct MeshFiles {
+    /// Meshes by file: a file named by several paths (`m.ply`, `./m.ply`, a
+    /// link to it) is read once, and counted once in `read`.
+    cache: HashMap<FileKey, usize>,
+    /// Triangles in the files read.
+    read: u64,
+    /// Triangles of the objects, a mesh counted once for each object using it.
+    used: u64,
+}
+
+/// Which file a path names: on Unix its device and inode, elsewhere its
+/// canonical path (the path as given if it cannot be resolved; reading it
+/// then fails with the error to report).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum FileKey {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+impl FileKey {
+    fn of(path: &Path) -> FileKey {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            // stat only: it follows links and never blocks, whatever the file is.
+            if let Ok(m) = std::fs::metadata(path) {
+                return FileKey::Inode(m.dev(), m.ino());
+            }
+        }
+        FileKey::Path(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()))
+    }
+}
+
+impl MeshFiles {
+    /// Counts an object's use of a mesh of `triangles`, refusing it past the
+    /// instancing bound.
+    fn use_mesh(&mut self, p: &KeyPath, triangles: usize) -> Result<(), Invalid> {
+        let used = self.used + triangles as u64;
+        let limit = INSTANCED_TRIANGLES.max(INSTANCING_FACTOR * self.read);
+        if used > limit {
+            return Err(Invalid::new(
+                p.clone(),
+                format!(
+                    "the objects so far use meshes of {used} triangles in all (a mesh counted \
+                     once for each object using it), more than a scene may: {INSTANCED_TRIANGLES} \
+                     or {INSTANCING_FACTOR} times the {} triangles of its mesh files",
+                    self.read
+                ),
+            ));
+        }
+        self.used = used;
+        Ok(())
+    }
 }
 
 /// Global ray budgets and distributions, overridable per light and material.
@@ -151,9 +224,21 @@ impl Defaults {
 
 fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
     let p = KeyPath::root().key("render");
+    let width = int(&p.key("width"), r.width, 1, MAX_SIDE)?;
+    let height = int(&p.key("height"), r.height, 1, MAX_SIDE)?;
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > MAX_PIXELS {
+        return Err(Invalid::new(
+            p.key("height"),
+            format!(
+                "a {width} x {height} image has {pixels} pixels, more than the {MAX_PIXELS} \
+                 (16384 x 16384) an image may have"
+            ),
+        ));
+    }
     Ok(Settings {
-        width: int(&p.key("width"), r.width, 1, MAX_SIDE)?,
-        height: int(&p.key("height"), r.height, 1, MAX_SIDE)?,
+        width,
+        height,
         max_depth: int(&p.key("max_depth"), r.max_depth, 0, 64)?,
         seed: u64::from(int(&p.key("seed"), r.seed, 0, i64::from(u32::MAX))?),
         background: nonneg3(&p.key("background"), r.background)?,
@@ -363,7 +448,7 @@ fn object(
     material: u32,
     ctx: &BuildContext,
     meshes: &mut Vec<Mesh>,
-    cache: &mut HashMap<PathBuf, usize>,
+    files: &mut MeshFiles,
 ) -> Result<Object, BuildError> {
     let kind = one_of(&p.key("type"), &o.kind, "object type", &OBJECT_TYPES)?;
     let set = [
@@ -411,10 +496,11 @@ fn object(
                 &p.key("path"),
                 file,
                 ctx,
-                cache,
+                files,
                 meshes,
                 o.smooth.unwrap_or(false),
             )?;
+            files.use_mesh(&p.key("path"), meshes[m].triangles.len())?;
             let mesh = if motion.is_some() {
                 m
             } else {
@@ -494,12 +580,13 @@ fn load_mesh(
     p: &KeyPath,
     file: &str,
     ctx: &BuildContext,
-    cache: &mut HashMap<PathBuf, usize>,
+    files: &mut MeshFiles,
     meshes: &mut Vec<Mesh>,
     smooth: bool,
 ) -> Result<usize, BuildError> {
     let path = resolve_mesh_path(p, file, ctx)?;
-    if let Some(&i) = cache.get(&path) {
+    let key = FileKey::of(&path);
+    if let Some(&i) = files.cache.get(&key) {
         if smooth && meshes[i].normals.is_none() {
             meshes[i].compute_vertex_normals();
         }
@@ -530,8 +617,9 @@ fn load_mesh(
     } else if mesh.normals.is_none() {
         mesh.compute_vertex_normals();
     }
+    files.read += mesh.triangles.len() as u64;
     meshes.push(mesh);
-    cache.insert(path, meshes.len() - 1);
+    files.cache.insert(key, meshes.len() - 1);
     Ok(meshes.len() - 1)
 }
 

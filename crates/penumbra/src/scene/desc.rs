@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::arity;
 use crate::sampling::{Distribution, Filter};
 
 /// A whole scene file.
@@ -37,6 +38,7 @@ pub struct RenderDesc {
     pub height: i64,
     pub max_depth: i64,
     pub seed: i64,
+    #[serde(deserialize_with = "arity::array")]
     pub background: [f32; 3],
     /// Primary rays per pixel (supersampling, depth of field, motion blur).
     pub spp: i64,
@@ -104,8 +106,11 @@ impl Default for RenderDesc {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraDesc {
+    #[serde(deserialize_with = "arity::array")]
     pub position: [f32; 3],
+    #[serde(deserialize_with = "arity::array")]
     pub look_at: [f32; 3],
+    #[serde(deserialize_with = "arity::array")]
     pub up: [f32; 3],
     /// Vertical field of view in degrees.
     pub fov: f32,
@@ -114,9 +119,12 @@ pub struct CameraDesc {
     /// Distance to the plane in focus; defaults to the distance to `look_at`.
     pub focal_distance: Option<f32>,
     /// Shutter open and close times; motion is defined over this interval.
+    #[serde(deserialize_with = "arity::array")]
     pub shutter: [f32; 2],
     /// Camera position and target at shutter close (camera motion blur).
+    #[serde(default, deserialize_with = "arity::option")]
     pub position_end: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub look_at_end: Option<[f32; 3]>,
 }
 
@@ -141,6 +149,7 @@ impl Default for CameraDesc {
 #[serde(deny_unknown_fields, default)]
 pub struct MaterialDesc {
     /// Diffuse reflectance (Lambertian, BRDF = albedo / π).
+    #[serde(deserialize_with = "arity::array")]
     pub albedo: [f32; 3],
     /// Weight of the energy-normalised Phong highlight.
     pub specular: f32,
@@ -152,6 +161,7 @@ pub struct MaterialDesc {
     pub transparency: f32,
     pub ior: f32,
     /// Emitted radiance (front side).
+    #[serde(deserialize_with = "arity::array")]
     pub emission: [f32; 3],
     /// Radius of the blurry-reflection distribution; default `(1 - reflectivity) * 0.2`.
     pub glossiness: Option<f32>,
@@ -191,11 +201,15 @@ pub struct ObjectDesc {
     pub kind: String,
     pub material: Option<String>,
     // sphere
+    #[serde(default, deserialize_with = "arity::option")]
     pub center: Option<[f32; 3]>,
     pub radius: Option<f32>,
     // quad
+    #[serde(default, deserialize_with = "arity::option")]
     pub origin: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub edge_u: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub edge_v: Option<[f32; 3]>,
     // mesh
     pub path: Option<String>,
@@ -211,19 +225,55 @@ pub struct ObjectDesc {
 #[serde(deny_unknown_fields)]
 pub struct TransformDesc {
     pub scale: Option<Scale>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub rotate_axis: Option<[f32; 3]>,
     pub rotate_degrees: Option<f32>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub translate: Option<[f32; 3]>,
     /// Row-major 4×4 matrix acting on column vectors; excludes the other keys.
+    #[serde(default, deserialize_with = "arity::matrix")]
     pub matrix: Option<[[f32; 4]; 4]>,
 }
 
-/// A uniform (`scale = 2.0`) or per-axis (`scale = [1, 2, 1]`) scale.
-#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+/// A uniform (`scale = 2.0`) or per-axis (`scale = [1, 2, 1]`) scale; read
+/// by hand so that a per-axis scale must have exactly 3 numbers.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum Scale {
     Uniform(f32),
     PerAxis([f32; 3]),
+}
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(ScaleVisitor)
+    }
+}
+
+struct ScaleVisitor;
+
+impl<'de> serde::de::Visitor<'de> for ScaleVisitor {
+    type Value = Scale;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a number or an array of 3 numbers")
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Scale, E> {
+        Ok(Scale::Uniform(v as f32))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Scale, A::Error> {
+        arity::numbers::<A, 3>(seq).map(Scale::PerAxis)
+    }
 }
 
 /// `[[lights]]`: one record for every light; `type` selects which keys apply.
@@ -233,15 +283,23 @@ pub struct LightDesc {
     #[serde(rename = "type")]
     pub kind: String,
     // point
+    #[serde(default, deserialize_with = "arity::option")]
     pub position: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub intensity: Option<[f32; 3]>,
     // area lights
+    #[serde(default, deserialize_with = "arity::option")]
     pub radiance: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub origin: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub edge_u: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub edge_v: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub center: Option<[f32; 3]>,
     pub radius: Option<f32>,
+    #[serde(default, deserialize_with = "arity::option")]
     pub normal: Option<[f32; 3]>,
     /// `thesis` (disk facing the point, §3.3) or `surface` (the real shape).
     pub model: Option<String>,

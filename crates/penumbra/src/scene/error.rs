@@ -1,6 +1,8 @@
 use std::fmt;
 use std::path::PathBuf;
 
+use crate::input::quote;
+
 /// One step of a key path such as `objects[2].transform.scale`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum KeySeg {
@@ -33,12 +35,15 @@ impl KeyPath {
     }
 }
 
+/// Keys (material names, unknown keys) come from the file: each is shown
+/// cut to a few dozen characters.
 impl fmt::Display for KeyPath {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for (i, seg) in self.0.iter().enumerate() {
+            let clip = |k: &str| quote::clip(k, quote::MAX_QUOTED_CHARS).into_owned();
             match seg {
-                KeySeg::Key(k) if i == 0 => write!(f, "{k}")?,
-                KeySeg::Key(k) => write!(f, ".{k}")?,
+                KeySeg::Key(k) if i == 0 => write!(f, "{}", clip(k))?,
+                KeySeg::Key(k) => write!(f, ".{}", clip(k))?,
                 KeySeg::Index(n) => write!(f, "[{n}]")?,
             }
         }
@@ -48,7 +53,9 @@ impl fmt::Display for KeyPath {
 
 /// An invalid scene: names the file and, where known, the line and column
 /// (1-based) of the offending value. Every scene error is a user-input error
-/// (the CLI exits with status 2).
+/// (the CLI exits with status 2). Displayed bounded, whatever the input: a
+/// quoted value is cut to a few dozen characters, the message to a few lines
+/// ([`quote::bounded`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SceneError {
     pub file: Option<PathBuf>,
@@ -75,7 +82,7 @@ impl fmt::Display for SceneError {
             }
             write!(f, " ")?;
         }
-        f.write_str(&self.message)
+        f.write_str(&quote::bounded(&self.message))
     }
 }
 

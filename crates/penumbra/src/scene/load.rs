@@ -10,9 +10,14 @@ use super::error::SceneError;
 use super::reuse::WorldCache;
 use super::source::SourceMap;
 use super::Scene;
+use crate::input::{self, InputError};
 
-/// Largest scene file accepted; real scenes are a few kilobytes.
-const MAX_SCENE_BYTES: u64 = 16 << 20;
+/// Largest scene file read unless `--max-file-size` or
+/// `PENUMBRA_MAX_FILE_SIZE` says otherwise. Real scenes are a few kilobytes
+/// (meshes live in files of their own); parsing holds the whole document,
+/// about 80 bytes of memory for each byte of a scene in the worst case, so
+/// this bound keeps a hostile scene's parse within a few hundred megabytes.
+pub const MAX_SCENE_FILE_SIZE: u64 = 4 << 20;
 
 /// Options that affect where a scene's external files come from.
 #[derive(Clone, Debug, Default)]
@@ -66,13 +71,18 @@ impl SceneSource {
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
         let map = SourceMap::new(file, text.to_string());
-        let desc: SceneDesc = toml::from_str(text)
-            .map_err(|e| map.error_at(e.span(), e.message().trim().to_string()))?;
+        let desc: SceneDesc = toml::from_str(text).map_err(|e| map.toml_error(&e))?;
         Ok(SceneSource {
             desc,
             map: Some(map),
             ctx: context(base_dir, opts),
         })
+    }
+
+    /// The file the description was read from (as errors name it) and its
+    /// text; `None` for a description made in code.
+    pub fn text(&self) -> Option<(&Path, &str)> {
+        self.map.as_ref().map(|m| (m.file.as_path(), m.text()))
     }
 
     /// A description made in code (no file: errors name the key path only).
@@ -123,19 +133,25 @@ fn context(base_dir: &Path, opts: &LoadOptions) -> BuildContext {
 }
 
 fn read_text(path: &Path) -> Result<String, SceneError> {
-    let err = |m: String| SceneError {
+    let err = |e: InputError| SceneError {
         file: Some(path.to_path_buf()),
         position: None,
-        message: m,
+        message: e.to_string(),
     };
-    let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
-    if meta.len() > MAX_SCENE_BYTES {
-        return Err(err(format!(
-            "scene file is {} bytes; the limit is {MAX_SCENE_BYTES}",
-            meta.len()
-        )));
-    }
-    let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+    let limit = input::size_limit(MAX_SCENE_FILE_SIZE).map_err(err)?;
+    let bytes = input::read_file_within(path, limit).map_err(|e| match e {
+        // The message names the file itself: keep it once.
+        InputError::Io { source, .. } => SceneError {
+            file: Some(path.to_path_buf()),
+            position: None,
+            message: source.to_string(),
+        },
+        e => SceneError {
+            file: None,
+            position: None,
+            message: e.to_string(),
+        },
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         let offset = e.utf8_error().valid_up_to();
         let map = SourceMap::new(path, String::from_utf8_lossy(e.as_bytes()).into_owned());

@@ -4,6 +4,7 @@
 //! A scene file and a built-in scene go through exactly the same path; see
 //! `docs/scene-format.md` for the format.
 
+mod arity;
 mod build;
 pub mod builtin;
 mod check;
@@ -13,6 +14,7 @@ pub mod error;
 mod light;
 mod load;
 mod material;
+mod nesting;
 pub mod options;
 mod overrides;
 mod reuse;
@@ -26,7 +28,7 @@ pub use build::BuildContext;
 pub use desc::SceneDesc;
 pub use error::SceneError;
 pub use light::{Light, LightShape, PenumbraModel};
-pub use load::{default_bunny_path, LoadOptions, SceneSource};
+pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE};
 pub use material::{EffectSpec, Material};
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;

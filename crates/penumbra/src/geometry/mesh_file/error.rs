@@ -56,6 +56,9 @@ pub enum MeshError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a file that is read (a FIFO, device, directory) or one over the size limit.
+    #[error(transparent)]
+    File(crate::input::InputError),
     /// A problem at a known place. Text formats give line and column (1-based); binary PLY bodies give the byte offset.
     #[error("{path}{}: {message}", location_suffix(.location))]
     Parse {
@@ -66,18 +69,22 @@ pub enum MeshError {
 }
 
 impl MeshError {
-    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        MeshError::Io {
-            path: path.to_path_buf(),
-            source,
+    /// The error of the bounded reader: an I/O failure stays [`MeshError::Io`].
+    pub(crate) fn input(e: crate::input::InputError) -> Self {
+        match e {
+            crate::input::InputError::Io { path, source } => MeshError::Io { path, source },
+            other => MeshError::File(other),
         }
     }
 
+    /// A problem at a place; the message is bounded (values from the file
+    /// it quotes cut to a few dozen characters, a few lines at most).
     pub(crate) fn parse(path: &Path, location: Location, message: impl Into<String>) -> Self {
+        let message = message.into();
         MeshError::Parse {
             path: path.to_path_buf(),
             location,
-            message: message.into(),
+            message: crate::input::quote::bounded(&message).into_owned(),
         }
     }
 }

@@ -2,11 +2,13 @@
 //! arrays ([`MeshData`]) with errors that name the file, line and column.
 //!
 //! A shape reads its own file, as Mitsuba's `ply` and `obj` shape plugins do:
-//! the readers depend on nothing but the standard library, so the scene's
-//! builder can call them without reaching up into the output layer.
+//! the readers depend on nothing but the standard library and the bounded
+//! reader of [`crate::input`] (regular files only, size-capped), so the
+//! scene's builder can call them without reaching up into the output layer.
 
 mod error;
 pub mod obj;
+mod open;
 pub mod ply;
 mod text;
 
@@ -99,6 +101,64 @@ mod tests {
                 "{message}"
             );
         }
+    }
+
+    #[test]
+    fn names_from_the_file_are_cut_in_messages() {
+        let name = "e".repeat(100_000);
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+             property float z\nelement {name} 1\nproperty float {name}\nend_header\n0 0 0\n"
+        );
+        let error = ply::parse_ply(text.as_bytes(), Path::new("long.ply")).unwrap_err();
+        let message = error.to_string();
+        assert!(message.starts_with("long.ply:"), "{message}");
+        assert!(message.len() < 300 && message.contains("eee…"), "{message}");
+    }
+
+    #[test]
+    fn special_files_are_refused_as_meshes() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("folder.ply");
+        std::fs::create_dir(&path).unwrap();
+        let error = read_mesh(&path).unwrap_err();
+        assert!(matches!(error, MeshError::File(_)), "{error:?}");
+        assert!(error.to_string().contains("is a directory"), "{error}");
+    }
+
+    /// A large file that is plainly not a mesh (a sparse file of zeros) is
+    /// refused from its first bytes, never read whole.
+    #[test]
+    fn a_large_file_of_zeros_is_refused_from_its_head() {
+        let dir = tempfile::tempdir().unwrap();
+        let start = std::time::Instant::now();
+        for name in ["zeros.ply", "zeros.obj"] {
+            let path = dir.path().join(name);
+            let file = std::fs::File::create(&path).unwrap();
+            if file.set_len(3 << 30).is_err() {
+                eprintln!("skipped {name}: no sparse files here");
+                continue;
+            }
+            let error = read_mesh(&path).unwrap_err();
+            let MeshError::Parse { location, .. } = &error else {
+                panic!("{error:?}");
+            };
+            assert_eq!(
+                *location,
+                Location::LineColumn { line: 1, column: 1 },
+                "{error}"
+            );
+        }
+        assert!(start.elapsed().as_secs_f64() < 1.0, "{:?}", start.elapsed());
+    }
+
+    #[test]
+    fn nul_bytes_in_an_obj_are_binary_data_at_their_place() {
+        let error = obj::parse_obj(b"v 0 0 0\nv 1\x000 0\n", Path::new("b.obj")).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "b.obj:2:4: a NUL byte: this is binary data, not OBJ text"
+        );
     }
 
     #[test]

@@ -11,19 +11,47 @@ use super::error::{Location, MeshData, MeshError};
 use super::text::{parse_i64, quote, Lines, Tokens};
 
 pub fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
-    let bytes = std::fs::read(path).map_err(|e| MeshError::io(path, e))?;
+    let mut file = super::open::open_mesh(path)?;
+    let head = file
+        .read_head(super::open::HEAD)
+        .map_err(MeshError::input)?;
+    // Binary data from the first bytes: refused without reading the rest.
+    binary_data(&head, path)?;
+    let bytes = file.read_rest(head).map_err(MeshError::input)?;
     parse_obj(&bytes, path)
 }
 
 /// Parses OBJ text; `path` is used only in error messages. Bytes need not be UTF-8,
-/// since names and comments in the wild use all sorts of encodings.
+/// since names and comments in the wild use all sorts of encodings, but a NUL
+/// byte is refused: it is never in text, and marks binary data.
 pub fn parse_obj(text: &[u8], path: &Path) -> Result<MeshData, MeshError> {
+    binary_data(text, path)?;
     let mut statements = Statements::new(text);
     let mut builder = Builder::new(path);
     while let Some(keyword) = statements.start() {
         builder.statement(keyword, &mut statements)?;
     }
     builder.finish()
+}
+
+/// An error at the first NUL byte of `text`, if it has one.
+fn binary_data(text: &[u8], path: &Path) -> Result<(), MeshError> {
+    let Some(at) = text.iter().position(|&b| b == 0) else {
+        return Ok(());
+    };
+    let before = &text[..at];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let column = at
+        - before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1)
+        + 1;
+    Err(MeshError::parse(
+        path,
+        Location::LineColumn { line, column },
+        "a NUL byte: this is binary data, not OBJ text",
+    ))
 }
 
 /// A token with its physical place, kept separately because `\` continuations join

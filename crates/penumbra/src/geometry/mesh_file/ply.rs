@@ -20,7 +20,16 @@ use super::error::{Location, MeshData, MeshError};
 const MAX_FACE_CORNERS: i64 = 1 << 16;
 
 pub fn read_ply(path: &Path) -> Result<MeshData, MeshError> {
-    let bytes = std::fs::read(path).map_err(|e| MeshError::io(path, e))?;
+    let mut file = super::open::open_mesh(path)?;
+    let head = file
+        .read_head(super::open::HEAD)
+        .map_err(MeshError::input)?;
+    // Not a PLY file from its first line: refused without reading the rest.
+    let first = head.split(|&b| b == b'\n').next().unwrap_or_default();
+    if first.trim_ascii() != b"ply" {
+        return parse_ply(&head, path);
+    }
+    let bytes = file.read_rest(head).map_err(MeshError::input)?;
     parse_ply(&bytes, path)
 }
 

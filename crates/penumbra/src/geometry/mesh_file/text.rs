@@ -2,18 +2,11 @@
 //! whitespace-separated tokens with their columns, integer parsing and
 //! quoting of offending tokens in messages.
 
-/// At most this many bytes of a token are quoted in a message, so that a corrupt file
-/// with megabytes of garbage on one line cannot produce a megabyte-long error.
-const MAX_QUOTED: usize = 40;
-
-/// Quotes a token from a file for an error message, tolerating invalid UTF-8.
+/// Quotes a token from a file for an error message, cut to a few dozen
+/// characters (so that a corrupt file with megabytes of garbage on one line
+/// cannot produce a megabyte-long error) and tolerating invalid UTF-8.
 pub(crate) fn quote(token: &[u8]) -> String {
-    let shown = token.get(..MAX_QUOTED).unwrap_or(token);
-    let mut text = String::from_utf8_lossy(shown).into_owned();
-    if shown.len() < token.len() {
-        text.push('…');
-    }
-    format!("`{text}`")
+    crate::input::quote::quote_bytes(token)
 }
 
 /// Parses a decimal integer with optional sign straight from bytes: integers dominate

@@ -47,7 +47,9 @@ impl Record {
 
 impl fmt::Display for Record {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} {} of {}", self.element, self.index, self.count)
+        // The element's name comes from the file: shown cut to a few dozen characters.
+        let name = crate::input::quote::clip(&self.element, crate::input::quote::MAX_QUOTED_CHARS);
+        write!(f, "{name} {} of {}", self.index, self.count)
     }
 }
 

@@ -1,0 +1,1007 @@
+//! A corpus of hostile and malformed scenes and meshes, each rendered by the
+//! `penumbra` binary at 32×24 and 1 sample per pixel into a path that already
+//! holds a file, under a 4 GiB address-space cap (on Linux).
+//!
+//! Every case must: exit (within 20 s, within 1 s for FIFOs and devices),
+//! not panic or die of a signal, peak under 1 GiB of memory (on Linux), exit
+//! with status 2 and an error naming the file and line (the file alone for
+//! errors about the file itself), or with status 0 and a PNG where the input
+//! is valid; leave the existing output byte-identical on error; leave no
+//! other file behind; and print a short message.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// What is in one file of a case's directory.
+enum Entry {
+    Bytes(Vec<u8>),
+    Dir,
+    /// A symbolic link to this target.
+    Link(&'static str),
+    /// A named pipe no one writes to.
+    Fifo,
+    /// A sparse file of this many zero bytes.
+    Sparse(u64),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Expect {
+    /// Status 2, naming the scene file and a line in it.
+    SceneLine,
+    /// Status 2, naming this file (no line: the file itself is refused).
+    File(&'static str),
+    /// Status 2, at a line of the scene, naming this mesh file.
+    Mesh(&'static str),
+    /// Status 0 and a 32×24 PNG.
+    Valid,
+}
+
+struct Case {
+    name: String,
+    entries: Vec<(&'static str, Entry)>,
+    expect: Expect,
+    /// Leave the size and sample-count flags out: the scene's values hold.
+    bare: bool,
+    /// Seconds it may take.
+    limit: u64,
+}
+
+const OLD_OUTPUT: &[u8] = b"an image rendered earlier, to be kept";
+
+/// The scene around a mesh: a camera looking at it, and a light.
+fn mesh_scene(path: &str) -> String {
+    format!(
+        "[camera]\nposition = [0.5, 0.5, 3]\nlook_at = [0.5, 0.5, 0]\n\n\
+         [[objects]]\ntype = \"mesh\"\npath = \"{path}\"\n\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 2, 3]\nintensity = [5, 5, 5]\n"
+    )
+}
+
+const PLY_HEAD: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n\
+                        property float y\nproperty float z\nelement face 1\n\
+                        property list uchar int vertex_indices\nend_header\n";
+
+fn binary_ply(vertices: u64, faces: u64, body: &[u8]) -> Vec<u8> {
+    let mut b = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\n\
+         property float x\nproperty float y\nproperty float z\nelement face {faces}\n\
+         property list uchar int vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    b.extend_from_slice(body);
+    b
+}
+
+fn valid_binary_ply() -> Vec<u8> {
+    binary_ply(3, 1, &binary_body())
+}
+
+/// Three vertices and one triangle, little-endian.
+fn binary_body() -> Vec<u8> {
+    let mut body = Vec::new();
+    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for x in v {
+            body.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    body.push(3);
+    for i in [0i32, 1, 2] {
+        body.extend_from_slice(&i.to_le_bytes());
+    }
+    body
+}
+
+fn corpus() -> Vec<Case> {
+    let mut cases = Vec::new();
+    let mut scene = |name: &str, text: Vec<u8>, expect: Expect| {
+        cases.push(Case {
+            name: name.to_string(),
+            entries: vec![("scene.toml", Entry::Bytes(text))],
+            expect,
+            bare: false,
+            limit: 20,
+        });
+    };
+    use Expect::*;
+    let s = |t: &str| t.as_bytes().to_vec();
+    let mega = "x".repeat(1 << 20);
+
+    // Text that is not a scene.
+    scene("empty", s(""), Valid);
+    scene("comment only", s("# nothing here\n"), Valid);
+    scene("NUL bytes", vec![0; 4096], SceneLine);
+    scene(
+        "not UTF-8",
+        b"[render]\nwidth = 32\n\xff\xfe\xfd\n".to_vec(),
+        SceneLine,
+    );
+    scene(
+        "binary noise",
+        (0..65536u32)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect(),
+        SceneLine,
+    );
+    scene("unclosed header", s("[render\nwidth = 3\n"), SceneLine);
+    scene(
+        "unclosed string",
+        s("[render]\nfilter = \"box\n"),
+        SceneLine,
+    );
+    scene(
+        "duplicate key",
+        s("[render]\nwidth = 3\nwidth = 4\n"),
+        SceneLine,
+    );
+    scene("duplicate table", s("[render]\n[render]\n"), SceneLine);
+
+    // Bombs: huge values, huge arrays, deep nesting.
+    scene(
+        "megabyte string",
+        format!("[render]\nfilter = \"{mega}\"\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte key",
+        format!("[render]\n{mega} = 1\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte type",
+        format!("[[objects]]\ntype = \"{mega}\"\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte material name",
+        format!("[[objects]]\ntype = \"sphere\"\nmaterial = \"{mega}\"\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte table name",
+        format!("[materials.{mega}]\nior = 0.1\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte bare value",
+        format!("[render]\nwidth = {mega}\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte mesh path",
+        format!("[[objects]]\ntype = \"mesh\"\npath = \"{mega}.ply\"\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "megabyte comment",
+        format!("# {mega}\n[render]\nwidth = 8\n").into_bytes(),
+        Valid,
+    );
+    let numbers = vec!["0.5"; 100_000].join(", ");
+    scene(
+        "background of 100,000 numbers",
+        format!("[render]\nbackground = [{numbers}]\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "array of 2 million numbers",
+        format!("[render]\nbackground = [{}]\n", "1,".repeat(2_000_000)).into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "100,000 materials",
+        (0..100_000)
+            .map(|i| format!("[materials.m{i}]\n"))
+            .collect::<String>()
+            .into_bytes(),
+        Valid,
+    );
+    scene(
+        "60,000 spheres",
+        "[[objects]]\ntype = \"sphere\"\nradius = 0.1\n"
+            .repeat(60_000)
+            .into_bytes(),
+        Valid,
+    );
+    scene(
+        "scene over 4 MiB",
+        format!("# {}\n", "y".repeat(5 << 20)).into_bytes(),
+        File("scene.toml"),
+    );
+    let key = vec!["a"; 5000].join(".");
+    scene(
+        "dotted key 5000 deep",
+        format!("[render]\nwidth = 3\n{key} = 1\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "table header 5000 deep",
+        format!("[{key}]\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "array of tables 5000 deep",
+        format!("[[{key}]]\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "inline dotted key 5000 deep",
+        format!("x = {{ {key} = 1 }}\n").into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "arrays 10,000 deep",
+        format!("x = {}{}\n", "[".repeat(10_000), "]".repeat(10_000)).into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "inline tables 10,000 deep",
+        format!("x = {}1{}\n", "{a = ".repeat(10_000), "}".repeat(10_000)).into_bytes(),
+        SceneLine,
+    );
+    scene(
+        "unclosed arrays",
+        format!("x = {}", "[".repeat(100_000)).into_bytes(),
+        SceneLine,
+    );
+
+    // Arity.
+    for (text, what) in [
+        ("[camera]\nposition = [0, 1, 5, 1]\n", "position of 4"),
+        ("[camera]\nposition = [0, 1]\n", "position of 2"),
+        ("[camera]\nup = []\n", "empty up"),
+        ("[camera]\nshutter = [0, 0.5, 1]\n", "shutter of 3"),
+        ("[materials.m]\nalbedo = [0.5]\n", "albedo of 1"),
+        ("[[objects]]\ntype = \"sphere\"\ncenter = [[0, 0, 0]]\n", "nested center"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nscale = [1, 2]\n", "scale of 2"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nmatrix = [[1,0,0,0],[0,1,0,0],[0,0,1,0]]\n", "matrix of 3 rows"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nmatrix = [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1,0]]\n", "matrix row of 5"),
+        ("[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = [1, 1, 1, 1, 1, 1]\n", "intensity of 6"),
+    ] {
+        scene(&format!("arity: {what}"), s(text), SceneLine);
+    }
+
+    // Numbers out of their ranges, NaN and infinity, wrong types.
+    for (text, what) in [
+        ("[camera]\nposition = [nan, 0, 0]\n", "NaN position"),
+        ("[camera]\nfov = inf\n", "infinite fov"),
+        ("[camera]\nfov = -inf\n", "negative infinite fov"),
+        ("[[objects]]\ntype = \"sphere\"\nradius = nan\n", "NaN radius"),
+        ("[[objects]]\ntype = \"sphere\"\nradius = 1e40\n", "radius beyond f32"),
+        ("[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = [inf, 1, 1]\n", "infinite intensity"),
+        ("[render]\nbackground = [-1, 0, 0]\n", "negative background"),
+        ("[render]\nmetric_threshold = nan\n", "NaN threshold"),
+        ("[render]\nwidth = 99999999999999999999\n", "integer overflow"),
+        ("[render]\nmax_depth = -1\n", "negative depth"),
+        ("[render]\nmax_depth = 1000000\n", "huge depth"),
+        ("[render]\nseed = -1\n", "negative seed"),
+        ("[render]\nwidth = \"32\"\n", "width as string"),
+        ("objects = 3\n", "objects as number"),
+        ("materials = []\n", "materials as array"),
+        ("[[lights]]\ntype = \"point\"\nshadow_rays = -5\nposition = [0, 1, 0]\nintensity = [1, 1, 1]\n", "negative shadow rays"),
+        ("[materials.m]\nreflection_rays = 4294967296\n", "rays beyond u32"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nscale = 0\n", "zero scale"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nmatrix = [[nan,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]\n", "NaN matrix"),
+        ("[[objects]]\ntype = \"sphere\"\n[objects.transform]\nmatrix = [[0,0,0,0],[0,0,0,0],[0,0,0,0],[0,0,0,1]]\n", "singular matrix"),
+    ] {
+        scene(&format!("value: {what}"), s(text), SceneLine);
+    }
+    for (text, what) in [
+        (
+            "[render]\nwidth = 1000000000\nheight = 1000000000\n",
+            "1e9 x 1e9",
+        ),
+        ("[render]\nwidth = 32768\nheight = 32768\n", "32768 x 32768"),
+        ("[render]\nwidth = -32\n", "negative width"),
+        ("[render]\nwidth = 0\n", "zero width"),
+        ("[render]\nspp = 1000000000\n", "1e9 spp"),
+        ("[render]\nspp = -1\n", "negative spp"),
+        ("[render]\nshadow_rays = 0\n", "zero shadow rays"),
+    ] {
+        cases.push(Case {
+            name: format!("absurd: {what}"),
+            entries: vec![("scene.toml", Entry::Bytes(s(text)))],
+            expect: SceneLine,
+            bare: true,
+            limit: 20,
+        });
+    }
+
+    // The scene file is not a file.
+    let special = |name: &str, entry: Entry, expect: Expect| Case {
+        name: name.to_string(),
+        entries: vec![("scene.toml", entry)],
+        expect,
+        bare: false,
+        limit: 1,
+    };
+    cases.push(special("scene is a FIFO", Entry::Fifo, File("scene.toml")));
+    cases.push(special(
+        "scene is /dev/zero",
+        Entry::Link("/dev/zero"),
+        File("scene.toml"),
+    ));
+    cases.push(special(
+        "scene is /dev/urandom",
+        Entry::Link("/dev/urandom"),
+        File("scene.toml"),
+    ));
+    cases.push(special(
+        "scene is a directory",
+        Entry::Dir,
+        File("scene.toml"),
+    ));
+    cases.push(special(
+        "scene of 3 GiB of zeros",
+        Entry::Sparse(3 << 30),
+        File("scene.toml"),
+    ));
+    cases.push(special(
+        "scene is a dangling link",
+        Entry::Link("/nonexistent/x.toml"),
+        File("scene.toml"),
+    ));
+
+    // Meshes.
+    let mut mesh = |name: &str, file: &'static str, entry: Entry, expect: Expect, limit: u64| {
+        cases.push(Case {
+            name: name.to_string(),
+            entries: vec![
+                ("scene.toml", Entry::Bytes(mesh_scene(file).into_bytes())),
+                (file, entry),
+            ],
+            expect,
+            bare: false,
+            limit,
+        });
+    };
+    let b = |t: &str| Entry::Bytes(t.as_bytes().to_vec());
+    mesh("mesh is a FIFO", "m.ply", Entry::Fifo, Mesh("m.ply"), 1);
+    mesh(
+        "mesh is /dev/zero",
+        "m.ply",
+        Entry::Link("/dev/zero"),
+        Mesh("m.ply"),
+        1,
+    );
+    mesh(
+        "OBJ mesh is /dev/urandom",
+        "m.obj",
+        Entry::Link("/dev/urandom"),
+        Mesh("m.obj"),
+        1,
+    );
+    mesh("mesh is a directory", "m.ply", Entry::Dir, Mesh("m.ply"), 1);
+    mesh(
+        "PLY of 3 GiB of zeros",
+        "m.ply",
+        Entry::Sparse(3 << 30),
+        Mesh("m.ply"),
+        1,
+    );
+    mesh(
+        "OBJ of 3 GiB of zeros",
+        "m.obj",
+        Entry::Sparse(3 << 30),
+        Mesh("m.obj"),
+        1,
+    );
+    mesh(
+        "PLY of 5 GiB of zeros",
+        "m.ply",
+        Entry::Sparse(5 << 30),
+        Mesh("m.ply"),
+        1,
+    );
+    mesh(
+        "mesh is missing",
+        "m.ply",
+        Entry::Link("/nonexistent/m.ply"),
+        Mesh("m.ply"),
+        1,
+    );
+    mesh(
+        "mesh is not a mesh format",
+        "m.stl",
+        b("solid x\n"),
+        Mesh("m.stl"),
+        20,
+    );
+    mesh(
+        "valid ASCII PLY",
+        "m.ply",
+        Entry::Bytes(format!("{PLY_HEAD}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").into_bytes()),
+        Valid,
+        20,
+    );
+    mesh(
+        "valid binary PLY",
+        "m.ply",
+        Entry::Bytes(valid_binary_ply()),
+        Valid,
+        20,
+    );
+    mesh(
+        "valid OBJ",
+        "m.obj",
+        b("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        Valid,
+        20,
+    );
+    let ply_cases: Vec<(&str, Vec<u8>)> = vec![
+        ("empty PLY", Vec::new()),
+        ("magic only", s("ply\n")),
+        (
+            "no end_header",
+            s("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"),
+        ),
+        (
+            "megabyte header line",
+            format!("ply\nformat ascii 1.0\ncomment {mega}\nelement vertex {mega}\nend_header\n")
+                .into_bytes(),
+        ),
+        (
+            "a trillion ASCII vertices",
+            s(&PLY_HEAD.replace("vertex 3", "vertex 1000000000000")),
+        ),
+        (
+            "negative vertex count",
+            s(&PLY_HEAD.replace("vertex 3", "vertex -5")),
+        ),
+        (
+            "4 billion vertices",
+            s(&PLY_HEAD.replace("vertex 3", "vertex 4294967296")),
+        ),
+        (
+            "binary: counts beyond the bytes",
+            binary_ply(1 << 40, 1 << 40, &[0; 64]),
+        ),
+        ("binary: body cut short", {
+            let mut v = valid_binary_ply();
+            v.truncate(v.len() - 3);
+            v
+        }),
+        (
+            "binary header, ASCII body",
+            binary_ply(3, 1, b"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        ),
+        ("ASCII header, binary body", {
+            let mut v = s(PLY_HEAD);
+            v.extend_from_slice(&binary_body());
+            v
+        }),
+        (
+            "index out of range",
+            format!("{PLY_HEAD}0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n").into_bytes(),
+        ),
+        (
+            "negative index",
+            format!("{PLY_HEAD}0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n").into_bytes(),
+        ),
+        (
+            "face of 255 corners, 3 given",
+            format!("{PLY_HEAD}0 0 0\n1 0 0\n0 1 0\n255 0 1 2\n").into_bytes(),
+        ),
+        (
+            "face of 2 corners",
+            format!("{PLY_HEAD}0 0 0\n1 0 0\n0 1 0\n2 0 1\n").into_bytes(),
+        ),
+        (
+            "NaN vertex",
+            format!("{PLY_HEAD}nan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
+        ),
+        (
+            "infinite vertex",
+            format!("{PLY_HEAD}inf 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
+        ),
+        (
+            "double beyond f32",
+            format!("{PLY_HEAD}1e300 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
+        ),
+        (
+            "list count of 4 billion",
+            s(&format!(
+                "{}0 0 0\n1 0 0\n0 1 0\n4294967295 0 1 2\n",
+                PLY_HEAD.replace("uchar", "uint")
+            )),
+        ),
+        ("unknown format", s(&PLY_HEAD.replace("ascii", "utf16"))),
+        (
+            "unknown property type",
+            s(&PLY_HEAD.replace("property float x", "property quaternion x")),
+        ),
+        (
+            "no faces",
+            s(&format!(
+                "{}0 0 0\n1 0 0\n0 1 0\n",
+                PLY_HEAD.replace("face 1", "face 0")
+            )),
+        ),
+        (
+            "non-UTF-8 header",
+            b"ply\nformat ascii 1.0\ncomment \xff\xfe\nelement vertex 3\n".to_vec(),
+        ),
+    ];
+    for (what, bytes) in ply_cases {
+        mesh(
+            &format!("PLY: {what}"),
+            "m.ply",
+            Entry::Bytes(bytes),
+            Mesh("m.ply"),
+            20,
+        );
+    }
+    let obj_cases: Vec<(&str, Vec<u8>)> = vec![
+        ("empty OBJ", Vec::new()),
+        ("index 0", s("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")),
+        (
+            "index out of range",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n"),
+        ),
+        (
+            "relative index out of range",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -9\n"),
+        ),
+        (
+            "index beyond i64",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n"),
+        ),
+        ("face of 2 corners", s("v 0 0 0\nv 1 0 0\nf 1 2\n")),
+        ("NaN vertex", s("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")),
+        ("faces without vertices", s("f 1 2 3\n")),
+        (
+            "megabyte token",
+            format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 {mega}\n").into_bytes(),
+        ),
+        (
+            "non-UTF-8",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \xff\n".to_vec(),
+        ),
+        ("NUL bytes", vec![0; 4096]),
+    ];
+    for (what, bytes) in obj_cases {
+        mesh(
+            &format!("OBJ: {what}"),
+            "m.obj",
+            Entry::Bytes(bytes),
+            Mesh("m.obj"),
+            20,
+        );
+    }
+
+    // One small mesh named thousands of times.
+    let mut grid = String::new();
+    for i in 0..=100 {
+        for j in 0..=100 {
+            let _ = writeln!(grid, "v {} {} 0", i as f32 / 100.0, j as f32 / 100.0);
+        }
+    }
+    for i in 0..100 {
+        for j in 0..100 {
+            let a = i * 101 + j + 1;
+            let _ = writeln!(
+                grid,
+                "f {a} {} {}\nf {a} {} {}",
+                a + 1,
+                a + 102,
+                a + 102,
+                a + 101
+            );
+        }
+    }
+    let object = "[[objects]]\ntype = \"mesh\"\npath = \"grid.obj\"\n";
+    cases.push(Case {
+        name: "mesh named 5000 times".into(),
+        entries: vec![
+            ("scene.toml", Entry::Bytes(object.repeat(5000).into_bytes())),
+            ("grid.obj", Entry::Bytes(grid.into_bytes())),
+        ],
+        expect: SceneLine,
+        bare: false,
+        limit: 20,
+    });
+    cases
+}
+
+/// Makes a case's files; `false` if this platform cannot (no FIFOs).
+fn make(dir: &Path, name: &str, entry: &Entry) -> bool {
+    let path = dir.join(name);
+    match entry {
+        Entry::Bytes(b) => std::fs::write(&path, b).unwrap(),
+        Entry::Dir => std::fs::create_dir(&path).unwrap(),
+        Entry::Link(target) => {
+            #[cfg(unix)]
+            std::os::unix::fs::symlink(target, &path).unwrap();
+            #[cfg(not(unix))]
+            {
+                let _ = target;
+                return false;
+            }
+        }
+        Entry::Sparse(len) => {
+            let file = std::fs::File::create(&path).unwrap();
+            if file.set_len(*len).is_err() {
+                return false;
+            }
+        }
+        Entry::Fifo => {
+            let made = Command::new("mkfifo").arg(&path).status();
+            if !matches!(made, Ok(s) if s.success()) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn listing(dir: &Path) -> Vec<(String, Option<Vec<u8>>)> {
+    let mut names: Vec<(String, Option<Vec<u8>>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let regular = e.file_type().unwrap().is_file();
+            let name = e.file_name().to_string_lossy().into_owned();
+            // The contents of the output only: inputs are never written.
+            let bytes = (regular && name == "out.png").then(|| std::fs::read(e.path()).unwrap());
+            (name, bytes)
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// How a run ended.
+struct Run {
+    code: Option<i32>,
+    signal: Option<i32>,
+    stderr: String,
+    elapsed: Duration,
+    /// Peak resident memory in KiB, where the platform says.
+    peak_kib: Option<i64>,
+}
+
+/// Runs the binary in `dir`, killing it after `limit`; `None` if it had to be killed.
+fn run(dir: &Path, args: &[String], limit: Duration, log: &Path) -> Option<Run> {
+    run_with(dir, args, None, limit, log)
+}
+
+/// [`run`] with `PENUMBRA_MAX_FILE_SIZE` set to `max_file_size` (else unset).
+fn run_with(
+    dir: &Path,
+    args: &[String],
+    max_file_size: Option<&str>,
+    limit: Duration,
+    log: &Path,
+) -> Option<Run> {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_penumbra"));
+    match max_file_size {
+        Some(v) => cmd.env("PENUMBRA_MAX_FILE_SIZE", v),
+        None => cmd.env_remove("PENUMBRA_MAX_FILE_SIZE"),
+    };
+    cmd.args(args)
+        .current_dir(dir)
+        .env_remove("PENUMBRA_BUNNY")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(log).unwrap());
+    cap_address_space(&mut cmd);
+    let start = Instant::now();
+    let mut child = cmd.spawn().expect("run penumbra");
+    let read_log = || {
+        let mut text = std::fs::read(log).unwrap();
+        text.truncate(1 << 20);
+        String::from_utf8_lossy(&text).into_owned()
+    };
+    loop {
+        if let Some((code, signal, peak_kib)) = reap(&mut child) {
+            return Some(Run {
+                code,
+                signal,
+                stderr: read_log(),
+                elapsed: start.elapsed(),
+                peak_kib,
+            });
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The address-space cap the cases run under: an allocation past it fails.
+#[cfg(target_os = "linux")]
+fn cap_address_space(cmd: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    let cap = libc::rlimit {
+        rlim_cur: 4 << 30,
+        rlim_max: 4 << 30,
+    };
+    // SAFETY: setrlimit is async-signal-safe and touches only the child.
+    unsafe {
+        cmd.pre_exec(move || {
+            if libc::setrlimit(libc::RLIMIT_AS, &cap) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn cap_address_space(_: &mut Command) {}
+
+/// The child's exit (code, signal, peak memory) if it has exited.
+#[cfg(target_os = "linux")]
+fn reap(child: &mut std::process::Child) -> Option<(Option<i32>, Option<i32>, Option<i64>)> {
+    let mut status = 0;
+    // SAFETY: plain out-parameters; the child is ours and not yet waited for.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = child.id() as libc::pid_t;
+    let r = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
+    if r != pid {
+        return None;
+    }
+    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+    let signal = libc::WIFSIGNALED(status).then(|| libc::WTERMSIG(status));
+    Some((code, signal, Some(usage.ru_maxrss)))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn reap(child: &mut std::process::Child) -> Option<(Option<i32>, Option<i32>, Option<i64>)> {
+    let status = child.try_wait().unwrap()?;
+    #[cfg(unix)]
+    let signal = std::os::unix::process::ExitStatusExt::signal(&status);
+    #[cfg(not(unix))]
+    let signal = None;
+    Some((status.code(), signal, None))
+}
+
+/// Checks one case; the problems found, if any, else its time and peak memory.
+fn check(case: &Case, logs: &Path) -> Result<(Duration, Option<i64>), String> {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, entry) in &case.entries {
+        if !make(dir.path(), name, entry) {
+            println!(
+                "skipped `{}`: this platform cannot make its files",
+                case.name
+            );
+            return Ok((Duration::ZERO, None));
+        }
+    }
+    std::fs::write(dir.path().join("out.png"), OLD_OUTPUT).unwrap();
+    let before = listing(dir.path());
+    let mut args: Vec<String> = ["render", "scene.toml", "-o", "out.png", "--quiet"]
+        .map(String::from)
+        .to_vec();
+    if !case.bare {
+        args.extend(["--width", "32", "--height", "24", "--spp", "1"].map(String::from));
+    }
+    let log = logs.join("stderr.txt");
+    let limit = Duration::from_secs(case.limit);
+    // Generous against a loaded machine, for the cases allowed a second.
+    let kill_after = limit.max(Duration::from_secs(20));
+    let Some(r) = run(dir.path(), &args, kill_after, &log) else {
+        return Err(format!("did not exit within {kill_after:?} (a hang)"));
+    };
+    let mut problems = Vec::new();
+    let e = &r.stderr;
+    let shown: String = e.chars().take(400).collect();
+    if r.elapsed > limit {
+        problems.push(format!("took {:?}, more than {limit:?}", r.elapsed));
+    }
+    if let Some(sig) = r.signal {
+        problems.push(format!("killed by signal {sig}"));
+    }
+    if e.contains("panicked") || r.code == Some(101) {
+        problems.push(format!("panicked: {shown}"));
+    }
+    if let Some(kib) = r.peak_kib {
+        if kib > 1 << 20 {
+            problems.push(format!("peak memory {} MiB", kib >> 10));
+        }
+    }
+    if e.len() > 1200 || e.lines().count() > 6 {
+        problems.push(format!(
+            "a message of {} bytes, {} lines",
+            e.len(),
+            e.lines().count()
+        ));
+    }
+    let after = listing(dir.path());
+    match case.expect {
+        Expect::Valid => {
+            if r.code != Some(0) {
+                problems.push(format!("exit {:?} for a valid input: {shown}", r.code));
+            } else {
+                match image::open(dir.path().join("out.png")) {
+                    Ok(img) if (img.width(), img.height()) == (32, 24) => {}
+                    Ok(img) => problems.push(format!("a {}x{} image", img.width(), img.height())),
+                    Err(err) => problems.push(format!("no PNG written: {err}")),
+                }
+                let names = |l: &[(String, Option<Vec<u8>>)]| {
+                    l.iter().map(|x| x.0.clone()).collect::<Vec<_>>()
+                };
+                if names(&before) != names(&after) {
+                    problems.push(format!(
+                        "files changed: {:?} -> {:?}",
+                        names(&before),
+                        names(&after)
+                    ));
+                }
+            }
+        }
+        expect => {
+            if r.code != Some(2) {
+                problems.push(format!("exit {:?}, not 2: {shown}", r.code));
+            }
+            if before != after {
+                problems.push("the old output or the directory changed".to_string());
+            }
+            let located = |file: &str| {
+                e.match_indices(&format!("{file}:"))
+                    .any(|(i, m)| e[i + m.len()..].starts_with(|c: char| c.is_ascii_digit()))
+            };
+            let ok = match expect {
+                Expect::SceneLine => located("scene.toml"),
+                Expect::File(file) => e.starts_with(&format!("error: {file}: ")),
+                Expect::Mesh(file) => located("scene.toml") && e.contains(file),
+                Expect::Valid => unreachable!(),
+            };
+            if !ok {
+                problems.push(format!(
+                    "the message does not name the place ({expect:?}): {shown}"
+                ));
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok((r.elapsed, r.peak_kib))
+    } else {
+        Err(problems.join("; "))
+    }
+}
+
+#[test]
+fn every_hostile_case_fails_cleanly_or_renders() {
+    let logs = tempfile::tempdir().unwrap();
+    let cases = corpus();
+    let mut failures = Vec::new();
+    println!("{} cases", cases.len());
+    let (mut slowest, mut largest) = ((Duration::ZERO, ""), (0, ""));
+    for case in &cases {
+        match check(case, logs.path()) {
+            Ok((time, peak)) => {
+                slowest = slowest.max((time, &case.name));
+                largest = largest.max((peak.unwrap_or(0), &case.name));
+            }
+            Err(why) => failures.push(format!("{}: {why}", case.name)),
+        }
+    }
+    println!("slowest: {} ({:?})", slowest.1, slowest.0);
+    println!("largest: {} ({} MiB)", largest.1, largest.0 >> 10);
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn the_file_size_limit_can_be_raised_and_lowered() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!(
+        "# {}\n[render]\nwidth = 8\nheight = 6\n",
+        "z".repeat(5 << 20)
+    );
+    std::fs::write(dir.path().join("big.toml"), scene).unwrap();
+    let base = ["render", "big.toml", "-o", "out.png", "--quiet"];
+    let logs = tempfile::tempdir().unwrap();
+    let log = logs.path().join("stderr.txt");
+    let args = |extra: &[&str]| -> Vec<String> {
+        base.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let r = run(dir.path(), &args(&[]), Duration::from_secs(20), &log).unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(r.stderr.contains("--max-file-size"), "{}", r.stderr);
+    let r = run(
+        dir.path(),
+        &args(&["--max-file-size", "8M"]),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let r = run_with(
+        dir.path(),
+        &args(&[]),
+        Some("8MiB"),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    // The flag wins over the variable.
+    let r = run_with(
+        dir.path(),
+        &args(&["--max-file-size", "1M"]),
+        Some("8M"),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    // An empty variable is no variable.
+    let r = run_with(
+        dir.path(),
+        &args(&[]),
+        Some(""),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("more than the limit of 4194304 bytes"),
+        "{}",
+        r.stderr
+    );
+    let r = run_with(
+        dir.path(),
+        &args(&[]),
+        Some("lots"),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(
+        r.stderr
+            .contains("PENUMBRA_MAX_FILE_SIZE=lots is not a size"),
+        "{}",
+        r.stderr
+    );
+    // Lowered below a small mesh.
+    std::fs::write(dir.path().join("s.toml"), mesh_scene("m.obj")).unwrap();
+    let obj = format!(
+        "# {}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        "-".repeat(1000)
+    );
+    std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+    let small = [
+        "render", "s.toml", "-o", "out.png", "--quiet", "--width", "8", "--height", "6",
+    ];
+    let with = |extra: &[&str]| -> Vec<String> {
+        small.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let r = run(
+        dir.path(),
+        &with(&["--max-file-size", "500"]),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(
+        r.stderr
+            .contains("m.obj: the file is 1035 bytes, more than the limit of 500 bytes"),
+        "{}",
+        r.stderr
+    );
+    let r = run(
+        dir.path(),
+        &with(&["--max-file-size", "lots"]),
+        Duration::from_secs(20),
+        &log,
+    )
+    .unwrap();
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    let r = run(dir.path(), &with(&[]), Duration::from_secs(20), &log).unwrap();
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+}
