@@ -188,38 +188,27 @@ impl<'a> Tracer<'a> {
         }
         self.emitters = emitters;
         out.clear();
-        let (lit, lights) = (batch.lit.len(), scene.lights.len());
+        let lit = batch.lit.len();
         let mut k = 0;
         for (i, ray) in rays.iter().enumerate() {
             let Some(hit) = self.primary[i] else {
                 out.push(scene.settings.background);
                 continue;
             };
-            if let Some(l) = hit.light {
-                out.push(self.emitters[l as usize].emitted(hit.ng, ray.dir));
-                continue;
-            }
-            let sh = &self.surfaces[hit.material as usize];
-            let (lit_here, scatters, emission) = (sh.lit, sh.scatters, sh.emission);
-            let fresh;
-            let s = if lit_here {
-                &batch.lit[k].2
-            } else {
-                fresh = Local::new(ray, &hit);
-                &fresh
-            };
-            let mut l = if s.front { emission } else { Rgb::ZERO };
-            if lit_here {
-                // This hit's frame and direct light were found above.
-                for j in 0..lights {
-                    l += batch.direct[j * lit + k];
+            // A lit hit's frame and direct light were found above.
+            let found = match batch.lit.get(k) {
+                Some((at, _, s)) if *at == i => {
+                    k += 1;
+                    Some((s, k - 1))
                 }
-                k += 1;
-            }
-            if scatters {
-                self.indirect(s, ray, hit.material, 0, rng(i), &mut l);
-            }
-            out.push(l);
+                _ => None,
+            };
+            let frame = found.map(|(s, _)| s);
+            let direct = |_: &mut Self, _: &Local, j: usize| match found {
+                Some((_, k)) => batch.direct[j * lit + k],
+                None => Rgb::ZERO,
+            };
+            out.push(self.shade_with(ray, &hit, frame, 0, rng(i), direct));
         }
         self.batch = batch;
     }
@@ -273,23 +262,58 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// [`shade_with`](Self::shade_with), the direct light of each light
+    /// found here for this hit alone.
     fn shade(&mut self, ray: &Ray, hit: &Hit, depth: u32, rng: Rng) -> Rgb {
+        let direct = |this: &mut Self, s: &Local, j: usize| {
+            let local = this.surfaces[hit.material as usize].local;
+            let emitters = std::mem::take(&mut this.emitters);
+            let key = this.shadow_keys[j];
+            let l = this.direct(s, &local, &emitters[j], rng.derive_key(key));
+            this.emitters = emitters;
+            l
+        };
+        self.shade_with(ray, hit, None, depth, rng, direct)
+    }
+
+    /// The radiance leaving `hit` along `ray`: the light's own radiance if
+    /// it is a light's surface; else emission (on the front side), the
+    /// direct light `direct(self, frame, j)` of each light `j` if the
+    /// material is lit, then reflection and refraction (see
+    /// [`indirect`](Self::indirect)), summed in this order on every path.
+    /// `frame` is the hit's frame if the caller has it.
+    #[inline]
+    fn shade_with(
+        &mut self,
+        ray: &Ray,
+        hit: &Hit,
+        frame: Option<&Local>,
+        depth: u32,
+        rng: Rng,
+        mut direct: impl FnMut(&mut Self, &Local, usize) -> Rgb,
+    ) -> Rgb {
         if let Some(l) = hit.light {
             return self.emitters[l as usize].emitted(hit.ng, ray.dir);
         }
-        let s = Local::new(ray, hit);
-        let sh = &self.surfaces[hit.material as usize];
-        let mut l = if s.front { sh.emission } else { Rgb::ZERO };
-        if sh.lit {
-            let local = sh.local;
-            let emitters = std::mem::take(&mut self.emitters);
-            for (j, light) in emitters.iter().enumerate() {
-                let key = self.shadow_keys[j];
-                l += self.direct(&s, &local, light, rng.derive_key(key));
+        let fresh;
+        let s = match frame {
+            Some(s) => s,
+            None => {
+                fresh = Local::new(ray, hit);
+                &fresh
             }
-            self.emitters = emitters;
+        };
+        let sh = &self.surfaces[hit.material as usize];
+        let (lit, scatters) = (sh.lit, sh.scatters);
+        let mut l = if s.front { sh.emission } else { Rgb::ZERO };
+        if lit {
+            for j in 0..self.emitters.len() {
+                l += direct(self, s, j);
+            }
         }
-        self.indirect(&s, ray, hit.material, depth, rng, &mut l);
+        if scatters {
+            self.indirect(s, ray, hit.material, depth, rng, &mut l);
+        }
         l
     }
 
