@@ -81,6 +81,9 @@ impl Filter {
     /// increasing in `p`. The box filter returns `p` itself.
     #[inline]
     pub fn warp(self, p: f32) -> f32 {
+        if self == Filter::Box {
+            return p;
+        }
         let u = (p + 0.5).clamp(0.0, 1.0);
         match self {
             Filter::Box => p,

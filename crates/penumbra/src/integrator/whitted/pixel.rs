@@ -89,7 +89,12 @@ pub fn render_pixels(
             pixels.clear();
             pixels.extend((x0..x1).map(|x| pixel_stream(scene, x, y)));
             tracer.intersect_primary(rays);
-            let path = |i: usize| pixels[i / n].path_of(paths[i % n]);
+            // Ray `i` is sample `i % n` of pixel `i / n`: with one sample
+            // the group is a span of pixels, with several it is one pixel.
+            let path = |i: usize| match n {
+                1 => pixels[i].path_of(paths[0]),
+                _ => pixels[0].path_of(paths[i]),
+            };
             tracer.radiance_primaries(rays, path, radiance);
             for (x, samples) in (x0..x1).zip(radiance.chunks_exact(n)) {
                 let mut mean = RunningMean::default();
@@ -213,11 +218,22 @@ fn camera_samples(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
     // metric may leave untraced are no loss).
     // The film points, warped by the pixel filter (the box leaves them).
     let f = s.filter;
+    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+    let at = |p: &Vec3| centre + Vec2::new(f.warp(p.x), f.warp(p.y));
+    if lens.is_empty() && times.is_empty() {
+        // A pinhole camera and nothing moving: every sample is a film point
+        // at the shutter's opening time.
+        let time = cam.time(0.0);
+        let sample = |p| CameraSample {
+            film: at(p),
+            lens: Vec2::ZERO,
+            time,
+        };
+        samples.extend(film.iter().map(sample));
+        return;
+    }
     let sample = |i: usize| CameraSample {
-        film: Vec2::new(
-            x as f32 + 0.5 + f.warp(film[i].x),
-            y as f32 + 0.5 + f.warp(film[i].y),
-        ),
+        film: at(&film[i]),
         lens: lens
             .get(i)
             .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
