@@ -86,8 +86,6 @@ pub fn render_pixels(
                 pixels,
                 ..
             } = buf;
-            pixels.clear();
-            pixels.extend((x0..x1).map(|x| pixel_stream(scene, x, y)));
             tracer.intersect_primary(rays);
             // Ray `i` is sample `i % n` of pixel `i / n`: with one sample
             // the group is a span of pixels, with several it is one pixel.
@@ -149,7 +147,7 @@ fn one_by_one(
     buf: &Scratch,
 ) -> Rgb {
     let n = scene.settings.spp as usize;
-    let pixel = pixel_stream(scene, x, y);
+    let pixel = buf.pixels[0];
     let mut mean = RunningMean::default();
     for (i, ray) in buf.rays.iter().enumerate() {
         tracer.stats.primary += 1;
@@ -163,11 +161,16 @@ fn one_by_one(
 }
 
 /// The camera rays of pixels `xs` of row `y`, pixel by pixel, into
-/// `buf.rays`: one batch from the camera.
+/// `buf.rays`: one batch from the camera. The pixels' streams are left in
+/// `buf.pixels`.
 fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
+    buf.pixels.clear();
+    buf.pixels
+        .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
     buf.samples.clear();
-    for x in xs {
-        camera_samples(scene, x, y, buf);
+    for (k, x) in xs.enumerate() {
+        let pixel = buf.pixels[k];
+        camera_samples(scene, x, y, pixel, buf);
     }
     buf.rays.clear();
     scene.camera.generate(&buf.samples, &mut buf.rays);
@@ -177,11 +180,10 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
 /// positions, lens points and times come from three decorrelated streams,
 /// each set in its own shuffled trace order, so pairing them by index mixes
 /// them randomly.
-fn camera_samples(scene: &Scene, x: u32, y: u32, buf: &mut Scratch) {
+fn camera_samples(scene: &Scene, x: u32, y: u32, pixel: PixelSampler, buf: &mut Scratch) {
     let s = &scene.settings;
     let cam = &scene.camera;
     let n = s.spp as usize;
-    let pixel = pixel_stream(scene, x, y);
     let Scratch {
         film,
         lens,
