@@ -48,7 +48,8 @@ pub struct Tracer<'a> {
     /// The hits of the current pixel's camera rays, found together.
     primary: Vec<Option<Hit>>,
     packet: PacketScratch,
-    batch: Batch,
+    /// Boxed, so that taking it out for a group moves a pointer.
+    batch: Option<Box<Batch>>,
     /// The models of each of the scene's materials.
     surfaces: Vec<Surface>,
     /// The scene's lights, ready to be sampled.
@@ -134,7 +135,7 @@ impl<'a> Tracer<'a> {
             shaft: ShaftSet::default(),
             primary: Vec::new(),
             packet: PacketScratch::default(),
-            batch: Batch::default(),
+            batch: Some(Box::default()),
             surfaces: scene.materials.iter().map(Surface::new).collect(),
             emitters: scene.lights.iter().map(Emitter::new).collect(),
             shadow_keys: (0..scene.lights.len() as u64)
@@ -170,7 +171,7 @@ impl<'a> Tracer<'a> {
         out: &mut Vec<Rgb>,
     ) {
         let scene = self.scene;
-        let mut batch = std::mem::take(&mut self.batch);
+        let mut batch = self.batch.take().unwrap_or_default();
         batch.lit.clear();
         for (i, ray) in rays.iter().enumerate() {
             let Some(hit) = &self.primary[i] else {
@@ -210,7 +211,7 @@ impl<'a> Tracer<'a> {
             };
             out.push(self.shade_with(ray, &hit, frame, 0, rng(i), direct));
         }
-        self.batch = batch;
+        self.batch = Some(batch);
     }
 
     /// Direct light from `light` at every lit hit of `batch`, appended to
