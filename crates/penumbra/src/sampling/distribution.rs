@@ -211,6 +211,10 @@ use std::str::FromStr;
 
 use crate::math::{Vec2, Vec3};
 
+use super::halton::Halton;
+use super::pmj02::Pmj02;
+use super::r2::R2;
+use super::sobol::Sobol;
 use super::Rng;
 
 /// How the points of a ray set are placed; see the [module docs](self).
@@ -223,18 +227,35 @@ pub enum Distribution {
     Poisson,
     Random,
     FastRandom,
+    Sobol,
+    Pmj02,
+    Halton,
+    R2,
 }
 
 impl Distribution {
-    /// All distributions, in the order of the thesis's Figure 2.18 plus
-    /// fast-random.
-    pub const ALL: [Distribution; 6] = [
+    /// The thesis's six, in the order of its Figure 2.18 plus fast-random.
+    pub const THESIS: [Distribution; 6] = [
         Distribution::Grid,
         Distribution::Jitter,
         Distribution::SemiJitter,
         Distribution::Poisson,
         Distribution::Random,
         Distribution::FastRandom,
+    ];
+
+    /// Every distribution: the thesis's six, then the low-discrepancy sets.
+    pub const ALL: [Distribution; 10] = [
+        Distribution::Grid,
+        Distribution::Jitter,
+        Distribution::SemiJitter,
+        Distribution::Poisson,
+        Distribution::Random,
+        Distribution::FastRandom,
+        Distribution::Sobol,
+        Distribution::Pmj02,
+        Distribution::Halton,
+        Distribution::R2,
     ];
 
     /// The kebab-case name users write (the serde name too).
@@ -246,12 +267,16 @@ impl Distribution {
             Distribution::Poisson => "poisson",
             Distribution::Random => "random",
             Distribution::FastRandom => "fast-random",
+            Distribution::Sobol => "sobol",
+            Distribution::Pmj02 => "pmj02",
+            Distribution::Halton => "halton",
+            Distribution::R2 => "r2",
         }
     }
 
     /// Parses a user-written name: the kebab names, case-insensitively, with
-    /// `_` accepted for `-`, plus the aliases `semijitter`, `fastrandom` and
-    /// `poisson-disk`.
+    /// `_` accepted for `-`, plus the aliases `semijitter`, `fastrandom`,
+    /// `poisson-disk`, `owen-sobol` and `pmj`.
     pub fn from_name(s: &str) -> Option<Self> {
         let key = s.trim().to_ascii_lowercase().replace('_', "-");
         let d = match key.as_str() {
@@ -261,6 +286,10 @@ impl Distribution {
             "poisson" | "poisson-disk" => Distribution::Poisson,
             "random" => Distribution::Random,
             "fast-random" | "fastrandom" => Distribution::FastRandom,
+            "sobol" | "owen-sobol" => Distribution::Sobol,
+            "pmj02" | "pmj" => Distribution::Pmj02,
+            "halton" => Distribution::Halton,
+            "r2" => Distribution::R2,
             _ => return None,
         };
         Some(d)
@@ -315,6 +344,10 @@ impl Distribution {
             Distribution::Poisson => poisson(count, radius, rng, out),
             Distribution::Random => out.extend((0..count).map(|_| disk(radius, rng))),
             Distribution::FastRandom => out.extend((0..count).map(|_| cube(radius, rng))),
+            Distribution::Sobol => sequence(count, radius, out, Sobol::new(rng), Sobol::point),
+            Distribution::Pmj02 => sequence(count, radius, out, Pmj02::new(rng), Pmj02::point),
+            Distribution::Halton => sequence(count, radius, out, Halton::new(rng), Halton::point),
+            Distribution::R2 => sequence(count, radius, out, R2::new(rng), R2::point),
         }
     }
 
@@ -332,6 +365,10 @@ impl Distribution {
             Distribution::SemiJitter => cell(semi_jitter(rng)),
             Distribution::Random => disk(radius, rng),
             Distribution::FastRandom => cube(radius, rng),
+            Distribution::Sobol => cell(Sobol::new(rng).point(0)),
+            Distribution::Pmj02 => cell(Pmj02::new(rng).point(0)),
+            Distribution::Halton => cell(Halton::new(rng).point(0)),
+            Distribution::R2 => cell(R2::new(rng).point(0)),
         }
     }
 
@@ -373,6 +410,10 @@ impl Distribution {
             Distribution::Random | Distribution::FastRandom => {
                 out.extend((0..count).map(|_| rng.next_f32()))
             }
+            Distribution::Sobol => return values(count, out, Sobol::new(rng), Sobol::value),
+            Distribution::Pmj02 => return values(count, out, Pmj02::new(rng), Pmj02::value),
+            Distribution::Halton => return values(count, out, Halton::new(rng), Halton::value),
+            Distribution::R2 => return values(count, out, R2::new(rng), R2::value),
         }
         shuffle(out, rng);
     }
@@ -515,6 +556,28 @@ fn cell_points(
             ));
         }
     }
+}
+
+/// The first `count` points of a low-discrepancy `set`, in sequence order
+/// (a prefix is already well spread, so it is not shuffled), scaled to
+/// `[-r, r]^2`. Indices wrap at 2^32.
+fn sequence<S>(
+    count: usize,
+    radius: f32,
+    out: &mut Vec<Vec3>,
+    set: S,
+    point: impl Fn(&S, u32) -> Vec2,
+) {
+    out.extend((0..count).map(|i| {
+        let p = point(&set, i as u32);
+        Vec3::new(to_radius(p.x, radius), to_radius(p.y, radius), 0.0)
+    }));
+}
+
+/// The first `count` values of a low-discrepancy `set`'s one-dimensional
+/// sequence, in sequence order.
+fn values<S>(count: usize, out: &mut Vec<f32>, set: S, value: impl Fn(&S, u32) -> f32) {
+    out.extend((0..count).map(|i| value(&set, i as u32)));
 }
 
 /// Uniform per area in the disk: radius `r * sqrt(u)` (not `r * u`, which
