@@ -10,10 +10,11 @@
 //! 2D and in both 1D projections at every power of two. Christensen et al.
 //! build it by placing each new point at random in a stratum left free by
 //! all earlier points. Helmer, Christensen and Kensler ("Stochastic
-//! Generation of (t, s) Sample Sequences", EGSR 2021) show the same
-//! sequences arise far more cheaply as randomised (0,2)-sequences; we follow
-//! them and randomise the Sobol' (0,2)-sequence of [`sobol`](super::sobol)
-//! in two ways, from three 32-bit seeds per set:
+//! Generation of (t, s) Sample Sequences", EGSR 2021) generate pmj02
+//! sequences far more cheaply as randomised (0,2)-sequences; in that spirit
+//! we randomise the Sobol' (0,2)-sequence of [`sobol`](super::sobol) in two
+//! ways, from three 32-bit seeds per set (rather than reproducing either
+//! paper's algorithm):
 //!
 //! * the *order*: point `i` of the set is Sobol' point `owen(i)`, where
 //!   `owen` is the same nested scramble applied to the bits of the index
@@ -37,7 +38,7 @@
 //! holds exactly one point, and for `N = 4^k` each cell of the `2^k x 2^k`
 //! grid does. Each point is uniform over the square in expectation.
 
-use super::sobol::{first_dimension, owen_scramble, second_dimension, seeds, unit};
+use super::sobol::{owen_scramble, scrambled_first, second_dimension, seeds, unit};
 use super::Rng;
 use crate::math::Vec2;
 
@@ -72,7 +73,7 @@ impl Pmj02 {
     pub fn bits(&self, i: u32) -> [u32; 2] {
         let j = self.index(i);
         [
-            owen_scramble(first_dimension(j), self.sx),
+            scrambled_first(j, self.sx),
             owen_scramble(second_dimension(j), self.sy),
         ]
     }
@@ -87,7 +88,7 @@ impl Pmj02 {
     /// Value `i` of the one-dimensional set (the first coordinate).
     #[inline]
     pub fn value(&self, i: u32) -> f32 {
-        unit(owen_scramble(first_dimension(self.index(i)), self.sx))
+        unit(scrambled_first(self.index(i), self.sx))
     }
 }
 
