@@ -43,7 +43,7 @@ pub fn draw_points(points: &[Vec3], radius: f32, size: u32, title: &str) -> RgbI
 /// Panels per row of [`draw_all`].
 const COLUMNS: u32 = 5;
 
-/// Every distribution side by side (rows of [`COLUMNS`] panels of `size x
+/// Every distribution side by side (rows of five panels of `size x
 /// size`, in the order of [`Distribution::ALL`]: the thesis's six, then the
 /// low-discrepancy sets), each with `count` points of radius `radius` and
 /// titled with its name. Panel `i` uses the stream
