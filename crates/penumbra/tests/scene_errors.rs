@@ -38,6 +38,10 @@ fn unknown_distribution_lists_the_choices() {
         "poisson",
         "random",
         "fast-random",
+        "sobol",
+        "pmj02",
+        "halton",
+        "r2",
     ] {
         assert!(e.contains(name), "{e}");
     }
