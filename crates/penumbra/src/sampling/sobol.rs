@@ -240,15 +240,28 @@ mod tests {
             let s = Sobol::new(&mut Rng::new(seed));
             move |i| s.bits(i)
         });
-        // The check can fail: the unscrambled sequence has a net too, but a
-        // hash that is not nested (plain xor of a hash of the index) breaks it.
-        let broken = |i: u32| {
+        // The check can fail: the same hash applied without the reversals
+        // (each bit's flip then depends on the bits *below* it) breaks the
+        // nets, and so do independent second coordinates.
+        for seed in [1, 2, 3] {
+            let wrong_way = |i: u32| {
+                [
+                    scrambled_first(i, seed),
+                    laine_karras(second_dimension(i), seed),
+                ]
+            };
+            assert!(
+                (1..=checks::MAX_M).any(|m| checks::first_non_net(1 << m, wrong_way).is_some()),
+                "seed {seed}"
+            );
+        }
+        let random = |i: u32| {
             [
                 first_dimension(i),
                 crate::sampling::mix64(u64::from(i)) as u32,
             ]
         };
-        assert!(checks::first_non_net(64, broken).is_some());
+        assert!(checks::first_non_net(64, random).is_some());
     }
 
     /// The sets the renderer gets (scaled to `[-r, r]^2` and back, exactly)
