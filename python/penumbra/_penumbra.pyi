@@ -9,7 +9,8 @@ import numpy.typing as npt
 
 __version__: str
 
-#: The six ray distributions, by name: grid, jitter, semi-jitter, poisson, random, fast-random.
+#: The ray distributions, by name: the thesis's grid, jitter, semi-jitter, poisson, random,
+#: fast-random, then the low-discrepancy sobol, pmj02, halton, r2.
 DISTRIBUTIONS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
@@ -18,7 +19,9 @@ RENDER_OPTIONS: tuple[str, ...]
 #: The ``penumbra render`` flags of the render options, for ``python -m penumbra``.
 _OPTION_FLAGS: tuple[dict[str, Any], ...]
 
-DistributionName = Literal["grid", "jitter", "semi-jitter", "poisson", "random", "fast-random"]
+DistributionName = Literal[
+    "grid", "jitter", "semi-jitter", "poisson", "random", "fast-random", "sobol", "pmj02", "halton", "r2"
+]
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StrPath = str | os.PathLike[str]

@@ -384,7 +384,7 @@ def test_numpy_values_are_accepted_in_dicts(small):
         ({"spp": True}, TypeError, "spp must be an int"),
         ({"seed": -1}, ValueError, "seed"),
         ({"threads": 0}, ValueError, "threads"),
-        ({"distribution": "sobol"}, ValueError, "unknown distribution `sobol`; valid choices are: grid"),
+        ({"distribution": "sobel"}, ValueError, "unknown distribution `sobel`; valid choices are: grid"),
         ({"aperture": -0.1}, ValueError, "aperture must be a finite number >= 0"),
         ({"focal_distance": 0}, ValueError, "focal_distance must be a finite number > 0"),
         ({"progress": 3}, TypeError, "progress must be a callable"),

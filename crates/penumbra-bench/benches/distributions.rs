@@ -1,5 +1,8 @@
-//! Generating a set of points with each of the six distributions, at the
-//! set sizes the renderer uses (1 ray per effect up to 64 shadow rays).
+//! Generating a set of points with each distribution, at the set sizes the
+//! renderer uses (1 ray per effect up to 64 shadow rays), and the cost of
+//! one point of each low-discrepancy set (group `point`: sets of 256, whose
+//! per-set randomisation is spread over many points; the target is at most
+//! 20 ns a point).
 //!
 //! `cargo bench -p penumbra-bench --bench distributions`
 
@@ -7,22 +10,43 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use penumbra::sampling::{Distribution, Rng};
 use std::hint::black_box;
 
+/// The sets from quasi-Monte Carlo, beyond the thesis's six.
+const LOW_DISCREPANCY: [Distribution; 4] = [
+    Distribution::Sobol,
+    Distribution::Pmj02,
+    Distribution::Halton,
+    Distribution::R2,
+];
+
+fn bench_set(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    d: Distribution,
+    count: usize,
+) {
+    g.throughput(Throughput::Elements(count as u64));
+    g.bench_with_input(BenchmarkId::new(d.name(), count), &count, |b, &n| {
+        let mut out = Vec::with_capacity(n);
+        let mut key = 0u64;
+        b.iter(|| {
+            key += 1;
+            let mut rng = Rng::new(key);
+            d.generate(n, 1.0, &mut rng, &mut out);
+            black_box(out.len())
+        })
+    });
+}
+
 fn distributions(c: &mut Criterion) {
     let mut g = c.benchmark_group("generate");
     for count in [1usize, 16, 64] {
-        g.throughput(Throughput::Elements(count as u64));
         for d in Distribution::ALL {
-            g.bench_with_input(BenchmarkId::new(d.name(), count), &count, |b, &n| {
-                let mut out = Vec::with_capacity(n);
-                let mut key = 0u64;
-                b.iter(|| {
-                    key += 1;
-                    let mut rng = Rng::new(key);
-                    d.generate(n, 1.0, &mut rng, &mut out);
-                    black_box(out.len())
-                })
-            });
+            bench_set(&mut g, d, count);
         }
+    }
+    g.finish();
+    let mut g = c.benchmark_group("point");
+    for d in LOW_DISCREPANCY {
+        bench_set(&mut g, d, 256);
     }
     g.finish();
 }

@@ -245,7 +245,7 @@ mod tests {
                         .iter()
                         .map(|d| d.name().to_string())
                         .collect(),
-                    vec!["sobol".into()],
+                    vec!["sobel".into()],
                 ),
                 Kind::Filter => (
                     Filter::ALL.iter().map(|f| f.name().to_string()).collect(),

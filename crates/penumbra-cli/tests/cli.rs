@@ -112,7 +112,7 @@ fn bad_arguments_exit_2() {
         vec!["render", "-o", "out.jpg"],
         vec!["render", "-o", "no/such/dir/out.png"],
         vec!["render", "no-such-scene"],
-        vec!["render", "--distribution", "sobol"],
+        vec!["render", "--distribution", "sobel"],
         vec!["render", "--bogus"],
         vec!["samples", "--distribution", "nope", "--count", "4"],
         vec![
@@ -175,6 +175,47 @@ fn every_subcommand_has_help() {
         let o = penumbra(&[sub, "--help"], dir.path());
         assert!(o.status.success());
         assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
+    }
+}
+
+/// The low-discrepancy sets print like the others, reproducibly; the 16
+/// points of a `sobol` or `pmj02` set fill the 4 x 4 cells one each; an
+/// unknown name lists them.
+#[test]
+fn samples_prints_the_low_discrepancy_sets() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["sobol", "pmj02", "halton", "r2"] {
+        let o = penumbra(
+            &["samples", "-d", name, "-c", "16", "-r", "2", "-s", "5"],
+            dir.path(),
+        );
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(doc["distribution"], name);
+        let pts: Vec<(f64, f64)> = doc["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| (p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+            .collect();
+        assert_eq!(pts.len(), 16);
+        assert!(pts.iter().all(|&(x, y)| x.abs() <= 2.0 && y.abs() <= 2.0));
+        if name == "sobol" || name == "pmj02" {
+            let cell = |t: f64| ((t + 2.0) / 4.0 * 4.0).floor() as usize;
+            let mut cells: Vec<usize> = pts.iter().map(|&(x, y)| cell(y) * 4 + cell(x)).collect();
+            cells.sort_unstable();
+            assert_eq!(cells, (0..16).collect::<Vec<_>>(), "{name}");
+        }
+        let again = penumbra(
+            &["samples", "-d", name, "-c", "16", "-r", "2", "-s", "5"],
+            dir.path(),
+        );
+        assert_eq!(o.stdout, again.stdout, "{name} is not reproducible");
+    }
+    let o = penumbra(&["samples", "-d", "sobel", "-c", "4"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    for name in ["sobol", "pmj02", "halton", "r2", "grid"] {
+        assert!(stderr(&o).contains(name), "{}", stderr(&o));
     }
 }
 

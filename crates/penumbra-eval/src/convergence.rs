@@ -177,7 +177,7 @@ pub fn jobs(plan: &Plan) -> Vec<Job> {
     for e in &EFFECTS {
         out.extend(references(plan, e));
         out.extend(LIMIT_DISTRIBUTIONS.map(|d| limit(plan, e, d)));
-        for d in Distribution::ALL {
+        for d in Distribution::THESIS {
             for &n in &plan.conv_counts {
                 out.extend((1..=plan.conv_seeds).map(|s| job(plan, e, n, d, s)));
             }
@@ -199,7 +199,7 @@ fn study(runner: &mut Runner, plan: &Plan, e: &Effect, dir: &Path) -> Result<Stu
     let (ra, rb) = (runner.run(&a)?, runner.run(&b)?);
     let reference = average(&ra.image, &rb.image);
     let reference_rmse = mse(&ra.image, &rb.image).sqrt() / 2.0;
-    let curves = Distribution::ALL
+    let curves = Distribution::THESIS
         .into_iter()
         .map(|d| curve(runner, plan, e, d, &reference))
         .collect::<Result<Vec<_>, _>>()?;

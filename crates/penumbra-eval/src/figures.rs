@@ -203,7 +203,7 @@ fn spec_4_4(plan: &Plan) -> FigureSpec {
         "1 ray (standard)",
         reflect_job(plan, "4.4", 1, Distribution::Grid),
     )];
-    for d in Distribution::ALL {
+    for d in Distribution::THESIS {
         panels.push(render(
             format!("{}, 4 rays", d.name()),
             reflect_job(plan, "4.4", 4, d),
@@ -223,7 +223,7 @@ fn spec_4_4(plan: &Plan) -> FigureSpec {
 }
 
 fn spec_4_5(plan: &Plan) -> FigureSpec {
-    let panels = Distribution::ALL
+    let panels = Distribution::THESIS
         .into_iter()
         .map(|d| {
             render(

@@ -129,7 +129,7 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
         Kind::NonNegative => (vec!["0.0".into(), "2.5".into()], vec!["-0.001".into()]),
         Kind::Positive => (vec!["0.001".into()], vec!["0.0".into(), "-1.0".into()]),
         Kind::Switch => (vec!["true".into(), "false".into()], vec!["1".into()]),
-        Kind::Distribution => (names.collect(), vec!["\"sobol\"".into()]),
+        Kind::Distribution => (names.collect(), vec!["\"sobel\"".into()]),
         Kind::Filter => (
             Filter::ALL
                 .iter()

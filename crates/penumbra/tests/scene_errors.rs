@@ -29,7 +29,7 @@ fn wrong_type_is_located() {
 
 #[test]
 fn unknown_distribution_lists_the_choices() {
-    let e = err("[render]\ndistribution = \"sobol\"\n");
+    let e = err("[render]\ndistribution = \"sobel\"\n");
     assert!(e.starts_with("test.toml:2:16:"), "{e}");
     for name in [
         "grid",
@@ -38,6 +38,10 @@ fn unknown_distribution_lists_the_choices() {
         "poisson",
         "random",
         "fast-random",
+        "sobol",
+        "pmj02",
+        "halton",
+        "r2",
     ] {
         assert!(e.contains(name), "{e}");
     }

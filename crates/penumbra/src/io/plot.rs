@@ -40,18 +40,23 @@ pub fn draw_points(points: &[Vec3], radius: f32, size: u32, title: &str) -> RgbI
     img
 }
 
-/// All six distributions side by side (2 rows of 3 panels of `size x size`,
-/// in the order of [`Distribution::ALL`]), each with `count` points of radius
-/// `radius` and titled with its name. Panel `i` uses the stream
+/// Panels per row of [`draw_all`].
+const COLUMNS: u32 = 5;
+
+/// Every distribution side by side (rows of five panels of `size x
+/// size`, in the order of [`Distribution::ALL`]: the thesis's six, then the
+/// low-discrepancy sets), each with `count` points of radius `radius` and
+/// titled with its name. Panel `i` uses the stream
 /// `Rng::new(seed).derive(i)`, so the picture is reproducible.
 pub fn draw_all(count: usize, radius: f32, seed: u64, size: u32) -> RgbImage {
-    let mut img = RgbImage::from_pixel(3 * size, 2 * size, WHITE);
+    let rows = (Distribution::ALL.len() as u32).div_ceil(COLUMNS);
+    let mut img = RgbImage::from_pixel(COLUMNS * size, rows * size, WHITE);
     let root = Rng::new(seed);
     let mut points = Vec::new();
     for (i, d) in Distribution::ALL.into_iter().enumerate() {
         d.generate(count, radius, &mut root.derive(i as u64), &mut points);
         let panel = draw_points(&points, radius, size, d.name());
-        let (col, row) = (i as u32 % 3, i as u32 / 3);
+        let (col, row) = (i as u32 % COLUMNS, i as u32 / COLUMNS);
         blit(&mut img, &panel, col * size, row * size);
     }
     img
@@ -183,10 +188,11 @@ mod tests {
     }
 
     #[test]
-    fn draw_all_has_six_panels_and_odd_inputs_are_safe() {
+    fn draw_all_has_a_panel_each_and_odd_inputs_are_safe() {
         let img = draw_all(16, 1.0, 7, 120);
-        assert_eq!((img.width(), img.height()), (360, 240));
-        for (col, row) in [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (2, 1)] {
+        assert_eq!((img.width(), img.height()), (600, 240));
+        for i in 0..Distribution::ALL.len() as u32 {
+            let (col, row) = (i % COLUMNS, i / COLUMNS);
             let ink = (0..120)
                 .flat_map(|x| (20..120).map(move |y| (x, y)))
                 .filter(|&(x, y)| img.get_pixel(col * 120 + x, row * 120 + y) == &DOT)

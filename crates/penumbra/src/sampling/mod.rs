@@ -1,11 +1,17 @@
 //! Random numbers, the thesis's ray distributions and the warps that map them
 //! onto pixels, lenses, lights and directions.
 
+#[cfg(test)]
+mod checks;
 pub mod distribution;
 pub mod filter;
+pub mod halton;
+pub mod pmj02;
 pub mod points;
+pub mod r2;
 mod rng;
 mod sampler;
+pub mod sobol;
 pub mod warp;
 
 pub use distribution::{
