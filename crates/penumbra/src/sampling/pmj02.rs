@@ -38,27 +38,25 @@
 //! holds exactly one point, and for `N = 4^k` each cell of the `2^k x 2^k`
 //! grid does. Each point is uniform over the square in expectation.
 
-use super::sobol::{owen_scramble, scrambled_first, second_dimension, seeds, unit};
+use super::sobol::{owen_scramble, Sobol};
 use super::Rng;
 use crate::math::Vec2;
 
-/// One randomised `pmj02` set: the seeds of its order and of its two
-/// coordinates' scrambles.
+/// One randomised `pmj02` set: a scrambled Sobol' set and the seed of its
+/// order.
 #[derive(Clone, Copy, Debug)]
 pub struct Pmj02 {
+    points: Sobol,
     order: u32,
-    sx: u32,
-    sy: u32,
 }
 
 impl Pmj02 {
     /// A set drawn from its stream (two draws).
     pub fn new(rng: &mut Rng) -> Pmj02 {
-        let (sx, sy) = seeds(rng);
+        let points = Sobol::new(rng);
         Pmj02 {
+            points,
             order: rng.next_u32(),
-            sx,
-            sy,
         }
     }
 
@@ -71,24 +69,19 @@ impl Pmj02 {
     /// Point `i` in 32-bit fixed point.
     #[inline]
     pub fn bits(&self, i: u32) -> [u32; 2] {
-        let j = self.index(i);
-        [
-            scrambled_first(j, self.sx),
-            owen_scramble(second_dimension(j), self.sy),
-        ]
+        self.points.bits(self.index(i))
     }
 
     /// Point `i` in `[0, 1)^2`.
     #[inline]
     pub fn point(&self, i: u32) -> Vec2 {
-        let [x, y] = self.bits(i);
-        Vec2::new(unit(x), unit(y))
+        self.points.point(self.index(i))
     }
 
     /// Value `i` of the one-dimensional set (the first coordinate).
     #[inline]
     pub fn value(&self, i: u32) -> f32 {
-        unit(scrambled_first(self.index(i), self.sx))
+        self.points.value(self.index(i))
     }
 }
 
