@@ -4,7 +4,7 @@
 //! the renderer and by a kernel that does only that scene's arithmetic,
 //! four samples at a time in lanes, with the library's own routines: its
 //! random streams (the same ones, so the same samples), film points,
-//! four-wide camera rays, quad test, four-wide light samples and BRDF.
+//! four-wide camera rays, quad test, light samples (four-wide) and BRDF.
 //!
 //! The kernel knows the scene in advance: one quad, one light, nothing that
 //! can cast a shadow (so no shadow ray is traced), no metric, no lens, no
@@ -138,7 +138,7 @@ impl<'a> Floor<'a> {
         let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
         Distribution::Jitter.generate_unordered(s.spp as usize, 0.5, &mut pixel.derive(0), film);
         let time = [cam.time(0.0); 4];
-        let mut sum = Rgb::ZERO;
+        let (mut sum, mut lights) = (Rgb::ZERO, Vec::with_capacity(4));
         for (c, four) in film.chunks_exact(4).enumerate() {
             let f: [Vec2; 4] = std::array::from_fn(|k| {
                 Vec2::new(x as f32 + 0.5 + four[k].x, y as f32 + 0.5 + four[k].y)
@@ -156,22 +156,16 @@ impl<'a> Floor<'a> {
                 return Rgb::splat(f32::NAN);
             };
             let t = rays.map(|r| self.ground.intersect(&r, 0.0, f32::INFINITY));
-            let p = std::array::from_fn(|k| rays[k].at(t[k].map_or(0.0, |h| h.0)));
-            let points = std::array::from_fn(|k| {
+            let p: [Vec3; 4] = std::array::from_fn(|k| rays[k].at(t[k].map_or(0.0, |h| h.0)));
+            let points: [Vec3; 4] = std::array::from_fn(|k| {
                 let mut rng = pixel
                     .derive_key(self.paths[4 * c + k])
                     .derive_key(self.shadow);
                 Distribution::Jitter.one(1.0, &mut rng)
             });
-            // A light without a kernel (not this scene's) gives NaN pixels,
-            // which fail the comparison with the renderer.
-            let Some(ls) = self.light.sample4(&p, &points, Distribution::Jitter) else {
-                return Rgb::splat(f32::NAN);
-            };
-            let (dir, weight) = (
-                ls.dir.map(|v| v.to_array()),
-                ls.weight.map(|v| v.to_array()),
-            );
+            lights.clear();
+            self.light
+                .sample(|k| p[k], &points, Distribution::Jitter, &mut lights);
             for k in 0..4 {
                 if t[k].is_none() {
                     sum += s.background;
@@ -179,11 +173,10 @@ impl<'a> Floor<'a> {
                 }
                 // The viewer is above the ground: its normal needs no flip.
                 let (n, wo) = (self.ground.normal, -rays[k].dir.normalize());
-                let wi = Vec3::new(dir[0][k], dir[1][k], dir[2][k]);
-                let cos = n.dot(wi);
-                if ls.valid >> k & 1 != 0 && cos > 0.0 {
-                    let weight = Rgb::new(weight[0][k], weight[1][k], weight[2][k]);
-                    sum += self.shading.eval(n, wo, wi) * weight * cos;
+                let Some(ls) = lights[k] else { continue };
+                let cos = n.dot(ls.dir);
+                if cos > 0.0 {
+                    sum += self.shading.eval(n, wo, ls.dir) * ls.weight * cos;
                 }
             }
         }

@@ -839,6 +839,38 @@ pub(super) struct Frustum {
 }
 
 impl Frustum {
+    /// The frustum of `rays` if they are worth tracing as a packet: at least
+    /// two, a frustum (see [`new`](Self::new)), and within a cone of 0.05
+    /// radians around the first ray's direction (judged by two rays). A packet visits every node
+    /// some ray may reach, so it pays only for nearly parallel rays: a
+    /// pixel's camera rays, or a span's (0.01–0.02 radians at the bunny's
+    /// field of view), not a glossy set, whose rays spread by its glossiness
+    /// (on the glass bunny, instruction counts, tracing its sets as packets
+    /// cost 7% more than ray by ray).
+    pub(super) fn packet(rays: &[Ray]) -> Option<Frustum> {
+        // sin² of the cone's half-angle.
+        const SIN2: f32 = 0.0025;
+        let [first, .., last] = rays else {
+            return None;
+        };
+        // A set's spread is judged by its middle and last rays against its
+        // first (no more is needed to tell a glossy set from a pixel's rays,
+        // and a misjudged set costs time, not hits): |d × d0|² ≤ sin² · |d|²
+        // |d0|², without a root or a division. Opposite directions fail the
+        // frustum's sign check.
+        let d0 = Vec3A::from(first.dir);
+        let sin2 = SIN2 * d0.length_squared();
+        let within = |r: &Ray| {
+            let d = Vec3A::from(r.dir);
+            d.cross(d0).length_squared() <= sin2 * d.length_squared()
+        };
+        if within(&rays[rays.len() / 2]) && within(last) {
+            Frustum::new(rays)
+        } else {
+            None
+        }
+    }
+
     /// `None` unless the rays share their origin (equal coordinates; a zero
     /// of either sign gives the same slab distances), and have finite
     /// directions with finite reciprocals of one sign per axis.
@@ -945,6 +977,42 @@ mod tests {
     use crate::accel::brute::{brute_any, brute_closest};
     use crate::accel::testdata::{rand_dir, rand_in};
     use crate::sampling::Rng;
+
+    /// Rays are a packet when they are at least two, leave one point and
+    /// lie within 0.05 radians of the first: a pixel's camera rays (spread
+    /// 0.002) and a span's (0.02) are; a glossy set (0.1) is not, nor rays
+    /// spread by 0.06 (the last of them that far), nor a lone ray.
+    #[test]
+    fn packets_are_nearly_parallel_rays() {
+        let mut r = Rng::new(3);
+        let o = Vec3::new(0.3, 1.0, 4.0);
+        let cone = |r: &mut Rng, axis: Vec3, angle: f32| -> Vec<Ray> {
+            let f = crate::math::Frame::from_normal(axis);
+            (0..16)
+                .map(|k| {
+                    let a = match k {
+                        0 => 0.0,
+                        15 => angle,
+                        _ => r.range(0.0, angle),
+                    };
+                    let phi = r.range(0.0, std::f32::consts::TAU);
+                    let d = axis * a.cos() + (f.u * phi.cos() + f.v * phi.sin()) * a.sin();
+                    Ray::new(o, d * r.range(0.5, 2.0), 0.0)
+                })
+                .collect()
+        };
+        for _ in 0..200 {
+            let axis = rand_dir(&mut r);
+            if axis.abs().min_element() < 0.2 {
+                continue; // a sign may flip within the cone: no frustum
+            }
+            for (angle, packet) in [(0.002, true), (0.02, true), (0.06, false), (0.1, false)] {
+                let rays = cone(&mut r, axis, angle);
+                assert_eq!(Frustum::packet(&rays).is_some(), packet, "{angle}");
+            }
+            assert!(Frustum::packet(&[Ray::new(o, axis, 0.0)]).is_none());
+        }
+    }
 
     /// A tree over `bounds` whose items are the primitives' indices.
     fn tree(bounds: &[Aabb]) -> Bvh4<u32> {

@@ -277,23 +277,39 @@ impl TriangleBvh {
         scratch: &mut RayPacket,
         out: &mut Vec<Option<TriHit>>,
     ) {
-        out.clear();
-        match Frustum::new(rays).filter(|_| !self.tree.is_empty()) {
-            Some(frustum) => {
-                out.resize(rays.len(), None);
-                let run = Run {
-                    frustum: &frustum,
-                    rays,
-                    tmin,
-                    tmax,
-                };
-                self.closest_packet(&run, scratch, out);
-            }
+        match Frustum::new(rays) {
+            Some(frustum) => self.closest_hits_in(&frustum, rays, tmin, tmax, scratch, out),
             None => {
+                out.clear();
                 let one = |(r, &t): (&Ray, &f32)| self.closest_hit(r, tmin, t);
                 out.extend(rays.iter().zip(tmax).map(one));
             }
         }
+    }
+
+    /// [`closest_hits`](Self::closest_hits) for rays the caller has found
+    /// to be a packet: `frustum` bounds them.
+    pub(super) fn closest_hits_in(
+        &self,
+        frustum: &Frustum,
+        rays: &[Ray],
+        tmin: f32,
+        tmax: &[f32],
+        scratch: &mut RayPacket,
+        out: &mut Vec<Option<TriHit>>,
+    ) {
+        out.clear();
+        out.resize(rays.len(), None);
+        if self.tree.is_empty() {
+            return;
+        }
+        let run = Run {
+            frustum,
+            rays,
+            tmin,
+            tmax,
+        };
+        self.closest_packet(&run, scratch, out);
     }
 
     /// [`closest_hits`](Self::closest_hits) for a run (the tree not

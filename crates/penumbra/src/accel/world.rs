@@ -18,7 +18,7 @@
 //! A scene of at most four objects besides its static meshes (a ground and
 //! a light) has a single top-level leaf.
 
-use super::bvh4::{TraversalRay, ONE_PER_ITEM};
+use super::bvh4::{Frustum, TraversalRay, ONE_PER_ITEM};
 use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
@@ -278,11 +278,11 @@ impl World {
 
     /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
     /// order: the same hits (of static triangles hit at exactly the same
-    /// distance, the lowest index on both paths). Each ray passes the top
-    /// level's objects alone; the static triangles are then searched for
-    /// all rays at once (see [`TriangleBvh::closest_hits`]), which pays off
-    /// for rays from one point in nearly one direction: the camera rays of
-    /// a pixel.
+    /// distance, the lowest index on both paths). Rays from one point in
+    /// nearly one direction (a packet: a pixel's camera rays, a span's, a
+    /// narrow glossy set) pass the top level's objects one by one, then the
+    /// static triangles all at once (see [`TriangleBvh::closest_hits`]);
+    /// other batches, and a batch of one, are traced ray by ray.
     pub fn intersect_all(
         &self,
         rays: &[Ray],
@@ -290,6 +290,12 @@ impl World {
         scratch: &mut PacketScratch,
         out: &mut Vec<Option<Hit>>,
     ) {
+        // A batch of one, or of rays that are not a packet: each ray's own walk.
+        let Some(frustum) = Frustum::packet(rays) else {
+            out.clear();
+            out.extend(rays.iter().map(|r| self.intersect(r, tmin, f32::INFINITY)));
+            return;
+        };
         let PacketScratch {
             objects,
             tmax,
@@ -342,7 +348,7 @@ impl World {
                 }
             }
         }
-        self.tris.closest_hits(rays, tmin, tmax, packet, tris);
+        (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
         out.clear();
         let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
         out.extend(hits.map(|((ray, best), tri)| {

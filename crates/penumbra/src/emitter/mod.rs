@@ -26,7 +26,7 @@ mod rect;
 mod sample;
 mod sphere;
 
-pub use sample::{LightSample, LightSamples4};
+pub use sample::LightSample;
 
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::end_point;
@@ -110,10 +110,41 @@ impl Emitter {
         }
     }
 
-    /// Samples the light from shading point `p` with one distribution point:
-    /// the portable form, the specification [`sample4`](Self::sample4)'s
-    /// kernel is tested against.
-    pub fn sample(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+    /// Samples the light for a batch of distribution points: sample `k`
+    /// seen from the shading point `at(k)` with the point `points[k]`,
+    /// appended to `out` (`None` where the point gives no sample: on the
+    /// back of the light, say). The one way an emitter is sampled. A
+    /// rectangle sampled on its surface by a square distribution takes its
+    /// points four at a time through its kernel, which gives lane by lane
+    /// the bits of the portable form (the same operations in the same order,
+    /// with no fused ones); the rest of a batch, and every other light, go
+    /// point by point.
+    pub fn sample(
+        &self,
+        at: impl Fn(usize) -> Vec3,
+        points: &[Vec3],
+        d: Distribution,
+        out: &mut Vec<Option<LightSample>>,
+    ) {
+        let wide = match self.light.shape {
+            LightShape::Rect(q) if self.four_wide(d) => {
+                let fours = points.chunks_exact(4);
+                for (g, four) in fours.enumerate() {
+                    let p = std::array::from_fn(|l| at(4 * g + l));
+                    let four = four.try_into().expect("chunks of four");
+                    out.extend(rect::sample4(self.light.power, &q, &p, four).lanes());
+                }
+                points.len() / 4 * 4
+            }
+            _ => 0,
+        };
+        let rest = points.iter().enumerate().skip(wide);
+        out.extend(rest.map(|(k, &point)| self.sample_one(at(k), point, d)));
+    }
+
+    /// One sample of [`sample`](Self::sample): the portable form, which the
+    /// rectangle's kernel is tested against.
+    fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
         match self.light.model {
             _ if self.is_delta() => self.sample_thesis(p, Vec3::ZERO, d),
             PenumbraModel::Thesis => self.sample_thesis(p, point, d),
@@ -140,33 +171,13 @@ impl Emitter {
         }
     }
 
-    /// True if [`sample4`](Self::sample4) has a four-wide kernel for points
-    /// of `d`: a rectangle sampled on its surface by a square distribution.
+    /// True if [`sample`](Self::sample) takes points of `d` four at a time
+    /// through a kernel: a rectangle sampled on its surface by a square
+    /// distribution.
     #[inline]
-    pub fn four_wide(&self, d: Distribution) -> bool {
+    fn four_wide(&self, d: Distribution) -> bool {
         let rect = matches!(self.light.shape, LightShape::Rect(_));
         rect && self.light.model == PenumbraModel::Surface && d != Distribution::Random
-    }
-
-    /// [`sample`](Self::sample) for four distribution points at once, seen
-    /// from the shading points `p` (one per lane: one point four times for a
-    /// set, or the hits of four camera rays), through the light's
-    /// [four-wide](Self::four_wide) kernel: lane by lane the bits of the
-    /// portable form (the same operations in the same order, with no fused
-    /// ones). `None` where the light has no kernel for `d`.
-    #[inline]
-    pub fn sample4(
-        &self,
-        p: &[Vec3; 4],
-        points: &[Vec3; 4],
-        d: Distribution,
-    ) -> Option<LightSamples4> {
-        match self.light.shape {
-            LightShape::Rect(q) if self.four_wide(d) => {
-                Some(rect::sample4(self.light.power, &q, p, points))
-            }
-            _ => None,
-        }
     }
 
     fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
@@ -221,7 +232,6 @@ mod tests {
     use crate::geometry::quad::Quad;
     use crate::math::Frame;
     use crate::sampling::Rng;
-    use glam::Vec4;
 
     fn emitter(shape: LightShape) -> Emitter {
         Emitter::new(&Light {
@@ -262,7 +272,7 @@ mod tests {
             let mut found = 0;
             for _ in 0..2000 {
                 let point = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0);
-                let Some(s) = e.sample(p, point, Distribution::Random) else {
+                let Some(s) = e.sample_one(p, point, Distribution::Random) else {
                     continue;
                 };
                 let n = match e.light().shape {
@@ -285,12 +295,13 @@ mod tests {
         }
     }
 
-    /// Four samples at once are, lane by lane, the portable samples bit for
-    /// bit, where there is a kernel (a rectangle under the surface model,
-    /// every square distribution; points inside and outside the square,
-    /// shading points all around the light); elsewhere there is none.
+    /// A batch's samples are, one by one, the portable samples bit for bit:
+    /// where there is a kernel (a rectangle under the surface model, every
+    /// square distribution), and elsewhere. Batches of 0 to 9 points (so
+    /// groups of four and a rest), points inside and outside the square,
+    /// shading points all around the light.
     #[test]
-    fn four_lanes_are_the_portable_samples() {
+    fn batches_are_the_portable_samples() {
         let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
         let shapes = [
             LightShape::Rect(rect),
@@ -303,41 +314,30 @@ mod tests {
             },
         ];
         let mut rng = Rng::new(23);
-        let mut kernel = 0;
+        let (mut kernel, mut valid, mut out) = (0, 0, Vec::new());
+        let bits = |s: &Option<LightSample>| {
+            s.map(|s| [s.target, s.dir, Vec3::from(s.weight.to_array())].map(|v| v.to_array()))
+                .map(|v| v.map(|c| c.map(f32::to_bits)))
+        };
         for shape in shapes {
             for model in [PenumbraModel::Surface, PenumbraModel::Thesis] {
                 for d in Distribution::ALL {
                     let mut light = emitter(shape);
                     light.light.model = model;
                     kernel += usize::from(light.four_wide(d));
-                    for _ in 0..200 {
-                        let p: [Vec3; 4] = std::array::from_fn(|_| {
-                            Vec3::new(
-                                rng.range(-3.0, 3.0),
-                                rng.range(-1.0, 4.0),
-                                rng.range(-3.0, 3.0),
-                            )
-                        });
-                        let points: [Vec3; 4] = std::array::from_fn(|_| {
-                            Vec3::new(
-                                rng.range(-1.2, 1.2),
-                                rng.range(-1.2, 1.2),
-                                rng.range(-1.0, 1.0),
-                            )
-                        });
-                        let Some(four) = light.sample4(&p, &points, d) else {
-                            assert!(!light.four_wide(d));
-                            continue;
+                    for n in 0..200 {
+                        let mut v = |lo: f32, hi: f32, z: f32| {
+                            Vec3::new(rng.range(lo, hi), rng.range(-1.0, hi), rng.range(-z, z))
                         };
-                        for l in 0..4 {
-                            let one = light.sample(p[l], points[l], d);
-                            assert_eq!(one.is_some(), four.valid >> l & 1 != 0, "{shape:?} {d:?}");
-                            let Some(one) = one else { continue };
-                            let lane =
-                                |v: &[Vec4; 3]| [v[0][l], v[1][l], v[2][l]].map(f32::to_bits);
-                            assert_eq!(lane(&four.target), one.target.to_array().map(f32::to_bits));
-                            assert_eq!(lane(&four.dir), one.dir.to_array().map(f32::to_bits));
-                            assert_eq!(lane(&four.weight), one.weight.to_array().map(f32::to_bits));
+                        let p: Vec<Vec3> = (0..n % 10).map(|_| v(-3.0, 4.0, 3.0)).collect();
+                        let points: Vec<Vec3> = p.iter().map(|_| v(-1.2, 1.2, 1.0)).collect();
+                        out.clear();
+                        light.sample(|k| p[k], &points, d, &mut out);
+                        assert_eq!(out.len(), p.len());
+                        for ((p, point), got) in p.iter().zip(&points).zip(&out) {
+                            let want = light.sample_one(*p, *point, d);
+                            assert_eq!(bits(got), bits(&want), "{shape:?} {model:?} {d:?}");
+                            valid += usize::from(got.is_some());
                         }
                     }
                 }
@@ -348,5 +348,6 @@ mod tests {
             Distribution::ALL.len() - 1,
             "the rectangle's kernel runs"
         );
+        assert!(valid > 20_000, "{valid} samples compared");
     }
 }

@@ -15,10 +15,10 @@ pub struct LightSample {
     pub weight: Rgb,
 }
 
-/// Four light samples, one per lane, as `Emitter::sample4` gives them:
+/// Four light samples, one per lane, as a four-wide kernel gives them:
 /// coordinates lane-wise (x, y, z).
 #[derive(Clone, Copy, Debug)]
-pub struct LightSamples4 {
+pub(super) struct LightSamples4 {
     pub target: [Vec4; 3],
     /// Unit directions from the shading point, as [`LightSample::dir`].
     pub dir: [Vec4; 3],
@@ -26,6 +26,21 @@ pub struct LightSamples4 {
     pub weight: [Vec4; 3],
     /// Bit `i` set if lane `i` gives a sample (where `sample` gives `Some`).
     pub valid: u32,
+}
+
+impl LightSamples4 {
+    /// The four samples, lane by lane.
+    #[inline]
+    pub(super) fn lanes(&self) -> [Option<LightSample>; 4] {
+        let v3 = |v: &[Vec4; 3], l: usize| Vec3::new(v[0][l], v[1][l], v[2][l]);
+        std::array::from_fn(|l| {
+            (self.valid >> l & 1 != 0).then(|| LightSample {
+                target: v3(&self.target, l),
+                dir: v3(&self.dir, l),
+                weight: Rgb::from(v3(&self.weight, l).to_array()),
+            })
+        })
+    }
 }
 
 /// Uniform area sampling of a one-sided light (of a sphere, two-sided when

@@ -17,11 +17,18 @@ use crate::math::{Frame, Vec2, Vec3};
 /// for fast-random, which deliberately skips the basis (Listing 3.6).
 #[inline]
 pub fn end_point(center: Vec3, axis: Vec3, point: Vec3, radius: f32, d: Distribution) -> Vec3 {
-    if d.is_3d() {
-        return center + radius * point;
+    end_points(center, axis, radius, d)(point)
+}
+
+/// [`end_point`] for every point of a set around one `center` and `axis`:
+/// the plane's basis is found once.
+#[inline]
+pub fn end_points(center: Vec3, axis: Vec3, radius: f32, d: Distribution) -> impl Fn(Vec3) -> Vec3 {
+    let f = (!d.is_3d()).then(|| Frame::from_normal(axis));
+    move |point| match &f {
+        None => center + radius * point,
+        Some(f) => center + radius * (point.x * f.u + point.y * f.v),
     }
-    let f = Frame::from_normal(axis);
-    center + radius * (point.x * f.u + point.y * f.v)
 }
 
 /// A point of the unit square [0, 1)² for sampling a surface uniformly.

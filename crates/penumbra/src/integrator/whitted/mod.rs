@@ -1,10 +1,11 @@
 //! The thesis's integrator: Whitted recursion in which every event traces a
 //! set of rays from its own distribution (see the [module above](super)).
 //!
-//! A pixel's camera rays are made together and, without the pixel metric,
-//! their hits found together (a packet) and their direct light prepared
-//! together, light by light; a frame of one camera ray per pixel does the
-//! same for spans of neighbouring pixels of a row.
+//! Rays are traced in batches ([`Tracer::radiance`]): a pixel's camera rays
+//! (a span of neighbouring pixels of a row in a frame of one camera ray per
+//! pixel), then each hit's reflection and refraction sets, a level deeper.
+//! A batch's hits are found together (a packet where its rays are nearly
+//! parallel) and its direct light prepared together, light by light.
 
 mod pixel;
 mod tracer;

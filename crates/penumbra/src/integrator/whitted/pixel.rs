@@ -4,7 +4,7 @@
 use super::tracer::Tracer;
 use crate::camera::CameraSample;
 use crate::integrator::interface::BadSample;
-use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::metric::RunningMean;
 use crate::math::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
@@ -50,9 +50,9 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
 /// group of pixels are traced together: a pixel's own when it has several,
 /// a span of neighbouring pixels ([`span_width`]) when each has one. Their
 /// hits are found together (a packet of nearly parallel rays) and their
-/// direct light prepared together ([`Tracer::radiance_primaries`]). With the
-/// metric, a pixel's rays are traced one at a time, so that none is wasted
-/// when the pixel stops early. A pixel's value does not depend on its group
+/// direct light prepared together ([`Tracer::radiance`]). With the metric,
+/// a pixel's rays are traced as [`Tracer::mean`] says, so that none is
+/// wasted when the pixel stops early. A pixel's value does not depend on its group
 /// (but for the rare tie noted at
 /// [`World::intersect_all`](crate::accel::World::intersect_all)).
 pub fn render_pixels(
@@ -75,10 +75,6 @@ pub fn render_pixels(
         for x0 in xs.clone().step_by(group as usize) {
             let x1 = (x0 + group).min(xs.end);
             camera_rays(scene, x0..x1, y, buf);
-            if let Some(m) = &metric {
-                out.push(one_by_one(scene, tracer, x0, y, m, bad, buf));
-                continue;
-            }
             let Scratch {
                 rays,
                 radiance,
@@ -86,14 +82,22 @@ pub fn render_pixels(
                 pixels,
                 ..
             } = buf;
-            tracer.intersect_primary(rays);
             // Ray `i` is sample `i % n` of pixel `i / n`: with one sample
             // the group is a span of pixels, with several it is one pixel.
             let path = |i: usize| match n {
                 1 => pixels[i].path_of(paths[0]),
                 _ => pixels[0].path_of(paths[i]),
             };
-            tracer.radiance_primaries(rays, path, radiance);
+            if let Some(m) = &metric {
+                let value = |i: usize, l: Rgb| guard(l, x0, y, i, bad);
+                let (mean, traced) = tracer.mean(n, |k| rays[k], 0, path, Some(m), value);
+                tracer.stats.primary += traced as u64;
+                tracer.stats.saved.primary += (n - traced) as u64;
+                out.push(mean);
+                continue;
+            }
+            radiance.clear();
+            tracer.radiance(rays, 0, path, radiance);
             for (x, samples) in (x0..x1).zip(radiance.chunks_exact(n)) {
                 let mut mean = RunningMean::default();
                 for (i, &l) in samples.iter().enumerate() {
@@ -133,31 +137,6 @@ fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
 fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     let s = &scene.settings;
     Sampler::new(s.seed, s.width).pixel(x, y)
-}
-
-/// Pixel (x, y), whose camera rays are in `buf.rays`, traced one at a time
-/// and stopped by the pixel metric `metric`.
-fn one_by_one(
-    scene: &Scene,
-    tracer: &mut Tracer<'_>,
-    x: u32,
-    y: u32,
-    metric: &Metric,
-    bad: &mut Vec<BadSample>,
-    buf: &Scratch,
-) -> Rgb {
-    let n = scene.settings.spp as usize;
-    let pixel = buf.pixels[0];
-    let mut mean = RunningMean::default();
-    for (i, ray) in buf.rays.iter().enumerate() {
-        tracer.stats.primary += 1;
-        let l = tracer.radiance(ray, 0, pixel.path_of(buf.paths[i]));
-        if mean.push(guard(l, x, y, i, bad), Some(metric), n as u32) {
-            tracer.stats.saved.primary += (n - i - 1) as u64;
-            break;
-        }
-    }
-    mean.mean()
 }
 
 /// The camera rays of pixels `xs` of row `y`, pixel by pixel, into
@@ -313,9 +292,10 @@ mod tests {
                 let mut buf = Scratch::default();
                 camera_rays(&scene, x..x + 1, y, &mut buf);
                 let pixel = pixel_stream(&scene, x, y);
-                let mut mean = RunningMean::default();
+                let (mut mean, mut l) = (RunningMean::default(), Vec::new());
                 for (i, ray) in buf.rays.iter().enumerate() {
-                    mean.push(tracer.radiance(ray, 0, pixel.path(i)), None, spp);
+                    tracer.radiance(std::slice::from_ref(ray), 0, |_| pixel.path(i), &mut l);
+                    mean.push(l[i], None, spp);
                 }
                 let want = mean.mean();
                 let bits = |c: Rgb| c.to_array().map(f32::to_bits);

@@ -1,15 +1,15 @@
-use glam::{Vec3A, Vec4};
+use glam::Vec3A;
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::bsdf::{Dielectric, Phong, Surface};
-use crate::emitter::{Emitter, LightSamples4};
+use crate::emitter::{Emitter, LightSample};
 use crate::math::Rgb;
 use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
-use crate::sampling::points::end_point;
+use crate::sampling::points::end_points;
 use crate::sampling::{BranchKey, Distribution, Rng};
 use crate::scene::Scene;
 
-use crate::integrator::metric::RunningMean;
+use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::stats::RayStats;
 
 const SHADOW: u64 = 1 << 32;
@@ -35,21 +35,21 @@ const SHAFT_MIN_RAYS: u32 = 16;
 /// 32 measured alike; 64 and more were slower).
 const SHAFT_MAX_LEAVES: usize = 16;
 
-/// One worker's tracer: reads the scene, counts its own rays, and keeps a pool
-/// of point buffers so that distributing rays allocates nothing once warm.
+/// One worker's tracer: reads the scene, counts its own rays, and keeps
+/// pools of buffers so that tracing allocates nothing once warm.
 pub struct Tracer<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
+    /// Point buffers of distribution sets.
     pool: Vec<Vec<Vec3>>,
-    /// The shadow set being traced (shadow rays do not recurse: one suffices).
-    shadow_set: Vec<Option<ShadowRay>>,
+    /// The buffers of each batch being traced (one per recursion level).
+    levels: Vec<Level>,
+    /// Ray and radiance buffers of the sets being traced.
+    sets: Vec<(Vec<Ray>, Vec<Rgb>)>,
     /// What the current shadow set's shaft may cross.
     shaft: ShaftSet,
-    /// The hits of the current pixel's camera rays, found together.
-    primary: Vec<Option<Hit>>,
     packet: PacketScratch,
-    /// Boxed, so that taking it out for a group moves a pointer.
-    batch: Option<Box<Batch>>,
+    light_samples: Vec<Option<LightSample>>,
     /// The models of each of the scene's materials.
     surfaces: Vec<Surface>,
     /// The scene's lights, ready to be sampled.
@@ -58,19 +58,30 @@ pub struct Tracer<'a> {
     shadow_keys: Vec<BranchKey>,
 }
 
-/// The direct light of a pixel's camera rays, found together (see
-/// [`Tracer::radiance_primaries`]).
+/// What tracing a batch of rays keeps between its steps (see
+/// [`Tracer::radiance`]).
 #[derive(Default)]
-struct Batch {
-    /// The hits that receive direct light: camera ray, material, frame.
-    lit: Vec<(usize, u32, Local)>,
-    /// The shadow sets of all lit hits toward one light, one after another.
+struct Level {
+    hits: Vec<Option<Hit>>,
+    /// The hits that receive direct light.
+    lit: Vec<Lit>,
+    /// The shadow sets of all lit hits toward one light, one after another
+    /// (each as many rays as the light's sets have).
     rays: Vec<Option<ShadowRay>>,
-    /// Where each lit hit's set starts in `rays`, and where the last ends
-    /// (not filled for sets of one ray: set `k` is `rays[k]`).
-    starts: Vec<usize>,
     /// Direct light at lit hit `k` from light `j`, at `j * lit.len() + k`.
     direct: Vec<Rgb>,
+}
+
+/// A hit that receives direct light.
+struct Lit {
+    /// Its ray's index in the batch.
+    ray: usize,
+    material: u32,
+    frame: Local,
+    /// Where its shadow rays start: every ray of a set leaves on the side
+    /// the geometric normal points to (others are not traced), so all start
+    /// at the same offset point.
+    origin: Vec3,
 }
 
 /// Which secondary set is being traced: selects the ray kind and the streams.
@@ -131,11 +142,11 @@ impl<'a> Tracer<'a> {
             scene,
             stats: RayStats::default(),
             pool: Vec::new(),
-            shadow_set: Vec::new(),
+            levels: Vec::new(),
+            sets: Vec::new(),
             shaft: ShaftSet::default(),
-            primary: Vec::new(),
             packet: PacketScratch::default(),
-            batch: Some(Box::default()),
+            light_samples: Vec::new(),
             surfaces: scene.materials.iter().map(Surface::new).collect(),
             emitters: scene.lights.iter().map(Emitter::new).collect(),
             shadow_keys: (0..scene.lights.len() as u64)
@@ -144,154 +155,157 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Radiance arriving along `ray`; `depth` counts reflection/refraction levels so far.
-    pub fn radiance(&mut self, ray: &Ray, depth: u32, rng: Rng) -> Rgb {
-        let hit = self.scene.world.intersect(ray, 0.0, f32::INFINITY);
-        self.radiance_from(ray, hit.as_ref(), depth, rng)
-    }
-
-    /// Finds where each of a pixel's camera rays hits, all together (see
-    /// [`World::intersect_all`](crate::accel::World::intersect_all)),
-    /// for [`radiance_primaries`](Self::radiance_primaries) to shade.
-    pub fn intersect_primary(&mut self, rays: &[Ray]) {
-        let world = &self.scene.world;
-        world.intersect_all(rays, 0.0, &mut self.packet, &mut self.primary);
-    }
-
-    /// [`radiance`](Self::radiance) along each of the rays last given to
-    /// [`intersect_primary`](Self::intersect_primary), at depth 0, into
-    /// `out`; `rng(i)` is the `i`-th ray's stream. Direct light is found for
-    /// the whole pixel first, light by light, so that sets of few shadow rays
-    /// (one per camera ray, say) can share one shaft, as a set of many rays
-    /// does. The values are those of `radiance`, bit for bit.
-    pub fn radiance_primaries(
+    /// Radiance arriving along each of `rays`, appended to `out` in order;
+    /// `depth` counts the reflection and refraction levels so far and
+    /// `rng(i)` is ray `i`'s stream. The one way rays are traced, from a
+    /// pixel's camera rays to a set of one mirror ray:
+    ///
+    /// 1. the hits of all rays are found together (see
+    ///    [`World::intersect_all`](crate::accel::World::intersect_all));
+    /// 2. the direct light of every lit hit, light by light, so that sets of
+    ///    few shadow rays (one per camera ray, say) can share one shaft, as a
+    ///    set of many rays does (see `direct_light`);
+    /// 3. each hit is shaded (`shade`), its reflection and
+    ///    refraction sets traced as batches a level deeper.
+    ///
+    /// A ray's radiance does not depend on the batch it is traced in (but
+    /// for the rare tie noted at `intersect_all`).
+    pub fn radiance(
         &mut self,
         rays: &[Ray],
+        depth: u32,
         rng: impl Fn(usize) -> Rng,
         out: &mut Vec<Rgb>,
     ) {
         let scene = self.scene;
-        let mut batch = self.batch.take().unwrap_or_default();
-        batch.lit.clear();
-        for (i, ray) in rays.iter().enumerate() {
-            let Some(hit) = &self.primary[i] else {
-                continue;
-            };
+        let mut level = self.levels.pop().unwrap_or_default();
+        let world = &scene.world;
+        world.intersect_all(rays, 0.0, &mut self.packet, &mut level.hits);
+        level.lit.clear();
+        for (i, (ray, hit)) in rays.iter().zip(&level.hits).enumerate() {
+            let Some(hit) = hit else { continue };
             if hit.light.is_none() && self.surfaces[hit.material as usize].lit {
-                batch.lit.push((i, hit.material, Local::new(ray, hit)));
+                let frame = Local::new(ray, hit);
+                let origin = offset_origin(frame.p, frame.reach, frame.ng, frame.ng);
+                level.lit.push(Lit {
+                    ray: i,
+                    material: hit.material,
+                    frame,
+                    origin,
+                });
             }
         }
-        batch.direct.clear();
-        let emitters = std::mem::take(&mut self.emitters);
-        for (j, light) in emitters.iter().enumerate() {
-            let key = self.shadow_keys[j];
-            self.direct_batch(light, |i| rng(i).derive_key(key), &mut batch);
+        level.direct.clear();
+        if !level.lit.is_empty() {
+            let emitters = std::mem::take(&mut self.emitters);
+            for (j, light) in emitters.iter().enumerate() {
+                let key = self.shadow_keys[j];
+                self.direct_light(light, |i| rng(i).derive_key(key), &mut level);
+            }
+            self.emitters = emitters;
         }
-        self.emitters = emitters;
-        out.clear();
-        let lit = batch.lit.len();
+        let Level {
+            hits, lit, direct, ..
+        } = &level;
         let mut k = 0;
         for (i, ray) in rays.iter().enumerate() {
-            let Some(hit) = self.primary[i] else {
+            let Some(hit) = &hits[i] else {
                 out.push(scene.settings.background);
                 continue;
             };
             // A lit hit's frame and direct light were found above.
-            let found = match batch.lit.get(k) {
-                Some((at, _, s)) if *at == i => {
+            let found = match lit.get(k) {
+                Some(h) if h.ray == i => {
                     k += 1;
-                    Some((s, k - 1))
+                    Some((&h.frame, k - 1))
                 }
                 _ => None,
             };
-            let frame = found.map(|(s, _)| s);
-            let direct = |_: &mut Self, _: &Local, j: usize| match found {
-                Some((_, k)) => batch.direct[j * lit + k],
+            let direct = |j: usize| match found {
+                Some((_, k)) => direct[j * lit.len() + k],
                 None => Rgb::ZERO,
             };
-            out.push(self.shade_with(ray, &hit, frame, 0, rng(i), direct));
+            let frame = found.map(|(s, _)| s);
+            out.push(self.shade(ray, hit, frame, depth, rng(i), direct));
         }
-        self.batch = Some(batch);
+        self.levels.push(level);
     }
 
-    /// Direct light from `light` at every lit hit of `batch`, appended to
-    /// `batch.direct`: [`direct`](Self::direct) for each, except that sets
-    /// too small for a shaft of their own share one if the pixel's sets
-    /// together are large enough.
-    fn direct_batch(&mut self, light: &Emitter, rng: impl Fn(usize) -> Rng, batch: &mut Batch) {
-        let Batch {
-            lit,
-            rays,
-            starts,
-            direct,
-        } = batch;
+    /// The mean radiance along a set of `n` rays, ray `k` being `ray(k)`,
+    /// traced at `depth` (`rng(k)`: ray `k`'s stream) and stopped early by
+    /// `metric` (see [`RunningMean`]), and how many rays were traced.
+    /// Without a metric the set is one batch; with one, a batch of the rays
+    /// the metric must see before it may stop, then batches of one, so that
+    /// no ray is made or traced past the stop. `value(k, l)` gives what ray
+    /// `k`'s radiance `l` adds to the mean.
+    pub fn mean(
+        &mut self,
+        n: usize,
+        ray: impl Fn(usize) -> Ray,
+        depth: u32,
+        rng: impl Fn(usize) -> Rng,
+        metric: Option<&Metric>,
+        mut value: impl FnMut(usize, Rgb) -> Rgb,
+    ) -> (Rgb, usize) {
+        let first = metric.map_or(n, |m| (m.min_rays.max(2) as usize).min(n));
+        let (mut rays, mut values) = self.sets.pop().unwrap_or_default();
+        let mut mean = RunningMean::default();
+        let mut start = 0;
+        'set: while start < n {
+            let end = if start == 0 { first } else { start + 1 };
+            rays.clear();
+            rays.extend((start..end).map(&ray));
+            values.clear();
+            self.radiance(&rays, depth, |k| rng(start + k), &mut values);
+            for (k, &l) in (start..end).zip(values.iter()) {
+                if mean.push(value(k, l), metric, n as u32) {
+                    start = k + 1;
+                    break 'set;
+                }
+            }
+            start = end;
+        }
+        self.sets.push((rays, values));
+        (mean.mean(), start)
+    }
+
+    /// Direct light from `light` at every lit hit of `level`, appended to
+    /// `level.direct`: for each, the average over its shadow set (see
+    /// [`trace_set`](Self::trace_set)). The rays of a set large enough are
+    /// traced within its own shaft; sets too small for one share the
+    /// batch's if all of them together are large enough.
+    fn direct_light(&mut self, light: &Emitter, rng: impl Fn(usize) -> Rng, level: &mut Level) {
+        let Level {
+            lit, rays, direct, ..
+        } = level;
         rays.clear();
-        starts.clear();
-        let single = self.single_rays(lit, light, &rng, rays);
-        if !single {
-            for (i, _, s) in lit.iter() {
-                starts.push(rays.len());
-                self.shadow_set(s, light, rng(*i), rays);
-            }
-            starts.push(rays.len());
-        }
-        let own = light.shadow_rays() >= SHAFT_MIN_RAYS;
-        let traced = rays.iter().flatten().count();
-        let shared = !own && traced >= SHAFT_MIN_RAYS as usize && self.gather_shaft(rays);
-        if single {
-            // Sets of one ray: what `trace_set` gives each, with the shared
-            // shaft's emptiness checked once for all.
-            let clear = shared && self.scene.world.shaft_is_clear(&self.shaft);
-            for ((_, material, s), r) in lit.iter().zip(rays.iter()) {
-                let m = self.surfaces[*material as usize].local;
-                direct.push(self.single_term(s, &m, r.as_ref(), shared, clear));
-            }
-            return;
-        }
-        for (k, (_, material, s)) in lit.iter().enumerate() {
-            let m = self.surfaces[*material as usize].local;
-            let set = &rays[starts[k]..starts[k + 1]];
+        self.shadow_sets(lit, light, &rng, rays);
+        let n = light.shadow_rays() as usize;
+        let own = n >= SHAFT_MIN_RAYS as usize;
+        let shared = !own
+            && rays.iter().flatten().count() >= SHAFT_MIN_RAYS as usize
+            && self.gather_shaft(rays);
+        for (h, set) in lit.iter().zip(rays.chunks_exact(n)) {
+            let m = self.surfaces[h.material as usize].local;
             let shaft = shared || (own && self.gather_shaft(set));
-            direct.push(self.trace_set(s, &m, light, set, shaft));
+            direct.push(self.trace_set(&h.frame, &m, light, set, shaft));
         }
-    }
-
-    fn radiance_from(&mut self, ray: &Ray, hit: Option<&Hit>, depth: u32, rng: Rng) -> Rgb {
-        match hit {
-            None => self.scene.settings.background,
-            Some(hit) => self.shade(ray, hit, depth, rng),
-        }
-    }
-
-    /// [`shade_with`](Self::shade_with), the direct light of each light
-    /// found here for this hit alone.
-    fn shade(&mut self, ray: &Ray, hit: &Hit, depth: u32, rng: Rng) -> Rgb {
-        let direct = |this: &mut Self, s: &Local, j: usize| {
-            let local = this.surfaces[hit.material as usize].local;
-            let emitters = std::mem::take(&mut this.emitters);
-            let key = this.shadow_keys[j];
-            let l = this.direct(s, &local, &emitters[j], rng.derive_key(key));
-            this.emitters = emitters;
-            l
-        };
-        self.shade_with(ray, hit, None, depth, rng, direct)
     }
 
     /// The radiance leaving `hit` along `ray`: the light's own radiance if
     /// it is a light's surface; else emission (on the front side), the
-    /// direct light `direct(self, frame, j)` of each light `j` if the
-    /// material is lit, then reflection and refraction (see
-    /// [`indirect`](Self::indirect)), summed in this order on every path.
-    /// `frame` is the hit's frame if the caller has it.
+    /// direct light `direct(j)` of each light `j` if the material is lit,
+    /// then reflection and refraction (see [`indirect`](Self::indirect)),
+    /// summed in this order. `frame` is the hit's frame if the caller has it.
     #[inline]
-    fn shade_with(
+    fn shade(
         &mut self,
         ray: &Ray,
         hit: &Hit,
         frame: Option<&Local>,
         depth: u32,
         rng: Rng,
-        mut direct: impl FnMut(&mut Self, &Local, usize) -> Rgb,
+        direct: impl Fn(usize) -> Rgb,
     ) -> Rgb {
         if let Some(l) = hit.light {
             return self.emitters[l as usize].emitted(hit.ng, ray.dir);
@@ -309,7 +323,7 @@ impl<'a> Tracer<'a> {
         let mut l = if s.front { sh.emission } else { Rgb::ZERO };
         if lit {
             for j in 0..self.emitters.len() {
-                l += direct(self, s, j);
+                l += direct(j);
             }
         }
         if scatters {
@@ -318,8 +332,7 @@ impl<'a> Tracer<'a> {
         l
     }
 
-    /// Adds the light reflected and refracted at `s` to `l` (in this order,
-    /// which the pixel-wide path keeps, so that both sum alike).
+    /// Adds the light reflected and refracted at `s` to `l`, in this order.
     fn indirect(&mut self, s: &Local, ray: &Ray, material: u32, depth: u32, rng: Rng, l: &mut Rgb) {
         let m = &self.surfaces[material as usize];
         if depth < self.scene.settings.max_depth && m.scatters {
@@ -336,20 +349,6 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Direct light from one light: the average over its shadow set of
-    /// `brdf · weight · cos θ · transmittance`. The whole set is prepared
-    /// first, so that a set of several rays can gather once the BVH leaves
-    /// its shaft reaches and test every ray against those only.
-    fn direct(&mut self, s: &Local, m: &Phong, light: &Emitter, rng: Rng) -> Rgb {
-        let mut set = std::mem::take(&mut self.shadow_set);
-        set.clear();
-        self.shadow_set(s, light, rng, &mut set);
-        let shaft = light.shadow_rays() >= SHAFT_MIN_RAYS && self.gather_shaft(&set);
-        let l = self.trace_set(s, m, light, &set, shaft);
-        self.shadow_set = set;
-        l
-    }
-
     /// The average over a prepared shadow set of `brdf · weight · cos θ ·
     /// transmittance`, its rays traced one by one, within the shaft last
     /// gathered if `shaft`, and stopped early by the shadow metric.
@@ -364,7 +363,12 @@ impl<'a> Tracer<'a> {
         let world = &self.scene.world;
         let clear = shaft && world.shaft_is_clear(&self.shaft);
         if let [one] = set {
-            return self.single_term(s, m, one.as_ref(), shaft, clear);
+            // No metric acts on one ray, and the average of one is its value
+            // (`0 + x` as the loop sums, so even a -0 comes out alike).
+            let term = one
+                .as_ref()
+                .and_then(|r| self.shadow_term(s, m, r, shaft, clear));
+            return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
         let n = light.shadow_rays();
         let k = (self.scene.settings.metric)
@@ -391,22 +395,6 @@ impl<'a> Tracer<'a> {
         sum / done.max(1) as f32
     }
 
-    /// [`trace_set`](Self::trace_set) of a set of one ray (`None`: a point
-    /// that gives no ray). No metric acts on one ray, and the average of one
-    /// is its value (`0 + x` as the loop sums, so even a -0 comes out alike).
-    #[inline(always)]
-    fn single_term(
-        &mut self,
-        s: &Local,
-        m: &Phong,
-        one: Option<&ShadowRay>,
-        shaft: bool,
-        clear: bool,
-    ) -> Rgb {
-        let term = one.and_then(|r| self.shadow_term(s, m, r, shaft, clear));
-        Rgb::ZERO + term.unwrap_or(Rgb::ZERO)
-    }
-
     /// Traces one shadow ray (within the shaft last gathered if `shaft`; not
     /// at all if that shaft is `clear`): `brdf · weight · cos θ ·
     /// transmittance`, or `None` if it is blocked.
@@ -430,28 +418,37 @@ impl<'a> Tracer<'a> {
         Some(m.eval(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
-    /// Appends the rays of the shadow set toward `light` to `set` (`None`
-    /// for points that give no ray).
-    fn shadow_set(
+    /// Appends to `set` the shadow sets toward `light` of the `lit` hits,
+    /// one after another (`None` for points that give no ray): hit `h`'s
+    /// distribution points drawn from `rng(h.ray)`.
+    fn shadow_sets(
         &mut self,
-        s: &Local,
+        lit: &[Lit],
         light: &Emitter,
-        mut rng: Rng,
+        rng: &impl Fn(usize) -> Rng,
         set: &mut Vec<Option<ShadowRay>>,
     ) {
-        let d = light.shadow().distribution;
-        // Every ray of the set leaves on the side the geometric normal points
-        // to (others are not traced), so all start at the same offset point.
-        let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
-        if light.shadow_rays() == 1 {
-            // A point light, or a Whitted shadow ray: no buffer needed.
-            let one = [d.one(1.0, &mut rng)];
-            shadow_rays(|_| (s, origin), &one, light, set);
-            return;
-        }
+        let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
         let mut points = self.pool.pop().unwrap_or_default();
-        self.set_points(light, &mut rng, &mut points);
-        shadow_rays(|_| (s, origin), &points, light, set);
+        points.clear();
+        if n == 1 {
+            // A point light, or a Whitted shadow ray: no set buffer needed.
+            points.extend(lit.iter().map(|h| d.one(1.0, &mut rng(h.ray))));
+        } else {
+            let mut one = self.pool.pop().unwrap_or_default();
+            for h in lit {
+                self.set_points(light, &mut rng(h.ray), &mut one);
+                points.extend_from_slice(&one);
+            }
+            self.pool.push(one);
+        }
+        let samples = &mut self.light_samples;
+        samples.clear();
+        light.sample(|k| lit[k / n].frame.p, &points, d, samples);
+        for (h, samples) in lit.iter().zip(samples.chunks_exact(n)) {
+            let ray = |ls: &Option<LightSample>| shadow_ray(&h.frame, h.origin, ls.as_ref()?);
+            set.extend(samples.iter().map(ray));
+        }
         self.pool.push(points);
     }
 
@@ -465,32 +462,6 @@ impl<'a> Tracer<'a> {
         } else {
             d.generate_unordered(n, 1.0, rng, points);
         }
-    }
-
-    /// The one-ray shadow sets toward `light` of all `lit` hits, appended to
-    /// `set`: the rays [`shadow_set`](Self::shadow_set) gives each, prepared
-    /// together. False, and nothing appended, if the light's sets are larger.
-    fn single_rays(
-        &mut self,
-        lit: &[(usize, u32, Local)],
-        light: &Emitter,
-        rng: &impl Fn(usize) -> Rng,
-        set: &mut Vec<Option<ShadowRay>>,
-    ) -> bool {
-        let d = light.shadow().distribution;
-        if light.shadow_rays() != 1 {
-            return false;
-        }
-        let mut points = self.pool.pop().unwrap_or_default();
-        points.clear();
-        points.extend(lit.iter().map(|&(i, _, _)| d.one(1.0, &mut rng(i))));
-        let frame = |k: usize| {
-            let s = &lit[k].2;
-            (s, offset_origin(s.p, s.reach, s.ng, s.ng))
-        };
-        shadow_rays(frame, &points, light, set);
-        self.pool.push(points);
-        true
     }
 
     /// Gathers the static-triangle leaves of the shaft holding every ray of
@@ -530,7 +501,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// Traces a distributed set around the perfect direction `dir` (reflected
-    /// or refracted) and averages it. Radius 0 means the single perfect ray.
+    /// or refracted) and averages it (see [`mean`](Self::mean)).
+    /// Radius 0 means the single perfect ray.
     fn scatter(
         &mut self,
         s: &Local,
@@ -546,39 +518,31 @@ impl<'a> Tracer<'a> {
         let transmit = matches!(branch, Branch::Refract);
         // Rays must leave on the viewer's side for reflection, the other side for refraction.
         let side = if transmit { -s.ng } else { s.ng };
-        let children = rng.derive(ray_tag);
-        let metric = self.scene.settings.metric.filter(|m| m.reflections);
-        let mut mean = RunningMean::default();
-        for (k, point) in points.iter().enumerate() {
-            let mut w = if radius > 0.0 {
-                end_point(dir, dir, *point, radius, d)
-            } else {
-                dir
-            };
+        let end = end_points(dir, dir, radius, d);
+        let ray = |k: usize| {
+            let mut w = if radius > 0.0 { end(points[k]) } else { dir };
             let below = w.dot(side);
             if below < 0.0 {
                 w -= 2.0 * below * side;
             }
             let w = w.normalize();
-            if transmit {
-                self.stats.refraction += 1;
-            } else {
-                self.stats.reflection += 1;
-            }
-            let child = Ray::new(offset_origin(s.p, s.reach, s.ng, w), w, s.time);
-            let l = self.radiance(&child, depth + 1, children.derive(k as u64));
-            if mean.push(l, metric.as_ref(), n) {
-                let saved = u64::from(n) - (k as u64 + 1);
-                if transmit {
-                    self.stats.saved.refraction += saved;
-                } else {
-                    self.stats.saved.reflection += saved;
-                }
-                break;
-            }
+            Ray::new(offset_origin(s.p, s.reach, s.ng, w), w, s.time)
+        };
+        let children = rng.derive(ray_tag);
+        let metric = self.scene.settings.metric.filter(|m| m.reflections);
+        let child = |k: usize| children.derive(k as u64);
+        let n = points.len();
+        let (mean, traced) = self.mean(n, ray, depth + 1, child, metric.as_ref(), |_, l| l);
+        let (traced, saved) = (traced as u64, (n - traced) as u64);
+        if transmit {
+            self.stats.refraction += traced;
+            self.stats.saved.refraction += saved;
+        } else {
+            self.stats.reflection += traced;
+            self.stats.saved.reflection += saved;
         }
         self.pool.push(points);
-        mean.mean()
+        mean
     }
 
     /// The points of a distribution set, in trace order, from the buffer pool.
@@ -600,73 +564,11 @@ struct ShadowRay {
     weight: Rgb,
 }
 
-/// Four shading points as lanes: what [`shadow_rays4`] needs of them.
-struct Lanes {
-    n: [Vec4; 3],
-    ng: [Vec4; 3],
-    origin: [Vec4; 3],
-    time: [f32; 4],
-}
-
-impl Lanes {
-    /// Lane `l` from frame `s[l]`, its rays leaving from `origin[l]`.
-    fn new(s: [&Local; 4], origin: &[Vec3; 4]) -> Lanes {
-        let soa = |v: [Vec3; 4]| std::array::from_fn(|k| Vec4::from_array(v.map(|v| v[k])));
-        Lanes {
-            n: soa(s.map(|s| s.n)),
-            ng: soa(s.map(|s| s.ng)),
-            origin: soa(*origin),
-            time: s.map(|s| s.time),
-        }
-    }
-}
-
-/// Appends to `set` the shadow rays toward `light` for the distribution
-/// points `points`, point `k` seen from the frame and ray origin `frame(k)`
-/// (`None` for a point that gives no ray: below the horizon, or on the back
-/// of the light). Groups of four go through the light's four-wide kernel
-/// ([`Emitter::sample4`]) where it has one; the rest, and every point of a
-/// light without one, through the portable form ([`shadow_ray`]), which the
-/// kernel matches bit for bit.
-fn shadow_rays<'a>(
-    frame: impl Fn(usize) -> (&'a Local, Vec3),
-    points: &[Vec3],
-    light: &Emitter,
-    set: &mut Vec<Option<ShadowRay>>,
-) {
-    let d = light.shadow().distribution;
-    let wide = if light.four_wide(d) {
-        points.len() / 4 * 4
-    } else {
-        0
-    };
-    for (g, four) in points[..wide].chunks_exact(4).enumerate() {
-        let lanes: [(&Local, Vec3); 4] = std::array::from_fn(|l| frame(4 * g + l));
-        let (s, origin) = (lanes.map(|f| f.0), lanes.map(|f| f.1));
-        let four: &[Vec3; 4] = four.try_into().expect("chunks of four");
-        let ls = light
-            .sample4(&s.map(|s| s.p), four, d)
-            .expect("a light with a kernel");
-        shadow_rays4(&Lanes::new(s, &origin), &ls, set);
-    }
-    set.extend((wide..points.len()).map(|k| {
-        let (s, origin) = frame(k);
-        shadow_ray(s, origin, light, points[k], d)
-    }));
-}
-
-/// The shadow ray from `origin` (the shading point lifted off its surface)
-/// toward one distribution point of the light; `None` if there is none to
-/// trace (the sample is below the horizon or on the back of the light). The
-/// portable form of [`shadow_rays4`].
-fn shadow_ray(
-    s: &Local,
-    origin: Vec3,
-    light: &Emitter,
-    point: Vec3,
-    d: Distribution,
-) -> Option<ShadowRay> {
-    let ls = light.sample(s.p, point, d)?;
+/// The shadow ray from `origin` (the shading point of `s` lifted off its
+/// surface) toward the light sample `ls`; `None` if a cosine at the
+/// receiver is at most 0 (the sample is below the horizon).
+#[inline]
+fn shadow_ray(s: &Local, origin: Vec3, ls: &LightSample) -> Option<ShadowRay> {
     let wi = ls.dir;
     let cos = s.n.dot(wi);
     if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
@@ -680,144 +582,9 @@ fn shadow_ray(
     })
 }
 
-/// [`shadow_ray`] for the four light samples of `ls`, lane `l` from the
-/// shading point of lane `l` of `s`, appended to `set`: lane by lane the
-/// same rays. A lane gives no ray where its sample is invalid or a cosine
-/// at the receiver is at most 0 (a NaN cosine too, as in `shadow_ray`).
-fn shadow_rays4(s: &Lanes, ls: &LightSamples4, set: &mut Vec<Option<ShadowRay>>) {
-    let dot = |n: &[Vec4; 3], d: &[Vec4; 3]| n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-    let (cos, cos_g) = (dot(&s.n, &ls.dir), dot(&s.ng, &ls.dir));
-    let rejected = cos.cmple(Vec4::ZERO) | cos_g.cmple(Vec4::ZERO);
-    let valid = ls.valid & !rejected.bitmask();
-    let to = std::array::from_fn::<_, 3, _>(|k| (ls.target[k] - s.origin[k]).to_array());
-    let origin = s.origin.map(|c| c.to_array());
-    let dir = ls.dir.map(|c| c.to_array());
-    let (cos, weight) = (cos.to_array(), ls.weight.map(|c| c.to_array()));
-    set.extend((0..4).map(|i| {
-        (valid >> i & 1 != 0).then(|| ShadowRay {
-            ray: Ray::new(
-                Vec3::new(origin[0][i], origin[1][i], origin[2][i]),
-                Vec3::new(to[0][i], to[1][i], to[2][i]),
-                s.time[i],
-            ),
-            wi: Vec3::new(dir[0][i], dir[1][i], dir[2][i]),
-            cos: cos[i],
-            weight: Rgb::new(weight[0][i], weight[1][i], weight[2][i]),
-        })
-    }));
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::quad::Quad;
-    use crate::scene::{EffectSpec, Light, LightShape, PenumbraModel};
-
-    fn unit(r: &mut Rng) -> Vec3 {
-        let v = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
-        v.normalize_or(Vec3::Y)
-    }
-
-    fn bits(r: &Option<ShadowRay>) -> Option<[u32; 14]> {
-        r.map(|r| {
-            let mut b = [0; 14];
-            let v = [r.ray.origin, r.ray.dir, r.wi].map(|v| v.to_array());
-            for (k, c) in v.iter().chain([&r.weight.to_array()]).flatten().enumerate() {
-                b[k] = c.to_bits();
-            }
-            b[12] = r.cos.to_bits();
-            b[13] = r.ray.time.to_bits();
-            b
-        })
-    }
-
-    /// Shadow rays prepared in groups (a set of 16 from one frame, and sets
-    /// of one from 13 frames: a last group of one) are, ray by ray, bit for
-    /// bit the portable form's, through the rectangle's kernel (every square
-    /// distribution) and without it (the thesis model, random points):
-    /// points on both sides of the light and in its plane, points past the
-    /// square's edge, surfaces facing away.
-    #[test]
-    fn prepared_shadow_rays_are_the_one_by_one_rays() {
-        let mut r = Rng::new(47);
-        let quad = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
-        let mut light = Light {
-            shape: LightShape::Rect(quad),
-            power: Rgb::new(40.0, 30.0, 20.0),
-            model: PenumbraModel::Surface,
-            shadow: EffectSpec {
-                rays: 16,
-                distribution: Distribution::Grid,
-            },
-        };
-        let (mut points, mut set) = (Vec::new(), Vec::new());
-        let (mut traced, mut wide) = (0, 0);
-        let frame = |r: &mut Rng, k: usize| {
-            let p = Vec3::new(r.range(-3.0, 3.0), r.range(0.0, 5.0), r.range(-3.0, 3.0));
-            let p = if k.is_multiple_of(50) {
-                Vec3::new(p.x, 4.0, p.z)
-            } else {
-                p
-            };
-            Local {
-                p,
-                reach: reach(p, Vec3::new(0.0, 1.3, 4.2)),
-                wo: Vec3::Y,
-                n: unit(r),
-                ng: unit(r),
-                front: true,
-                time: r.next_f32(),
-            }
-        };
-        for k in 0..2000 {
-            light.shadow.distribution = Distribution::ALL[k % 6];
-            light.model = [PenumbraModel::Surface, PenumbraModel::Thesis][usize::from(k % 7 == 0)];
-            let emitter = Emitter::new(&light);
-            wide += usize::from(emitter.four_wide(light.shadow.distribution));
-            let frames: Vec<Local> = (0..13).map(|j| frame(&mut r, k + j)).collect();
-            let origin = |s: &Local| offset_origin(s.p, s.reach, s.ng, s.ng);
-            // One frame, a set of 16.
-            light
-                .shadow
-                .distribution
-                .generate(16, 1.0, &mut r, &mut points);
-            points[0] = Vec3::new(1.5, -1.5, 0.0);
-            set.clear();
-            let s = &frames[0];
-            shadow_rays(|_| (s, origin(s)), &points, &emitter, &mut set);
-            for (q, got) in points.iter().zip(&set) {
-                let want = shadow_ray(s, origin(s), &emitter, *q, light.shadow.distribution);
-                assert_eq!(bits(got), bits(&want), "{light:?} {q:?}");
-                traced += usize::from(got.is_some());
-            }
-            // Thirteen frames, one point each.
-            points.truncate(13);
-            set.clear();
-            shadow_rays(
-                |j| (&frames[j], origin(&frames[j])),
-                &points,
-                &emitter,
-                &mut set,
-            );
-            assert_eq!(set.len(), 13);
-            for ((s, q), got) in frames.iter().zip(&points).zip(&set) {
-                assert_eq!(
-                    bits(got),
-                    bits(&shadow_ray(
-                        s,
-                        origin(s),
-                        &emitter,
-                        *q,
-                        light.shadow.distribution
-                    ))
-                );
-            }
-        }
-        assert!(
-            wide > 1000 && traced > 5000,
-            "{wide} kernel sets, {traced} rays"
-        );
-    }
 
     /// Shadow rays from the ground near the world's origin, seen from a
     /// camera four units away, reach the light above: the hit points there
@@ -894,14 +661,14 @@ mod tests {
         obj
     }
 
-    /// The pixel-wide path (direct light of all camera rays first, sets of
-    /// one ray four hits at a time, shared shafts) gives every camera ray
-    /// the radiance and the ray counts the one-by-one path gives, bit for
-    /// bit: for one-ray sets on both penumbra models, sets too small for a
-    /// shaft of their own, sets with one, a point light, a transparent
-    /// caster, a mirror and packets hitting ground, mesh, lights and sky.
+    /// A batch of 16 rays (direct light of all hits first, sets of one ray
+    /// sampled four hits at a time, shared shafts) gives every ray the
+    /// radiance and the ray counts that batches of one give, bit for bit:
+    /// for one-ray sets on both penumbra models, sets too small for a shaft
+    /// of their own, sets with one, a point light, a transparent caster, a
+    /// mirror and packets hitting ground, mesh, lights and sky.
     #[test]
-    fn pixel_wide_direct_light_matches_one_by_one() {
+    fn radiance_does_not_depend_on_the_batch() {
         use crate::scene::{LoadOptions, SceneSource};
         let dir = tempfile::tempdir().unwrap();
         let obj = dir.path().join("blob.obj");
@@ -954,10 +721,12 @@ mod tests {
                     })
                     .collect();
                 let stream = |i: usize| Rng::new(99).derive(i as u64);
-                wide.intersect_primary(&rays);
-                wide.radiance_primaries(&rays, stream, &mut out);
+                out.clear();
+                wide.radiance(&rays, 0, stream, &mut out);
+                let mut alone = Vec::new();
                 for (i, ray) in rays.iter().enumerate() {
-                    let l = one.radiance(ray, 0, stream(i));
+                    one.radiance(std::slice::from_ref(ray), 0, |_| stream(i), &mut alone);
+                    let l = alone[i];
                     let bits = |c: Rgb| c.to_array().map(f32::to_bits);
                     assert_eq!(bits(out[i]), bits(l), "light {k}, ray {ray:?}");
                     compared += usize::from(l != Rgb::ZERO);
