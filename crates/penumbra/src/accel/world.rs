@@ -968,7 +968,7 @@ mod tests {
             soup_ground_and_sphere(Shape::Quad(light)),
             soup_ground_and_sphere(sphere),
         ] {
-            let mut total = 0;
+            let (mut total, mut packets) = (0, 0);
             for _ in 0..500 {
                 let eye = Vec3::new(r.range(-6.0, 6.0), r.range(0.5, 6.0), r.range(-6.0, 6.0));
                 let at = Vec3::new(r.range(-2.0, 2.0), r.range(0.0, 3.0), r.range(-2.0, 2.0));
@@ -978,6 +978,7 @@ mod tests {
                         Ray::new(eye, at - eye + jitter * 0.01, 0.0)
                     })
                     .collect();
+                packets += usize::from(Frustum::packet(&rays).is_some());
                 world.intersect_all(&rays, 0.0, &mut scratch, &mut out);
                 for (ray, got) in rays.iter().zip(&out) {
                     let alone = world.intersect(ray, 0.0, f32::INFINITY);
@@ -988,6 +989,7 @@ mod tests {
                 }
             }
             assert!(total > 3000, "{total} hits");
+            assert!(packets > 450, "{packets} packets");
         }
     }
 
