@@ -26,7 +26,7 @@
 
 use penumbra::bsdf::{Phong, Surface};
 use penumbra::camera::CameraSample;
-use penumbra::emitter::Emitter;
+use penumbra::emitter::{Emitter, LightSample};
 use penumbra::geometry::quad::Quad;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
@@ -123,22 +123,28 @@ impl<'a> Floor<'a> {
     fn render(&self, out: &mut Vec<Rgb>) {
         let s = &self.scene.settings;
         out.clear();
-        let mut film = Vec::new();
+        let (mut film, mut lights) = (Vec::new(), Vec::new());
         for y in 0..s.height {
             for x in 0..s.width {
-                out.push(self.pixel(x, y, &mut film));
+                out.push(self.pixel(x, y, &mut film, &mut lights));
             }
         }
     }
 
     /// Pixel (x, y): its samples four at a time.
-    fn pixel(&self, x: u32, y: u32, film: &mut Vec<Vec3>) -> Rgb {
+    fn pixel(
+        &self,
+        x: u32,
+        y: u32,
+        film: &mut Vec<Vec3>,
+        lights: &mut Vec<Option<LightSample>>,
+    ) -> Rgb {
         let s = &self.scene.settings;
         let cam = &self.scene.camera;
         let pixel = Rng::new(s.seed).derive(u64::from(y) * u64::from(s.width) + u64::from(x));
         Distribution::Jitter.generate_unordered(s.spp as usize, 0.5, &mut pixel.derive(0), film);
         let time = [cam.time(0.0); 4];
-        let (mut sum, mut lights) = (Rgb::ZERO, Vec::with_capacity(4));
+        let mut sum = Rgb::ZERO;
         for (c, four) in film.chunks_exact(4).enumerate() {
             let f: [Vec2; 4] = std::array::from_fn(|k| {
                 Vec2::new(x as f32 + 0.5 + four[k].x, y as f32 + 0.5 + four[k].y)
@@ -165,7 +171,7 @@ impl<'a> Floor<'a> {
             });
             lights.clear();
             self.light
-                .sample(|k| p[k], &points, Distribution::Jitter, &mut lights);
+                .sample(|k| p[k], &points, Distribution::Jitter, lights);
             for k in 0..4 {
                 if t[k].is_none() {
                     sum += s.background;
