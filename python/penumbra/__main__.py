@@ -190,6 +190,9 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
             r.add_argument(o["flag"], dest=name, choices=DISTRIBUTIONS, metavar=o["metavar"], help=help)
         elif o["kind"] == "filter":
             r.add_argument(o["flag"], dest=name, choices=("box", "tent", "gaussian"), metavar=o["metavar"], help=help)
+        elif o["kind"] == "stop_rule":
+            choices = ("calibrated", "cycles", "povray", "dammertz")
+            r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)
         else:
             kind = int if o["kind"] == "int" else float
             r.add_argument(o["flag"], dest=name, type=kind, metavar=o["metavar"], help=help)

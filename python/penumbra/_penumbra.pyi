@@ -24,6 +24,7 @@ DistributionName = Literal[
 ]
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
+StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
 StrPath = str | os.PathLike[str]
 Image = npt.NDArray[np.float32]
 
@@ -127,6 +128,11 @@ class Scene:
         metric_min_rays: int | None = None,
         shadow_metric_rays: int | None = None,
         pixel_metric: bool | None = None,
+        noise_threshold: float | None = None,
+        stop_rule: StopRuleName | None = None,
+        confidence: float | None = None,
+        replicas: int | None = None,
+        min_spp: int | None = None,
         threads: int | None = None,
         progress: Callable[[int, int], object] | None = None,
     ) -> Settings:
@@ -203,6 +209,11 @@ def render(
     metric_min_rays: int | None = None,
     shadow_metric_rays: int | None = None,
     pixel_metric: bool | None = None,
+    noise_threshold: float | None = None,
+    stop_rule: StopRuleName | None = None,
+    confidence: float | None = None,
+    replicas: int | None = None,
+    min_spp: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> tuple[Image, Stats]:
@@ -240,6 +251,11 @@ def render_region(
     metric_min_rays: int | None = None,
     shadow_metric_rays: int | None = None,
     pixel_metric: bool | None = None,
+    noise_threshold: float | None = None,
+    stop_rule: StopRuleName | None = None,
+    confidence: float | None = None,
+    replicas: int | None = None,
+    min_spp: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> tuple[Image, Stats]:

@@ -15,7 +15,7 @@ use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
-use penumbra::scene::{Choices, Overrides, RenderOption, OPTIONS};
+use penumbra::scene::{Choices, Overrides, RenderOption, StopRule, OPTIONS};
 
 /// The keyword argument that is not a render option: the progress callback.
 const PROGRESS: &str = "progress";
@@ -99,7 +99,8 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
         let Some(flag) = o.flag else { continue };
         let kind = match o.kind {
             Kind::Int { .. } => "int",
-            Kind::NonNegative | Kind::Positive => "float",
+            Kind::NonNegative | Kind::Positive | Kind::Between(..) => "float",
+            Kind::StopRule => "stop_rule",
             Kind::Switch => "bool",
             Kind::Distribution => "distribution",
             Kind::Filter => "filter",
@@ -129,6 +130,8 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
         Kind::Switch => Value::Switch(bool_arg(name, v)?),
         Kind::Distribution => Value::Distribution(parse_distribution(name, v)?),
         Kind::Filter => Value::Filter(parse_filter(name, v)?),
+        Kind::StopRule => Value::StopRule(parse_stop_rule(name, v)?),
+        Kind::Between(lo, hi) => Value::Number(between_f32(name, v, lo, hi)?),
         Kind::Colour => {
             return Err(PyTypeError::new_err(format!(
                 "{name} is set in the scene, not as a render option"
@@ -219,10 +222,27 @@ fn nonneg_f32(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f32> {
     }
 }
 
+fn between_f32(name: &str, v: &Bound<'_, PyAny>, lo: f32, hi: f32) -> PyResult<f32> {
+    let f = finite_f32(name, v)?;
+    if (lo..=hi).contains(&f) {
+        Ok(f)
+    } else {
+        Err(value_error(format!(
+            "{name} must be a number from {lo} to {hi}, got {f}"
+        )))
+    }
+}
+
 /// A distribution by name, with the CLI's message for an unknown one.
 pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
     let from = Distribution::from_name;
     by_name(name, "distribution", v, from, &Distribution::ALL, Distribution::name)
+}
+
+/// An adaptive sampling rule by name, with the CLI's message for an unknown one.
+pub fn parse_stop_rule(name: &str, v: &Bound<'_, PyAny>) -> PyResult<StopRule> {
+    let from = StopRule::from_name;
+    by_name(name, "stop rule", v, from, &StopRule::ALL, StopRule::name)
 }
 
 /// A pixel filter by name, with the CLI's message for an unknown one.

@@ -25,8 +25,9 @@ ANNOTATIONS = {
     "bool": "bool | None",
     "distribution": "DistributionName | None",
     "filter": "FilterName | None",
+    "stop_rule": "StopRuleName | None",
 }
-VALID = {"int": 1, "float": 0.5, "bool": True, "distribution": "poisson", "filter": "tent"}
+VALID = {"int": 2, "float": 0.5, "bool": True, "distribution": "poisson", "filter": "tent", "stop_rule": "cycles"}
 
 
 def test_render_options_are_the_tables_and_progress():

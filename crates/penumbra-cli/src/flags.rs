@@ -5,7 +5,7 @@ use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Flag, Kind, Value};
-use penumbra::scene::{Choices, RenderOption, OPTIONS};
+use penumbra::scene::{Choices, RenderOption, StopRule, OPTIONS};
 
 /// What the render options' flags say: `--width 320`, `--no-metric`, ...
 /// Flags not given leave the scene's values alone.
@@ -65,6 +65,10 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         Kind::Positive => vec![with_value(arg.value_parser(parse_positive))],
         Kind::Distribution => vec![with_value(arg.value_parser(parse_distribution))],
         Kind::Filter => vec![with_value(arg.value_parser(parse_filter))],
+        Kind::StopRule => vec![with_value(arg.value_parser(parse_stop_rule))],
+        Kind::Between(lo, hi) => vec![with_value(
+            arg.value_parser(move |s: &str| parse_between(s, lo, hi)),
+        )],
         // Colours are set in scene files only.
         Kind::Colour => Vec::new(),
     }
@@ -75,7 +79,10 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
 fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
     match o.kind {
         Kind::Int { .. } => m.get_one::<u32>(o.name).copied().map(Value::Int),
-        Kind::NonNegative | Kind::Positive => m.get_one::<f32>(o.name).copied().map(Value::Number),
+        Kind::NonNegative | Kind::Positive | Kind::Between(..) => {
+            m.get_one::<f32>(o.name).copied().map(Value::Number)
+        }
+        Kind::StopRule => m.get_one::<StopRule>(o.name).copied().map(Value::StopRule),
         Kind::Distribution => m
             .get_one::<Distribution>(o.name)
             .copied()
@@ -125,6 +132,16 @@ pub fn parse_distribution(s: &str) -> Result<Distribution, String> {
     )
 }
 
+pub fn parse_stop_rule(s: &str) -> Result<StopRule, String> {
+    by_name(
+        "stop rule",
+        s,
+        StopRule::from_name(s),
+        &StopRule::ALL,
+        StopRule::name,
+    )
+}
+
 pub fn parse_filter(s: &str) -> Result<Filter, String> {
     by_name(
         "filter",
@@ -163,6 +180,13 @@ pub fn parse_nonneg(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("`{s}` is not a finite number >= 0")),
+    }
+}
+
+pub fn parse_between(s: &str, lo: f32, hi: f32) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` is not a number from {lo} to {hi}")),
     }
 }
 
@@ -216,6 +240,8 @@ mod tests {
                     ("poisson".into(), Value::Distribution(Distribution::Poisson))
                 }
                 Kind::Filter => ("gaussian".into(), Value::Filter(Filter::Gaussian)),
+                Kind::StopRule => ("povray".into(), Value::StopRule(StopRule::Povray)),
+                Kind::Between(lo, _) => (lo.to_string(), Value::Number(lo)),
                 Kind::Switch | Kind::Colour => continue,
             };
             let mut expected = Choices::default();
@@ -250,6 +276,18 @@ mod tests {
                 Kind::Filter => (
                     Filter::ALL.iter().map(|f| f.name().to_string()).collect(),
                     vec!["mitchell".into()],
+                ),
+                Kind::StopRule => (
+                    StopRule::ALL.iter().map(|r| r.name().to_string()).collect(),
+                    vec!["mitsuba".into()],
+                ),
+                Kind::Between(lo, hi) => (
+                    vec![lo.to_string(), hi.to_string()],
+                    vec![
+                        (lo - 0.01).to_string(),
+                        (hi + 0.01).to_string(),
+                        "nan".into(),
+                    ],
                 ),
                 Kind::Switch | Kind::Colour => continue,
             };

@@ -45,7 +45,9 @@ pub struct Figure {
     pub panels: Vec<String>,
 }
 
-/// Where a panel's pixels come from.
+/// Where a panel's pixels come from (a figure has a few: the size of the
+/// two-job variant costs nothing).
+#[allow(clippy::large_enum_variant)]
 enum Source {
     Render(Job),
     /// |a − b|, amplified.

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use penumbra::integrator::RayStats;
-use penumbra::render::{render, Image, RenderOptions};
+use penumbra::render::{render, Image, Region, RenderOptions};
 use penumbra::scene::{LoadOptions, Scene, SceneError, SceneSource};
 
 pub fn scene(toml: &str) -> Scene {
@@ -54,4 +54,20 @@ pub fn bunny() -> Option<PathBuf> {
 
 pub fn builtin(name: &str, bunny: Option<PathBuf>) -> SceneSource {
     SceneSource::open(name, &LoadOptions { bunny }).expect("built-in scene")
+}
+
+/// Renders `region` of `s` alone (two threads) and checks that its pixels
+/// are those of `full`, the whole frame; `what` names the case.
+pub fn assert_region_is_the_frames(s: &Scene, full: &Image, region: Region, what: &str) {
+    let opts = RenderOptions {
+        threads: Some(2),
+        region: Some(region),
+    };
+    let (part, _) = render(s, &opts, &|_, _| {}, None).unwrap();
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            let (a, b) = (part.get(x - region.x0, y - region.y0), full.get(x, y));
+            assert_eq!(a, b, "{what} at ({x}, {y})");
+        }
+    }
 }

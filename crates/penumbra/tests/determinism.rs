@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use penumbra::render::{render, Region, RenderOptions};
+use penumbra::render::Region;
 
 fn small_showcase() -> penumbra::scene::Scene {
     let mut src = builtin("showcase", None);
@@ -39,16 +39,7 @@ fn regions_stitch_into_the_full_frame() {
         x1: 50,
         y1: 40,
     };
-    let opts = RenderOptions {
-        threads: Some(2),
-        region: Some(region),
-    };
-    let (part, _) = render(&s, &opts, &|_, _| {}, None).unwrap();
-    for y in region.y0..region.y1 {
-        for x in region.x0..region.x1 {
-            assert_eq!(part.get(x - region.x0, y - region.y0), full.get(x, y));
-        }
-    }
+    assert_region_is_the_frames(&s, &full, region, "showcase");
 }
 
 #[test]

@@ -11,7 +11,7 @@ use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::desc::{CameraDesc, RenderDesc};
 use penumbra::scene::options::markdown::{replace_section, table, View};
 use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
-use penumbra::scene::{LoadOptions, SceneDesc, SceneSource, OPTIONS};
+use penumbra::scene::{LoadOptions, SceneDesc, SceneSource, StopRule, OPTIONS};
 use serde_json::{json, Value as Json};
 
 fn repo() -> PathBuf {
@@ -91,6 +91,7 @@ fn value_json(v: Value) -> Json {
         Value::Switch(b) => json!(b),
         Value::Distribution(d) => json!(d.name()),
         Value::Filter(f) => json!(f.name()),
+        Value::StopRule(r) => json!(r.name()),
         Value::Colour(c) => json!(c),
     }
 }
@@ -136,6 +137,17 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .map(|f| format!("\"{}\"", f.name()))
                 .collect(),
             vec!["\"mitchell\"".into()],
+        ),
+        Kind::StopRule => (
+            StopRule::ALL
+                .iter()
+                .map(|r| format!("\"{}\"", r.name()))
+                .collect(),
+            vec!["\"mitsuba\"".into()],
+        ),
+        Kind::Between(lo, hi) => (
+            vec![format!("{lo:?}"), format!("{hi:?}")],
+            vec![format!("{:?}", lo - 0.01), format!("{:?}", hi + 0.01)],
         ),
         Kind::Colour => (
             vec!["[0.0, 2.0, 0.5]".into()],
@@ -183,6 +195,8 @@ fn front_end_values_replace_the_key_of_the_same_name() {
         let v = match o.kind {
             Kind::Int { min, max } => Value::Int(max.min(min.max(7))),
             Kind::NonNegative | Kind::Positive => Value::Number(0.5),
+            Kind::Between(lo, _) => Value::Number(lo),
+            Kind::StopRule => Value::StopRule(StopRule::Dammertz),
             Kind::Switch => Value::Switch(!matches!(
                 o.default,
                 DefaultValue::Fixed(Value::Switch(true))

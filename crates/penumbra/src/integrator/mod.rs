@@ -40,6 +40,7 @@
 mod interface;
 mod metric;
 mod stats;
+pub mod stopping;
 mod whitted;
 
 pub use interface::{BadSample, Integrator, PixelWorker};

@@ -55,23 +55,36 @@ impl Tile {
     }
 }
 
-/// Renders one tile; `None` if `cancelled` becomes true, which is checked
-/// before every row so that a cancel takes effect within a row of pixels,
-/// not a whole tile (a tile of a costly scene can take seconds).
+/// Renders one tile, `region`, as part of `block`, the tile of the frame's
+/// grid that holds it (rendered whole when adaptive sampling judges pixels
+/// by their neighbours, else the same as `region`); `None` if `cancelled`
+/// becomes true, which is checked before every row so that a cancel takes
+/// effect within a row of pixels, not a whole tile (a tile of a costly
+/// scene can take seconds).
 pub(super) fn render_tile<I: Integrator>(
     integrator: &I,
     scene: &Scene,
     region: Region,
+    block: Region,
     cancelled: &dyn Fn() -> bool,
 ) -> Option<Tile> {
     let mut worker = integrator.worker(scene);
-    let mut pixels = Vec::with_capacity((region.width() * region.height()) as usize);
+    let mut pixels = Vec::with_capacity((block.width() * block.height()) as usize);
     let mut bad = Vec::new();
-    for y in region.y0..region.y1 {
-        if cancelled() {
-            return None;
-        }
-        worker.row(y, region.x0..region.x1, &mut pixels, &mut bad);
+    let (xs, ys) = (block.x0..block.x1, block.y0..block.y1);
+    if !worker.tile(xs, ys, cancelled, &mut pixels, &mut bad) {
+        return None;
+    }
+    if block != region {
+        let w = block.width() as usize;
+        let x = (region.x0 - block.x0) as usize..(region.x1 - block.x0) as usize;
+        let rows = (region.y0 - block.y0) as usize..(region.y1 - block.y0) as usize;
+        pixels = rows
+            .flat_map(|y| pixels[y * w + x.start..y * w + x.end].to_vec())
+            .collect();
+        bad.retain(|b| {
+            (region.x0..region.x1).contains(&b.x) && (region.y0..region.y1).contains(&b.y)
+        });
     }
     Some(Tile {
         region,
@@ -104,10 +117,10 @@ mod tests {
             checks.set(checks.get() + 1);
             checks.get() > 3
         };
-        assert!(render_tile(&Whitted, &scene, region, &after_three_rows).is_none());
+        assert!(render_tile(&Whitted, &scene, region, region, &after_three_rows).is_none());
         assert_eq!(checks.get(), 4);
         let never = || false;
-        let tile = render_tile(&Whitted, &scene, region, &never).expect("not cancelled");
+        let tile = render_tile(&Whitted, &scene, region, region, &never).expect("not cancelled");
         assert_eq!(tile.pixels.len(), 64);
     }
 }

@@ -86,15 +86,28 @@ pub fn render(
     // Each finished tile is copied into its band of rows (a band per row of
     // tiles) while the other workers go on: copying the whole image after
     // the last tile would take a few percent of a Whitted frame on two threads.
-    let band = region.width() as usize * TILE as usize;
-    let bands: Vec<Mutex<&mut [Rgb]>> = image.pixels.chunks_mut(band).map(Mutex::new).collect();
+    let cuts = cuts(region.y0, region.y1);
+    let mut bands: Vec<Mutex<&mut [Rgb]>> = Vec::new();
+    let mut rest = &mut image.pixels[..];
+    for rows in cuts.windows(2) {
+        let (band, after) =
+            rest.split_at_mut((rows[1] - rows[0]) as usize * region.width() as usize);
+        bands.push(Mutex::new(band));
+        rest = after;
+    }
     let results: Vec<Option<(RayStats, Vec<BadSample>)>> = pool.install(|| {
         tiles
             .par_iter()
             .map(|t| {
                 let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-                let tile = film::render_tile(&Whitted, scene, *t, &cancelled)?;
-                let rows = &bands[((t.y0 - region.y0) / TILE) as usize];
+                let block = if s.stopping.is_some() {
+                    aligned(*t, s.width, s.height)
+                } else {
+                    *t
+                };
+                let tile = film::render_tile(&Whitted, scene, *t, block, &cancelled)?;
+                let band = cuts.partition_point(|&y| y < t.y0);
+                let rows = &bands[band];
                 let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
                 tile.copy_into(&mut rows, region);
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
@@ -141,18 +154,39 @@ fn pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, RenderError> {
     Ok(p)
 }
 
-/// The region cut into tiles, row by row.
+/// The region cut into tiles, row by row: its parts in each tile of the
+/// frame's grid of `TILE × TILE` tiles.
 fn tiles(r: Region) -> Vec<Region> {
+    let (xs, ys) = (cuts(r.x0, r.x1), cuts(r.y0, r.y1));
     let mut out = Vec::new();
-    for y0 in (r.y0..r.y1).step_by(TILE as usize) {
-        for x0 in (r.x0..r.x1).step_by(TILE as usize) {
+    for y in ys.windows(2) {
+        for x in xs.windows(2) {
             out.push(Region {
-                x0,
-                y0,
-                x1: (x0 + TILE).min(r.x1),
-                y1: (y0 + TILE).min(r.y1),
+                x0: x[0],
+                y0: y[0],
+                x1: x[1],
+                y1: y[1],
             });
         }
     }
     out
+}
+
+/// `lo`, the multiples of `TILE` between, and `hi`: where `[lo, hi)` is cut.
+fn cuts(lo: u32, hi: u32) -> Vec<u32> {
+    let mut at = vec![lo];
+    at.extend((lo / TILE + 1..).map(|k| k * TILE).take_while(|&c| c < hi));
+    at.push(hi);
+    at
+}
+
+/// The tile of the frame's grid (a `width × height` frame) that holds `t`.
+fn aligned(t: Region, width: u32, height: u32) -> Region {
+    let (x0, y0) = (t.x0 / TILE * TILE, t.y0 / TILE * TILE);
+    Region {
+        x0,
+        y0,
+        x1: (x0 + TILE).min(width),
+        y1: (y0 + TILE).min(height),
+    }
 }

@@ -8,6 +8,7 @@
 //! | pixel `p` | `Rng::new(seed).derive(p)`, `p = y · width + x` |
 //! | film, lens, time sets of the pixel | `pixel.derive(0)`, `.derive(1)`, `.derive(2)` ([`Dimension`]) |
 //! | path of primary sample `i` | `pixel.derive(3 + i)` |
+//! | replica `r` of the pixel (adaptive sampling's calibrated rule), all of whose streams derive from it as the pixel's do | `pixel.derive(2^32 + r)` |
 //!
 //! Below a path, the integrator derives the streams of each event's set of
 //! rays from the path's stream (see the integrator's documentation).
@@ -29,6 +30,9 @@ pub enum Dimension {
 
 /// The first branch number of the primary samples' paths.
 const FIRST_PATH: u64 = 3;
+
+/// The branch number of a pixel's first replica (far above every path's).
+const FIRST_REPLICA: u64 = 1 << 32;
 
 /// The streams of a render with a given seed and image width.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +62,14 @@ pub struct PixelSampler {
 }
 
 impl PixelSampler {
+    /// Replica `r` of the pixel: streams independent of the pixel's own
+    /// and of every other replica's, each set an independent scrambling.
+    pub fn replica(&self, r: u32) -> PixelSampler {
+        PixelSampler {
+            root: self.root.derive(FIRST_REPLICA + u64::from(r)),
+        }
+    }
+
     /// The stream of a dimension's set.
     pub fn stream(&self, d: Dimension) -> Rng {
         self.root.derive(d as u64)
@@ -131,6 +143,8 @@ mod tests {
             first(p.path_of(PixelSampler::path_key(4))),
             first(p.path(4))
         );
+        let replica = root.derive((1 << 32) + 2);
+        assert_eq!(first(p.replica(2).path(0)), first(replica.derive(3)));
         let mut seen = std::collections::HashSet::new();
         for (x, y) in [(0, 0), (1, 0), (0, 1)] {
             let p = s.pixel(x, y);
@@ -139,6 +153,7 @@ mod tests {
             }
             for i in 0..8 {
                 assert!(seen.insert(first(p.path(i))));
+                assert!(seen.insert(first(p.replica(i as u32).path(0))));
             }
         }
     }

@@ -11,7 +11,7 @@ use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::reuse::{self, WorldCache};
 use super::{EffectSpec, Light, LightShape, Material, PenumbraModel};
-use super::{Metric, Scene, Settings};
+use super::{Metric, Scene, Settings, Stopping};
 use crate::accel::world::{mesh_bvh, Object, World};
 use crate::camera::{Camera, CameraSpec};
 use crate::geometry::mesh_file::{read_mesh, MeshError};
@@ -37,6 +37,7 @@ impl From<Invalid> for BuildError {
 
 const MAX_SIDE: i64 = super::options::MAX_SIDE as i64;
 const MAX_RAYS: i64 = super::options::MAX_RAYS as i64;
+const MAX_REPLICAS: i64 = super::options::MAX_REPLICAS as i64;
 
 /// Most pixels an image may have (16384 × 16384): the frame is held in
 /// memory as 32-bit floats, 12 bytes a pixel, 3 GiB at this size.
@@ -248,7 +249,28 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
         time: r.time_distribution.unwrap_or(r.distribution),
         filter: r.filter,
         metric: metric(r, &p)?,
+        stopping: stopping(r, &p)?,
     })
+}
+
+/// Adaptive sampling's settings; `None` when `noise_threshold` is 0.
+fn stopping(r: &RenderDesc, p: &KeyPath) -> Result<Option<Stopping>, Invalid> {
+    let threshold = range(&p.key("noise_threshold"), r.noise_threshold, 0.0, 1e6)?;
+    let s = Stopping {
+        rule: r.stop_rule,
+        threshold,
+        confidence: range(&p.key("confidence"), r.confidence, 0.5, 0.999)?,
+        replicas: int(&p.key("replicas"), r.replicas, 2, MAX_REPLICAS)?,
+        min_spp: int(&p.key("min_spp"), r.min_spp, 0, MAX_RAYS)?,
+    };
+    if threshold > 0.0 && r.metric && r.pixel_metric {
+        return Err(Invalid::new(
+            p.key("noise_threshold"),
+            "adaptive sampling and `pixel_metric` both stop a pixel's camera rays: \
+             turn one of them off",
+        ));
+    }
+    Ok((threshold > 0.0).then_some(s))
 }
 
 fn metric(r: &RenderDesc, p: &KeyPath) -> Result<Option<Metric>, Invalid> {

@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::arity;
+use super::settings::StopRule;
 use crate::sampling::{Distribution, Filter};
 
 /// A whole scene file.
@@ -69,6 +70,16 @@ pub struct RenderDesc {
     pub shadow_metric_rays: i64,
     /// With `metric`: apply the α/threshold rule to a pixel's primary rays as well.
     pub pixel_metric: bool,
+    /// Adaptive sampling: the noise a pixel may keep (0: off).
+    pub noise_threshold: f32,
+    /// The adaptive sampling rule.
+    pub stop_rule: StopRule,
+    /// Confidence of the interval the `calibrated` and `povray` rules bound.
+    pub confidence: f32,
+    /// Independently scrambled replicas of a pixel's sets (`calibrated`).
+    pub replicas: i64,
+    /// Camera rays before a pixel may stop (0: the rule's own).
+    pub min_spp: i64,
 }
 
 impl Default for RenderDesc {
@@ -98,6 +109,11 @@ impl Default for RenderDesc {
             metric_min_rays: 4,
             shadow_metric_rays: 4,
             pixel_metric: false,
+            noise_threshold: 0.0,
+            stop_rule: StopRule::Calibrated,
+            confidence: 0.9,
+            replicas: 8,
+            min_spp: 0,
         }
     }
 }

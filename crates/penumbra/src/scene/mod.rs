@@ -33,7 +33,7 @@ pub use material::{EffectSpec, Material};
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
 pub use reuse::WorldCache;
-pub use settings::{Metric, Settings};
+pub use settings::{Metric, Settings, StopRule, Stopping};
 
 use crate::accel::World;
 use crate::camera::Camera;

@@ -25,6 +25,7 @@
 //! in the description, for a scene-file key) and the code that uses it.
 
 use super::overrides::Overrides;
+use super::settings::StopRule;
 use crate::sampling::{Distribution, Filter};
 
 pub mod markdown;
@@ -33,6 +34,8 @@ pub mod markdown;
 pub const MAX_SIDE: u32 = 1 << 15;
 /// Largest ray budget per effect (the exponential growth makes more pointless).
 pub const MAX_RAYS: u32 = 1 << 16;
+/// Most replicas adaptive sampling may split a pixel's sets into.
+pub const MAX_REPLICAS: u32 = 64;
 
 /// One render option.
 #[derive(Clone, Copy, Debug)]
@@ -71,6 +74,10 @@ pub enum Kind {
     Distribution,
     /// A pixel filter, by name ([`Filter::name`]).
     Filter,
+    /// An adaptive sampling rule, by name ([`StopRule::name`]).
+    StopRule,
+    /// A number in `[lo, hi]`.
+    Between(f32, f32),
     /// A linear RGB colour with no negative channel (scene file only).
     Colour,
 }
@@ -83,6 +90,7 @@ pub enum Value {
     Switch(bool),
     Distribution(Distribution),
     Filter(Filter),
+    StopRule(StopRule),
     Colour([f32; 3]),
 }
 
@@ -118,6 +126,13 @@ impl Value {
     pub fn filter(self) -> Option<Filter> {
         match self {
             Value::Filter(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    pub fn stop_rule(self) -> Option<StopRule> {
+        match self {
+            Value::StopRule(r) => Some(r),
             _ => None,
         }
     }
@@ -518,6 +533,66 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.pixel_metric = v.switch()),
     },
     RenderOption {
+        name: "noise_threshold",
+        kind: Kind::NonNegative,
+        default: DefaultValue::Fixed(Value::Number(0.0)),
+        doc: "adaptive sampling: a pixel stops taking camera rays (up to spp) once its noise, \
+              in the measure of stop_rule, is below this (0: off, every pixel takes spp)",
+        table: Some(Table::Render),
+        flag: Flag::metavar("T"),
+        python: true,
+        set: Some(|c, v| c.overrides.noise_threshold = v.number()),
+    },
+    RenderOption {
+        name: "stop_rule",
+        kind: Kind::StopRule,
+        default: DefaultValue::Fixed(Value::StopRule(StopRule::Calibrated)),
+        doc: "the adaptive sampling rule: calibrated (replicas' confidence interval), cycles, \
+              povray (its sampling method 3) or dammertz (hierarchical blocks)",
+        table: Some(Table::Render),
+        flag: Flag::metavar("RULE"),
+        python: true,
+        set: Some(|c, v| c.overrides.stop_rule = v.stop_rule()),
+    },
+    RenderOption {
+        name: "confidence",
+        kind: Kind::Between(0.5, 0.999),
+        default: DefaultValue::Fixed(Value::Number(0.9)),
+        doc: "confidence of the interval the calibrated and povray rules bound the noise by",
+        table: Some(Table::Render),
+        flag: Flag::metavar("C"),
+        python: true,
+        set: Some(|c, v| c.overrides.confidence = v.number()),
+    },
+    RenderOption {
+        name: "replicas",
+        kind: Kind::Int {
+            min: 2,
+            max: MAX_REPLICAS,
+        },
+        default: int(8),
+        doc: "independently scrambled replicas of a pixel's sets whose spread the calibrated \
+              rule reads the noise from",
+        table: Some(Table::Render),
+        flag: Flag::metavar("R"),
+        python: true,
+        set: Some(|c, v| c.overrides.replicas = v.int()),
+    },
+    RenderOption {
+        name: "min_spp",
+        kind: Kind::Int {
+            min: 0,
+            max: MAX_RAYS,
+        },
+        default: int(0),
+        doc: "camera rays a pixel takes before the adaptive sampling rule may stop it \
+              (0: the rule's own)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.min_spp = v.int()),
+    },
+    RenderOption {
         name: "threads",
         kind: Kind::Int { min: 1, max: 1024 },
         default: DefaultValue::Computed("all cores"),
@@ -587,9 +662,11 @@ mod tests {
         match kind {
             Kind::Int { min, max } => Value::Int(max.min(min.max(7))),
             Kind::NonNegative | Kind::Positive => Value::Number(0.5),
+            Kind::Between(lo, _) => Value::Number(lo),
             Kind::Switch => Value::Switch(true),
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
             Kind::Filter => Value::Filter(Filter::Gaussian),
+            Kind::StopRule => Value::StopRule(StopRule::Cycles),
             Kind::Colour => Value::Colour([0.5; 3]),
         }
     }

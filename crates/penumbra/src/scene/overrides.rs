@@ -2,6 +2,7 @@
 //! arguments) that win over the file's.
 
 use super::desc::SceneDesc;
+use super::settings::StopRule;
 use crate::sampling::{Distribution, Filter};
 
 /// Settings that replace the scene description's. Ray counts and
@@ -38,6 +39,12 @@ pub struct Overrides {
     pub metric_min_rays: Option<u32>,
     pub shadow_metric_rays: Option<u32>,
     pub pixel_metric: Option<bool>,
+    /// Adaptive sampling.
+    pub noise_threshold: Option<f32>,
+    pub stop_rule: Option<StopRule>,
+    pub confidence: Option<f32>,
+    pub replicas: Option<u32>,
+    pub min_spp: Option<u32>,
 }
 
 impl Overrides {
@@ -92,6 +99,11 @@ impl Overrides {
             self.shadow_metric_rays.map(i64::from),
         );
         set(&mut r.pixel_metric, self.pixel_metric);
+        set(&mut r.noise_threshold, self.noise_threshold);
+        set(&mut r.stop_rule, self.stop_rule);
+        set(&mut r.confidence, self.confidence);
+        set(&mut r.replicas, self.replicas.map(i64::from));
+        set(&mut r.min_spp, self.min_spp.map(i64::from));
         set(&mut desc.camera.aperture, self.aperture);
         set_some(&mut desc.camera.focal_distance, self.focal_distance);
     }

@@ -1,5 +1,6 @@
 //! Image-wide settings after validation, and the settings of the thesis's
-//! acceleration metrics (whose rules live in the integrator).
+//! acceleration metrics and of the adaptive sampling rules (whose rules
+//! live in the integrator).
 
 use crate::math::Rgb;
 use crate::sampling::{Distribution, Filter};
@@ -22,6 +23,9 @@ pub struct Settings {
     pub filter: Filter,
     /// The acceleration metrics, if on.
     pub metric: Option<Metric>,
+    /// Adaptive sampling: the rule that stops a pixel's camera rays before
+    /// `spp`, if on.
+    pub stopping: Option<Stopping>,
 }
 
 /// Settings of the metrics; `None` in the scene settings means they are all
@@ -40,4 +44,61 @@ pub struct Metric {
     pub shadow_rays: u32,
     /// Apply the α/threshold rule to the primary rays of a pixel too.
     pub pixels: bool,
+}
+
+/// Settings of adaptive sampling: a pixel takes camera rays in passes until
+/// its rule judges its noise below `threshold`, or it reaches the budget
+/// (`spp`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stopping {
+    pub rule: StopRule,
+    /// The noise a pixel may keep, in the rule's own measure (> 0).
+    pub threshold: f32,
+    /// The confidence of the rules that bound the error by an interval
+    /// (`calibrated`, `povray`), in (0, 1).
+    pub confidence: f32,
+    /// Independently scrambled replicas of a pixel's sets (`calibrated`), ≥ 2.
+    pub replicas: u32,
+    /// Camera rays a pixel takes before the rule may stop it; 0: the rule's own.
+    pub min_spp: u32,
+}
+
+/// An adaptive sampling rule, by the name users write.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Deserialize, serde::Serialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum StopRule {
+    /// Replicas' spread gives a confidence interval of the pixel's mean.
+    #[default]
+    Calibrated,
+    /// Blender Cycles' adaptive sampling.
+    Cycles,
+    /// POV-Ray's stochastic anti-aliasing (`Sampling_Method 3`).
+    Povray,
+    /// Dammertz et al.'s hierarchical stopping condition (2009).
+    Dammertz,
+}
+
+impl StopRule {
+    pub const ALL: [StopRule; 4] = [
+        StopRule::Calibrated,
+        StopRule::Cycles,
+        StopRule::Povray,
+        StopRule::Dammertz,
+    ];
+
+    /// The name users write (the serde name too).
+    pub fn name(self) -> &'static str {
+        match self {
+            StopRule::Calibrated => "calibrated",
+            StopRule::Cycles => "cycles",
+            StopRule::Povray => "povray",
+            StopRule::Dammertz => "dammertz",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<StopRule> {
+        StopRule::ALL.into_iter().find(|r| r.name() == s)
+    }
 }

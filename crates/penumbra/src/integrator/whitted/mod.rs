@@ -7,6 +7,7 @@
 //! A batch's hits are found together (a packet where its rays are nearly
 //! parallel) and its direct light prepared together, light by light.
 
+mod adaptive;
 mod pixel;
 mod tracer;
 
@@ -14,8 +15,9 @@ use std::ops::Range;
 
 pub use tracer::Tracer;
 
-use super::interface::{BadSample, Integrator, PixelWorker};
+use super::interface::{by_rows, BadSample, Integrator, PixelWorker};
 use super::stats::RayStats;
+use super::stopping::Stopper;
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -27,9 +29,12 @@ impl Integrator for Whitted {
     type Worker<'s> = WhittedWorker<'s>;
 
     fn worker<'s>(&'s self, scene: &'s Scene) -> WhittedWorker<'s> {
+        let s = &scene.settings;
+        let image = s.width as usize * s.height as usize;
         WhittedWorker {
             scene,
             tracer: Tracer::new(scene),
+            stopper: s.stopping.map(|rule| Stopper::new(rule, s.spp, image)),
         }
     }
 }
@@ -38,11 +43,28 @@ impl Integrator for Whitted {
 pub struct WhittedWorker<'s> {
     scene: &'s Scene,
     tracer: Tracer<'s>,
+    /// The adaptive sampling rule, if on.
+    stopper: Option<Stopper>,
 }
 
 impl PixelWorker for WhittedWorker<'_> {
     fn row(&mut self, y: u32, xs: Range<u32>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) {
         pixel::render_pixels(self.scene, &mut self.tracer, xs, y, bad, out);
+    }
+
+    fn tile(
+        &mut self,
+        xs: Range<u32>,
+        ys: Range<u32>,
+        cancelled: &dyn Fn() -> bool,
+        out: &mut Vec<Rgb>,
+        bad: &mut Vec<BadSample>,
+    ) -> bool {
+        let Some(stopper) = &self.stopper else {
+            return by_rows(self, xs, ys, cancelled, out, bad);
+        };
+        let (scene, tracer) = (self.scene, &mut self.tracer);
+        adaptive::render_tile(scene, tracer, stopper, xs, ys, cancelled, bad, out)
     }
 
     fn stats(&self) -> &RayStats {

@@ -17,17 +17,17 @@ use std::ops::Range;
 /// rays, so that rendering a pixel allocates nothing once the buffers have
 /// grown.
 #[derive(Default)]
-struct Scratch {
-    film: Vec<Vec3>,
-    lens: Vec<Vec3>,
-    times: Vec<f32>,
-    samples: Vec<CameraSample>,
-    rays: Vec<Ray>,
-    radiance: Vec<Rgb>,
+pub(super) struct Scratch {
+    pub(super) film: Vec<Vec3>,
+    pub(super) lens: Vec<Vec3>,
+    pub(super) times: Vec<f32>,
+    pub(super) samples: Vec<CameraSample>,
+    pub(super) rays: Vec<Ray>,
+    pub(super) radiance: Vec<Rgb>,
     /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
-    paths: Vec<BranchKey>,
+    pub(super) paths: Vec<BranchKey>,
     /// The streams of the pixels traced together.
-    pixels: Vec<PixelSampler>,
+    pub(super) pixels: Vec<PixelSampler>,
 }
 
 thread_local! {
@@ -37,7 +37,7 @@ thread_local! {
 /// Runs `f` with this thread's buffers. A worker renders one pixel or span
 /// at a time; should a caller nest them anyway, the inner one gets fresh
 /// buffers.
-fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+pub(super) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
         Ok(mut buf) => f(&mut buf),
         Err(_) => f(&mut Scratch::default()),
@@ -121,7 +121,7 @@ fn span_width(width: u32) -> u32 {
 }
 
 /// `l`, or black if it is not finite (reported as sample `i` of pixel (x, y)).
-fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
+pub(super) fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
     if l.is_finite() {
         return l;
     }
@@ -134,7 +134,7 @@ fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
 }
 
 /// The streams of pixel (x, y).
-fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
+pub(super) fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     let s = &scene.settings;
     Sampler::new(s.seed, s.width).pixel(x, y)
 }
@@ -147,22 +147,35 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
     buf.pixels
         .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
     buf.samples.clear();
+    let n = scene.settings.spp as usize;
+    // Without the pixel metric every camera ray is traced and the pixel is
+    // their mean, so the order of the film points does not matter; the
+    // lens and time sets are still shuffled, which keeps their pairing with
+    // the film points random.
+    let ordered = scene.settings.metric.is_some_and(|m| m.pixels);
     for (k, x) in xs.enumerate() {
         let pixel = buf.pixels[k];
-        camera_samples(scene, x, y, pixel, buf);
+        camera_samples(scene, (x, y), pixel, (n, ordered), 0..n, buf);
     }
     buf.rays.clear();
     scene.camera.generate(&buf.samples, &mut buf.rays);
 }
 
-/// Appends the camera samples of pixel (x, y) to `buf.samples`. Film
-/// positions, lens points and times come from three decorrelated streams,
-/// each set in its own shuffled trace order, so pairing them by index mixes
-/// them randomly.
-fn camera_samples(scene: &Scene, x: u32, y: u32, pixel: PixelSampler, buf: &mut Scratch) {
+/// Appends samples `keep` of the `n` camera samples of pixel (x, y) (drawn
+/// from the streams of `pixel`, the film set in trace order if `ordered`)
+/// to `buf.samples`. Film positions, lens points and times come from three
+/// decorrelated streams, each set in its own shuffled trace order, so
+/// pairing them by index mixes them randomly.
+pub(super) fn camera_samples(
+    scene: &Scene,
+    (x, y): (u32, u32),
+    pixel: PixelSampler,
+    (n, ordered): (usize, bool),
+    keep: Range<usize>,
+    buf: &mut Scratch,
+) {
     let s = &scene.settings;
     let cam = &scene.camera;
-    let n = s.spp as usize;
     let Scratch {
         film,
         lens,
@@ -177,11 +190,6 @@ fn camera_samples(scene: &Scene, x: u32, y: u32, pixel: PixelSampler, buf: &mut 
         film.clear();
         film.push(Vec3::ZERO);
     } else {
-        // Without the pixel metric every camera ray is traced and the
-        // pixel is their mean, so the order of the film points does not
-        // matter; the lens and time sets are still shuffled, which keeps
-        // their pairing with the film points random.
-        let ordered = s.metric.is_some_and(|m| m.pixels);
         pixel.points(Dimension::Film, s.pixel, n, 0.5, ordered, film);
     }
     lens.clear();
@@ -210,7 +218,7 @@ fn camera_samples(scene: &Scene, x: u32, y: u32, pixel: PixelSampler, buf: &mut 
             lens: Vec2::ZERO,
             time,
         };
-        samples.extend(film.iter().map(sample));
+        samples.extend(film[keep].iter().map(sample));
         return;
     }
     let sample = |i: usize| CameraSample {
@@ -220,7 +228,7 @@ fn camera_samples(scene: &Scene, x: u32, y: u32, pixel: PixelSampler, buf: &mut 
             .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
         time: cam.time(times.get(i).copied().unwrap_or(0.0)),
     };
-    samples.extend((0..film.len()).map(sample));
+    samples.extend(keep.map(sample));
 }
 
 #[cfg(test)]

@@ -98,6 +98,8 @@ fn value_type(kind: Kind) -> String {
         Kind::Switch => "bool".into(),
         Kind::Distribution => "distribution".into(),
         Kind::Filter => "box, tent or gaussian".into(),
+        Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
+        Kind::Between(lo, hi) => format!("number {lo}–{hi}"),
         Kind::Colour => "colour ≥ 0".into(),
     }
 }
@@ -138,6 +140,8 @@ pub fn value_text(v: Value, view: View) -> String {
         Value::Distribution(d) => format!("\"{}\"", d.name()),
         Value::Filter(f) if view == View::CommandLine => f.name().into(),
         Value::Filter(f) => format!("\"{}\"", f.name()),
+        Value::StopRule(r) if view == View::CommandLine => r.name().into(),
+        Value::StopRule(r) => format!("\"{}\"", r.name()),
         Value::Colour(c) => format!("[{}, {}, {}]", c[0], c[1], c[2]),
     }
 }

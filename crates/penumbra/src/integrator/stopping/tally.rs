@@ -1,0 +1,139 @@
+//! What a tile's pixels have gathered: the sums every rule reads, and
+//! the few definitions those sums are made by.
+
+use crate::math::Rgb;
+
+/// What one pixel's samples add up to.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Tally {
+    /// Sum of the samples' radiance.
+    pub sum: Rgb,
+    /// Sum over the samples of Cycles' class A (see [`class_a`]).
+    pub half: Rgb,
+    /// Sum over the samples of odd index (Dammertz's half).
+    pub odd: Rgb,
+    /// The smallest and largest sample, per channel.
+    pub lo: Rgb,
+    pub hi: Rgb,
+    /// Rays taken.
+    pub n: u32,
+    /// Whether the pixel takes rays in the next pass.
+    pub active: bool,
+}
+
+impl Tally {
+    /// The pixel's value: the mean of its samples.
+    pub fn mean(&self) -> Rgb {
+        if self.n == 0 {
+            Rgb::ZERO
+        } else {
+            self.sum / self.n as f32
+        }
+    }
+}
+
+/// The tallies of a tile's pixels, row by row, and what a rule keeps
+/// between passes.
+#[derive(Clone, Debug)]
+pub struct Block {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<Tally>,
+    /// Per pixel, per replica (`pixel * replicas + r`): sum and count.
+    pub(super) replicas: usize,
+    pub(super) replica_sums: Vec<(Rgb, u32)>,
+    /// Per pixel: sum and sum of squares of the gamma-encoded samples
+    /// (POV-Ray's statistics).
+    pub(super) encoded: Vec<(Rgb, Rgb)>,
+    /// The blocks of pixels still judged (Dammertz).
+    pub(super) regions: Vec<Rect>,
+}
+
+impl Block {
+    /// A tile of `width × height` pixels, all active, none sampled.
+    pub fn new(width: usize, height: usize, replicas: usize) -> Block {
+        let n = width * height;
+        let active = Tally {
+            active: true,
+            ..Tally::default()
+        };
+        Block {
+            width,
+            height,
+            pixels: vec![active; n],
+            replicas,
+            replica_sums: vec![(Rgb::ZERO, 0); n * replicas],
+            encoded: vec![(Rgb::ZERO, Rgb::ZERO); n],
+            regions: vec![Rect::all(width, height)],
+        }
+    }
+
+    /// Adds sample `i` of pixel `k`, of radiance `l`, belonging to `replica`.
+    pub fn add(&mut self, k: usize, i: u32, replica: usize, l: Rgb) {
+        let t = &mut self.pixels[k];
+        (t.lo, t.hi) = if t.n == 0 {
+            (l, l)
+        } else {
+            (t.lo.min(l), t.hi.max(l))
+        };
+        t.sum += l;
+        t.n += 1;
+        if class_a(i) {
+            t.half += l;
+        }
+        if i % 2 == 1 {
+            t.odd += l;
+        }
+        let r = &mut self.replica_sums[k * self.replicas + replica];
+        r.0 += l;
+        r.1 += 1;
+        let g = encode(l);
+        let e = &mut self.encoded[k];
+        e.0 += g;
+        e.1 += g * g;
+    }
+
+    /// Whether any pixel takes rays in the next pass.
+    pub fn any_active(&self) -> bool {
+        self.pixels.iter().any(|t| t.active)
+    }
+}
+
+/// Whether sample `i` counts in Cycles' half buffer (see [`cycles`](super::cycles)).
+#[inline]
+pub fn class_a(i: u32) -> bool {
+    (i & 0xAAAA_AAAA).count_ones() & 1 == 1
+}
+
+/// POV-Ray's default `Antialias_Gamma`.
+const GAMMA: f32 = 2.5;
+
+/// A sample as POV-Ray compares it (see [`povray`](super::povray)): gamma-encoded, negatives as 0.
+#[inline]
+pub fn encode(l: Rgb) -> Rgb {
+    l.map(|c| c.max(0.0).powf(1.0 / GAMMA))
+}
+
+/// A rectangle of a tile's pixels, `[x0, x1) × [y0, y1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rect {
+    pub x0: usize,
+    pub y0: usize,
+    pub x1: usize,
+    pub y1: usize,
+}
+
+impl Rect {
+    pub fn all(width: usize, height: usize) -> Rect {
+        Rect {
+            x0: 0,
+            y0: 0,
+            x1: width,
+            y1: height,
+        }
+    }
+
+    pub fn pixels(&self) -> usize {
+        (self.x1 - self.x0) * (self.y1 - self.y0)
+    }
+}

@@ -1,0 +1,126 @@
+//! Adaptive sampling: every rule gives the same pixels on any number of
+//! threads and for any region, stops flat pixels early, spends more rays
+//! where the image is noisy, and never passes the budget.
+
+mod common;
+
+use common::*;
+use penumbra::render::Region;
+use penumbra::sampling::Distribution;
+use penumbra::scene::{Scene, StopRule};
+
+/// The showcase at 64×48 and at most 64 camera rays, under `rule`.
+fn showcase(rule: StopRule) -> Scene {
+    let mut src = builtin("showcase", None);
+    let r = &mut src.desc.render;
+    (r.width, r.height, r.spp) = (64, 48, 64);
+    r.distribution = Distribution::Sobol;
+    r.stop_rule = rule;
+    r.min_spp = 16;
+    r.noise_threshold = match rule {
+        StopRule::Calibrated => 0.05,
+        StopRule::Cycles => 0.05,
+        StopRule::Povray => 0.1,
+        StopRule::Dammertz => 0.01,
+    };
+    src.build().expect("showcase builds")
+}
+
+fn bits(i: &penumbra::render::Image) -> Vec<[u32; 3]> {
+    i.pixels
+        .iter()
+        .map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
+
+#[test]
+fn every_rule_is_deterministic_over_threads_and_regions() {
+    for rule in StopRule::ALL {
+        let s = showcase(rule);
+        let (one, r1) = render_scene(&s, 1);
+        let (two, r2) = render_scene(&s, 2);
+        assert_eq!(bits(&one), bits(&two), "{rule:?}");
+        assert_eq!(r1, r2, "{rule:?}");
+        // A region across tile borders: the tiles it cuts are rendered
+        // whole, so its pixels are the full frame's.
+        let region = Region {
+            x0: 13,
+            y0: 7,
+            x1: 50,
+            y1: 40,
+        };
+        assert_region_is_the_frames(&s, &one, region, rule.name());
+    }
+}
+
+#[test]
+fn rules_save_rays_where_pixels_are_quiet() {
+    for rule in StopRule::ALL {
+        let s = showcase(rule);
+        let (_, stats) = render_scene(&s, 2);
+        let pixels = 64 * 48;
+        let rays = &stats;
+        // Every pixel takes its minimum (POV-Ray's is 1 ray); none passes 64.
+        let least = if rule == StopRule::Povray { 1 } else { 16 };
+        assert!(rays.primary >= least * pixels, "{rule:?}: {}", rays.primary);
+        assert_eq!(rays.primary + rays.saved.primary, 64 * pixels, "{rule:?}");
+        assert!(
+            rays.primary < 64 * pixels * 9 / 10,
+            "{rule:?} saved little: {} of {}",
+            rays.primary,
+            64 * pixels
+        );
+    }
+}
+
+/// With a threshold no pixel can meet, every pixel takes the budget and
+/// the image is the plain render's with the same (ordered) samples: the
+/// rule only decides how many are taken.
+#[test]
+fn an_unreachable_threshold_takes_the_budget() {
+    for rule in [StopRule::Cycles, StopRule::Dammertz, StopRule::Povray] {
+        let mut src = builtin("showcase", None);
+        let r = &mut src.desc.render;
+        (r.width, r.height, r.spp) = (32, 16, 32);
+        r.distribution = Distribution::Jitter;
+        r.stop_rule = rule;
+        r.noise_threshold = 1e-9;
+        let (_, stats) = render_scene(&src.build().unwrap(), 2);
+        assert_eq!(stats.primary, 32 * 32 * 16, "{rule:?}");
+    }
+}
+
+/// A flat image (nothing but the background) stops every pixel at the
+/// rule's first judgement.
+#[test]
+fn flat_pixels_stop_at_the_first_judgement() {
+    let mut src = builtin("showcase", None);
+    src.desc.objects.clear();
+    src.desc.lights.clear();
+    let r = &mut src.desc.render;
+    (r.width, r.height, r.spp) = (40, 30, 256);
+    r.background = [0.2, 0.3, 0.4];
+    for (rule, first) in [
+        (StopRule::Calibrated, 32),
+        (StopRule::Cycles, 80),
+        (StopRule::Dammertz, 16),
+        (StopRule::Povray, 1),
+    ] {
+        src.desc.render.stop_rule = rule;
+        src.desc.render.noise_threshold = 0.01;
+        let (image, stats) = render_scene(&src.build().unwrap(), 2);
+        assert_eq!(stats.primary, 40 * 30 * first, "{rule:?}");
+        let off = |p: &penumbra::math::Rgb| (*p - penumbra::math::Rgb::new(0.2, 0.3, 0.4)).abs();
+        assert!(image.pixels.iter().all(|p| off(p).max_element() < 1e-6));
+    }
+}
+
+/// The pixel metric and adaptive sampling both stop a pixel's rays: asking
+/// for both is an error located at the threshold.
+#[test]
+fn the_pixel_metric_and_adaptive_sampling_exclude_each_other() {
+    let toml = "[render]\nmetric = true\npixel_metric = true\nnoise_threshold = 0.01\n";
+    let e = try_scene(toml).err().expect("refused").to_string();
+    assert!(e.contains(":4:") && e.contains("pixel_metric"), "{e}");
+    assert!(try_scene("[render]\nnoise_threshold = 0.01\nstop_rule = \"cycles\"\n").is_ok());
+}
