@@ -10,7 +10,7 @@
 //! | [`calibrated`] | a confidence interval of its mean from `R` independently scrambled replicas | the first at `max(min_spp, 4R)` rays, then doubling |
 //! | [`cycles`] | Blender Cycles' half-buffer error, then a 3×3 dilation of the pixels still active | after Cycles' automatic minimum, every 16 rays |
 //! | [`povray`] | POV-Ray 3.8's stochastic anti-aliasing: a normal interval of the pooled spread of the pixel and its four neighbours | one ray per pixel per pass |
-//! | [`dammertz`] | Dammertz et al.'s error of blocks of pixels, split while they converge | after 4 rays, then every 4 |
+//! | [`dammertz`] | Dammertz et al.'s error of blocks of pixels, split while they converge | the first at `max(min_spp, 16)` rays, then every 16 |
 //!
 //! The threshold is in each rule's own measure (its file says which), so
 //! one value does not mean the same noise under two rules. A tile is the
