@@ -46,40 +46,39 @@ pub trait PixelWorker {
     /// the pixel, never on which worker renders it or in which order.
     fn row(&mut self, y: u32, xs: Range<u32>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>);
 
-    /// Appends the values of the pixels of the tile `xs × ys` to `out`, row
-    /// by row, as [`row`](Self::row) does; `false` if `cancelled` became
-    /// true, which is checked at least before every row. Tiles are aligned
-    /// to the frame (an adaptive sampling rule may judge a pixel by its
-    /// neighbours in the tile). By default, row after row.
-    fn tile(
-        &mut self,
-        xs: Range<u32>,
-        ys: Range<u32>,
-        cancelled: &dyn Fn() -> bool,
-        out: &mut Vec<Rgb>,
-        bad: &mut Vec<BadSample>,
-    ) -> bool {
-        by_rows(self, xs, ys, cancelled, out, bad)
+    /// Appends the values of the pixels of `tile` to `out`, row by row, as
+    /// [`row`](Self::row) does; `false` if its cancel flag became true,
+    /// which is checked at least before every row. By default, row after
+    /// row.
+    fn tile(&mut self, tile: TileJob<'_>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) -> bool {
+        by_rows(self, tile, out, bad)
     }
 
     /// The rays traced so far, by kind.
     fn stats(&self) -> &RayStats;
 }
 
-/// [`PixelWorker::tile`] row after row, checking `cancelled` before each.
+/// A tile of the frame's grid to render: pixels `xs × ys`, and the flag
+/// that cancels it. Tiles are aligned to the frame, so an adaptive sampling
+/// rule may judge a pixel by its neighbours in the tile.
+pub struct TileJob<'a> {
+    pub xs: Range<u32>,
+    pub ys: Range<u32>,
+    pub cancelled: &'a dyn Fn() -> bool,
+}
+
+/// [`PixelWorker::tile`] row after row, checking the cancel flag before each.
 pub fn by_rows<W: PixelWorker + ?Sized>(
     worker: &mut W,
-    xs: Range<u32>,
-    ys: Range<u32>,
-    cancelled: &dyn Fn() -> bool,
+    tile: TileJob<'_>,
     out: &mut Vec<Rgb>,
     bad: &mut Vec<BadSample>,
 ) -> bool {
-    for y in ys {
-        if cancelled() {
+    for y in tile.ys {
+        if (tile.cancelled)() {
             return false;
         }
-        worker.row(y, xs.clone(), out, bad);
+        worker.row(y, tile.xs.clone(), out, bad);
     }
     true
 }

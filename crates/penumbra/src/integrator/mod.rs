@@ -43,7 +43,7 @@ mod stats;
 pub mod stopping;
 mod whitted;
 
-pub use interface::{BadSample, Integrator, PixelWorker};
+pub use interface::{BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use stats::{RayCounts, RayStats};
 pub use whitted::{Tracer, Whitted, WhittedWorker};

@@ -71,8 +71,12 @@ pub(super) fn render_tile<I: Integrator>(
     let mut worker = integrator.worker(scene);
     let mut pixels = Vec::with_capacity((block.width() * block.height()) as usize);
     let mut bad = Vec::new();
-    let (xs, ys) = (block.x0..block.x1, block.y0..block.y1);
-    if !worker.tile(xs, ys, cancelled, &mut pixels, &mut bad) {
+    let tile = crate::integrator::TileJob {
+        xs: block.x0..block.x1,
+        ys: block.y0..block.y1,
+        cancelled,
+    };
+    if !worker.tile(tile, &mut pixels, &mut bad) {
         return None;
     }
     if block != region {

@@ -3,15 +3,14 @@
 
 use super::pixel::{camera_samples, guard, pixel_stream, with_scratch};
 use super::tracer::Tracer;
-use crate::integrator::interface::BadSample;
+use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::stopping::{Block, Stopper};
 use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use std::ops::Range;
 
-/// The pixels of the tile `xs × ys`, row by row, appended to `out`; `false`
-/// if `cancelled` became true (checked before each row of each pass).
+/// The pixels of `tile`, row by row, appended to `out`; `false` if its
+/// cancel flag became true (checked before each row of each pass).
 ///
 /// In each pass every active pixel takes its next rays as one batch. Sample
 /// `i` of a pixel is sample `j = i / R` of replica `r = i mod R` (`R`: the
@@ -19,17 +18,15 @@ use std::ops::Range;
 /// time sets are that replica's `⌈(spp − r) / R⌉` points in trace order and
 /// whose path is the replica's path `j`: so the first `n` samples are the
 /// same whenever the pixel stops.
-#[allow(clippy::too_many_arguments)]
 pub fn render_tile(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
     stopper: &Stopper,
-    xs: Range<u32>,
-    ys: Range<u32>,
-    cancelled: &dyn Fn() -> bool,
+    tile: TileJob<'_>,
     bad: &mut Vec<BadSample>,
     out: &mut Vec<Rgb>,
 ) -> bool {
+    let TileJob { xs, ys, cancelled } = tile;
     let (w, h) = (xs.len(), ys.len());
     let replicas = stopper.replicas();
     let spp = stopper.spp;

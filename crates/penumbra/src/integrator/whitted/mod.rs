@@ -15,7 +15,7 @@ use std::ops::Range;
 
 pub use tracer::Tracer;
 
-use super::interface::{by_rows, BadSample, Integrator, PixelWorker};
+use super::interface::{by_rows, BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::RayStats;
 use super::stopping::Stopper;
 use crate::math::Rgb;
@@ -52,19 +52,11 @@ impl PixelWorker for WhittedWorker<'_> {
         pixel::render_pixels(self.scene, &mut self.tracer, xs, y, bad, out);
     }
 
-    fn tile(
-        &mut self,
-        xs: Range<u32>,
-        ys: Range<u32>,
-        cancelled: &dyn Fn() -> bool,
-        out: &mut Vec<Rgb>,
-        bad: &mut Vec<BadSample>,
-    ) -> bool {
+    fn tile(&mut self, tile: TileJob<'_>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) -> bool {
         let Some(stopper) = &self.stopper else {
-            return by_rows(self, xs, ys, cancelled, out, bad);
+            return by_rows(self, tile, out, bad);
         };
-        let (scene, tracer) = (self.scene, &mut self.tracer);
-        adaptive::render_tile(scene, tracer, stopper, xs, ys, cancelled, bad, out)
+        adaptive::render_tile(self.scene, &mut self.tracer, stopper, tile, bad, out)
     }
 
     fn stats(&self) -> &RayStats {
