@@ -73,9 +73,7 @@ fn rules_save_rays_where_pixels_are_quiet() {
     }
 }
 
-/// With a threshold no pixel can meet, every pixel takes the budget and
-/// the image is the plain render's with the same (ordered) samples: the
-/// rule only decides how many are taken.
+/// With a threshold no pixel can meet, every pixel takes the whole budget.
 #[test]
 fn an_unreachable_threshold_takes_the_budget() {
     for rule in [StopRule::Cycles, StopRule::Dammertz, StopRule::Povray] {

@@ -55,7 +55,7 @@ pub struct Stopping {
     /// The noise a pixel may keep, in the rule's own measure (> 0).
     pub threshold: f32,
     /// The confidence of the rules that bound the error by an interval
-    /// (`calibrated`, `povray`), in (0, 1).
+    /// (`calibrated`, `povray`), from 0.5 to 0.999.
     pub confidence: f32,
     /// Independently scrambled replicas of a pixel's sets (`calibrated`), ≥ 2.
     pub replicas: u32,

@@ -48,6 +48,7 @@
 //! faster than `1/√n`, the replicas' mean only as `1/√R`), which is why `R`
 //! is small.
 
+use super::tally::Block;
 use super::Stopping;
 use crate::math::Rgb;
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -99,6 +100,18 @@ pub fn interval(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(f32, Rgb
 pub fn converged(s: &Stopping, t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> bool {
     interval(t, replicas, range)
         .is_some_and(|(h, mean)| h <= s.threshold * mean.max_element().max(FLOOR))
+}
+
+/// Stops the active pixels of `block` whose interval at quantile `t` is
+/// narrow enough.
+pub fn judge(s: &Stopping, t: f32, block: &mut Block) {
+    let r = block.replicas;
+    for (k, p) in block.pixels.iter_mut().enumerate() {
+        let replicas = &block.replica_sums[k * r..(k + 1) * r];
+        if p.active && converged(s, t, replicas, p.hi - p.lo) {
+            p.active = false;
+        }
+    }
 }
 
 #[cfg(test)]

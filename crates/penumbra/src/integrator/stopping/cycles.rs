@@ -158,7 +158,7 @@ mod tests {
 
     #[test]
     fn active_pixels_wake_their_eight_neighbours() {
-        let mut b = Block::new(5, 4, 1);
+        let mut b = Block::new(5, 4, 1, false);
         for (k, t) in b.pixels.iter_mut().enumerate() {
             // Converged but for pixel (1, 1), which stays noisy.
             t.n = 16;
@@ -169,7 +169,7 @@ mod tests {
         let active: Vec<usize> = (0..20).filter(|&k| b.pixels[k].active).collect();
         assert_eq!(active, [0, 1, 2, 5, 6, 7, 10, 11, 12]);
         // Once none is active, none wakes.
-        let mut b = Block::new(3, 3, 1);
+        let mut b = Block::new(3, 3, 1, false);
         for t in &mut b.pixels {
             t.n = 16;
         }

@@ -128,7 +128,7 @@ mod tests {
     /// split between them, the flat half stops, the noisy one goes on.
     #[test]
     fn blocks_split_where_the_error_is() {
-        let mut b = Block::new(8, 4, 1);
+        let mut b = Block::new(8, 4, 1, false);
         for k in 0..32 {
             for i in 0..16 {
                 let noisy = k % 8 >= 4;

@@ -91,16 +91,7 @@ impl Stopper {
     pub fn judge(&self, block: &mut Block) {
         let s = &self.settings;
         match s.rule {
-            StopRule::Calibrated => {
-                let r = block.replicas;
-                for (k, t) in block.pixels.iter_mut().enumerate() {
-                    let replicas = &block.replica_sums[k * r..(k + 1) * r];
-                    let range = t.hi - t.lo;
-                    if t.active && calibrated::converged(s, self.quantile, replicas, range) {
-                        t.active = false;
-                    }
-                }
-            }
+            StopRule::Calibrated => calibrated::judge(s, self.quantile, block),
             StopRule::Cycles => cycles::judge(s, block),
             StopRule::Povray => povray::judge(s, self.quantile, self.spp, block),
             StopRule::Dammertz => dammertz::judge(s, self.image, block),

@@ -57,21 +57,15 @@ pub fn judge(s: &Stopping, z: f32, spp: u32, block: &mut Block) {
     let done: Vec<bool> = (0..w * h)
         .map(|k| {
             let (x, y) = (k % w, k / w);
-            let mut near = vec![k];
-            if x > 0 {
-                near.push(k - 1);
-            }
-            if x + 1 < w {
-                near.push(k + 1);
-            }
-            if y > 0 {
-                near.push(k - w);
-            }
-            if y + 1 < h {
-                near.push(k + w);
-            }
+            let near = [
+                Some(k),
+                (x > 0).then(|| k - 1),
+                (x + 1 < w).then_some(k + 1),
+                (y > 0).then(|| k - w),
+                (y + 1 < h).then_some(k + w),
+            ];
             let (mut s1, mut s2, mut n) = (Rgb::ZERO, Rgb::ZERO, 0);
-            for &j in &near {
+            for j in near.into_iter().flatten() {
                 s1 += block.encoded[j].0;
                 s2 += block.encoded[j].1;
                 n += block.pixels[j].n;
@@ -107,7 +101,7 @@ mod tests {
         let z = quantile(0.9);
         // A 3×1 strip: a flat pixel between two noisy ones is judged on all
         // three, the same flat pixel alone is done.
-        let mut b = Block::new(3, 1, 1);
+        let mut b = Block::new(3, 1, 1, true);
         for (k, i) in [0usize, 1, 2].into_iter().zip(0..) {
             for j in 0..4 {
                 let l = if k == 1 || j % 2 == 0 { 0.5 } else { 4.0 };
@@ -116,7 +110,7 @@ mod tests {
         }
         judge(&s, z, 64, &mut b);
         assert!(b.pixels.iter().all(|t| t.active));
-        let mut alone = Block::new(1, 1, 1);
+        let mut alone = Block::new(1, 1, 1, true);
         for i in 0..4 {
             alone.add(0, i, 0, Rgb::splat(0.5));
         }

@@ -43,15 +43,16 @@ pub struct Block {
     pub(super) replicas: usize,
     pub(super) replica_sums: Vec<(Rgb, u32)>,
     /// Per pixel: sum and sum of squares of the gamma-encoded samples
-    /// (POV-Ray's statistics).
+    /// (POV-Ray's statistics); empty unless the rule reads them.
     pub(super) encoded: Vec<(Rgb, Rgb)>,
     /// The blocks of pixels still judged (Dammertz).
     pub(super) regions: Vec<Rect>,
 }
 
 impl Block {
-    /// A tile of `width × height` pixels, all active, none sampled.
-    pub fn new(width: usize, height: usize, replicas: usize) -> Block {
+    /// A tile of `width × height` pixels, all active, none sampled; with
+    /// POV-Ray's gamma-encoded sums if `encoded`.
+    pub fn new(width: usize, height: usize, replicas: usize, encoded: bool) -> Block {
         let n = width * height;
         let active = Tally {
             active: true,
@@ -63,7 +64,7 @@ impl Block {
             pixels: vec![active; n],
             replicas,
             replica_sums: vec![(Rgb::ZERO, 0); n * replicas],
-            encoded: vec![(Rgb::ZERO, Rgb::ZERO); n],
+            encoded: vec![(Rgb::ZERO, Rgb::ZERO); if encoded { n } else { 0 }],
             regions: vec![Rect::all(width, height)],
         }
     }
@@ -87,10 +88,11 @@ impl Block {
         let r = &mut self.replica_sums[k * self.replicas + replica];
         r.0 += l;
         r.1 += 1;
-        let g = encode(l);
-        let e = &mut self.encoded[k];
-        e.0 += g;
-        e.1 += g * g;
+        if let Some(e) = self.encoded.get_mut(k) {
+            let g = encode(l);
+            e.0 += g;
+            e.1 += g * g;
+        }
     }
 
     /// Whether any pixel takes rays in the next pass.

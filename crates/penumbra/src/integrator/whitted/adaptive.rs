@@ -4,7 +4,7 @@
 use super::pixel::{camera_samples, guard, pixel_stream, with_scratch};
 use super::tracer::Tracer;
 use crate::integrator::interface::{BadSample, TileJob};
-use crate::integrator::stopping::{Block, Stopper};
+use crate::integrator::stopping::{Block, StopRule, Stopper};
 use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -30,7 +30,8 @@ pub fn render_tile(
     let (w, h) = (xs.len(), ys.len());
     let replicas = stopper.replicas();
     let spp = stopper.spp;
-    let mut block = Block::new(w, h, replicas as usize);
+    let povray = stopper.settings.rule == StopRule::Povray;
+    let mut block = Block::new(w, h, replicas as usize, povray);
     // Per ray of a pixel's batch: its replica, its sample index and stream.
     let mut rays: Vec<(u32, u32, Rng)> = Vec::new();
     let mut done = 0;
