@@ -10,7 +10,7 @@ import numpy.typing as npt
 __version__: str
 
 #: The ray distributions, by name: the thesis's grid, jitter, semi-jitter, poisson, random,
-#: fast-random, then the low-discrepancy sobol, pmj02, halton, r2.
+#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, halton, r2.
 DISTRIBUTIONS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
@@ -20,7 +20,17 @@ RENDER_OPTIONS: tuple[str, ...]
 _OPTION_FLAGS: tuple[dict[str, Any], ...]
 
 DistributionName = Literal[
-    "grid", "jitter", "semi-jitter", "poisson", "random", "fast-random", "sobol", "pmj02", "halton", "r2"
+    "grid",
+    "jitter",
+    "semi-jitter",
+    "poisson",
+    "random",
+    "fast-random",
+    "sobol",
+    "zsobol",
+    "pmj02",
+    "halton",
+    "r2",
 ]
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]

@@ -15,8 +15,8 @@ use crate::flags::parse_positive;
 /// Options of `penumbra samples`.
 #[derive(Args)]
 pub struct SamplesArgs {
-    /// grid, jitter, semi-jitter, poisson, random, fast-random, sobol, pmj02,
-    /// halton, r2, or `all` (PNG only).
+    /// grid, jitter, semi-jitter, poisson, random, fast-random, sobol, zsobol,
+    /// pmj02, halton, r2, or `all` (PNG only).
     #[arg(long, short)]
     pub distribution: String,
     /// Number of points.

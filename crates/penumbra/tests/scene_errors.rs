@@ -39,6 +39,7 @@ fn unknown_distribution_lists_the_choices() {
         "random",
         "fast-random",
         "sobol",
+        "zsobol",
         "pmj02",
         "halton",
         "r2",

@@ -41,9 +41,9 @@ pub fn draw_points(points: &[Vec3], radius: f32, size: u32, title: &str) -> RgbI
 }
 
 /// Panels per row of [`draw_all`].
-const COLUMNS: u32 = 5;
+const COLUMNS: u32 = 6;
 
-/// Every distribution side by side (rows of five panels of `size x
+/// Every distribution side by side (rows of six panels of `size x
 /// size`, in the order of [`Distribution::ALL`]: the thesis's six, then the
 /// low-discrepancy sets), each with `count` points of radius `radius` and
 /// titled with its name. Panel `i` uses the stream
@@ -190,7 +190,7 @@ mod tests {
     #[test]
     fn draw_all_has_a_panel_each_and_odd_inputs_are_safe() {
         let img = draw_all(16, 1.0, 7, 120);
-        assert_eq!((img.width(), img.height()), (600, 240));
+        assert_eq!((img.width(), img.height()), (720, 240));
         for i in 0..Distribution::ALL.len() as u32 {
             let (col, row) = (i % COLUMNS, i / COLUMNS);
             let ink = (0..120)

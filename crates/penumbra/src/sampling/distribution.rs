@@ -12,7 +12,7 @@
 //!
 //! Every distribution is a pure function of `(count, radius, random stream)`:
 //! the same [`Rng`] key gives the same points, whatever thread asks. There
-//! are the six of the thesis ([`Distribution::THESIS`]) and four
+//! are the six of the thesis ([`Distribution::THESIS`]) and five
 //! low-discrepancy sets ([below](#the-low-discrepancy-sets)).
 //!
 //! # The six distributions
@@ -77,9 +77,10 @@
 //!
 //! # The low-discrepancy sets
 //!
-//! Four more distributions come from quasi-Monte Carlo rather than from the
+//! Five more distributions come from quasi-Monte Carlo rather than from the
 //! thesis. Each is a deterministic sequence in `[0, 1)^2` randomised per set
-//! from the set's stream (one to three 64-bit draws), so like the six it is a
+//! from the set's stream (one to three 64-bit draws; `zsobol` from the
+//! stream's place in the frame instead), so like the six it is a
 //! pure function of the stream, hence of (seed, pixel, set, dimension); its
 //! first `count` points are scaled to `[-r, r]^2` and returned in sequence
 //! order, not shuffled, since every prefix of these sequences is already
@@ -93,6 +94,14 @@
 //!   each elementary interval `2^-j x 2^-k`, `j + k = m`, holds exactly one
 //!   point (so one point per cell of the `2^k x 2^k` grid for `4^k` points, and
 //!   one per row and per column of `N` strata for `N = 2^m`).
+//! * **`zsobol`** ([`zsobol`](super::zsobol)) — Ahmed and Wonka's (2020)
+//!   Morton-ordered Sobol', pbrt-v4's default: the sets of all pixels are
+//!   blocks of one Owen-scrambled Sobol' sequence, scrambled per dimension
+//!   rather than per set, with the pixels in Morton order (digits randomly
+//!   permuted). Same guarantee as `sobol` for each set; besides, the sets of
+//!   the 4 pixels of a Morton quad together form a net, so neighbouring
+//!   pixels fill each other's gaps and the error of few samples is spread as
+//!   blue noise over the screen.
 //! * **`pmj02`** ([`pmj02`](super::pmj02)) — a progressive multi-jittered
 //!   (0,2) sequence (Christensen et al. 2018), built, after Helmer et al.'s
 //!   (2021) view of pmj02 as randomised (0,2)-sequences, from the Sobol'
@@ -113,14 +122,15 @@
 //!   below `2 (1 + ln N) / N`
 //!   ([`r2::discrepancy_bound`](super::r2::discrepancy_bound)).
 //!
-//! Every point of each of the four is uniform over the square in expectation
+//! Every point of each of the five is uniform over the square in expectation
 //! (tested by a chi-square test over thousands of sets). Non-power-of-two
 //! counts are fine: a set is a prefix of its sequence, so it keeps its
-//! spread, but only powers of two give `sobol` and `pmj02` their full nets.
-//! Their shutter times ([`Distribution::generate_1d`]) are the sequence's
-//! first coordinate (`halton`'s base-2 one; for `r2` the golden-ratio
-//! sequence, shifted), whose every `2^m` prefix for `sobol`, `pmj02` and
-//! `halton` has one value in each stratum of width `2^-m`.
+//! spread, but only powers of two give `sobol`, `zsobol` and `pmj02` their
+//! full nets. Their shutter times ([`Distribution::generate_1d`]) are the
+//! sequence's first coordinate (`halton`'s base-2 one; for `r2` the
+//! golden-ratio sequence, shifted), whose every `2^m` prefix for `sobol`,
+//! `zsobol`, `pmj02` and `halton` has one value in each stratum of width
+//! `2^-m`.
 //!
 //! *Cost.* Measured on a shared test machine (criterion, `cargo bench -p
 //! penumbra-bench --bench distributions`, group `point`, sets of 256): 6 ns
@@ -274,6 +284,7 @@ use super::halton::Halton;
 use super::pmj02::Pmj02;
 use super::r2::R2;
 use super::sobol::Sobol;
+use super::zsobol::ZSobol;
 use super::Rng;
 
 /// How the points of a ray set are placed; see the [module docs](self).
@@ -287,6 +298,7 @@ pub enum Distribution {
     Random,
     FastRandom,
     Sobol,
+    Zsobol,
     Pmj02,
     Halton,
     R2,
@@ -294,7 +306,7 @@ pub enum Distribution {
 
 impl Distribution {
     /// Every distribution: the thesis's six, then the low-discrepancy sets.
-    pub const ALL: [Distribution; 10] = [
+    pub const ALL: [Distribution; 11] = [
         Distribution::Grid,
         Distribution::Jitter,
         Distribution::SemiJitter,
@@ -302,6 +314,7 @@ impl Distribution {
         Distribution::Random,
         Distribution::FastRandom,
         Distribution::Sobol,
+        Distribution::Zsobol,
         Distribution::Pmj02,
         Distribution::Halton,
         Distribution::R2,
@@ -329,6 +342,7 @@ impl Distribution {
             Distribution::Random => "random",
             Distribution::FastRandom => "fast-random",
             Distribution::Sobol => "sobol",
+            Distribution::Zsobol => "zsobol",
             Distribution::Pmj02 => "pmj02",
             Distribution::Halton => "halton",
             Distribution::R2 => "r2",
@@ -337,7 +351,7 @@ impl Distribution {
 
     /// Parses a user-written name: the kebab names, case-insensitively, with
     /// `_` accepted for `-`, plus the aliases `semijitter`, `fastrandom`,
-    /// `poisson-disk`, `owen-sobol` and `pmj`.
+    /// `poisson-disk`, `owen-sobol`, `z-sobol` and `pmj`.
     pub fn from_name(s: &str) -> Option<Self> {
         let key = s.trim().to_ascii_lowercase().replace('_', "-");
         let d = match key.as_str() {
@@ -348,6 +362,7 @@ impl Distribution {
             "random" => Distribution::Random,
             "fast-random" | "fastrandom" => Distribution::FastRandom,
             "sobol" | "owen-sobol" => Distribution::Sobol,
+            "zsobol" | "z-sobol" => Distribution::Zsobol,
             "pmj02" | "pmj" => Distribution::Pmj02,
             "halton" => Distribution::Halton,
             "r2" => Distribution::R2,
@@ -406,6 +421,10 @@ impl Distribution {
             Distribution::Random => out.extend((0..count).map(|_| disk(radius, rng))),
             Distribution::FastRandom => out.extend((0..count).map(|_| cube(radius, rng))),
             Distribution::Sobol => sequence(count, radius, out, Sobol::new(rng), Sobol::point),
+            Distribution::Zsobol => {
+                let set = ZSobol::new(rng.place(), count);
+                sequence(count, radius, out, set, ZSobol::point)
+            }
             Distribution::Pmj02 => sequence(count, radius, out, Pmj02::new(rng), Pmj02::point),
             Distribution::Halton => sequence(count, radius, out, Halton::new(rng), Halton::point),
             Distribution::R2 => sequence(count, radius, out, R2::new(rng), R2::point),
@@ -427,6 +446,7 @@ impl Distribution {
             Distribution::Random => disk(radius, rng),
             Distribution::FastRandom => cube(radius, rng),
             Distribution::Sobol => cell(Sobol::new(rng).point(0)),
+            Distribution::Zsobol => cell(ZSobol::new(rng.place(), 1).point(0)),
             Distribution::Pmj02 => cell(Pmj02::new(rng).point(0)),
             Distribution::Halton => cell(Halton::new(rng).point(0)),
             Distribution::R2 => cell(R2::new(rng).point(0)),
@@ -475,6 +495,10 @@ impl Distribution {
                 out.extend((0..count).map(|_| rng.next_f32()))
             }
             Distribution::Sobol => return values(count, out, Sobol::new(rng), Sobol::value),
+            Distribution::Zsobol => {
+                let set = ZSobol::new(rng.place(), count);
+                return values(count, out, set, ZSobol::value);
+            }
             Distribution::Pmj02 => return values(count, out, Pmj02::new(rng), Pmj02::value),
             Distribution::Halton => return values(count, out, Halton::new(rng), Halton::value),
             Distribution::R2 => return values(count, out, R2::new(rng), R2::value),

@@ -13,10 +13,11 @@ mod rng;
 mod sampler;
 pub mod sobol;
 pub mod warp;
+pub mod zsobol;
 
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
 pub use filter::Filter;
-pub use rng::{mix64, BranchKey, Rng};
+pub use rng::{index_bits, mix64, BranchKey, Place, Rng};
 pub use sampler::{Dimension, PixelSampler, Sampler};

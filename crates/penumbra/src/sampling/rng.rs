@@ -6,6 +6,26 @@
 //! a hash of (key, n). Nothing depends on which thread ran a tile or in which
 //! order, so renders are reproducible bit for bit on any number of threads or
 //! machines, and a single sample can be replayed.
+//!
+//! # A stream's place in the frame
+//!
+//! Beside its key, a stream keeps where its sets sit in a sequence shared by
+//! the whole frame, for distributions whose sets are blocks of one sequence
+//! rather than sets scrambled apart (`zsobol`, after pbrt-v4's sampler of
+//! that name):
+//!
+//! * its **dimension**: a key of the *kinds* of branches taken from the seed
+//!   ([`derive`](Rng::derive), [`derive_key`](Rng::derive_key): the film set,
+//!   light `j`'s shadow set, a glossy set), but not of pixels or numbered
+//!   siblings, so it is the same in every pixel and for every sample;
+//! * its **index**: the pixel's Morton code ([`at_pixel`](Rng::at_pixel)),
+//!   followed by the numbers of the siblings taken below the pixel
+//!   ([`sibling`](Rng::sibling): sample `i` of the pixel, ray `k` of a set),
+//!   each in as many bits as its count needs; and how many of the index's
+//!   bits lie below the pixel's code.
+//!
+//! Neither changes the stream's key, so the values drawn are the same with
+//! or without them.
 
 /// Finaliser of SplitMix64: a bijective 64-bit mixer with
 /// full avalanche, good enough to turn counters into independent-looking values.
@@ -29,25 +49,46 @@ impl BranchKey {
     }
 }
 
+/// Where a stream's sets sit in the frame's shared sequence; see [A
+/// stream's place in the frame](self#a-streams-place-in-the-frame).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Place {
+    /// The key of the kinds of branches taken (pixel- and index-free).
+    pub dimension: u64,
+    /// The pixel's Morton code, then the siblings' numbers below it.
+    pub index: u64,
+    /// How many of `index`'s low bits lie below the pixel's code.
+    pub local_bits: u32,
+}
+
 /// A stream of random numbers identified by a key; see the module docs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rng {
     key: u64,
     counter: u64,
+    place: Place,
 }
 
 impl Rng {
     /// The root stream of a seed.
     pub fn new(seed: u64) -> Self {
+        let key = mix64(seed ^ 0x5eed_0000_0000_0000);
         Rng {
-            key: mix64(seed ^ 0x5eed_0000_0000_0000),
+            key,
             counter: 0,
+            place: Place {
+                dimension: key,
+                index: 0,
+                local_bits: 0,
+            },
         }
     }
 
-    /// An independent sub-stream for `branch` (a pixel index, a sample index, a
-    /// dimension, the k-th reflection ray...). Deriving does not advance `self`,
-    /// so sub-streams do not shift each other.
+    /// An independent sub-stream for `branch` (a sample index, a dimension,
+    /// the k-th reflection ray...). Deriving does not advance `self`, so
+    /// sub-streams do not shift each other. The branch counts as a kind of
+    /// branch ([`Place::dimension`]); [`sibling`](Self::sibling) derives a
+    /// numbered one.
     #[inline]
     pub fn derive(&self, branch: u64) -> Rng {
         self.derive_key(BranchKey::new(branch))
@@ -61,7 +102,66 @@ impl Rng {
         Rng {
             key: mix64(self.key ^ branch.0),
             counter: 0,
+            place: Place {
+                dimension: mix64(self.place.dimension ^ branch.0),
+                ..self.place
+            },
         }
+    }
+
+    /// The stream of pixel number `pixel` (its row-major index), whose
+    /// Morton code is `morton`: the key as [`derive`](Self::derive)`(pixel)`
+    /// gives it, the dimension unchanged and the index the Morton code.
+    pub fn at_pixel(&self, pixel: u64, morton: u64) -> Rng {
+        Rng {
+            key: mix64(self.key ^ BranchKey::new(pixel).0),
+            counter: 0,
+            place: Place {
+                dimension: self.place.dimension,
+                index: morton,
+                local_bits: 0,
+            },
+        }
+    }
+
+    /// The sub-stream of sibling `index` of `2^bits` (sample `i` of a pixel,
+    /// ray `k` of a set) whose branch is `key`: the key as
+    /// [`derive_key`](Self::derive_key) gives it, the dimension unchanged
+    /// and the index extended by `bits` bits holding `index`. Bits shifted
+    /// out of the 64-bit index are hashed into the dimension, so distinct
+    /// places stay distinct.
+    #[inline]
+    pub fn sibling(&self, key: BranchKey, index: u64, bits: u32) -> Rng {
+        let Place {
+            mut dimension,
+            index: above,
+            local_bits,
+        } = self.place;
+        let lost = above.checked_shr(64 - bits).unwrap_or(0);
+        if bits > 0 && lost != 0 {
+            dimension = mix64(dimension ^ mix64(lost));
+        }
+        Rng {
+            key: mix64(self.key ^ key.0),
+            counter: 0,
+            place: Place {
+                dimension,
+                index: above.checked_shl(bits).unwrap_or(0) | index,
+                local_bits: local_bits.saturating_add(bits),
+            },
+        }
+    }
+
+    /// Sibling `k` of `count`, on branch `k`: ray `k` of a set of `count`.
+    #[inline]
+    pub fn child(&self, k: usize, count: usize) -> Rng {
+        self.sibling(BranchKey::new(k as u64), k as u64, index_bits(count))
+    }
+
+    /// The stream's place in the frame's shared sequence.
+    #[inline]
+    pub fn place(&self) -> Place {
+        self.place
     }
 
     #[inline]
@@ -103,6 +203,12 @@ impl Rng {
     }
 }
 
+/// The bits an index below `count` needs: `⌈log2 count⌉` (0 for 0 and 1).
+#[inline]
+pub fn index_bits(count: usize) -> u32 {
+    count.max(1).next_power_of_two().trailing_zeros()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,6 +227,34 @@ mod tests {
         let root = Rng::new(7);
         assert_ne!(root.derive(1).next_u64(), root.derive(2).next_u64());
         assert_ne!(Rng::new(7).next_u64(), Rng::new(8).next_u64());
+    }
+
+    /// The place follows the documented rules, and never changes a key.
+    #[test]
+    fn places_follow_kinds_and_siblings() {
+        let root = Rng::new(7);
+        let p = root.at_pixel(41, 0b1101);
+        assert_eq!(p.key, root.derive(41).key);
+        assert_eq!(p.place().dimension, root.place().dimension);
+        let a = p.derive(2).child(3, 5).derive(9);
+        assert_eq!(a.key, p.derive(2).derive(3).derive(9).key);
+        let q = Rng::new(7)
+            .at_pixel(12, 0b0110)
+            .derive(2)
+            .child(1, 8)
+            .derive(9);
+        // Same kinds, other pixel and sibling: same dimension, other index.
+        assert_eq!(a.place().dimension, q.place().dimension);
+        assert_eq!(a.place().index, 0b1101_011);
+        assert_eq!(a.place().local_bits, 3);
+        assert_eq!(q.place().index, 0b0110_001);
+        assert_ne!(a.place().dimension, p.derive(3).place().dimension);
+        assert_eq!((index_bits(0), index_bits(1), index_bits(5)), (0, 0, 3));
+        // Bits pushed out of the index go into the dimension.
+        let deep = (0..9).fold(Rng::new(1).at_pixel(0, u64::MAX), |r, _| r.child(0, 256));
+        let deeper = (0..9).fold(Rng::new(1).at_pixel(0, 1), |r, _| r.child(0, 256));
+        assert_eq!(deep.place().index, deeper.place().index);
+        assert_ne!(deep.place().dimension, deeper.place().dimension);
     }
 
     #[test]

@@ -5,15 +5,20 @@
 //!
 //! | stream | derived as |
 //! |---|---|
-//! | pixel `p` | `Rng::new(seed).derive(p)`, `p = y · width + x` |
+//! | pixel `p` | `Rng::new(seed).at_pixel(p, morton(x, y))`, `p = y · width + x` |
 //! | film, lens, time sets of the pixel | `pixel.derive(0)`, `.derive(1)`, `.derive(2)` ([`Dimension`]) |
-//! | path of primary sample `i` | `pixel.derive(3 + i)` |
-//! | replica `r` of the pixel (adaptive sampling's calibrated rule), all of whose streams derive from it as the pixel's do | `pixel.derive(2^32 + r)` |
+//! | path of primary sample `i` of `n` | `pixel.sibling(3 + i, i, ⌈log2 n⌉)` |
+//! | replica `r` of the pixel (adaptive sampling's calibrated rule), all of whose streams derive from it as the pixel's do, with `⌈n / R⌉` paths | `pixel.derive(2^32 + r)` |
+//!
+//! `at_pixel` and `sibling` give the keys `derive(p)` and `derive(3 + i)`
+//! would; they also record the stream's place in the frame (see
+//! [`Rng`](super::Rng)'s docs), which `zsobol` reads. `morton(x, y)`
+//! interleaves the bits of `x` (even bits) and `y` (odd bits).
 //!
 //! Below a path, the integrator derives the streams of each event's set of
 //! rays from the path's stream (see the integrator's documentation).
 
-use super::{BranchKey, Distribution, Rng};
+use super::{index_bits, BranchKey, Distribution, Rng};
 use crate::math::Vec3;
 
 /// The sets of a pixel drawn from its own streams, one per dimension of the
@@ -34,39 +39,61 @@ const FIRST_PATH: u64 = 3;
 /// The branch number of a pixel's first replica (far above every path's).
 const FIRST_REPLICA: u64 = 1 << 32;
 
-/// The streams of a render with a given seed and image width.
+/// The streams of a render with a given seed and image width, whose pixels
+/// have (at most) `paths` primary samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Sampler {
     seed: u64,
     width: u32,
+    paths: u32,
 }
 
 impl Sampler {
-    pub fn new(seed: u64, width: u32) -> Sampler {
-        Sampler { seed, width }
+    pub fn new(seed: u64, width: u32, paths: u32) -> Sampler {
+        Sampler { seed, width, paths }
     }
 
     /// The streams of pixel (x, y).
     pub fn pixel(&self, x: u32, y: u32) -> PixelSampler {
         let index = u64::from(y) * u64::from(self.width) + u64::from(x);
         PixelSampler {
-            root: Rng::new(self.seed).derive(index),
+            root: Rng::new(self.seed).at_pixel(index, morton(x, y)),
+            path_bits: index_bits(self.paths as usize),
         }
     }
+}
+
+/// The Morton code of (x, y): the bits of `x` at the even positions, those
+/// of `y` at the odd ones.
+pub fn morton(x: u32, y: u32) -> u64 {
+    fn spread(v: u32) -> u64 {
+        let mut v = u64::from(v);
+        v = (v | (v << 16)) & 0x0000_ffff_0000_ffff;
+        v = (v | (v << 8)) & 0x00ff_00ff_00ff_00ff;
+        v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
+        v = (v | (v << 2)) & 0x3333_3333_3333_3333;
+        (v | (v << 1)) & 0x5555_5555_5555_5555
+    }
+    spread(x) | spread(y) << 1
 }
 
 /// The streams of one pixel.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelSampler {
     root: Rng,
+    /// The bits of a primary sample's number.
+    path_bits: u32,
 }
 
 impl PixelSampler {
-    /// Replica `r` of the pixel: streams independent of the pixel's own
-    /// and of every other replica's, each set an independent scrambling.
-    pub fn replica(&self, r: u32) -> PixelSampler {
+    /// Replica `r` of `replicas` of the pixel: streams independent of the
+    /// pixel's own and of every other replica's, each set an independent
+    /// scrambling, with a share `⌈n / replicas⌉` of the pixel's paths.
+    pub fn replica(&self, r: u32, replicas: u32) -> PixelSampler {
+        let paths = (1usize << self.path_bits).div_ceil(replicas.max(1) as usize);
         PixelSampler {
             root: self.root.derive(FIRST_REPLICA + u64::from(r)),
+            path_bits: index_bits(paths),
         }
     }
 
@@ -114,13 +141,14 @@ impl PixelSampler {
 
     /// The stream of the path of primary sample `i`.
     pub fn path(&self, i: usize) -> Rng {
-        self.root.derive(FIRST_PATH + i as u64)
+        self.path_of(Self::path_key(i), i)
     }
 
-    /// The stream of the path whose branch is `key` (from
-    /// [`path_key`](Self::path_key)).
-    pub fn path_of(&self, key: BranchKey) -> Rng {
-        self.root.derive_key(key)
+    /// The stream of the path of primary sample `i`, whose branch is `key`
+    /// (from [`path_key`](Self::path_key)).
+    #[inline]
+    pub fn path_of(&self, key: BranchKey, i: usize) -> Rng {
+        self.root.sibling(key, i as u64, self.path_bits)
     }
 }
 
@@ -132,19 +160,22 @@ mod tests {
     /// dimensions and paths give distinct streams.
     #[test]
     fn streams_are_the_documented_ones() {
-        let s = Sampler::new(7, 640);
+        let s = Sampler::new(7, 640, 16);
         let p = s.pixel(5, 3);
         let root = Rng::new(7).derive(3 * 640 + 5);
+        assert_eq!(morton(5, 3), 0b11011);
+        assert_eq!(p.path(6).place().index, 0b11011_0110);
         let first = |mut r: Rng| r.next_u64();
         assert_eq!(first(p.stream(Dimension::Film)), first(root.derive(0)));
         assert_eq!(first(p.stream(Dimension::Time)), first(root.derive(2)));
         assert_eq!(first(p.path(4)), first(root.derive(7)));
         assert_eq!(
-            first(p.path_of(PixelSampler::path_key(4))),
+            first(p.path_of(PixelSampler::path_key(4), 4)),
             first(p.path(4))
         );
         let replica = root.derive((1 << 32) + 2);
-        assert_eq!(first(p.replica(2).path(0)), first(replica.derive(3)));
+        assert_eq!(first(p.replica(2, 8).path(0)), first(replica.derive(3)));
+        assert_eq!(p.replica(2, 8).path(1).place().index, 0b11011_1);
         let mut seen = std::collections::HashSet::new();
         for (x, y) in [(0, 0), (1, 0), (0, 1)] {
             let p = s.pixel(x, y);
@@ -153,7 +184,7 @@ mod tests {
             }
             for i in 0..8 {
                 assert!(seen.insert(first(p.path(i))));
-                assert!(seen.insert(first(p.replica(i as u32).path(0))));
+                assert!(seen.insert(first(p.replica(i as u32, 8).path(0))));
             }
         }
     }

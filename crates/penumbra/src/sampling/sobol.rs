@@ -147,6 +147,11 @@ impl Sobol {
         Sobol { sx, sy }
     }
 
+    /// The set of two scramble seeds.
+    pub(super) fn from_seeds(sx: u32, sy: u32) -> Sobol {
+        Sobol { sx, sy }
+    }
+
     /// Point `i` in 32-bit fixed point.
     #[inline]
     pub fn bits(&self, i: u32) -> [u32; 2] {

@@ -59,7 +59,7 @@ pub fn render_tile(
                         let of = if replicas == 1 {
                             pixel
                         } else {
-                            pixel.replica(r)
+                            pixel.replica(r, replicas)
                         };
                         // Samples j·R + r within the range.
                         let first = |i: u32| (i.saturating_sub(r)).div_ceil(replicas);

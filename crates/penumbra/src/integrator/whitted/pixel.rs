@@ -85,8 +85,8 @@ pub fn render_pixels(
             // Ray `i` is sample `i % n` of pixel `i / n`: with one sample
             // the group is a span of pixels, with several it is one pixel.
             let path = |i: usize| match n {
-                1 => pixels[i].path_of(paths[0]),
-                _ => pixels[0].path_of(paths[i]),
+                1 => pixels[i].path_of(paths[0], 0),
+                _ => pixels[0].path_of(paths[i], i),
             };
             if let Some(m) = &metric {
                 let value = |i: usize, l: Rgb| guard(l, x0, y, i, bad);
@@ -136,7 +136,7 @@ pub(super) fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) 
 /// The streams of pixel (x, y).
 pub(super) fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     let s = &scene.settings;
-    Sampler::new(s.seed, s.width).pixel(x, y)
+    Sampler::new(s.seed, s.width, s.spp).pixel(x, y)
 }
 
 /// The camera rays of pixels `xs` of row `y`, pixel by pixel, into

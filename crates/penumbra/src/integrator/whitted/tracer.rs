@@ -530,8 +530,8 @@ impl<'a> Tracer<'a> {
         };
         let children = rng.derive(ray_tag);
         let metric = self.scene.settings.metric.filter(|m| m.reflections);
-        let child = |k: usize| children.derive(k as u64);
         let n = points.len();
+        let child = |k: usize| children.child(k, n);
         let (mean, traced) = self.mean(n, ray, depth + 1, child, metric.as_ref(), |_, l| l);
         let (traced, saved) = (traced as u64, (n - traced) as u64);
         if transmit {
