@@ -11,8 +11,9 @@ use penumbra::sampling::{Distribution, Rng};
 use std::hint::black_box;
 
 /// The sets from quasi-Monte Carlo, beyond the thesis's six.
-const LOW_DISCREPANCY: [Distribution; 4] = [
+const LOW_DISCREPANCY: [Distribution; 5] = [
     Distribution::Sobol,
+    Distribution::Zsobol,
     Distribution::Pmj02,
     Distribution::Halton,
     Distribution::R2,
@@ -27,9 +28,13 @@ fn bench_set(
     g.bench_with_input(BenchmarkId::new(d.name(), count), &count, |b, &n| {
         let mut out = Vec::with_capacity(n);
         let mut key = 0u64;
+        let root = Rng::new(7);
         b.iter(|| {
             key += 1;
-            let mut rng = Rng::new(key);
+            // A set's stream in a render: a pixel of an 800×600 frame, a
+            // sample of 16, a kind of set.
+            let (x, y) = ((key % 800) as u32, (key / 800 % 600) as u32);
+            let mut rng = root.at_pixel(key, (x, y)).child(3, 16).derive(1);
             d.generate(n, 1.0, &mut rng, &mut out);
             black_box(out.len())
         })

@@ -55,10 +55,35 @@ impl BranchKey {
 pub struct Place {
     /// The key of the kinds of branches taken (pixel- and index-free).
     pub dimension: u64,
-    /// The pixel's Morton code, then the siblings' numbers below it.
-    pub index: u64,
-    /// How many of `index`'s low bits lie below the pixel's code.
+    /// The pixel, `x` in the low 32 bits and `y` in the high ones.
+    pixel: u64,
+    /// The numbers of the siblings taken below the pixel.
+    local: u64,
+    /// How many bits `local` holds.
     pub local_bits: u32,
+}
+
+impl Place {
+    /// The index: the pixel's Morton code followed by the `local_bits` bits
+    /// of the siblings' numbers.
+    pub fn index(&self) -> u128 {
+        let morton = morton(self.pixel as u32, (self.pixel >> 32) as u32);
+        u128::from(morton) << self.local_bits | u128::from(self.local)
+    }
+}
+
+/// The Morton code of (x, y): the bits of `x` at the even positions, those
+/// of `y` at the odd ones.
+pub fn morton(x: u32, y: u32) -> u64 {
+    fn spread(v: u32) -> u64 {
+        let mut v = u64::from(v);
+        v = (v | (v << 16)) & 0x0000_ffff_0000_ffff;
+        v = (v | (v << 8)) & 0x00ff_00ff_00ff_00ff;
+        v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
+        v = (v | (v << 2)) & 0x3333_3333_3333_3333;
+        (v | (v << 1)) & 0x5555_5555_5555_5555
+    }
+    spread(x) | spread(y) << 1
 }
 
 /// A stream of random numbers identified by a key; see the module docs.
@@ -78,7 +103,8 @@ impl Rng {
             counter: 0,
             place: Place {
                 dimension: key,
-                index: 0,
+                pixel: 0,
+                local: 0,
                 local_bits: 0,
             },
         }
@@ -103,22 +129,26 @@ impl Rng {
             key: mix64(self.key ^ branch.0),
             counter: 0,
             place: Place {
-                dimension: mix64(self.place.dimension ^ branch.0),
+                // The branch key is a hash already: rotating and xor-ing
+                // keeps the order of the kinds at the cost of two
+                // instructions (it is hashed again where it is used).
+                dimension: self.place.dimension.rotate_left(23) ^ branch.0,
                 ..self.place
             },
         }
     }
 
-    /// The stream of pixel number `pixel` (its row-major index), whose
-    /// Morton code is `morton`: the key as [`derive`](Self::derive)`(pixel)`
-    /// gives it, the dimension unchanged and the index the Morton code.
-    pub fn at_pixel(&self, pixel: u64, morton: u64) -> Rng {
+    /// The stream of pixel (x, y), number `pixel` in row-major order: the
+    /// key as [`derive`](Self::derive)`(pixel)` gives it, the dimension
+    /// unchanged and the index the pixel's Morton code.
+    pub fn at_pixel(&self, pixel: u64, (x, y): (u32, u32)) -> Rng {
         Rng {
             key: mix64(self.key ^ BranchKey::new(pixel).0),
             counter: 0,
             place: Place {
                 dimension: self.place.dimension,
-                index: morton,
+                pixel: u64::from(x) | u64::from(y) << 32,
+                local: 0,
                 local_bits: 0,
             },
         }
@@ -127,28 +157,24 @@ impl Rng {
     /// The sub-stream of sibling `index` of `2^bits` (sample `i` of a pixel,
     /// ray `k` of a set) whose branch is `key`: the key as
     /// [`derive_key`](Self::derive_key) gives it, the dimension unchanged
-    /// and the index extended by `bits` bits holding `index`. Bits shifted
-    /// out of the 64-bit index are hashed into the dimension, so distinct
-    /// places stay distinct.
+    /// and the index extended by `bits` bits holding `index`. Should the
+    /// siblings' numbers outgrow 64 bits, those so far are hashed into the
+    /// dimension and the count starts again, so distinct places stay
+    /// distinct.
     #[inline]
     pub fn sibling(&self, key: BranchKey, index: u64, bits: u32) -> Rng {
-        let Place {
-            mut dimension,
-            index: above,
-            local_bits,
-        } = self.place;
-        let lost = above.checked_shr(64 - bits).unwrap_or(0);
-        if bits > 0 && lost != 0 {
-            dimension = mix64(dimension ^ mix64(lost));
+        let mut place = self.place;
+        if place.local_bits + bits > 64 {
+            place.dimension = mix64(place.dimension ^ mix64(place.local));
+            place.local = 0;
+            place.local_bits = 0;
         }
+        place.local = place.local.wrapping_shl(bits) | index;
+        place.local_bits += bits;
         Rng {
             key: mix64(self.key ^ key.0),
             counter: 0,
-            place: Place {
-                dimension,
-                index: above.checked_shl(bits).unwrap_or(0) | index,
-                local_bits: local_bits.saturating_add(bits),
-            },
+            place,
         }
     }
 
@@ -233,28 +259,36 @@ mod tests {
     #[test]
     fn places_follow_kinds_and_siblings() {
         let root = Rng::new(7);
-        let p = root.at_pixel(41, 0b1101);
+        let p = root.at_pixel(41, (3, 2));
+        assert_eq!(morton(3, 2), 0b1101);
         assert_eq!(p.key, root.derive(41).key);
         assert_eq!(p.place().dimension, root.place().dimension);
         let a = p.derive(2).child(3, 5).derive(9);
         assert_eq!(a.key, p.derive(2).derive(3).derive(9).key);
         let q = Rng::new(7)
-            .at_pixel(12, 0b0110)
+            .at_pixel(12, (2, 1))
             .derive(2)
             .child(1, 8)
             .derive(9);
         // Same kinds, other pixel and sibling: same dimension, other index.
         assert_eq!(a.place().dimension, q.place().dimension);
-        assert_eq!(a.place().index, 0b1101_011);
+        assert_eq!(a.place().index(), 0b1101 << 3 | 0b011);
         assert_eq!(a.place().local_bits, 3);
-        assert_eq!(q.place().index, 0b0110_001);
+        assert_eq!(q.place().index(), 0b0110 << 3 | 0b001);
         assert_ne!(a.place().dimension, p.derive(3).place().dimension);
+        assert_ne!(
+            p.derive(2).derive(9).place().dimension,
+            p.derive(9).derive(2).place().dimension
+        );
         assert_eq!((index_bits(0), index_bits(1), index_bits(5)), (0, 0, 3));
-        // Bits pushed out of the index go into the dimension.
-        let deep = (0..9).fold(Rng::new(1).at_pixel(0, u64::MAX), |r, _| r.child(0, 256));
-        let deeper = (0..9).fold(Rng::new(1).at_pixel(0, 1), |r, _| r.child(0, 256));
-        assert_eq!(deep.place().index, deeper.place().index);
-        assert_ne!(deep.place().dimension, deeper.place().dimension);
+        // Past 64 bits of siblings, their numbers go into the dimension.
+        let deep = |k| {
+            (0..9).fold(Rng::new(1).at_pixel(0, (0, 0)).child(k, 256), |r, _| {
+                r.child(0, 256)
+            })
+        };
+        assert_eq!(deep(1).place().index(), deep(2).place().index());
+        assert_ne!(deep(1).place().dimension, deep(2).place().dimension);
     }
 
     #[test]

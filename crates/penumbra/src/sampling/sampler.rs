@@ -5,15 +5,14 @@
 //!
 //! | stream | derived as |
 //! |---|---|
-//! | pixel `p` | `Rng::new(seed).at_pixel(p, morton(x, y))`, `p = y · width + x` |
+//! | pixel `p` | `Rng::new(seed).at_pixel(p, (x, y))`, `p = y · width + x` |
 //! | film, lens, time sets of the pixel | `pixel.derive(0)`, `.derive(1)`, `.derive(2)` ([`Dimension`]) |
 //! | path of primary sample `i` of `n` | `pixel.sibling(3 + i, i, ⌈log2 n⌉)` |
 //! | replica `r` of the pixel (adaptive sampling's calibrated rule), all of whose streams derive from it as the pixel's do, with `⌈n / R⌉` paths | `pixel.derive(2^32 + r)` |
 //!
 //! `at_pixel` and `sibling` give the keys `derive(p)` and `derive(3 + i)`
 //! would; they also record the stream's place in the frame (see
-//! [`Rng`](super::Rng)'s docs), which `zsobol` reads. `morton(x, y)`
-//! interleaves the bits of `x` (even bits) and `y` (odd bits).
+//! [`Rng`](super::Rng)'s docs), which `zsobol` reads.
 //!
 //! Below a path, the integrator derives the streams of each event's set of
 //! rays from the path's stream (see the integrator's documentation).
@@ -57,24 +56,10 @@ impl Sampler {
     pub fn pixel(&self, x: u32, y: u32) -> PixelSampler {
         let index = u64::from(y) * u64::from(self.width) + u64::from(x);
         PixelSampler {
-            root: Rng::new(self.seed).at_pixel(index, morton(x, y)),
+            root: Rng::new(self.seed).at_pixel(index, (x, y)),
             path_bits: index_bits(self.paths as usize),
         }
     }
-}
-
-/// The Morton code of (x, y): the bits of `x` at the even positions, those
-/// of `y` at the odd ones.
-pub fn morton(x: u32, y: u32) -> u64 {
-    fn spread(v: u32) -> u64 {
-        let mut v = u64::from(v);
-        v = (v | (v << 16)) & 0x0000_ffff_0000_ffff;
-        v = (v | (v << 8)) & 0x00ff_00ff_00ff_00ff;
-        v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
-        v = (v | (v << 2)) & 0x3333_3333_3333_3333;
-        (v | (v << 1)) & 0x5555_5555_5555_5555
-    }
-    spread(x) | spread(y) << 1
 }
 
 /// The streams of one pixel.
@@ -163,8 +148,7 @@ mod tests {
         let s = Sampler::new(7, 640, 16);
         let p = s.pixel(5, 3);
         let root = Rng::new(7).derive(3 * 640 + 5);
-        assert_eq!(morton(5, 3), 0b11011);
-        assert_eq!(p.path(6).place().index, 0b11011_0110);
+        assert_eq!(p.path(6).place().index(), 0b11011 << 4 | 0b0110);
         let first = |mut r: Rng| r.next_u64();
         assert_eq!(first(p.stream(Dimension::Film)), first(root.derive(0)));
         assert_eq!(first(p.stream(Dimension::Time)), first(root.derive(2)));
@@ -175,7 +159,7 @@ mod tests {
         );
         let replica = root.derive((1 << 32) + 2);
         assert_eq!(first(p.replica(2, 8).path(0)), first(replica.derive(3)));
-        assert_eq!(p.replica(2, 8).path(1).place().index, 0b11011_1);
+        assert_eq!(p.replica(2, 8).path(1).place().index(), 0b11011 << 1 | 1);
         let mut seen = std::collections::HashSet::new();
         for (x, y) in [(0, 0), (1, 0), (0, 1)] {
             let p = s.pixel(x, y);

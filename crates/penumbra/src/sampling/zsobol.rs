@@ -80,21 +80,26 @@ const PERMUTATIONS: [[u8; 4]; 24] = {
 /// The hash choosing the permutation of the digit at `shift` below the
 /// digits `above`, in `dimension`.
 #[inline]
-fn node_hash(dimension: u64, above: u64, shift: u32) -> u64 {
-    mix64(dimension ^ mix64(above ^ (u64::from(shift) << 58)))
+fn node_hash(dimension: u64, above: u128, shift: u32) -> u64 {
+    let high = (above >> 64) as u64;
+    let above = above as u64 ^ if high == 0 { 0 } else { mix64(high) };
+    // `above` fills the digits above `shift`: the multiplication spreads it
+    // over the whole word before the one mixing step.
+    let spread = above.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ u64::from(shift);
+    mix64(dimension ^ spread)
 }
 
 /// `π(index)`: the base-4 digits of `index` permuted as the module docs say,
 /// the digits aligned on bit `local_bits`. A digit with nothing but zeros
 /// above it keeps its value (the identity is one of the permutations), so
 /// the loop starts at the highest non-zero digit.
-pub(super) fn permute(index: u64, local_bits: u32, dimension: u64) -> u64 {
+pub(super) fn permute(index: u128, local_bits: u32, dimension: u64) -> u128 {
     let lone = local_bits & 1;
     let mut out = 0;
     if index == 0 && lone == 0 {
         return 0;
     }
-    let top = 64 - index.leading_zeros();
+    let top = 128 - index.leading_zeros();
     // Digit shifts are lone + 2t; the highest one holding a set bit.
     let mut shift = if top > lone {
         lone + (top - 1 - lone) / 2 * 2
@@ -108,10 +113,10 @@ pub(super) fn permute(index: u64, local_bits: u32, dimension: u64) -> u64 {
         let above = index.checked_shr(shift + 2).unwrap_or(0);
         let digit = (index >> shift & 3) as usize;
         let mapped = if above == 0 {
-            digit as u64
+            digit as u128
         } else {
             let p = (node_hash(dimension, above, shift) >> 40) % 24;
-            u64::from(PERMUTATIONS[p as usize][digit])
+            u128::from(PERMUTATIONS[p as usize][digit])
         };
         out |= mapped << shift;
         if shift < 2 {
@@ -121,7 +126,7 @@ pub(super) fn permute(index: u64, local_bits: u32, dimension: u64) -> u64 {
     }
     if lone == 1 {
         let flip = node_hash(dimension, index >> 1, 0) >> 63;
-        out |= (index & 1) ^ flip;
+        out |= (index & 1) ^ u128::from(flip);
     }
     out
 }
@@ -137,15 +142,17 @@ pub struct ZSobol {
 impl ZSobol {
     /// The set of `count` points at `place`.
     pub fn new(place: Place, count: usize) -> ZSobol {
-        let m = super::index_bits(count);
-        let set = permute(place.index, place.local_bits, place.dimension);
-        let global = u128::from(set) << m;
-        let high = (global >> 32) as u64;
-        let seeds = mix64(place.dimension ^ mix64(high.wrapping_add(0x2545_f491_4f6c_dd1d)));
+        let m = super::index_bits(count).min(32);
+        let set = permute(place.index(), place.local_bits, place.dimension);
+        // The block's first index is `set · 2^m`: its low 32 bits index the
+        // sequence, the bits above choose the scramble.
+        let (base, high) = (((set << m) as u32), set >> (32 - m));
+        let high = high as u64 ^ mix64((high >> 64) as u64 ^ 0x2545_f491_4f6c_dd1d);
+        let seeds = mix64(place.dimension ^ mix64(high));
         let (sx, sy) = (seeds as u32, (seeds >> 32) as u32);
         ZSobol {
             points: Sobol::from_seeds(sx, sy),
-            base: global as u32,
+            base,
             seed_x: sx,
         }
     }
@@ -177,7 +184,7 @@ mod tests {
     /// A place of the kind a render makes: some pixel, some samples above.
     fn place(seed: u64) -> Place {
         let mut r = Rng::new(seed ^ 0xabc);
-        let pixel = Rng::new(seed).at_pixel(0, u64::from(r.next_u32() >> 8));
+        let pixel = Rng::new(seed).at_pixel(0, (r.next_u32() >> 20, r.next_u32() >> 20));
         pixel.child(r.below(7) as usize, 7).derive(5).place()
     }
 
@@ -187,8 +194,8 @@ mod tests {
             for dimension in [1u64, 77, u64::MAX] {
                 // Every aligned block of 2^b indices maps onto one.
                 for b in [1u32, 2, 3, 4, 6] {
-                    for start in [0u64, 64, 1 << 20, 5 << 30] {
-                        let block: Vec<u64> = (start..start + (1 << b))
+                    for start in [0u128, 64, 1 << 20, 5 << 30, 3 << 70] {
+                        let block: Vec<u128> = (start..start + (1 << b))
                             .map(|i| permute(i, local, dimension))
                             .collect();
                         let mut sorted = block.clone();
@@ -205,7 +212,7 @@ mod tests {
             }
         }
         // It does permute: not the identity for most dimensions.
-        let moved = (0..64u64).filter(|&d| permute(0b1011_0110, 0, d) != 0b1011_0110);
+        let moved = (0..64).filter(|&d| permute(0b1011_0110, 0, d) != 0b1011_0110);
         assert!(moved.count() > 40);
     }
 
