@@ -18,6 +18,8 @@ Sections (--only takes their names):
   linear   render time against pixels, primary rays and shadow rays
   memory   maximum resident memory of `penumbra render bunny`
   million  a procedural 1,000,000-triangle mesh: build, render, memory
+  points   the cost of a point of each low-discrepancy distribution (sets of
+           256) and of a set of one
   before   with --baseline REV: git revision REV against the working tree
            on three bunny scenes (one thread, CPU time)
 
@@ -59,7 +61,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # A row of the baseline table is flagged when this tree is worse (slower, or
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
-SECTIONS = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million", "before"]
+SECTIONS = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million", "points", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -455,6 +457,18 @@ def section_whitted(args, bins, data):
     }
 
 
+def section_points(args, bins, data):
+    """The CPU cost of one point of each low-discrepancy distribution (sets
+    of 256) and of a set of one, medians of pointbench's rounds (built with
+    the other binaries of penumbra-bench; no baseline column: the tool is
+    newer than most revisions)."""
+    import common
+
+    tool = common.target_dir() / "release" / "pointbench"
+    p = run([tool, "--rounds", max(args.rounds, 3)], cwd=ROOT)
+    return json.loads(p.stdout)
+
+
 def section_scaling(args, bins, data):
     """Parallel efficiency as the median of many adjacent pairs: on a shared
     machine one pair swings by a quarter either way, and a pair of frames
@@ -637,6 +651,12 @@ def report(res):
             w["fps_cpu_2"] >= 10)
         row("parallel efficiency, 2 threads, Whitted frame (wall: t1 / 2 t2)", "—", f"{100 * w['efficiency']:.0f}%",
             "—", "≥ 90%", w["efficiency"] >= 0.9)
+    if "points" in res:
+        for name, x in res["points"]["distributions"].items():
+            row(f"drawing a point of `{name}` (sets of {res['points']['set']}), ns (CPU)", "—", f(x["point_ns"], 1),
+                "—", "≤ 20", x["point_ns"] <= 20)
+            row(f"a set of one point of `{name}`, stream derivation included, ns (CPU)", "—", f(x["one_ns"], 1),
+                "—", "—", True)
     if "a" in res and "efficiency" in res["a"]:
         e = res["a"]["efficiency"]
         row("parallel efficiency, 2 threads, scene (a) (wall: t1 / 2 t2)", "—", f"{100 * e:.0f}%", "—", "≥ 90%",
@@ -775,7 +795,7 @@ def main():
         res["baseline"] = data["base"]["rev"]
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
            "scaling": section_scaling, "linear": section_linear, "memory": section_memory, "million": section_million,
-           "before": section_before}
+           "points": section_points, "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)
