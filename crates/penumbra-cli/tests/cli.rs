@@ -123,6 +123,7 @@ fn bad_arguments_exit_2() {
             "report",
             "--quiet",
         ],
+        vec!["reproduce", "--study", "nope", "--out", "report", "--quiet"],
     ] {
         let o = penumbra(&args, dir.path());
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
@@ -133,6 +134,48 @@ fn bad_arguments_exit_2() {
         0,
         "nothing may be written"
     );
+}
+
+#[test]
+fn an_unknown_study_names_the_valid_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["reproduce", "--study", "distribution"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("'distribution'") && e.contains("distributions"),
+        "{e}"
+    );
+}
+
+/// The distribution study runs on its own, without the bunny (the test
+/// removes $PENUMBRA_BUNNY), and writes only its own files.
+#[test]
+fn the_distribution_study_runs_without_the_bunny() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(
+        &[
+            "reproduce",
+            "--study",
+            "distributions",
+            "--quick",
+            "--out",
+            "out",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.path().join("out");
+    for f in [
+        "distributions.md",
+        "distributions.html",
+        "distributions.json",
+    ] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
+    assert!(out.join("plots/distributions-disk.svg").is_file());
+    assert!(!out.join("report.md").exists() && !out.join("figures").exists());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("distributions.md"));
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Runs the evaluation without the CLI:
-//! `cargo run --release -p penumbra-eval --example reproduce -- [--quick] [--bunny PATH] [--out DIR] [--threads N]`.
+//! `cargo run --release -p penumbra-eval --example reproduce -- [--quick] [--bunny PATH] [--out DIR] [--threads N] [--study NAME]`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -12,6 +12,7 @@ fn main() -> ExitCode {
         out: PathBuf::from("reproduce"),
         quick: false,
         threads: None,
+        study: None,
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -22,6 +23,13 @@ fn main() -> ExitCode {
         match (a.as_str(), args.next()) {
             ("--bunny", Some(v)) => opts.bunny = v.into(),
             ("--out", Some(v)) => opts.out = v.into(),
+            ("--study", Some(v)) => match v.parse() {
+                Ok(s) => opts.study = Some(s),
+                Err(e) => {
+                    eprintln!("{e}");
+                    return ExitCode::from(2);
+                }
+            },
             ("--threads", Some(v)) => match v.parse() {
                 Ok(n) => opts.threads = Some(n),
                 Err(_) => {
@@ -30,7 +38,7 @@ fn main() -> ExitCode {
                 }
             },
             _ => {
-                eprintln!("usage: reproduce [--quick] [--bunny PATH] [--out DIR] [--threads N]");
+                eprintln!("usage: reproduce [--quick] [--bunny PATH] [--out DIR] [--threads N] [--study NAME]");
                 return ExitCode::from(2);
             }
         }
@@ -47,7 +55,7 @@ fn main() -> ExitCode {
             println!(
                 "wrote {} in {:.1} s",
                 r.markdown_path().display(),
-                r.elapsed_s
+                r.elapsed_s()
             );
             ExitCode::SUCCESS
         }

@@ -14,6 +14,14 @@ pub enum Block {
         alt: String,
         caption: String,
     },
+    /// An SVG drawing: linked by its path (relative to the report) from
+    /// Markdown, its markup written into the HTML page itself.
+    Svg {
+        src: String,
+        alt: String,
+        caption: String,
+        markup: String,
+    },
 }
 
 /// A table: header cells, rows of cells, and which columns are numbers
@@ -63,7 +71,10 @@ pub fn to_markdown(blocks: &[Block]) -> String {
                 out.push('\n');
             }
             Block::Table(t) => markdown_table(&mut out, t),
-            Block::Image { src, alt, caption } => {
+            Block::Image { src, alt, caption }
+            | Block::Svg {
+                src, alt, caption, ..
+            } => {
                 out.push_str(&format!("![{alt}]({src})\n\n*{caption}*\n\n"));
             }
         }
@@ -119,6 +130,17 @@ pub fn to_html(title: &str, blocks: &[Block]) -> String {
                 escape(alt),
                 inline(caption)
             )),
+            Block::Svg {
+                alt,
+                caption,
+                markup,
+                ..
+            } => out.push_str(&format!(
+                "<figure role=\"img\" aria-label=\"{}\">{}<figcaption>{}</figcaption></figure>\n",
+                escape(alt),
+                svg_element(markup),
+                inline(caption)
+            )),
         }
     }
     out.push_str("</body>\n</html>\n");
@@ -128,7 +150,7 @@ pub fn to_html(title: &str, blocks: &[Block]) -> String {
 const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;line-height:1.45;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:0.25em 0.6em}\
 th{background:#f2f2f2}td.n{text-align:right;font-variant-numeric:tabular-nums}\
-figure{margin:1em 0 2em}img{max-width:100%}figcaption{font-style:italic;margin-top:0.3em}code{background:#f4f4f4}";
+figure{margin:1em 0 2em}img,figure svg{max-width:100%;height:auto}figcaption{font-style:italic;margin-top:0.3em}code{background:#f4f4f4}";
 
 fn html_table(out: &mut String, t: &Table) {
     out.push_str("<table>\n<tr>");
@@ -149,6 +171,15 @@ fn html_table(out: &mut String, t: &Table) {
         out.push_str("</tr>\n");
     }
     out.push_str("</table>\n");
+}
+
+/// The `<svg>` element of an SVG file, without an XML declaration or
+/// doctype before it, which HTML does not allow inside a page.
+fn svg_element(markup: &str) -> &str {
+    markup
+        .find("<svg")
+        .map_or(markup, |i| &markup[i..])
+        .trim_end()
 }
 
 /// Escapes text and turns Markdown's `code` spans into `<code>`.
@@ -191,6 +222,12 @@ mod tests {
                 alt: "Figure 4.1".into(),
                 caption: "c".into(),
             },
+            Block::Svg {
+                src: "plots/p.svg".into(),
+                alt: "P".into(),
+                caption: "d".into(),
+                markup: "<?xml version=\"1.0\"?>\n<svg width=\"4\"><text>x</text></svg>\n".into(),
+            },
         ]
     }
 
@@ -201,6 +238,7 @@ mod tests {
         assert!(md.contains("| setting | rays |\n|---|---:|\n| a\\|b | 1,000 |"));
         assert!(md.contains("![Figure 4.1](figures/fig-4.1.png)"));
         assert!(md.contains("- one\n"));
+        assert!(md.contains("![P](plots/p.svg)\n\n*d*"));
     }
 
     #[test]
@@ -211,5 +249,9 @@ mod tests {
         assert!(html.contains("<img src=\"figures/fig-4.1.png\""));
         assert!(html.contains("<td class=\"n\">1,000</td>"));
         assert!(html.trim_end().ends_with("</html>"));
+        assert!(html.contains(
+            "aria-label=\"P\"><svg width=\"4\"><text>x</text></svg><figcaption>d</figcaption>"
+        ));
+        assert!(!html.contains("<?xml"));
     }
 }

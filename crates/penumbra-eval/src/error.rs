@@ -24,6 +24,9 @@ pub enum EvalError {
     /// so that the caller can still exit cleanly.
     #[error("rendering {job}: the renderer panicked")]
     Panicked { job: String },
+    /// `--study` named no known study.
+    #[error("unknown study '{name}' (expected one of: {valid})")]
+    UnknownStudy { name: String, valid: String },
     /// Writing an image or a report file failed after the directory checked out.
     #[error("writing {}: {message}", path.display())]
     Write { path: PathBuf, message: String },
@@ -32,6 +35,9 @@ pub enum EvalError {
 impl EvalError {
     /// True for errors the user can fix by changing the arguments.
     pub fn is_invalid_input(&self) -> bool {
-        matches!(self, EvalError::Bunny { .. } | EvalError::OutDir { .. })
+        matches!(
+            self,
+            EvalError::Bunny { .. } | EvalError::OutDir { .. } | EvalError::UnknownStudy { .. }
+        )
     }
 }

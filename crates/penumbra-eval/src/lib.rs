@@ -17,11 +17,17 @@
 //!     out: "reproduce".into(),
 //!     quick: true,
 //!     threads: None,
+//!     study: None,
 //! };
 //! let report = reproduce(&opts, &|stage, done, total| eprintln!("[{done}/{total}] {stage}"))?;
 //! println!("{}", report.markdown_path().display());
 //! # Ok::<(), penumbra_eval::EvalError>(())
 //! ```
+//!
+//! With `study: Some(StudyName::Distributions)` it runs instead the study of
+//! every ray distribution on integrals with known values ([`integrand`]),
+//! which needs no bunny and writes `distributions.md`, `distributions.html`,
+//! `distributions.json` and `plots/distributions-*.svg`.
 
 mod compose;
 mod convergence;
@@ -31,6 +37,7 @@ mod error;
 mod figures;
 mod format;
 mod growth;
+pub mod integrand;
 mod job;
 mod measure;
 mod output;
@@ -42,13 +49,16 @@ mod sections;
 mod tables;
 mod thesis;
 
+use std::fmt;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 use std::time::Instant;
 
 pub use convergence::{Curve, Study};
 pub use error::EvalError;
 pub use figures::Figure;
 pub use growth::{Plot, SweepPoint};
+pub use integrand::DistributionStudy;
 pub use measure::Measurement;
 pub use report::Report;
 pub use tables::{CountRow, CountTable, MetricRow, MetricTable, Tables};
@@ -69,20 +79,133 @@ pub struct ReproduceOptions {
     pub quick: bool,
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
+    /// Run only this study instead of the thesis's evaluation (the bunny is
+    /// then not needed).
+    pub study: Option<StudyName>,
 }
 
-/// Runs the whole evaluation and writes the report.
+/// A study that runs on its own, without the thesis's evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudyName {
+    /// Every ray distribution on integrals with known values
+    /// ([`integrand`]).
+    Distributions,
+}
+
+impl StudyName {
+    pub const ALL: [StudyName; 1] = [StudyName::Distributions];
+
+    /// The name given to `--study`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StudyName::Distributions => "distributions",
+        }
+    }
+}
+
+impl fmt::Display for StudyName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for StudyName {
+    type Err = EvalError;
+
+    /// The exact name; an unknown one is invalid input whose message lists
+    /// the valid names.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        StudyName::ALL
+            .into_iter()
+            .find(|n| n.name() == s)
+            .ok_or_else(|| EvalError::UnknownStudy {
+                name: s.to_string(),
+                valid: StudyName::ALL.map(StudyName::name).join(", "),
+            })
+    }
+}
+
+/// What a run wrote: the thesis's report, or a study run on its own.
+#[derive(Clone, Debug)]
+pub enum Reproduction {
+    Thesis(Box<Report>),
+    Distributions(Box<DistributionStudy>),
+}
+
+impl Reproduction {
+    /// The Markdown report.
+    pub fn markdown_path(&self) -> PathBuf {
+        match self {
+            Reproduction::Thesis(r) => r.markdown_path(),
+            Reproduction::Distributions(s) => s.markdown_path(),
+        }
+    }
+
+    /// The HTML report.
+    pub fn html_path(&self) -> PathBuf {
+        match self {
+            Reproduction::Thesis(r) => r.html_path(),
+            Reproduction::Distributions(s) => s.html_path(),
+        }
+    }
+
+    /// Wall-clock time of the run.
+    pub fn elapsed_s(&self) -> f64 {
+        match self {
+            Reproduction::Thesis(r) => r.elapsed_s,
+            Reproduction::Distributions(s) => s.elapsed_s,
+        }
+    }
+
+    /// The thesis's report, if that is what ran.
+    pub fn thesis(self) -> Option<Report> {
+        match self {
+            Reproduction::Thesis(r) => Some(*r),
+            Reproduction::Distributions(_) => None,
+        }
+    }
+
+    /// The distribution study, if that is what ran.
+    pub fn distributions(self) -> Option<DistributionStudy> {
+        match self {
+            Reproduction::Distributions(s) => Some(*s),
+            Reproduction::Thesis(_) => None,
+        }
+    }
+}
+
+/// Runs the whole evaluation and writes the report, or only the study
+/// `opts.study` names.
 ///
 /// `progress(stage, done, total)` is called before and after every render
-/// (`done` and `total` count distinct renders) and while writing; it is
-/// called on the calling thread only.
+/// (`done` and `total` count distinct renders; for a study, its steps) and
+/// while writing; it is called on the calling thread only.
 pub fn reproduce(
+    opts: &ReproduceOptions,
+    progress: &dyn Fn(&str, usize, usize),
+) -> Result<Reproduction, EvalError> {
+    match opts.study {
+        None => thesis(opts, progress).map(|r| Reproduction::Thesis(Box::new(r))),
+        Some(StudyName::Distributions) => {
+            prepare_out(&opts.out, &["plots"])?;
+            let config = if opts.quick {
+                integrand::Config::quick()
+            } else {
+                integrand::Config::full()
+            };
+            integrand::run(&config, opts.quick, opts.threads, &opts.out, progress)
+                .map(|s| Reproduction::Distributions(Box::new(s)))
+        }
+    }
+}
+
+fn thesis(
     opts: &ReproduceOptions,
     progress: &dyn Fn(&str, usize, usize),
 ) -> Result<Report, EvalError> {
     let started = Instant::now();
     check_bunny(&opts.bunny)?;
-    prepare_out(&opts.out)?;
+    prepare_out(&opts.out, &["figures", "plots"])?;
     let plan = Plan::new(opts.quick);
     let mut runner = Runner::new(opts.bunny.clone(), opts.threads, progress);
     runner.plan(&tables::jobs(&plan));
@@ -147,14 +270,14 @@ fn check_bunny(path: &Path) -> Result<(), EvalError> {
         })
 }
 
-/// Creates the output directory and its subdirectories and proves it is
-/// writable by creating and removing a file.
-fn prepare_out(out: &Path) -> Result<(), EvalError> {
+/// Creates the output directory and its subdirectories `subs` and proves it
+/// is writable by creating and removing a file.
+fn prepare_out(out: &Path, subs: &[&str]) -> Result<(), EvalError> {
     let err = |reason: String| EvalError::OutDir {
         path: out.to_path_buf(),
         reason,
     };
-    for sub in ["figures", "plots"] {
+    for sub in subs {
         std::fs::create_dir_all(out.join(sub)).map_err(|e| err(e.to_string()))?;
     }
     let probe = out.join(".penumbra-eval-probe");
@@ -175,6 +298,7 @@ mod tests {
             out: dir.path().join("out"),
             quick: true,
             threads: Some(1),
+            study: None,
         };
         let e = reproduce(&opts, &|_, _, _| {}).err();
         assert!(matches!(e, Some(EvalError::Bunny { .. })), "{e:?}");
@@ -195,9 +319,41 @@ mod tests {
         let Ok(dir) = tempfile::tempdir() else { return };
         let file = dir.path().join("a-file");
         assert!(std::fs::write(&file, b"x").is_ok());
-        let e = prepare_out(&file.join("out")).err();
+        let e = prepare_out(&file.join("out"), &["plots"]).err();
         assert!(matches!(e, Some(EvalError::OutDir { .. })), "{e:?}");
-        assert!(prepare_out(&dir.path().join("fresh")).is_ok());
+        assert!(prepare_out(&dir.path().join("fresh"), &["plots"]).is_ok());
         assert!(!dir.path().join("fresh/.penumbra-eval-probe").exists());
+    }
+
+    #[test]
+    fn study_names_parse_and_unknown_ones_list_the_valid() {
+        for n in StudyName::ALL {
+            assert_eq!(n.name().parse::<StudyName>().ok(), Some(n));
+        }
+        let e = "distribution".parse::<StudyName>().err();
+        let message = e.as_ref().map(ToString::to_string).unwrap_or_default();
+        assert!(
+            message.contains("'distribution'") && message.contains("distributions"),
+            "{message}"
+        );
+        assert!(e.is_some_and(|e| e.is_invalid_input()));
+    }
+
+    /// A study needs no bunny: a missing one is not even looked at.
+    #[test]
+    fn the_distribution_study_runs_without_the_bunny() {
+        let Ok(dir) = tempfile::tempdir() else { return };
+        let opts = ReproduceOptions {
+            bunny: dir.path().join("no-bunny.ply"),
+            out: dir.path().join("out"),
+            quick: true,
+            threads: Some(2),
+            study: Some(StudyName::Distributions),
+        };
+        let r = reproduce(&opts, &|_, _, _| {});
+        let study = r.map(Reproduction::distributions);
+        assert!(matches!(study, Ok(Some(_))), "{study:?}");
+        assert!(dir.path().join("out/distributions.html").is_file());
+        assert!(!dir.path().join("out/figures").exists());
     }
 }

@@ -49,13 +49,16 @@ fn quick_reproduction() -> Result<(), Box<dyn Error>> {
         out: dir.path().join("report"),
         quick: true,
         threads: None,
+        study: None,
     };
     let started = Instant::now();
     let calls = std::cell::Cell::new(0usize);
     let report = reproduce(&opts, &|_, done, total| {
         assert!(done <= total, "progress {done}/{total}");
         calls.set(calls.get() + 1);
-    })?;
+    })?
+    .thesis()
+    .ok_or("the thesis's evaluation did not run")?;
     eprintln!(
         "quick reproduction: {:.1} s",
         started.elapsed().as_secs_f64()
