@@ -60,7 +60,9 @@ pub fn blocks(s: &DistributionStudy, svgs: &[String]) -> Vec<Block> {
            every set is the same pattern, so its RMSE is the absolute error of that pattern, a \
            bias, and it has no target. `random` gives points in a disk; they are mapped back to \
            the square through the inverse polar map, which makes them independent uniform points \
-           of the square. Dashed lines in the plots have the theoretical slope and pass through \
+           of the square. The sets belong to no pixel, so a `zsobol` set is the first block of its \
+           sequence scrambled by its seed, statistically a `sobol` set: its difference, how the \
+           sets of neighbouring pixels fit together, shows only in renders. Dashed lines in the plots have the theoretical slope and pass through \
            the centre of gravity of the fitted points. Theory's rates are \
              asymptotic: the tables also give the slope fitted from N = {TAIL_FROM} on, which \
              shows whether a miss comes from the smallest sets; the verdict is on the fit over \
