@@ -11,7 +11,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Curve, IntegrandResult};
+use super::results::{Curve, IntegrandResult};
 use crate::error::EvalError;
 use crate::output::write_file;
 

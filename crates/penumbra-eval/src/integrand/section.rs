@@ -7,7 +7,8 @@ use crate::error::EvalError;
 use crate::format::{seconds, signed};
 use crate::output::write_file;
 
-use super::{Curve, DistributionStudy, Fit, IntegrandResult, TAIL_FROM, TOLERANCE};
+use super::fit::Fit;
+use super::results::{Curve, DistributionStudy, IntegrandResult, TAIL_FROM, TOLERANCE};
 
 const TITLE: &str = "Penumbra: the ray distributions on integrals with known values";
 
