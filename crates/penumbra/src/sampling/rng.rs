@@ -6,26 +6,6 @@
 //! a hash of (key, n). Nothing depends on which thread ran a tile or in which
 //! order, so renders are reproducible bit for bit on any number of threads or
 //! machines, and a single sample can be replayed.
-//!
-//! # A stream's place in the frame
-//!
-//! Beside its key, a stream keeps where its sets sit in a sequence shared by
-//! the whole frame, for distributions whose sets are blocks of one sequence
-//! rather than sets scrambled apart (`zsobol`, after pbrt-v4's sampler of
-//! that name):
-//!
-//! * its **dimension**: a key of the *kinds* of branches taken from the seed
-//!   ([`derive`](Rng::derive), [`derive_key`](Rng::derive_key): the film set,
-//!   light `j`'s shadow set, a glossy set), but not of pixels or numbered
-//!   siblings, so it is the same in every pixel and for every sample;
-//! * its **index**: the pixel's Morton code ([`at_pixel`](Rng::at_pixel)),
-//!   followed by the numbers of the siblings taken below the pixel
-//!   ([`sibling`](Rng::sibling): sample `i` of the pixel, ray `k` of a set),
-//!   each in as many bits as its count needs; and how many of the index's
-//!   bits lie below the pixel's code.
-//!
-//! Neither changes the stream's key, so the values drawn are the same with
-//! or without them.
 
 /// Finaliser of SplitMix64: a bijective 64-bit mixer with
 /// full avalanche, good enough to turn counters into independent-looking values.
@@ -49,8 +29,8 @@ impl BranchKey {
     }
 }
 
-/// Where a stream's sets sit in the frame's shared sequence; see [A
-/// stream's place in the frame](self#a-streams-place-in-the-frame).
+/// Where a stream's sets sit in the frame's shared sequence; see [its
+/// place in the frame](Rng#its-place-in-the-frame).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Place {
     /// The key of the kinds of branches taken (pixel- and index-free).
@@ -86,7 +66,29 @@ pub fn morton(x: u32, y: u32) -> u64 {
     spread(x) | spread(y) << 1
 }
 
-/// A stream of random numbers identified by a key; see the module docs.
+/// A stream of random numbers identified by a key: the n-th value is a
+/// hash of (key, n), and [`derive`](Rng::derive) makes a sub-stream's key
+/// from its parent's and a branch number.
+///
+/// # Its place in the frame
+///
+/// Beside its key, a stream keeps where its sets sit in a sequence shared by
+/// the whole frame, for distributions whose sets are blocks of one sequence
+/// rather than sets scrambled apart (`zsobol`, after pbrt-v4's sampler of
+/// that name):
+///
+/// * its **dimension**: a key of the *kinds* of branches taken from the seed
+///   ([`derive`](Rng::derive), [`derive_key`](Rng::derive_key): the film set,
+///   light `j`'s shadow set, a glossy set), but not of pixels or numbered
+///   siblings, so it is the same in every pixel and for every sample;
+/// * its **index**: the pixel's Morton code ([`at_pixel`](Rng::at_pixel)),
+///   followed by the numbers of the siblings taken below the pixel
+///   ([`sibling`](Rng::sibling): sample `i` of the pixel, ray `k` of a set),
+///   each in as many bits as its count needs; and how many of the index's
+///   bits lie below the pixel's code.
+///
+/// Neither changes the stream's key, so the values drawn are the same with
+/// or without them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rng {
     key: u64,
