@@ -10,7 +10,8 @@ import numpy.typing as npt
 __version__: str
 
 #: The ray distributions, by name: the thesis's grid, jitter, semi-jitter, poisson, random,
-#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, halton, r2.
+#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, halton, r2, then custom (the
+#: user's own points, given by ``points=``).
 DISTRIBUTIONS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
@@ -31,11 +32,15 @@ DistributionName = Literal[
     "pmj02",
     "halton",
     "r2",
+    "custom",
 ]
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
 StrPath = str | os.PathLike[str]
+#: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
+#: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
+PointSets = StrPath | npt.ArrayLike | Callable[[int], npt.ArrayLike]
 Image = npt.NDArray[np.float32]
 
 class SceneError(ValueError):
@@ -126,6 +131,7 @@ class Scene:
         shadow_distribution: DistributionName | None = None,
         reflection_distribution: DistributionName | None = None,
         refraction_distribution: DistributionName | None = None,
+        points: PointSets | None = None,
         filter: FilterName | None = None,
         aperture: float | None = None,
         focal_distance: float | None = None,
@@ -207,6 +213,7 @@ def render(
     shadow_distribution: DistributionName | None = None,
     reflection_distribution: DistributionName | None = None,
     refraction_distribution: DistributionName | None = None,
+    points: PointSets | None = None,
     filter: FilterName | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
@@ -249,6 +256,7 @@ def render_region(
     shadow_distribution: DistributionName | None = None,
     reflection_distribution: DistributionName | None = None,
     refraction_distribution: DistributionName | None = None,
+    points: PointSets | None = None,
     filter: FilterName | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
@@ -272,7 +280,11 @@ def render_region(
     """Renders pixels [x0, x1) × [y0, y1) with their full-frame values: tiles stitch exactly."""
 
 def samples(
-    distribution: DistributionName, count: int, radius: float = 1.0, seed: int = 0
+    distribution: DistributionName,
+    count: int,
+    radius: float = 1.0,
+    seed: int = 0,
+    points: PointSets | None = None,
 ) -> npt.NDArray[np.float32]:
     """A distribution's points in trace order: shape (count, 2), or (count, 3) for fast-random."""
 

@@ -13,6 +13,7 @@ mod error;
 mod images;
 mod mesh;
 mod options;
+mod points;
 mod run;
 mod scene;
 
@@ -21,7 +22,10 @@ use pyo3::types::PyDict;
 
 use numpy::{PyArray3, PyArrayMethods};
 use penumbra::render::{stats_document, Region, RenderOptions};
-use penumbra::sampling::{Distribution, Rng};
+use std::sync::Arc;
+
+use penumbra::sampling::{Distribution, PointTable, Rng};
+use penumbra::scene::{read_points, Points};
 
 use crate::convert::{image_to_numpy, json_to_py, warn};
 use crate::error::SceneError;
@@ -44,7 +48,7 @@ const MAX_SAMPLES: i64 = 100_000;
     text_signature = "(scene, *, width=None, height=None, spp=None, shadow_rays=None, \
 reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
 lens_distribution=None, time_distribution=None, shadow_distribution=None, \
-reflection_distribution=None, refraction_distribution=None, filter=None, aperture=None, \
+reflection_distribution=None, refraction_distribution=None, points=None, filter=None, aperture=None, \
 focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, min_spp=None, threads=None, progress=None)"
@@ -71,7 +75,7 @@ fn render<'py>(
 shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
 pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
-filter=None, aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
+points=None, filter=None, aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, min_spp=None, threads=None, progress=None)"
 )]
@@ -105,7 +109,7 @@ fn render_impl<'py>(
     opts: &Options,
     region: Option<Region>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
-    let built = scene.build(py, &opts.overrides)?;
+    let built = scene.build(py, opts)?;
     let s = &built.settings;
     if let Some(r) = region {
         if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > s.width || r.y1 > s.height {
@@ -152,10 +156,12 @@ fn render_impl<'py>(
 /// Returns a float32 array of shape (count, 2), or (count, 3) for
 /// `fast-random` (a cube). The values are exactly those of
 /// `penumbra samples --distribution D --count N --radius R --seed S`.
+/// `custom` needs `points`: a path, an array or a function, as the render
+/// functions' `points=` takes (a function is called with `count`).
 #[pyfunction]
 #[pyo3(
-    signature = (distribution, count, radius = None, seed = None),
-    text_signature = "(distribution, count, radius=1.0, seed=0)"
+    signature = (distribution, count, radius = None, seed = None, points = None),
+    text_signature = "(distribution, count, radius=1.0, seed=0, points=None)"
 )]
 fn samples<'py>(
     py: Python<'py>,
@@ -163,6 +169,7 @@ fn samples<'py>(
     count: &Bound<'py, PyAny>,
     radius: Option<&Bound<'py, PyAny>>,
     seed: Option<&Bound<'py, PyAny>>,
+    points: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
     let d: Distribution = parse_distribution("distribution", distribution)?;
     let count = ranged_int("count", count, 1, MAX_SAMPLES)? as usize;
@@ -171,8 +178,27 @@ fn samples<'py>(
     if let Some(w) = d.non_square_warning(count) {
         warn(py, &w)?;
     }
+    let table = match points.filter(|p| !p.is_none()) {
+        None if d == Distribution::Custom => {
+            return Err(options::value_error(
+                "the custom distribution draws from your point sets: pass points= \
+                 (a path, an array of shape (N, 2) or (S, N, 2), or a function of the set size)",
+            ))
+        }
+        None => Arc::new(PointTable::NONE),
+        Some(p) => match points::parse_points(p)? {
+            points::PointsArg::Given(Points::Table(t)) => t,
+            points::PointsArg::Given(Points::File(path)) => {
+                let t = read_points(&path).map_err(|e| options::value_error(e.to_string()))?;
+                Arc::new(t)
+            }
+            points::PointsArg::Function(f) => {
+                Arc::new(points::function_table(f.bind(py), &[count as u32])?)
+            }
+        },
+    };
     let mut points = Vec::new();
-    d.generate(count, radius, &mut Rng::new(seed), &mut points);
+    d.generate_in(&table, count, radius, &mut Rng::new(seed), &mut points);
     let dims = if d.is_3d() { 3 } else { 2 };
     let flat: Vec<f32> = points
         .iter()
@@ -215,7 +241,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_check_options, m)?)?;
     m.add_function(wrap_pyfunction!(images::save_image, m)?)?;
     m.add_function(wrap_pyfunction!(images::load_image, m)?)?;
-    let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+    let names: Vec<&str> = Distribution::SELECTABLE.iter().map(|d| d.name()).collect();
     m.add("DISTRIBUTIONS", pyo3::types::PyTuple::new(py, names)?)?;
     m.add(
         "RENDER_OPTIONS",

@@ -8,14 +8,18 @@
 //! done, and `None` always means "keep the scene's value".
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
+use std::sync::Arc;
+
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
-use penumbra::sampling::{Distribution, Filter};
+use penumbra::sampling::{Distribution, Filter, PointTable};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
-use penumbra::scene::{Choices, Overrides, RenderOption, StopRule, OPTIONS};
+use penumbra::scene::{Choices, Overrides, Points, RenderOption, StopRule, OPTIONS};
+
+use crate::points::{parse_points, PointsArg};
 
 /// The keyword argument that is not a render option: the progress callback.
 const PROGRESS: &str = "progress";
@@ -37,6 +41,9 @@ pub struct Options {
     pub threads: Option<usize>,
     /// `progress(done_tiles, total_tiles)`, called with the GIL held.
     pub progress: Option<Py<PyAny>>,
+    /// `points=` as a function of the set size, called once the scene is
+    /// built (see [`crate::points`]).
+    pub points_fn: Option<Py<PyAny>>,
 }
 
 /// A `ValueError`, its message bounded as every error about input is (a
@@ -61,6 +68,7 @@ fn python_option(name: &str) -> Option<&'static RenderOption> {
 pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
     let mut choices = Choices::default();
     let mut progress = None;
+    let mut points_fn = None;
     for (key, value) in kwargs.into_iter().flat_map(|k| k.iter()) {
         let key: String = key.extract()?;
         let option = python_option(&key);
@@ -71,6 +79,15 @@ pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult
             continue;
         }
         match option {
+            Some(o) if o.kind == Kind::File => match parse_points(&value)? {
+                PointsArg::Given(points) => choices.overrides.points = Some(points),
+                PointsArg::Function(f) => {
+                    // An empty table until the function has made the real one.
+                    let none = Arc::new(PointTable::NONE);
+                    choices.overrides.points = Some(Points::Table(none));
+                    points_fn = Some(f);
+                }
+            },
             Some(o) => o.store(&mut choices, parse_value(o, &value)?),
             None if value.is_callable() => progress = Some(value.unbind()),
             None => {
@@ -86,6 +103,7 @@ pub fn parse_options(func: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult
         overrides: choices.overrides,
         threads: choices.threads.map(|t| t as usize),
         progress,
+        points_fn,
     })
 }
 
@@ -105,6 +123,7 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
             Kind::Distribution => "distribution",
             Kind::Filter => "filter",
             Kind::Colour => continue,
+            Kind::File => "path",
         };
         let d = PyDict::new(py);
         d.set_item("name", o.name)?;
@@ -137,6 +156,7 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
                 "{name} is set in the scene, not as a render option"
             )))
         }
+        Kind::File => return Err(PyTypeError::new_err(format!("{name} is read by parse_points"))),
     })
 }
 

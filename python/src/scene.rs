@@ -18,12 +18,13 @@ use pyo3::types::{PyDict, PyTuple, PyType};
 use serde_json::Value;
 
 use penumbra::scene::{
-    default_bunny_path, LoadOptions, Overrides, Scene as Built, SceneDesc,
+    default_bunny_path, LoadOptions, Scene as Built, SceneDesc,
     SceneError as LibSceneError, SceneSource, WorldCache,
 };
 
 use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
-use crate::options::parse_options;
+use crate::options::{parse_options, Options};
+use crate::points::function_table;
 use crate::error::SceneError;
 
 /// The text a scene was read from.
@@ -94,16 +95,24 @@ impl Scene {
         }
     }
 
-    /// The scene built with these overrides, its world (meshes and BVH)
-    /// taken from an earlier build with the same geometry and mesh files.
-    pub fn build(&self, py: Python<'_>, overrides: &Overrides) -> PyResult<Built> {
+    /// The scene built with these options, its world (meshes and BVH)
+    /// taken from an earlier build with the same geometry and mesh files;
+    /// a `points=` function is called for the set sizes of the built scene.
+    pub fn build(&self, py: Python<'_>, opts: &Options) -> PyResult<Built> {
         let mut source = self.source().map_err(scene_error)?;
-        overrides.apply(&mut source.desc);
+        opts.overrides.apply(&mut source.desc);
         let built = py.detach(|| {
             let mut worlds = self.worlds.lock().unwrap_or_else(|e| e.into_inner());
             source.build_reusing(&mut worlds)
         });
-        built.map_err(scene_error)
+        let mut built = built.map_err(scene_error)?;
+        if let Some(f) = &opts.points_fn {
+            let sizes = built.custom_set_sizes();
+            if !sizes.is_empty() {
+                built.settings.points = Arc::new(function_table(f.bind(py), &sizes)?);
+            }
+        }
+        Ok(built)
     }
 
     fn format(&self) -> &'static str {
@@ -252,7 +261,7 @@ impl Scene {
         options: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let opts = parse_options("settings", options)?;
-        let built = self.build(py, &opts.overrides)?;
+        let built = self.build(py, &opts)?;
         let s = &built.settings;
         let doc = serde_json::json!({
             "width": s.width,

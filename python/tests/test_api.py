@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import pickle
 import signal
 import subprocess
@@ -417,12 +418,16 @@ def test_non_square_counts_warn(small):
     assert all(issubclass(w.category, UserWarning) for w in caught)
 
 
+NET16 = np.array([[(i + 0.5) / 16, int(f"{i:04b}"[::-1], 2) / 16 + 1 / 32] for i in range(16)])
+
+
 def test_samples_shapes_and_determinism():
     for name in penumbra.DISTRIBUTIONS:
-        pts = penumbra.samples(name, 16, radius=0.5, seed=2)
+        points = NET16 if name == "custom" else None
+        pts = penumbra.samples(name, 16, radius=0.5, seed=2, points=points)
         assert pts.dtype == np.float32
         assert pts.shape == ((16, 3) if name == "fast-random" else (16, 2))
-        assert np.array_equal(pts, penumbra.samples(name, 16, radius=0.5, seed=2))
+        assert np.array_equal(pts, penumbra.samples(name, 16, radius=0.5, seed=2, points=points))
         assert np.abs(pts).max() <= 0.5 + 1e-6
     with pytest.raises(ValueError, match="count"):
         penumbra.samples("grid", 0)
@@ -444,3 +449,45 @@ def test_images_save_and_load(tmp_path: Path, small):
         penumbra.save_image(tmp_path / "missing" / "c.exr", image)
     with pytest.raises(ValueError, match="exr"):
         penumbra.load_image(tmp_path / "a.png")
+
+
+def test_custom_points_from_arrays_files_and_functions(tmp_path: Path, small):
+    """The same sets give the same image whether they come as an array, a
+    JSON file or a function; a function is asked for each set size."""
+    scene = penumbra.load_scene("showcase")
+    opts = dict(small, distribution="custom", shadow_rays=16, spp=4)
+    sets = np.stack([NET16, (NET16 + 0.25) % 1.0])
+    (tmp_path / "p.json").write_text(json.dumps(sets.tolist()))
+    from_array, _ = penumbra.render(scene, points=sets, **opts)
+    from_file, _ = penumbra.render(scene, points=tmp_path / "p.json", **opts)
+    asked = []
+
+    def made(n):
+        asked.append(n)
+        return sets if n == 16 else np.full((n, 2), 0.5)
+
+    from_function, _ = penumbra.render(scene, points=made, **opts)
+    assert np.array_equal(from_array, from_file)
+    assert sorted(set(asked)) == asked and 16 in asked and 4 in asked
+    with_jitter, _ = penumbra.render(scene, **dict(opts, distribution="jitter"))
+    assert not np.array_equal(from_array, with_jitter)
+    assert np.isfinite(from_function).all()
+
+
+@pytest.mark.parametrize(
+    ("points", "error", "match"),
+    [
+        (None, penumbra.SceneError, "no points are given"),
+        ([[0.5, 1.5]], ValueError, r"set 0, point 0: \(0.5, 1.5\) is not in the unit square"),
+        ([[0.5, float("nan")]], ValueError, "not in the unit square"),
+        ([[0.5, 0.5, 0.5]], ValueError, "set 0, point 0: expected \\[x, y\\]"),
+        ([], ValueError, "set 0: a set needs at least one point"),
+        ("missing.json", penumbra.SceneError, "missing.json"),
+        (object(), TypeError, "points must be"),
+        (lambda n: np.zeros((n + 1, 2)), ValueError, "asked for sets of"),
+    ],
+)
+def test_bad_custom_points_are_refused(points, error, match, small):
+    scene = penumbra.load_scene("showcase")
+    with pytest.raises(error, match=match):
+        penumbra.render(scene, distribution="custom", points=points, **small)

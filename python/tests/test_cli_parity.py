@@ -93,12 +93,16 @@ def test_one_metric_alone_matches_the_cli(cli: Path, tmp_path: Path, alone: str)
 
 
 @pytest.mark.parametrize("distribution", list(penumbra.DISTRIBUTIONS))
-def test_samples_match_the_cli_json(cli: Path, distribution: str):
+def test_samples_match_the_cli_json(cli: Path, distribution: str, tmp_path: Path):
+    sets = [[[(i + 0.5) / 25, ((7 * i) % 25 + 0.5) / 25] for i in range(25)]]
+    (tmp_path / "p.json").write_text(json.dumps(sets))
+    custom = ["--points", str(tmp_path / "p.json")] if distribution == "custom" else []
     doc = json.loads(
         run(cli, "samples", "--distribution", distribution, "--count", "25", "--radius", "0.5",
-            "--seed", "7").stdout
+            "--seed", "7", *custom).stdout
     )
-    points = penumbra.samples(distribution, 25, radius=0.5, seed=7)
+    given = tmp_path / "p.json" if distribution == "custom" else None
+    points = penumbra.samples(distribution, 25, radius=0.5, seed=7, points=given)
     assert np.array_equal(points, np.array(doc["points"], dtype=np.float32))
 
 

@@ -26,8 +26,17 @@ ANNOTATIONS = {
     "distribution": "DistributionName | None",
     "filter": "FilterName | None",
     "stop_rule": "StopRuleName | None",
+    "path": "PointSets | None",
 }
-VALID = {"int": 2, "float": 0.5, "bool": True, "distribution": "poisson", "filter": "tent", "stop_rule": "cycles"}
+VALID = {
+    "int": 2,
+    "float": 0.5,
+    "bool": True,
+    "distribution": "poisson",
+    "filter": "tent",
+    "stop_rule": "cycles",
+    "path": "points.json",
+}
 
 
 def test_render_options_are_the_tables_and_progress():

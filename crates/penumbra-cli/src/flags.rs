@@ -1,6 +1,8 @@
 //! The render options' flags, made from the library's table
 //! ([`penumbra::scene::OPTIONS`]), and the value parsers of the command line.
 
+use std::path::PathBuf;
+
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
@@ -34,6 +36,11 @@ impl FromArgMatches for OptionFlags {
         for o in OPTIONS.iter().filter(|o| o.flag.is_some()) {
             if let Some(v) = given(o, m) {
                 o.store(&mut self.0, v);
+            }
+            if o.kind == Kind::File {
+                if let Some(path) = m.get_one::<PathBuf>(o.name) {
+                    o.store_file(&mut self.0, path.clone());
+                }
             }
         }
         Ok(())
@@ -71,6 +78,7 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         )],
         // Colours are set in scene files only.
         Kind::Colour => Vec::new(),
+        Kind::File => vec![with_value(arg.value_parser(clap::value_parser!(PathBuf)))],
     }
 }
 
@@ -96,7 +104,7 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
                 _ => None,
             }
         }
-        Kind::Colour => None,
+        Kind::Colour | Kind::File => None,
     }
 }
 
@@ -242,7 +250,7 @@ mod tests {
                 Kind::Filter => ("gaussian".into(), Value::Filter(Filter::Gaussian)),
                 Kind::StopRule => ("povray".into(), Value::StopRule(StopRule::Povray)),
                 Kind::Between(lo, _) => (lo.to_string(), Value::Number(lo)),
-                Kind::Switch | Kind::Colour => continue,
+                Kind::Switch | Kind::Colour | Kind::File => continue,
             };
             let mut expected = Choices::default();
             o.store(&mut expected, value);
@@ -289,7 +297,7 @@ mod tests {
                         "nan".into(),
                     ],
                 ),
-                Kind::Switch | Kind::Colour => continue,
+                Kind::Switch | Kind::Colour | Kind::File => continue,
             };
             for v in good {
                 let arg = format!("--{}={v}", o.long());

@@ -6,7 +6,8 @@ use clap::Args;
 use penumbra::io::output::write_bytes;
 use penumbra::io::plot;
 use penumbra::math::Vec3;
-use penumbra::sampling::{Distribution, Rng};
+use penumbra::sampling::{Distribution, PointTable, Rng};
+use penumbra::scene::read_points;
 use serde_json::json;
 
 use crate::error::{input, other, CliError};
@@ -16,7 +17,7 @@ use crate::flags::parse_positive;
 #[derive(Args)]
 pub struct SamplesArgs {
     /// grid, jitter, semi-jitter, poisson, random, fast-random, sobol, zsobol,
-    /// pmj02, halton, r2, or `all` (PNG only).
+    /// pmj02, halton, r2, custom (with --points), or `all` (PNG only).
     #[arg(long, short)]
     pub distribution: String,
     /// Number of points.
@@ -31,6 +32,10 @@ pub struct SamplesArgs {
     /// Output file (default: standard output for JSON, samples.png for PNG).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// The custom distribution's point sets: a JSON or .npy file (see the
+    /// scene format's `points` key).
+    #[arg(long, value_name = "FILE")]
+    pub points: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -45,7 +50,7 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
         None
     } else {
         Some(Distribution::from_name(&a.distribution).ok_or_else(|| {
-            let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+            let names: Vec<&str> = Distribution::SELECTABLE.iter().map(|d| d.name()).collect();
             input(format!(
                 "unknown distribution `{}`; valid choices are: {}, all",
                 a.distribution,
@@ -53,12 +58,21 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
             ))
         })?)
     };
+    let table =
+        match (&a.points, dist) {
+            (Some(path), _) => read_points(path).map_err(input)?,
+            (None, Some(Distribution::Custom)) => return Err(input(
+                "the custom distribution draws from your point sets: give them with --points FILE \
+                 (a JSON or .npy file)",
+            )),
+            (None, _) => PointTable::NONE,
+        };
     match (a.format, dist) {
         (SampleFormat::Json, None) => Err(input(
             "`--distribution all` draws a picture: use --format png",
         )),
         (SampleFormat::Json, Some(d)) => {
-            let points = points(d, a);
+            let points = points(d, &table, a);
             let coords: Vec<Vec<f32>> = points
                 .iter()
                 .map(|p| {
@@ -81,7 +95,7 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
         }
         (SampleFormat::Png, d) => {
             let img = match d {
-                Some(d) => plot::draw_points(&points(d, a), a.radius, 512, d.name()),
+                Some(d) => plot::draw_points(&points(d, &table, a), a.radius, 512, d.name()),
                 None => plot::draw_all(a.count as usize, a.radius, a.seed, 320),
             };
             let path = a
@@ -99,11 +113,17 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
     }
 }
 
-fn points(d: Distribution, a: &SamplesArgs) -> Vec<Vec3> {
+fn points(d: Distribution, table: &PointTable, a: &SamplesArgs) -> Vec<Vec3> {
     if let Some(w) = d.non_square_warning(a.count as usize) {
         eprintln!("warning: {w}");
     }
     let mut out = Vec::new();
-    d.generate(a.count as usize, a.radius, &mut Rng::new(a.seed), &mut out);
+    d.generate_in(
+        table,
+        a.count as usize,
+        a.radius,
+        &mut Rng::new(a.seed),
+        &mut out,
+    );
     out
 }

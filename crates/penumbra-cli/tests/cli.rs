@@ -301,3 +301,62 @@ fn samples_prints_json_in_trace_order() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(image::open(dir.path().join("all.png")).is_ok());
 }
+
+/// `custom` renders from a points file given by flag or scene key, and
+/// every bad points file exits 2 naming the file, leaving no image.
+#[test]
+fn custom_points_render_and_bad_ones_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| std::fs::write(dir.path().join(name), text).unwrap();
+    write(
+        "p.json",
+        "[[[0.25, 0.25], [0.75, 0.75]], [[0.25, 0.75], [0.75, 0.25]]]",
+    );
+    let custom = ["--distribution", "custom", "--shadow-rays", "2"];
+    let args = |points: &str, out: &'static str| {
+        let mut a = vec!["render", "showcase", "-o", out, "--points", points];
+        a.extend(custom);
+        a.extend(SMALL);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let run = |a: Vec<String>| {
+        penumbra(
+            &a.iter().map(String::as_str).collect::<Vec<_>>(),
+            dir.path(),
+        )
+    };
+    let o = run(args("p.json", "ok.png"));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    write(
+        "s.toml",
+        "[render]\ndistribution = \"custom\"\npoints = \"p.json\"\nwidth = 8\nheight = 8\n",
+    );
+    let o = penumbra(&["render", "s.toml", "-o", "s.png", "--quiet"], dir.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    write("nan.json", "[[0.5, NaN]]");
+    write("out.json", "[[0.5, 1.0]]");
+    write("shape.json", "[[0.5, 0.5, 0.5]]");
+    write("empty.json", "[]");
+    write("syntax.json", "[[0.5,\n 0.5]");
+    for (file, says) in [
+        ("nan.json", "nan.json:1:"),
+        ("out.json", "set 0, point 0"),
+        ("shape.json", "expected [x, y]"),
+        ("empty.json", "no point sets"),
+        ("syntax.json", "syntax.json:2:"),
+        ("none.json", "none.json"),
+        (".", "not a regular file"),
+    ] {
+        let o = run(args(file, "bad.png"));
+        assert_eq!(o.status.code(), Some(2), "{file}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("render.points") && e.contains(says),
+            "{file}: {e}"
+        );
+        assert!(!dir.path().join("bad.png").exists(), "{file}");
+    }
+    let o = penumbra(&["samples", "-d", "custom", "-c", "4"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--points"), "{}", stderr(&o));
+}

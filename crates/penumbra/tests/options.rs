@@ -153,6 +153,8 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
             vec!["[0.0, 2.0, 0.5]".into()],
             vec!["[0.0, -1.0, 0.0]".into()],
         ),
+        // A file is read only when `custom` needs it: see tests/points.rs.
+        Kind::File => (Vec::new(), vec!["7".into()]),
     }
 }
 
@@ -204,6 +206,7 @@ fn front_end_values_replace_the_key_of_the_same_name() {
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
             Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::Colour => Value::Colour([0.5; 3]),
+            Kind::File => continue,
         };
         let mut c = Choices::default();
         o.store(&mut c, v);

@@ -141,6 +141,18 @@
 //! base-4 digit of its index (about 12 for a pixel of an 800x600 frame with
 //! 16 samples).
 //!
+//! # The user's points
+//!
+//! **`custom`** draws every set from a [`PointTable`] of point sets the user
+//! gives (a file, or in Python an array or a function): a set of the right
+//! size chosen from the stream, shifted by a random offset modulo the unit
+//! square; see [`custom`](super::custom). It is not in
+//! [`Distribution::ALL`] (it needs a table), but it is in
+//! [`Distribution::SELECTABLE`]. Its methods with a table are the `_in`
+//! ones ([`generate_in`](Distribution::generate_in) …); without a table
+//! (as [`generate`](Distribution::generate) draws), `custom` gives
+//! independent uniform points.
+//!
 //! # A count of one
 //!
 //! With one point, `grid` gives exactly the centre `(0, 0)`: the original ray,
@@ -283,6 +295,7 @@ use std::str::FromStr;
 
 use crate::math::{Vec2, Vec3};
 
+use super::custom::PointTable;
 use super::halton::Halton;
 use super::pmj02::Pmj02;
 use super::r2::R2;
@@ -305,6 +318,9 @@ pub enum Distribution {
     Pmj02,
     Halton,
     R2,
+    /// The user's own points, from a [`PointTable`]; not in
+    /// [`ALL`](Distribution::ALL), since it needs one.
+    Custom,
 }
 
 impl Distribution {
@@ -322,6 +338,17 @@ impl Distribution {
         Distribution::Halton,
         Distribution::R2,
     ];
+
+    /// Every name a user may select: [`ALL`](Self::ALL), then `custom`.
+    pub const SELECTABLE: [Distribution; Self::ALL.len() + 1] = {
+        let mut names = [Distribution::Custom; Self::ALL.len() + 1];
+        let mut i = 0;
+        while i < Self::ALL.len() {
+            names[i] = Self::ALL[i];
+            i += 1;
+        }
+        names
+    };
 
     /// The thesis's six, in the order of its Figure 2.18 plus fast-random:
     /// the first six of [`ALL`](Self::ALL).
@@ -349,6 +376,7 @@ impl Distribution {
             Distribution::Pmj02 => "pmj02",
             Distribution::Halton => "halton",
             Distribution::R2 => "r2",
+            Distribution::Custom => "custom",
         }
     }
 
@@ -369,6 +397,7 @@ impl Distribution {
             "pmj02" | "pmj" => Distribution::Pmj02,
             "halton" => Distribution::Halton,
             "r2" => Distribution::R2,
+            "custom" => Distribution::Custom,
             _ => return None,
         };
         Some(d)
@@ -412,6 +441,18 @@ impl Distribution {
     /// `[-r, r]^2`, the disk of radius `r` (random) or the cube `[-r, r]^3`
     /// (fast-random); see the [module docs](self).
     pub fn generate(self, count: usize, radius: f32, rng: &mut Rng, out: &mut Vec<Vec3>) {
+        self.generate_in(&PointTable::NONE, count, radius, rng, out);
+    }
+
+    /// [`generate`](Self::generate), with `custom`'s points from `table`.
+    pub fn generate_in(
+        self,
+        table: &PointTable,
+        count: usize,
+        radius: f32,
+        rng: &mut Rng,
+        out: &mut Vec<Vec3>,
+    ) {
         out.clear();
         if count == 0 {
             return;
@@ -431,6 +472,7 @@ impl Distribution {
             Distribution::Pmj02 => sequence(count, radius, out, Pmj02::new(rng), Pmj02::point),
             Distribution::Halton => sequence(count, radius, out, Halton::new(rng), Halton::point),
             Distribution::R2 => sequence(count, radius, out, R2::new(rng), R2::point),
+            Distribution::Custom => table.fill(count, rng, |p| out.push(square(p, radius))),
         }
     }
 
@@ -439,6 +481,11 @@ impl Distribution {
     /// 1` (the same bits and the same draws), without a buffer: a camera ray
     /// with one shadow ray makes hundreds of thousands of such sets.
     pub fn one(self, radius: f32, rng: &mut Rng) -> Vec3 {
+        self.one_in(&PointTable::NONE, radius, rng)
+    }
+
+    /// [`one`](Self::one), with `custom`'s points from `table`.
+    pub fn one_in(self, table: &PointTable, radius: f32, rng: &mut Rng) -> Vec3 {
         // The one cell is the whole square: `(0 + offset) / 1 = offset`.
         let cell = |o: Vec2| Vec3::new(to_radius(o.x, radius), to_radius(o.y, radius), 0.0);
         match self {
@@ -453,6 +500,11 @@ impl Distribution {
             Distribution::Pmj02 => cell(Pmj02::new(rng).point(0)),
             Distribution::Halton => cell(Halton::new(rng).point(0)),
             Distribution::R2 => cell(R2::new(rng).point(0)),
+            Distribution::Custom => {
+                let mut point = Vec2::ZERO;
+                table.fill(1, rng, |p| point = p);
+                cell(point)
+            }
         }
     }
 
@@ -462,14 +514,27 @@ impl Distribution {
     /// since it keeps every cell anyway. Other distributions and counts are
     /// generated as by `generate`, whose shuffle chooses the cells kept.
     pub fn generate_unordered(self, count: usize, radius: f32, rng: &mut Rng, out: &mut Vec<Vec3>) {
+        self.generate_unordered_in(&PointTable::NONE, count, radius, rng, out);
+    }
+
+    /// [`generate_unordered`](Self::generate_unordered), with `custom`'s
+    /// points from `table`.
+    pub fn generate_unordered_in(
+        self,
+        table: &PointTable,
+        count: usize,
+        radius: f32,
+        rng: &mut Rng,
+        out: &mut Vec<Vec3>,
+    ) {
         let s = square_side(count);
         out.clear();
         match self {
-            _ if s * s != count => self.generate(count, radius, rng, out),
+            _ if s * s != count => self.generate_in(table, count, radius, rng, out),
             Distribution::Grid => cell_points(s, radius, rng, out, centre),
             Distribution::Jitter => cell_points(s, radius, rng, out, unit_square),
             Distribution::SemiJitter => cell_points(s, radius, rng, out, semi_jitter),
-            _ => self.generate(count, radius, rng, out),
+            _ => self.generate_in(table, count, radius, rng, out),
         }
     }
 
@@ -483,6 +548,18 @@ impl Distribution {
     /// sequence order, unshuffled (for `r2` the shifted golden-ratio
     /// sequence).
     pub fn generate_1d(self, count: usize, rng: &mut Rng, out: &mut Vec<f32>) {
+        self.generate_1d_in(&PointTable::NONE, count, rng, out);
+    }
+
+    /// [`generate_1d`](Self::generate_1d), with `custom`'s points from
+    /// `table` (their first coordinates, in the set's order).
+    pub fn generate_1d_in(
+        self,
+        table: &PointTable,
+        count: usize,
+        rng: &mut Rng,
+        out: &mut Vec<f32>,
+    ) {
         out.clear();
         if count == 0 {
             return;
@@ -505,6 +582,7 @@ impl Distribution {
             Distribution::Pmj02 => return values(count, out, Pmj02::new(rng), Pmj02::value),
             Distribution::Halton => return values(count, out, Halton::new(rng), Halton::value),
             Distribution::R2 => return values(count, out, R2::new(rng), R2::value),
+            Distribution::Custom => return table.fill(count, rng, |p| out.push(p.x)),
         }
         shuffle(out, rng);
     }
@@ -612,6 +690,11 @@ fn to_radius(t: f32, radius: f32) -> f32 {
     radius * (2.0 * t - 1.0)
 }
 
+/// A point of `[0, 1)^2` scaled to `[-r, r]^2`.
+fn square(p: Vec2, radius: f32) -> Vec3 {
+    Vec3::new(to_radius(p.x, radius), to_radius(p.y, radius), 0.0)
+}
+
 /// One point per cell of the `s x s` grid, at `offset` (in `[0, 1)^2`, in
 /// cell units) within its cell; then shuffled and cut to `count`.
 fn cells(
@@ -659,10 +742,7 @@ fn sequence<S>(
     set: S,
     point: impl Fn(&S, u32) -> Vec2,
 ) {
-    out.extend((0..count).map(|i| {
-        let p = point(&set, i as u32);
-        Vec3::new(to_radius(p.x, radius), to_radius(p.y, radius), 0.0)
-    }));
+    out.extend((0..count).map(|i| square(point(&set, i as u32), radius)));
 }
 
 /// The first `count` values of a low-discrepancy `set`'s one-dimensional

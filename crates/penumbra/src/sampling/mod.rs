@@ -3,6 +3,7 @@
 
 #[cfg(test)]
 mod checks;
+pub mod custom;
 pub mod distribution;
 pub mod filter;
 pub mod halton;
@@ -15,6 +16,7 @@ pub mod sobol;
 pub mod warp;
 pub mod zsobol;
 
+pub use custom::PointTable;
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };

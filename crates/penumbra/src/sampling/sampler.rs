@@ -17,7 +17,7 @@
 //! Below a path, the integrator derives the streams of each event's set of
 //! rays from the path's stream (see the integrator's documentation).
 
-use super::{index_bits, BranchKey, Distribution, Rng};
+use super::{index_bits, BranchKey, Distribution, PointTable, Rng};
 use crate::math::Vec3;
 
 /// The sets of a pixel drawn from its own streams, one per dimension of the
@@ -87,13 +87,14 @@ impl PixelSampler {
         self.root.derive(d as u64)
     }
 
-    /// The `count` points of a dimension's set from `distribution` within
-    /// `radius`, into `out`: in shuffled trace order if `ordered` (a metric
-    /// may stop the set early), else in the distribution's own order.
+    /// The `count` points of a dimension's set from `distribution` (with
+    /// `custom`'s points from `table`) within `radius`, into `out`: in
+    /// shuffled trace order if `ordered` (a metric may stop the set early),
+    /// else in the distribution's own order.
     pub fn points(
         &self,
         d: Dimension,
-        distribution: Distribution,
+        (distribution, table): (Distribution, &PointTable),
         count: usize,
         radius: f32,
         ordered: bool,
@@ -101,9 +102,9 @@ impl PixelSampler {
     ) {
         let mut rng = self.stream(d);
         if ordered {
-            distribution.generate(count, radius, &mut rng, out);
+            distribution.generate_in(table, count, radius, &mut rng, out);
         } else {
-            distribution.generate_unordered(count, radius, &mut rng, out);
+            distribution.generate_unordered_in(table, count, radius, &mut rng, out);
         }
     }
 
@@ -111,11 +112,11 @@ impl PixelSampler {
     pub fn values(
         &self,
         d: Dimension,
-        distribution: Distribution,
+        (distribution, table): (Distribution, &PointTable),
         count: usize,
         out: &mut Vec<f32>,
     ) {
-        distribution.generate_1d(count, &mut self.stream(d), out);
+        distribution.generate_1d_in(table, count, &mut self.stream(d), out);
     }
 
     /// The branch of primary sample `i`'s path; hashed once, it can be kept

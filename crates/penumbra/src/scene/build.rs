@@ -9,6 +9,7 @@ use super::context::resolve_mesh_path;
 pub use super::context::BuildContext;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
+use super::points::read_points;
 use super::reuse::{self, WorldCache};
 use super::{EffectSpec, Light, LightShape, Material, PenumbraModel};
 use super::{Metric, Scene, Settings, Stopping};
@@ -20,7 +21,7 @@ use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
 use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
-use crate::sampling::Distribution;
+use crate::sampling::{Distribution, PointTable};
 
 /// Why a description could not be built.
 #[derive(Debug)]
@@ -63,7 +64,7 @@ pub fn build(
     mut worlds: Option<&mut WorldCache>,
 ) -> Result<Scene, BuildError> {
     let start = std::time::Instant::now();
-    let settings = settings(&desc.render)?;
+    let mut settings = settings(&desc.render)?;
     let camera = camera(&desc.camera, &settings)?;
     let defaults = Defaults::of(&desc.render)?;
     let (mut materials, names) = materials(desc, &defaults)?;
@@ -94,6 +95,10 @@ pub fn build(
             });
         }
         lights.push(light);
+    }
+    let sets = custom_sets(&settings, &materials, &lights);
+    if let Some(&(what, _)) = sets.first() {
+        settings.points = points(&desc.render, ctx, what)?;
     }
     let warnings = square_warnings(&settings, &materials, &lights);
     let transparency = materials.iter().map(|m| m.transparency).collect();
@@ -247,6 +252,7 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
         pixel: r.pixel_distribution.unwrap_or(r.distribution),
         lens: r.lens_distribution.unwrap_or(r.distribution),
         time: r.time_distribution.unwrap_or(r.distribution),
+        points: Arc::new(PointTable::NONE),
         filter: r.filter,
         metric: metric(r, &p)?,
         stopping: stopping(r, &p)?,
@@ -848,6 +854,69 @@ fn light_shape(l: &Light) -> Option<Shape> {
             radius,
         }),
     }
+}
+
+/// The effects that draw their sets from the `custom` distribution, with
+/// their sets' sizes: the pixel's sets (of `spp`), the blurry reflections
+/// and refractions of the materials that have them, the area lights'
+/// shadow sets.
+pub(super) fn custom_sets(
+    s: &Settings,
+    materials: &[Material],
+    lights: &[Light],
+) -> Vec<(&'static str, u32)> {
+    let mut sets = Vec::new();
+    let mut add = |what: &'static str, rays: u32, d: Distribution| {
+        if d == Distribution::Custom {
+            sets.push((what, rays));
+        }
+    };
+    add("pixel positions", s.spp, s.pixel);
+    add("lens positions", s.spp, s.lens);
+    add("shutter times", s.spp, s.time);
+    for m in materials {
+        if m.reflectivity > 0.0 && m.glossiness > 0.0 {
+            add(
+                "reflection rays",
+                m.reflection.rays,
+                m.reflection.distribution,
+            );
+        }
+        if m.transparency > 0.0 && m.translucency > 0.0 {
+            add(
+                "refraction rays",
+                m.refraction.rays,
+                m.refraction.distribution,
+            );
+        }
+    }
+    for l in lights.iter().filter(|l| !l.is_delta()) {
+        add("shadow rays", l.shadow.rays, l.shadow.distribution);
+    }
+    sets
+}
+
+/// The `custom` distribution's points, which `what` draws from: the table
+/// given in code, else the `points` file (relative to the scene file).
+fn points(r: &RenderDesc, ctx: &BuildContext, what: &str) -> Result<Arc<PointTable>, Invalid> {
+    let key = KeyPath::root().key("render").key("points");
+    if let Some(t) = &r.points_table {
+        return Ok(Arc::clone(t));
+    }
+    let Some(file) = &r.points else {
+        return Err(Invalid::new(
+            key,
+            format!(
+                "the custom distribution is selected for the {what}, but no points are given: \
+                 set `points = \"FILE\"` in [render] (--points FILE on the command line, \
+                 points= in Python) to a JSON or .npy file of point sets"
+            ),
+        ));
+    };
+    let path = ctx.base_dir.join(file);
+    let table = read_points(&path)
+        .map_err(|e| Invalid::new(key, format!("cannot read the points: {e}")))?;
+    Ok(Arc::new(table))
 }
 
 /// One message per effect whose ray count is not a square for a distribution that needs one.

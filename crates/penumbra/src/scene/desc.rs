@@ -6,11 +6,14 @@
 //! exact key and validation can say which keys a given type accepts.
 //! `docs/scene-format.md` is the user reference for every key here.
 
+use std::path::PathBuf;
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::arity;
 use super::settings::StopRule;
-use crate::sampling::{Distribution, Filter};
+use crate::sampling::{Distribution, Filter, PointTable};
 
 /// A whole scene file.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -54,6 +57,11 @@ pub struct RenderDesc {
     pub shadow_distribution: Option<Distribution>,
     pub reflection_distribution: Option<Distribution>,
     pub refraction_distribution: Option<Distribution>,
+    /// The `custom` distribution's points file, relative to the scene file.
+    pub points: Option<PathBuf>,
+    /// A `custom` table given in code (Python), which wins over `points`.
+    #[serde(skip)]
+    pub points_table: Option<Arc<PointTable>>,
     /// The pixel filter.
     pub filter: Filter,
     /// The acceleration metrics of thesis §3.4 (off: the plain algorithm).
@@ -101,6 +109,8 @@ impl Default for RenderDesc {
             shadow_distribution: None,
             reflection_distribution: None,
             refraction_distribution: None,
+            points: None,
+            points_table: None,
             filter: Filter::Box,
             metric: false,
             reflection_metric: true,

@@ -17,6 +17,7 @@ mod material;
 mod nesting;
 pub mod options;
 mod overrides;
+pub mod points;
 mod reuse;
 mod settings;
 pub mod source;
@@ -32,6 +33,7 @@ pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE
 pub use material::{EffectSpec, Material};
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
+pub use points::{read_points, Points, PointsFileError};
 pub use reuse::WorldCache;
 pub use settings::{Metric, Settings, StopRule, Stopping};
 
@@ -53,4 +55,17 @@ pub struct Scene {
     pub warnings: Vec<String>,
     /// Time to validate the scene, load meshes and build the BVH.
     pub build_time: Duration,
+}
+
+impl Scene {
+    /// The sizes of the sets the render draws from the `custom`
+    /// distribution, smallest first, each once: what a table made by a
+    /// function (Python's `points=`) is asked for.
+    pub fn custom_set_sizes(&self) -> Vec<u32> {
+        let sets = build::custom_sets(&self.settings, &self.materials, &self.lights);
+        let mut sizes: Vec<u32> = sets.into_iter().map(|(_, n)| n).collect();
+        sizes.sort_unstable();
+        sizes.dedup();
+        sizes
+    }
 }

@@ -24,7 +24,10 @@
 //! Adding an option is one entry here, plus its field in [`Overrides`] (and
 //! in the description, for a scene-file key) and the code that uses it.
 
+use std::path::PathBuf;
+
 use super::overrides::Overrides;
+use super::points::Points;
 use super::settings::StopRule;
 use crate::sampling::{Distribution, Filter};
 
@@ -80,6 +83,10 @@ pub enum Kind {
     Between(f32, f32),
     /// A linear RGB colour with no negative channel (scene file only).
     Colour,
+    /// A file. A path is no [`Value`]: front ends keep it with
+    /// [`RenderOption::store_file`], and an option of this kind has no
+    /// `set`.
+    File,
 }
 
 /// A value of an option.
@@ -223,6 +230,13 @@ impl RenderOption {
         match self.flag.and_then(|f| f.metavar) {
             Some(m) => m.to_string(),
             None => self.name.to_uppercase(),
+        }
+    }
+
+    /// Keeps the file given for an option of [`Kind::File`] in `choices`.
+    pub fn store_file(&self, choices: &mut Choices, path: PathBuf) {
+        if self.kind == Kind::File && self.name == "points" {
+            choices.overrides.points = Some(Points::File(path));
         }
     }
 
@@ -394,6 +408,16 @@ pub const OPTIONS: &[RenderOption] = &[
         flag: Flag::PLAIN,
         python: true,
         set: Some(|c, v| c.overrides.refraction_distribution = v.distribution()),
+    },
+    RenderOption {
+        name: "points",
+        kind: Kind::File,
+        default: DefaultValue::Computed("none; `custom` needs one"),
+        doc: "point sets of the custom distribution: a JSON or .npy file",
+        table: Some(Table::Render),
+        flag: Flag::metavar("FILE"),
+        python: true,
+        set: None,
     },
     RenderOption {
         name: "filter",
@@ -620,7 +644,7 @@ mod tests {
             let front = o.flag.is_some() || o.python;
             assert_eq!(
                 front,
-                o.set.is_some(),
+                o.set.is_some() || o.kind == Kind::File,
                 "{}: a front end needs `set`",
                 o.name
             );
@@ -668,6 +692,17 @@ mod tests {
             Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::StopRule => Value::StopRule(StopRule::Cycles),
             Kind::Colour => Value::Colour([0.5; 3]),
+            Kind::File => unreachable!("a file option has no setter"),
+        }
+    }
+
+    /// Every file option's front-end value lands in `Choices`.
+    #[test]
+    fn file_options_store_their_file() {
+        for o in OPTIONS.iter().filter(|o| o.kind == Kind::File) {
+            let mut c = Choices::default();
+            o.store_file(&mut c, PathBuf::from("p.json"));
+            assert_ne!(c, Choices::default(), "{} stored nothing", o.name);
         }
     }
 }

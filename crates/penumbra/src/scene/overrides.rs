@@ -2,6 +2,7 @@
 //! arguments) that win over the file's.
 
 use super::desc::SceneDesc;
+use super::points::Points;
 use super::settings::StopRule;
 use crate::sampling::{Distribution, Filter};
 
@@ -27,6 +28,8 @@ pub struct Overrides {
     pub shadow_distribution: Option<Distribution>,
     pub reflection_distribution: Option<Distribution>,
     pub refraction_distribution: Option<Distribution>,
+    /// The `custom` distribution's points.
+    pub points: Option<Points>,
     pub aperture: Option<f32>,
     pub focal_distance: Option<f32>,
     /// Turn the acceleration metrics on or off.
@@ -88,6 +91,15 @@ impl Overrides {
             clear_if(&mut m.refraction_rays, self.refraction_rays.is_some());
             clear_if(&mut m.reflection_distribution, reflection_d.is_some());
             clear_if(&mut m.refraction_distribution, refraction_d.is_some());
+        }
+        match &self.points {
+            // Taken from the working directory, not the scene's.
+            Some(Points::File(path)) => {
+                let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+                (r.points, r.points_table) = (Some(path), None);
+            }
+            Some(Points::Table(t)) => (r.points, r.points_table) = (None, Some(t.clone())),
+            None => {}
         }
         set(&mut r.metric, self.metric);
         set(&mut r.reflection_metric, self.reflection_metric);

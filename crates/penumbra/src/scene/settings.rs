@@ -2,8 +2,10 @@
 //! acceleration metrics and of the adaptive sampling rules (whose rules
 //! live in the integrator).
 
+use std::sync::Arc;
+
 use crate::math::Rgb;
-use crate::sampling::{Distribution, Filter};
+use crate::sampling::{Distribution, Filter, PointTable};
 
 /// Image-wide settings after validation.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,6 +21,9 @@ pub struct Settings {
     pub pixel: Distribution,
     pub lens: Distribution,
     pub time: Distribution,
+    /// The `custom` distribution's points ([`PointTable::NONE`] when none
+    /// are given, which only a render without `custom` may have).
+    pub points: Arc<PointTable>,
     /// The pixel filter the film points are drawn by.
     pub filter: Filter,
     /// The acceleration metrics, if on.

@@ -190,17 +190,17 @@ pub(super) fn camera_samples(
         film.clear();
         film.push(Vec3::ZERO);
     } else {
-        pixel.points(Dimension::Film, s.pixel, n, 0.5, ordered, film);
+        pixel.points(Dimension::Film, (s.pixel, &s.points), n, 0.5, ordered, film);
     }
     lens.clear();
     if cam.has_lens() {
-        pixel.points(Dimension::Lens, s.lens, n, 1.0, true, lens);
+        pixel.points(Dimension::Lens, (s.lens, &s.points), n, 1.0, true, lens);
     }
     // Times matter only if something moves: each set has its own stream,
     // so skipping this one changes no other random number.
     times.clear();
     if cam.shutter_open() && (cam.moves() || !scene.world.is_static()) {
-        pixel.values(Dimension::Time, s.time, n, times);
+        pixel.values(Dimension::Time, (s.time, &s.points), n, times);
     }
     // All camera samples first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel

@@ -433,7 +433,8 @@ impl<'a> Tracer<'a> {
         points.clear();
         if n == 1 {
             // A point light, or a Whitted shadow ray: no set buffer needed.
-            points.extend(lit.iter().map(|h| d.one(1.0, &mut rng(h.ray))));
+            let table = &self.scene.settings.points;
+            points.extend(lit.iter().map(|h| d.one_in(table, 1.0, &mut rng(h.ray))));
         } else {
             let mut one = self.pool.pop().unwrap_or_default();
             for h in lit {
@@ -458,9 +459,9 @@ impl<'a> Tracer<'a> {
         // The rays are summed: their order matters only to the shadow
         // metric, which may stop the set early.
         if self.scene.settings.metric.is_some_and(|m| m.shadows) {
-            d.generate(n, 1.0, rng, points);
+            d.generate_in(&self.scene.settings.points, n, 1.0, rng, points);
         } else {
-            d.generate_unordered(n, 1.0, rng, points);
+            d.generate_unordered_in(&self.scene.settings.points, n, 1.0, rng, points);
         }
     }
 
@@ -548,7 +549,13 @@ impl<'a> Tracer<'a> {
     /// The points of a distribution set, in trace order, from the buffer pool.
     fn points(&mut self, d: Distribution, n: u32, mut rng: Rng) -> Vec<Vec3> {
         let mut buf = self.pool.pop().unwrap_or_default();
-        d.generate(n as usize, 1.0, &mut rng, &mut buf);
+        d.generate_in(
+            &self.scene.settings.points,
+            n as usize,
+            1.0,
+            &mut rng,
+            &mut buf,
+        );
         buf
     }
 }

@@ -101,6 +101,7 @@ fn value_type(kind: Kind) -> String {
         Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
         Kind::Between(lo, hi) => format!("number {lo}–{hi}"),
         Kind::Colour => "colour ≥ 0".into(),
+        Kind::File => "file".into(),
     }
 }
 
