@@ -7,6 +7,7 @@ use std::sync::Arc;
 use super::check::*;
 use super::context::resolve_mesh_path;
 pub use super::context::BuildContext;
+use super::custom_sets::custom_sets;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::points::read_points;
@@ -854,46 +855,6 @@ fn light_shape(l: &Light) -> Option<Shape> {
             radius,
         }),
     }
-}
-
-/// The effects that draw their sets from the `custom` distribution, with
-/// their sets' sizes: the pixel's sets (of `spp`), the blurry reflections
-/// and refractions of the materials that have them, the area lights'
-/// shadow sets.
-pub(super) fn custom_sets(
-    s: &Settings,
-    materials: &[Material],
-    lights: &[Light],
-) -> Vec<(&'static str, u32)> {
-    let mut sets = Vec::new();
-    let mut add = |what: &'static str, rays: u32, d: Distribution| {
-        if d == Distribution::Custom {
-            sets.push((what, rays));
-        }
-    };
-    add("pixel positions", s.spp, s.pixel);
-    add("lens positions", s.spp, s.lens);
-    add("shutter times", s.spp, s.time);
-    for m in materials {
-        if m.reflectivity > 0.0 && m.glossiness > 0.0 {
-            add(
-                "reflection rays",
-                m.reflection.rays,
-                m.reflection.distribution,
-            );
-        }
-        if m.transparency > 0.0 && m.translucency > 0.0 {
-            add(
-                "refraction rays",
-                m.refraction.rays,
-                m.refraction.distribution,
-            );
-        }
-    }
-    for l in lights.iter().filter(|l| !l.is_delta()) {
-        add("shadow rays", l.shadow.rays, l.shadow.distribution);
-    }
-    sets
 }
 
 /// The `custom` distribution's points, which `what` draws from: the table
