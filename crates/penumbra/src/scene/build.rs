@@ -7,10 +7,10 @@ use std::sync::Arc;
 use super::check::*;
 use super::context::resolve_mesh_path;
 pub use super::context::BuildContext;
-use super::custom_sets::custom_sets;
 use super::desc::*;
 use super::error::{Invalid, KeyPath};
 use super::points::read_points;
+use super::ray_sets::{custom_sets, each_set};
 use super::reuse::{self, WorldCache};
 use super::{EffectSpec, Light, LightShape, Material, PenumbraModel};
 use super::{Metric, Scene, Settings, Stopping};
@@ -880,36 +880,21 @@ fn points(r: &RenderDesc, ctx: &BuildContext, what: &str) -> Result<Arc<PointTab
     Ok(Arc::new(table))
 }
 
-/// One message per effect whose ray count is not a square for a distribution that needs one.
+/// One message per effect whose ray count is not a square for a
+/// distribution that needs one. The pixel's message stands for its lens
+/// positions too (the same count; a pinhole camera draws none), and
+/// shutter times are one-dimensional.
 fn square_warnings(s: &Settings, materials: &[Material], lights: &[Light]) -> Vec<String> {
     let mut seen = Vec::new();
-    let mut add = |what: &str, rays: u32, d: Distribution| {
-        if let Some(msg) = d.non_square_warning(rays as usize) {
+    each_set(s, materials, lights, |what, rays, d| {
+        let message = d.non_square_warning(rays as usize);
+        let camera = matches!(what, "lens positions" | "shutter times");
+        if let (Some(msg), false) = (message, camera) {
             let line = format!("{what}: {msg}");
             if !seen.contains(&line) {
                 seen.push(line);
             }
         }
-    };
-    add("primary rays per pixel", s.spp, s.pixel);
-    for m in materials {
-        if m.reflectivity > 0.0 && m.glossiness > 0.0 {
-            add(
-                "reflection rays",
-                m.reflection.rays,
-                m.reflection.distribution,
-            );
-        }
-        if m.transparency > 0.0 && m.translucency > 0.0 {
-            add(
-                "refraction rays",
-                m.refraction.rays,
-                m.refraction.distribution,
-            );
-        }
-    }
-    for l in lights.iter().filter(|l| !l.is_delta()) {
-        add("shadow rays", l.shadow.rays, l.shadow.distribution);
-    }
+    });
     seen
 }

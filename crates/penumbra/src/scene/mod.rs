@@ -9,7 +9,6 @@ mod build;
 pub mod builtin;
 mod check;
 mod context;
-mod custom_sets;
 pub mod desc;
 pub mod error;
 mod light;
@@ -19,6 +18,7 @@ mod nesting;
 pub mod options;
 mod overrides;
 pub mod points;
+mod ray_sets;
 mod reuse;
 mod settings;
 pub mod source;
@@ -63,7 +63,7 @@ impl Scene {
     /// distribution, smallest first, each once: what a table made by a
     /// function (Python's `points=`) is asked for.
     pub fn custom_set_sizes(&self) -> Vec<u32> {
-        let sets = custom_sets::custom_sets(&self.settings, &self.materials, &self.lights);
+        let sets = ray_sets::custom_sets(&self.settings, &self.materials, &self.lights);
         let mut sizes: Vec<u32> = sets.into_iter().map(|(_, n)| n).collect();
         sizes.sort_unstable();
         sizes.dedup();
