@@ -7,9 +7,9 @@
 //! flags from: a value the CLI refuses is refused here before any work is
 //! done, and `None` always means "keep the scene's value".
 
-use pyo3::exceptions::{PyTypeError, PyValueError};
 use std::sync::Arc;
 
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
