@@ -32,6 +32,7 @@
 //! table is given, such as `Distribution::generate`; the front ends refuse
 //! a render or a `samples` command that selects `custom` without points.
 
+use std::collections::HashMap;
 use std::fmt;
 
 use super::Rng;
@@ -112,6 +113,8 @@ impl PointTable {
         S: AsRef<[[f64; 2]]>,
     {
         let mut groups: Vec<Group> = Vec::new();
+        // Group of each size: a hostile table may hold thousands of sizes.
+        let mut by_size: HashMap<usize, usize> = HashMap::new();
         let mut total = 0usize;
         for (s, set) in sets.into_iter().enumerate() {
             let set = set.as_ref();
@@ -124,16 +127,14 @@ impl PointTable {
                     "more than {MAX_POINTS} points in all; a table of that size is never needed"
                 )));
             }
-            let group = match groups.iter().position(|g| g.size == set.len()) {
-                Some(i) => &mut groups[i],
-                None => {
-                    groups.push(Group {
-                        size: set.len(),
-                        points: Vec::new(),
-                    });
-                    groups.last_mut().expect("just pushed")
-                }
-            };
+            let i = *by_size.entry(set.len()).or_insert_with(|| {
+                groups.push(Group {
+                    size: set.len(),
+                    points: Vec::new(),
+                });
+                groups.len() - 1
+            });
+            let group = &mut groups[i];
             for (i, p) in set.iter().enumerate() {
                 let (x, y) = (coordinate(p[0]), coordinate(p[1]));
                 match (x, y) {
