@@ -10,7 +10,7 @@ import numpy.typing as npt
 __version__: str
 
 #: The ray distributions, by name: the thesis's grid, jitter, semi-jitter, poisson, random,
-#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, halton, r2.
+#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, pmj02bn, halton, r2.
 DISTRIBUTIONS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
@@ -29,6 +29,7 @@ DistributionName = Literal[
     "sobol",
     "zsobol",
     "pmj02",
+    "pmj02bn",
     "halton",
     "r2",
 ]
