@@ -142,11 +142,13 @@
 //! *Cost.* Measured on a shared test machine (criterion, `cargo bench -p
 //! penumbra-bench --bench distributions`, group `point`, sets of 256): 8 ns
 //! a point for `sobol` and `zsobol`, 16 for `pmj02` (its scrambled order
-//! costs a third hash), 7 for `halton` and 1.4 for `r2`. A whole set of one
-//! point, with the derivation of its stream as a render makes it (about 7
-//! ns), takes 17, 79, 26, 30 and 10 ns: a `zsobol` set hashes once per
-//! base-4 digit of its index (about 12 for a pixel of an 800x600 frame with
-//! 16 samples).
+//! costs a third hash), 7 for `halton`, 1.4 for `r2` and 2 for `pmj02bn`
+//! (eight table lookups). A whole set of one point, with the derivation of
+//! its stream as a render makes it (about 7 ns), takes 17, 79, 26, 30 and
+//! 10 ns: a `zsobol` set hashes once per base-4 digit of its index (about
+//! 12 for a pixel of an 800x600 frame with 16 samples); for `pmj02bn`, 22
+//! ns (on a busier day, when `pmj02`'s took 37), plus about 20 ms once per
+//! process for the first set, which builds the pool.
 //!
 //! # A count of one
 //!
