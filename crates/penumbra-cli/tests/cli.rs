@@ -257,7 +257,9 @@ fn samples_prints_the_low_discrepancy_sets() {
     }
     let o = penumbra(&["samples", "-d", "sobel", "-c", "4"], dir.path());
     assert_eq!(o.status.code(), Some(2));
-    for name in ["sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2", "grid"] {
+    for name in [
+        "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2", "grid",
+    ] {
         assert!(stderr(&o).contains(name), "{}", stderr(&o));
     }
 }

@@ -34,7 +34,7 @@
 //! later digits of earlier points. Measured on sequences built that way
 //! (ten candidates a point, not randomised): the mean nearest-neighbour
 //! distance is 7% above `pmj02`'s at 16 and 64 points, 2% at 256, 1% at
-//! 1024 (and 15% at 24 or 100 points).
+//! 1024 (and 15 to 16% at 24 or 100 points).
 //!
 //! Those digit choices are what a nested (Owen) scramble of the Sobol'
 //! sequence makes: each digit of a coordinate flipped or not according to
@@ -102,8 +102,9 @@
 //! `the_pool_is_built_quickly` prints it), once per process.
 //!
 //! *Beyond the optimised prefixes.* The sequences are infinite: sets of
-//! any size keep their nets; past 1024 points their blue noise fades to
-//! that of `pmj02` (measured below).
+//! any size keep their nets; past 1024 points their mean nearest-neighbour
+//! distance falls to that of `pmj02`, though their closest pairs stay
+//! farther apart (measured below).
 //!
 //! # Guarantees
 //!
@@ -116,8 +117,8 @@
 //!
 //! | N | 16 | 64 | 256 | 1024 | 4096 | 24 | 100 |
 //! |---|---:|---:|---:|---:|---:|---:|---:|
-//! | `pmj02bn` | 0.78 (0.42) | 0.78 (0.37) | 0.75 (0.30) | 0.71 (0.24) | 0.66 (0.19) | 0.67 (0.37) | 0.68 (0.31) |
-//! | `pmj02` | 0.65 (0.40) | 0.62 (0.29) | 0.66 (0.22) | 0.64 (0.13) | 0.64 (0.09) | 0.63 (0.31) | 0.63 (0.23) |
+//! | `pmj02bn` | 0.78 (0.42) | 0.78 (0.37) | 0.75 (0.30) | 0.71 (0.24) | 0.65 (0.21) | 0.67 (0.37) | 0.68 (0.31) |
+//! | `pmj02` | 0.65 (0.40) | 0.62 (0.29) | 0.66 (0.22) | 0.64 (0.13) | 0.65 (0.09) | 0.63 (0.31) | 0.63 (0.23) |
 //!
 //! The same pool without the digital shift gives 0.76 at 256 points, and
 //! Owen-scrambled (also exact nets, also uniform) 0.64: a full nested
@@ -421,23 +422,21 @@ impl Energy {
             let rows = top as usize / 2 + 5;
             for _sweep in 0..8 {
                 let mut changed = false;
-                for d in 1..rows {
-                    for b in 0..d {
-                        for axis in 0..2 {
-                            let (select, flip) = (1u32 << (31 - b), 1u32 << (31 - d));
-                            let (d_axis, other) = (&diff[axis], &diff[1 - axis]);
-                            let delta: i64 = (1..n)
-                                .filter(|&k| self.u[axis][k] & select != 0)
-                                .map(|k| self.flip_delta(k, d_axis[k], other[k], flip, top))
-                                .sum();
-                            if delta < 0 {
-                                changed = true;
-                                l[axis][d] ^= select;
-                                for (k, v) in diff[axis].iter_mut().enumerate() {
-                                    if self.u[axis][k] & select != 0 {
-                                        *v ^= flip;
-                                    }
-                                }
+                // Entry (d, b): digit b's part in the flip of digit d.
+                let entries = (1..rows).flat_map(|d| (0..d).map(move |b| (d, b)));
+                for ((d, b), axis) in entries.flat_map(|e| [(e, 0), (e, 1)]) {
+                    let (select, flip) = (1u32 << (31 - b), 1u32 << (31 - d));
+                    let (d_axis, other) = (&diff[axis], &diff[1 - axis]);
+                    let delta: i64 = (1..n)
+                        .filter(|&k| self.u[axis][k] & select != 0)
+                        .map(|k| self.flip_delta(k, d_axis[k], other[k], flip, top))
+                        .sum();
+                    if delta < 0 {
+                        changed = true;
+                        l[axis][d] ^= select;
+                        for (k, v) in diff[axis].iter_mut().enumerate() {
+                            if self.u[axis][k] & select != 0 {
+                                *v ^= flip;
                             }
                         }
                     }
@@ -601,15 +600,16 @@ mod tests {
         for (a, b) in pool().sequences.iter().zip(&again.sequences) {
             assert_eq!(a.bytes, b.bytes);
         }
-        // A few points of the first sequence, pinned: a change of the
-        // construction (or a machine computing it differently) shows here.
+        // The first 1024 points of the first sequence, pinned: a change of
+        // the construction, or a machine that computes it differently,
+        // shows here (renders made elsewhere would differ).
         let first = &pool().sequences[0];
         let digest = (0..1 << POOL_LEVELS)
             .map(|i| first.at(i))
             .fold(0u64, |h, [x, y]| {
                 crate::sampling::mix64(h ^ (u64::from(x) << 32 | u64::from(y)))
             });
-        println!("pmj02bn pool digest {digest:#018x}");
+        assert_eq!(digest, 0x278d_257f_b08f_f198, "{digest:#018x}");
     }
 
     #[test]
@@ -726,9 +726,10 @@ mod tests {
                  pmj02bn {:.3} ({:.3}), pmj02 {:.3} ({:.3})",
                 bn.0, bn.1, pmj.0, pmj.1
             );
-            // Past the optimised prefixes, no worse than pmj02.
+            // Past the optimised prefixes, no worse than pmj02 (up to the
+            // noise of 8 sets).
             let margin = match n {
-                _ if n > 1 << POOL_LEVELS => 0.0,
+                _ if n > 1 << POOL_LEVELS => -0.02,
                 _ if n.is_power_of_two() => 0.05,
                 _ => 0.02,
             };
