@@ -51,10 +51,11 @@
 //! multiple of `2^-k` maps elementary intervals of width `2^-k` or less
 //! onto elementary intervals, but not wider ones (shifted by `1/4`, the
 //! halves `[0, 1/2)` and `[1/2, 1)` straddle the cut). A nested scramble
-//! keeps the nets but, in general, not the distances. The only maps that
-//! keep both are the translations by a half, the reflections of each axis
-//! and the swap of the axes: too few to make each point uniform over the
-//! square. Each set therefore takes, from two 64-bit draws of its stream,
+//! keeps the nets but, in general, not the distances. Of the isometries of
+//! the torus, only the translations by a half, the reflections of each
+//! axis and the swap of the axes map every elementary interval onto one:
+//! too few to make each point uniform over the square. Each set therefore
+//! takes, from two 64-bit draws of its stream,
 //!
 //! * a random *digital shift*: `x xor cx`, `y xor cy` for uniform 32-bit
 //!   `cx`, `cy` (a nested scramble that flips digit `d` of every point
@@ -92,7 +93,7 @@
 //! with IEEE arithmetic only (no library `exp`), from fixed seeds, so
 //! every machine builds the same pool.
 //!
-//! *Pool size.* 4 sequences of 2 x 4 x 256 words each (8 KB), chosen
+//! *Pool size.* 4 sequences of 2 x 4 x 256 words (8 KB each), chosen
 //! among 8 and optimised for sets of up to 1024 points
 //! ([`POOL_LEVELS`] = 10): the renderer's sets hold a few to a few hundred
 //! points. The digital shift already makes 2^64 different sets of each
