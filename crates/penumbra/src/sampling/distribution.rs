@@ -111,8 +111,8 @@
 //!   other counts and for sets stopped early.
 //! * **`pmj02bn`** ([`pmj02bn`](super::pmj02bn)) — pmj02 with blue noise
 //!   (Christensen et al.'s best-candidate variant): one of a pool of four
-//!   linearly scrambled Sobol' (0,2)-sequences, built at first use (about
-//!   20 ms) with scrambles chosen so that their points keep apart, then
+//!   linearly scrambled Sobol' (0,2)-sequences, built at first use (20 to
+//!   45 ms) with scrambles chosen so that their points keep apart, then
 //!   digitally shifted (`xor` of a random 32-bit word per axis) and
 //!   possibly transposed per set. Same guarantee as `sobol`; besides,
 //!   measured, the mean distance to the nearest neighbour is 10 to 25%
@@ -147,7 +147,7 @@
 //! its stream as a render makes it (about 7 ns), takes 17, 79, 26, 30 and
 //! 10 ns: a `zsobol` set hashes once per base-4 digit of its index (about
 //! 12 for a pixel of an 800x600 frame with 16 samples); for `pmj02bn`, 22
-//! ns (on a busier day, when `pmj02`'s took 37), plus about 20 ms once per
+//! ns (on a busier day, when `pmj02`'s took 37), plus 20 to 45 ms once per
 //! process for the first set, which builds the pool.
 //!
 //! # A count of one

@@ -99,8 +99,9 @@
 //! points. The digital shift already makes 2^64 different sets of each
 //! sequence; the pool only has to keep all pixels from sharing one
 //! structure, and more candidates cost time at first use. Building it
-//! takes about 20 ms on one core of a shared test machine (the test
-//! `the_pool_is_built_quickly` prints it), once per process.
+//! takes about 20 ms of one core of a test machine, 30 to 45 ms when the
+//! core is shared with other work (the test `the_pool_is_built_quickly`
+//! prints it), once per process.
 //!
 //! *Beyond the optimised prefixes.* The sequences are infinite: sets of
 //! any size keep their nets; past 1024 points their mean nearest-neighbour
