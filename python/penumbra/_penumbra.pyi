@@ -10,8 +10,8 @@ import numpy.typing as npt
 __version__: str
 
 #: The ray distributions, by name: the thesis's grid, jitter, semi-jitter, poisson, random,
-#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, halton, r2, then custom (the
-#: user's own points, given by ``points=``).
+#: fast-random, then the low-discrepancy sobol, zsobol, pmj02, pmj02bn, halton, r2, then custom
+#: (the user's own points, given by ``points=``).
 DISTRIBUTIONS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
@@ -30,6 +30,7 @@ DistributionName = Literal[
     "sobol",
     "zsobol",
     "pmj02",
+    "pmj02bn",
     "halton",
     "r2",
     "custom",

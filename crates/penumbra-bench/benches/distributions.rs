@@ -11,10 +11,11 @@ use penumbra::sampling::{Distribution, Rng};
 use std::hint::black_box;
 
 /// The sets from quasi-Monte Carlo, beyond the thesis's six.
-const LOW_DISCREPANCY: [Distribution; 5] = [
+const LOW_DISCREPANCY: [Distribution; 6] = [
     Distribution::Sobol,
     Distribution::Zsobol,
     Distribution::Pmj02,
+    Distribution::Pmj02bn,
     Distribution::Halton,
     Distribution::R2,
 ];

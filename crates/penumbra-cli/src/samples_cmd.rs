@@ -17,7 +17,7 @@ use crate::flags::parse_positive;
 #[derive(Args)]
 pub struct SamplesArgs {
     /// grid, jitter, semi-jitter, poisson, random, fast-random, sobol, zsobol,
-    /// pmj02, halton, r2, custom (with --points), or `all` (PNG only).
+    /// pmj02, pmj02bn, halton, r2, custom (with --points), or `all` (PNG only).
     #[arg(long, short)]
     pub distribution: String,
     /// Number of points.

@@ -222,12 +222,12 @@ fn every_subcommand_has_help() {
 }
 
 /// The low-discrepancy sets print like the others, reproducibly; the 16
-/// points of a `sobol`, `zsobol` or `pmj02` set fill the 4 x 4 cells one each; an
-/// unknown name lists them.
+/// points of a `sobol`, `zsobol`, `pmj02` or `pmj02bn` set fill the 4 x 4
+/// cells one each; an unknown name lists them.
 #[test]
 fn samples_prints_the_low_discrepancy_sets() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["sobol", "zsobol", "pmj02", "halton", "r2"] {
+    for name in ["sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"] {
         let o = penumbra(
             &["samples", "-d", name, "-c", "16", "-r", "2", "-s", "5"],
             dir.path(),
@@ -243,7 +243,7 @@ fn samples_prints_the_low_discrepancy_sets() {
             .collect();
         assert_eq!(pts.len(), 16);
         assert!(pts.iter().all(|&(x, y)| x.abs() <= 2.0 && y.abs() <= 2.0));
-        if ["sobol", "zsobol", "pmj02"].contains(&name) {
+        if ["sobol", "zsobol", "pmj02", "pmj02bn"].contains(&name) {
             let cell = |t: f64| ((t + 2.0) / 4.0 * 4.0).floor() as usize;
             let mut cells: Vec<usize> = pts.iter().map(|&(x, y)| cell(y) * 4 + cell(x)).collect();
             cells.sort_unstable();
@@ -257,7 +257,9 @@ fn samples_prints_the_low_discrepancy_sets() {
     }
     let o = penumbra(&["samples", "-d", "sobel", "-c", "4"], dir.path());
     assert_eq!(o.status.code(), Some(2));
-    for name in ["sobol", "zsobol", "pmj02", "halton", "r2", "grid"] {
+    for name in [
+        "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2", "grid",
+    ] {
         assert!(stderr(&o).contains(name), "{}", stderr(&o));
     }
 }

@@ -41,6 +41,7 @@ fn unknown_distribution_lists_the_choices() {
         "sobol",
         "zsobol",
         "pmj02",
+        "pmj02bn",
         "halton",
         "r2",
     ] {

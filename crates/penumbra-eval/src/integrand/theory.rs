@@ -42,7 +42,7 @@ pub const RATES: &[Rate] = &[
                 bias of the same order (its points avoid the outer ring of each cell)",
     },
     Rate {
-        distributions: &["sobol", "zsobol", "pmj02", "pmj02bn"],
+        distributions: &["sobol", "zsobol", "pmj02"],
         edge: Some(-0.75),
         smooth: Some(-1.5),
         basis: "Owen-scrambled (0,m,2)-nets: variance O(N^−3 (log N)^(s−1)) for smooth \
@@ -50,6 +50,18 @@ pub const RATES: &[Rate] = &[
                 functions”, Ann. Statist. 25); for jumps the elementary intervals stratify like \
                 jitter, O(N^−3/2), as measured on these kinds of integrands by Christensen, \
                 Kensler & Kilpatrick 2018 (“Progressive multi-jittered sample sequences”)",
+    },
+    Rate {
+        distributions: &["pmj02bn"],
+        edge: Some(-0.75),
+        smooth: Some(-1.0),
+        basis: "(0,m,2)-nets randomised by a digital shift only (an xor per axis, which keeps \
+                their blue noise), not by a nested scramble: the variance is the sum of the \
+                squared Walsh coefficients of the function over the dual of the net, which is \
+                fixed, so smoothness guarantees only O(N^−2) up to log factors, not Owen's \
+                extra N^−1 (that needs independent flips at every digit); a given smooth \
+                function may do better, erratically, as its coefficients fall on the dual or \
+                not. For jumps the elementary intervals stratify like jitter, O(N^−3/2)",
     },
     Rate {
         distributions: &["halton", "r2"],
@@ -116,6 +128,7 @@ mod tests {
         assert_eq!(target(Distribution::Jitter, Class::Edge), Some(-0.75));
         assert_eq!(target(Distribution::Sobol, Class::Smooth), Some(-1.5));
         assert_eq!(target(Distribution::R2, Class::Smooth), Some(-1.0));
+        assert_eq!(target(Distribution::Pmj02bn, Class::Smooth), Some(-1.0));
         assert_eq!(target(Distribution::Grid, Class::Edge), None);
         assert_eq!(target(Distribution::Poisson, Class::Smooth), None);
     }

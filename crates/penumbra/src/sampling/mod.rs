@@ -8,6 +8,7 @@ pub mod distribution;
 pub mod filter;
 pub mod halton;
 pub mod pmj02;
+pub mod pmj02bn;
 pub mod points;
 pub mod r2;
 mod rng;

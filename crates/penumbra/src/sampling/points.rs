@@ -2,7 +2,7 @@
 //!
 //! Distributions produce points in their native shape for radius 1: the square
 //! [−1, 1]² (grid, jitter, semi-jitter, poisson and the low-discrepancy sets
-//! sobol, pmj02, halton, r2), the unit disk (random) or the
+//! sobol, zsobol, pmj02, pmj02bn, halton, r2), the unit disk (random) or the
 //! cube [−1, 1]³ (fast-random). The functions here place those points where an
 //! effect needs them: around a ray's end point on the plane normal to it (the
 //! thesis's own construction), or on a unit square or disk for effects that

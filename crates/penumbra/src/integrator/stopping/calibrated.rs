@@ -40,8 +40,8 @@
 //!
 //! Passes: every pixel first takes `max(min_spp, 4R)` rays (rounded up to a
 //! multiple of `R`), then the count doubles each pass, so each replica's set
-//! is a power of two long whenever `spp` allows (where `sobol` and `pmj02`
-//! are nets). A stopped pixel never resumes.
+//! is a power of two long whenever `spp` allows (where `sobol`, `pmj02` and
+//! `pmj02bn` are nets). A stopped pixel never resumes.
 //!
 //! The price of honesty: `R` independent sets of `n / R` points integrate
 //! less well than one set of `n` (a low-discrepancy set's error falls
