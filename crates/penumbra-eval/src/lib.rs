@@ -31,21 +31,26 @@
 
 mod compose;
 mod convergence;
+mod distributions;
 mod doc;
 mod document;
 mod error;
 mod figures;
+mod fit;
 mod format;
 mod growth;
 pub mod integrand;
 mod job;
+mod loglog;
 mod measure;
 mod output;
 mod plan;
 mod plot;
+pub mod render_level;
 mod report;
 mod runner;
 mod sections;
+pub mod stopping;
 mod tables;
 mod thesis;
 
@@ -188,12 +193,8 @@ pub fn reproduce(
         None => thesis(opts, progress).map(|r| Reproduction::Thesis(Box::new(r))),
         Some(StudyName::Distributions) => {
             prepare_out(&opts.out, &["plots"])?;
-            let config = if opts.quick {
-                integrand::Config::quick()
-            } else {
-                integrand::Config::full()
-            };
-            integrand::run(&config, opts.quick, opts.threads, &opts.out, progress)
+            let levels = distributions::Levels::new(opts.quick);
+            distributions::run(&levels, opts.quick, opts.threads, &opts.out, progress)
                 .map(|s| Reproduction::Distributions(Box::new(s)))
         }
     }
