@@ -212,6 +212,14 @@ fn positive(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The SVG text of the plot at `path` among `(path, text)` pairs; empty if
+/// there is none.
+pub fn svg_at<'a>(svgs: &'a [(String, String)], path: &str) -> &'a str {
+    svgs.iter()
+        .find(|(p, _)| p == path)
+        .map_or("", |(_, s)| s.as_str())
+}
+
 /// The line of slope `slope` on log–log axes from `x0` to `x1` through the
 /// centre of gravity of `points` (in log–log space); `None` without points.
 pub fn slope_line(slope: f64, points: &[(f64, f64)], x0: f64, x1: f64) -> Option<Vec<(f64, f64)>> {

@@ -9,7 +9,11 @@
 //! Each effect is isolated: every other effect has one ray of `grid` (the
 //! single perfect ray: the pixel's centre, the light's centre, the mirror
 //! direction) and a pinhole camera, so the crop's only noise is the
-//! effect's. The showcase needs no external file.
+//! effect's. The showcase needs no external file. Glossy refraction is
+//! measured through a frosted pane added to it (the job variant
+//! `FrostedPane`), with two
+//! levels of rays: the showcase's frosted sphere has two blurry interfaces,
+//! and a set of N rays at each costs N² rays a pixel.
 //!
 //! **The reference** of a distribution is the mean of two renders with
 //! `reference_rays` rays each, from seeds no trial uses, of a distribution

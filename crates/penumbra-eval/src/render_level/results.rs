@@ -89,9 +89,6 @@ impl RenderLevel {
 
     /// The SVG text of the plot at `path`.
     pub fn svg(&self, path: &str) -> &str {
-        self.svgs
-            .iter()
-            .find(|(p, _)| p == path)
-            .map_or("", |(_, s)| s.as_str())
+        crate::loglog::svg_at(&self.svgs, path)
     }
 }

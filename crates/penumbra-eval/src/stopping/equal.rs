@@ -14,12 +14,12 @@ pub fn rays_at(sweep: &[(f64, f64)], target: f64) -> Option<f64> {
         .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite())
         .collect();
     points.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if !(target > 0.0) {
+    if target.is_nan() || target <= 0.0 {
         return None;
     }
     points.windows(2).find_map(|w| {
         let (a, b) = (w[0], w[1]);
-        if !(a.1 >= target && target >= b.1) {
+        if a.1 < target || target < b.1 {
             return None;
         }
         if a.1 == b.1 {
@@ -45,7 +45,7 @@ pub fn range(sweep: &[(f64, f64)]) -> Option<(f64, f64)> {
 /// a thousandth of the interval at both ends (so that every sweep reaching
 /// an end brackets it); none if the interval is empty.
 pub fn targets(lo: f64, hi: f64, count: usize) -> Vec<f64> {
-    if !(lo > 0.0 && hi > lo) || count == 0 {
+    if lo.is_nan() || hi.is_nan() || lo <= 0.0 || hi <= lo || count == 0 {
         return Vec::new();
     }
     let (a, b) = (lo.ln(), hi.ln());

@@ -4,7 +4,6 @@ use serde::Serialize;
 
 use super::coverage::Coverage;
 use super::equal::{median, range, rays_at, targets};
-use super::StopScene;
 
 /// One step of a sweep.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -70,11 +69,11 @@ pub struct SceneResult {
 }
 
 impl SceneResult {
-    /// The scene's figures from its sweeps; the first variant is the
+    /// The figures of scene `name` from its sweeps; the first variant is the
     /// calibrated rule. Targets are spaced over the RMSEs both it and an
     /// anchor reach, and above twice the reference's noise.
     pub fn new(
-        s: &StopScene,
+        (name, description): (&str, &str),
         reference_rmse: f64,
         variants: Vec<VariantResult>,
         count: usize,
@@ -90,13 +89,13 @@ impl SceneResult {
             coverage.add(&c);
         }
         SceneResult {
-            name: s.name.to_string(),
-            description: s.description.to_string(),
+            name: name.to_string(),
+            description: description.to_string(),
             reference_rmse,
             equal,
             ratio,
             coverage,
-            plot: format!("plots/stopping-{}.svg", s.name.replace(' ', "-")),
+            plot: format!("plots/stopping-{}.svg", name.replace(' ', "-")),
             variants,
         }
     }
@@ -140,7 +139,7 @@ pub fn equal_rows(variants: &[VariantResult], floor: f64, count: usize) -> Vec<E
         .collect()
 }
 
-/// The comparison in a few numbers, with the targets.
+/// The comparison in a few numbers.
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     /// Median over the scenes of `1 − ratio`: the share of the best
@@ -211,10 +210,7 @@ pub struct StoppingStudy {
 impl StoppingStudy {
     /// The SVG text of the plot at `path`.
     pub fn svg(&self, path: &str) -> &str {
-        self.svgs
-            .iter()
-            .find(|(p, _)| p == path)
-            .map_or("", |(_, s)| s.as_str())
+        crate::loglog::svg_at(&self.svgs, path)
     }
 }
 

@@ -72,9 +72,17 @@ fn summary(s: &StoppingStudy) -> Vec<Block> {
     t.numeric = vec![false, true, false, false];
     let saving = m.median_saving;
     t.row(vec![
-        "median saving of the calibrated rule over the best anchor, at equal RMSE".into(),
-        saving.map_or("–".into(), |v| pct(100.0 * v)),
-        format!("≥ {}", pct(100.0 * TARGET_SAVING)),
+        "median over scenes of the calibrated rule's rays over the best anchor's, at equal \
+         RMSE (the saving)"
+            .into(),
+        saving.map_or("–".into(), |v| {
+            format!("{:.2} ({})", 1.0 - v, pct(100.0 * v))
+        }),
+        format!(
+            "≤ {:.2} (≥ {})",
+            1.0 - TARGET_SAVING,
+            pct(100.0 * TARGET_SAVING)
+        ),
         verdict(saving.map(|v| v >= TARGET_SAVING)).into(),
     ]);
     t.row(vec![
@@ -115,13 +123,14 @@ fn summary(s: &StoppingStudy) -> Vec<Block> {
     let false_stops = (c.total > 0).then(|| c.false_stop_rate());
     t.row(vec![
         "false stops (share of all pixels)".into(),
-        false_stops.map_or("–".into(), |v| pct(100.0 * v)),
+        false_stops.map_or("–".into(), |v| format!("{:.2}%", 100.0 * v)),
         format!("≤ {}", pct(100.0 * TARGET_FALSE_STOPS)),
         verdict(false_stops.map(|v| v <= TARGET_FALSE_STOPS)).into(),
     ]);
     t.row(vec![
         "largest false-stop share of one render".into(),
-        m.false_stops_max.map_or("–".into(), |v| pct(100.0 * v)),
+        m.false_stops_max
+            .map_or("–".into(), |v| format!("{:.2}%", 100.0 * v)),
         "–".into(),
         "–".into(),
     ]);
@@ -150,13 +159,13 @@ fn summary(s: &StoppingStudy) -> Vec<Block> {
             sc.ratio.map_or("–".into(), |r| pct(100.0 * (1.0 - r))),
             anchors.join(", "),
             pct(100.0 * sc.coverage.rate()),
-            pct(100.0 * sc.coverage.false_stop_rate()),
+            format!("{:.2}%", 100.0 * sc.coverage.false_stop_rate()),
         ]);
     }
     vec![
         p(format!(
-            "The issue's targets against the measured figures ({} of {} scenes had common \
-             targets):",
+            "The targets set for the calibrated rule against the measured figures ({} of {} \
+             scenes had common targets):",
             m.scenes_compared,
             s.scenes.len()
         )),
