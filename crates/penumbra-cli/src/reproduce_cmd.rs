@@ -24,7 +24,8 @@ pub struct ReproduceArgs {
     #[arg(long)]
     pub quick: bool,
     /// Run only this study instead of the thesis's evaluation: `distributions`
-    /// (every ray distribution on integrals with known values; needs no bunny).
+    /// (every ray distribution on integrals with known values, in renders,
+    /// and the stopping rules at equal RMSE; needs no bunny).
     #[arg(long, value_name = "NAME")]
     pub study: Option<String>,
     /// Worker threads (default: all cores).

@@ -174,6 +174,9 @@ fn the_distribution_study_runs_without_the_bunny() {
         assert!(out.join(f).is_file(), "missing {f}");
     }
     assert!(out.join("plots/distributions-disk.svg").is_file());
+    assert!(out.join("plots/render-penumbra-rays.svg").is_file());
+    assert!(out.join("plots/render-anti-aliasing-time.svg").is_file());
+    assert!(out.join("plots/stopping-everything.svg").is_file());
     assert!(!out.join("report.md").exists() && !out.join("figures").exists());
     assert!(String::from_utf8_lossy(&o.stdout).contains("distributions.md"));
 }

@@ -16,8 +16,9 @@ use serde::Serialize;
 
 use crate::compose::save_png;
 use crate::error::EvalError;
+use crate::fit;
 use crate::growth::Plot;
-use crate::job::{Crop, Job};
+use crate::job::{Crop, Job, Variant};
 use crate::plan::Plan;
 use crate::plot::{Chart, Line, Marker, Scale, Series};
 use crate::runner::Runner;
@@ -30,7 +31,7 @@ pub const REL_EPSILON: f64 = 0.01;
 /// Seed of the reference renders (the trials use 1, 2, 3…).
 const REFERENCE_SEED: u32 = 1000;
 
-/// One effect of the study: which scene, which crop, which knob.
+/// One effect of a convergence study: which scene, which crop, which knob.
 #[derive(Clone, Copy, Debug)]
 pub struct Effect {
     pub name: &'static str,
@@ -38,7 +39,31 @@ pub struct Effect {
     pub crop: Crop,
     /// What the count means ("shadow rays" …).
     pub unit: &'static str,
-    apply: fn(&mut Overrides, u32, Distribution),
+    /// Sets the effect's count and distribution.
+    pub apply: fn(&mut Overrides, u32, Distribution),
+    /// What is changed in the scene beyond its settings.
+    pub variant: Variant,
+}
+
+impl Effect {
+    /// The crop of the effect's scene with `base`'s settings, `n` rays of
+    /// `d` for the effect, and `seed`.
+    pub fn job(&self, base: Overrides, n: u32, d: Distribution, seed: u32) -> Job {
+        let mut o = base;
+        (self.apply)(&mut o, n, d);
+        o.seed = Some(seed);
+        Job::new(
+            format!(
+                "convergence, {}: {} {n} rays, seed {seed}",
+                self.name,
+                d.name()
+            ),
+            self.scene,
+            o,
+        )
+        .with_crop(self.crop)
+        .with_variant(self.variant)
+    }
 }
 
 fn penumbra(o: &mut Overrides, n: u32, d: Distribution) {
@@ -72,6 +97,7 @@ pub const EFFECTS: [Effect; 4] = [
         crop: Crop::new(0.18, 0.62, 0.48, 0.82),
         unit: "shadow rays",
         apply: penumbra,
+        variant: Variant::AsIs,
     },
     Effect {
         name: "glossy reflection",
@@ -79,6 +105,7 @@ pub const EFFECTS: [Effect; 4] = [
         crop: Crop::new(0.3, 0.78, 0.8, 1.0),
         unit: "reflection rays",
         apply: glossy,
+        variant: Variant::AsIs,
     },
     Effect {
         name: "depth of field",
@@ -86,6 +113,7 @@ pub const EFFECTS: [Effect; 4] = [
         crop: Crop::new(0.55, 0.35, 0.85, 0.6),
         unit: "primary rays (lens and film)",
         apply: depth_of_field,
+        variant: Variant::AsIs,
     },
     Effect {
         name: "anti-aliasing",
@@ -93,6 +121,7 @@ pub const EFFECTS: [Effect; 4] = [
         crop: Crop::new(0.3, 0.15, 0.55, 0.4),
         unit: "primary rays (film)",
         apply: anti_aliasing,
+        variant: Variant::AsIs,
     },
 ];
 
@@ -147,19 +176,7 @@ pub struct Study {
 }
 
 fn job(plan: &Plan, e: &Effect, n: u32, d: Distribution, seed: u32) -> Job {
-    let mut o = frame(plan.convergence);
-    (e.apply)(&mut o, n, d);
-    o.seed = Some(seed);
-    Job::new(
-        format!(
-            "convergence, {}: {} {n} rays, seed {seed}",
-            e.name,
-            d.name()
-        ),
-        e.scene,
-        o,
-    )
-    .with_crop(e.crop)
+    e.job(frame(plan.convergence), n, d, seed)
 }
 
 fn references(plan: &Plan, e: &Effect) -> [Job; 2] {
@@ -248,13 +265,14 @@ fn curve(
     Ok(Curve {
         distribution: d.name().into(),
         points,
-        slope: fit_slope(&logs),
+        slope: fit::power_law(&logs).map_or(f64::NAN, |f| f.slope),
         limit_rmse,
         bias_estimate,
     })
 }
 
-fn average(a: &Image, b: &Image) -> Image {
+/// The pixel-wise mean of two images of one size.
+pub fn average(a: &Image, b: &Image) -> Image {
     let mut out = a.clone();
     for (o, p) in out.pixels.iter_mut().zip(&b.pixels) {
         *o = (*o + *p) * 0.5;
@@ -289,31 +307,6 @@ pub fn rel_mse(x: &Image, reference: &Image) -> f64 {
         })
         .sum();
     sum / n
-}
-
-/// Least-squares slope of ln y against ln x over the points with x, y > 0;
-/// NaN with fewer than two such points.
-pub fn fit_slope(points: &[(f64, f64)]) -> f64 {
-    let logs: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite())
-        .map(|p| (p.0.ln(), p.1.ln()))
-        .collect();
-    let n = logs.len() as f64;
-    if logs.len() < 2 {
-        return f64::NAN;
-    }
-    let (mx, my) = (
-        logs.iter().map(|p| p.0).sum::<f64>() / n,
-        logs.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = logs.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = logs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    if sxx > 0.0 {
-        sxy / sxx
-    } else {
-        f64::NAN
-    }
 }
 
 /// `reference` is the reference's own RMSE and its rays per unit.
@@ -395,19 +388,6 @@ fn write_plot(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn slope_of_a_power_law_is_its_exponent() {
-        let pts: Vec<(f64, f64)> = [4.0, 9.0, 16.0, 36.0, 64.0]
-            .iter()
-            .map(|&n: &f64| (n, 3.0 * n.powf(-0.75)))
-            .collect();
-        assert!((fit_slope(&pts) + 0.75).abs() < 1e-9);
-        assert!(fit_slope(&[(1.0, 1.0)]).is_nan());
-        assert!(fit_slope(&[(2.0, 1.0), (2.0, 3.0)]).is_nan());
-        let with_zero = [(1.0, 0.0), (2.0, 0.5), (4.0, 0.25)];
-        assert!((fit_slope(&with_zero) + 1.0).abs() < 1e-9);
-    }
 
     #[test]
     fn errors_are_zero_for_equal_images_and_scale_as_squares() {

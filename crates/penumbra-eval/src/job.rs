@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use penumbra::scene::desc::LightDesc;
+use penumbra::scene::desc::{LightDesc, ObjectDesc};
 use penumbra::scene::{LoadOptions, Overrides, Scene, SceneSource, WorldCache};
 
 use crate::error::EvalError;
@@ -20,6 +20,12 @@ pub enum Variant {
     /// Every area light replaced by a point light at its centre with the
     /// same power straight down (thesis Figure 4.9, top left: no penumbra).
     PointLight,
+    /// The showcase with a single quad of its `frosted` material standing
+    /// in front of the glossy sphere, the gold ball and the glass sphere:
+    /// one blurry interface, so a ray's refraction set does not branch
+    /// again at a second face (a frosted sphere's sets of N rays at entry
+    /// and at exit cost N² rays a pixel).
+    FrostedPane,
 }
 
 /// A rectangle of the frame in fractions of its width and height, so that
@@ -110,10 +116,27 @@ impl Job {
         };
         let mut source = SceneSource::open(self.scene, &opts).map_err(err)?;
         self.overrides.apply(&mut source.desc);
-        if self.variant == Variant::PointLight {
-            source.desc.lights = source.desc.lights.iter().map(point_light).collect();
+        match self.variant {
+            Variant::AsIs => {}
+            Variant::PointLight => {
+                source.desc.lights = source.desc.lights.iter().map(point_light).collect();
+            }
+            Variant::FrostedPane => source.desc.objects.push(frosted_pane()),
         }
         source.build_reusing(worlds).map_err(err)
+    }
+}
+
+/// A 2 × 1.6 quad of the showcase's `frosted` material, upright at
+/// z = 3.2 between the camera and the right half of the scene.
+fn frosted_pane() -> ObjectDesc {
+    ObjectDesc {
+        kind: "quad".into(),
+        material: Some("frosted".into()),
+        origin: Some([-0.2, 0.0, 3.2]),
+        edge_u: Some([2.0, 0.0, 0.0]),
+        edge_v: Some([0.0, 1.6, 0.0]),
+        ..Default::default()
     }
 }
 

@@ -25,27 +25,35 @@
 //! ```
 //!
 //! With `study: Some(StudyName::Distributions)` it runs instead the study of
-//! every ray distribution on integrals with known values ([`integrand`]),
-//! which needs no bunny and writes `distributions.md`, `distributions.html`,
-//! `distributions.json` and `plots/distributions-*.svg`.
+//! every ray distribution at three levels: on integrals with known values
+//! ([`integrand`]), in renders of six effects against a converged reference
+//! ([`render_level`]), and under the stopping rules of adaptive sampling
+//! compared at equal RMSE ([`stopping`]). It needs no bunny (its scenes are
+//! built in) and writes `distributions.md`, `distributions.html`,
+//! `distributions.json` and `plots/{distributions,render,stopping}-*.svg`.
 
 mod compose;
 mod convergence;
+mod distributions;
 mod doc;
 mod document;
 mod error;
 mod figures;
+mod fit;
 mod format;
 mod growth;
 pub mod integrand;
 mod job;
+mod loglog;
 mod measure;
 mod output;
 mod plan;
 mod plot;
+pub mod render_level;
 mod report;
 mod runner;
 mod sections;
+pub mod stopping;
 mod tables;
 mod thesis;
 
@@ -88,7 +96,8 @@ pub struct ReproduceOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StudyName {
     /// Every ray distribution on integrals with known values
-    /// ([`integrand`]).
+    /// ([`integrand`]), in renders ([`render_level`]) and under the
+    /// stopping rules ([`stopping`]).
     Distributions,
 }
 
@@ -188,12 +197,8 @@ pub fn reproduce(
         None => thesis(opts, progress).map(|r| Reproduction::Thesis(Box::new(r))),
         Some(StudyName::Distributions) => {
             prepare_out(&opts.out, &["plots"])?;
-            let config = if opts.quick {
-                integrand::Config::quick()
-            } else {
-                integrand::Config::full()
-            };
-            integrand::run(&config, opts.quick, opts.threads, &opts.out, progress)
+            let levels = distributions::Levels::new(opts.quick);
+            distributions::run(&levels, opts.quick, opts.threads, &opts.out, progress)
                 .map(|s| Reproduction::Distributions(Box::new(s)))
         }
     }
@@ -351,9 +356,67 @@ mod tests {
             study: Some(StudyName::Distributions),
         };
         let r = reproduce(&opts, &|_, _, _| {});
-        let study = r.map(Reproduction::distributions);
-        assert!(matches!(study, Ok(Some(_))), "{study:?}");
+        let study = match r.map(Reproduction::distributions) {
+            Ok(Some(s)) => s,
+            other => panic!("{other:?}"),
+        };
         assert!(dir.path().join("out/distributions.html").is_file());
         assert!(!dir.path().join("out/figures").exists());
+        for f in study.files() {
+            assert!(dir.path().join("out").join(&f).is_file(), "missing {f}");
+        }
+        let html = std::fs::read_to_string(study.html_path()).unwrap_or_default();
+        let plots = integrand::Integrand::ALL.len()
+            + 2 * render_level::EFFECTS.len()
+            + stopping::SCENES.len();
+        assert_eq!(html.matches("<svg").count(), plots);
+
+        // The render level: every effect has a curve of every distribution
+        // with a fit, and independent samples converge at −0.5, inside their
+        // interval.
+        let render = study
+            .render
+            .as_ref()
+            .unwrap_or_else(|| panic!("no render level"));
+        assert_eq!(render.effects.len(), render_level::EFFECTS.len());
+        for e in &render.effects {
+            assert_eq!(e.curves.len(), penumbra::sampling::Distribution::ALL.len());
+            for c in &e.curves {
+                assert!(c.fit.is_some(), "{} on {}: no fit", c.distribution, e.name);
+                assert!(c.points.iter().all(|p| p.seconds > 0.0 && p.rays > 0.0));
+            }
+            let random = render.curve(&e.name, "random").and_then(|c| c.fit);
+            let f = random.unwrap_or_else(|| panic!("{}: no random fit", e.name));
+            println!(
+                "random on {}: {:.3} [{:.3}, {:.3}]",
+                e.name, f.slope, f.low, f.high
+            );
+            assert!(f.low <= -0.5 && -0.5 <= f.high, "{}: {f:?}", e.name);
+            assert!((f.slope + 0.5).abs() < 0.15, "{}: {f:?}", e.name);
+        }
+
+        // The stopping comparison: every scene, every rule's sweep, and the
+        // calibrated rule's pixels checked.
+        let stop = study
+            .stopping
+            .as_ref()
+            .unwrap_or_else(|| panic!("no stopping"));
+        assert_eq!(stop.scenes.len(), stopping::SCENES.len());
+        for sc in &stop.scenes {
+            assert_eq!(sc.variants.len(), stopping::Variant::ALL.len());
+            assert!(sc.variants.iter().all(|v| !v.runs.is_empty()));
+            assert!(sc.variants.iter().flat_map(|v| &v.runs).all(|r| r.rays > 0));
+            let c = sc.coverage;
+            let pixels = (stop.frame.0 * stop.frame.1) as usize;
+            assert_eq!(c.total, pixels * sc.variants[0].runs.len(), "{}", sc.name);
+            assert_eq!(c.pixels, c.total, "every calibrated pixel has an interval");
+        }
+        let c = stop.summary.coverage;
+        println!(
+            "coverage {:.3}, false stops {:.4}",
+            c.rate(),
+            c.false_stop_rate()
+        );
+        assert!(c.rate() > 0.5 && c.stopped > 0);
     }
 }

@@ -122,3 +122,59 @@ fn the_pixel_metric_and_adaptive_sampling_exclude_each_other() {
     assert!(e.contains(":4:") && e.contains("pixel_metric"), "{e}");
     assert!(try_scene("[render]\nnoise_threshold = 0.01\nstop_rule = \"cycles\"\n").is_ok());
 }
+
+/// Every pixel of an adaptive render reports the camera rays it took (they
+/// add up to the primary rays traced) and, under the calibrated rule alone,
+/// its interval's half-width; a region reports the frame's values for its
+/// pixels; a render without adaptive sampling reports nothing.
+#[test]
+fn pixels_report_their_rays_and_the_calibrated_interval() {
+    for rule in StopRule::ALL {
+        let s = showcase(rule);
+        let opts = |region| penumbra::render::RenderOptions {
+            threads: Some(2),
+            region,
+        };
+        let full = penumbra::render::render(&s, &opts(None), &|_, _| {}, None);
+        let (image, stats) = full.expect("render");
+        let samples = &stats.pixel_samples;
+        assert_eq!(samples.len(), image.pixels.len(), "{rule:?}");
+        let rays: u64 = samples.iter().map(|p| u64::from(p.count)).sum();
+        assert_eq!(rays, stats.rays.primary, "{rule:?}");
+        assert!(samples.iter().all(|p| p.count >= 1 && p.count <= 64));
+        let calibrated = rule == StopRule::Calibrated;
+        assert!(
+            samples.iter().all(|p| p.half_width.is_some() == calibrated),
+            "{rule:?}"
+        );
+        if calibrated {
+            let h = |p: &penumbra::integrator::stopping::PixelSamples| {
+                p.half_width.map_or(f32::NAN, |h| h.max_element())
+            };
+            assert!(samples.iter().all(|p| h(p) >= 0.0));
+            assert!(samples.iter().any(|p| h(p) > 0.0));
+        }
+        let region = Region {
+            x0: 13,
+            y0: 7,
+            x1: 50,
+            y1: 40,
+        };
+        let part = penumbra::render::render(&s, &opts(Some(region)), &|_, _| {}, None);
+        let (_, part) = part.expect("render");
+        let w = (region.x1 - region.x0) as usize;
+        for (k, p) in part.pixel_samples.iter().enumerate() {
+            let (x, y) = (region.x0 as usize + k % w, region.y0 as usize + k / w);
+            assert_eq!(*p, samples[y * 64 + x], "{rule:?} at ({x}, {y})");
+        }
+    }
+    let mut src = builtin("showcase", None);
+    (src.desc.render.width, src.desc.render.height) = (16, 12);
+    let plain = src.build().expect("showcase builds");
+    let opts = penumbra::render::RenderOptions {
+        threads: Some(1),
+        region: None,
+    };
+    let r = penumbra::render::render(&plain, &opts, &|_, _| {}, None);
+    assert!(r.expect("render").1.pixel_samples.is_empty());
+}

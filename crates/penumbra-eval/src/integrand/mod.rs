@@ -22,7 +22,6 @@
 //! counts only (4, 16, 64, …); the other counts are measured and drawn but
 //! not fitted.
 
-mod fit;
 mod functions;
 mod plot;
 mod polygon;
@@ -38,8 +37,9 @@ use penumbra::sampling::{Distribution, Rng};
 use rayon::prelude::*;
 
 use crate::error::EvalError;
+use crate::fit;
 
-pub use fit::Fit;
+pub use crate::fit::Fit;
 pub use functions::{Class, Integrand};
 pub use results::{
     Curve, DistributionStudy, IntegrandResult, Point, TheoryRow, TAIL_FROM, TOLERANCE,
@@ -95,6 +95,21 @@ pub fn run(
     out: &Path,
     progress: &dyn Fn(&str, usize, usize),
 ) -> Result<DistributionStudy, EvalError> {
+    let (study, svgs) = study(config, quick, threads, out, progress)?;
+    write(&study, &svgs)?;
+    Ok(study)
+}
+
+/// The study as [`run`] makes it, and its plots' SVG texts (in the order
+/// of the integrands), without writing the documents: the render and
+/// stopping levels may be added to it first.
+pub fn study(
+    config: &Config,
+    quick: bool,
+    threads: Option<usize>,
+    out: &Path,
+    progress: &dyn Fn(&str, usize, usize),
+) -> Result<(DistributionStudy, Vec<String>), EvalError> {
     let started = Instant::now();
     let pool = threads.and_then(|t| rayon::ThreadPoolBuilder::new().num_threads(t).build().ok());
     let errors = measure(config, pool.as_ref(), progress);
@@ -111,6 +126,7 @@ pub fn run(
             .as_ref()
             .map_or_else(rayon::current_num_threads, |p| p.current_num_threads()),
         elapsed_s: 0.0,
+        integrand_s: 0.0,
         tolerance: TOLERANCE,
         theory: theory::RATES
             .iter()
@@ -122,10 +138,12 @@ pub fn run(
             })
             .collect(),
         integrands,
+        render: None,
+        stopping: None,
         out: out.to_path_buf(),
     };
     progress(
-        "writing the report",
+        "writing the integrand plots",
         Distribution::ALL.len(),
         Distribution::ALL.len(),
     );
@@ -134,9 +152,14 @@ pub fn run(
         .iter()
         .map(|i| plot::write(i, &out.join(&i.plot)))
         .collect::<Result<Vec<String>, EvalError>>()?;
-    study.elapsed_s = started.elapsed().as_secs_f64();
-    section::write(&study, &svgs)?;
-    Ok(study)
+    study.integrand_s = started.elapsed().as_secs_f64();
+    study.elapsed_s = study.integrand_s;
+    Ok((study, svgs))
+}
+
+/// Writes the study's three documents; `svgs` are the integrand plots'.
+pub fn write(study: &DistributionStudy, svgs: &[String]) -> Result<(), EvalError> {
+    section::write(study, svgs)
 }
 
 /// Errors (estimate − exact) per distribution of `Distribution::ALL`, per

@@ -5,8 +5,10 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use super::fit::Fit;
 use super::functions::Class;
+use crate::fit::Fit;
+use crate::render_level::RenderLevel;
+use crate::stopping::StoppingStudy;
 
 /// Largest distance of a measured slope from its target that counts as
 /// agreeing with theory.
@@ -75,10 +77,16 @@ pub struct DistributionStudy {
     pub seeds: u32,
     pub counts: Vec<usize>,
     pub threads: usize,
+    /// The whole study's time, and the integrand level's.
     pub elapsed_s: f64,
+    pub integrand_s: f64,
     pub tolerance: f64,
     pub theory: Vec<TheoryRow>,
     pub integrands: Vec<IntegrandResult>,
+    /// The render level, when it ran.
+    pub render: Option<RenderLevel>,
+    /// The stopping comparison, when it ran.
+    pub stopping: Option<StoppingStudy>,
     /// The output directory (not written into the JSON).
     #[serde(skip)]
     pub out: PathBuf,
@@ -105,6 +113,12 @@ impl DistributionStudy {
         .map(String::from)
         .to_vec();
         f.extend(self.integrands.iter().map(|i| i.plot.clone()));
+        if let Some(r) = &self.render {
+            f.extend(r.svgs.iter().map(|s| s.0.clone()));
+        }
+        if let Some(s) = &self.stopping {
+            f.extend(s.svgs.iter().map(|s| s.0.clone()));
+        }
         f
     }
 

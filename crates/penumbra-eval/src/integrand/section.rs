@@ -6,11 +6,13 @@ use crate::doc::{to_html, to_markdown, Block, Table};
 use crate::error::EvalError;
 use crate::format::{seconds, signed};
 use crate::output::write_file;
+use crate::{render_level, stopping};
 
-use super::fit::Fit;
 use super::results::{Curve, DistributionStudy, IntegrandResult, TAIL_FROM, TOLERANCE};
+use crate::fit;
 
-const TITLE: &str = "Penumbra: the ray distributions on integrals with known values";
+const TITLE: &str =
+    "Penumbra: the ray distributions on integrals, in renders and under stopping rules";
 
 fn h(level: u8, s: impl Into<String>) -> Block {
     Block::Heading(level, s.into())
@@ -40,15 +42,26 @@ pub fn blocks(s: &DistributionStudy, svgs: &[String]) -> Vec<Block> {
     let mut out = vec![
         h(1, TITLE),
         p(format!(
+            "The study has three levels: integrals with known values (first), renders of six \
+             effects against a converged reference, and the stopping rules of adaptive sampling \
+             compared at equal RMSE (the last two when they ran: {}). Produced by `penumbra \
+             reproduce --study distributions` in {mode} mode in {} s on {} threads.",
+            if s.render.is_some() || s.stopping.is_some() {
+                "they did"
+            } else {
+                "they did not"
+            },
+            seconds(s.elapsed_s),
+            s.threads
+        )),
+        p(format!(
             "Every ray distribution estimates the integral over the unit square of functions whose \
              integral is known in closed form. For each distribution, integrand and number of points \
              N the error is the RMSE of the N-point mean against the exact value, over {} independent \
-             sets; N runs over the powers of two from {} to {last}. Produced by `penumbra reproduce \
-             --study distributions` in {mode} mode in {} s on {} threads.",
+             sets; N runs over the powers of two from {} to {last}. Integrand level measured in {} s.",
             s.seeds,
             s.counts.first().copied().unwrap_or(0),
-            seconds(s.elapsed_s),
-            s.threads
+            seconds(s.integrand_s),
         )),
         p(format!(
             "How to read it: the slope is the least-squares fit of ln RMSE against ln N, and its \
@@ -75,6 +88,12 @@ pub fn blocks(s: &DistributionStudy, svgs: &[String]) -> Vec<Block> {
     for (i, r) in s.integrands.iter().enumerate() {
         out.extend(integrand(r, svgs.get(i).map_or("", String::as_str)));
     }
+    if let Some(r) = &s.render {
+        out.extend(render_level::blocks(r, 2));
+    }
+    if let Some(st) = &s.stopping {
+        out.extend(stopping::blocks(st, 2));
+    }
     out
 }
 
@@ -84,17 +103,6 @@ fn verdict(c: &Curve) -> String {
         Some(false) => "no".into(),
         None => "no target".into(),
     }
-}
-
-fn slope_cell(fit: Option<Fit>) -> String {
-    fit.map_or("–".into(), |f| {
-        format!(
-            "{} [{}, {}]",
-            signed(f.slope),
-            signed(f.low),
-            signed(f.high)
-        )
-    })
 }
 
 /// All slopes in one table: a row per distribution, a column per integrand.
@@ -199,10 +207,10 @@ fn integrand(r: &IntegrandResult, svg: &str) -> Vec<Block> {
     for c in &r.curves {
         t.row(vec![
             c.distribution.clone(),
-            slope_cell(c.fit),
+            fit::cell(c.fit),
             c.theory.map_or("–".into(), signed),
             verdict(c),
-            slope_cell(c.tail_fit),
+            fit::cell(c.tail_fit),
             c.points
                 .last()
                 .map_or("–".into(), |p| format!("{:.3e}", p.rmse)),

@@ -7,6 +7,7 @@ use std::ops::Range;
 use serde::Serialize;
 
 use super::stats::RayStats;
+use super::stopping::PixelSamples;
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -52,6 +53,13 @@ pub trait PixelWorker {
     /// row.
     fn tile(&mut self, tile: TileJob<'_>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) -> bool {
         by_rows(self, tile, out, bad)
+    }
+
+    /// How the pixels rendered by [`tile`](Self::tile) with adaptive
+    /// sampling ended, in the order of their values, taken out of the
+    /// worker; empty without adaptive sampling.
+    fn take_samples(&mut self) -> Vec<PixelSamples> {
+        Vec::new()
     }
 
     /// The rays traced so far, by kind.

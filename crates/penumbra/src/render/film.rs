@@ -1,4 +1,5 @@
 use super::region::Region;
+use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{BadSample, Integrator, PixelWorker, RayStats};
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -36,6 +37,9 @@ pub(super) struct Tile {
     pub pixels: Vec<Rgb>,
     pub rays: RayStats,
     pub bad: Vec<BadSample>,
+    /// How each pixel ended under adaptive sampling, row by row; empty
+    /// without it.
+    pub samples: Vec<PixelSamples>,
 }
 
 impl Tile {
@@ -79,13 +83,12 @@ pub(super) fn render_tile<I: Integrator>(
     if !worker.tile(tile, &mut pixels, &mut bad) {
         return None;
     }
+    let mut samples = worker.take_samples();
     if block != region {
-        let w = block.width() as usize;
-        let x = (region.x0 - block.x0) as usize..(region.x1 - block.x0) as usize;
-        let rows = (region.y0 - block.y0) as usize..(region.y1 - block.y0) as usize;
-        pixels = rows
-            .flat_map(|y| pixels[y * w + x.start..y * w + x.end].to_vec())
-            .collect();
+        pixels = crop(&pixels, block, region);
+        if !samples.is_empty() {
+            samples = crop(&samples, block, region);
+        }
         bad.retain(|b| {
             (region.x0..region.x1).contains(&b.x) && (region.y0..region.y1).contains(&b.y)
         });
@@ -95,7 +98,18 @@ pub(super) fn render_tile<I: Integrator>(
         pixels,
         rays: *worker.stats(),
         bad,
+        samples,
     })
+}
+
+/// The values of `region`'s pixels among `values`, those of `block`'s row
+/// by row.
+fn crop<T: Copy>(values: &[T], block: Region, region: Region) -> Vec<T> {
+    let w = block.width() as usize;
+    let x = (region.x0 - block.x0) as usize..(region.x1 - block.x0) as usize;
+    let rows = (region.y0 - block.y0) as usize..(region.y1 - block.y0) as usize;
+    rows.flat_map(|y| values[y * w + x.start..y * w + x.end].iter().copied())
+        .collect()
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ pub use film::Image;
 pub use region::{Region, TILE};
 pub use report::stats_document;
 
+use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{BadSample, RayStats, Whitted};
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -38,6 +39,11 @@ pub struct RenderStats {
     /// Number of non-finite samples discarded, and the first few of them.
     pub bad_samples: u64,
     pub first_bad_samples: Vec<BadSample>,
+    /// With adaptive sampling, how each pixel of the rendered region ended
+    /// (its camera rays, the calibrated rule's interval), row by row; empty
+    /// without it.
+    #[serde(skip)]
+    pub pixel_samples: Vec<PixelSamples>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -95,7 +101,8 @@ pub fn render(
         bands.push(Mutex::new(band));
         rest = after;
     }
-    let results: Vec<Option<(RayStats, Vec<BadSample>)>> = pool.install(|| {
+    type Counted = (RayStats, Vec<BadSample>, Region, Vec<PixelSamples>);
+    let results: Vec<Option<Counted>> = pool.install(|| {
         tiles
             .par_iter()
             .map(|t| {
@@ -111,7 +118,7 @@ pub fn render(
                 let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
                 tile.copy_into(&mut rows, region);
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
-                Some((tile.rays, tile.bad))
+                Some((tile.rays, tile.bad, tile.region, tile.samples))
             })
             .collect()
     });
@@ -120,8 +127,16 @@ pub fn render(
         threads,
         ..RenderStats::default()
     };
+    let adaptive = s.stopping.is_some();
+    if adaptive {
+        let pixels = region.width() as usize * region.height() as usize;
+        stats.pixel_samples = vec![PixelSamples::default(); pixels];
+    }
     for tile in results {
-        let (rays, bad) = tile.ok_or(RenderError::Cancelled)?;
+        let (rays, bad, at, samples) = tile.ok_or(RenderError::Cancelled)?;
+        if adaptive {
+            place(&mut stats.pixel_samples, region, at, &samples);
+        }
         stats.rays += rays;
         stats.bad_samples += bad.len() as u64;
         let room = 16usize.saturating_sub(stats.first_bad_samples.len());
@@ -129,6 +144,17 @@ pub fn render(
     }
     stats.render_time = start.elapsed();
     Ok((image, stats))
+}
+
+/// Copies the values of tile `at` (row by row) into `out`, the values of
+/// `region` row by row.
+fn place<T: Copy>(out: &mut [T], region: Region, at: Region, values: &[T]) {
+    let (w, stride) = (at.width() as usize, region.width() as usize);
+    let x = (at.x0 - region.x0) as usize;
+    for (row, src) in values.chunks_exact(w).enumerate() {
+        let start = (at.y0 - region.y0) as usize * stride + row * stride + x;
+        out[start..start + w].copy_from_slice(src);
+    }
 }
 
 /// The worker pool of `threads` threads, made on first use and kept: starting

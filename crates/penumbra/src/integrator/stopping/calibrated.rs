@@ -82,6 +82,12 @@ pub fn pass(s: &Stopping, done: u32) -> u32 {
 /// channel (largest minus smallest); `None` unless every replica has a
 /// sample.
 pub fn interval(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(f32, Rgb)> {
+    half_widths(t, replicas, range).map(|(h, mean)| (h.max_element(), mean))
+}
+
+/// The half-width of each channel's interval, as [`interval`] computes it
+/// before taking the largest, and the mean.
+pub fn half_widths(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(Rgb, Rgb)> {
     let n = replicas.iter().map(|r| r.1).min()?;
     if replicas.len() < 2 || n == 0 {
         return None;
@@ -92,7 +98,7 @@ pub fn interval(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(f32, Rgb
     let squares: Rgb = means.map(|m| (m - mean) * (m - mean)).sum();
     let step = range / n as f32;
     let var = squares / (r - 1.0) + step * step / 12.0;
-    Some((t * (var / r).map(f32::sqrt).max_element(), mean))
+    Some(((var / r).map(f32::sqrt) * t, mean))
 }
 
 /// Whether a pixel whose replicas hold these sums, of samples spanning

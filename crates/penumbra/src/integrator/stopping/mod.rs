@@ -34,6 +34,18 @@ mod tally;
 pub use crate::scene::{StopRule, Stopping};
 pub use tally::{class_a, encode, Block, Rect, Tally};
 
+use crate::math::Rgb;
+
+/// How one pixel of an adaptive render ended: the camera rays it took and,
+/// under the calibrated rule, the half-width of the interval of its value
+/// it was last judged by (per channel; the rule compares the largest).
+/// Reported so that a rule's promises can be checked against a reference.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelSamples {
+    pub count: u32,
+    pub half_width: Option<Rgb>,
+}
+
 /// A rule with its settings, ready for a render of `spp` rays per pixel.
 #[derive(Clone, Copy, Debug)]
 pub struct Stopper {
@@ -85,6 +97,27 @@ impl Stopper {
             StopRule::Povray => 1,
             StopRule::Dammertz => dammertz::pass(s, done).min(left),
         }
+    }
+
+    /// How each pixel of `block` ended, row by row.
+    pub fn samples(&self, block: &Block) -> Vec<PixelSamples> {
+        let r = block.replicas;
+        block
+            .pixels
+            .iter()
+            .enumerate()
+            .map(|(k, p)| PixelSamples {
+                count: p.n,
+                half_width: match self.settings.rule {
+                    StopRule::Calibrated => {
+                        let replicas = &block.replica_sums[k * r..(k + 1) * r];
+                        calibrated::half_widths(self.quantile, replicas, p.hi - p.lo)
+                            .map(|(h, _)| h)
+                    }
+                    _ => None,
+                },
+            })
+            .collect()
     }
 
     /// Marks which pixels of `block` take rays in the next pass.

@@ -4,13 +4,14 @@
 use super::pixel::{camera_samples, guard, pixel_stream, with_scratch};
 use super::tracer::Tracer;
 use crate::integrator::interface::{BadSample, TileJob};
-use crate::integrator::stopping::{Block, StopRule, Stopper};
+use crate::integrator::stopping::{Block, PixelSamples, StopRule, Stopper};
 use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 
-/// The pixels of `tile`, row by row, appended to `out`; `false` if its
-/// cancel flag became true (checked before each row of each pass).
+/// The pixels of `tile`, row by row, appended to `out`, and how each ended
+/// to `samples`; `false` if its cancel flag became true (checked before
+/// each row of each pass).
 ///
 /// In each pass every active pixel takes its next rays as one batch. Sample
 /// `i` of a pixel is sample `j = i / R` of replica `r = i mod R` (`R`: the
@@ -25,6 +26,7 @@ pub fn render_tile(
     tile: TileJob<'_>,
     bad: &mut Vec<BadSample>,
     out: &mut Vec<Rgb>,
+    samples: &mut Vec<PixelSamples>,
 ) -> bool {
     let TileJob { xs, ys, cancelled } = tile;
     let (w, h) = (xs.len(), ys.len());
@@ -96,5 +98,6 @@ pub fn render_tile(
         tracer.stats.saved.primary += u64::from(spp - t.n);
         out.push(t.mean());
     }
+    samples.extend(stopper.samples(&block));
     true
 }

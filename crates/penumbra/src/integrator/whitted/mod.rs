@@ -17,7 +17,7 @@ pub use tracer::Tracer;
 
 use super::interface::{by_rows, BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::RayStats;
-use super::stopping::Stopper;
+use super::stopping::{PixelSamples, Stopper};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -35,6 +35,7 @@ impl Integrator for Whitted {
             scene,
             tracer: Tracer::new(scene),
             stopper: s.stopping.map(|rule| Stopper::new(rule, s.spp, image)),
+            samples: Vec::new(),
         }
     }
 }
@@ -45,6 +46,8 @@ pub struct WhittedWorker<'s> {
     tracer: Tracer<'s>,
     /// The adaptive sampling rule, if on.
     stopper: Option<Stopper>,
+    /// How the pixels of the tiles rendered adaptively ended.
+    samples: Vec<PixelSamples>,
 }
 
 impl PixelWorker for WhittedWorker<'_> {
@@ -56,7 +59,20 @@ impl PixelWorker for WhittedWorker<'_> {
         let Some(stopper) = &self.stopper else {
             return by_rows(self, tile, out, bad);
         };
-        adaptive::render_tile(self.scene, &mut self.tracer, stopper, tile, bad, out)
+        let samples = &mut self.samples;
+        adaptive::render_tile(
+            self.scene,
+            &mut self.tracer,
+            stopper,
+            tile,
+            bad,
+            out,
+            samples,
+        )
+    }
+
+    fn take_samples(&mut self) -> Vec<PixelSamples> {
+        std::mem::take(&mut self.samples)
     }
 
     fn stats(&self) -> &RayStats {

@@ -1,9 +1,11 @@
-//! The convergence rate as a fitted power law: least squares of ln RMSE on
+//! A convergence rate as a fitted power law: least squares of ln RMSE on
 //! ln N, with a 95% confidence interval of the slope from Student's t on the
 //! regression's residuals.
 
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, StudentsT};
+
+use crate::format::signed;
 
 /// A fitted power law `RMSE ≈ exp(intercept) · N^slope`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -61,6 +63,18 @@ pub fn power_law(points: &[(f64, f64)]) -> Option<Fit> {
         low: slope - half,
         high: slope + half,
         points: logs.len(),
+    })
+}
+
+/// A table cell: `slope [low, high]`, or `–` without a fit.
+pub fn cell(fit: Option<Fit>) -> String {
+    fit.map_or("–".into(), |f| {
+        format!(
+            "{} [{}, {}]",
+            signed(f.slope),
+            signed(f.low),
+            signed(f.high)
+        )
     })
 }
 
