@@ -48,9 +48,8 @@ pub use results::{EqualRow, Run, SceneResult, StoppingStudy, Summary, VariantRes
 pub use section::blocks;
 
 /// The distribution of every rule's camera rays (film, lens, time):
-/// `pmj02`, progressive (any prefix is well spread, as the rules' passes
-/// need) and unbiased when film, lens and time sets are paired, which
-/// the render level finds `sobol`, `zsobol` and `halton` are not.
+/// `pmj02`, progressive (every power-of-two prefix of a set in trace
+/// order is a net, as the rules' passes need) and stratified in 1D and 2D.
 pub const PIXELS: Distribution = Distribution::Pmj02;
 
 /// Seeds of the reference's halves (trials use seed 1).

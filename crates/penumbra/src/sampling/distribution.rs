@@ -82,10 +82,10 @@
 //! from the set's stream (one to three 64-bit draws; `zsobol` from the
 //! stream's place in the frame instead), so like the six it is a
 //! pure function of the stream, hence of (seed, pixel, set, dimension); its
-//! first `count` points are scaled to `[-r, r]^2` and returned in sequence
-//! order, not shuffled, since every prefix of these sequences is already
-//! spread over the whole square (the property the shuffle gives the grid
-//! family). Each has its own module with its construction, its guarantees
+//! first `count` points are scaled to `[-r, r]^2` and returned in the set's
+//! trace order (see [Trace order](#trace-order)), a permutation that keeps
+//! every power-of-two prefix a block of the sequence, already spread over the
+//! whole square (the property the shuffle gives the grid family). Each has its own module with its construction, its guarantees
 //! and the tests that check them:
 //!
 //! * **`sobol`** ([`sobol`](super::sobol)) — the first two dimensions of
@@ -185,13 +185,30 @@
 //! # Trace order
 //!
 //! [`Distribution::generate`] returns the points of the thesis's six already
-//! shuffled (with [`shuffle`], on the same stream; the low-discrepancy sets
-//! come in their sequences' own, progressive order). A set of rays is traced in that order,
+//! shuffled (with [`shuffle`], on the same stream), and `custom`'s too. A set
+//! of rays is traced in that order,
 //! never row by row: when tracing stops early because the result has
 //! converged (the acceleration metrics of the thesis, §3.4), row-major order
 //! would always have sampled the first rows and never the last ones, biasing
 //! every early-terminated pixel toward one side of the square.
 //!
+//! The low-discrepancy sets are not shuffled but permuted so that their
+//! progressive structure survives: point `i` of a set of `N`
+//! (`2^(m-1) < N ≤ 2^m`) is the sequence's point `π(i)`, where `π` is a
+//! nested uniform (Owen) scramble of the index read as an `m`-digit binary
+//! fraction, seeded per set, with indices at `N` or beyond scrambled again
+//! until they fall below it. The set is still its sequence's first `N`
+//! points; the first `2^j` in trace order are an aligned block of `2^j`
+//! consecutive points of the sequence (for `sobol`, `zsobol`, `pmj02` and
+//! `pmj02bn` a `(0, j, 2)`-net, for `halton` and `r2` a run of consecutive
+//! points). The permutation matters where sets are paired by index: a camera
+//! sample takes point `i` of its film, lens and time sets. Two sets of one
+//! sequence in sequence order would pair point `i` with point `i` under two
+//! randomisations, which are dependent (the first digit of a `sobol` point's
+//! first coordinate is the index's last bit, up to the scramble; an `r2` lens
+//! point is the film point plus a constant), so a pixel would converge to
+//! another image. pbrt-v4 permutes each dimension's sample index for the same
+//! reason.
 //! # Poisson-disk points
 //!
 //! Bridson's algorithm ("Fast Poisson disk sampling in arbitrary dimensions",
@@ -306,6 +323,7 @@ use crate::math::{Vec2, Vec3};
 
 use super::custom::PointTable;
 use super::halton::Halton;
+use super::order::TraceOrder;
 use super::pmj02::Pmj02;
 use super::pmj02bn::Pmj02bn;
 use super::r2::R2;
@@ -478,18 +496,34 @@ impl Distribution {
             Distribution::Poisson => poisson(count, radius, rng, out),
             Distribution::Random => out.extend((0..count).map(|_| disk(radius, rng))),
             Distribution::FastRandom => out.extend((0..count).map(|_| cube(radius, rng))),
-            Distribution::Sobol => sequence(count, radius, out, Sobol::new(rng), Sobol::point),
+            Distribution::Sobol => {
+                let set = Sobol::new(rng);
+                sequence(count, radius, rng, out, set, Sobol::point)
+            }
             Distribution::Zsobol => {
                 let set = ZSobol::new(rng.place(), count);
-                sequence(count, radius, out, set, ZSobol::point)
+                sequence(count, radius, rng, out, set, ZSobol::point)
             }
-            Distribution::Pmj02 => sequence(count, radius, out, Pmj02::new(rng), Pmj02::point),
+            Distribution::Pmj02 => {
+                let set = Pmj02::new(rng);
+                sequence(count, radius, rng, out, set, Pmj02::point)
+            }
             Distribution::Pmj02bn => {
-                sequence(count, radius, out, Pmj02bn::new(rng), Pmj02bn::point)
+                let set = Pmj02bn::new(rng);
+                sequence(count, radius, rng, out, set, Pmj02bn::point)
             }
-            Distribution::Halton => sequence(count, radius, out, Halton::new(rng), Halton::point),
-            Distribution::R2 => sequence(count, radius, out, R2::new(rng), R2::point),
-            Distribution::Custom => table.fill(count, rng, |p| out.push(square(p, radius))),
+            Distribution::Halton => {
+                let set = Halton::new(rng);
+                sequence(count, radius, rng, out, set, Halton::point)
+            }
+            Distribution::R2 => {
+                let set = R2::new(rng);
+                sequence(count, radius, rng, out, set, R2::point)
+            }
+            Distribution::Custom => {
+                table.fill(count, rng, |p| out.push(square(p, radius)));
+                shuffle(out, rng);
+            }
         }
     }
 
@@ -562,15 +596,15 @@ impl Distribution {
     /// `(i + 0.25 + 0.5 u) / n`; poisson a uniformly random set with gaps of
     /// at least [`poisson_min_distance_1d`]; random and fast-random
     /// independent uniform values (time has no direction to bias). The
-    /// low-discrepancy sets give their sequence's first coordinate in
-    /// sequence order, unshuffled (for `r2` the shifted golden-ratio
-    /// sequence).
+    /// low-discrepancy sets give their sequence's first coordinate in the
+    /// set's trace order (for `r2` the shifted golden-ratio sequence);
+    /// `custom` the first coordinates of its points, shuffled.
     pub fn generate_1d(self, count: usize, rng: &mut Rng, out: &mut Vec<f32>) {
         self.generate_1d_in(&PointTable::NONE, count, rng, out);
     }
 
     /// [`generate_1d`](Self::generate_1d), with `custom`'s points from
-    /// `table` (their first coordinates, in the set's order).
+    /// `table` (their first coordinates, shuffled).
     pub fn generate_1d_in(
         self,
         table: &PointTable,
@@ -592,16 +626,31 @@ impl Distribution {
             Distribution::Random | Distribution::FastRandom => {
                 out.extend((0..count).map(|_| rng.next_f32()))
             }
-            Distribution::Sobol => return values(count, out, Sobol::new(rng), Sobol::value),
+            Distribution::Sobol => {
+                let set = Sobol::new(rng);
+                return values(count, rng, out, set, Sobol::value);
+            }
             Distribution::Zsobol => {
                 let set = ZSobol::new(rng.place(), count);
-                return values(count, out, set, ZSobol::value);
+                return values(count, rng, out, set, ZSobol::value);
             }
-            Distribution::Pmj02 => return values(count, out, Pmj02::new(rng), Pmj02::value),
-            Distribution::Pmj02bn => return values(count, out, Pmj02bn::new(rng), Pmj02bn::value),
-            Distribution::Halton => return values(count, out, Halton::new(rng), Halton::value),
-            Distribution::R2 => return values(count, out, R2::new(rng), R2::value),
-            Distribution::Custom => return table.fill(count, rng, |p| out.push(p.x)),
+            Distribution::Pmj02 => {
+                let set = Pmj02::new(rng);
+                return values(count, rng, out, set, Pmj02::value);
+            }
+            Distribution::Pmj02bn => {
+                let set = Pmj02bn::new(rng);
+                return values(count, rng, out, set, Pmj02bn::value);
+            }
+            Distribution::Halton => {
+                let set = Halton::new(rng);
+                return values(count, rng, out, set, Halton::value);
+            }
+            Distribution::R2 => {
+                let set = R2::new(rng);
+                return values(count, rng, out, set, R2::value);
+            }
+            Distribution::Custom => table.fill(count, rng, |p| out.push(p.x)),
         }
         shuffle(out, rng);
     }
@@ -751,23 +800,31 @@ fn cell_points(
     }
 }
 
-/// The first `count` points of a low-discrepancy `set`, in sequence order
-/// (a prefix is already well spread, so it is not shuffled), scaled to
-/// `[-r, r]^2`. Indices wrap at 2^32.
+/// The first `count` points of a low-discrepancy `set`, in its trace order
+/// ([`TraceOrder`], drawn from `rng` after the set), scaled to `[-r, r]^2`.
 fn sequence<S>(
     count: usize,
     radius: f32,
+    rng: &mut Rng,
     out: &mut Vec<Vec3>,
     set: S,
     point: impl Fn(&S, u32) -> Vec2,
 ) {
-    out.extend((0..count).map(|i| square(point(&set, i as u32), radius)));
+    let order = TraceOrder::new(count, rng);
+    out.extend((0..count).map(|i| square(point(&set, order.index(i as u32)), radius)));
 }
 
 /// The first `count` values of a low-discrepancy `set`'s one-dimensional
-/// sequence, in sequence order.
-fn values<S>(count: usize, out: &mut Vec<f32>, set: S, value: impl Fn(&S, u32) -> f32) {
-    out.extend((0..count).map(|i| value(&set, i as u32)));
+/// sequence, in its trace order.
+fn values<S>(
+    count: usize,
+    rng: &mut Rng,
+    out: &mut Vec<f32>,
+    set: S,
+    value: impl Fn(&S, u32) -> f32,
+) {
+    let order = TraceOrder::new(count, rng);
+    out.extend((0..count).map(|i| value(&set, order.index(i as u32))));
 }
 
 /// Uniform per area in the disk: radius `r * sqrt(u)` (not `r * u`, which
@@ -1641,6 +1698,56 @@ mod tests {
                     strata.sort_unstable();
                     assert_eq!(strata, (0..n).collect::<Vec<_>>(), "{d} seed {seed}");
                 }
+            }
+        }
+    }
+
+    /// Sets drawn from independent streams are independent when paired by
+    /// index, as a camera sample pairs its film, lens and time points: the
+    /// mean over a pair of sets of a function of both points converges as
+    /// the sets grow. Two copies of one sequence in sequence order would
+    /// not (an `r2` lens point is its film point plus a constant, a
+    /// `sobol` one shares its first digit), and the error would stay.
+    #[test]
+    fn sets_paired_by_index_are_independent() {
+        // Whether two coordinates lie within 1/4 of each other on the
+        // circle: 1/2 for independent uniform ones.
+        let near = |a: f32, b: f32| {
+            let d = (a - b).rem_euclid(1.0);
+            f64::from(u8::from(d.min(1.0 - d) < 0.25))
+        };
+        let unit = |v: f32| 0.5 * (v + 1.0);
+        let (mut film, mut lens, mut times) = (Vec::new(), Vec::new(), Vec::new());
+        for d in Distribution::ALL {
+            let mut rmse = |count: usize| {
+                let pairs = 200;
+                let mut sq = [0.0f64; 2];
+                for p in 0..pairs {
+                    d.generate(count, 1.0, &mut Rng::new(3 * p), &mut film);
+                    d.generate(count, 1.0, &mut Rng::new(3 * p + 1), &mut lens);
+                    d.generate_1d(count, &mut Rng::new(3 * p + 2), &mut times);
+                    let n = count as f64;
+                    let xy: f64 = (film.iter().zip(&lens))
+                        .map(|(f, l)| near(unit(f.x), unit(l.x)) + near(unit(f.y), unit(l.y)))
+                        .sum::<f64>()
+                        / (2.0 * n);
+                    let xt: f64 = film
+                        .iter()
+                        .zip(&times)
+                        .map(|(f, &t)| near(unit(f.x), t))
+                        .sum::<f64>()
+                        / n;
+                    sq[0] += (xy - 0.5) * (xy - 0.5);
+                    sq[1] += (xt - 0.5) * (xt - 0.5);
+                }
+                sq.map(|s| (s / pairs as f64).sqrt())
+            };
+            let (small, large) = (rmse(16), rmse(256));
+            for k in 0..2 {
+                // Independent pairs: 1/4 of the error at 16 times the points
+                // (0.25); a dependent pairing keeps it (about 1).
+                let ratio = large[k] / small[k];
+                assert!(ratio < 0.45, "{d} ({}): {ratio}", ["lens", "time"][k]);
             }
         }
     }

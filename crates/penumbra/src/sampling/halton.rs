@@ -34,9 +34,10 @@
 //!
 //! that is `D*_N < (2 + (0.7213 ln N + 1.5)(0.9102 ln N + 2)) / N`. The bound
 //! is loose: measured over six sets and `N` up to 256, `D*` stays below a
-//! quarter of it (at most 0.19 of it), which the tests check too. The points
-//! come in sequence order (never shuffled), so a set stopped early is a
-//! prefix with the same bound.
+//! quarter of it (at most 0.19 of it), which the tests check too. A set of
+//! `N` is the first `N` points, in the trace order of
+//! [`Distribution`](super::Distribution) (a permutation whose power-of-two
+//! prefixes are runs of consecutive points).
 
 use super::sobol::{first_dimension, unit};
 use super::Rng;

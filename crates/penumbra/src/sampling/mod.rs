@@ -7,6 +7,7 @@ pub mod custom;
 pub mod distribution;
 pub mod filter;
 pub mod halton;
+mod order;
 pub mod pmj02;
 pub mod pmj02bn;
 pub mod points;

@@ -27,7 +27,9 @@
 //! (and a spread of `N` up to 256), the star
 //! discrepancy of the first `N` points is below [`discrepancy_bound`]
 //! `= 2 (1 + ln N) / N` (the largest measured ratio to it is 0.67, over six
-//! shifts). The points come in sequence order (never shuffled).
+//! shifts). A set of `N` is the first `N` points, in the trace order of
+//! [`Distribution`](super::Distribution) (a permutation whose power-of-two
+//! prefixes are runs of consecutive points).
 
 use super::sobol::unit;
 use super::Rng;

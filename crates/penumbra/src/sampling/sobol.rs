@@ -35,8 +35,10 @@
 //! (so for `N = 4^k` exactly one point per cell of the `2^k x 2^k` grid, and
 //! for every `N = 2^m` exactly one point per row and per column of `N`
 //! strata); any prefix is progressive, so stopping a set early keeps its
-//! spread. Each point is uniform over the square in expectation. The points
-//! come in sequence order (never shuffled): a prefix is already well spread.
+//! spread. Each point is uniform over the square in expectation. A set
+//! takes its points in the trace order of
+//! [`Distribution`](super::Distribution), which keeps every power-of-two
+//! prefix a net.
 
 use super::Rng;
 use crate::math::Vec2;
@@ -270,12 +272,18 @@ mod tests {
     }
 
     /// The sets the renderer gets (scaled to `[-r, r]^2` and back, exactly)
-    /// are the nets, for `sobol` and `pmj02`.
+    /// are the nets in every power-of-two prefix of their trace order, for
+    /// `sobol`, `zsobol`, `pmj02` and `pmj02bn`.
     #[test]
     fn generated_sets_are_nets() {
         use crate::sampling::Distribution;
         let mut out = Vec::new();
-        for d in [Distribution::Sobol, Distribution::Pmj02] {
+        for d in [
+            Distribution::Sobol,
+            Distribution::Zsobol,
+            Distribution::Pmj02,
+            Distribution::Pmj02bn,
+        ] {
             for seed in 0..checks::SEEDS {
                 d.generate(1 << checks::MAX_M, 1.0, &mut Rng::new(seed), &mut out);
                 let unit: Vec<Vec2> = out.iter().map(|p| 0.5 * (p.truncate() + 1.0)).collect();
