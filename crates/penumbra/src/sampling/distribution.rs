@@ -1719,9 +1719,11 @@ mod tests {
         let unit = |v: f32| 0.5 * (v + 1.0);
         let (mut film, mut lens, mut times) = (Vec::new(), Vec::new(), Vec::new());
         for d in Distribution::ALL {
-            let mut rmse = |count: usize| {
-                let pairs = 200;
-                let mut sq = [0.0f64; 2];
+            // The spread of the mean over pairs of sets (not its error: the
+            // disk of `random` moves the mean away from 1/2).
+            let mut spread = |count: usize| {
+                let pairs = 400;
+                let mut means = [Vec::new(), Vec::new()];
                 for p in 0..pairs {
                     d.generate(count, 1.0, &mut Rng::new(3 * p), &mut film);
                     d.generate(count, 1.0, &mut Rng::new(3 * p + 1), &mut lens);
@@ -1737,17 +1739,24 @@ mod tests {
                         .map(|(f, &t)| near(unit(f.x), t))
                         .sum::<f64>()
                         / n;
-                    sq[0] += (xy - 0.5) * (xy - 0.5);
-                    sq[1] += (xt - 0.5) * (xt - 0.5);
+                    means[0].push(xy);
+                    means[1].push(xt);
                 }
-                sq.map(|s| (s / pairs as f64).sqrt())
+                means.map(|m| {
+                    let mean = m.iter().sum::<f64>() / m.len() as f64;
+                    (m.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / m.len() as f64).sqrt()
+                })
             };
-            let (small, large) = (rmse(16), rmse(256));
+            let (small, large) = (spread(16), spread(256));
             for k in 0..2 {
-                // Independent pairs: 1/4 of the error at 16 times the points
-                // (0.25); a dependent pairing keeps it (about 1).
+                // Independent pairs: 1/4 of the spread at 16 times the
+                // points; sequence order keeps it (0.99 for `sobol`'s
+                // times). Measured: 0.23 to 0.34, but `r2`'s lens 0.44
+                // (its steps 4α to 16α are within 0.08 of an integer, so
+                // the scramble's flips of those digits barely move a
+                // point).
                 let ratio = large[k] / small[k];
-                assert!(ratio < 0.45, "{d} ({}): {ratio}", ["lens", "time"][k]);
+                assert!(ratio < 0.6, "{d} ({}): {ratio}", ["lens", "time"][k]);
             }
         }
     }
