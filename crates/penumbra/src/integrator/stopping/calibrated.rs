@@ -101,11 +101,11 @@ pub fn half_widths(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(Rgb, 
     Some(((var / r).map(f32::sqrt) * t, mean))
 }
 
-/// Whether a pixel whose replicas hold these sums, of samples spanning
-/// `range`, may stop.
-pub fn converged(s: &Stopping, t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> bool {
+/// Whether a pixel (or a set) whose replicas hold these sums, of samples
+/// spanning `range`, may stop under `threshold`.
+pub fn converged(threshold: f32, t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> bool {
     interval(t, replicas, range)
-        .is_some_and(|(h, mean)| h <= s.threshold * mean.max_element().max(FLOOR))
+        .is_some_and(|(h, mean)| h <= threshold * mean.max_element().max(FLOOR))
 }
 
 /// Stops the active pixels of `block` whose interval at quantile `t` is
@@ -114,7 +114,7 @@ pub fn judge(s: &Stopping, t: f32, block: &mut Block) {
     let r = block.replicas;
     for (k, p) in block.pixels.iter_mut().enumerate() {
         let replicas = &block.replica_sums[k * r..(k + 1) * r];
-        if p.active && converged(s, t, replicas, p.hi - p.lo) {
+        if p.active && converged(s.threshold, t, replicas, p.hi - p.lo) {
             p.active = false;
         }
     }
@@ -209,7 +209,7 @@ mod tests {
                     sums[r].1 += 1;
                 }
                 done += p;
-                if converged(&s, t, &sums, hi - lo) {
+                if converged(s.threshold, t, &sums, hi - lo) {
                     stopped += 1;
                     break;
                 }

@@ -29,6 +29,7 @@ pub mod calibrated;
 pub mod cycles;
 pub mod dammertz;
 pub mod povray;
+pub mod sets;
 mod tally;
 
 pub use crate::scene::{StopRule, Stopping};

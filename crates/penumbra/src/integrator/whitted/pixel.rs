@@ -90,7 +90,7 @@ pub fn render_pixels(
             };
             if let Some(m) = &metric {
                 let value = |i: usize, l: Rgb| guard(l, x0, y, i, bad);
-                let (mean, traced) = tracer.mean(n, |k| rays[k], 0, path, Some(m), value);
+                let (mean, traced) = tracer.mean(n, |k| rays[k], 0, path, Some(m), None, value);
                 tracer.stats.primary += traced as u64;
                 tracer.stats.saved.primary += (n - traced) as u64;
                 out.push(mean);

@@ -11,6 +11,7 @@ use crate::scene::Scene;
 
 use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::stats::RayStats;
+use crate::integrator::stopping::sets::{SetRule, SetTally};
 
 const SHADOW: u64 = 1 << 32;
 const REFLECT_SET: u64 = 1;
@@ -56,6 +57,10 @@ pub struct Tracer<'a> {
     emitters: Vec<Emitter>,
     /// The branch of light `j`'s shadow sets, `SHADOW + j`, hashed once.
     shadow_keys: Vec<BranchKey>,
+    /// The calibrated rule on sets, if on (see [`SetRule`]).
+    set_rule: Option<SetRule>,
+    /// Replica sums of the sets being traced, one per nesting level.
+    tallies: Vec<SetTally>,
 }
 
 /// What tracing a batch of rays keeps between its steps (see
@@ -152,6 +157,8 @@ impl<'a> Tracer<'a> {
             shadow_keys: (0..scene.lights.len() as u64)
                 .map(|j| BranchKey::new(SHADOW + j))
                 .collect(),
+            set_rule: SetRule::new(scene.settings.stopping),
+            tallies: Vec::new(),
         }
     }
 
@@ -236,8 +243,11 @@ impl<'a> Tracer<'a> {
     /// `metric` (see [`RunningMean`]), and how many rays were traced.
     /// Without a metric the set is one batch; with one, a batch of the rays
     /// the metric must see before it may stop, then batches of one, so that
-    /// no ray is made or traced past the stop. `value(k, l)` gives what ray
-    /// `k`'s radiance `l` adds to the mean.
+    /// no ray is made or traced past the stop. With a set `rule` (whose
+    /// replicas the rays must be), the batches are its passes, and the set
+    /// stops after one when the rule judges it converged. `value(k, l)`
+    /// gives what ray `k`'s radiance `l` adds to the mean.
+    #[allow(clippy::too_many_arguments)]
     pub fn mean(
         &mut self,
         n: usize,
@@ -245,27 +255,48 @@ impl<'a> Tracer<'a> {
         depth: u32,
         rng: impl Fn(usize) -> Rng,
         metric: Option<&Metric>,
+        rule: Option<SetRule>,
         mut value: impl FnMut(usize, Rgb) -> Rgb,
     ) -> (Rgb, usize) {
         let first = metric.map_or(n, |m| (m.min_rays.max(2) as usize).min(n));
         let (mut rays, mut values) = self.sets.pop().unwrap_or_default();
+        let mut tally = rule.map(|r| {
+            let mut t = self.tallies.pop().unwrap_or_default();
+            t.reset(&r);
+            (r, t)
+        });
         let mut mean = RunningMean::default();
         let mut start = 0;
         'set: while start < n {
-            let end = if start == 0 { first } else { start + 1 };
+            let end = match (&tally, metric) {
+                (Some((r, _)), _) => r.pass_end(start, n),
+                (None, Some(_)) if start > 0 => start + 1,
+                _ => first,
+            };
             rays.clear();
             rays.extend((start..end).map(&ray));
             values.clear();
             self.radiance(&rays, depth, |k| rng(start + k), &mut values);
             for (k, &l) in (start..end).zip(values.iter()) {
-                if mean.push(value(k, l), metric, n as u32) {
-                    start = k + 1;
+                let l = value(k, l);
+                if let Some((_, t)) = &mut tally {
+                    t.push(k, l);
+                }
+                if mean.push(l, metric, n as u32) {
+                    // The batch was traced whole when it is a rule's pass.
+                    start = if tally.is_some() { end } else { k + 1 };
                     break 'set;
                 }
             }
             start = end;
+            if tally.as_ref().is_some_and(|(r, t)| t.converged(r)) {
+                break;
+            }
         }
         self.sets.push((rays, values));
+        if let Some((_, t)) = tally {
+            self.tallies.push(t);
+        }
         (mean.mean(), start)
     }
 
@@ -374,16 +405,35 @@ impl<'a> Tracer<'a> {
         let k = (self.scene.settings.metric)
             .filter(|m| m.shadows)
             .map_or(u32::MAX, |m| m.shadow_rays);
+        let rule = SetRule::for_set(self.set_rule, set.len());
+        let mut tally = rule.map(|r| {
+            let mut t = self.tallies.pop().unwrap_or_default();
+            t.reset(&r);
+            (r, t, r.pass_end(0, set.len()))
+        });
         let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
         for r in set {
             done += 1;
+            let mut term = Rgb::ZERO;
             if let Some(r) = r {
                 match self.shadow_term(s, m, r, shaft, clear) {
-                    Some(term) => {
-                        sum += term;
+                    Some(t) => {
+                        term = t;
+                        sum += t;
                         reached += 1;
                     }
                     None => blocked += 1,
+                }
+            }
+            // The calibrated rule, at the end of each of its passes.
+            if let Some((rule, t, end)) = &mut tally {
+                t.push(done as usize - 1, term);
+                if done as usize == *end {
+                    if t.converged(rule) {
+                        self.stats.saved.shadow += u64::from(n - done);
+                        break;
+                    }
+                    *end = rule.pass_end(*end, set.len());
                 }
             }
             // The shadow metric: after k rays, all reached or all blocked.
@@ -391,6 +441,9 @@ impl<'a> Tracer<'a> {
                 self.stats.saved.shadow += u64::from(n - done);
                 break;
             }
+        }
+        if let Some((_, t, _)) = tally {
+            self.tallies.push(t);
         }
         sum / done.max(1) as f32
     }
@@ -454,8 +507,20 @@ impl<'a> Tracer<'a> {
     }
 
     /// The distribution points of a shadow set toward `light`, into `points`.
-    fn set_points(&self, light: &Emitter, rng: &mut Rng, points: &mut Vec<Vec3>) {
+    fn set_points(&mut self, light: &Emitter, rng: &mut Rng, points: &mut Vec<Vec3>) {
         let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
+        if let Some(rule) = SetRule::for_set(self.set_rule, n) {
+            let mut scratch = self.pool.pop().unwrap_or_default();
+            rule.points(
+                (d, &self.scene.settings.points),
+                n,
+                rng,
+                &mut scratch,
+                points,
+            );
+            self.pool.push(scratch);
+            return;
+        }
         // The rays are summed: their order matters only to the shadow
         // metric, which may stop the set early.
         if self.scene.settings.metric.is_some_and(|m| m.shadows) {
@@ -515,7 +580,8 @@ impl<'a> Tracer<'a> {
     ) -> Rgb {
         let n = if radius > 0.0 { rays } else { 1 };
         let (set_tag, ray_tag) = branch.tags();
-        let points = self.points(d, n, rng.derive(set_tag));
+        let rule = SetRule::for_set(self.set_rule, n as usize);
+        let points = self.points(d, n, rule, rng.derive(set_tag));
         let transmit = matches!(branch, Branch::Refract);
         // Rays must leave on the viewer's side for reflection, the other side for refraction.
         let side = if transmit { -s.ng } else { s.ng };
@@ -533,7 +599,7 @@ impl<'a> Tracer<'a> {
         let metric = self.scene.settings.metric.filter(|m| m.reflections);
         let n = points.len();
         let child = |k: usize| children.child(k, n);
-        let (mean, traced) = self.mean(n, ray, depth + 1, child, metric.as_ref(), |_, l| l);
+        let (mean, traced) = self.mean(n, ray, depth + 1, child, metric.as_ref(), rule, |_, l| l);
         let (traced, saved) = (traced as u64, (n - traced) as u64);
         if transmit {
             self.stats.refraction += traced;
@@ -546,16 +612,25 @@ impl<'a> Tracer<'a> {
         mean
     }
 
-    /// The points of a distribution set, in trace order, from the buffer pool.
-    fn points(&mut self, d: Distribution, n: u32, mut rng: Rng) -> Vec<Vec3> {
+    /// The points of a distribution set, in trace order (as `rule`'s
+    /// replicas if it has one), from the buffer pool.
+    fn points(
+        &mut self,
+        d: Distribution,
+        n: u32,
+        rule: Option<SetRule>,
+        mut rng: Rng,
+    ) -> Vec<Vec3> {
         let mut buf = self.pool.pop().unwrap_or_default();
-        d.generate_in(
-            &self.scene.settings.points,
-            n as usize,
-            1.0,
-            &mut rng,
-            &mut buf,
-        );
+        let table = &self.scene.settings.points;
+        match rule {
+            Some(r) => {
+                let mut scratch = self.pool.pop().unwrap_or_default();
+                r.points((d, table), n as usize, &rng, &mut scratch, &mut buf);
+                self.pool.push(scratch);
+            }
+            None => d.generate_in(table, n as usize, 1.0, &mut rng, &mut buf),
+        }
         buf
     }
 }
