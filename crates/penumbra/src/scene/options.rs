@@ -595,8 +595,8 @@ pub const OPTIONS: &[RenderOption] = &[
             max: MAX_REPLICAS,
         },
         default: int(8),
-        doc: "independently scrambled replicas of a pixel's sets whose spread the calibrated \
-              rule reads the noise from",
+        doc: "independently scrambled replicas of a pixel's sets (and of its shadow, reflection \
+              and refraction sets) whose spread the calibrated rule reads the noise from",
         table: Some(Table::Render),
         flag: Flag::metavar("R"),
         python: true,

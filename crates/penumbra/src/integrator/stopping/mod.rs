@@ -24,6 +24,10 @@
 //! index): a pixel that stops after `n` rays has exactly the first `n` of
 //! the samples a full render would trace (with the calibrated rule, the
 //! first of each replica's), and its value is their mean.
+//!
+//! The calibrated rule judges the sets of shadow, reflection and
+//! refraction rays below a camera ray too, each by its own replicas
+//! ([`sets`]).
 
 pub mod calibrated;
 pub mod cycles;
