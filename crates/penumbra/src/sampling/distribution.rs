@@ -496,30 +496,17 @@ impl Distribution {
             Distribution::Poisson => poisson(count, radius, rng, out),
             Distribution::Random => out.extend((0..count).map(|_| disk(radius, rng))),
             Distribution::FastRandom => out.extend((0..count).map(|_| cube(radius, rng))),
-            Distribution::Sobol => {
-                let set = Sobol::new(rng);
-                sequence(count, radius, rng, out, set, Sobol::point)
-            }
+            Distribution::Sobol => sequence(count, radius, rng, out, Sobol::new, Sobol::point),
             Distribution::Zsobol => {
-                let set = ZSobol::new(rng.place(), count);
+                let set = |rng: &mut Rng| ZSobol::new(rng.place(), count);
                 sequence(count, radius, rng, out, set, ZSobol::point)
             }
-            Distribution::Pmj02 => {
-                let set = Pmj02::new(rng);
-                sequence(count, radius, rng, out, set, Pmj02::point)
-            }
+            Distribution::Pmj02 => sequence(count, radius, rng, out, Pmj02::new, Pmj02::point),
             Distribution::Pmj02bn => {
-                let set = Pmj02bn::new(rng);
-                sequence(count, radius, rng, out, set, Pmj02bn::point)
+                sequence(count, radius, rng, out, Pmj02bn::new, Pmj02bn::point)
             }
-            Distribution::Halton => {
-                let set = Halton::new(rng);
-                sequence(count, radius, rng, out, set, Halton::point)
-            }
-            Distribution::R2 => {
-                let set = R2::new(rng);
-                sequence(count, radius, rng, out, set, R2::point)
-            }
+            Distribution::Halton => sequence(count, radius, rng, out, Halton::new, Halton::point),
+            Distribution::R2 => sequence(count, radius, rng, out, R2::new, R2::point),
             Distribution::Custom => {
                 table.fill(count, rng, |p| out.push(square(p, radius)));
                 shuffle(out, rng);
@@ -626,30 +613,15 @@ impl Distribution {
             Distribution::Random | Distribution::FastRandom => {
                 out.extend((0..count).map(|_| rng.next_f32()))
             }
-            Distribution::Sobol => {
-                let set = Sobol::new(rng);
-                return values(count, rng, out, set, Sobol::value);
-            }
+            Distribution::Sobol => return values(count, rng, out, Sobol::new, Sobol::value),
             Distribution::Zsobol => {
-                let set = ZSobol::new(rng.place(), count);
+                let set = |rng: &mut Rng| ZSobol::new(rng.place(), count);
                 return values(count, rng, out, set, ZSobol::value);
             }
-            Distribution::Pmj02 => {
-                let set = Pmj02::new(rng);
-                return values(count, rng, out, set, Pmj02::value);
-            }
-            Distribution::Pmj02bn => {
-                let set = Pmj02bn::new(rng);
-                return values(count, rng, out, set, Pmj02bn::value);
-            }
-            Distribution::Halton => {
-                let set = Halton::new(rng);
-                return values(count, rng, out, set, Halton::value);
-            }
-            Distribution::R2 => {
-                let set = R2::new(rng);
-                return values(count, rng, out, set, R2::value);
-            }
+            Distribution::Pmj02 => return values(count, rng, out, Pmj02::new, Pmj02::value),
+            Distribution::Pmj02bn => return values(count, rng, out, Pmj02bn::new, Pmj02bn::value),
+            Distribution::Halton => return values(count, rng, out, Halton::new, Halton::value),
+            Distribution::R2 => return values(count, rng, out, R2::new, R2::value),
             Distribution::Custom => table.fill(count, rng, |p| out.push(p.x)),
         }
         shuffle(out, rng);
@@ -800,29 +772,32 @@ fn cell_points(
     }
 }
 
-/// The first `count` points of a low-discrepancy `set`, in its trace order
-/// ([`TraceOrder`], drawn from `rng` after the set), scaled to `[-r, r]^2`.
+/// The first `count` points of a low-discrepancy set (made from `rng` by
+/// `set`), in its trace order ([`TraceOrder`], drawn from `rng` after the
+/// set), scaled to `[-r, r]^2`.
 fn sequence<S>(
     count: usize,
     radius: f32,
     rng: &mut Rng,
     out: &mut Vec<Vec3>,
-    set: S,
+    set: impl FnOnce(&mut Rng) -> S,
     point: impl Fn(&S, u32) -> Vec2,
 ) {
+    let set = set(rng);
     let order = TraceOrder::new(count, rng);
     out.extend((0..count).map(|i| square(point(&set, order.index(i as u32)), radius)));
 }
 
-/// The first `count` values of a low-discrepancy `set`'s one-dimensional
+/// The first `count` values of a low-discrepancy set's one-dimensional
 /// sequence, in its trace order.
 fn values<S>(
     count: usize,
     rng: &mut Rng,
     out: &mut Vec<f32>,
-    set: S,
+    set: impl FnOnce(&mut Rng) -> S,
     value: impl Fn(&S, u32) -> f32,
 ) {
+    let set = set(rng);
     let order = TraceOrder::new(count, rng);
     out.extend((0..count).map(|i| value(&set, order.index(i as u32))));
 }
