@@ -140,10 +140,11 @@
 //! `halton` has one value in each stratum of width `2^-m`.
 //!
 //! *Cost.* Measured on a shared test machine (criterion, `cargo bench -p
-//! penumbra-bench --bench distributions`, group `point`, sets of 256): 8 ns
-//! a point for `sobol` and `zsobol`, 16 for `pmj02` (its scrambled order
-//! costs a third hash), 7 for `halton`, 1.4 for `r2` and 2 for `pmj02bn`
-//! (eight table lookups). A whole set of one point, with the derivation of
+//! penumbra-bench --bench distributions`, group `point`, sets of 256): 15 ns
+//! a point for `sobol`, `zsobol` and `halton`, 13.5 for `pmj02`, 7 for
+//! `pmj02bn` (eight table lookups) and 6 for `r2`; about 7 ns of each but
+//! `pmj02`'s is the trace order's scramble of the index (`pmj02`'s own
+//! order is such a scramble). A whole set of one point, with the derivation of
 //! its stream as a render makes it (about 7 ns), takes 17, 79, 26, 30 and
 //! 10 ns: a `zsobol` set hashes once per base-4 digit of its index (about
 //! 12 for a pixel of an 800x600 frame with 16 samples); for `pmj02bn`, 22
@@ -192,15 +193,16 @@
 //! would always have sampled the first rows and never the last ones, biasing
 //! every early-terminated pixel toward one side of the square.
 //!
-//! The low-discrepancy sets are not shuffled but permuted so that their
-//! progressive structure survives: point `i` of a set of `N`
+//! The other low-discrepancy sets are not shuffled but permuted so that
+//! their progressive structure survives (`pmj02`'s own order, an Owen
+//! scramble of the index, does this already): point `i` of a set of `N`
 //! (`2^(m-1) < N ≤ 2^m`) is the sequence's point `π(i)`, where `π` is a
 //! nested uniform (Owen) scramble of the index read as an `m`-digit binary
 //! fraction, seeded per set, with indices at `N` or beyond scrambled again
 //! until they fall below it. The set is still its sequence's first `N`
 //! points; the first `2^j` in trace order are an aligned block of `2^j`
-//! consecutive points of the sequence (for `sobol`, `zsobol`, `pmj02` and
-//! `pmj02bn` a `(0, j, 2)`-net, for `halton` and `r2` a run of consecutive
+//! consecutive points of the sequence (for `sobol`, `zsobol` and `pmj02bn`
+//! a `(0, j, 2)`-net, for `halton` and `r2` a run of consecutive
 //! points). The permutation matters where sets are paired by index: a camera
 //! sample takes point `i` of its film, lens and time sets. Two sets of one
 //! sequence in sequence order would pair point `i` with point `i` under two
@@ -209,6 +211,7 @@
 //! point is the film point plus a constant), so a pixel would converge to
 //! another image. pbrt-v4 permutes each dimension's sample index for the same
 //! reason.
+//!
 //! # Poisson-disk points
 //!
 //! Bridson's algorithm ("Fast Poisson disk sampling in arbitrary dimensions",
@@ -501,7 +504,12 @@ impl Distribution {
                 let set = |rng: &mut Rng| ZSobol::new(rng.place(), count);
                 sequence(count, radius, rng, out, set, ZSobol::point)
             }
-            Distribution::Pmj02 => sequence(count, radius, rng, out, Pmj02::new, Pmj02::point),
+            Distribution::Pmj02 => {
+                // Its order is its own: an Owen scramble of the index per
+                // set, which pairs sets independently already.
+                let set = Pmj02::new(rng);
+                out.extend((0..count).map(|i| square(set.point(i as u32), radius)));
+            }
             Distribution::Pmj02bn => {
                 sequence(count, radius, rng, out, Pmj02bn::new, Pmj02bn::point)
             }
@@ -618,7 +626,10 @@ impl Distribution {
                 let set = |rng: &mut Rng| ZSobol::new(rng.place(), count);
                 return values(count, rng, out, set, ZSobol::value);
             }
-            Distribution::Pmj02 => return values(count, rng, out, Pmj02::new, Pmj02::value),
+            Distribution::Pmj02 => {
+                let set = Pmj02::new(rng);
+                return out.extend((0..count).map(|i| set.value(i as u32)));
+            }
             Distribution::Pmj02bn => return values(count, rng, out, Pmj02bn::new, Pmj02bn::value),
             Distribution::Halton => return values(count, rng, out, Halton::new, Halton::value),
             Distribution::R2 => return values(count, rng, out, R2::new, R2::value),

@@ -16,11 +16,14 @@
 //! fraction: the flip of each digit depends on the digits above it and on
 //! the set's seed. So the first `2^j` indices map onto one aligned block of
 //! `2^j` indices, and every power-of-two prefix of the trace order is an
-//! aligned block of the sequence: for `sobol`, `zsobol`, `pmj02` and
-//! `pmj02bn` still a `(0, j, 2)`-net, for `halton` and `r2` a run of
+//! aligned block of the sequence: for `sobol`, `zsobol` and `pmj02bn`
+//! still a `(0, j, 2)`-net, for `halton` and `r2` a run of
 //! consecutive points. Indices that land at `N` or beyond are scrambled
 //! again until they fall below it (cycle walking), which keeps the map a
 //! permutation of `0..N`: the set is still its sequence's first `N` points.
+//!
+//! `pmj02` needs none: its sets already take the Sobol' sequence in an
+//! order of their own, an Owen scramble of the whole 32-bit index.
 
 use super::sobol::owen_scramble;
 use super::Rng;
