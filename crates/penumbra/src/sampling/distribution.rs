@@ -794,19 +794,17 @@ fn sequence<S>(
     set: impl FnOnce(&mut Rng) -> S,
     point: impl Fn(&S, u32) -> Vec2,
 ) {
-    let set = set(rng);
-    let order = TraceOrder::new(count, rng);
-    out.extend((0..count).map(|i| square(point(&set, order.index(i as u32)), radius)));
+    values(count, rng, out, set, |s, i| square(point(s, i), radius));
 }
 
-/// The first `count` values of a low-discrepancy set's one-dimensional
-/// sequence, in its trace order.
-fn values<S>(
+/// The first `count` values of a low-discrepancy set (its points, or its
+/// one-dimensional sequence's values), in its trace order.
+fn values<S, T>(
     count: usize,
     rng: &mut Rng,
-    out: &mut Vec<f32>,
+    out: &mut Vec<T>,
     set: impl FnOnce(&mut Rng) -> S,
-    value: impl Fn(&S, u32) -> f32,
+    value: impl Fn(&S, u32) -> T,
 ) {
     let set = set(rng);
     let order = TraceOrder::new(count, rng);
