@@ -10,7 +10,9 @@
 //!
 //! SCENE is a scene file or a built-in name, as for `penumbra render`.
 
+use clap::Parser;
 use penumbra::render::{render, RenderOptions};
+use penumbra::sampling::Distribution;
 use penumbra::scene::{default_bunny_path, LoadOptions, Overrides, SceneSource};
 use penumbra_bench::{median, process_time};
 use serde_json::json;
@@ -18,33 +20,53 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-fn run() -> Result<serde_json::Value, String> {
-    let mut it = std::env::args().skip(1);
-    let mut scene = None;
-    let mut load = LoadOptions {
-        bunny: default_bunny_path(),
+/// Renders a scene several times in one process and prints JSON: the median
+/// render time (wall clock and CPU time of all threads) and the rays traced.
+#[derive(Parser)]
+#[command(name = "scenebench")]
+struct Args {
+    /// A scene file or a built-in scene's name, as for `penumbra render`.
+    scene: String,
+    /// The Stanford bunny PLY (else $PENUMBRA_BUNNY).
+    #[arg(long)]
+    bunny: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Camera rays per pixel.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Shadow rays per light.
+    #[arg(long)]
+    shadow_rays: Option<u32>,
+    /// The distribution of every effect.
+    #[arg(long, value_parser = |s: &str| s.parse::<Distribution>().map_err(|e| e.to_string()))]
+    distribution: Option<Distribution>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Renders whose median is reported.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
+    repeat: u32,
+}
+
+fn run(args: Args) -> Result<serde_json::Value, String> {
+    let scene = args.scene;
+    let load = LoadOptions {
+        bunny: args.bunny.or_else(default_bunny_path),
     };
-    let mut ov = Overrides::default();
-    let (mut threads, mut repeat) = (None, 5usize);
-    while let Some(a) = it.next() {
-        let mut value = || it.next().ok_or(format!("{a} needs a value"));
-        let num = |v: String| v.parse::<u32>().map_err(|e| format!("{a}: {e}"));
-        match a.as_str() {
-            "--bunny" => load.bunny = Some(PathBuf::from(value()?)),
-            "--width" => ov.width = Some(num(value()?)?),
-            "--height" => ov.height = Some(num(value()?)?),
-            "--spp" => ov.spp = Some(num(value()?)?),
-            "--shadow-rays" => ov.shadow_rays = Some(num(value()?)?),
-            "--distribution" => {
-                ov.distribution = Some(value()?.parse().map_err(|e| format!("{a}: {e}"))?)
-            }
-            "--threads" => threads = Some(num(value()?)? as usize),
-            "--repeat" => repeat = num(value()?)?.max(1) as usize,
-            _ if scene.is_none() && !a.starts_with('-') => scene = Some(a),
-            _ => return Err(format!("unknown argument {a}")),
-        }
-    }
-    let scene = scene.ok_or("usage: scenebench SCENE [options]")?;
+    let ov = Overrides {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        shadow_rays: args.shadow_rays,
+        distribution: args.distribution,
+        ..Overrides::default()
+    };
+    let (threads, repeat) = (args.threads, args.repeat as usize);
     let mut src = SceneSource::open(&scene, &load).map_err(|e| e.to_string())?;
     ov.apply(&mut src.desc);
     let start = Instant::now();
@@ -87,7 +109,7 @@ fn run() -> Result<serde_json::Value, String> {
 }
 
 fn main() -> ExitCode {
-    match run() {
+    match run(Args::parse()) {
         Ok(doc) => {
             println!("{doc}");
             ExitCode::SUCCESS
