@@ -256,7 +256,7 @@ fn between_f32(name: &str, v: &Bound<'_, PyAny>, lo: f32, hi: f32) -> PyResult<f
 /// A distribution by name, with the CLI's message for an unknown one.
 pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
     let from = Distribution::from_name;
-    by_name(name, "distribution", v, from, &Distribution::ALL, Distribution::name)
+    by_name(name, "distribution", v, from, &Distribution::SELECTABLE, Distribution::name)
 }
 
 /// An adaptive sampling rule by name, with the CLI's message for an unknown one.

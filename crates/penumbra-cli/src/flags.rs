@@ -135,7 +135,7 @@ pub fn parse_distribution(s: &str) -> Result<Distribution, String> {
         "distribution",
         s,
         Distribution::from_name(s),
-        &Distribution::ALL,
+        &Distribution::SELECTABLE,
         Distribution::name,
     )
 }

@@ -136,6 +136,29 @@ fn bad_arguments_exit_2() {
     );
 }
 
+/// An unknown distribution's message lists every name a user may give,
+/// `custom` too, on the command line as in a scene file.
+#[test]
+fn an_unknown_distribution_names_every_selectable_one() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[render]\ndistribution = \"sobel\"\n",
+    )
+    .unwrap();
+    for args in [
+        vec!["render", "--distribution", "sobel", "-o", "x.png"],
+        vec!["render", "s.toml", "-o", "x.png"],
+    ] {
+        let o = penumbra(&args, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let e = stderr(&o);
+        for name in ["grid", "pmj02bn", "r2", "custom"] {
+            assert!(e.contains(name), "{args:?}: {e}");
+        }
+    }
+}
+
 #[test]
 fn an_unknown_study_names_the_valid_ones() {
     let dir = tempfile::tempdir().unwrap();

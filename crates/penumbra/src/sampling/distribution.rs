@@ -652,7 +652,7 @@ pub struct UnknownDistribution(pub String);
 
 impl fmt::Display for UnknownDistribution {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+        let names: Vec<&str> = Distribution::SELECTABLE.iter().map(|d| d.name()).collect();
         write!(
             f,
             "unknown ray distribution '{}' (expected one of: {})",
