@@ -18,6 +18,7 @@
 //! (with the `obvhs` feature) also measures the `obvhs` crate's CWBVH, with
 //! its own triangle test.
 
+use clap::Parser;
 use penumbra::accel::TriangleBvh;
 use penumbra::math::{Ray, Vec3};
 use penumbra_bench::{median, read_rays, read_triangles, thread_time};
@@ -26,42 +27,37 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+/// Times Penumbra's BVH (and optionally obvhs's) on ray files and prints
+/// JSON: build time, and closest-hit and any-hit rates per ray file.
+#[derive(Parser)]
+#[command(name = "raybench")]
 struct Args {
+    /// The triangles, as the harness in bench/ writes them.
+    #[arg(long)]
     tris: PathBuf,
+    /// A named ray file, NAME=FILE (repeatable).
+    #[arg(long = "rays", value_name = "NAME=FILE", value_parser = named_file)]
     rays: Vec<(String, PathBuf)>,
+    /// Runs whose median is reported.
+    #[arg(long, default_value_t = 5, value_parser = positive)]
     repeat: usize,
+    /// Also time the obvhs crate's CWBVH (with the `obvhs` feature).
+    #[arg(long)]
     obvhs: bool,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let mut it = std::env::args().skip(1);
-    let (mut tris, mut rays, mut repeat) = (None, Vec::new(), 5);
-    let mut obvhs = false;
-    while let Some(a) = it.next() {
-        let mut value = || it.next().ok_or(format!("{a} needs a value"));
-        match a.as_str() {
-            "--tris" => tris = Some(PathBuf::from(value()?)),
-            "--rays" => {
-                let v = value()?;
-                let (name, path) = v.split_once('=').ok_or("--rays takes NAME=FILE")?;
-                rays.push((name.to_string(), PathBuf::from(path)));
-            }
-            "--repeat" => repeat = value()?.parse().map_err(|e| format!("--repeat: {e}"))?,
-            "--obvhs" => obvhs = true,
-            "-h" | "--help" => {
-                return Err(
-                    "usage: raybench --tris FILE --rays NAME=FILE... [--repeat N] [--obvhs]".into(),
-                )
-            }
-            _ => return Err(format!("unknown argument {a}")),
-        }
+/// A count of at least 1.
+fn positive(v: &str) -> Result<usize, String> {
+    match v.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("`{v}` is not a count of at least 1")),
     }
-    Ok(Args {
-        tris: tris.ok_or("--tris FILE is required")?,
-        rays,
-        repeat: repeat.max(1),
-        obvhs,
-    })
+}
+
+/// `NAME=FILE`.
+fn named_file(v: &str) -> Result<(String, PathBuf), String> {
+    let (name, path) = v.split_once('=').ok_or("--rays takes NAME=FILE")?;
+    Ok((name.to_string(), PathBuf::from(path)))
 }
 
 /// Median seconds over `repeat` runs of `f` timed on one thread (on-CPU time).
@@ -258,13 +254,7 @@ fn obvhs(_: &Args, _: &[[Vec3; 3]], _: &[(String, Vec<Ray>)]) -> Value {
 }
 
 fn main() -> ExitCode {
-    let args = match parse_args() {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("raybench: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    let args = Args::parse();
     let loaded = read_triangles(&args.tris).and_then(|t| {
         let rays = args
             .rays
