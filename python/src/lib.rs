@@ -51,7 +51,7 @@ lens_distribution=None, time_distribution=None, shadow_distribution=None, \
 reflection_distribution=None, refraction_distribution=None, points=None, filter=None, aperture=None, \
 focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
-metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, min_spp=None, threads=None, progress=None)"
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
 )]
 fn render<'py>(
     py: Python<'py>,
@@ -77,7 +77,7 @@ pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
 points=None, filter=None, aperture=None, focal_distance=None, max_depth=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
-metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, min_spp=None, threads=None, progress=None)"
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
 )]
 #[allow(clippy::too_many_arguments)]
 fn render_region<'py>(

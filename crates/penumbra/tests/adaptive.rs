@@ -89,7 +89,8 @@ fn an_unreachable_threshold_takes_the_budget() {
 }
 
 /// A flat image (nothing but the background) stops every pixel at the
-/// rule's first judgement.
+/// rule's first judgement: the calibrated rule's screen after one ray, or
+/// its replicas after `4R` when `min_spp` skips the screen.
 #[test]
 fn flat_pixels_stop_at_the_first_judgement() {
     let mut src = builtin("showcase", None);
@@ -99,7 +100,7 @@ fn flat_pixels_stop_at_the_first_judgement() {
     (r.width, r.height, r.spp) = (40, 30, 256);
     r.background = [0.2, 0.3, 0.4];
     for (rule, first) in [
-        (StopRule::Calibrated, 32),
+        (StopRule::Calibrated, 1),
         (StopRule::Cycles, 80),
         (StopRule::Dammertz, 16),
         (StopRule::Povray, 1),
@@ -111,6 +112,10 @@ fn flat_pixels_stop_at_the_first_judgement() {
         let off = |p: &penumbra::math::Rgb| (*p - penumbra::math::Rgb::new(0.2, 0.3, 0.4)).abs();
         assert!(image.pixels.iter().all(|p| off(p).max_element() < 1e-6));
     }
+    src.desc.render.stop_rule = StopRule::Calibrated;
+    src.desc.render.min_spp = 32;
+    let (_, stats) = render_scene(&src.build().unwrap(), 2);
+    assert_eq!(stats.primary, 40 * 30 * 32);
 }
 
 /// The pixel metric and adaptive sampling both stop a pixel's rays: asking

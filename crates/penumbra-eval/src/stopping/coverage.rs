@@ -3,7 +3,7 @@
 //! its confidence says (coverage), and a pixel it stops is not far off
 //! (false stops).
 
-use penumbra::integrator::stopping::calibrated::FLOOR;
+use penumbra::integrator::stopping::calibrated::allowed;
 use penumbra::integrator::stopping::PixelSamples;
 use penumbra::math::Rgb;
 use serde::Serialize;
@@ -24,7 +24,7 @@ pub struct Coverage {
     pub stopped: usize,
     /// Stopped pixels whose largest channel error exceeds `3 T`, `T` the
     /// threshold times the largest channel of the pixel's value, or times
-    /// the floor below it (the rule's own measure).
+    /// the floor (`noise_floor`) below it: the rule's own measure.
     pub false_stops: usize,
     /// Pixels in all.
     pub total: usize,
@@ -58,15 +58,15 @@ impl Coverage {
     }
 }
 
-/// Checks `values` (a render by the calibrated rule at `threshold` with
-/// `spp` rays at most, its pixels' `samples`) against `reference`, pixel
-/// by pixel.
+/// Checks `values` (a render by the calibrated rule at `threshold` and
+/// `floor` with `spp` rays at most, its pixels' `samples`) against
+/// `reference`, pixel by pixel.
 pub fn check(
     values: &[Rgb],
     reference: &[Rgb],
     samples: &[PixelSamples],
     spp: u32,
-    threshold: f32,
+    (threshold, floor): (f32, f32),
 ) -> Coverage {
     let mut c = Coverage::default();
     for ((v, r), s) in values.iter().zip(reference).zip(samples) {
@@ -83,7 +83,7 @@ pub fn check(
         }
         if s.count < spp {
             c.stopped += 1;
-            let t = threshold * v.max_element().max(FLOOR);
+            let t = allowed(threshold, floor, *v);
             c.false_stops += usize::from(worst > 3.0 * t);
         }
     }
@@ -115,7 +115,7 @@ mod tests {
         s.push(samples(64, Some(0.045)));
         // T = 0.02 of a value of about 0.55: 3T ≈ 0.033; stopped pixels with
         // errors 0.04 … 0.08 (4 to 8) are false stops.
-        let c = check(&values, &reference, &s, 64, 0.02);
+        let c = check(&values, &reference, &s, 64, (0.02, 1.0));
         assert_eq!(c.total, 10);
         assert_eq!(c.pixels, 10);
         assert_eq!(c.covered, 5);
@@ -134,7 +134,7 @@ mod tests {
         let reference = [Rgb::ZERO, Rgb::ZERO];
         let values = [Rgb::splat(2e-4), Rgb::splat(4e-4)];
         let s = [samples(8, Some(1e-4)), samples(8, None)];
-        let c = check(&values, &reference, &s, 64, 0.1);
+        let c = check(&values, &reference, &s, 64, (0.1, 0.001));
         assert_eq!((c.pixels, c.covered, c.stopped), (1, 0, 2));
         // 3T = 3 · 0.1 · 0.001 = 3e-4: only the second pixel is off by more.
         assert_eq!(c.false_stops, 1);

@@ -55,9 +55,10 @@ pub const PIXELS: Distribution = Distribution::Pmj02;
 /// Seeds of the reference's halves (trials use seed 1).
 const REFERENCE_SEED: u32 = 9000;
 
-/// Confidence and replicas of the calibrated rule (its defaults).
+/// Confidence, replicas and floor of the calibrated rule (its defaults).
 pub const CONFIDENCE: f32 = 0.9;
 pub const REPLICAS: u32 = 8;
+pub const FLOOR: f32 = 1.0;
 
 /// The targets set for the calibrated rule, reported against the
 /// measured figures (never asserted).
@@ -125,6 +126,7 @@ impl Variant {
                 o.stop_rule = Some(rule);
                 o.confidence = Some(CONFIDENCE);
                 o.replicas = Some(REPLICAS);
+                o.noise_floor = Some(FLOOR);
             }
             Variant::PixelMetric => {
                 o.spp = Some(spp);
@@ -379,7 +381,7 @@ fn measure(
             &reference.pixels,
             &r.stats.pixel_samples,
             spp,
-            value as f32,
+            (value as f32, FLOOR),
         )
     });
     Run {

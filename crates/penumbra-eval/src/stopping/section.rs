@@ -55,7 +55,7 @@ pub fn blocks(s: &StoppingStudy, level: u8) -> Vec<Block> {
              channel's, which the rule compares); per channel, the share of channels within \
              their own. A false stop is a pixel stopped before the budget whose largest \
              channel error exceeds 3T, with T the threshold times the pixel's largest channel \
-             (or times the floor 0.001 below it).",
+             (or times the floor, noise_floor = 1, below it).",
         ),
     ];
     out.extend(summary(s));

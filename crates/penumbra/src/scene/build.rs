@@ -268,6 +268,7 @@ fn stopping(r: &RenderDesc, p: &KeyPath) -> Result<Option<Stopping>, Invalid> {
         threshold,
         confidence: range(&p.key("confidence"), r.confidence, 0.5, 0.999)?,
         replicas: int(&p.key("replicas"), r.replicas, 2, MAX_REPLICAS)?,
+        floor: range(&p.key("noise_floor"), r.noise_floor, 1e-6, 1e6)?,
         min_spp: int(&p.key("min_spp"), r.min_spp, 0, MAX_RAYS)?,
     };
     if threshold > 0.0 && r.metric && r.pixel_metric {

@@ -86,6 +86,8 @@ pub struct RenderDesc {
     pub confidence: f32,
     /// Independently scrambled replicas of a pixel's sets (`calibrated`).
     pub replicas: i64,
+    /// The value below which the `calibrated` threshold is absolute.
+    pub noise_floor: f32,
     /// Camera rays before a pixel may stop (0: the rule's own).
     pub min_spp: i64,
 }
@@ -123,6 +125,7 @@ impl Default for RenderDesc {
             stop_rule: StopRule::Calibrated,
             confidence: 0.9,
             replicas: 8,
+            noise_floor: 1.0,
             min_spp: 0,
         }
     }

@@ -603,6 +603,18 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.replicas = v.int()),
     },
     RenderOption {
+        name: "noise_floor",
+        kind: Kind::Positive,
+        default: DefaultValue::Fixed(Value::Number(1.0)),
+        doc: "the calibrated rule stops a pixel or set when its interval's half-width is at most \
+              noise_threshold × max(value, noise_floor): relative to values above the floor, \
+              absolute below it",
+        table: Some(Table::Render),
+        flag: Flag::metavar("F"),
+        python: true,
+        set: Some(|c, v| c.overrides.noise_floor = v.number()),
+    },
+    RenderOption {
         name: "min_spp",
         kind: Kind::Int {
             min: 0,

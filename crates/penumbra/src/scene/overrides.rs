@@ -47,6 +47,7 @@ pub struct Overrides {
     pub stop_rule: Option<StopRule>,
     pub confidence: Option<f32>,
     pub replicas: Option<u32>,
+    pub noise_floor: Option<f32>,
     pub min_spp: Option<u32>,
 }
 
@@ -115,6 +116,7 @@ impl Overrides {
         set(&mut r.stop_rule, self.stop_rule);
         set(&mut r.confidence, self.confidence);
         set(&mut r.replicas, self.replicas.map(i64::from));
+        set(&mut r.noise_floor, self.noise_floor);
         set(&mut r.min_spp, self.min_spp.map(i64::from));
         set(&mut desc.camera.aperture, self.aperture);
         set_some(&mut desc.camera.focal_distance, self.focal_distance);

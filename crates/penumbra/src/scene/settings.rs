@@ -64,6 +64,9 @@ pub struct Stopping {
     pub confidence: f32,
     /// Independently scrambled replicas of a pixel's sets (`calibrated`), ≥ 2.
     pub replicas: u32,
+    /// The value below which the calibrated rule's threshold is absolute:
+    /// a half-width of `threshold · max(value, floor)` is allowed (> 0).
+    pub floor: f32,
     /// Camera rays a pixel takes before the rule may stop it; 0: the rule's own.
     pub min_spp: u32,
 }

@@ -32,16 +32,35 @@
 //! with probability 0.33). Without the term, sets of the edge test below
 //! stopped with the truth inside their 90% interval 55% of the time with 4
 //! replicas and 82% with 8; with it, 85% and 89%. A flat pixel (`Δ = 0`)
-//! still stops at the first judgement. The pixel stops when the largest channel's `h` is at most
-//! `T · max(m_max, 0.001)`: `T` (`noise_threshold`) relative to the
-//! pixel's largest channel, as the thesis's metric measures change, and
-//! relative to 0.001 below it (an absolute floor, so that a black pixel
-//! needs no more than a dim one).
+//! still stops at the first judgement. The pixel stops when the largest
+//! channel's `h` is at most `T · max(m_max, F)`: `T` (`noise_threshold`)
+//! relative to the pixel's largest channel above the floor `F`
+//! (`noise_floor`, default 1, the display's white), and `T · F` absolute
+//! below it. The error a render is judged by (RMSE, or what the eye sees
+//! on a display) is absolute; a purely relative threshold asks a pixel of
+//! value 0.01 for a hundredth of the error of a white one, and spends most
+//! rays where they change the image least (docs/distributions.md measures
+//! what the floor costs at equal RMSE).
 //!
-//! Passes: every pixel first takes `max(min_spp, 4R)` rays (rounded up to a
-//! multiple of `R`), then the count doubles each pass, so each replica's set
-//! is a power of two long whenever `spp` allows (where `sobol`, `pmj02` and
-//! `pmj02bn` are nets). A stopped pixel never resumes.
+//! **The screen.** A replica needs a few rays before its spread means
+//! anything, so a pixel cannot be judged by its replicas before `4R` rays,
+//! while most pixels of most frames (sky, floors, blurred backgrounds) are
+//! flat and need one. So every pixel first takes one ray (`min_spp` if
+//! larger), and stops at once when the samples of its 3×3 neighbourhood
+//! (within the tile) span at most `T · max(m_max, F)` in every channel: the
+//! pixel's own value is then within that range of its neighbours', and it
+//! reports the range as its half-width. This is POV-Ray's idea (judge a
+//! pixel's first ray with its neighbours') made stricter: the whole range,
+//! not a spread divided by the samples' count, over nine pixels, not five.
+//! A feature that falls between all nine samples is missed, as it is by
+//! POV-Ray; the study counts those pixels among its false stops. A pixel
+//! that fails the screen is judged by its replicas from then on.
+//!
+//! Passes: every pixel first takes the screen's `max(min_spp, 1)` rays, then
+//! up to `max(min_spp, 4R)` (rounded up to a multiple of `R`; no screen when
+//! `min_spp` reaches it), then the count doubles each pass, so each
+//! replica's set is a power of two long whenever `spp` allows (where
+//! `sobol`, `pmj02` and `pmj02bn` are nets). A stopped pixel never resumes.
 //!
 //! The price of honesty: `R` independent sets of `n / R` points integrate
 //! less well than one set of `n` (a low-discrepancy set's error falls
@@ -52,9 +71,6 @@ use super::tally::Block;
 use super::Stopping;
 use crate::math::Rgb;
 use statrs::distribution::{ContinuousCDF, StudentsT};
-
-/// Below this radiance the threshold is measured against it instead.
-pub const FLOOR: f32 = 1e-3;
 
 /// Rays a replica takes before the first judgement, unless `min_spp` asks
 /// for more.
@@ -67,11 +83,24 @@ pub fn quantile(replicas: u32, confidence: f32) -> f32 {
     t.inverse_cdf((1.0 + f64::from(confidence)) / 2.0) as f32
 }
 
-/// Rays per pixel in the pass after `done`.
+/// Rays a pixel has when the replicas first judge it: `max(min_spp, 4R)`,
+/// rounded up to a multiple of `R`.
+pub fn first(s: &Stopping) -> u32 {
+    s.min_spp
+        .max(FIRST_PER_REPLICA * s.replicas)
+        .div_ceil(s.replicas)
+        * s.replicas
+}
+
+/// Rays per pixel in the pass after `done`: the screening pass of
+/// `max(min_spp, 1)` (none if that is already [`first`]), the rest of
+/// [`first`], then doubling.
 pub fn pass(s: &Stopping, done: u32) -> u32 {
+    let first = first(s);
     if done == 0 {
-        let first = s.min_spp.max(FIRST_PER_REPLICA * s.replicas);
-        first.div_ceil(s.replicas) * s.replicas
+        s.min_spp.max(1).min(first)
+    } else if done < first {
+        first - done
     } else {
         done
     }
@@ -103,21 +132,68 @@ pub fn half_widths(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(Rgb, 
 
 /// Whether a pixel (or a set) whose replicas hold these sums, of samples
 /// spanning `range`, may stop under `threshold`.
-pub fn converged(threshold: f32, t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> bool {
-    interval(t, replicas, range)
-        .is_some_and(|(h, mean)| h <= threshold * mean.max_element().max(FLOOR))
+/// `threshold` with the value below which it is absolute.
+pub fn converged(
+    (threshold, floor): (f32, f32),
+    t: f32,
+    replicas: &[(Rgb, u32)],
+    range: Rgb,
+) -> bool {
+    interval(t, replicas, range).is_some_and(|(h, mean)| h <= allowed(threshold, floor, mean))
 }
 
-/// Stops the active pixels of `block` whose interval at quantile `t` is
-/// narrow enough.
+/// The half-width a value `mean` may keep: `threshold` relative to its
+/// largest channel, or to `floor` below it.
+pub fn allowed(threshold: f32, floor: f32, mean: Rgb) -> f32 {
+    threshold * mean.max_element().max(floor)
+}
+
+/// Stops the active pixels of `block` that pass the screen (after the
+/// screening pass) or whose interval at quantile `t` is narrow enough.
 pub fn judge(s: &Stopping, t: f32, block: &mut Block) {
+    let first = first(s);
+    let screened: Vec<Option<Rgb>> = (0..block.pixels.len())
+        .map(|k| {
+            let p = &block.pixels[k];
+            (p.active && p.n < first)
+                .then(|| screen(block, k))
+                .filter(|range| range.max_element() <= allowed(s.threshold, s.floor, p.mean()))
+        })
+        .collect();
     let r = block.replicas;
     for (k, p) in block.pixels.iter_mut().enumerate() {
-        let replicas = &block.replica_sums[k * r..(k + 1) * r];
-        if p.active && converged(s.threshold, t, replicas, p.hi - p.lo) {
-            p.active = false;
+        if !p.active {
+            continue;
+        }
+        if p.n < first {
+            if let Some(range) = screened[k] {
+                block.bounds[k] = Some(range);
+                p.active = false;
+            }
+        } else {
+            let replicas = &block.replica_sums[k * r..(k + 1) * r];
+            if converged((s.threshold, s.floor), t, replicas, p.hi - p.lo) {
+                p.active = false;
+            }
         }
     }
+}
+
+/// The range of the samples of pixel `k` and its eight neighbours within
+/// the tile, per channel (largest minus smallest).
+fn screen(block: &Block, k: usize) -> Rgb {
+    let (w, h) = (block.width, block.height);
+    let (x, y) = (k % w, k / w);
+    let (mut lo, mut hi) = (block.pixels[k].lo, block.pixels[k].hi);
+    for ny in y.saturating_sub(1)..(y + 2).min(h) {
+        for nx in x.saturating_sub(1)..(x + 2).min(w) {
+            let q = &block.pixels[ny * w + nx];
+            if q.n > 0 {
+                (lo, hi) = (lo.min(q.lo), hi.max(q.hi));
+            }
+        }
+    }
+    hi - lo
 }
 
 #[cfg(test)]
@@ -140,6 +216,7 @@ mod tests {
             threshold: 0.01,
             confidence: 0.9,
             replicas: 4,
+            floor: 1.0,
             min_spp: 0,
         };
         let mut done = 0;
@@ -150,13 +227,56 @@ mod tests {
                 p
             })
             .collect();
-        assert_eq!(sizes, [16, 16, 32, 64]);
+        assert_eq!(sizes, [1, 15, 16, 32]);
         let odd = Stopping {
             replicas: 3,
             min_spp: 20,
             ..s
         };
-        assert_eq!(pass(&odd, 0), 21);
+        assert_eq!((pass(&odd, 0), pass(&odd, 20), pass(&odd, 21)), (20, 1, 21));
+        // No screen when min_spp reaches the first judgement.
+        let full = Stopping { min_spp: 16, ..s };
+        assert_eq!((pass(&full, 0), pass(&full, 16)), (16, 16));
+    }
+
+    /// The screen stops a pixel after one ray only if the samples of its
+    /// whole 3×3 neighbourhood agree within the threshold; a pixel stopped
+    /// by it reports that range as its half-width.
+    #[test]
+    fn the_screen_looks_at_the_neighbours() {
+        let s = Stopping {
+            rule: super::super::StopRule::Calibrated,
+            threshold: 0.05,
+            confidence: 0.9,
+            replicas: 4,
+            floor: 1.0,
+            min_spp: 0,
+        };
+        let t = quantile(s.replicas, s.confidence);
+        // A 5×1 strip: 0.5 but for pixels 2 (0.54) and 4 (0.6). Pixels 0–2
+        // see a spread of at most 0.04, within 0.05 · 1; pixels 3 and 4
+        // see 0.1.
+        let mut b = Block::new(5, 1, 4, false);
+        for k in 0..5 {
+            let l = [0.5, 0.5, 0.54, 0.5, 0.6][k];
+            b.add(k, 0, 0, Rgb::splat(l));
+        }
+        judge(&s, t, &mut b);
+        let active: Vec<bool> = b.pixels.iter().map(|p| p.active).collect();
+        assert_eq!(active, [false, false, false, true, true]);
+        assert!(b.bounds[1].is_some_and(|h| (h.r - 0.04).abs() < 1e-6));
+        assert_eq!(b.bounds[3], None);
+        // Pixels with the first judgement's rays are judged by their own
+        // replicas, not by the screen: a flat pixel beside a different one
+        // stops.
+        let mut b = Block::new(2, 1, 4, false);
+        for i in 0..16 {
+            b.add(0, i, (i % 4) as usize, Rgb::splat(0.5));
+            b.add(1, i, (i % 4) as usize, Rgb::splat(0.9));
+        }
+        judge(&s, t, &mut b);
+        assert!(b.pixels.iter().all(|p| !p.active));
+        assert_eq!(b.bounds, [None, None]);
     }
 
     /// The rule's promise: at confidence C, the true value lies inside the
@@ -171,6 +291,7 @@ mod tests {
             threshold: 0.02,
             confidence: 0.9,
             replicas: 8,
+            floor: 1.0,
             min_spp: 0,
         };
         let t = quantile(s.replicas, s.confidence);
@@ -209,7 +330,7 @@ mod tests {
                     sums[r].1 += 1;
                 }
                 done += p;
-                if converged(s.threshold, t, &sums, hi - lo) {
+                if converged((s.threshold, s.floor), t, &sums, hi - lo) {
                     stopped += 1;
                     break;
                 }

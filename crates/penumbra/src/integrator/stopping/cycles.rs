@@ -107,6 +107,7 @@ mod tests {
             threshold,
             confidence: 0.9,
             replicas: 4,
+            floor: 1.0,
             min_spp: 0,
         }
     }

@@ -7,7 +7,7 @@
 //!
 //! | rule | judges a pixel by | passes |
 //! |---|---|---|
-//! | [`calibrated`] | a confidence interval of its mean from `R` independently scrambled replicas | the first at `max(min_spp, 4R)` rays, then doubling |
+//! | [`calibrated`] | after one ray, the range of its 3×3 neighbourhood's samples; then a confidence interval of its mean from `R` independently scrambled replicas | the screen at `max(min_spp, 1)` rays, the replicas' first at `max(min_spp, 4R)`, then doubling |
 //! | [`cycles`] | Blender Cycles' half-buffer error, then a 3×3 dilation of the pixels still active | after Cycles' automatic minimum, every 16 rays |
 //! | [`povray`] | POV-Ray 3.8's stochastic anti-aliasing: a normal interval of the pooled spread of the pixel and its four neighbours | one ray per pixel per pass |
 //! | [`dammertz`] | Dammertz et al.'s error of blocks of pixels, split while they converge | the first at `max(min_spp, 16)` rays, then every 16 |
@@ -118,6 +118,7 @@ impl Stopper {
                         let replicas = &block.replica_sums[k * r..(k + 1) * r];
                         calibrated::half_widths(self.quantile, replicas, p.hi - p.lo)
                             .map(|(h, _)| h)
+                            .or(block.bounds[k])
                     }
                     _ => None,
                 },

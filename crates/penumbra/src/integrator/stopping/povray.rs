@@ -96,6 +96,7 @@ mod tests {
             threshold: 0.3,
             confidence: 0.9,
             replicas: 4,
+            floor: 1.0,
             min_spp: 0,
         };
         let z = quantile(0.9);

@@ -29,6 +29,8 @@ pub const FIRST_PER_REPLICA: u32 = 2;
 #[derive(Clone, Copy, Debug)]
 pub struct SetRule {
     threshold: f32,
+    /// The value below which `threshold` is absolute.
+    floor: f32,
     /// Student's quantile of the rule's confidence.
     t: f32,
     replicas: u32,
@@ -41,6 +43,7 @@ impl SetRule {
         let s = stopping.filter(|s| s.rule == StopRule::Calibrated)?;
         Some(SetRule {
             threshold: s.threshold,
+            floor: s.floor,
             t: calibrated::quantile(s.replicas, s.confidence),
             replicas: s.replicas,
         })
@@ -115,7 +118,12 @@ impl SetTally {
 
     /// Whether the set may stop: its interval is narrow enough.
     pub fn converged(&self, rule: &SetRule) -> bool {
-        calibrated::converged(rule.threshold, rule.t, &self.sums, self.hi - self.lo)
+        calibrated::converged(
+            (rule.threshold, rule.floor),
+            rule.t,
+            &self.sums,
+            self.hi - self.lo,
+        )
     }
 }
 
@@ -129,6 +137,7 @@ mod tests {
             threshold: 0.05,
             confidence: 0.9,
             replicas,
+            floor: 1.0,
             min_spp: 0,
         }))
         .expect("calibrated")
@@ -141,6 +150,7 @@ mod tests {
             threshold: 0.05,
             confidence: 0.9,
             replicas: 8,
+            floor: 1.0,
             min_spp: 0,
         };
         assert!(SetRule::new(Some(s)).is_none());

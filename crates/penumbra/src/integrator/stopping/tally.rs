@@ -47,6 +47,9 @@ pub struct Block {
     pub(super) encoded: Vec<(Rgb, Rgb)>,
     /// The blocks of pixels still judged (Dammertz).
     pub(super) regions: Vec<Rect>,
+    /// Per pixel stopped by the calibrated rule's screen: the range of
+    /// its neighbourhood's samples (the half-width it reports).
+    pub(super) bounds: Vec<Option<Rgb>>,
 }
 
 impl Block {
@@ -66,6 +69,7 @@ impl Block {
             replica_sums: vec![(Rgb::ZERO, 0); n * replicas],
             encoded: vec![(Rgb::ZERO, Rgb::ZERO); if encoded { n } else { 0 }],
             regions: vec![Rect::all(width, height)],
+            bounds: vec![None; n],
         }
     }
 
