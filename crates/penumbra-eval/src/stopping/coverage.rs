@@ -115,7 +115,7 @@ mod tests {
         s.push(samples(64, Some(0.045)));
         // T = 0.02 of a value of about 0.55: 3T ≈ 0.033; stopped pixels with
         // errors 0.04 … 0.08 (4 to 8) are false stops.
-        let c = check(&values, &reference, &s, 64, (0.02, 1.0));
+        let c = check(&values, &reference, &s, 64, (0.02, 0.001));
         assert_eq!(c.total, 10);
         assert_eq!(c.pixels, 10);
         assert_eq!(c.covered, 5);
