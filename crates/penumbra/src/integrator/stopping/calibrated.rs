@@ -131,8 +131,7 @@ pub fn half_widths(t: f32, replicas: &[(Rgb, u32)], range: Rgb) -> Option<(Rgb, 
 }
 
 /// Whether a pixel (or a set) whose replicas hold these sums, of samples
-/// spanning `range`, may stop under `threshold`.
-/// `threshold` with the value below which it is absolute.
+/// spanning `range`, may stop under `threshold`, absolute below `floor`.
 pub fn converged(
     (threshold, floor): (f32, f32),
     t: f32,
