@@ -24,15 +24,15 @@
 //! Prints JSON: the median seconds of each, one thread, in alternating
 //! rounds, and the median ratio of adjacent pairs.
 
-use penumbra::bsdf::{Phong, Surface};
+use penumbra::accel::Hit;
+use penumbra::bsdf::Bsdf;
 use penumbra::camera::CameraSample;
-use penumbra::emitter::{Emitter, LightSample};
+use penumbra::emitter::{Area, AreaShape, Emitter, LightSample};
 use penumbra::geometry::quad::Quad;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
 use penumbra::render::{render, Image, RenderOptions};
 use penumbra::sampling::{BranchKey, Distribution, Rng};
-use penumbra::scene::LightShape;
 use penumbra::scene::{LoadOptions, Scene, SceneSource};
 use penumbra_bench::median;
 use serde_json::json;
@@ -80,8 +80,13 @@ const SHADOW: u64 = 1 << 32;
 struct Floor<'a> {
     scene: &'a Scene,
     ground: Quad,
-    light: Emitter,
-    shading: Phong,
+    light: &'a Emitter,
+    shading: &'a Bsdf,
+    /// The ground's interaction record at one point: all the BSDF reads
+    /// of it (its normals) is the same everywhere on the flat ground.
+    at: Hit,
+    /// What rays that miss the ground see.
+    background: Rgb,
     paths: Vec<BranchKey>,
     shadow: BranchKey,
 }
@@ -96,22 +101,31 @@ impl<'a> Floor<'a> {
                 s.spp
             ));
         }
-        let [light] = scene.lights.as_slice() else {
+        let [light] = scene.emitters.as_slice() else {
             return Err("the kernel needs exactly one light".into());
         };
-        if !matches!(light.shape, LightShape::Rect(_)) || light.shadow.rays != 1 {
+        let rect = matches!(
+            light,
+            Emitter::Area(Area {
+                shape: AreaShape::Rect(_),
+                ..
+            })
+        );
+        if !rect || light.shadow_rays() != 1 {
             return Err("the kernel needs a rectangle light with one shadow ray".into());
         }
         // The ground's material, as the renderer finds it: what a ray
         // straight down hits.
         let down = Ray::new(Vec3::new(0.0, 1.0, 0.0), Vec3::NEG_Y, 0.0);
         let hit = scene.world.intersect(&down, 0.0, f32::INFINITY);
-        let material = hit.ok_or("the ground is not below the origin")?.material;
+        let at = hit.ok_or("the ground is not below the origin")?;
         Ok(Floor {
             scene,
             ground: ground(),
-            light: Emitter::new(light),
-            shading: Surface::new(&scene.materials[material as usize]).local,
+            light,
+            shading: &scene.bsdfs[at.material as usize],
+            at,
+            background: Rgb::ZERO,
             paths: (0..u64::from(s.spp))
                 .map(|i| BranchKey::new(PATH + i))
                 .collect(),
@@ -174,7 +188,7 @@ impl<'a> Floor<'a> {
                 .sample(|k| p[k], &points, Distribution::Jitter, lights);
             for k in 0..4 {
                 if t[k].is_none() {
-                    sum += s.background;
+                    sum += self.background;
                     continue;
                 }
                 // The viewer is above the ground: its normal needs no flip.
@@ -182,7 +196,7 @@ impl<'a> Floor<'a> {
                 let Some(ls) = lights[k] else { continue };
                 let cos = n.dot(ls.dir);
                 if cos > 0.0 {
-                    sum += self.shading.eval(n, wo, ls.dir) * ls.weight * cos;
+                    sum += self.shading.eval(&self.at, wo, ls.dir) * ls.weight * cos;
                 }
             }
         }

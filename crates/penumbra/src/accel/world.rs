@@ -22,14 +22,22 @@ use super::bvh4::{Frustum, TraversalRay, ONE_PER_ITEM};
 use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
-use crate::geometry::{Mesh, Shape, ShapeHit};
+use crate::geometry::{shading_frame, Mesh, Shape, ShapeHit, SurfaceInteraction};
 use crate::math::{nearest_lane, Aabb, Ray, Vec3};
+
+/// What a ray finds: the surface-interaction record of the nearest surface.
+pub type Hit = SurfaceInteraction;
 
 pub struct Object {
     pub shape: Shape,
+    /// The object's BSDF (an index the world only passes on to its hits).
     pub material: u32,
-    /// The light this object is the visible surface of, if any.
-    pub light: Option<u32>,
+    /// The emitter the object carries, if it emits.
+    pub emitter: Option<u32>,
+    /// Whether the object blocks shadow rays. A scene's lights are surfaces
+    /// that do not (as the thesis's lights are seen but never in the way);
+    /// everything else does.
+    pub casts_shadows: bool,
     pub motion: Option<Motion>,
     /// The mesh's triangles in its own space, for moving meshes only.
     pub mesh_bvh: Option<TriangleBvh>,
@@ -60,19 +68,6 @@ struct QuadPack {
 enum Prim {
     Triangle { object: u32 },
     Object { object: u32 },
-}
-
-/// A surface point found by a ray.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit {
-    pub t: f32,
-    pub point: Vec3,
-    /// Unit geometric normal, as the shape defines it (not flipped toward the ray).
-    pub ng: Vec3,
-    /// Unit shading normal, in the same hemisphere as `ng`.
-    pub ns: Vec3,
-    pub material: u32,
-    pub light: Option<u32>,
 }
 
 pub struct World {
@@ -391,7 +386,7 @@ impl World {
         let mut ok = true;
         let consider = |object: u32, out: &mut ShaftSet| {
             let o = &self.objects[object as usize];
-            if o.light.is_some() {
+            if !o.casts_shadows {
                 return;
             }
             let still = o.motion.is_none();
@@ -451,7 +446,7 @@ impl World {
     /// Fraction of light passing along the ray within (tmin, tmax): `None`
     /// when an opaque surface blocks it. Transparent surfaces let light
     /// through attenuated by their transparency at every crossing (without
-    /// bending it); light surfaces cast no shadow. With `shaft`, what
+    /// bending it); objects that cast no shadow are passed. With `shaft`, what
     /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
     /// segment, only its casters and static-triangle leaves are tested, in
     /// the order a traversal meets them (the result is the same, bit for
@@ -550,23 +545,33 @@ impl World {
             _ => (*ray, None),
         };
         let p = local_ray.at(t);
-        let (ng, ns) = o.shape.normals(&self.meshes, &c.at(t), p);
-        let (point, ng, ns) = match placement {
-            None => (ray.at(t), ng, ns),
+        let g = o.shape.geometry(&self.meshes, &c.at(t), p);
+        let (point, ng, ns, dpdu, dpdv) = match placement {
+            None => (ray.at(t), g.ng, g.ns, g.dpdu, g.dpdv),
             Some(s) => (
                 s.point_to_world(p),
-                s.normal_to_world(ng),
-                s.normal_to_world(ns),
+                s.normal_to_world(g.ng),
+                s.normal_to_world(g.ns),
+                s.vector_to_world(g.dpdu),
+                s.vector_to_world(g.dpdv),
             ),
         };
         let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
-        Hit {
+        SurfaceInteraction {
             t,
-            point,
+            p: point,
+            time: ray.time,
             ng,
-            ns,
+            shading: shading_frame(ns, dpdu),
+            uv: g.uv,
+            dpdu,
+            dpdv,
+            prim: match prim {
+                Prim::Triangle { .. } | Prim::Object { .. } => c.inner,
+            },
+            object,
             material: o.material,
-            light: o.light,
+            emitter: o.emitter,
         }
     }
 }
@@ -598,8 +603,8 @@ impl Segment<'_> {
         self.trans <= 0.0
     }
 
-    /// Crosses what the segment meets of a top-level item (light surfaces
-    /// cast no shadow); true once nothing passes. `r` is the ray prepared
+    /// Crosses what the segment meets of a top-level item (objects that
+    /// cast no shadow are passed); true once nothing passes. `r` is the ray prepared
     /// by the top level, if it was.
     #[inline(always)]
     fn blocked_by(&mut self, item: Item, r: Option<&TraversalRay>) -> bool {
@@ -607,7 +612,7 @@ impl Segment<'_> {
         match item {
             Item::Object(object) => {
                 let o = &w.objects[object as usize];
-                if o.light.is_some() {
+                if !o.casts_shadows {
                     return false;
                 }
                 let n = w.count_crossings(object, ray, tmin, tmax);
@@ -620,7 +625,7 @@ impl Segment<'_> {
                 while mask != 0 {
                     let o = &w.objects[pack.objects[mask.trailing_zeros() as usize] as usize];
                     mask &= mask - 1;
-                    if o.light.is_none() && self.cross(o, 1) {
+                    if o.casts_shadows && self.cross(o, 1) {
                         return true;
                     }
                 }
@@ -630,7 +635,7 @@ impl Segment<'_> {
                 let leaves = self.leaves;
                 let hit = |id: u32| {
                     let o = &w.objects[w.tri_refs[id as usize].0 as usize];
-                    o.light.is_none() && self.cross(o, 1)
+                    o.casts_shadows && self.cross(o, 1)
                 };
                 match (leaves, r) {
                     (Some(set), _) => w.tris.any_hit_in(set, ray, tmin, tmax, hit),
@@ -741,7 +746,8 @@ mod tests {
         let object = |shape, material| Object {
             shape,
             material,
-            light: None,
+            emitter: None,
+            casts_shadows: true,
             motion: None,
             mesh_bvh: None,
         };
@@ -821,7 +827,8 @@ mod tests {
             objects.push(Object {
                 shape,
                 material,
-                light: None,
+                emitter: None,
+                casts_shadows: true,
                 motion,
                 mesh_bvh,
             });
@@ -929,7 +936,8 @@ mod tests {
             .map(|(i, &(o, a, b))| Object {
                 shape: Shape::Quad(Quad::new(o, a, b)),
                 material: i as u32,
-                light: None,
+                emitter: None,
+                casts_shadows: true,
                 motion: None,
                 mesh_bvh: None,
             })
@@ -983,7 +991,9 @@ mod tests {
                 for (ray, got) in rays.iter().zip(&out) {
                     let alone = world.intersect(ray, 0.0, f32::INFINITY);
                     assert_eq!(alone.map(|h| h.t.to_bits()), got.map(|h| h.t.to_bits()));
-                    let key = |h: Option<Hit>| h.map(|h| (h.point, h.ng, h.ns, h.material));
+                    let key = |h: Option<Hit>| {
+                        h.map(|h| (h.p, h.ng, h.shading.n, h.uv, h.dpdu, h.material))
+                    };
                     assert_eq!(key(alone), key(*got), "{ray:?}");
                     total += usize::from(alone.is_some());
                 }

@@ -1,187 +1,148 @@
-//! Surface scattering models: what a surface does with light, built from
-//! the scene's material records.
+//! Surface scattering models: what a surface does with light.
 //!
-//! Every model answers the same four questions, through [`Bsdf`]: its value
-//! for a pair of directions (`eval`, without the cosine), a direction drawn
-//! from uniform numbers the caller supplies (`sample`, with the weight
-//! `eval · cos / pdf` and the pdf), the density of drawing a direction
-//! (`pdf`), and what kind of lobe it is (`flags`: diffuse, glossy, delta,
-//! reflection, transmission). Models never own random numbers.
+//! Every model answers the same questions through [`BsdfModel`], taking its
+//! random numbers as arguments: its lobes ([`Lobes`]: diffuse, glossy,
+//! delta, reflection, transmission, by slot), its value for a pair of
+//! directions (`eval`, without the cosine), a direction drawn from a
+//! [`SetPoint`] (`sample`, with the weight `eval · |cos| / pdf`; one lobe
+//! alone or a lobe chosen by the point), the density of drawing a
+//! direction (`pdf`), and the fraction of light a shadow ray keeps
+//! crossing it (the thesis's transparent shadows). Directions are world
+//! vectors, `wo` toward the viewer and `wi` toward the light; the surface
+//! is described by its [`SurfaceInteraction`].
 //!
-//! A closed enum with one dispatch point (this file) rather than trait
-//! objects: the set is known at compile time, a match on a small enum is
-//! inlined into the shading loop, and a batch of hits of one material runs
-//! one arm. Adding a model is one file and one variant here.
+//! The models form a closed enum, [`Bsdf`], made by the [`models!`] list at
+//! the end of this file: one dispatch point, inlined into the shading loops.
+//! Adding a model is one file implementing [`BsdfModel`] and one line in
+//! that list.
 //!
-//! The thesis's material is layered: [`Surface`] holds its local part
-//! ([`Phong`]), its mirror ([`Mirror`]) and its dielectric ([`Dielectric`]),
-//! each weighted as the material says.
+//! | model | what |
+//! |---|---|
+//! | [`thesis`](thesis::Thesis) | the thesis's layered material: Lambert + Phong, a mirror and a Fresnel dielectric, the last two blurred by distributed sets |
+//! | [`diffuse`](diffuse::Diffuse) | an ideal Lambertian reflector (Mitsuba 3's `diffuse`) |
 
-mod dielectric;
-mod mirror;
-mod phong;
-mod sample;
+pub mod diffuse;
+pub mod sample;
+pub mod thesis;
 
-pub use dielectric::{fresnel_dielectric, Dielectric, Split};
-pub use mirror::Mirror;
-pub use phong::Phong;
-pub use sample::{BsdfFlags, BsdfSample};
+pub use sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 
-use crate::math::{Rgb, Vec2, Vec3};
-use crate::scene::Material;
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec3};
+use crate::sampling::SetPoint;
 
-/// A scattering model.
-#[derive(Clone, Copy, Debug)]
-pub enum Bsdf {
-    Phong(Phong),
-    Mirror(Mirror),
-    Dielectric(Dielectric),
-}
+/// What every scattering model answers (see the [module docs](self)).
+pub trait BsdfModel {
+    /// The name scenes select the model by.
+    const NAME: &'static str;
 
-/// Where a BSDF is asked: the unit shading normal on the viewer's side, the
-/// unit direction toward the viewer, and whether the viewer is on the side
-/// the geometric normal points to.
-#[derive(Clone, Copy, Debug)]
-pub struct ShadingFrame {
-    pub n: Vec3,
-    pub wo: Vec3,
-    pub front: bool,
-}
+    /// The model's lobes by slot.
+    fn lobes(&self) -> Lobes;
 
-impl Bsdf {
-    /// The value for light arriving from `wi`, without the cosine.
-    pub fn eval(&self, f: &ShadingFrame, wi: Vec3) -> Rgb {
-        match self {
-            Bsdf::Phong(p) => p.eval(f.n, f.wo, wi),
-            Bsdf::Mirror(m) => m.eval(),
-            Bsdf::Dielectric(d) => d.eval(),
-        }
-    }
+    /// The value for light arriving from `wi` and leaving toward `wo`,
+    /// without the cosine; 0 for delta lobes.
+    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb;
 
-    /// A direction from the uniform numbers `u` in [0, 1)².
-    pub fn sample(&self, f: &ShadingFrame, u: Vec2) -> Option<BsdfSample> {
-        match self {
-            Bsdf::Phong(p) => p.sample(f.n, f.wo, u),
-            Bsdf::Mirror(m) => m.sample(f.n, f.wo),
-            Bsdf::Dielectric(d) => d.sample(f.n, f.wo, f.front, u.x),
-        }
-    }
+    /// A direction drawn with the set point `u`: from lobe `lobe` alone
+    /// (its weight not divided by a choice), or from a lobe the point
+    /// chooses. `None` where the point gives no direction.
+    fn sample(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: Option<usize>,
+        u: SetPoint,
+    ) -> Option<BsdfSample>;
 
-    /// The density of [`sample`](Self::sample) drawing `wi`.
-    pub fn pdf(&self, f: &ShadingFrame, wi: Vec3) -> f32 {
-        match self {
-            Bsdf::Phong(p) => p.pdf(f.n, f.wo, wi),
-            Bsdf::Mirror(m) => m.pdf(),
-            Bsdf::Dielectric(d) => d.pdf(),
-        }
-    }
+    /// The solid-angle density of [`sample`](Self::sample) (no lobe asked)
+    /// drawing `wi`; 0 for delta lobes.
+    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32;
 
-    pub fn flags(&self) -> BsdfFlags {
-        match self {
-            Bsdf::Phong(p) => p.flags(),
-            Bsdf::Mirror(m) => m.flags(),
-            Bsdf::Dielectric(d) => d.flags(),
-        }
+    /// The fraction of light a shadow ray keeps when it crosses the
+    /// surface without bending (the thesis's transparent shadows); 0 for an
+    /// opaque surface.
+    fn shadow_transmittance(&self) -> f32 {
+        0.0
     }
 }
 
-/// A material's models, built once per worker from its record.
-#[derive(Clone, Copy, Debug)]
-pub struct Surface {
-    /// The local part receives direct light: it has a weight and reflects.
-    pub lit: bool,
-    /// The material reflects or refracts rays (mirror, gloss, glass).
-    pub scatters: bool,
-    pub local: Phong,
-    pub mirror: Option<Mirror>,
-    pub dielectric: Option<Dielectric>,
-    pub emission: Rgb,
+/// Makes [`Bsdf`], the enum of the models listed, and its dispatch.
+macro_rules! models {
+    ($($variant:ident($model:ty),)*) => {
+        /// A scattering model: one of the models of this layer.
+        #[derive(Clone, Copy, Debug)]
+        pub enum Bsdf {
+            $($variant($model),)*
+        }
+
+        $(impl From<$model> for Bsdf {
+            fn from(m: $model) -> Bsdf {
+                Bsdf::$variant(m)
+            }
+        })*
+
+        impl Bsdf {
+            /// The names of the models, as scenes select them.
+            pub const NAMES: &'static [&'static str] = &[$(<$model as BsdfModel>::NAME,)*];
+
+            /// The model's name.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Bsdf::$variant(_) => <$model as BsdfModel>::NAME,)*
+                }
+            }
+
+            #[inline]
+            pub fn lobes(&self) -> Lobes {
+                match self {
+                    $(Bsdf::$variant(m) => m.lobes(),)*
+                }
+            }
+
+            /// The union of the lobes' flags.
+            #[inline]
+            pub fn flags(&self) -> BsdfFlags {
+                self.lobes().union()
+            }
+
+            #[inline]
+            pub fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
+                match self {
+                    $(Bsdf::$variant(m) => m.eval(si, wo, wi),)*
+                }
+            }
+
+            #[inline]
+            pub fn sample(
+                &self,
+                si: &SurfaceInteraction,
+                wo: Vec3,
+                lobe: Option<usize>,
+                u: SetPoint,
+            ) -> Option<BsdfSample> {
+                match self {
+                    $(Bsdf::$variant(m) => m.sample(si, wo, lobe, u),)*
+                }
+            }
+
+            #[inline]
+            pub fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
+                match self {
+                    $(Bsdf::$variant(m) => m.pdf(si, wo, wi),)*
+                }
+            }
+
+            #[inline]
+            pub fn shadow_transmittance(&self) -> f32 {
+                match self {
+                    $(Bsdf::$variant(m) => m.shadow_transmittance(),)*
+                }
+            }
+        }
+    };
 }
 
-impl Surface {
-    pub fn new(m: &Material) -> Surface {
-        let local = Phong::new(m.albedo, m.specular, m.shininess, m.local_weight());
-        let mirror = (m.reflectivity > 0.0).then_some(Mirror {
-            reflectivity: m.reflectivity,
-            glossiness: m.glossiness,
-            effect: m.reflection,
-        });
-        let dielectric = (m.transparency > 0.0).then_some(Dielectric {
-            transparency: m.transparency,
-            ior: m.ior,
-            translucency: m.translucency,
-            effect: m.refraction,
-        });
-        Surface {
-            lit: !local.is_black(),
-            scatters: mirror.is_some() || dielectric.is_some(),
-            local,
-            mirror,
-            dielectric,
-            emission: m.emission,
-        }
-    }
-
-    /// The models of the material, each as a [`Bsdf`].
-    pub fn lobes(&self) -> impl Iterator<Item = Bsdf> + '_ {
-        let local = self.lit.then_some(Bsdf::Phong(self.local));
-        let mirror = self.mirror.map(Bsdf::Mirror);
-        let dielectric = self.dielectric.map(Bsdf::Dielectric);
-        local.into_iter().chain(mirror).chain(dielectric)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::sampling::Distribution;
-    use crate::scene::EffectSpec;
-
-    fn material(reflectivity: f32, transparency: f32) -> Material {
-        let effect = EffectSpec {
-            rays: 4,
-            distribution: Distribution::Jitter,
-        };
-        Material {
-            albedo: Rgb::new(0.5, 0.5, 0.5),
-            specular: 0.2,
-            shininess: 10.0,
-            reflectivity,
-            transparency,
-            ior: 1.5,
-            emission: Rgb::ZERO,
-            glossiness: 0.0,
-            translucency: 0.1,
-            reflection: effect,
-            refraction: effect,
-        }
-    }
-
-    /// A material is split into the lobes its weights ask for, and each
-    /// lobe's flags say what it is.
-    #[test]
-    fn surfaces_hold_the_lobes_their_weights_ask_for() {
-        let plain = Surface::new(&material(0.0, 0.0));
-        assert!(plain.lit && !plain.scatters);
-        assert_eq!(plain.lobes().count(), 1);
-        let glass = Surface::new(&material(0.0, 1.0));
-        assert!(!glass.lit && glass.scatters);
-        let lobes: Vec<Bsdf> = glass.lobes().collect();
-        assert_eq!(lobes.len(), 1);
-        let flags = lobes[0].flags();
-        assert!(flags.contains(BsdfFlags::DELTA | BsdfFlags::TRANSMISSION | BsdfFlags::GLOSSY));
-        let mixed = Surface::new(&material(0.3, 0.3));
-        assert_eq!(mixed.lobes().count(), 3);
-        let f = ShadingFrame {
-            n: Vec3::Z,
-            wo: Vec3::Z,
-            front: true,
-        };
-        for lobe in mixed.lobes() {
-            let delta = lobe.flags().contains(BsdfFlags::DELTA);
-            let value = lobe.eval(&f, Vec3::new(0.0, 0.6, 0.8)).max_element();
-            assert_eq!(delta, value == 0.0, "{lobe:?}");
-            assert_eq!(delta, lobe.pdf(&f, Vec3::new(0.0, 0.6, 0.8)) == 0.0);
-        }
-    }
+models! {
+    Thesis(thesis::Thesis),
+    Diffuse(diffuse::Diffuse),
 }

@@ -4,6 +4,7 @@
 use std::ops::BitOr;
 
 use crate::math::{Rgb, Vec3};
+use crate::sampling::EffectSpec;
 
 /// What kind of lobe a model has (a set of bits).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -14,7 +15,9 @@ impl BsdfFlags {
     pub const DIFFUSE: BsdfFlags = BsdfFlags(1);
     /// Scatters around a preferred direction.
     pub const GLOSSY: BsdfFlags = BsdfFlags(2);
-    /// Scatters into single directions only (`eval` and `pdf` are 0).
+    /// Scatters into single directions only (`eval` and `pdf` are 0). With
+    /// `GLOSSY` too, a delta lobe the thesis blurs: its set of rays is drawn
+    /// around the single direction by a distribution of a given radius.
     pub const DELTA: BsdfFlags = BsdfFlags(4);
     pub const REFLECTION: BsdfFlags = BsdfFlags(8);
     pub const TRANSMISSION: BsdfFlags = BsdfFlags(16);
@@ -23,9 +26,24 @@ impl BsdfFlags {
         BsdfFlags(0)
     }
 
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
     /// True if every bit of `other` is set.
     pub const fn contains(self, other: BsdfFlags) -> bool {
         self.0 & other.0 == other.0
+    }
+
+    /// True for a lobe with a value for pairs of directions (diffuse or
+    /// glossy, not delta): one that direct light is evaluated on.
+    pub const fn is_smooth(self) -> bool {
+        !self.contains(BsdfFlags::DELTA) && self.0 & (Self::DIFFUSE.0 | Self::GLOSSY.0) != 0
+    }
+
+    /// True for a delta lobe.
+    pub const fn is_delta(self) -> bool {
+        self.contains(BsdfFlags::DELTA)
     }
 }
 
@@ -41,10 +59,51 @@ impl BitOr for BsdfFlags {
 pub struct BsdfSample {
     /// Unit direction toward where light comes from.
     pub wi: Vec3,
-    /// `eval · cos θ / pdf` (for a delta lobe, its weight).
+    /// `eval · |cos θ| / pdf` (for a delta lobe, its weight).
     pub weight: Rgb,
-    /// Solid-angle density (for a delta lobe, the probability of the lobe).
+    /// Solid-angle density (for a delta lobe, the probability of choosing
+    /// the lobe; 1 when the lobe was asked for by itself).
     pub pdf: f32,
     /// The lobe that was sampled.
     pub flags: BsdfFlags,
+    /// Its slot (see [`Lobes`]).
+    pub lobe: usize,
+}
+
+/// The most lobes a model has.
+pub const MAX_LOBES: usize = 4;
+
+/// A model's lobes, by slot: the kind of each and, where the model sets
+/// one, how many rays a set of it traces and from which distribution (the
+/// thesis's per-material ray budgets). Slots with empty flags are absent
+/// lobes; a slot keeps its number whether the others are present or not,
+/// so that an integrator can name a lobe's random stream by it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lobes {
+    pub flags: [BsdfFlags; MAX_LOBES],
+    pub sets: [Option<EffectSpec>; MAX_LOBES],
+}
+
+impl Lobes {
+    /// The present lobes: (slot, flags, set).
+    pub fn iter(&self) -> impl Iterator<Item = (usize, BsdfFlags, Option<EffectSpec>)> + '_ {
+        (0..MAX_LOBES)
+            .filter(|&k| !self.flags[k].is_empty())
+            .map(|k| (k, self.flags[k], self.sets[k]))
+    }
+
+    /// The union of the lobes' flags.
+    pub fn union(&self) -> BsdfFlags {
+        self.flags.iter().fold(BsdfFlags::empty(), |a, &f| a | f)
+    }
+
+    /// True if some lobe is smooth (direct light is evaluated on it).
+    pub fn any_smooth(&self) -> bool {
+        self.flags.iter().any(|f| f.is_smooth())
+    }
+
+    /// True if some lobe is a delta lobe (rays must be traced to see it).
+    pub fn any_delta(&self) -> bool {
+        self.flags.iter().any(|f| f.is_delta())
+    }
 }

@@ -1,75 +1,71 @@
-//! Light sources: what a light sends toward a point, built from the scene's
-//! light records, and the two penumbra models.
+//! Emitters: what lights a scene, built once per scene and shared by every
+//! worker.
 //!
-//! An emitter is sampled by handing it one distribution point per shadow ray
-//! (emitters never own random numbers). It answers with the shadow ray's
-//! target point and a weight such that the reflected radiance is
-//! `brdf · weight · cos θ` at the receiver, when the ray reaches the target;
-//! [`Emitter::pdf`] gives the density the surface model draws a target with,
-//! and [`Emitter::emitted`] the radiance a ray that hits the light sees.
+//! An emitter is sampled from a shading point by handing it one
+//! distribution point per shadow ray (emitters never own random numbers).
+//! It answers with the shadow ray's target point and a weight such that the
+//! reflected radiance is `bsdf · weight · cos θ` at the receiver when the
+//! ray reaches the target ([`Emitter::sample`]); [`Emitter::pdf`] gives the
+//! density it draws a target with, [`Emitter::eval`] the radiance a ray
+//! that hits its surface sees, [`Emitter::eval_miss`] what a ray that hits
+//! nothing sees of it.
 //!
-//! * `thesis` (§3.3): the target is the light's centre moved on the plane
-//!   facing the shading point by the distribution (radius = light size), and
-//!   each ray is shaded as if the light's whole power came from that point.
-//!   With one grid ray this is the classic Whitted shadow ray to the centre.
-//! * `surface`: the target lies on the light's real surface and the weight
-//!   carries the geometry term and the sampling pdf, so the average converges
-//!   to the exact direct illumination (what pbrt or Mitsuba compute).
+//! | emitter | where | what |
+//! |---|---|---|
+//! | [`point`] | at a position | intensity in every direction; no surface |
+//! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | uniform radiance from the surface; two penumbra models |
+//! | [`constant`] | at infinity | the background: radiance from every direction |
 //!
-//! One file per kind of light (point, rectangle, sphere, disk) holds its
-//! surface sampling; this file dispatches, a closed set with one match per
-//! question.
+//! A closed enum with one dispatch point (this file): one match per
+//! question, inlined into the shading loops.
 
-mod disk;
-mod point;
-mod rect;
+pub mod area;
+pub mod constant;
+pub mod point;
 mod sample;
-mod sphere;
 
+pub use area::{Area, AreaShape, MeshLight, PenumbraModel};
+pub use constant::Constant;
+pub use point::Point;
 pub use sample::LightSample;
 
 use crate::math::{Rgb, Vec3};
-use crate::sampling::points::end_point;
-use crate::sampling::Distribution;
-use crate::scene::{EffectSpec, Light, LightShape, PenumbraModel};
-use sample::area_pdf;
+use crate::sampling::{Distribution, EffectSpec};
 
-/// A light, ready to be sampled.
+/// An emitter, ready to be sampled.
 #[derive(Clone, Debug)]
-pub struct Emitter {
-    light: Light,
+pub enum Emitter {
+    Point(Point),
+    Area(Area),
+    Constant(Constant),
 }
 
+/// The shadow sets of a point light: one ray (every ray would be the same).
+const ONE_RAY: EffectSpec = EffectSpec {
+    rays: 1,
+    distribution: Distribution::Grid,
+};
+
 impl Emitter {
-    pub fn new(light: &Light) -> Emitter {
-        Emitter {
-            light: light.clone(),
-        }
-    }
-
-    /// The record it was built from.
-    pub fn light(&self) -> &Light {
-        &self.light
-    }
-
     /// Rays per shadow set and their distribution.
     #[inline]
     pub fn shadow(&self) -> EffectSpec {
-        self.light.shadow
-    }
-
-    pub fn center(&self) -> Vec3 {
-        match self.light.shape {
-            LightShape::Point { position } => position,
-            LightShape::Rect(q) => q.center(),
-            LightShape::Sphere { center, .. } | LightShape::Disk { center, .. } => center,
+        match self {
+            Emitter::Area(a) => a.shadow,
+            Emitter::Point(_) | Emitter::Constant(_) => ONE_RAY,
         }
     }
 
-    /// A point light has no extent: every shadow ray would be identical.
+    /// A point light has no extent: every shadow ray toward it would be the same.
     #[inline]
     pub fn is_delta(&self) -> bool {
-        self.light.is_delta()
+        matches!(self, Emitter::Point(_))
+    }
+
+    /// True for an emitter at infinity, which rays that hit nothing see.
+    #[inline]
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Emitter::Constant(_))
     }
 
     /// Shadow rays actually traced per shading point.
@@ -78,47 +74,40 @@ impl Emitter {
         if self.is_delta() {
             1
         } else {
-            self.light.shadow.rays
+            self.shadow().rays
         }
     }
 
-    /// The thesis's light size: the radius of the distribution around the
-    /// centre. A rectangle uses half the side of the square of equal area.
-    pub fn size(&self) -> f32 {
-        match self.light.shape {
-            LightShape::Point { .. } => 0.0,
-            LightShape::Rect(q) => rect::size(&q),
-            LightShape::Sphere { radius, .. } | LightShape::Disk { radius, .. } => radius,
-        }
-    }
-
-    /// Radiance leaving the light's surface toward `-dir` at a point with
-    /// outward normal `n` (area lights are one-sided except spheres).
+    /// Radiance leaving the emitter's surface toward `-dir` at a point with
+    /// geometric normal `n`; zero for emitters without a surface.
     #[inline]
-    pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
-        let power = self.light.power;
-        match self.light.shape {
-            LightShape::Point { .. } => Rgb::ZERO,
-            LightShape::Sphere { .. } => power,
-            LightShape::Rect(_) | LightShape::Disk { .. } => {
-                if n.dot(dir) < 0.0 {
-                    power
-                } else {
-                    Rgb::ZERO
-                }
-            }
+    pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
+        match self {
+            Emitter::Area(a) => a.emitted(n, dir),
+            Emitter::Point(_) | Emitter::Constant(_) => Rgb::ZERO,
         }
     }
 
-    /// Samples the light for a batch of distribution points: sample `k`
+    /// Radiance arriving along `dir` from infinity (what a ray that hits
+    /// nothing sees of this emitter).
+    #[inline]
+    pub fn eval_miss(&self, _dir: Vec3) -> Rgb {
+        match self {
+            Emitter::Constant(c) => c.radiance,
+            Emitter::Point(_) | Emitter::Area(_) => Rgb::ZERO,
+        }
+    }
+
+    /// Samples the emitter for a batch of distribution points: sample `k`
     /// seen from the shading point `at(k)` with the point `points[k]`,
     /// appended to `out` (`None` where the point gives no sample: on the
     /// back of the light, say). The one way an emitter is sampled. A
     /// rectangle sampled on its surface by a square distribution takes its
     /// points four at a time through its kernel, which gives lane by lane
     /// the bits of the portable form (the same operations in the same order,
-    /// with no fused ones); the rest of a batch, and every other light, go
-    /// point by point.
+    /// with no fused ones); the rest of a batch, and every other emitter, go
+    /// point by point. An emitter at infinity gives no samples (it is seen,
+    /// not sampled, by the integrators that shade with this).
     pub fn sample(
         &self,
         at: impl Fn(usize) -> Vec3,
@@ -126,102 +115,30 @@ impl Emitter {
         d: Distribution,
         out: &mut Vec<Option<LightSample>>,
     ) {
-        let wide = match self.light.shape {
-            LightShape::Rect(q) if self.four_wide(d) => {
-                let fours = points.chunks_exact(4);
-                for (g, four) in fours.enumerate() {
-                    let p = std::array::from_fn(|l| at(4 * g + l));
-                    let four = four.try_into().expect("chunks of four");
-                    out.extend(rect::sample4(self.light.power, &q, &p, four).lanes());
-                }
-                points.len() / 4 * 4
-            }
-            _ => 0,
-        };
-        let rest = points.iter().enumerate().skip(wide);
-        out.extend(rest.map(|(k, &point)| self.sample_one(at(k), point, d)));
-    }
-
-    /// One sample of [`sample`](Self::sample): the portable form, which the
-    /// rectangle's kernel is tested against.
-    fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        match self.light.model {
-            _ if self.is_delta() => self.sample_thesis(p, Vec3::ZERO, d),
-            PenumbraModel::Thesis => self.sample_thesis(p, point, d),
-            PenumbraModel::Surface => self.sample_surface(p, point, d),
+        match self {
+            Emitter::Area(a) => a.sample(at, points, d, out),
+            Emitter::Point(p) => out.extend((0..points.len()).map(|k| p.sample(at(k)))),
+            Emitter::Constant(_) => out.extend(points.iter().map(|_| None)),
         }
     }
 
-    /// The solid-angle density with which the surface model draws `target`
-    /// (a point of the light with outward normal `n`) from `p`; 0 for a
-    /// point light and for the thesis model, whose rays are not drawn from
-    /// the light's surface.
+    /// One sample of [`sample`](Self::sample), the portable form.
+    pub fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+        match self {
+            Emitter::Area(a) => a.sample_one(p, point, d),
+            Emitter::Point(l) => l.sample(p),
+            Emitter::Constant(_) => None,
+        }
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) draws
+    /// `target` (a point of the emitter with outward normal `n`) from `p`;
+    /// 0 for a point light and for the thesis model, whose rays are not
+    /// drawn from the light's surface.
     pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
-        if self.is_delta() || self.light.model == PenumbraModel::Thesis {
-            return 0.0;
-        }
-        let to = target - p;
-        let r2 = to.length_squared();
-        let cos_l = n.dot(-to) / r2.sqrt();
-        match self.light.shape {
-            LightShape::Point { .. } => 0.0,
-            LightShape::Sphere { center, radius } => sphere::pdf(p, center, radius, cos_l, r2),
-            LightShape::Rect(q) => area_pdf(cos_l, r2, q.area()),
-            LightShape::Disk { radius, .. } => area_pdf(cos_l, r2, disk::area(radius)),
-        }
-    }
-
-    /// True if [`sample`](Self::sample) takes points of `d` four at a time
-    /// through a kernel: a rectangle sampled on its surface by a square
-    /// distribution.
-    #[inline]
-    fn four_wide(&self, d: Distribution) -> bool {
-        let rect = matches!(self.light.shape, LightShape::Rect(_));
-        rect && self.light.model == PenumbraModel::Surface && d != Distribution::Random
-    }
-
-    fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        let c = self.center();
-        let axis = (c - p).normalize_or_zero();
-        let target = end_point(c, axis, point, self.size(), d);
-        let to = target - p;
-        let r2 = to.length_squared();
-        if r2 <= 0.0 {
-            return None;
-        }
-        let weight = self.point_intensity(-to / r2.sqrt()) / r2;
-        Some(LightSample {
-            target,
-            dir: to.normalize_or_zero(),
-            weight,
-        })
-    }
-
-    /// Intensity toward direction `w` (unit, from the light) of the light
-    /// collapsed to a point, as the thesis shades every shadow ray.
-    fn point_intensity(&self, w: Vec3) -> Rgb {
-        let power = self.light.power;
-        match self.light.shape {
-            LightShape::Point { .. } => point::intensity(power),
-            LightShape::Rect(q) => rect::intensity(power, &q, w),
-            LightShape::Sphere { radius, .. } => sphere::intensity(power, radius),
-            LightShape::Disk { frame, radius, .. } => disk::intensity(power, frame.n, radius, w),
-        }
-    }
-
-    fn sample_surface(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        let power = self.light.power;
-        match self.light.shape {
-            LightShape::Point { .. } => self.sample_thesis(p, Vec3::ZERO, d),
-            LightShape::Rect(q) => rect::sample(power, &q, p, point, d),
-            LightShape::Disk {
-                center,
-                frame,
-                radius,
-            } => disk::sample(power, center, &frame, radius, p, point, d),
-            LightShape::Sphere { center, radius } => {
-                sphere::sample(power, center, radius, p, point, d)
-            }
+        match self {
+            Emitter::Area(a) => a.pdf(p, target, n),
+            Emitter::Point(_) | Emitter::Constant(_) => 0.0,
         }
     }
 }
@@ -233,10 +150,10 @@ mod tests {
     use crate::math::Frame;
     use crate::sampling::Rng;
 
-    fn emitter(shape: LightShape) -> Emitter {
-        Emitter::new(&Light {
+    fn area(shape: AreaShape) -> Emitter {
+        Emitter::Area(Area {
             shape,
-            power: Rgb::splat(2.0),
+            radiance: Rgb::splat(2.0),
             model: PenumbraModel::Surface,
             shadow: EffectSpec {
                 rays: 16,
@@ -245,41 +162,57 @@ mod tests {
         })
     }
 
-    /// For each area light, every sample's weight is `L · / pdf` at its
-    /// target (`weight = L / pdf` in solid angle), so that the estimator of
-    /// direct light is unbiased.
+    /// For each area light, every sample's weight is `L / pdf` at its target
+    /// (in solid angle), so that the estimator of direct light is unbiased.
     #[test]
     fn weights_are_radiance_over_pdf() {
         let p = Vec3::new(0.3, 0.0, -0.2);
+        let tri = |a: Vec3, b: Vec3, c: Vec3| [a, b, c];
+        let mesh = MeshLight::new(vec![
+            tri(
+                Vec3::new(-0.5, 2.0, -0.5),
+                Vec3::new(0.5, 2.0, -0.5),
+                Vec3::new(-0.5, 2.0, 0.5),
+            ),
+            tri(
+                Vec3::new(0.5, 2.2, -0.5),
+                Vec3::new(0.5, 2.2, 0.5),
+                Vec3::new(-0.5, 2.2, 0.5),
+            ),
+        ])
+        .unwrap();
         let lights = [
-            emitter(LightShape::Rect(Quad::new(
+            area(AreaShape::Rect(Quad::new(
                 Vec3::new(-0.5, 2.0, -0.5),
                 Vec3::X,
                 Vec3::Z,
             ))),
-            emitter(LightShape::Disk {
+            area(AreaShape::Disk {
                 center: Vec3::new(0.0, 2.0, 0.0),
                 frame: Frame::from_normal(-Vec3::Y),
                 radius: 0.6,
             }),
-            emitter(LightShape::Sphere {
+            area(AreaShape::Sphere {
                 center: Vec3::new(0.5, 2.5, 0.0),
                 radius: 0.5,
             }),
+            area(AreaShape::Mesh(mesh)),
         ];
         let mut rng = Rng::new(17);
         for e in &lights {
+            let Emitter::Area(a) = e else { unreachable!() };
             let mut found = 0;
             for _ in 0..2000 {
                 let point = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0);
                 let Some(s) = e.sample_one(p, point, Distribution::Random) else {
                     continue;
                 };
-                let n = match e.light().shape {
-                    LightShape::Sphere { center, .. } => (s.target - center).normalize(),
-                    LightShape::Rect(q) => q.normal,
-                    LightShape::Disk { frame, .. } => frame.n,
-                    LightShape::Point { .. } => unreachable!(),
+                let n = match &a.shape {
+                    AreaShape::Sphere { center, .. } => (s.target - *center).normalize(),
+                    AreaShape::Rect(q) => q.normal,
+                    AreaShape::Disk { frame, .. } => frame.n,
+                    // Both triangles face down.
+                    AreaShape::Mesh(_) => -Vec3::Y,
                 };
                 let pdf = e.pdf(p, s.target, n);
                 assert!(pdf > 0.0);
@@ -304,41 +237,50 @@ mod tests {
     fn batches_are_the_portable_samples() {
         let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
         let shapes = [
-            LightShape::Rect(rect),
-            LightShape::Sphere {
+            AreaShape::Rect(rect),
+            AreaShape::Sphere {
                 center: Vec3::new(0.5, 2.5, 0.0),
                 radius: 0.5,
             },
-            LightShape::Point {
-                position: Vec3::new(0.0, 3.0, 0.0),
-            },
         ];
+        let point = Emitter::Point(Point {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            intensity: Rgb::splat(2.0),
+        });
+        let mut lights = vec![(point, false)];
+        for shape in shapes {
+            for model in [PenumbraModel::Surface, PenumbraModel::Thesis] {
+                let Emitter::Area(mut a) = area(shape.clone()) else {
+                    unreachable!()
+                };
+                a.model = model;
+                lights.push((Emitter::Area(a), true));
+            }
+        }
         let mut rng = Rng::new(23);
         let (mut kernel, mut valid, mut out) = (0, 0, Vec::new());
         let bits = |s: &Option<LightSample>| {
             s.map(|s| [s.target, s.dir, Vec3::from(s.weight.to_array())].map(|v| v.to_array()))
                 .map(|v| v.map(|c| c.map(f32::to_bits)))
         };
-        for shape in shapes {
-            for model in [PenumbraModel::Surface, PenumbraModel::Thesis] {
-                for d in Distribution::ALL {
-                    let mut light = emitter(shape);
-                    light.light.model = model;
-                    kernel += usize::from(light.four_wide(d));
-                    for n in 0..200 {
-                        let mut v = |lo: f32, hi: f32, z: f32| {
-                            Vec3::new(rng.range(lo, hi), rng.range(-1.0, hi), rng.range(-z, z))
-                        };
-                        let p: Vec<Vec3> = (0..n % 10).map(|_| v(-3.0, 4.0, 3.0)).collect();
-                        let points: Vec<Vec3> = p.iter().map(|_| v(-1.2, 1.2, 1.0)).collect();
-                        out.clear();
-                        light.sample(|k| p[k], &points, d, &mut out);
-                        assert_eq!(out.len(), p.len());
-                        for ((p, point), got) in p.iter().zip(&points).zip(&out) {
-                            let want = light.sample_one(*p, *point, d);
-                            assert_eq!(bits(got), bits(&want), "{shape:?} {model:?} {d:?}");
-                            valid += usize::from(got.is_some());
-                        }
+        for (light, _) in &lights {
+            for d in Distribution::ALL {
+                if let Emitter::Area(a) = light {
+                    kernel += usize::from(a.four_wide(d));
+                }
+                for n in 0..200 {
+                    let mut v = |lo: f32, hi: f32, z: f32| {
+                        Vec3::new(rng.range(lo, hi), rng.range(-1.0, hi), rng.range(-z, z))
+                    };
+                    let p: Vec<Vec3> = (0..n % 10).map(|_| v(-3.0, 4.0, 3.0)).collect();
+                    let points: Vec<Vec3> = p.iter().map(|_| v(-1.2, 1.2, 1.0)).collect();
+                    out.clear();
+                    light.sample(|k| p[k], &points, d, &mut out);
+                    assert_eq!(out.len(), p.len());
+                    for ((p, point), got) in p.iter().zip(&points).zip(&out) {
+                        let want = light.sample_one(*p, *point, d);
+                        assert_eq!(bits(got), bits(&want), "{light:?} {d:?}");
+                        valid += usize::from(got.is_some());
                     }
                 }
             }

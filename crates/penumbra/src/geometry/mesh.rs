@@ -65,6 +65,11 @@ impl Mesh {
         }
     }
 
+    /// The texture coordinates of triangle `i`'s corners, if the mesh has them.
+    pub fn triangle_uvs(&self, _i: usize) -> Option<[crate::math::Vec2; 3]> {
+        None
+    }
+
     /// Shading normal at barycentrics (b1, b2) of triangle `i`, if the mesh has normals.
     pub fn shading_normal(&self, i: usize, b1: f32, b2: f32) -> Option<Vec3> {
         let ns = self.normals.as_ref()?;

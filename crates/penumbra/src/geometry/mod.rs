@@ -1,6 +1,7 @@
 //! Shapes and their intersection routines, and rigid motion over the shutter.
 
 pub mod disk;
+pub mod interaction;
 pub mod mesh;
 pub mod mesh_file;
 pub mod motion;
@@ -10,6 +11,7 @@ pub mod sphere;
 pub mod tessellate;
 pub mod triangle;
 
+pub use interaction::{shading_frame, LocalGeometry, SurfaceInteraction};
 pub use mesh::Mesh;
 pub use motion::{Motion, Similarity};
 pub use shape::{Shape, ShapeHit};

@@ -45,6 +45,13 @@ impl Similarity {
         self.rotation * (p * self.scale) + self.translation
     }
 
+    /// World vector of an object-space vector (a tangent: lengths change
+    /// with scale).
+    #[inline]
+    pub fn vector_to_world(&self, v: Vec3) -> Vec3 {
+        self.rotation * (v * self.scale)
+    }
+
     /// World normal of an object-space normal: the inverse transpose of
     /// `R S` is `R S⁻¹`.
     #[inline]

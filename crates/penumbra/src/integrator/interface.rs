@@ -1,14 +1,14 @@
-//! What every integrator offers the render driver: workers that estimate
-//! the radiance of a row of pixels, counting their rays, and the samples
-//! their guard caught.
+//! What every integrator offers the render driver: workers that add the
+//! samples of a tile's pixels to its film, counting their rays, and the
+//! samples their guard caught.
 
 use std::ops::Range;
 
 use serde::Serialize;
 
+use super::film::FilmTile;
 use super::stats::RayStats;
 use super::stopping::PixelSamples;
-use crate::math::Rgb;
 use crate::scene::Scene;
 
 /// A non-finite sample: caught where it was made, replaced by black.
@@ -21,44 +21,64 @@ pub struct BadSample {
 
 /// A light-transport algorithm: how the radiance arriving at the camera
 /// through each pixel is estimated. The render driver cuts the image into
-/// tiles and gives each worker thread one [`PixelWorker`] per tile; the
-/// integrator owns everything from a pixel's samples to its value.
+/// tiles and asks a [`PixelWorker`] per tile and pass for a range of the
+/// pixels' samples; the integrator owns everything from a pixel's samples
+/// to what its film adds up.
 ///
-/// A trait, where the scattering models and lights are closed enums: an
-/// integrator is chosen once per render and called once per row of a tile,
-/// so its dispatch costs nothing measurable, while new algorithms (direct
-/// lighting, path tracing) are added beside the existing one without
-/// touching the driver.
+/// A trait, where the scattering models and emitters are closed enums: an
+/// integrator is chosen once per render and called once per tile and pass,
+/// so its dispatch costs nothing measurable, while new algorithms are added
+/// beside the existing one without touching the driver.
 pub trait Integrator: Sync {
     /// A worker's state: its buffers and ray statistics.
-    type Worker<'s>: PixelWorker
+    type Worker<'s>: PixelWorker<State = Self::TileState>
     where
         Self: 's;
 
-    /// A worker for `scene`, made once per tile.
+    /// What a tile keeps from one pass to the next besides its film (which
+    /// pixels stopped, the tallies of adaptive sampling).
+    type TileState: Default + Send;
+
+    /// A worker for `scene`, made once per tile and pass.
     fn worker<'s>(&'s self, scene: &'s Scene) -> Self::Worker<'s>;
+
+    /// The samples a pixel takes in all (the budget the passes split).
+    fn samples(&self) -> u32;
+
+    /// Passes the render is made in: each adds the next range of every
+    /// pixel's samples to the film.
+    fn passes(&self) -> u32;
+
+    /// True if a tile must be rendered whole, its pixels judged by their
+    /// neighbours (adaptive sampling): the driver renders the tile of the
+    /// frame's grid that holds a region's part.
+    fn whole_tiles(&self) -> bool;
 }
 
 /// One worker of an [`Integrator`].
 pub trait PixelWorker {
-    /// Appends the values of pixels `xs` of row `y` to `out`, each the
-    /// estimate of its radiance; non-finite samples are replaced by black
-    /// and reported in `bad`. A pixel's value depends only on the scene and
-    /// the pixel, never on which worker renders it or in which order.
-    fn row(&mut self, y: u32, xs: Range<u32>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>);
+    /// The integrator's [`TileState`](Integrator::TileState).
+    type State;
 
-    /// Appends the values of the pixels of `tile` to `out`, row by row, as
-    /// [`row`](Self::row) does; `false` if its cancel flag became true,
-    /// which is checked at least before every row. By default, row after
-    /// row.
-    fn tile(&mut self, tile: TileJob<'_>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) -> bool {
-        by_rows(self, tile, out, bad)
-    }
+    /// Adds samples `tile.samples` of each pixel of the tile to `film` (the
+    /// tile's), each pixel's in the order of their index; non-finite
+    /// samples are replaced by black and reported in `bad`. A pixel's
+    /// samples depend only on the scene, the pixel and their index, never on
+    /// which worker renders them, in which order, or how the samples are cut
+    /// into ranges: adding `[a, b)` then `[b, c)` gives the film the bits
+    /// `[a, c)` gives. Returns `false` if the tile's cancel flag became
+    /// true, which is checked at least before every row.
+    fn render(
+        &mut self,
+        tile: TileJob<'_>,
+        state: &mut Self::State,
+        film: &mut FilmTile,
+        bad: &mut Vec<BadSample>,
+    ) -> bool;
 
-    /// How the pixels rendered by [`tile`](Self::tile) with adaptive
-    /// sampling ended, in the order of their values, taken out of the
-    /// worker; empty without adaptive sampling.
-    fn take_samples(&mut self) -> Vec<PixelSamples> {
+    /// How the pixels of a tile ended, in row order, once its last range
+    /// was rendered; empty unless the integrator samples adaptively.
+    fn pixel_samples(&self, _state: &Self::State) -> Vec<PixelSamples> {
         Vec::new()
     }
 
@@ -66,27 +86,43 @@ pub trait PixelWorker {
     fn stats(&self) -> &RayStats;
 }
 
-/// A tile of the frame's grid to render: pixels `xs × ys`, and the flag
-/// that cancels it. Tiles are aligned to the frame, so an adaptive sampling
-/// rule may judge a pixel by its neighbours in the tile.
+/// A tile of the frame's grid to render: pixels `xs × ys`, the range of
+/// their samples to add, and the flag that cancels it. Tiles are aligned to
+/// the frame, so an adaptive sampling rule may judge a pixel by its
+/// neighbours in the tile.
 pub struct TileJob<'a> {
     pub xs: Range<u32>,
     pub ys: Range<u32>,
+    /// The samples to add: the range of this pass. Under adaptive sampling,
+    /// a range of the rule's schedule (see the rule); the last pass ends at
+    /// the budget and runs the rule to its end.
+    pub samples: Range<u32>,
     pub cancelled: &'a dyn Fn() -> bool,
 }
 
-/// [`PixelWorker::tile`] row after row, checking the cancel flag before each.
-pub fn by_rows<W: PixelWorker + ?Sized>(
-    worker: &mut W,
-    tile: TileJob<'_>,
-    out: &mut Vec<Rgb>,
-    bad: &mut Vec<BadSample>,
-) -> bool {
-    for y in tile.ys {
-        if (tile.cancelled)() {
-            return false;
+/// The range of samples pass `k` of `passes` adds, out of `budget`: the
+/// budget cut as evenly as it goes, earlier passes never larger.
+pub fn pass_samples(k: u32, passes: u32, budget: u32) -> Range<u32> {
+    let at = |k: u32| (u64::from(k) * u64::from(budget) / u64::from(passes.max(1))) as u32;
+    at(k)..at(k + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_cut_the_budget_without_gaps() {
+        for (passes, budget) in [(1, 16), (3, 16), (16, 16), (5, 3), (7, 1000)] {
+            let ranges: Vec<_> = (0..passes)
+                .map(|k| pass_samples(k, passes, budget))
+                .collect();
+            assert_eq!(ranges[0].start, 0);
+            assert_eq!(ranges[passes as usize - 1].end, budget);
+            for w in ranges.windows(2) {
+                assert_eq!(w[0].end, w[1].start);
+                assert!(w[0].len() <= w[1].len() + 1);
+            }
         }
-        worker.row(y, tile.xs.clone(), out, bad);
     }
-    true
 }

@@ -39,6 +39,11 @@ pub struct RunningMean {
 }
 
 impl RunningMean {
+    /// The running mean of `n` values summing to `sum`, to be continued.
+    pub fn resume(sum: Rgb, n: u32) -> RunningMean {
+        RunningMean { sum, n }
+    }
+
     /// Adds a value; returns true if, under `metric`, a set of `budget` rays
     /// may stop after it (at least α values, fewer than the budget, and a
     /// change below the threshold).

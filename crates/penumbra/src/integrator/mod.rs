@@ -37,13 +37,15 @@
 //!   refraction budget and `translucency` radius (a rough interface blurs both),
 //!   and its rays are counted as reflection rays.
 
+mod film;
 mod interface;
 mod metric;
 mod stats;
 pub mod stopping;
 mod whitted;
 
-pub use interface::{BadSample, Integrator, PixelWorker, TileJob};
+pub use film::FilmTile;
+pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use stats::{RayCounts, RayStats};
 pub use whitted::{Tracer, Whitted, WhittedWorker};

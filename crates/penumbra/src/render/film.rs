@@ -1,6 +1,8 @@
+use std::ops::Range;
+
 use super::region::Region;
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{BadSample, Integrator, PixelWorker, RayStats};
+use crate::integrator::{BadSample, FilmTile, Integrator, PixelWorker, RayStats};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -59,47 +61,91 @@ impl Tile {
     }
 }
 
-/// Renders one tile, `region`, as part of `block`, the tile of the frame's
-/// grid that holds it (rendered whole when adaptive sampling judges pixels
-/// by their neighbours, else the same as `region`); `None` if `cancelled`
+/// What a tile keeps from one pass to the next: its film (of `block`, the
+/// tile of the frame's grid that holds it), the integrator's state, and
+/// what it counted so far.
+pub(super) struct TileSlot<S> {
+    /// The part of the frame asked for.
+    pub region: Region,
+    /// How its pixels ended, once its last pass is rendered.
+    pub samples: Vec<PixelSamples>,
+    /// The tile of the frame's grid rendered for it.
+    pub block: Region,
+    pub film: FilmTile,
+    pub state: S,
+    pub rays: RayStats,
+    pub bad: Vec<BadSample>,
+}
+
+impl<S: Default> TileSlot<S> {
+    /// A tile of `region` rendered as part of `block`.
+    pub(super) fn new(region: Region, block: Region) -> Self {
+        TileSlot {
+            region,
+            samples: Vec::new(),
+            film: FilmTile::new(block.x0..block.x1, block.y0..block.y1),
+            block,
+            state: S::default(),
+            rays: RayStats::default(),
+            bad: Vec::new(),
+        }
+    }
+}
+
+/// Adds samples `samples` of the pixels of `slot`'s tile to its film (the
+/// `last` range of the render, after which the worker reports how its
+/// pixels ended),
+/// rendering the whole `block` (the tile of the frame's grid that holds the
+/// region asked for: rendered whole when adaptive sampling judges pixels by
+/// their neighbours, else the same as the region); `false` if `cancelled`
 /// becomes true, which is checked before every row so that a cancel takes
 /// effect within a row of pixels, not a whole tile (a tile of a costly
 /// scene can take seconds).
-pub(super) fn render_tile<I: Integrator>(
+pub(super) fn render_pass<I: Integrator>(
     integrator: &I,
     scene: &Scene,
-    region: Region,
-    block: Region,
+    slot: &mut TileSlot<I::TileState>,
+    samples: Range<u32>,
+    last: bool,
     cancelled: &dyn Fn() -> bool,
-) -> Option<Tile> {
+) -> bool {
     let mut worker = integrator.worker(scene);
-    let mut pixels = Vec::with_capacity((block.width() * block.height()) as usize);
-    let mut bad = Vec::new();
+    let block = slot.block;
     let tile = crate::integrator::TileJob {
         xs: block.x0..block.x1,
         ys: block.y0..block.y1,
+        samples,
         cancelled,
     };
-    if !worker.tile(tile, &mut pixels, &mut bad) {
-        return None;
+    let mut bad = Vec::new();
+    if !worker.render(tile, &mut slot.state, &mut slot.film, &mut bad) {
+        return false;
     }
-    let mut samples = worker.take_samples();
-    if block != region {
-        pixels = crop(&pixels, block, region);
-        if !samples.is_empty() {
-            samples = crop(&samples, block, region);
-        }
-        bad.retain(|b| {
-            (region.x0..region.x1).contains(&b.x) && (region.y0..region.y1).contains(&b.y)
-        });
+    let region = slot.region;
+    bad.retain(|b| (region.x0..region.x1).contains(&b.x) && (region.y0..region.y1).contains(&b.y));
+    slot.bad.extend(bad);
+    slot.rays += *worker.stats();
+    if last {
+        slot.samples = worker.pixel_samples(&slot.state);
     }
-    Some(Tile {
+    true
+}
+
+/// The finished tile of `slot`: its pixels resolved, and how they ended.
+pub(super) fn finish<S>(slot: TileSlot<S>) -> Tile {
+    let (region, block, samples) = (slot.region, slot.block, slot.samples);
+    let samples = if samples.is_empty() || block == region {
+        samples
+    } else {
+        crop(&samples, block, region)
+    };
+    Tile {
         region,
-        pixels,
-        rays: *worker.stats(),
-        bad,
+        pixels: slot.film.values(region.x0..region.x1, region.y0..region.y1),
+        rays: slot.rays,
+        bad: slot.bad,
         samples,
-    })
+    }
 }
 
 /// The values of `region`'s pixels among `values`, those of `block`'s row
@@ -135,10 +181,21 @@ mod tests {
             checks.set(checks.get() + 1);
             checks.get() > 3
         };
-        assert!(render_tile(&Whitted, &scene, region, region, &after_three_rows).is_none());
+        let whitted = Whitted::new(&scene);
+        let mut slot = TileSlot::new(region, region);
+        assert!(!render_pass(
+            &whitted,
+            &scene,
+            &mut slot,
+            0..4,
+            true,
+            &after_three_rows
+        ));
         assert_eq!(checks.get(), 4);
         let never = || false;
-        let tile = render_tile(&Whitted, &scene, region, region, &never).expect("not cancelled");
+        let mut slot = TileSlot::new(region, region);
+        assert!(render_pass(&whitted, &scene, &mut slot, 0..4, true, &never));
+        let tile = finish(slot);
         assert_eq!(tile.pixels.len(), 64);
     }
 }

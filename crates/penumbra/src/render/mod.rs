@@ -1,7 +1,7 @@
 //! The parallel render driver: tiles over a rayon pool, deterministic seeding,
 //! progress reporting, and the guard that keeps NaN and infinity out of images.
 
-mod film;
+pub mod film;
 mod region;
 mod report;
 
@@ -13,11 +13,12 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use film::Image;
+use film::TileSlot;
 pub use region::{Region, TILE};
 pub use report::stats_document;
 
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{BadSample, RayStats, Whitted};
+use crate::integrator::{pass_samples, BadSample, Integrator, RayStats, Whitted};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -59,8 +60,25 @@ pub enum RenderError {
 /// Progress callback: (tiles done, tiles in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
-/// Renders the scene (or a region of it) and returns the image with its statistics.
+/// Renders the scene (or a region of it) with the scene's integrator and
+/// returns the image with its statistics.
 pub fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: Progress<'_>,
+    cancel: Option<&AtomicBool>,
+) -> Result<(Image, RenderStats), RenderError> {
+    render_with(&Whitted::new(scene), scene, opts, progress, cancel)
+}
+
+/// Renders the scene (or a region of it) with `integrator`, in its passes:
+/// each pass asks a worker per tile to add the pass's range of every
+/// pixel's samples to the tile's film, and the last copies each finished
+/// tile into the image. The tiles' films and the integrator's state per
+/// tile are kept between passes; a render of one pass keeps only the tiles
+/// being rendered.
+pub fn render_with<I: Integrator>(
+    integrator: &I,
     scene: &Scene,
     opts: &RenderOptions,
     progress: Progress<'_>,
@@ -101,33 +119,65 @@ pub fn render(
         bands.push(Mutex::new(band));
         rest = after;
     }
+    let passes = integrator.passes().max(1);
+    let work = tiles.len() * passes as usize;
+    let whole = integrator.whole_tiles();
+    let slots: Vec<Mutex<Option<TileSlot<I::TileState>>>> =
+        tiles.iter().map(|_| Mutex::new(None)).collect();
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     type Counted = (RayStats, Vec<BadSample>, Region, Vec<PixelSamples>);
-    let results: Vec<Option<Counted>> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map(|t| {
-                let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-                let block = if s.stopping.is_some() {
-                    aligned(*t, s.width, s.height)
-                } else {
-                    *t
-                };
-                let tile = film::render_tile(&Whitted, scene, *t, block, &cancelled)?;
-                let band = cuts.partition_point(|&y| y < t.y0);
-                let rows = &bands[band];
-                let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
-                tile.copy_into(&mut rows, region);
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
-                Some((tile.rays, tile.bad, tile.region, tile.samples))
-            })
-            .collect()
-    });
+    let mut results: Vec<Option<Counted>> = Vec::new();
+    for pass in 0..passes {
+        let samples = pass_samples(pass, passes, integrator.samples());
+        let last = pass + 1 == passes;
+        let finished: Vec<Option<Option<Counted>>> = pool.install(|| {
+            tiles
+                .par_iter()
+                .zip(&slots)
+                .map(|(t, slot)| {
+                    let mut slot = slot.lock().unwrap_or_else(|e| e.into_inner());
+                    let block = if whole {
+                        aligned(*t, s.width, s.height)
+                    } else {
+                        *t
+                    };
+                    let tile = slot.get_or_insert_with(|| TileSlot::new(*t, block));
+                    if !film::render_pass(
+                        integrator,
+                        scene,
+                        tile,
+                        samples.clone(),
+                        last,
+                        &cancelled,
+                    ) {
+                        return None;
+                    }
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, work);
+                    if !last {
+                        return Some(None);
+                    }
+                    let tile = film::finish(slot.take()?);
+                    let band = cuts.partition_point(|&y| y < t.y0);
+                    let rows = &bands[band];
+                    let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
+                    tile.copy_into(&mut rows, region);
+                    Some(Some((tile.rays, tile.bad, tile.region, tile.samples)))
+                })
+                .collect()
+        });
+        if finished.iter().any(Option::is_none) {
+            return Err(RenderError::Cancelled);
+        }
+        if last {
+            results = finished.into_iter().flatten().collect();
+        }
+    }
     drop(bands);
     let mut stats = RenderStats {
         threads,
         ..RenderStats::default()
     };
-    let adaptive = s.stopping.is_some();
+    let adaptive = whole;
     if adaptive {
         let pixels = region.width() as usize * region.height() as usize;
         stats.pixel_samples = vec![PixelSamples::default(); pixels];

@@ -4,6 +4,7 @@
 #[cfg(test)]
 mod checks;
 pub mod custom;
+pub mod discrete;
 pub mod distribution;
 pub mod filter;
 pub mod halton;
@@ -19,9 +20,11 @@ pub mod warp;
 pub mod zsobol;
 
 pub use custom::PointTable;
+pub use discrete::Discrete;
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
 pub use filter::Filter;
+pub use points::{EffectSpec, SetPoint};
 pub use rng::{index_bits, mix64, BranchKey, Place, Rng};
 pub use sampler::{Dimension, PixelSampler, Sampler};

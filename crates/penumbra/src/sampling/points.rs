@@ -12,6 +12,66 @@ use super::warp::square_to_disk_concentric;
 use super::Distribution;
 use crate::math::{Frame, Vec2, Vec3};
 
+/// How many rays a set of an effect traces and how they are distributed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EffectSpec {
+    pub rays: u32,
+    pub distribution: Distribution,
+}
+
+/// One point of a distribution set, as a model samples from it: the
+/// distribution's point in its native shape (see the module docs) and the
+/// distribution it came from, which says what that shape is. Models take
+/// their random numbers as a `SetPoint`: a model that wants uniform numbers
+/// asks for [`square`](Self::square) (stratification kept), the thesis's
+/// models use the [`native`](Self::native) point itself, as its listings do.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SetPoint {
+    pub point: Vec3,
+    pub distribution: Distribution,
+}
+
+impl SetPoint {
+    pub fn new(point: Vec3, distribution: Distribution) -> SetPoint {
+        SetPoint {
+            point,
+            distribution,
+        }
+    }
+
+    /// The point of two uniform numbers `u` in [0, 1)², for callers that
+    /// draw plain numbers (a square distribution's point `2u − 1`).
+    pub fn uniform(u: Vec2) -> SetPoint {
+        let p = 2.0 * u - Vec2::ONE;
+        SetPoint::new(Vec3::new(p.x, p.y, 0.0), Distribution::Jitter)
+    }
+
+    /// The point as the distribution gave it: in [−1, 1]², the unit disk or
+    /// the cube [−1, 1]³.
+    #[inline]
+    pub fn native(&self) -> Vec3 {
+        self.point
+    }
+
+    /// A point of the unit square [0, 1)² ([`unit_square`]).
+    #[inline]
+    pub fn square(&self) -> Vec2 {
+        unit_square(self.point, self.distribution)
+    }
+
+    /// A point of the unit disk ([`unit_disk`]).
+    #[inline]
+    pub fn disk(&self) -> Vec2 {
+        unit_disk(self.point, self.distribution)
+    }
+
+    /// The thesis's end point around `center` ([`end_point`]).
+    #[inline]
+    pub fn end_point(&self, center: Vec3, axis: Vec3, radius: f32) -> Vec3 {
+        end_point(center, axis, self.point, radius, self.distribution)
+    }
+}
+
 /// The thesis's distributed end point: `center` moved by `radius · point` on
 /// the plane normal to `axis` (Listing 3.1–3.2), or by the 3D offset itself
 /// for fast-random, which deliberately skips the basis (Listing 3.6).

@@ -12,17 +12,19 @@ use super::error::{Invalid, KeyPath};
 use super::points::read_points;
 use super::ray_sets::{custom_sets, each_set};
 use super::reuse::{self, WorldCache};
-use super::{EffectSpec, Light, LightShape, Material, PenumbraModel};
 use super::{Metric, Scene, Settings, Stopping};
 use crate::accel::world::{mesh_bvh, Object, World};
+use crate::bsdf::thesis::{Thesis, ThesisParams};
+use crate::bsdf::Bsdf;
 use crate::camera::{Camera, CameraSpec};
+use crate::emitter::{Area, AreaShape, Constant, Emitter, MeshLight, PenumbraModel, Point};
 use crate::geometry::mesh_file::{read_mesh, MeshError};
 use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
 use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
-use crate::sampling::{Distribution, PointTable};
+use crate::sampling::{Distribution, EffectSpec, PointTable};
 
 /// Why a description could not be built.
 #[derive(Debug)]
@@ -65,10 +67,10 @@ pub fn build(
     mut worlds: Option<&mut WorldCache>,
 ) -> Result<Scene, BuildError> {
     let start = std::time::Instant::now();
-    let mut settings = settings(&desc.render)?;
-    let camera = camera(&desc.camera, &settings)?;
     let defaults = Defaults::of(&desc.render)?;
-    let (mut materials, names) = materials(desc, &defaults)?;
+    let mut settings = settings(&desc.render, &defaults)?;
+    let camera = camera(&desc.camera, &settings)?;
+    let (mut materials, emission, names) = materials(desc, &defaults)?;
     let key = worlds.as_ref().and_then(|_| reuse::key(desc, ctx));
     // A world built under the same key came from these very objects, which
     // were valid then and are now: they need neither checking nor loading.
@@ -82,27 +84,42 @@ pub fn build(
     };
     let light_material = materials.len() as u32;
     materials.push(black_material(&defaults));
-    let mut lights = Vec::new();
+    let mut emission = emission;
+    emission.push((Rgb::ZERO, KeyPath::root()));
+    let mut emitters = Vec::new();
     let root = KeyPath::root().key("lights");
     for (i, l) in desc.lights.iter().enumerate() {
-        let light = light(&root.index(i), l, &defaults)?;
-        if let Some(shape) = light_shape(&light).filter(|_| reused.is_none()) {
+        let (emitter, shape) = light(&root.index(i), l, &defaults)?;
+        if let Some(shape) = shape.filter(|_| reused.is_none()) {
             objects.push(Object {
                 shape,
                 material: light_material,
-                light: Some(i as u32),
+                emitter: Some(i as u32),
+                casts_shadows: false,
                 motion: None,
                 mesh_bvh: None,
             });
         }
-        lights.push(light);
+        emitters.push(emitter);
     }
-    let sets = custom_sets(&settings, &materials, &lights);
+    match &reused {
+        Some(world) => emitting_objects_of(world, &emission, &defaults, &mut emitters)?,
+        None => emitting_objects(&mut objects, &meshes, &emission, &defaults, &mut emitters)?,
+    }
+    if desc.render.background != [0.0; 3] {
+        let radiance = nonneg3(
+            &KeyPath::root().key("render").key("background"),
+            desc.render.background,
+        )?;
+        emitters.push(Emitter::Constant(Constant { radiance }));
+    }
+    let bsdfs: Vec<Bsdf> = materials.iter().map(|m| Thesis::new(m).into()).collect();
+    let sets = custom_sets(&settings, &bsdfs, &emitters);
     if let Some(&(what, _)) = sets.first() {
         settings.points = points(&desc.render, ctx, what)?;
     }
-    let warnings = square_warnings(&settings, &materials, &lights);
-    let transparency = materials.iter().map(|m| m.transparency).collect();
+    let warnings = square_warnings(&settings, &bsdfs, &emitters);
+    let transparency = bsdfs.iter().map(Bsdf::shadow_transmittance).collect();
     let world = reused.unwrap_or_else(|| {
         let world = Arc::new(World::new(objects, meshes));
         if let (Some(k), Some(w)) = (key, worlds) {
@@ -112,14 +129,94 @@ pub fn build(
     });
     Ok(Scene {
         camera,
-        materials,
-        lights,
+        bsdfs,
+        emitters,
         world,
         settings,
         transparency,
         warnings,
         build_time: start.elapsed(),
     })
+}
+
+/// Gives every object whose material emits an area emitter, appended to
+/// `emitters`.
+fn emitting_objects(
+    objects: &mut [Object],
+    meshes: &[Mesh],
+    emission: &[(Rgb, KeyPath)],
+    d: &Defaults,
+    emitters: &mut Vec<Emitter>,
+) -> Result<(), Invalid> {
+    for (i, o) in objects.iter_mut().enumerate() {
+        let (radiance, at) = &emission[o.material as usize];
+        if *radiance == Rgb::ZERO || !o.casts_shadows {
+            continue;
+        }
+        if o.motion.is_some() {
+            return Err(Invalid::new(
+                KeyPath::root().key("objects").index(i).key("transform_end"),
+                format!("an emitting object cannot move (its material emits: {at})"),
+            ));
+        }
+        let shape = match &o.shape {
+            Shape::Quad(q) => AreaShape::Rect(*q),
+            Shape::Sphere { center, radius } => AreaShape::Sphere {
+                center: *center,
+                radius: *radius,
+            },
+            Shape::Disk {
+                center,
+                frame,
+                radius,
+            } => AreaShape::Disk {
+                center: *center,
+                frame: *frame,
+                radius: *radius,
+            },
+            Shape::Mesh { mesh } => {
+                let m = &meshes[*mesh as usize];
+                let tris = (0..m.triangles.len()).map(|t| m.vertices(t)).collect();
+                AreaShape::Mesh(MeshLight::new(tris).ok_or_else(|| {
+                    Invalid::new(
+                        KeyPath::root().key("objects").index(i),
+                        format!("an emitting mesh must have a surface (its material emits: {at})"),
+                    )
+                })?)
+            }
+        };
+        o.emitter = Some(emitters.len() as u32);
+        emitters.push(Emitter::Area(Area {
+            shape,
+            radiance: *radiance,
+            model: PenumbraModel::Surface,
+            shadow: d.shadow,
+        }));
+    }
+    Ok(())
+}
+
+/// The emitters of the emitting objects of a reused world (whose objects
+/// were numbered the same way when it was built).
+fn emitting_objects_of(
+    world: &World,
+    emission: &[(Rgb, KeyPath)],
+    d: &Defaults,
+    emitters: &mut Vec<Emitter>,
+) -> Result<(), Invalid> {
+    let mut objects: Vec<Object> = world
+        .objects
+        .iter()
+        .map(|o| Object {
+            shape: o.shape.clone(),
+            material: o.material,
+            emitter: None,
+            casts_shadows: o.casts_shadows,
+            motion: o.motion,
+            mesh_bvh: None,
+        })
+        .collect();
+    emitting_objects(&mut objects, &world.meshes, emission, d, emitters)
 }
 
 /// The objects of `desc` (meshes loaded and baked) and their meshes.
@@ -229,7 +326,7 @@ impl Defaults {
     }
 }
 
-fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
+fn settings(r: &RenderDesc, d: &Defaults) -> Result<Settings, Invalid> {
     let p = KeyPath::root().key("render");
     let width = int(&p.key("width"), r.width, 1, MAX_SIDE)?;
     let height = int(&p.key("height"), r.height, 1, MAX_SIDE)?;
@@ -250,9 +347,13 @@ fn settings(r: &RenderDesc) -> Result<Settings, Invalid> {
         seed: u64::from(int(&p.key("seed"), r.seed, 0, i64::from(u32::MAX))?),
         background: nonneg3(&p.key("background"), r.background)?,
         spp: int(&p.key("spp"), r.spp, 1, MAX_RAYS)?,
+        passes: int(&p.key("passes"), r.passes, 1, MAX_RAYS)?,
         pixel: r.pixel_distribution.unwrap_or(r.distribution),
         lens: r.lens_distribution.unwrap_or(r.distribution),
         time: r.time_distribution.unwrap_or(r.distribution),
+        shadow: d.shadow,
+        reflection: d.reflection,
+        refraction: d.refraction,
         points: Arc::new(PointTable::NONE),
         filter: r.filter,
         metric: metric(r, &p)?,
@@ -357,26 +458,26 @@ fn camera(c: &CameraDesc, s: &Settings) -> Result<Camera, Invalid> {
     }))
 }
 
-/// Materials in name order (index 0 is the default grey for objects without one).
-fn materials(
-    desc: &SceneDesc,
-    defaults: &Defaults,
-) -> Result<(Vec<Material>, HashMap<String, u32>), Invalid> {
-    let mut out = vec![material(
-        &KeyPath::root(),
-        &MaterialDesc::default(),
-        defaults,
-    )?];
+/// The materials and what each emits, in name order (index 0 is the
+/// default grey for objects without one).
+type Materials = (Vec<ThesisParams>, Vec<(Rgb, KeyPath)>, HashMap<String, u32>);
+
+fn materials(desc: &SceneDesc, defaults: &Defaults) -> Result<Materials, Invalid> {
+    let root = KeyPath::root();
+    let (first, _) = material(&root, &MaterialDesc::default(), defaults)?;
+    let (mut out, mut emission) = (vec![first], vec![(Rgb::ZERO, root)]);
     let mut names = HashMap::new();
     for (name, m) in &desc.materials {
         let path = KeyPath::root().key("materials").key(name);
         names.insert(name.clone(), out.len() as u32);
-        out.push(material(&path, m, defaults)?);
+        let (params, emits) = material(&path, m, defaults)?;
+        out.push(params);
+        emission.push((emits, path.key("emission")));
     }
-    Ok((out, names))
+    Ok((out, emission, names))
 }
 
-fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Invalid> {
+fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<(ThesisParams, Rgb), Invalid> {
     let albedo = nonneg3(&p.key("albedo"), m.albedo)?;
     let specular = range(&p.key("specular"), m.specular, 0.0, 1.0)?;
     if (albedo + Rgb::splat(specular)).max_element() > 1.0 {
@@ -403,14 +504,14 @@ fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Inv
             distribution: dist.unwrap_or(def.distribution),
         })
     };
-    Ok(Material {
+    let emission = nonneg3(&p.key("emission"), m.emission)?;
+    let params = ThesisParams {
         albedo,
         specular,
         shininess: range(&p.key("shininess"), m.shininess, 0.0, 1e6)?,
         reflectivity,
         transparency,
         ior: range(&p.key("ior"), m.ior, 1.0, 10.0)?,
-        emission: nonneg3(&p.key("emission"), m.emission)?,
         glossiness: m.glossiness.map_or(Ok((1.0 - reflectivity) * 0.2), |g| {
             range(&p.key("glossiness"), g, 0.0, 1e3)
         })?,
@@ -429,19 +530,19 @@ fn material(p: &KeyPath, m: &MaterialDesc, d: &Defaults) -> Result<Material, Inv
             m.refraction_distribution,
             d.refraction,
         )?,
-    })
+    };
+    Ok((params, emission))
 }
 
 /// The surface material of light shapes: black, since their emission is the light's.
-fn black_material(d: &Defaults) -> Material {
-    Material {
+fn black_material(d: &Defaults) -> ThesisParams {
+    ThesisParams {
         albedo: Rgb::ZERO,
         specular: 0.0,
         shininess: 0.0,
         reflectivity: 0.0,
         transparency: 0.0,
         ior: 1.0,
-        emission: Rgb::ZERO,
         glossiness: 0.0,
         translucency: 0.0,
         reflection: d.reflection,
@@ -546,7 +647,8 @@ fn object(
     Ok(Object {
         shape,
         material,
-        light: None,
+        emitter: None,
+        casts_shadows: true,
         motion,
         mesh_bvh,
     })
@@ -751,7 +853,8 @@ fn similarity(p: &KeyPath, m: &Mat4) -> Result<Similarity, Invalid> {
 
 const LIGHT_TYPES: [&str; 4] = ["point", "rect", "sphere", "disk"];
 
-fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
+/// A light: its emitter and, for an area light, the shape that carries it.
+fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<(Emitter, Option<Shape>), Invalid> {
     let kind = one_of(&p.key("type"), &l.kind, "light type", &LIGHT_TYPES)?;
     let set = [
         ("position", l.position.is_some()),
@@ -777,7 +880,7 @@ fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
             required(p, l.radiance, "radiance", kind)?,
         )
     };
-    let (shape, power) = match kind {
+    let (shape, power): (Option<AreaShape>, Rgb) = match kind {
         "point" => {
             only_keys(p, kind, &set, &["position", "intensity"])?;
             let position = finite3(
@@ -788,12 +891,24 @@ fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
                 &p.key("intensity"),
                 required(p, l.intensity, "intensity", kind)?,
             )?;
-            (LightShape::Point { position }, intensity)
+            return Ok((
+                Emitter::Point(Point {
+                    position,
+                    intensity,
+                }),
+                None,
+            ));
         }
         "rect" => {
             only_keys(p, kind, &set, &with(&["origin", "edge_u", "edge_v"]))?;
             (
-                LightShape::Rect(quad(p, l.origin, l.edge_u, l.edge_v, "rect light")?),
+                Some(AreaShape::Rect(quad(
+                    p,
+                    l.origin,
+                    l.edge_u,
+                    l.edge_v,
+                    "rect light",
+                )?)),
                 radiance()?,
             )
         }
@@ -801,7 +916,7 @@ fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
             only_keys(p, kind, &set, &with(&["center", "radius"]))?;
             let center = finite3(&p.key("center"), required(p, l.center, "center", kind)?)?;
             let radius = positive(&p.key("radius"), required(p, l.radius, "radius", kind)?)?;
-            (LightShape::Sphere { center, radius }, radiance()?)
+            (Some(AreaShape::Sphere { center, radius }), radiance()?)
         }
         _ => {
             only_keys(p, kind, &set, &with(&["center", "normal", "radius"]))?;
@@ -810,11 +925,11 @@ fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
             let radius = positive(&p.key("radius"), required(p, l.radius, "radius", kind)?)?;
             let frame = Frame::from_normal(normal.normalize());
             (
-                LightShape::Disk {
+                Some(AreaShape::Disk {
                     center,
                     frame,
                     radius,
-                },
+                }),
                 radiance()?,
             )
         }
@@ -832,30 +947,31 @@ fn light(p: &KeyPath, l: &LightDesc, d: &Defaults) -> Result<Light, Invalid> {
         })?,
         distribution: l.shadow_distribution.unwrap_or(d.shadow.distribution),
     };
-    Ok(Light {
+    let shape = shape.expect("an area light has a shape");
+    let surface = match &shape {
+        AreaShape::Rect(q) => Shape::Quad(*q),
+        AreaShape::Sphere { center, radius } => Shape::Sphere {
+            center: *center,
+            radius: *radius,
+        },
+        AreaShape::Disk {
+            center,
+            frame,
+            radius,
+        } => Shape::Disk {
+            center: *center,
+            frame: *frame,
+            radius: *radius,
+        },
+        AreaShape::Mesh(_) => unreachable!("lights are not meshes"),
+    };
+    let emitter = Emitter::Area(Area {
         shape,
-        power,
+        radiance: power,
         model,
         shadow,
-    })
-}
-
-/// The visible surface of an area light (point lights have none).
-fn light_shape(l: &Light) -> Option<Shape> {
-    match l.shape {
-        LightShape::Point { .. } => None,
-        LightShape::Rect(q) => Some(Shape::Quad(q)),
-        LightShape::Sphere { center, radius } => Some(Shape::Sphere { center, radius }),
-        LightShape::Disk {
-            center,
-            frame,
-            radius,
-        } => Some(Shape::Disk {
-            center,
-            frame,
-            radius,
-        }),
-    }
+    });
+    Ok((emitter, Some(surface)))
 }
 
 /// The `custom` distribution's points, which `what` draws from: the table
@@ -885,9 +1001,9 @@ fn points(r: &RenderDesc, ctx: &BuildContext, what: &str) -> Result<Arc<PointTab
 /// distribution that needs one. The pixel's message stands for its lens
 /// positions too (the same count; a pinhole camera draws none), and
 /// shutter times are one-dimensional.
-fn square_warnings(s: &Settings, materials: &[Material], lights: &[Light]) -> Vec<String> {
+fn square_warnings(s: &Settings, bsdfs: &[Bsdf], emitters: &[Emitter]) -> Vec<String> {
     let mut seen = Vec::new();
-    each_set(s, materials, lights, |what, rays, d| {
+    each_set(s, bsdfs, emitters, |what, rays, d| {
         let message = d.non_square_warning(rays as usize);
         let camera = matches!(what, "lens positions" | "shutter times");
         if let (Some(msg), false) = (message, camera) {

@@ -46,6 +46,8 @@ pub struct RenderDesc {
     pub background: [f32; 3],
     /// Primary rays per pixel (supersampling, depth of field, motion blur).
     pub spp: i64,
+    /// Passes the samples are added to the film in.
+    pub passes: i64,
     pub shadow_rays: i64,
     pub reflection_rays: i64,
     pub refraction_rays: i64,
@@ -101,6 +103,7 @@ impl Default for RenderDesc {
             seed: 0,
             background: [0.0; 3],
             spp: 1,
+            passes: 1,
             shadow_rays: 1,
             reflection_rays: 1,
             refraction_rays: 1,

@@ -310,6 +310,16 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.spp = v.int()),
     },
     RenderOption {
+        name: "passes",
+        kind: RAYS,
+        default: int(1),
+        doc: "passes the render is made in, each adding the next part of every pixel's samples to the film; the image is the same bit for bit for any number",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.passes = v.int()),
+    },
+    RenderOption {
         name: "shadow_rays",
         kind: RAYS,
         default: int(1),

@@ -16,6 +16,7 @@ pub struct Overrides {
     pub max_depth: Option<u32>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
+    pub passes: Option<u32>,
     pub shadow_rays: Option<u32>,
     pub reflection_rays: Option<u32>,
     pub refraction_rays: Option<u32>,
@@ -59,6 +60,7 @@ impl Overrides {
         set(&mut r.max_depth, self.max_depth.map(i64::from));
         set(&mut r.seed, self.seed.map(i64::from));
         set(&mut r.spp, self.spp.map(i64::from));
+        set(&mut r.passes, self.passes.map(i64::from));
         set(&mut r.shadow_rays, self.shadow_rays.map(i64::from));
         set(&mut r.reflection_rays, self.reflection_rays.map(i64::from));
         set(&mut r.refraction_rays, self.refraction_rays.map(i64::from));

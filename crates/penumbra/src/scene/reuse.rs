@@ -74,7 +74,8 @@ impl WorldCache {
 
 /// Everything the world of `desc` is made from, as text: the objects, the
 /// material names (objects refer to materials by their index in name order,
-/// lights' surfaces to the one after the last), the lights' shapes, where
+/// lights' surfaces to the one after the last) and which of them emit, the
+/// lights' shapes, where
 /// mesh paths point, and each mesh file's length and modification time (so
 /// that a file rewritten between builds is read again). `None` when a mesh
 /// path cannot be resolved or a file not examined: such a scene is built
@@ -84,10 +85,16 @@ impl WorldCache {
 /// so equal keys mean equal inputs.
 pub(super) fn key(desc: &SceneDesc, ctx: &BuildContext) -> Option<String> {
     let names: Vec<&String> = desc.materials.keys().collect();
+    // Objects of an emitting material carry emitters, numbered in the world.
+    let emitting: Vec<bool> = desc
+        .materials
+        .values()
+        .map(|m| m.emission != [0.0; 3])
+        .collect();
     let lights: Vec<LightDesc> = desc.lights.iter().map(shape_only).collect();
     let files = mesh_stamps(desc, ctx)?;
     Some(format!(
-        "{:?}|{names:?}|{lights:?}|{:?}|{:?}|{files:?}",
+        "{:?}|{names:?}|{emitting:?}|{lights:?}|{:?}|{:?}|{files:?}",
         desc.objects, ctx.base_dir, ctx.bunny
     ))
 }

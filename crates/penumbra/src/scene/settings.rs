@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use crate::math::Rgb;
-use crate::sampling::{Distribution, Filter, PointTable};
+use crate::sampling::{Distribution, EffectSpec, Filter, PointTable};
 
 /// Image-wide settings after validation.
 #[derive(Clone, Debug, PartialEq)]
@@ -18,9 +18,16 @@ pub struct Settings {
     pub background: Rgb,
     /// Primary rays per pixel.
     pub spp: u32,
+    /// Passes the render is made in.
+    pub passes: u32,
     pub pixel: Distribution,
     pub lens: Distribution,
     pub time: Distribution,
+    /// The sets of shadow, reflection and refraction rays of emitters and
+    /// lobes that set none of their own.
+    pub shadow: EffectSpec,
+    pub reflection: EffectSpec,
+    pub refraction: EffectSpec,
     /// The `custom` distribution's points ([`PointTable::NONE`] when none
     /// are given, which only a render without `custom` may have).
     pub points: Arc<PointTable>,

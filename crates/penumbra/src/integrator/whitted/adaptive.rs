@@ -2,53 +2,85 @@
 //! the rule ([`Stopper`]) judges them done.
 
 use super::pixel::{camera_samples, guard, pixel_stream, with_scratch};
+use super::state::{Schedule, TileState};
 use super::tracer::Tracer;
+use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
-use crate::integrator::stopping::{Block, PixelSamples, StopRule, Stopper};
-use crate::math::Rgb;
+use crate::integrator::stopping::{Block, StopRule, Stopper};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 
-/// The pixels of `tile`, row by row, appended to `out`, and how each ended
-/// to `samples`; `false` if its cancel flag became true (checked before
-/// each row of each pass).
+/// Adds the samples of `tile.samples` of the rule's schedule to `film`:
+/// the rule's passes over the tile's pixels from where `state` left them,
+/// up to `tile.samples.end` (the last range, which ends at the budget, runs
+/// the rule to its end); `false` if the tile's cancel flag became true
+/// (checked before each row of each pass).
 ///
 /// In each pass every active pixel takes its next rays as one batch. Sample
 /// `i` of a pixel is sample `j = i / R` of replica `r = i mod R` (`R`: the
 /// rule's replicas, 1 but for the calibrated rule), whose film, lens and
 /// time sets are that replica's `⌈(spp − r) / R⌉` points in trace order and
 /// whose path is the replica's path `j`: so the first `n` samples are the
-/// same whenever the pixel stops.
+/// same whenever the pixel stops. A batch's samples are added to the film
+/// and the tallies in the order of their index, and the rule judges only
+/// at the end of its own passes, so cutting the schedule into ranges
+/// anywhere changes no bit.
 pub fn render_tile(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
     stopper: &Stopper,
     tile: TileJob<'_>,
+    state: &mut TileState,
+    film: &mut FilmTile,
     bad: &mut Vec<BadSample>,
-    out: &mut Vec<Rgb>,
-    samples: &mut Vec<PixelSamples>,
 ) -> bool {
-    let TileJob { xs, ys, cancelled } = tile;
+    let TileJob {
+        xs,
+        ys,
+        samples,
+        cancelled,
+    } = tile;
     let (w, h) = (xs.len(), ys.len());
     let replicas = stopper.replicas();
     let spp = stopper.spp;
-    let povray = stopper.settings.rule == StopRule::Povray;
-    let mut block = Block::new(w, h, replicas as usize, povray);
+    if !matches!(state, TileState::Adaptive(_)) {
+        let povray = stopper.settings.rule == StopRule::Povray;
+        *state = TileState::Adaptive(Box::new(Schedule {
+            block: Block::new(w, h, replicas as usize, povray),
+            done: 0,
+            pass_end: None,
+            finished: false,
+        }));
+    }
+    let TileState::Adaptive(sched) = state else {
+        return true;
+    };
+    let last = samples.end >= spp;
+    let end = if last { u32::MAX } else { samples.end };
     // Per ray of a pixel's batch: its replica, its sample index and stream.
     let mut rays: Vec<(u32, u32, Rng)> = Vec::new();
-    let mut done = 0;
-    loop {
-        let size = stopper.pass(done);
-        if size == 0 || !block.any_active() {
-            break;
-        }
+    let mut order: Vec<usize> = Vec::new();
+    while !sched.finished && sched.done < end {
+        let pass_end = match sched.pass_end {
+            Some(e) => e,
+            None => {
+                let size = stopper.pass(sched.done);
+                if size == 0 || !sched.block.any_active() {
+                    sched.finished = true;
+                    break;
+                }
+                sched.done + size
+            }
+        };
+        let part = pass_end.min(end);
+        let size = part - sched.done;
         for (row, y) in ys.clone().enumerate() {
             if cancelled() {
                 return false;
             }
             for (col, x) in xs.clone().enumerate() {
                 let k = row * w + col;
-                let t = block.pixels[k];
+                let t = sched.block.pixels[k];
                 if !t.active {
                     continue;
                 }
@@ -75,29 +107,41 @@ pub fn render_tile(
                     scene.camera.generate(&buf.samples, &mut buf.rays);
                     buf.radiance.clear();
                     tracer.radiance(&buf.rays, 0, |k| rays[k].2, &mut buf.radiance);
-                    for (&(r, i, _), &l) in rays.iter().zip(&buf.radiance) {
-                        let l = guard(l, x, y, i as usize, bad);
-                        block.add(k, i, r as usize, l);
+                    order.clear();
+                    order.extend(0..rays.len());
+                    order.sort_unstable_by_key(|&q| rays[q].1);
+                    let f = film.index(x, y);
+                    for &q in &order {
+                        let (r, i, _) = rays[q];
+                        let l = guard(buf.radiance[q], x, y, i as usize, bad);
+                        sched.block.add(k, i, r as usize, l);
+                        film.add(f, l, 1.0);
                     }
                     tracer.stats.primary += rays.len() as u64;
                 });
             }
         }
-        done += size;
+        sched.done = part;
+        if part < pass_end {
+            sched.pass_end = Some(pass_end);
+            continue;
+        }
+        sched.pass_end = None;
+        let block = &mut sched.block;
         for t in &mut block.pixels {
             t.active &= t.n < spp;
         }
         if block.any_active() {
-            stopper.judge(&mut block);
+            stopper.judge(block);
             for t in &mut block.pixels {
                 t.active &= t.n < spp;
             }
         }
     }
-    for t in &block.pixels {
-        tracer.stats.saved.primary += u64::from(spp - t.n);
-        out.push(t.mean());
+    if last {
+        for t in &sched.block.pixels {
+            tracer.stats.saved.primary += u64::from(spp - t.n);
+        }
     }
-    samples.extend(stopper.samples(&block));
     true
 }

@@ -8,71 +8,106 @@
 //! parallel) and its direct light prepared together, light by light.
 
 mod adaptive;
+mod config;
 mod pixel;
+mod state;
 mod tracer;
 
-use std::ops::Range;
-
+pub use config::Whitted;
+pub use state::TileState;
 pub use tracer::Tracer;
 
-use super::interface::{by_rows, BadSample, Integrator, PixelWorker, TileJob};
+use super::film::FilmTile;
+use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::RayStats;
 use super::stopping::{PixelSamples, Stopper};
-use crate::math::Rgb;
 use crate::scene::Scene;
-
-/// The thesis's distributed Whitted integrator.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Whitted;
 
 impl Integrator for Whitted {
     type Worker<'s> = WhittedWorker<'s>;
+    type TileState = TileState;
 
     fn worker<'s>(&'s self, scene: &'s Scene) -> WhittedWorker<'s> {
-        let s = &scene.settings;
-        let image = s.width as usize * s.height as usize;
         WhittedWorker {
             scene,
-            tracer: Tracer::new(scene),
-            stopper: s.stopping.map(|rule| Stopper::new(rule, s.spp, image)),
-            samples: Vec::new(),
+            config: self,
+            tracer: Tracer::new(scene, self),
+            stopper: self
+                .stopping
+                .map(|rule| Stopper::new(rule, self.spp, self.image)),
         }
+    }
+
+    fn samples(&self) -> u32 {
+        self.spp
+    }
+
+    fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    fn whole_tiles(&self) -> bool {
+        self.stopping.is_some()
     }
 }
 
 /// A [`Whitted`] worker: a tracer with its buffers and ray counts.
 pub struct WhittedWorker<'s> {
     scene: &'s Scene,
+    config: &'s Whitted,
     tracer: Tracer<'s>,
     /// The adaptive sampling rule, if on.
     stopper: Option<Stopper>,
-    /// How the pixels of the tiles rendered adaptively ended.
-    samples: Vec<PixelSamples>,
 }
 
 impl PixelWorker for WhittedWorker<'_> {
-    fn row(&mut self, y: u32, xs: Range<u32>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) {
-        pixel::render_pixels(self.scene, &mut self.tracer, xs, y, bad, out);
-    }
+    type State = TileState;
 
-    fn tile(&mut self, tile: TileJob<'_>, out: &mut Vec<Rgb>, bad: &mut Vec<BadSample>) -> bool {
-        let Some(stopper) = &self.stopper else {
-            return by_rows(self, tile, out, bad);
+    fn render(
+        &mut self,
+        tile: TileJob<'_>,
+        state: &mut TileState,
+        film: &mut FilmTile,
+        bad: &mut Vec<BadSample>,
+    ) -> bool {
+        if let Some(stopper) = &self.stopper {
+            return adaptive::render_tile(
+                self.scene,
+                &mut self.tracer,
+                stopper,
+                tile,
+                state,
+                film,
+                bad,
+            );
+        }
+        let metric = self
+            .config
+            .metric
+            .filter(|m| m.pixels && self.config.spp > 1);
+        if metric.is_some() && matches!(state, TileState::Plain) {
+            *state = TileState::Stopped(vec![false; film.sum.len()]);
+        }
+        let stopped = match state {
+            TileState::Stopped(s) => Some(s),
+            _ => None,
         };
-        let samples = &mut self.samples;
-        adaptive::render_tile(
+        pixel::render_rows(
             self.scene,
             &mut self.tracer,
-            stopper,
             tile,
+            metric.as_ref(),
+            stopped,
+            film,
             bad,
-            out,
-            samples,
         )
     }
 
-    fn take_samples(&mut self) -> Vec<PixelSamples> {
-        std::mem::take(&mut self.samples)
+    fn pixel_samples(&self, state: &TileState) -> Vec<PixelSamples> {
+        match (state, &self.stopper) {
+            (TileState::Adaptive(s), Some(stopper)) => stopper.samples(&s.block),
+            _ => Vec::new(),
+        }
     }
 
     fn stats(&self) -> &RayStats {
@@ -83,6 +118,7 @@ impl PixelWorker for WhittedWorker<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Rgb;
     use crate::scene::{LoadOptions, SceneSource};
 
     /// A frame of one camera ray per pixel is rendered in spans of a row;
@@ -94,25 +130,39 @@ mod tests {
         let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
         src.desc.render.spp = 1;
         let scene = src.build().expect("showcase builds");
-        assert_eq!(scene.settings.spp, 1);
+        let whitted = Whitted::new(&scene);
+        assert_eq!(whitted.spp, 1);
         let (xs, ys) = (3..3 + 16 * 2 + 5, 5..12);
-        let mut worker = Whitted.worker(&scene);
-        let (mut pixels, mut bad) = (Vec::new(), Vec::new());
-        for y in ys.clone() {
-            worker.row(y, xs.clone(), &mut pixels, &mut bad);
-        }
-        let mut tracer = Tracer::new(&scene);
+        let mut worker = whitted.worker(&scene);
+        let mut film = FilmTile::new(xs.clone(), ys.clone());
+        let mut bad = Vec::new();
+        let never = || false;
+        let job = TileJob {
+            xs: xs.clone(),
+            ys: ys.clone(),
+            samples: 0..1,
+            cancelled: &never,
+        };
+        assert!(worker.render(job, &mut TileState::default(), &mut film, &mut bad));
+        let mut alone = whitted.worker(&scene);
         let mut lit = 0;
-        let coords = ys.flat_map(|y| xs.clone().map(move |x| (x, y)));
-        for (k, (x, y)) in coords.enumerate() {
-            let mut one = Vec::new();
-            pixel::render_pixels(&scene, &mut tracer, x..x + 1, y, &mut bad, &mut one);
-            let alone = one[0];
-            let bits = |c: Rgb| c.to_array().map(f32::to_bits);
-            assert_eq!(bits(pixels[k]), bits(alone), "pixel ({x}, {y})");
-            lit += usize::from(alone != Rgb::ZERO);
+        for y in ys.clone() {
+            for x in xs.clone() {
+                let mut one = FilmTile::new(x..x + 1, y..y + 1);
+                let job = TileJob {
+                    xs: x..x + 1,
+                    ys: y..y + 1,
+                    samples: 0..1,
+                    cancelled: &never,
+                };
+                assert!(alone.render(job, &mut TileState::default(), &mut one, &mut bad));
+                let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+                let k = film.index(x, y);
+                assert_eq!(bits(film.value(k)), bits(one.value(0)), "pixel ({x}, {y})");
+                lit += usize::from(one.value(0) != Rgb::ZERO);
+            }
         }
-        assert_eq!(*worker.stats(), tracer.stats);
+        assert_eq!(*worker.stats(), *alone.stats());
         assert!(lit > 100, "{lit} pixels not black");
     }
 }

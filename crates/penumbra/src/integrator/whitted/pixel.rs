@@ -1,10 +1,11 @@
 //! A pixel's camera rays and their mean: one pixel with its samples, or a
 //! span of pixels of one sample each.
 
-use super::tracer::Tracer;
+use super::tracer::{Continued, Tracer};
 use crate::camera::CameraSample;
-use crate::integrator::interface::BadSample;
-use crate::integrator::metric::RunningMean;
+use crate::integrator::film::FilmTile;
+use crate::integrator::interface::{BadSample, TileJob};
+use crate::integrator::metric::{Metric, RunningMean};
 use crate::math::Rgb;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::points::unit_disk;
@@ -44,37 +45,99 @@ pub(super) fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     })
 }
 
-/// Pixels `xs` of row `y`, appended to `out`: each the mean of its camera
-/// rays (made as the private `camera_rays` says: film, lens and time from
-/// decorrelated streams). Without the pixel metric the camera rays of a
-/// group of pixels are traced together: a pixel's own when it has several,
-/// a span of neighbouring pixels ([`span_width`]) when each has one. Their
-/// hits are found together (a packet of nearly parallel rays) and their
-/// direct light prepared together ([`Tracer::radiance`]). With the metric,
-/// a pixel's rays are traced as [`Tracer::mean`] says, so that none is
-/// wasted when the pixel stops early. A pixel's value does not depend on its group
-/// (but for the rare tie noted at
-/// [`World::intersect_all`](crate::accel::World::intersect_all)).
+/// Adds samples `tile.samples` of the pixels of `tile` to `film`, row by
+/// row (see [`render_pixels`]); `false` if the tile's cancel flag became
+/// true, which is checked before every row. `stopped` marks the pixels the
+/// pixel `metric` stopped in earlier ranges (and is marked here).
+pub(super) fn render_rows(
+    scene: &Scene,
+    tracer: &mut Tracer<'_>,
+    tile: TileJob<'_>,
+    metric: Option<&Metric>,
+    mut stopped: Option<&mut Vec<bool>>,
+    film: &mut FilmTile,
+    bad: &mut Vec<BadSample>,
+) -> bool {
+    let TileJob {
+        xs,
+        ys,
+        samples,
+        cancelled,
+    } = tile;
+    for y in ys {
+        if cancelled() {
+            return false;
+        }
+        let row = Row {
+            xs: xs.clone(),
+            y,
+            samples: samples.clone(),
+        };
+        render_pixels(
+            scene,
+            tracer,
+            row,
+            metric,
+            stopped.as_deref_mut(),
+            film,
+            bad,
+        );
+    }
+    true
+}
+
+/// Samples `samples` of pixels `xs` of row `y`.
+pub(super) struct Row {
+    pub xs: Range<u32>,
+    pub y: u32,
+    pub samples: Range<u32>,
+}
+
+/// Adds samples `row.samples` of pixels `row.xs` of row `row.y` to `film`,
+/// each the radiance of its camera ray (made as the private `camera_rays`
+/// says: film, lens and time from decorrelated streams), in the order of
+/// their index. Without the pixel metric the camera rays of a group of
+/// pixels are traced together: a pixel's own when it has several, a span of
+/// neighbouring pixels ([`span_width`]) when each has one. Their hits are
+/// found together (a packet of nearly parallel rays) and their direct light
+/// prepared together ([`Tracer::radiance`]). With the `metric`, a pixel's
+/// rays are traced as [`Tracer::continue_mean`] says, so that none is
+/// wasted when the pixel stops early; `stopped` marks the pixels it stopped.
+/// A sample's value does not depend on its group (but for the rare tie
+/// noted at [`World::intersect_all`](crate::accel::World::intersect_all)).
 pub fn render_pixels(
     scene: &Scene,
     tracer: &mut Tracer<'_>,
-    xs: Range<u32>,
-    y: u32,
+    row: Row,
+    metric: Option<&Metric>,
+    mut stopped: Option<&mut Vec<bool>>,
+    film: &mut FilmTile,
     bad: &mut Vec<BadSample>,
-    out: &mut Vec<Rgb>,
 ) {
+    let Row { xs, y, samples } = row;
+    if samples.is_empty() {
+        return;
+    }
     with_scratch(|buf| {
         let s = &scene.settings;
         let n = s.spp as usize;
+        let range = samples.start as usize..samples.end as usize;
         if buf.paths.len() < n {
             let have = buf.paths.len();
             buf.paths.extend((have..n).map(PixelSampler::path_key));
         }
-        let metric = s.metric.filter(|m| m.pixels && n > 1);
         let group = if n == 1 { span_width(s.width) } else { 1 };
         for x0 in xs.clone().step_by(group as usize) {
             let x1 = (x0 + group).min(xs.end);
-            camera_rays(scene, x0..x1, y, buf);
+            if let (Some(m), Some(stopped)) = (metric, stopped.as_deref_mut()) {
+                let k = film.index(x0, y);
+                if !stopped[k] {
+                    stopped[k] =
+                        metric_pixel(scene, tracer, (x0, y), m, range.clone(), film, bad, buf);
+                }
+                continue;
+            }
+            camera_rays(scene, x0..x1, y, range.clone(), buf);
             let Scratch {
                 rays,
                 radiance,
@@ -82,32 +145,67 @@ pub fn render_pixels(
                 pixels,
                 ..
             } = buf;
-            // Ray `i` is sample `i % n` of pixel `i / n`: with one sample
-            // the group is a span of pixels, with several it is one pixel.
-            let path = |i: usize| match n {
-                1 => pixels[i].path_of(paths[0], 0),
-                _ => pixels[0].path_of(paths[i], i),
+            // Ray `j` is sample `range.start + j % m` of pixel `j / m`, `m`
+            // the samples per pixel of the range: with one sample the group
+            // is a span of pixels, with several it is one pixel.
+            let path = |j: usize| match n {
+                1 => pixels[j].path_of(paths[0], 0),
+                _ => pixels[0].path_of(paths[range.start + j], range.start + j),
             };
-            if let Some(m) = &metric {
-                let value = |i: usize, l: Rgb| guard(l, x0, y, i, bad);
-                let (mean, traced) = tracer.mean(n, |k| rays[k], 0, path, Some(m), None, value);
-                tracer.stats.primary += traced as u64;
-                tracer.stats.saved.primary += (n - traced) as u64;
-                out.push(mean);
-                continue;
-            }
             radiance.clear();
             tracer.radiance(rays, 0, path, radiance);
-            for (x, samples) in (x0..x1).zip(radiance.chunks_exact(n)) {
-                let mut mean = RunningMean::default();
-                for (i, &l) in samples.iter().enumerate() {
+            for (x, samples) in (x0..x1).zip(radiance.chunks_exact(range.len())) {
+                let k = film.index(x, y);
+                for (j, &l) in samples.iter().enumerate() {
                     tracer.stats.primary += 1;
-                    mean.push(guard(l, x, y, i, bad), None, n as u32);
+                    film.add(k, guard(l, x, y, range.start + j, bad), 1.0);
                 }
-                out.push(mean.mean());
             }
         }
     })
+}
+
+/// Samples `range` of pixel `(x, y)` under the pixel metric, continuing
+/// the running mean of its earlier samples (its film); true if the metric
+/// stopped it.
+#[allow(clippy::too_many_arguments)]
+fn metric_pixel(
+    scene: &Scene,
+    tracer: &mut Tracer<'_>,
+    (x, y): (u32, u32),
+    m: &Metric,
+    range: Range<usize>,
+    film: &mut FilmTile,
+    bad: &mut Vec<BadSample>,
+    buf: &mut Scratch,
+) -> bool {
+    let n = scene.settings.spp as usize;
+    let k = film.index(x, y);
+    camera_rays(scene, x..x + 1, y, range.clone(), buf);
+    let Scratch {
+        rays,
+        paths,
+        pixels,
+        ..
+    } = buf;
+    let path = |i: usize| pixels[0].path_of(paths[i], i);
+    let set = Continued {
+        n,
+        rays: range.clone(),
+        mean: RunningMean::resume(film.sum[k], film.weight[k] as u32),
+    };
+    let value = |i: usize, l: Rgb| {
+        let l = guard(l, x, y, i, bad);
+        film.add(k, l, 1.0);
+        l
+    };
+    let ray = |i: usize| rays[i - range.start];
+    let (_, end, stopped) = tracer.continue_mean(set, ray, 0, path, Some(m), None, value);
+    tracer.stats.primary += (end - range.start) as u64;
+    if stopped {
+        tracer.stats.saved.primary += (n - end) as u64;
+    }
+    stopped
 }
 
 /// How many pixels of a row are traced together in a frame of one camera
@@ -139,10 +237,10 @@ pub(super) fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
     Sampler::new(s.seed, s.width, s.spp).pixel(x, y)
 }
 
-/// The camera rays of pixels `xs` of row `y`, pixel by pixel, into
-/// `buf.rays`: one batch from the camera. The pixels' streams are left in
-/// `buf.pixels`.
-fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
+/// The camera rays of samples `keep` of pixels `xs` of row `y`, pixel by
+/// pixel, into `buf.rays`: one batch from the camera. The pixels' streams
+/// are left in `buf.pixels`.
+fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, keep: Range<usize>, buf: &mut Scratch) {
     buf.pixels.clear();
     buf.pixels
         .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
@@ -155,7 +253,7 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, buf: &mut Scratch) {
     let ordered = scene.settings.metric.is_some_and(|m| m.pixels);
     for (k, x) in xs.enumerate() {
         let pixel = buf.pixels[k];
-        camera_samples(scene, (x, y), pixel, (n, ordered), 0..n, buf);
+        camera_samples(scene, (x, y), pixel, (n, ordered), keep.clone(), buf);
     }
     buf.rays.clear();
     scene.camera.generate(&buf.samples, &mut buf.rays);
@@ -249,7 +347,7 @@ mod tests {
             src.desc.render.filter = f;
             let scene = src.build().expect("showcase builds");
             let mut buf = Scratch::default();
-            camera_rays(&scene, 5..6, 7, &mut buf);
+            camera_rays(&scene, 5..6, 7, 0..64, &mut buf);
             let (r, c) = (f.radius(), Vec2::new(5.5, 7.5));
             let offsets: Vec<Vec2> = buf.samples.iter().map(|s| s.film - c).collect();
             assert!(
@@ -284,21 +382,30 @@ mod tests {
     /// the stream `pixel.derive(3 + i)` (the sampler's table of streams):
     /// recomputed here one ray at a time, for two sample counts in a row on
     /// one thread, so that the hashed branches kept between pixels are
-    /// checked as they grow.
+    /// checked as they grow; the samples added in two ranges give it too.
     #[test]
     fn pixel_streams_are_the_documented_ones() {
+        use crate::integrator::whitted::Whitted;
         for spp in [4u32, 16] {
             let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
             src.desc.render.spp = spp as _;
             src.desc.render.pixel_metric = false;
             let scene = src.build().expect("showcase builds");
-            let (mut tracer, mut bad) = (Tracer::new(&scene), Vec::new());
+            let whitted = Whitted::new(&scene);
+            let (mut tracer, mut bad) = (Tracer::new(&scene, &whitted), Vec::new());
             for (x, y) in [(3, 5), (40, 30), (17, 60)] {
-                let mut got = Vec::new();
-                render_pixels(&scene, &mut tracer, x..x + 1, y, &mut bad, &mut got);
-                let got = got[0];
+                let mut film = FilmTile::new(x..x + 1, y..y + 1);
+                for samples in [0..spp / 4, spp / 4..spp] {
+                    let row = Row {
+                        xs: x..x + 1,
+                        y,
+                        samples,
+                    };
+                    render_pixels(&scene, &mut tracer, row, None, None, &mut film, &mut bad);
+                }
+                let got = film.value(0);
                 let mut buf = Scratch::default();
-                camera_rays(&scene, x..x + 1, y, &mut buf);
+                camera_rays(&scene, x..x + 1, y, 0..spp as usize, &mut buf);
                 let pixel = pixel_stream(&scene, x, y);
                 let (mut mean, mut l) = (RunningMean::default(), Vec::new());
                 for (i, ray) in buf.rays.iter().enumerate() {
@@ -338,7 +445,7 @@ mod tests {
         let (mut film, mut lens, mut lens_in_rows) = (Vec::new(), Vec::new(), Vec::new());
         for p in 0..400 {
             let (x, y) = (p % 20, p / 20);
-            camera_rays(&scene, x..x + 1, y, &mut buf);
+            camera_rays(&scene, x..x + 1, y, 0..16, &mut buf);
             let mut expected = Vec::new();
             let mut rng = pixel_stream(&scene, x, y).stream(Dimension::Film);
             Distribution::Jitter.generate_unordered(16, 0.5, &mut rng, &mut expected);

@@ -1,25 +1,25 @@
 use glam::Vec3A;
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
-use crate::bsdf::{Dielectric, Phong, Surface};
+use crate::bsdf::{Bsdf, BsdfFlags, Lobes};
 use crate::emitter::{Emitter, LightSample};
 use crate::math::Rgb;
 use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
-use crate::sampling::points::end_points;
-use crate::sampling::{BranchKey, Distribution, Rng};
+use crate::sampling::{BranchKey, Distribution, EffectSpec, PointTable, Rng, SetPoint};
 use crate::scene::Scene;
 
+use super::config::Whitted;
 use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::stats::RayStats;
 use crate::integrator::stopping::sets::{SetRule, SetTally};
 
 const SHADOW: u64 = 1 << 32;
-const REFLECT_SET: u64 = 1;
-const REFLECT_RAY: u64 = 2;
-const REFRACT_SET: u64 = 3;
-const REFRACT_RAY: u64 = 4;
-const FRESNEL_SET: u64 = 5;
-const FRESNEL_RAY: u64 = 6;
+
+/// The streams of a set of lobe `k` of a BSDF: its points from
+/// `path.derive(2k + 1)`, the paths of its rays from `path.derive(2k + 2)`.
+fn lobe_tags(k: usize) -> (u64, u64) {
+    (2 * k as u64 + 1, 2 * k as u64 + 2)
+}
 
 /// Shadow rays stop this fraction short of their target, so that the surface
 /// they aim at (or a surface touching it) does not count as a blocker.
@@ -41,6 +41,14 @@ const SHAFT_MAX_LEAVES: usize = 16;
 pub struct Tracer<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
+    /// The integrator's settings this tracer reads.
+    max_depth: u32,
+    metric: Option<Metric>,
+    /// The `custom` distribution's point sets.
+    points: &'a PointTable,
+    /// The sets of delta lobes that set none of their own.
+    reflection: EffectSpec,
+    refraction: EffectSpec,
     /// Point buffers of distribution sets.
     pool: Vec<Vec<Vec3>>,
     /// The buffers of each batch being traced (one per recursion level).
@@ -51,11 +59,14 @@ pub struct Tracer<'a> {
     shaft: ShaftSet,
     packet: PacketScratch,
     light_samples: Vec<Option<LightSample>>,
-    /// The models of each of the scene's materials.
-    surfaces: Vec<Surface>,
-    /// The scene's lights, ready to be sampled.
-    emitters: Vec<Emitter>,
-    /// The branch of light `j`'s shadow sets, `SHADOW + j`, hashed once.
+    /// The lobes of each of the scene's BSDFs, and whether direct light is
+    /// evaluated on them (a smooth lobe) and rays traced (a delta lobe).
+    lobes: Vec<(Lobes, bool, bool)>,
+    /// The emitters direct light comes from (all but those at infinity,
+    /// which rays that hit nothing see), by index in the scene.
+    sampled: Vec<u32>,
+    /// The branch of emitter `j`'s shadow sets, `SHADOW + j`, hashed once,
+    /// for each of `sampled`.
     shadow_keys: Vec<BranchKey>,
     /// The calibrated rule on sets, if on (see [`SetRule`]).
     set_rule: Option<SetRule>,
@@ -89,24 +100,6 @@ struct Lit {
     origin: Vec3,
 }
 
-/// Which secondary set is being traced: selects the ray kind and the streams.
-#[derive(Clone, Copy)]
-enum Branch {
-    Reflect,
-    Refract,
-    Fresnel,
-}
-
-impl Branch {
-    fn tags(self) -> (u64, u64) {
-        match self {
-            Branch::Reflect => (REFLECT_SET, REFLECT_RAY),
-            Branch::Refract => (REFRACT_SET, REFRACT_RAY),
-            Branch::Fresnel => (FRESNEL_SET, FRESNEL_RAY),
-        }
-    }
-}
-
 /// The local frame of a hit, oriented toward the viewer.
 struct Local {
     p: Vec3,
@@ -117,8 +110,6 @@ struct Local {
     n: Vec3,
     /// Geometric normal on the viewer's side.
     ng: Vec3,
-    /// True if the ray arrived on the side the geometric normal points to.
-    front: bool,
     /// The path's time: every secondary ray inherits its primary ray's time.
     time: f32,
 }
@@ -130,20 +121,25 @@ impl Local {
         let front = hit.ng.dot(wo) >= 0.0;
         let flip = if front { 1.0 } else { -1.0 };
         Local {
-            p: hit.point,
-            reach: reach(hit.point, ray.origin),
+            p: hit.p,
+            reach: reach(hit.p, ray.origin),
             wo,
-            n: hit.ns * flip,
+            n: hit.shading.n * flip,
             ng: hit.ng * flip,
-            front,
             time: ray.time,
         }
     }
 }
 
 impl<'a> Tracer<'a> {
-    pub fn new(scene: &'a Scene) -> Self {
+    pub fn new(scene: &'a Scene, config: &Whitted) -> Self {
+        let s = &scene.settings;
         Tracer {
+            max_depth: config.max_depth,
+            metric: config.metric,
+            points: &s.points,
+            reflection: s.reflection,
+            refraction: s.refraction,
             scene,
             stats: RayStats::default(),
             pool: Vec::new(),
@@ -152,12 +148,22 @@ impl<'a> Tracer<'a> {
             shaft: ShaftSet::default(),
             packet: PacketScratch::default(),
             light_samples: Vec::new(),
-            surfaces: scene.materials.iter().map(Surface::new).collect(),
-            emitters: scene.lights.iter().map(Emitter::new).collect(),
-            shadow_keys: (0..scene.lights.len() as u64)
+            lobes: scene
+                .bsdfs
+                .iter()
+                .map(|b| {
+                    let l = b.lobes();
+                    (l, l.any_smooth(), l.any_delta())
+                })
+                .collect(),
+            sampled: (0..scene.emitters.len() as u32)
+                .filter(|&j| !scene.emitters[j as usize].is_infinite())
+                .collect(),
+            shadow_keys: (0..scene.emitters.len() as u64)
+                .filter(|&j| !scene.emitters[j as usize].is_infinite())
                 .map(|j| BranchKey::new(SHADOW + j))
                 .collect(),
-            set_rule: SetRule::new(scene.settings.stopping),
+            set_rule: SetRule::new(config.stopping),
             tallies: Vec::new(),
         }
     }
@@ -191,7 +197,7 @@ impl<'a> Tracer<'a> {
         level.lit.clear();
         for (i, (ray, hit)) in rays.iter().zip(&level.hits).enumerate() {
             let Some(hit) = hit else { continue };
-            if hit.light.is_none() && self.surfaces[hit.material as usize].lit {
+            if self.lobes[hit.material as usize].1 {
                 let frame = Local::new(ray, hit);
                 let origin = offset_origin(frame.p, frame.reach, frame.ng, frame.ng);
                 level.lit.push(Lit {
@@ -204,12 +210,11 @@ impl<'a> Tracer<'a> {
         }
         level.direct.clear();
         if !level.lit.is_empty() {
-            let emitters = std::mem::take(&mut self.emitters);
-            for (j, light) in emitters.iter().enumerate() {
-                let key = self.shadow_keys[j];
+            for j in 0..self.sampled.len() {
+                let (key, light) = (self.shadow_keys[j], self.sampled[j]);
+                let light = &scene.emitters[light as usize];
                 self.direct_light(light, |i| rng(i).derive_key(key), &mut level);
             }
-            self.emitters = emitters;
         }
         let Level {
             hits, lit, direct, ..
@@ -217,7 +222,7 @@ impl<'a> Tracer<'a> {
         let mut k = 0;
         for (i, ray) in rays.iter().enumerate() {
             let Some(hit) = &hits[i] else {
-                out.push(scene.settings.background);
+                out.push(self.miss(ray));
                 continue;
             };
             // A lit hit's frame and direct light were found above.
@@ -256,8 +261,38 @@ impl<'a> Tracer<'a> {
         rng: impl Fn(usize) -> Rng,
         metric: Option<&Metric>,
         rule: Option<SetRule>,
-        mut value: impl FnMut(usize, Rgb) -> Rgb,
+        value: impl FnMut(usize, Rgb) -> Rgb,
     ) -> (Rgb, usize) {
+        let set = Continued {
+            n,
+            rays: 0..n,
+            mean: RunningMean::default(),
+        };
+        let (mean, end, _) = self.continue_mean(set, ray, depth, rng, metric, rule, value);
+        (mean.mean(), end)
+    }
+
+    /// [`mean`](Self::mean) for rays `set.rays` of a set of `set.n` whose
+    /// earlier rays gave `set.mean`: the running mean after them, the index
+    /// after the last ray traced, and whether the metric or the rule
+    /// stopped the set. Continuing a set over `[a, b)` then `[b, c)` traces
+    /// the rays, and stops where, continuing it over `[a, c)` does.
+    #[allow(clippy::too_many_arguments)]
+    pub fn continue_mean(
+        &mut self,
+        set: Continued,
+        ray: impl Fn(usize) -> Ray,
+        depth: u32,
+        rng: impl Fn(usize) -> Rng,
+        metric: Option<&Metric>,
+        rule: Option<SetRule>,
+        mut value: impl FnMut(usize, Rgb) -> Rgb,
+    ) -> (RunningMean, usize, bool) {
+        let Continued {
+            n,
+            rays: range,
+            mut mean,
+        } = set;
         let first = metric.map_or(n, |m| (m.min_rays.max(2) as usize).min(n));
         let (mut rays, mut values) = self.sets.pop().unwrap_or_default();
         let mut tally = rule.map(|r| {
@@ -265,14 +300,15 @@ impl<'a> Tracer<'a> {
             t.reset(&r);
             (r, t)
         });
-        let mut mean = RunningMean::default();
-        let mut start = 0;
-        'set: while start < n {
+        let mut start = range.start;
+        let mut stopped = false;
+        'set: while start < range.end {
             let end = match (&tally, metric) {
                 (Some((r, _)), _) => r.pass_end(start, n),
-                (None, Some(_)) if start > 0 => start + 1,
+                (None, Some(_)) if start >= first => start + 1,
                 _ => first,
-            };
+            }
+            .min(range.end);
             rays.clear();
             rays.extend((start..end).map(&ray));
             values.clear();
@@ -285,11 +321,13 @@ impl<'a> Tracer<'a> {
                 if mean.push(l, metric, n as u32) {
                     // The batch was traced whole when it is a rule's pass.
                     start = if tally.is_some() { end } else { k + 1 };
+                    stopped = true;
                     break 'set;
                 }
             }
             start = end;
             if tally.as_ref().is_some_and(|(r, t)| t.converged(r)) {
+                stopped = start < n;
                 break;
             }
         }
@@ -297,7 +335,7 @@ impl<'a> Tracer<'a> {
         if let Some((_, t)) = tally {
             self.tallies.push(t);
         }
-        (mean.mean(), start)
+        (mean, start, stopped)
     }
 
     /// Direct light from `light` at every lit hit of `level`, appended to
@@ -307,7 +345,10 @@ impl<'a> Tracer<'a> {
     /// batch's if all of them together are large enough.
     fn direct_light(&mut self, light: &Emitter, rng: impl Fn(usize) -> Rng, level: &mut Level) {
         let Level {
-            lit, rays, direct, ..
+            hits,
+            lit,
+            rays,
+            direct,
         } = level;
         rays.clear();
         self.shadow_sets(lit, light, &rng, rays);
@@ -316,17 +357,29 @@ impl<'a> Tracer<'a> {
         let shared = !own
             && rays.iter().flatten().count() >= SHAFT_MIN_RAYS as usize
             && self.gather_shaft(rays);
+        let scene = self.scene;
         for (h, set) in lit.iter().zip(rays.chunks_exact(n)) {
-            let m = self.surfaces[h.material as usize].local;
+            let Some(si) = &hits[h.ray] else { continue };
+            let bsdf = &scene.bsdfs[h.material as usize];
             let shaft = shared || (own && self.gather_shaft(set));
-            direct.push(self.trace_set(&h.frame, &m, light, set, shaft));
+            direct.push(self.trace_set(&h.frame, si, bsdf, light, set, shaft));
         }
     }
 
-    /// The radiance leaving `hit` along `ray`: the light's own radiance if
-    /// it is a light's surface; else emission (on the front side), the
-    /// direct light `direct(j)` of each light `j` if the material is lit,
-    /// then reflection and refraction (see [`indirect`](Self::indirect)),
+    /// The radiance of rays that hit nothing: what the emitters at infinity
+    /// send along them.
+    fn miss(&self, ray: &Ray) -> Rgb {
+        let mut far = self.scene.emitters.iter().filter(|e| e.is_infinite());
+        match far.next() {
+            None => Rgb::ZERO,
+            Some(first) => far.fold(first.eval_miss(ray.dir), |l, e| l + e.eval_miss(ray.dir)),
+        }
+    }
+
+    /// The radiance leaving `hit` along `ray`: the emitted radiance of its
+    /// emitter, if it has one; then, if its BSDF has a smooth lobe, the
+    /// direct light `direct(j)` of each emitter sampled, and if it has delta
+    /// lobes, the light of their sets (see [`indirect`](Self::indirect)),
     /// summed in this order. `frame` is the hit's frame if the caller has it.
     #[inline]
     fn shade(
@@ -338,8 +391,11 @@ impl<'a> Tracer<'a> {
         rng: Rng,
         direct: impl Fn(usize) -> Rgb,
     ) -> Rgb {
-        if let Some(l) = hit.light {
-            return self.emitters[l as usize].emitted(hit.ng, ray.dir);
+        let emitted = |e: u32| self.scene.emitters[e as usize].eval(hit.ng, ray.dir);
+        let mut l = hit.emitter.map_or(Rgb::ZERO, emitted);
+        let (_, lit, scatters) = self.lobes[hit.material as usize];
+        if !lit && !scatters {
+            return l;
         }
         let fresh;
         let s = match frame {
@@ -349,34 +405,50 @@ impl<'a> Tracer<'a> {
                 &fresh
             }
         };
-        let sh = &self.surfaces[hit.material as usize];
-        let (lit, scatters) = (sh.lit, sh.scatters);
-        let mut l = if s.front { sh.emission } else { Rgb::ZERO };
         if lit {
-            for j in 0..self.emitters.len() {
+            for j in 0..self.sampled.len() {
                 l += direct(j);
             }
         }
         if scatters {
-            self.indirect(s, ray, hit.material, depth, rng, &mut l);
+            self.indirect(s, hit, depth, rng, &mut l);
         }
         l
     }
 
-    /// Adds the light reflected and refracted at `s` to `l`, in this order.
-    fn indirect(&mut self, s: &Local, ray: &Ray, material: u32, depth: u32, rng: Rng, l: &mut Rgb) {
-        let m = &self.surfaces[material as usize];
-        if depth < self.scene.settings.max_depth && m.scatters {
-            let (mirror, dielectric) = (m.mirror, m.dielectric);
-            if let Some(mirror) = mirror {
-                let dir = mirror.direction(ray.dir.normalize(), s.n);
-                let e = mirror.effect;
-                let spec = (e.rays, e.distribution, mirror.glossiness);
-                *l += mirror.reflectivity * self.scatter(s, dir, spec, Branch::Reflect, depth, rng);
+    /// Adds the light of each delta lobe of the hit's BSDF to `l`, lobe by
+    /// lobe in slot order: the mean radiance of the lobe's set times the
+    /// lobe's weight.
+    fn indirect(&mut self, s: &Local, hit: &Hit, depth: u32, rng: Rng, l: &mut Rgb) {
+        if depth >= self.max_depth {
+            return;
+        }
+        let (lobes, ..) = self.lobes[hit.material as usize];
+        let bsdf = &self.scene.bsdfs[hit.material as usize];
+        for (k, flags, set) in lobes.iter() {
+            if !flags.is_delta() {
+                continue;
             }
-            if let Some(glass) = dielectric {
-                *l += glass.transparency * self.dielectric(s, ray, &glass, depth, rng);
-            }
+            let spec = set.unwrap_or_else(|| self.default_set(flags));
+            // A delta lobe weighs every ray of its set alike: its weight at
+            // the perfect direction. `None`: the lobe sends nothing here
+            // (total internal reflection, say).
+            let zero = SetPoint::new(Vec3::ZERO, spec.distribution);
+            let Some(perfect) = bsdf.sample(hit, s.wo, Some(k), zero) else {
+                continue;
+            };
+            let mean = self.lobe_set(s, hit, bsdf, (k, flags, spec), perfect.wi, depth, rng);
+            *l += perfect.weight * mean;
+        }
+    }
+
+    /// The set a delta lobe without a budget of its own traces: the render's
+    /// reflection or refraction rays and distribution.
+    fn default_set(&self, flags: BsdfFlags) -> EffectSpec {
+        if flags.contains(BsdfFlags::TRANSMISSION) {
+            self.refraction
+        } else {
+            self.reflection
         }
     }
 
@@ -386,7 +458,8 @@ impl<'a> Tracer<'a> {
     fn trace_set(
         &mut self,
         s: &Local,
-        m: &Phong,
+        si: &Hit,
+        bsdf: &Bsdf,
         light: &Emitter,
         set: &[Option<ShadowRay>],
         shaft: bool,
@@ -398,11 +471,11 @@ impl<'a> Tracer<'a> {
             // (`0 + x` as the loop sums, so even a -0 comes out alike).
             let term = one
                 .as_ref()
-                .and_then(|r| self.shadow_term(s, m, r, shaft, clear));
+                .and_then(|r| self.shadow_term(s, si, bsdf, r, shaft, clear));
             return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
         let n = light.shadow_rays();
-        let k = (self.scene.settings.metric)
+        let k = (self.metric)
             .filter(|m| m.shadows)
             .map_or(u32::MAX, |m| m.shadow_rays);
         let rule = SetRule::for_set(self.set_rule, set.len());
@@ -416,7 +489,7 @@ impl<'a> Tracer<'a> {
             done += 1;
             let mut term = Rgb::ZERO;
             if let Some(r) = r {
-                match self.shadow_term(s, m, r, shaft, clear) {
+                match self.shadow_term(s, si, bsdf, r, shaft, clear) {
                     Some(t) => {
                         term = t;
                         sum += t;
@@ -455,7 +528,8 @@ impl<'a> Tracer<'a> {
     fn shadow_term(
         &mut self,
         s: &Local,
-        m: &Phong,
+        si: &Hit,
+        bsdf: &Bsdf,
         r: &ShadowRay,
         shaft: bool,
         clear: bool,
@@ -468,7 +542,7 @@ impl<'a> Tracer<'a> {
             let within = shaft.then_some(&self.shaft);
             world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)?
         };
-        Some(m.eval(s.n, s.wo, r.wi) * r.weight * (r.cos * t))
+        Some(bsdf.eval(si, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
     /// Appends to `set` the shadow sets toward `light` of the `lit` hits,
@@ -486,7 +560,7 @@ impl<'a> Tracer<'a> {
         points.clear();
         if n == 1 {
             // A point light, or a Whitted shadow ray: no set buffer needed.
-            let table = &self.scene.settings.points;
+            let table = self.points;
             points.extend(lit.iter().map(|h| d.one_in(table, 1.0, &mut rng(h.ray))));
         } else {
             let mut one = self.pool.pop().unwrap_or_default();
@@ -511,22 +585,16 @@ impl<'a> Tracer<'a> {
         let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
         if let Some(rule) = SetRule::for_set(self.set_rule, n) {
             let mut scratch = self.pool.pop().unwrap_or_default();
-            rule.points(
-                (d, &self.scene.settings.points),
-                n,
-                rng,
-                &mut scratch,
-                points,
-            );
+            rule.points((d, self.points), n, rng, &mut scratch, points);
             self.pool.push(scratch);
             return;
         }
         // The rays are summed: their order matters only to the shadow
         // metric, which may stop the set early.
-        if self.scene.settings.metric.is_some_and(|m| m.shadows) {
-            d.generate_in(&self.scene.settings.points, n, 1.0, rng, points);
+        if self.metric.is_some_and(|m| m.shadows) {
+            d.generate_in(self.points, n, 1.0, rng, points);
         } else {
-            d.generate_unordered_in(&self.scene.settings.points, n, 1.0, rng, points);
+            d.generate_unordered_in(self.points, n, 1.0, rng, points);
         }
     }
 
@@ -551,52 +619,39 @@ impl<'a> Tracer<'a> {
         world.gather_shaft(origins, targets, SHAFT_MAX_LEAVES, &mut self.shaft)
     }
 
-    /// A dielectric interface: Fresnel-weighted reflection and refraction.
-    fn dielectric(&mut self, s: &Local, ray: &Ray, m: &Dielectric, depth: u32, rng: Rng) -> Rgb {
-        let split = m.split(ray.dir.normalize(), s.n, s.front);
-        let spec = (m.effect.rays, m.effect.distribution, m.translucency);
-        let f = split.fresnel;
-        let mut l = Rgb::ZERO;
-        if let (Some(t), true) = (split.refracted, f < 1.0) {
-            l += (1.0 - f) * self.scatter(s, t, spec, Branch::Refract, depth, rng);
-        }
-        if f > 0.0 {
-            l += f * self.scatter(s, split.reflected, spec, Branch::Fresnel, depth, rng);
-        }
-        l
-    }
-
-    /// Traces a distributed set around the perfect direction `dir` (reflected
-    /// or refracted) and averages it (see [`mean`](Self::mean)).
-    /// Radius 0 means the single perfect ray.
-    fn scatter(
+    /// Traces the set of lobe `k` (of `flags`, with budget `spec`) of
+    /// `bsdf` at the hit, and averages it (see [`mean`](Self::mean)): a
+    /// blurred (glossy) delta lobe's set has the budget's rays, each the
+    /// lobe's sample for one point of the set; a sharp one is the single ray
+    /// `perfect`.
+    #[allow(clippy::too_many_arguments)]
+    fn lobe_set(
         &mut self,
         s: &Local,
-        dir: Vec3,
-        (rays, d, radius): (u32, Distribution, f32),
-        branch: Branch,
+        hit: &Hit,
+        bsdf: &Bsdf,
+        (k, flags, spec): (usize, BsdfFlags, EffectSpec),
+        perfect: Vec3,
         depth: u32,
         rng: Rng,
     ) -> Rgb {
-        let n = if radius > 0.0 { rays } else { 1 };
-        let (set_tag, ray_tag) = branch.tags();
+        let blurred = flags.contains(BsdfFlags::GLOSSY);
+        let (n, d) = (if blurred { spec.rays } else { 1 }, spec.distribution);
+        let (set_tag, ray_tag) = lobe_tags(k);
         let rule = SetRule::for_set(self.set_rule, n as usize);
         let points = self.points(d, n, rule, rng.derive(set_tag));
-        let transmit = matches!(branch, Branch::Refract);
-        // Rays must leave on the viewer's side for reflection, the other side for refraction.
-        let side = if transmit { -s.ng } else { s.ng };
-        let end = end_points(dir, dir, radius, d);
-        let ray = |k: usize| {
-            let mut w = if radius > 0.0 { end(points[k]) } else { dir };
-            let below = w.dot(side);
-            if below < 0.0 {
-                w -= 2.0 * below * side;
-            }
-            let w = w.normalize();
+        let transmit = flags.contains(BsdfFlags::TRANSMISSION);
+        let ray = |j: usize| {
+            let w = if blurred {
+                let u = SetPoint::new(points[j], d);
+                bsdf.sample(hit, s.wo, Some(k), u).map_or(perfect, |b| b.wi)
+            } else {
+                perfect
+            };
             Ray::new(offset_origin(s.p, s.reach, s.ng, w), w, s.time)
         };
         let children = rng.derive(ray_tag);
-        let metric = self.scene.settings.metric.filter(|m| m.reflections);
+        let metric = self.metric.filter(|m| m.reflections);
         let n = points.len();
         let child = |k: usize| children.child(k, n);
         let (mean, traced) = self.mean(n, ray, depth + 1, child, metric.as_ref(), rule, |_, l| l);
@@ -622,7 +677,7 @@ impl<'a> Tracer<'a> {
         mut rng: Rng,
     ) -> Vec<Vec3> {
         let mut buf = self.pool.pop().unwrap_or_default();
-        let table = &self.scene.settings.points;
+        let table = self.points;
         match rule {
             Some(r) => {
                 let mut scratch = self.pool.pop().unwrap_or_default();
@@ -633,6 +688,14 @@ impl<'a> Tracer<'a> {
         }
         buf
     }
+}
+
+/// A set of `n` rays continued over `rays`, after earlier ones gave `mean`
+/// (see [`Tracer::continue_mean`]).
+pub struct Continued {
+    pub n: usize,
+    pub rays: std::ops::Range<usize>,
+    pub mean: RunningMean,
 }
 
 /// A shadow ray of a set, prepared before any ray of the set is traced.
@@ -696,12 +759,12 @@ mod tests {
             let hit = world
                 .intersect(&ray, 0.0, f32::INFINITY)
                 .expect("the ground");
-            below += usize::from(hit.point.y < 0.0);
+            below += usize::from(hit.p.y < 0.0);
             let s = Local::new(&ray, &hit);
             let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
             let shadow = Ray::new(origin, light - origin, 0.0);
             let t = world.transmittance(&shadow, (0.0, SHADOW_END), &scene.transparency, None);
-            assert_eq!(t, Some(1.0), "from {:?} (hit at {:?})", origin, hit.point);
+            assert_eq!(t, Some(1.0), "from {:?} (hit at {:?})", origin, hit.p);
         }
         // Not vacuous: many hit points are computed below the ground.
         assert!(below > 1_000, "{below} hit points below the ground");
@@ -789,7 +852,9 @@ mod tests {
                 .and_then(|s| s.build())
                 .unwrap_or_else(|e| panic!("{e}"));
             let mut r = Rng::new(k as u64);
-            let (mut wide, mut one) = (Tracer::new(&scene), Tracer::new(&scene));
+            let whitted = Whitted::new(&scene);
+            let (mut wide, mut one) =
+                (Tracer::new(&scene, &whitted), Tracer::new(&scene, &whitted));
             let mut out = Vec::new();
             for _ in 0..300 {
                 // A pixel's rays: one origin, directions in a narrow cone

@@ -4,7 +4,7 @@
 
 use std::f32::consts::PI;
 
-use super::sample::{area_pdf, area_sample, LightSample};
+use crate::emitter::sample::{area_pdf, area_sample, LightSample};
 use crate::math::{Frame, Rgb, Vec3};
 use crate::sampling::points::unit_square;
 use crate::sampling::warp::{square_to_uniform_cone, square_to_uniform_sphere};

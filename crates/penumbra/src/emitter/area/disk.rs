@@ -3,7 +3,7 @@
 
 use std::f32::consts::PI;
 
-use super::sample::{area_sample, LightSample};
+use crate::emitter::sample::{area_sample, LightSample};
 use crate::math::{Frame, Rgb, Vec3};
 use crate::sampling::points::unit_disk;
 use crate::sampling::Distribution;

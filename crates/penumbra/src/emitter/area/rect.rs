@@ -4,7 +4,7 @@
 
 use glam::Vec4;
 
-use super::sample::{area_sample, LightSample, LightSamples4};
+use crate::emitter::sample::{area_sample, LightSample, LightSamples4};
 use crate::geometry::quad::Quad;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::unit_square;

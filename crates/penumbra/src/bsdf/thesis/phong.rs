@@ -9,7 +9,7 @@
 
 use std::f32::consts::PI;
 
-use super::sample::{BsdfFlags, BsdfSample};
+use crate::bsdf::sample::{BsdfFlags, BsdfSample};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 
@@ -31,6 +31,11 @@ impl Phong {
             shininess,
             weight,
         }
+    }
+
+    /// The local weight it was made with.
+    pub fn weight(&self) -> f32 {
+        self.weight
     }
 
     /// True if it reflects anything at all.
@@ -114,6 +119,7 @@ impl Phong {
             } else {
                 BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION
             },
+            lobe: 0,
         })
     }
 }

@@ -1,0 +1,119 @@
+//! `diffuse`: an ideal Lambertian reflector, `reflectance / π` (Mitsuba 3's
+//! `diffuse`). One-sided, as Mitsuba's: it reflects on the side its
+//! shading normal points to and is black from behind (wrap it in
+//! `twosided` for both).
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `reflectance` | colour in [0, 1] | `[0.5, 0.5, 0.5]` | the albedo |
+
+use std::f32::consts::FRAC_1_PI;
+
+use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use super::BsdfModel;
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec3};
+use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
+use crate::sampling::SetPoint;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Diffuse {
+    pub reflectance: Rgb,
+}
+
+impl BsdfModel for Diffuse {
+    const NAME: &'static str = "diffuse";
+
+    fn lobes(&self) -> Lobes {
+        let mut l = Lobes::default();
+        l.flags[0] = BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION;
+        l
+    }
+
+    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
+        let n = si.shading.n;
+        if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
+            return Rgb::ZERO;
+        }
+        self.reflectance * FRAC_1_PI
+    }
+
+    fn sample(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: Option<usize>,
+        u: SetPoint,
+    ) -> Option<BsdfSample> {
+        if lobe.is_some_and(|k| k != 0) || si.shading.n.dot(wo) <= 0.0 {
+            return None;
+        }
+        let wi = si.shading.to_world(square_to_cosine_hemisphere(u.square()));
+        // eval · cos / pdf = (ρ/π) cos / (cos/π) = ρ.
+        (wi.dot(si.shading.n) > 0.0).then(|| BsdfSample {
+            wi,
+            weight: self.reflectance,
+            pdf: square_to_cosine_hemisphere_pdf(si.shading.to_local(wi)),
+            flags: BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
+            lobe: 0,
+        })
+    }
+
+    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
+        let n = si.shading.n;
+        if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
+            return 0.0;
+        }
+        square_to_cosine_hemisphere_pdf(si.shading.to_local(wi))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::thesis::tests::interaction;
+    use crate::math::Vec2;
+    use crate::sampling::Rng;
+
+    /// Every sample's weight is `eval · cos / pdf` (the reflectance), the
+    /// pdf integrates to one over the hemisphere (a midpoint rule), and
+    /// nothing is reflected from behind.
+    #[test]
+    fn samples_weigh_the_reflectance_and_the_pdf_is_normalised() {
+        let d = Diffuse {
+            reflectance: Rgb::new(0.2, 0.5, 0.8),
+        };
+        let n = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let si = interaction(n);
+        let wo = Vec3::new(-0.2, 0.1, 0.95).normalize();
+        let mut rng = Rng::new(2);
+        for _ in 0..10_000 {
+            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let s = d.sample(&si, wo, None, u).unwrap();
+            let want = d.eval(&si, wo, s.wi) * (s.wi.dot(n) / s.pdf);
+            assert!((s.weight - want).abs().max_element() < 1e-4);
+            assert!((s.pdf - d.pdf(&si, wo, s.wi)).abs() < 1e-4 * s.pdf);
+        }
+        let steps = 400;
+        let mut total = 0.0;
+        for i in 0..steps {
+            let theta = (i as f32 + 0.5) / steps as f32 * std::f32::consts::FRAC_PI_2;
+            for j in 0..steps {
+                let phi = (j as f32 + 0.5) / steps as f32 * std::f32::consts::TAU;
+                let l = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                let wi = si.shading.to_world(l);
+                total += d.pdf(&si, wo, wi) * theta.sin();
+            }
+        }
+        total *= std::f32::consts::FRAC_PI_2 / steps as f32 * std::f32::consts::TAU / steps as f32;
+        assert!((total - 1.0).abs() < 1e-3, "{total}");
+        assert_eq!(d.eval(&si, -wo, n), Rgb::ZERO);
+        assert!(d
+            .sample(&si, -wo, None, SetPoint::uniform(Vec2::splat(0.5)))
+            .is_none());
+    }
+}

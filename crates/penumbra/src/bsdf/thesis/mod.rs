@@ -1,0 +1,419 @@
+//! `thesis`: the material of the thesis, one BSDF of four lobes.
+//!
+//! The thesis's material is layered (its §2.3 and §3.3): a local part — a
+//! Lambertian base and an energy-normalised Phong highlight — weighted by
+//! `1 − reflectivity − transparency`, a mirror weighted by `reflectivity`,
+//! and a smooth dielectric interface weighted by `transparency`, whose
+//! reflection and refraction share it by the Fresnel factor. Its lobes, by
+//! slot:
+//!
+//! | slot | lobe | flags | weight of a sample |
+//! |---|---|---|---|
+//! | 0 | mirror | delta reflection (glossy if `glossiness` > 0) | `reflectivity` |
+//! | 1 | refraction | delta transmission (glossy if `translucency` > 0) | `transparency · (1 − F)` |
+//! | 2 | Fresnel reflection | delta reflection (glossy if `translucency` > 0) | `transparency · F` |
+//! | 3 | local | diffuse and glossy reflection | `eval · cos / pdf` |
+//!
+//! A glossy delta lobe is the thesis's blur: a set of rays whose end points
+//! are distributed around the perfect direction with the material's radius
+//! (`glossiness`, `translucency`), each taking its point as the
+//! [`SetPoint`] it samples with, every ray of the set weighted alike. The
+//! mirror's set is `reflection_rays` of `reflection_distribution`, the two
+//! dielectric lobes' `refraction_rays` of `refraction_distribution`.
+//!
+//! The material is two-sided: normals are turned to the viewer's side
+//! (`wo`), and the dielectric's `ior` is that of the side the geometric
+//! normal points away from.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `albedo` | colour in [0, 1] | `[0.8, 0.8, 0.8]` | diffuse reflectance of the local part |
+//! | `specular` | number in [0, 1] | `0` | weight of the Phong highlight; `albedo + specular ≤ 1` |
+//! | `shininess` | number ≥ 0 | `32` | Phong exponent |
+//! | `reflectivity` | number in [0, 1] | `0` | the mirror's weight |
+//! | `transparency` | number in [0, 1] | `0` | the dielectric's weight; `reflectivity + transparency ≤ 1` |
+//! | `ior` | number 1–10 | `1.5` | index of refraction |
+//! | `glossiness` | number ≥ 0 | `(1 − reflectivity) · 0.2` | the mirror's blur radius |
+//! | `translucency` | number ≥ 0 | `(1 − transparency) · 0.2` | the dielectric's blur radius |
+//! | `reflection_rays`, `refraction_rays`, `reflection_distribution`, `refraction_distribution` | | the render's | the sets' budgets |
+
+mod dielectric;
+mod mirror;
+mod phong;
+
+pub use dielectric::{fresnel_dielectric, Dielectric, Split};
+pub use mirror::Mirror;
+pub use phong::Phong;
+
+use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use super::BsdfModel;
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec3};
+use crate::sampling::{EffectSpec, SetPoint};
+
+/// The slots of the thesis material's lobes.
+const MIRROR: usize = 0;
+const REFRACTION: usize = 1;
+const FRESNEL: usize = 2;
+const LOCAL: usize = 3;
+
+/// The thesis material's parameters, validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThesisParams {
+    pub albedo: Rgb,
+    pub specular: f32,
+    pub shininess: f32,
+    pub reflectivity: f32,
+    pub transparency: f32,
+    pub ior: f32,
+    /// Radius of the reflection distribution (thesis §3.3); 0 is a perfect mirror.
+    pub glossiness: f32,
+    /// Radius of the refraction distribution; 0 is clear glass.
+    pub translucency: f32,
+    pub reflection: EffectSpec,
+    pub refraction: EffectSpec,
+}
+
+impl ThesisParams {
+    /// Weight of the local (diffuse + highlight) part.
+    pub fn local_weight(&self) -> f32 {
+        (1.0 - self.reflectivity - self.transparency).max(0.0)
+    }
+}
+
+/// The thesis's material (see the [module docs](self)).
+#[derive(Clone, Copy, Debug)]
+pub struct Thesis {
+    local: Phong,
+    /// The local part reflects anything.
+    lit: bool,
+    mirror: Option<Mirror>,
+    dielectric: Option<Dielectric>,
+}
+
+/// The viewer's side of a hit: shading and geometric normals turned toward
+/// `wo`, and whether that is the side the geometric normal points to.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    n: Vec3,
+    ng: Vec3,
+    front: bool,
+}
+
+impl Side {
+    #[inline]
+    fn of(si: &SurfaceInteraction, wo: Vec3) -> Side {
+        let front = si.ng.dot(wo) >= 0.0;
+        let flip = if front { 1.0 } else { -1.0 };
+        Side {
+            n: si.shading.n * flip,
+            ng: si.ng * flip,
+            front,
+        }
+    }
+}
+
+impl Thesis {
+    pub fn new(m: &ThesisParams) -> Thesis {
+        let local = Phong::new(m.albedo, m.specular, m.shininess, m.local_weight());
+        Thesis {
+            lit: !local.is_black(),
+            local,
+            mirror: (m.reflectivity > 0.0).then_some(Mirror {
+                reflectivity: m.reflectivity,
+                glossiness: m.glossiness,
+                effect: m.reflection,
+            }),
+            dielectric: (m.transparency > 0.0).then_some(Dielectric {
+                transparency: m.transparency,
+                ior: m.ior,
+                translucency: m.translucency,
+                effect: m.refraction,
+            }),
+        }
+    }
+}
+
+/// `DELTA | kind`, and `GLOSSY` too when the lobe is blurred.
+fn delta(kind: BsdfFlags, radius: f32) -> BsdfFlags {
+    let blur = if radius > 0.0 {
+        BsdfFlags::GLOSSY
+    } else {
+        BsdfFlags::empty()
+    };
+    BsdfFlags::DELTA | kind | blur
+}
+
+impl BsdfModel for Thesis {
+    const NAME: &'static str = "thesis";
+
+    fn lobes(&self) -> Lobes {
+        let mut l = Lobes::default();
+        if let Some(m) = &self.mirror {
+            l.flags[MIRROR] = delta(BsdfFlags::REFLECTION, m.glossiness);
+            l.sets[MIRROR] = Some(m.effect);
+        }
+        if let Some(d) = &self.dielectric {
+            l.flags[REFRACTION] = delta(BsdfFlags::TRANSMISSION, d.translucency);
+            l.flags[FRESNEL] = delta(BsdfFlags::REFLECTION, d.translucency);
+            l.sets[REFRACTION] = Some(d.effect);
+            l.sets[FRESNEL] = Some(d.effect);
+        }
+        if self.lit {
+            l.flags[LOCAL] = self.local.flags();
+        }
+        l
+    }
+
+    /// The local part's value (the delta lobes have none).
+    #[inline]
+    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
+        if !self.lit {
+            return Rgb::ZERO;
+        }
+        self.local.eval(Side::of(si, wo).n, wo, wi)
+    }
+
+    #[inline]
+    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
+        if !self.lit {
+            return 0.0;
+        }
+        self.local.pdf(Side::of(si, wo).n, wo, wi)
+    }
+
+    /// With a lobe asked for, that lobe's ray for `u` (a delta lobe's weight
+    /// is the same for every point of a set); without, a lobe chosen by
+    /// `u`'s first coordinate in proportion to the weights of the mirror,
+    /// the dielectric (then by Fresnel) and the local part, its weight
+    /// divided by that probability.
+    fn sample(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: Option<usize>,
+        u: SetPoint,
+    ) -> Option<BsdfSample> {
+        let s = Side::of(si, wo);
+        let d = -wo;
+        let one = |lobe: usize, u: &SetPoint| -> Option<(Vec3, Rgb, BsdfFlags)> {
+            let flags = self.lobes().flags[lobe];
+            match lobe {
+                MIRROR => {
+                    let m = self.mirror?;
+                    let w = m.direction(d, s.n, s.ng, u);
+                    Some((w, Rgb::splat(m.reflectivity), flags))
+                }
+                REFRACTION | FRESNEL => {
+                    let g = self.dielectric?;
+                    let split = g.split(d, s.n, s.front);
+                    let (w, weight) = if lobe == REFRACTION {
+                        g.refraction(&split, s.ng, u)?
+                    } else {
+                        g.reflection(&split, s.ng, u)?
+                    };
+                    Some((w, Rgb::splat(weight), flags))
+                }
+                _ => None,
+            }
+        };
+        match lobe {
+            Some(LOCAL) => {
+                let mut b = self.local.sample(s.n, wo, u.square())?;
+                b.lobe = LOCAL;
+                Some(b)
+            }
+            Some(k) => one(k, &u).map(|(wi, weight, flags)| BsdfSample {
+                wi,
+                weight,
+                pdf: 1.0,
+                flags,
+                lobe: k,
+            }),
+            None => self.sample_any(si, wo, u, one),
+        }
+    }
+
+    fn shadow_transmittance(&self) -> f32 {
+        self.dielectric.map_or(0.0, |d| d.transparency)
+    }
+}
+
+impl Thesis {
+    /// A lobe chosen by `u` (see [`BsdfModel::sample`]).
+    fn sample_any(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        u: SetPoint,
+        one: impl Fn(usize, &SetPoint) -> Option<(Vec3, Rgb, BsdfFlags)>,
+    ) -> Option<BsdfSample> {
+        let r = self.mirror.map_or(0.0, |m| m.reflectivity);
+        let t = self.dielectric.map_or(0.0, |d| d.transparency);
+        let l = if self.lit { self.local.weight() } else { 0.0 };
+        let total = r + t + l;
+        if total <= 0.0 {
+            return None;
+        }
+        let sq = u.square();
+        let x = sq.x * total;
+        // The rest of the first coordinate, for the chosen lobe's own use.
+        let rescale = |lo: f32, width: f32| {
+            let x = ((x - lo) / width).clamp(0.0, 1.0 - f32::EPSILON);
+            SetPoint::uniform(crate::math::Vec2::new(x, sq.y))
+        };
+        let (lobe, p, v) = if x < r {
+            (MIRROR, r / total, rescale(0.0, r))
+        } else if x < r + t {
+            let g = self.dielectric?;
+            let s = Side::of(si, wo);
+            let f = g.split(-wo, s.n, s.front).fresnel;
+            let v = rescale(r, t);
+            // Reflect with probability F, else refract.
+            let f_share = v.square().x;
+            let v = SetPoint::uniform(crate::math::Vec2::new(0.5, sq.y));
+            if f_share < f {
+                (FRESNEL, t / total * f, v)
+            } else {
+                (REFRACTION, t / total * (1.0 - f), v)
+            }
+        } else {
+            let mut b = self
+                .local
+                .sample(Side::of(si, wo).n, wo, rescale(r + t, l).square())?;
+            let p = l / total;
+            b.weight = b.weight * (1.0 / p);
+            b.pdf *= p;
+            b.lobe = LOCAL;
+            return Some(b);
+        };
+        let (wi, weight, flags) = one(lobe, &v)?;
+        Some(BsdfSample {
+            wi,
+            weight: weight * (1.0 / p),
+            pdf: p,
+            flags,
+            lobe,
+        })
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::geometry::shading_frame;
+    use crate::math::Vec2;
+    use crate::sampling::{Distribution, Rng};
+
+    fn params(reflectivity: f32, transparency: f32) -> ThesisParams {
+        let effect = EffectSpec {
+            rays: 4,
+            distribution: Distribution::Jitter,
+        };
+        ThesisParams {
+            albedo: Rgb::new(0.5, 0.5, 0.5),
+            specular: 0.2,
+            shininess: 10.0,
+            reflectivity,
+            transparency,
+            ior: 1.5,
+            glossiness: 0.0,
+            translucency: 0.1,
+            reflection: effect,
+            refraction: effect,
+        }
+    }
+
+    pub(crate) fn interaction(n: Vec3) -> SurfaceInteraction {
+        SurfaceInteraction {
+            t: 1.0,
+            p: Vec3::ZERO,
+            time: 0.0,
+            ng: n,
+            shading: shading_frame(n, Vec3::X),
+            uv: Vec2::ZERO,
+            dpdu: Vec3::X,
+            dpdv: Vec3::Z,
+            prim: 0,
+            object: 0,
+            material: 0,
+            emitter: None,
+        }
+    }
+
+    /// A material has the lobes its weights ask for, each of the kind its
+    /// slot says, and delta lobes have no value or density.
+    #[test]
+    fn materials_have_the_lobes_their_weights_ask_for() {
+        let plain = Thesis::new(&params(0.0, 0.0)).lobes();
+        assert_eq!(plain.iter().map(|(k, ..)| k).collect::<Vec<_>>(), [LOCAL]);
+        assert!(plain.any_smooth() && !plain.any_delta());
+        let mut glass = params(0.0, 1.0);
+        glass.albedo = Rgb::ZERO;
+        glass.specular = 0.0;
+        let lobes = Thesis::new(&glass).lobes();
+        assert_eq!(
+            lobes.iter().map(|(k, ..)| k).collect::<Vec<_>>(),
+            [REFRACTION, FRESNEL]
+        );
+        assert!(lobes.flags[REFRACTION]
+            .contains(BsdfFlags::DELTA | BsdfFlags::TRANSMISSION | BsdfFlags::GLOSSY));
+        let mixed = Thesis::new(&params(0.3, 0.3));
+        assert_eq!(mixed.lobes().iter().count(), 4);
+        let si = interaction(Vec3::Z);
+        let wi = Vec3::new(0.0, 0.6, 0.8);
+        assert!(mixed.eval(&si, Vec3::Z, wi).max_element() > 0.0);
+        let black = Thesis::new(&glass);
+        assert_eq!(black.eval(&si, Vec3::Z, wi), Rgb::ZERO);
+        assert_eq!(black.pdf(&si, Vec3::Z, wi), 0.0);
+        assert_eq!(Thesis::new(&glass).shadow_transmittance(), 1.0);
+    }
+
+    /// The material is two-sided: seen from below, it reflects below.
+    #[test]
+    fn both_sides_reflect() {
+        let m = Thesis::new(&params(0.5, 0.0));
+        let si = interaction(Vec3::Z);
+        let u = SetPoint::new(Vec3::ZERO, Distribution::Grid);
+        let wo = Vec3::new(0.6, 0.0, -0.8);
+        let s = m.sample(&si, wo, Some(MIRROR), u).unwrap();
+        assert!((s.wi - Vec3::new(-0.6, 0.0, -0.8)).length() < 1e-6);
+        assert_eq!(s.weight, Rgb::splat(0.5));
+        let wi = Vec3::new(0.0, 0.6, -0.8);
+        assert_eq!(m.eval(&si, wo, wi), m.eval(&si, -wo, -wi));
+    }
+
+    /// Sampling any lobe reflects a mirror, refracts and reflects a
+    /// dielectric and samples the local part in proportion to their weights
+    /// (and the dielectric's by Fresnel): the mean weight of the delta
+    /// samples of each lobe, over all samples, is that lobe's weight
+    /// (binomial, 5 sigma).
+    #[test]
+    fn sampling_any_lobe_chooses_by_weight() {
+        let m = Thesis::new(&params(0.3, 0.5));
+        let si = interaction(Vec3::Z);
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let split = m.dielectric.unwrap().split(-wo, Vec3::Z, true);
+        let f = f64::from(split.fresnel);
+        let want = [0.3, 0.5 * (1.0 - f), 0.5 * f];
+        let mut rng = Rng::new(5);
+        let n = 100_000;
+        let mut sums = [0.0f64; 4];
+        for _ in 0..n {
+            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+            if let Some(s) = m.sample(&si, wo, None, u) {
+                sums[s.lobe] += f64::from(s.weight.r);
+            }
+        }
+        for k in 0..3 {
+            // A chosen delta sample weighs the total 0.8: variance 0.8 w − w².
+            let mean = sums[k] / f64::from(n);
+            let sigma = ((0.8 * want[k] - want[k] * want[k]) / f64::from(n)).sqrt();
+            assert!(
+                (mean - want[k]).abs() < 5.0 * sigma,
+                "lobe {k}: {mean} vs {}",
+                want[k]
+            );
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! `area`: a surface emitting uniform radiance, carried by a shape (Mitsuba
+//! 3's `area` emitter): a rectangle, sphere, disk or triangle mesh. What a
+//! ray that hits the shape sees, and what a shading point is lit by.
+//!
+//! One-sided (emitting along the shape's geometric normal), but for
+//! spheres, which emit outward from their whole surface. A shading point
+//! samples it by one of two penumbra models:
+//!
+//! * `surface`: the shadow ray's target lies on the light's real surface
+//!   (uniform in area, or in the solid angle a sphere subtends from
+//!   outside) and its weight carries the geometry term and the pdf, so the
+//!   average converges to the exact direct illumination (what pbrt or
+//!   Mitsuba compute).
+//! * `thesis` (§3.3): the target is the light's centre moved on the plane
+//!   facing the shading point by the distribution point (radius: the
+//!   light's size), and each ray is shaded as if the light's whole power
+//!   came from that point. With one grid ray this is the classic Whitted
+//!   shadow ray to the centre. Rectangles, spheres and disks only.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `radiance` | colour ≥ 0 | **required** | emitted radiance |
+//! | `model` | `"surface"` or `"thesis"` | `"surface"` | the penumbra model |
+//! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
+//! | `shadow_distribution` | distribution | the render's | |
+
+mod disk;
+mod mesh;
+mod rect;
+mod sphere;
+
+pub use mesh::MeshLight;
+
+use crate::emitter::sample::{area_pdf, LightSample};
+use crate::geometry::quad::Quad;
+use crate::math::{Frame, Rgb, Vec3};
+use crate::sampling::points::end_point;
+use crate::sampling::{Distribution, EffectSpec};
+
+/// How shadow rays toward an area light are aimed and weighted (see the
+/// [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PenumbraModel {
+    Thesis,
+    Surface,
+}
+
+impl PenumbraModel {
+    pub const NAMES: [&'static str; 2] = ["surface", "thesis"];
+
+    pub fn from_name(s: &str) -> Option<PenumbraModel> {
+        match s {
+            "surface" => Some(PenumbraModel::Surface),
+            "thesis" => Some(PenumbraModel::Thesis),
+            _ => None,
+        }
+    }
+}
+
+/// The shape an area light samples, in world space.
+#[derive(Clone, Debug)]
+pub enum AreaShape {
+    /// A parallelogram emitting along `edge_u × edge_v`.
+    Rect(Quad),
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    /// A disk emitting along `frame.n`.
+    Disk {
+        center: Vec3,
+        frame: Frame,
+        radius: f32,
+    },
+    Mesh(MeshLight),
+}
+
+/// An area light (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub struct Area {
+    pub shape: AreaShape,
+    pub radiance: Rgb,
+    pub model: PenumbraModel,
+    /// Rays per shadow set and their distribution.
+    pub shadow: EffectSpec,
+}
+
+impl Area {
+    /// The light's centre, which the thesis model aims around.
+    pub fn center(&self) -> Vec3 {
+        match &self.shape {
+            AreaShape::Rect(q) => q.center(),
+            AreaShape::Sphere { center, .. } | AreaShape::Disk { center, .. } => *center,
+            AreaShape::Mesh(m) => m.centroid(),
+        }
+    }
+
+    /// The thesis's light size: the radius of the distribution around the
+    /// centre. A rectangle (or mesh) uses half the side of the square of
+    /// equal area.
+    pub fn size(&self) -> f32 {
+        match &self.shape {
+            AreaShape::Rect(q) => rect::size(q),
+            AreaShape::Sphere { radius, .. } | AreaShape::Disk { radius, .. } => *radius,
+            AreaShape::Mesh(m) => 0.5 * m.area().sqrt(),
+        }
+    }
+
+    /// Radiance leaving the light's surface toward `-dir` at a point with
+    /// geometric normal `n` (one-sided but for spheres).
+    #[inline]
+    pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
+        match self.shape {
+            AreaShape::Sphere { .. } => self.radiance,
+            _ if n.dot(dir) < 0.0 => self.radiance,
+            _ => Rgb::ZERO,
+        }
+    }
+
+    /// True if [`sample`](Self::sample) takes points of `d` four at a time
+    /// through a kernel: a rectangle sampled on its surface by a square
+    /// distribution.
+    #[inline]
+    pub(super) fn four_wide(&self, d: Distribution) -> bool {
+        let rect = matches!(self.shape, AreaShape::Rect(_));
+        rect && self.model == PenumbraModel::Surface && d != Distribution::Random
+    }
+
+    /// Samples for a batch of distribution points (see
+    /// [`Emitter::sample`](super::Emitter::sample)).
+    pub(super) fn sample(
+        &self,
+        at: impl Fn(usize) -> Vec3,
+        points: &[Vec3],
+        d: Distribution,
+        out: &mut Vec<Option<LightSample>>,
+    ) {
+        let wide = match &self.shape {
+            AreaShape::Rect(q) if self.four_wide(d) => {
+                let fours = points.chunks_exact(4);
+                for (g, four) in fours.enumerate() {
+                    let p = std::array::from_fn(|l| at(4 * g + l));
+                    let four = four.try_into().expect("chunks of four");
+                    out.extend(rect::sample4(self.radiance, q, &p, four).lanes());
+                }
+                points.len() / 4 * 4
+            }
+            _ => 0,
+        };
+        let rest = points.iter().enumerate().skip(wide);
+        out.extend(rest.map(|(k, &point)| self.sample_one(at(k), point, d)));
+    }
+
+    /// One sample: the portable form, which the rectangle's kernel is
+    /// tested against.
+    pub(super) fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+        match self.model {
+            PenumbraModel::Thesis => self.sample_thesis(p, point, d),
+            PenumbraModel::Surface => self.sample_surface(p, point, d),
+        }
+    }
+
+    /// The solid-angle density with which the surface model draws `target`
+    /// (a point of the light with outward normal `n`) from `p`; 0 under the
+    /// thesis model, whose rays are not drawn from the light's surface.
+    pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
+        if self.model == PenumbraModel::Thesis {
+            return 0.0;
+        }
+        let to = target - p;
+        let r2 = to.length_squared();
+        let cos_l = n.dot(-to) / r2.sqrt();
+        match &self.shape {
+            AreaShape::Sphere { center, radius } => sphere::pdf(p, *center, *radius, cos_l, r2),
+            AreaShape::Rect(q) => area_pdf(cos_l, r2, q.area()),
+            AreaShape::Disk { radius, .. } => area_pdf(cos_l, r2, disk::area(*radius)),
+            AreaShape::Mesh(m) => m.pdf(cos_l, r2),
+        }
+    }
+
+    fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+        let c = self.center();
+        let axis = (c - p).normalize_or_zero();
+        let target = end_point(c, axis, point, self.size(), d);
+        let to = target - p;
+        let r2 = to.length_squared();
+        if r2 <= 0.0 {
+            return None;
+        }
+        let weight = self.point_intensity(-to / r2.sqrt()) / r2;
+        Some(LightSample {
+            target,
+            dir: to.normalize_or_zero(),
+            weight,
+        })
+    }
+
+    /// Intensity toward direction `w` (unit, from the light) of the light
+    /// collapsed to a point, as the thesis shades every shadow ray.
+    fn point_intensity(&self, w: Vec3) -> Rgb {
+        let power = self.radiance;
+        match &self.shape {
+            AreaShape::Rect(q) => rect::intensity(power, q, w),
+            AreaShape::Sphere { radius, .. } => sphere::intensity(power, *radius),
+            AreaShape::Disk { frame, radius, .. } => disk::intensity(power, frame.n, *radius, w),
+            // Not reached: the thesis model is refused on meshes when the
+            // scene is built; a flat light of the mesh's area facing `w`.
+            AreaShape::Mesh(m) => power * m.area(),
+        }
+    }
+
+    fn sample_surface(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+        let power = self.radiance;
+        match &self.shape {
+            AreaShape::Rect(q) => rect::sample(power, q, p, point, d),
+            AreaShape::Disk {
+                center,
+                frame,
+                radius,
+            } => disk::sample(power, *center, frame, *radius, p, point, d),
+            AreaShape::Sphere { center, radius } => {
+                sphere::sample(power, *center, *radius, p, point, d)
+            }
+            AreaShape::Mesh(m) => m.sample(power, p, point, d),
+        }
+    }
+}
