@@ -34,9 +34,10 @@ whether this tree is worse (slower, more memory) by more than 3%. Rows of Embree
 POV-Ray, and Penumbra's figures timed through its Python module, have no
 baseline column. REV's binaries are kept in bench/.work/rev and reused.
 
-Setup (bench/setup.sh) installs Mitsuba 3 and embreex into bench/.venv and
-POV-Ray and LLVM's shared library from Debian's packages; the script then
-re-runs itself with the venv's Python. Work files go to bench/.work.
+Setup (bench/setup.sh) installs Mitsuba 3, embreex and maturin into
+bench/.venv (bench/requirements.txt) and POV-Ray and LLVM's shared library
+from Debian's packages; the script then re-runs itself with the venv's
+Python and builds Penumbra's Python module into the venv with maturin. Work files go to bench/.work.
 Rounds alternate the systems compared, so that load from other processes on
 a shared machine hits both alike; each figure is the median over rounds, and
 each ratio the median of the per-round ratios.
