@@ -4,14 +4,18 @@ Penumbra on the same scenes in one run, and prints a table of medians and
 ratios (docs/performance.md explains every figure).
 
     python3 bench/run.py [--bunny PATH] [--rounds N] [--quick] [--only a,b,c,...]
-                         [--obvhs] [--baseline REV] [--update-doc] [--no-setup]
+                         [--skip a,b,...] [--obvhs] [--baseline REV] [--update-doc]
+                         [--no-setup]
 
-Sections (--only takes their names):
+Sections (--only and --skip take their names):
   rays     Embree (embreex) vs Penumbra: build, closest and any hit, per thread
   a        scene (a): 16 primary rays per pixel + 1 shadow ray, vs Mitsuba 3;
            Penumbra on 1 vs 2 threads (parallel efficiency on a long frame)
   b        scene (b): 1 primary ray + 64 shadow rays per pixel, vs POV-Ray
   whitted  the Whitted bunny at 800x600: frames per second, 1 vs 2 threads
+  mirror   the thesis's hardest case (Fig. 4.8 right): bunny-mirror at
+           800x600, 4 spp, 32 reflection and 32 shadow rays, metrics on;
+           2 threads then 1, about 4 minutes a round (--skip mirror)
   scaling  parallel efficiency from many short one- and two-thread pairs of
            scene (a) at 400x300 and of the Whitted frame (--pairs, default
            25), order alternating
@@ -34,9 +38,10 @@ whether this tree is worse (slower, more memory) by more than 3%. Rows of Embree
 POV-Ray, and Penumbra's figures timed through its Python module, have no
 baseline column. REV's binaries are kept in bench/.work/rev and reused.
 
-Setup (bench/setup.sh) installs Mitsuba 3 and embreex into bench/.venv and
-POV-Ray and LLVM's shared library from Debian's packages; the script then
-re-runs itself with the venv's Python. Work files go to bench/.work.
+Setup (bench/setup.sh) installs Mitsuba 3, embreex and maturin into
+bench/.venv (bench/requirements.txt) and POV-Ray and LLVM's shared library
+from Debian's packages; the script then re-runs itself with the venv's
+Python and builds Penumbra's Python module into the venv with maturin. Work files go to bench/.work.
 Rounds alternate the systems compared, so that load from other processes on
 a shared machine hits both alike; each figure is the median over rounds, and
 each ratio the median of the per-round ratios.
@@ -47,6 +52,7 @@ import json
 import os
 import platform
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -61,7 +67,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # A row of the baseline table is flagged when this tree is worse (slower, or
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
-SECTIONS = ["rays", "a", "b", "whitted", "scaling", "linear", "memory", "million", "points", "before"]
+SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -423,29 +429,72 @@ def section_b(args, bins, data):
     }
 
 
-def section_whitted(args, bins, data):
-    scene = HERE / "scenes" / "bunny-whitted.toml"
+def render_cli(bins, bunny, scene, *extra):
+    """One `penumbra render` with --stats: the render call's wall time (from
+    the stats, as scenebench times it), the process's CPU time (children's
+    rusage: loading the bunny, the build and writing the image included,
+    about 0.2 s of CPU), and the rays traced and saved by the metrics."""
+    w = HERE / ".work"
+    stats = w / "frame.json"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run([bins["penumbra"], "render", scene, "--bunny", bunny, *extra, "-o", w / "frame.png", "--quiet",
+         "--stats", stats], cwd=ROOT)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    s = json.loads(stats.read_text())
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return {"render_s": s["time"]["render_s"], "render_cpu_s": cpu, "rays": s["rays"]["total"],
+            "saved": s["saved"]["total"]}
+
+
+# The scene rows timed on two threads and on one, side by side with the
+# baseline: name -> (the row's label in the tables, whether its wall figure
+# is in frames per second, how one frame is timed on T threads). The Whitted
+# frame (about 0.1 s) is the median of 9 renders in one scenebench process;
+# the thesis's hardest case (Fig. 4.8 right: the mirror bunny on the mirror
+# floor, 4 camera rays, 32 reflection and 32 shadow rays, the acceleration
+# metrics on; about 145 s of CPU, 75-80 s on two free cores) is one
+# `penumbra render`, since scenebench has no options for reflection rays or
+# the metrics.
+WHITTED = HERE / "scenes" / "bunny-whitted.toml"
+MIRROR = ["--width", "800", "--height", "600", "--spp", "4", "--reflection-rays", "32", "--shadow-rays", "32",
+          "--metric"]
+FRAMES = {
+    "whitted": ("Whitted bunny", True,
+                lambda b, bunny, t: scenebench(b, bunny, WHITTED, "--threads", t, repeat=9)),
+    "mirror": ("bunny-mirror, 4 spp, 32 reflection + 32 shadow rays, metrics on", False,
+               lambda b, bunny, t: render_cli(b, bunny, "bunny-mirror", *MIRROR, "--threads", t)),
+}
+
+
+def section_frames(name, args, bins, data):
+    """A scene row of FRAMES: in each round, one frame on 2 threads then one
+    on 1 thread, for this tree and the baseline (order alternating)."""
+    label, per_second, frame = FRAMES[name]
     rounds, base = [], []
     for k in range(args.rounds):
         def frames(b):
-            two = scenebench(b, data["bunny"], scene, "--threads", "2", repeat=9)
-            one = scenebench(b, data["bunny"], scene, "--threads", "1", repeat=9)
+            two = frame(b, data["bunny"], 2)
+            one = frame(b, data["bunny"], 1)
             return one, two
         cur, old = both(bins, data["base"], k, frames)
         rounds.append(cur)
         base.append(old)
     vs = {}
     if data["base"] is not None:
+        wall = versus(f"{label}, 2 threads, frames/s (wall)", [1 / x[1]["render_s"] for x in rounds],
+                      [1 / x[1]["render_s"] for x in base], True) if per_second else \
+            versus(f"{label}, 2 threads, s (wall)", [x[1]["render_s"] for x in rounds],
+                   [x[1]["render_s"] for x in base])
         vs["vs"] = [
-            versus("Whitted bunny, 2 threads, frames/s (wall)", [1 / x[1]["render_s"] for x in rounds],
-                   [1 / x[1]["render_s"] for x in base], True),
-            versus("Whitted bunny, 2 threads, s (CPU)", [x[1]["render_cpu_s"] for x in rounds],
+            wall,
+            versus(f"{label}, 2 threads, s (CPU)", [x[1]["render_cpu_s"] for x in rounds],
                    [x[1]["render_cpu_s"] for x in base]),
-            versus("Whitted bunny, 1 thread, s (wall)", [x[0]["render_s"] for x in rounds],
+            versus(f"{label}, 1 thread, s (wall)", [x[0]["render_s"] for x in rounds],
                    [x[0]["render_s"] for x in base]),
         ]
     return vs | {
         "rays": rounds[0][1]["rays"],
+        "saved": rounds[0][1].get("saved"),
         "s_2": med([x[1]["render_s"] for x in rounds]),
         "s_1": med([x[0]["render_s"] for x in rounds]),
         "cpu_2": med([x[1]["render_cpu_s"] for x in rounds]),
@@ -455,6 +504,14 @@ def section_whitted(args, bins, data):
         # What two dedicated cores would do: the frame's CPU time split over 2.
         "fps_cpu_2": med([2 / x[1]["render_cpu_s"] for x in rounds]),
     }
+
+
+def section_whitted(args, bins, data):
+    return section_frames("whitted", args, bins, data)
+
+
+def section_mirror(args, bins, data):
+    return section_frames("mirror", args, bins, data)
 
 
 def section_points(args, bins, data):
@@ -651,6 +708,13 @@ def report(res):
             w["fps_cpu_2"] >= 10)
         row("parallel efficiency, 2 threads, Whitted frame (wall: t1 / 2 t2)", "—", f"{100 * w['efficiency']:.0f}%",
             "—", "≥ 90%", w["efficiency"] >= 0.9)
+    if "mirror" in res:
+        w = res["mirror"]
+        row("bunny-mirror 800×600, 4 spp, 32 reflection + 32 shadow rays, metrics on (thesis Fig. 4.8 right), "
+            "s, 2 threads (wall)", "—", f(w["s_2"]), "—", "—", True)
+        row("bunny-mirror, s (CPU time, 2 threads)", "—", f(w["cpu_2"]), "—", "—", True)
+        row("parallel efficiency, 2 threads, bunny-mirror (wall: t1 / 2 t2)", "—", f"{100 * w['efficiency']:.0f}%",
+            "—", "≥ 90%", w["efficiency"] >= 0.9)
     if "points" in res:
         for name, x in res["points"]["distributions"].items():
             row(f"drawing a point of `{name}` (sets of {res['points']['set']}), ns (CPU)", "—", f(x["point_ns"], 1),
@@ -710,6 +774,11 @@ def report(res):
         w = res["whitted"]
         L.append(f"Whitted frame: {w['rays']:,} rays; 2 threads {f(w['s_2'], 3)} s wall ({f(w['cpu_2'], 3)} s CPU), "
                  f"1 thread {f(w['s_1'], 3)} s wall ({f(w['cpu_1'], 3)} s CPU).")
+    if "mirror" in res:
+        w = res["mirror"]
+        L.append(f"bunny-mirror frame: {w['rays']:,} rays traced, {w['saved']:,} saved by the metrics; 2 threads "
+                 f"{f(w['s_2'], 1)} s wall ({f(w['cpu_2'], 1)} s CPU), 1 thread {f(w['s_1'], 1)} s wall "
+                 f"({f(w['cpu_1'], 1)} s CPU; CPU times of the whole `penumbra render` process).")
     if "linear" in res:
         L.append("")
         L.append("| linearity (1 thread) | pixels | rays | s (wall) | s (CPU) | ns per ray (CPU) |")
@@ -753,6 +822,8 @@ def main():
     ap.add_argument("--rounds", type=int, help="rounds of each section (default 3; 5 with --baseline)")
     ap.add_argument("--quick", action="store_true", help="one round")
     ap.add_argument("--only", help="comma-separated sections: " + ",".join(SECTIONS))
+    ap.add_argument("--skip", help="comma-separated sections not to run (e.g. mirror: about 4 minutes a round, "
+                                   "twice that with --baseline)")
     ap.add_argument("--obvhs", action="store_true", help="also measure the obvhs crate in the rays section")
     ap.add_argument("--baseline", metavar="REV",
                     help="also build git revision REV in a temporary worktree and run every Penumbra row for it "
@@ -772,9 +843,11 @@ def main():
         sections.append("before")
     if args.only:
         sections = [s for s in args.only.split(",") if s]
-        unknown = [s for s in sections if s not in SECTIONS]
-        if unknown:
-            raise SystemExit(f"unknown sections: {', '.join(unknown)} (sections: {', '.join(SECTIONS)})")
+    skip = [s for s in (args.skip or "").split(",") if s]
+    unknown = [s for s in sections + skip if s not in SECTIONS]
+    if unknown:
+        raise SystemExit(f"unknown sections: {', '.join(unknown)} (sections: {', '.join(SECTIONS)})")
+    sections = [s for s in sections if s not in skip]
     load_start = os.getloadavg()
     bins = build(args)
     data = prepare(args)
@@ -794,8 +867,9 @@ def main():
     if data["base"] is not None:
         res["baseline"] = data["base"]["rev"]
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
-           "scaling": section_scaling, "linear": section_linear, "memory": section_memory, "million": section_million,
-           "points": section_points, "before": section_before}
+           "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
+           "memory": section_memory, "million": section_million, "points": section_points,
+           "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

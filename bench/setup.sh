@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Installs the reference systems of the benchmark harness, idempotently:
-# Mitsuba 3 and embreex (Embree) from PyPI into bench/.venv; POV-Ray and an
-# LLVM shared library (for Mitsuba's llvm_ad_rgb variant; Dr.Jit needs
-# LLVM 15 or later) from Debian's packages. Needs root (or sudo) for apt.
+# Installs what the benchmark harness needs, idempotently: from PyPI into
+# bench/.venv (requirements.txt, pinned) Mitsuba 3, embreex (Embree), numpy,
+# OpenEXR and maturin (which builds Penumbra's Python module into the venv);
+# POV-Ray and an LLVM shared library (for Mitsuba's llvm_ad_rgb variant;
+# Dr.Jit needs LLVM 15 or later) from Debian's packages. Needs root (or
+# sudo) for apt.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 venv="$here/.venv"
