@@ -3,6 +3,8 @@
 
 pub mod error;
 pub mod source;
+pub mod tree;
 
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
 pub use source::Source;
+pub use tree::{Kind, Located, Node, Prop, Value};
