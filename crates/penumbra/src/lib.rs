@@ -36,6 +36,7 @@
 pub mod accel;
 pub mod bsdf;
 pub mod camera;
+pub mod description;
 pub mod emitter;
 pub mod geometry;
 pub mod input;
