@@ -736,6 +736,7 @@ mod tests {
         let mesh = Mesh {
             positions,
             normals: None,
+            uvs: None,
             triangles,
         };
         let object = |shape, material| Object {
@@ -807,6 +808,7 @@ mod tests {
             Mesh {
                 positions,
                 normals: None,
+                uvs: None,
                 triangles,
             }
         };

@@ -21,7 +21,7 @@ use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
+use crate::math::{Frame, Mat4, Quat, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, PointTable};
 
 /// Why a description could not be built.
@@ -640,6 +640,9 @@ fn load_mesh(
                 .map(|&n| Vec3::from_array(n).normalize_or_zero())
                 .collect()
         }),
+        uvs: data
+            .uvs
+            .map(|ts| ts.iter().map(|&t| Vec2::from_array(t)).collect()),
         triangles: data.triangles,
     };
     if !smooth {

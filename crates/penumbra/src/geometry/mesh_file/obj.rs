@@ -365,6 +365,7 @@ impl<'p> Builder<'p> {
         MeshData {
             positions: self.positions,
             normals: None,
+            uvs: None,
             triangles,
         }
     }
@@ -404,6 +405,7 @@ impl<'p> Builder<'p> {
         Ok(MeshData {
             positions,
             normals: Some(normals),
+            uvs: None,
             triangles,
         })
     }

@@ -432,6 +432,7 @@ mod tests {
         MeshData {
             positions: POSITIONS.to_vec(),
             normals: Some((0..POSITIONS.len()).map(normal).collect()),
+            uvs: None,
             triangles: FANS.to_vec(),
         }
     }
