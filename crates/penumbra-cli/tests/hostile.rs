@@ -63,6 +63,12 @@ const PLY_HEAD: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float 
                         property float y\nproperty float z\nelement face 1\n\
                         property list uchar int vertex_indices\nend_header\n";
 
+/// [`PLY_HEAD`] with texture coordinates `u`, `v` after the position.
+const PLY_UV_HEAD: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n\
+                           property float y\nproperty float z\nproperty float u\n\
+                           property float v\nelement face 1\n\
+                           property list uchar int vertex_indices\nend_header\n";
+
 fn binary_ply(vertices: u64, faces: u64, body: &[u8]) -> Vec<u8> {
     let mut b = format!(
         "ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\n\
@@ -429,6 +435,22 @@ fn corpus() -> Vec<Case> {
         Valid,
         20,
     );
+    mesh(
+        "valid OBJ with texture coordinates",
+        "m.obj",
+        b("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1\nvt 0 1 0\nf 1/1 2/2 3/-1\n"),
+        Valid,
+        20,
+    );
+    mesh(
+        "valid PLY with texture coordinates",
+        "m.ply",
+        Entry::Bytes(
+            format!("{PLY_UV_HEAD}0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n").into_bytes(),
+        ),
+        Valid,
+        20,
+    );
     let ply_cases: Vec<(&str, Vec<u8>)> = vec![
         ("empty PLY", Vec::new()),
         ("magic only", s("ply\n")),
@@ -522,6 +544,27 @@ fn corpus() -> Vec<Case> {
             "non-UTF-8 header",
             b"ply\nformat ascii 1.0\ncomment \xff\xfe\nelement vertex 3\n".to_vec(),
         ),
+        (
+            "texture coordinates: a trillion ASCII vertices",
+            s(&PLY_UV_HEAD.replace("vertex 3", "vertex 1000000000000")),
+        ),
+        ("texture coordinates: binary counts beyond the bytes", {
+            let head = PLY_UV_HEAD
+                .replace("ascii", "binary_little_endian")
+                .replace("vertex 3", "vertex 1099511627776")
+                .replace("face 1", "face 1099511627776");
+            let mut v = s(&head);
+            v.extend_from_slice(&[0; 64]);
+            v
+        }),
+        (
+            "NaN texture coordinate",
+            format!("{PLY_UV_HEAD}0 0 0 0 0\n1 0 0 nan 0\n0 1 0 0 1\n3 0 1 2\n").into_bytes(),
+        ),
+        (
+            "texture coordinate missing",
+            format!("{PLY_UV_HEAD}0 0 0 0 0\n1 0 0 1\n0 1 0 0 1\n3 0 1 2\n").into_bytes(),
+        ),
     ];
     for (what, bytes) in ply_cases {
         mesh(
@@ -559,6 +602,36 @@ fn corpus() -> Vec<Case> {
             b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \xff\n".to_vec(),
         ),
         ("NUL bytes", vec![0; 4096]),
+        (
+            "vt index 2^40",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1099511627776\n"),
+        ),
+        (
+            "vt index out of range",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n"),
+        ),
+        (
+            "vt index 0",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/0 3/1\n"),
+        ),
+        (
+            "relative vt index out of range",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/-1 2/-1 3/-9\n"),
+        ),
+        (
+            "malformed vt",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 x\nf 1/1 2/1 3/1\n"),
+        ),
+        (
+            "NaN vt",
+            s("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0\nf 1/1 2/1 3/1\n"),
+        ),
+        ("a million vt, a face past them", {
+            let mut text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_string();
+            text.push_str(&"vt 0 0\n".repeat(1_000_000));
+            text.push_str("f 1/1 2/1 3/1000001\n");
+            text.into_bytes()
+        }),
     ];
     for (what, bytes) in obj_cases {
         mesh(

@@ -103,6 +103,57 @@ const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment a square\nelement vertex
                          end_header\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n\
                          0 1 0 0 0 1\n3 0 1 2\n4 0 1 2 3\n";
 
+/// Texture coordinates on every corner (normals on only some), with every
+/// corner form and relative indices.
+const OBJ_UV: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1 0\n\
+                      vt 0.5\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/4 3/-2 4/-1\n\
+                      f -4/-4 -2/-2 -1/1\n";
+
+const PLY_UV_ASCII: &str = "ply\nformat ascii 1.0\nelement vertex 4\n\
+                            property float x\nproperty float y\nproperty float z\n\
+                            property float u\nproperty float v\nelement face 2\n\
+                            property list uchar int vertex_indices\nend_header\n\
+                            0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n4 0 1 2 3\n";
+
+/// A square whose vertices carry `s` (uchar) and `t` (double) texture coordinates.
+fn ply_uv_binary(big_endian: bool) -> Vec<u8> {
+    let order = if big_endian { "big" } else { "little" };
+    let mut b = format!(
+        "ply\nformat binary_{order}_endian 1.0\nelement vertex 4\nproperty float x\n\
+         property float y\nproperty float z\nproperty uchar s\nproperty double t\n\
+         element face 1\nproperty list uchar uint vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    for (i, v) in [[0f32, 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]
+        .into_iter()
+        .enumerate()
+    {
+        for x in v {
+            b.extend_from_slice(&if big_endian {
+                x.to_be_bytes()
+            } else {
+                x.to_le_bytes()
+            });
+        }
+        b.push(i as u8);
+        let t = i as f64 / 4.0;
+        b.extend_from_slice(&if big_endian {
+            t.to_be_bytes()
+        } else {
+            t.to_le_bytes()
+        });
+    }
+    b.push(4);
+    for i in 0u32..4 {
+        b.extend_from_slice(&if big_endian {
+            i.to_be_bytes()
+        } else {
+            i.to_le_bytes()
+        });
+    }
+    b
+}
+
 fn ply_binary(big_endian: bool) -> Vec<u8> {
     let order = if big_endian { "big" } else { "little" };
     let mut b = format!(
@@ -325,6 +376,10 @@ fn check_mesh(
             if let Some(normals) = &mesh.normals {
                 prop_assert_eq!(normals.len(), n);
             }
+            if let Some(uvs) = &mesh.uvs {
+                prop_assert_eq!(uvs.len(), n);
+                prop_assert!(uvs.iter().flatten().all(|x| x.is_finite()));
+            }
             Ok(())
         }
         Err(e) => check_message(&e.to_string(), file),
@@ -361,6 +416,15 @@ fn the_unmutated_inputs_are_valid() {
             3
         );
     }
+    let uvs = |mesh: MeshData| (mesh.uvs.map(|t| t.len()), mesh.triangles.len());
+    let obj = parse_obj(OBJ_UV.as_bytes(), Path::new("m.obj")).unwrap();
+    assert_eq!(uvs(obj), (Some(6), 3));
+    let ply = parse_ply(PLY_UV_ASCII.as_bytes(), Path::new("m.ply")).unwrap();
+    assert_eq!(uvs(ply), (Some(4), 3));
+    for big in [false, true] {
+        let ply = parse_ply(&ply_uv_binary(big), Path::new("m.ply")).unwrap();
+        assert_eq!(uvs(ply), (Some(4), 2));
+    }
     drop(dir.dir);
 }
 
@@ -393,14 +457,18 @@ proptest! {
 
     #[test]
     fn mutated_meshes_load_or_fail_naming_the_file(
-        which in 0usize..4,
+        which in 0usize..8,
         mutations in prop::collection::vec(mutation(), 1..6)
     ) {
         let (original, name) = match which {
             0 => (OBJ.as_bytes().to_vec(), "m.obj"),
             1 => (PLY_ASCII.as_bytes().to_vec(), "m.ply"),
             2 => (ply_binary(false), "m.ply"),
-            _ => (ply_binary(true), "m.ply"),
+            3 => (ply_binary(true), "m.ply"),
+            4 => (OBJ_UV.as_bytes().to_vec(), "m.obj"),
+            5 => (PLY_UV_ASCII.as_bytes().to_vec(), "m.ply"),
+            6 => (ply_uv_binary(false), "m.ply"),
+            _ => (ply_uv_binary(true), "m.ply"),
         };
         let bytes = mutate(&original, &mutations);
         let path = Path::new(name);

@@ -741,6 +741,7 @@ mod tests {
         let mesh = Mesh {
             positions,
             normals: None,
+            uvs: None,
             triangles,
         };
         let object = |shape, material| Object {
@@ -813,6 +814,7 @@ mod tests {
             Mesh {
                 positions,
                 normals: None,
+                uvs: None,
                 triangles,
             }
         };

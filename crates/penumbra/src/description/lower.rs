@@ -106,12 +106,16 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
     scene.children.extend(render.background);
 
     if let Some(materials) = materials {
+        // In name order, whatever order the input keeps its keys in.
+        let mut bsdfs = Vec::new();
         for m in table(materials)?.1 {
             let (origin, props) = table(m.value)?;
             let mut bsdf = plugin_node(Kind::Bsdf, origin, props, Some(DEFAULT_BSDF))?;
             bsdf.id = Some(m.name);
-            scene.children.push(bsdf);
+            bsdfs.push(bsdf);
         }
+        bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
+        scene.children.extend(bsdfs);
     }
     for (part, kind) in [(objects, Kind::Shape), (lights, Kind::Emitter)] {
         for (origin, props) in array_of_tables(part)? {
@@ -146,7 +150,10 @@ fn route_render(render: Option<Located<Value>>, root: &Origin) -> Result<RenderN
             return Err(Invalid::unknown_field(&at, &p.name, names));
         };
         match (p.name.as_str(), kind) {
-            ("integrator", _) => nodes.integrator.plugin = string(p.value)?,
+            ("integrator", _) => {
+                nodes.integrator.plugin_origin = p.value.origin.clone();
+                nodes.integrator.plugin = string(p.value)?;
+            }
             ("background", _) => {
                 let mut emitter = Node::new(Kind::Emitter, BACKGROUND_EMITTER, p.key.clone());
                 emitter.props.push(Prop::new("radiance", p.key, p.value));
@@ -168,14 +175,19 @@ fn plugin_node(
     mut props: Vec<Prop>,
     default: Option<&str>,
 ) -> Result<Node, Invalid> {
-    let plugin = match props.iter().position(|p| p.name == "type") {
-        Some(i) => string(props.remove(i).value)?,
+    let (plugin, at) = match props.iter().position(|p| p.name == "type") {
+        Some(i) => {
+            let value = props.remove(i).value;
+            let at = value.origin.clone();
+            (string(value)?, at)
+        }
         None => match default {
-            Some(d) => d.to_string(),
+            Some(d) => (d.to_string(), origin.clone()),
             None => return Err(Invalid::at(&origin, "missing field `type`")),
         },
     };
     let mut node = Node::new(kind, plugin, origin);
+    node.plugin_origin = at;
     node.props = props;
     Ok(node)
 }
@@ -464,24 +476,25 @@ mod tests {
     }
 
     #[test]
-    fn materials_keep_the_file_order_and_default_to_thesis() {
+    fn materials_come_in_name_order_and_default_to_thesis() {
         let root = scene(
             "[materials.zinc]\nalbedo = [0.5, 0.5, 0.5]\n\n[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n",
         );
         let bsdfs: Vec<_> = root.children_of(Kind::Bsdf).collect();
         assert_eq!(bsdfs.len(), 2);
         assert_eq!(
-            (bsdfs[0].id.as_deref(), bsdfs[0].plugin.as_str()),
+            (bsdfs[1].id.as_deref(), bsdfs[1].plugin.as_str()),
             (Some("zinc"), "thesis")
         );
         assert_eq!(
-            (bsdfs[1].id.as_deref(), bsdfs[1].plugin.as_str()),
+            (bsdfs[0].id.as_deref(), bsdfs[0].plugin.as_str()),
             (Some("glass"), "dielectric")
         );
-        assert!(bsdfs[1].prop("type").is_none());
-        assert_eq!(place(&bsdfs[1].origin), ("materials.glass".into(), 4, 1));
+        assert!(bsdfs[0].prop("type").is_none());
+        assert_eq!(place(&bsdfs[0].origin), ("materials.glass".into(), 4, 1));
+        assert_eq!(place(&bsdfs[0].plugin_origin), ("materials.glass.type".into(), 5, 8));
         assert_eq!(
-            place(&bsdfs[1].prop("ior").unwrap().value.origin),
+            place(&bsdfs[0].prop("ior").unwrap().value.origin),
             ("materials.glass.ior".into(), 6, 7)
         );
         assert_eq!(

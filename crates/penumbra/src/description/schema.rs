@@ -94,9 +94,9 @@ impl Schema {
 }
 
 /// Checks every property of `node` (not its children) against `schema`:
-/// a key the schema does not have is an error at the key, saying that it
-/// does not apply when it is a parameter of one of `others` (the other
-/// plugins of the kind) and that it is unknown otherwise; a value of the
+/// a key the schema does not have is an error saying that it does not
+/// apply (at its value) when it is a parameter of one of `others` (the
+/// other plugins of the kind) and that it is unknown (at the key) otherwise; a value of the
 /// wrong type or shape is its reader's error at the value. Tables are
 /// checked key by key.
 pub fn check(node: &Node, schema: &Schema, others: &[&Schema]) -> Result<(), Invalid> {
@@ -105,7 +105,7 @@ pub fn check(node: &Node, schema: &Schema, others: &[&Schema]) -> Result<(), Inv
             if others.iter().any(|o| o.param(&p.name).is_some()) {
                 let names: Vec<&str> = schema.names().collect();
                 return Err(Invalid::at(
-                    &p.key,
+                    &p.value.origin,
                     format!(
                         "`{}` does not apply to a {what}; a {what} takes: {}",
                         p.name,
@@ -332,7 +332,7 @@ mod tests {
         let quad = "[[objects]]\ntype = \"quad\"\norigin = [0, 0, 0]\n";
         assert_eq!(
             err(&format!("{quad}radius = 1.0\n")),
-            "test.toml:4:1: objects[0].radius: `radius` does not apply to a quad; \
+            "test.toml:4:10: objects[0].radius: `radius` does not apply to a quad; \
              a quad takes: origin, edge_u, edge_v, material, transform, transform_end"
         );
         assert_eq!(
@@ -346,7 +346,7 @@ mod tests {
              `up`, `fov`, `aperture`, `focal_distance`, `shutter`, `position_end`, `look_at_end`"
         );
         let e = err("[[lights]]\ntype = \"point\"\nmodel = \"surface\"\n");
-        assert!(e.starts_with("test.toml:3:1: lights[0].model: `model` does not apply to a point light; a point light takes: position, intensity"), "{e}");
+        assert!(e.starts_with("test.toml:3:9: lights[0].model: `model` does not apply to a point light; a point light takes: position, intensity"), "{e}");
     }
 
     #[test]

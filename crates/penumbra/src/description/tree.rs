@@ -154,6 +154,9 @@ pub struct Node {
     /// Where the node's table is written (the root of the input when it
     /// has none).
     pub origin: Origin,
+    /// Where the plugin's name is written (its table's `type`, say); the
+    /// node's origin when the name is a default.
+    pub plugin_origin: Origin,
 }
 
 impl Node {
@@ -165,6 +168,7 @@ impl Node {
             id: None,
             props: Vec::new(),
             children: Vec::new(),
+            plugin_origin: origin.clone(),
             origin,
         }
     }

@@ -156,7 +156,7 @@ impl Shape {
     #[inline]
     pub fn geometry(&self, meshes: &[Mesh], hit: &ShapeHit, p: Vec3) -> LocalGeometry {
         match self {
-            Shape::Sphere { center, radius } => sphere_geometry(p - *center, *radius),
+            Shape::Sphere { center, .. } => sphere_geometry(p - *center),
             Shape::Quad(q) => LocalGeometry {
                 ng: q.normal,
                 ns: q.normal,
@@ -227,8 +227,8 @@ fn angle(x: f32, y: f32) -> f32 {
 
 /// A sphere's geometry at offset `d` from its centre (Mitsuba's
 /// parameterisation: poles on the z axis).
-fn sphere_geometry(d: Vec3, radius: f32) -> LocalGeometry {
-    let n = (d / radius).normalize_or_zero();
+fn sphere_geometry(d: Vec3) -> LocalGeometry {
+    let n = d.normalize_or_zero();
     let rxy = (d.x * d.x + d.y * d.y).sqrt();
     let (cos_phi, sin_phi) = if rxy > 0.0 {
         (d.x / rxy, d.y / rxy)

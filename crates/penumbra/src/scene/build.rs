@@ -23,7 +23,7 @@ use crate::geometry::motion::{Motion, Similarity};
 use crate::geometry::quad::Quad;
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::math::{Frame, Mat4, Quat, Rgb, Vec3};
+use crate::math::{Frame, Mat4, Quat, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec, PointTable};
 
 /// Why a description could not be built.
@@ -742,6 +742,9 @@ fn load_mesh(
                 .map(|&n| Vec3::from_array(n).normalize_or_zero())
                 .collect()
         }),
+        uvs: data
+            .uvs
+            .map(|ts| ts.iter().map(|&t| Vec2::from_array(t)).collect()),
         triangles: data.triangles,
     };
     if !smooth {
@@ -1014,4 +1017,33 @@ fn square_warnings(s: &Settings, bsdfs: &[Bsdf], emitters: &[Emitter]) -> Vec<St
         }
     });
     seen
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::math::Vec2;
+    use crate::scene::{LoadOptions, SceneSource};
+
+    /// Texture coordinates travel from the file to the scene's meshes,
+    /// smooth or flat, baked into world space or not.
+    #[test]
+    fn meshes_keep_the_texture_coordinates_of_their_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+        std::fs::write(dir.path().join("t.obj"), obj).unwrap();
+        let scene = "[[objects]]\ntype = \"mesh\"\npath = \"t.obj\"\n\n\
+                     [[objects]]\ntype = \"mesh\"\npath = \"t.obj\"\nsmooth = true\n\
+                     transform = { scale = 2.0, translate = [0.0, 1.0, 0.0] }\n";
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, scene).unwrap();
+        let source = SceneSource::open(path.to_str().unwrap(), &LoadOptions::default()).unwrap();
+        let built = source.build().unwrap();
+        let meshes = &built.world.meshes;
+        assert!(meshes.len() >= 2, "{} meshes", meshes.len());
+        let expected = vec![Vec2::ZERO, Vec2::X, Vec2::Y];
+        for mesh in meshes.iter() {
+            assert_eq!(mesh.uvs.as_ref(), Some(&expected));
+        }
+        assert!(meshes.iter().any(|m| m.positions[2].y == 3.0));
+    }
 }

@@ -12,6 +12,10 @@ pub struct MeshData {
     pub positions: Vec<[f32; 3]>,
     /// Per-vertex normals when the file has them for every vertex (PLY nx/ny/nz, OBJ vn referenced consistently); otherwise None.
     pub normals: Option<Vec<[f32; 3]>>,
+    /// Per-vertex texture coordinates (u, v) when the file has them for every vertex
+    /// (PLY u/v, s/t, texture_u/texture_v or texture_s/texture_t; OBJ vt named by
+    /// every face corner); otherwise None.
+    pub uvs: Option<Vec<[f32; 2]>>,
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -1,8 +1,30 @@
 //! Wavefront OBJ reader for triangle meshes.
 //!
-//! Only geometry is read: positions, normals and faces. Materials, groups, texture
-//! coordinates and free-form statements are skipped, because the renderer assigns
-//! materials in the scene description, not from the mesh file.
+//! Only geometry is read: positions (`v`), texture coordinates (`vt`), normals
+//! (`vn`) and faces (`f`). Materials, groups, parameter-space vertices and
+//! free-form statements are skipped, because the renderer assigns materials in
+//! the scene description, not from the mesh file.
+//!
+//! - `v x y z` may carry more numbers (`w`, or the common per-vertex colour
+//!   extension), which are checked as numbers and ignored.
+//! - `vt u [v [w]]`: a missing `v` is 0, as common readers take it; `w` is
+//!   checked as a number and ignored.
+//! - `vn x y z`.
+//! - A face corner is `i`, `i/t`, `i//n` or `i/t/n`; indices start at 1, and a
+//!   negative one counts back from the latest element of its kind. Every index
+//!   must be in range, whether or not its attribute ends up in the mesh.
+//! - Faces with more than 3 corners are fan-triangulated.
+//!
+//! OBJ indexes positions, texture coordinates and normals separately, while a
+//! mesh has one index per vertex. Texture coordinates are kept only if every
+//! face corner names one, and normals likewise, each decided on its own: a
+//! corner without `/t` drops the texture coordinates of the whole mesh, not its
+//! normals. When either is kept, each distinct
+//! (position, texture coordinate, normal) triple of the kept attributes becomes
+//! a vertex, numbered in order of first use: a position that faces use with
+//! different `vt` or `vn` indices is split into several vertices, and positions
+//! no face uses are left out. When neither is kept, the file's positions are the
+//! mesh's vertices, untouched.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -129,12 +151,13 @@ impl<'a> Statements<'a> {
     }
 }
 
-/// Marks a corner without a normal.
-const NO_NORMAL: u32 = u32::MAX;
+/// Marks a corner without a texture coordinate or a normal.
+const NO_INDEX: u32 = u32::MAX;
 
 #[derive(Clone, Copy, Debug)]
 struct Corner {
     position: u32,
+    texture: u32,
     normal: u32,
 }
 
@@ -142,6 +165,7 @@ struct Corner {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
     Position,
+    Texture,
     Normal,
 }
 
@@ -149,6 +173,7 @@ impl Kind {
     fn noun(self) -> &'static str {
         match self {
             Kind::Position => "vertex",
+            Kind::Texture => "texture coordinate",
             Kind::Normal => "normal",
         }
     }
@@ -156,6 +181,7 @@ impl Kind {
     fn plural(self) -> &'static str {
         match self {
             Kind::Position => "vertices",
+            Kind::Texture => "texture coordinates",
             Kind::Normal => "normals",
         }
     }
@@ -173,10 +199,12 @@ struct ForwardRef {
 struct Builder<'p> {
     path: &'p Path,
     positions: Vec<[f32; 3]>,
+    uvs: Vec<[f32; 2]>,
     normals: Vec<[f32; 3]>,
     corners: Vec<Corner>,
     face_starts: Vec<usize>,
     forward: Vec<ForwardRef>,
+    corners_with_texture: usize,
     corners_with_normal: usize,
 }
 
@@ -185,10 +213,12 @@ impl<'p> Builder<'p> {
         Builder {
             path,
             positions: Vec::new(),
+            uvs: Vec::new(),
             normals: Vec::new(),
             corners: Vec::new(),
             face_starts: Vec::new(),
             forward: Vec::new(),
+            corners_with_texture: 0,
             corners_with_normal: 0,
         }
     }
@@ -202,6 +232,10 @@ impl<'p> Builder<'p> {
             b"v" => {
                 let position = self.vector(args, "coordinates", true)?;
                 self.positions.push(position);
+            }
+            b"vt" => {
+                let uv = self.texture_coordinates(args)?;
+                self.uvs.push(uv);
             }
             b"vn" => {
                 let normal = self.vector(args, "normal components", false)?;
@@ -238,6 +272,32 @@ impl<'p> Builder<'p> {
         Ok(vector)
     }
 
+    /// Reads `u [v [w]]`: a missing `v` is 0, and `w` (of 3D textures) is
+    /// checked as a number and ignored.
+    fn texture_coordinates(&self, args: &mut Statements) -> Result<[f32; 2], MeshError> {
+        let Some(u) = args.token() else {
+            let message = "expected 1 to 3 texture coordinates, found 0".to_string();
+            return Err(self.error(args.end, message));
+        };
+        let mut uv = [self.number(&u)?, 0.0];
+        let mut found = 1;
+        while let Some(token) = args.token() {
+            if found == 3 {
+                let message = format!(
+                    "unexpected {} after 3 texture coordinates",
+                    quote(token.text)
+                );
+                return Err(self.error(token.at, message));
+            }
+            let value = self.number(&token)?;
+            if found == 1 {
+                uv[1] = value;
+            }
+            found += 1;
+        }
+        Ok(uv)
+    }
+
     /// Parses a finite `f32`; NaN and infinities would poison bounds and the BVH.
     fn number(&self, token: &Token) -> Result<f32, MeshError> {
         let value = std::str::from_utf8(token.text)
@@ -257,7 +317,8 @@ impl<'p> Builder<'p> {
         let start = self.corners.len();
         while let Some(token) = args.token() {
             let corner = self.corner(&token)?;
-            self.corners_with_normal += usize::from(corner.normal != NO_NORMAL);
+            self.corners_with_texture += usize::from(corner.texture != NO_INDEX);
+            self.corners_with_normal += usize::from(corner.normal != NO_INDEX);
             self.corners.push(corner);
         }
         let count = self.corners.len() - start;
@@ -282,16 +343,21 @@ impl<'p> Builder<'p> {
             );
             return Err(self.error(token.at, message));
         }
-        // Texture coordinates are not used, but a garbled one still means a garbled file.
-        if let Some(texture) = texture.filter(|t| !t.is_empty()) {
-            self.raw_index(texture, token)?;
-        }
+        // `i/` and `i//n` name no texture coordinate.
+        let texture = match texture {
+            Some(texture) if !texture.is_empty() => self.index(texture, token, Kind::Texture)?,
+            _ => NO_INDEX,
+        };
         let position = self.index(position, token, Kind::Position)?;
         let normal = match normal {
             Some(normal) => self.index(normal, token, Kind::Normal)?,
-            None => NO_NORMAL,
+            None => NO_INDEX,
         };
-        Ok(Corner { position, normal })
+        Ok(Corner {
+            position,
+            texture,
+            normal,
+        })
     }
 
     fn raw_index(&self, text: &[u8], token: &Token) -> Result<i64, MeshError> {
@@ -309,10 +375,7 @@ impl<'p> Builder<'p> {
     /// Resolves a 1-based or negative (relative) index to a 0-based one.
     fn index(&mut self, text: &[u8], token: &Token, kind: Kind) -> Result<u32, MeshError> {
         let raw = self.raw_index(text, token)?;
-        let defined = match kind {
-            Kind::Position => self.positions.len(),
-            Kind::Normal => self.normals.len(),
-        } as i64;
+        let defined = self.defined(kind) as i64;
         let noun = kind.noun();
         let resolved = if raw < 0 { defined + raw } else { raw - 1 };
         if raw < 0 && resolved < 0 {
@@ -320,9 +383,9 @@ impl<'p> Builder<'p> {
                 format!("relative {noun} index {raw} reaches before the first {noun} ({defined} defined so far)");
             return Err(self.error(token.at, message));
         }
-        // The largest u32 is reserved as the "no normal" marker.
+        // The largest u32 is reserved as the "no index" marker.
         let index = match u32::try_from(resolved) {
-            Ok(index) if index != NO_NORMAL => index,
+            Ok(index) if index != NO_INDEX => index,
             _ => return Err(self.error(token.at, format!("{noun} index {raw} is too large"))),
         };
         if resolved >= defined {
@@ -335,12 +398,18 @@ impl<'p> Builder<'p> {
         Ok(index)
     }
 
+    /// How many elements of a kind the file has defined so far.
+    fn defined(&self, kind: Kind) -> usize {
+        match kind {
+            Kind::Position => self.positions.len(),
+            Kind::Texture => self.uvs.len(),
+            Kind::Normal => self.normals.len(),
+        }
+    }
+
     fn finish(self) -> Result<MeshData, MeshError> {
         for forward in &self.forward {
-            let defined = match forward.kind {
-                Kind::Position => self.positions.len(),
-                Kind::Normal => self.normals.len(),
-            };
+            let defined = self.defined(forward.kind);
             if forward.index as usize >= defined {
                 let (noun, plural) = (forward.kind.noun(), forward.kind.plural());
                 let index = u64::from(forward.index) + 1;
@@ -350,41 +419,51 @@ impl<'p> Builder<'p> {
                 return Err(self.error(forward.at, message));
             }
         }
-        let with_normals =
-            !self.corners.is_empty() && self.corners_with_normal == self.corners.len();
-        if with_normals {
-            self.with_normals()
+        let every_corner = |count| !self.corners.is_empty() && count == self.corners.len();
+        let kept = Kept {
+            uvs: every_corner(self.corners_with_texture),
+            normals: every_corner(self.corners_with_normal),
+        };
+        if kept.uvs || kept.normals {
+            self.split(kept)
         } else {
             Ok(self.positions_only())
         }
     }
 
-    /// Without usable normals the file's vertex array is the mesh's, untouched.
+    /// Without texture coordinates or normals the file's vertex array is the
+    /// mesh's, untouched.
     fn positions_only(self) -> MeshData {
         let triangles = fan(&self.face_starts, &self.corners, |c| c.position);
         MeshData {
             positions: self.positions,
             normals: None,
+            uvs: None,
             triangles,
         }
     }
 
-    /// OBJ indexes positions and normals separately, but the renderer wants one index
-    /// per vertex, so each distinct (position, normal) pair becomes a vertex.
-    fn with_normals(self) -> Result<MeshData, MeshError> {
-        let mut ids: HashMap<(u32, u32), u32> = HashMap::new();
+    /// OBJ indexes positions, texture coordinates and normals separately, but the
+    /// renderer wants one index per vertex, so each distinct (position, texture
+    /// coordinate, normal) triple of the kept attributes becomes a vertex.
+    fn split(self, kept: Kept) -> Result<MeshData, MeshError> {
+        let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
         let mut positions = Vec::new();
+        let mut uvs = Vec::new();
         let mut normals = Vec::new();
         let mut remapped = Vec::with_capacity(self.corners.len());
         for corner in &self.corners {
-            let key = (corner.position, corner.normal);
+            let texture = if kept.uvs { corner.texture } else { NO_INDEX };
+            let normal = if kept.normals {
+                corner.normal
+            } else {
+                NO_INDEX
+            };
+            let key = [corner.position, texture, normal];
             let id = match ids.get(&key) {
                 Some(&id) => id,
                 None => {
-                    let (Some(&p), Some(&n)) = (
-                        self.positions.get(corner.position as usize),
-                        self.normals.get(corner.normal as usize),
-                    ) else {
+                    let Some(vertex) = self.vertex(key, kept) else {
                         return Err(self.error(Location::Unknown, "face index out of range".into()));
                     };
                     let Ok(id) = u32::try_from(positions.len()) else {
@@ -392,8 +471,9 @@ impl<'p> Builder<'p> {
                             self.error(Location::Unknown, "too many distinct vertices".into())
                         );
                     };
-                    positions.push(p);
-                    normals.push(n);
+                    positions.push(vertex.position);
+                    uvs.extend(vertex.uv);
+                    normals.extend(vertex.normal);
                     ids.insert(key, id);
                     id
                 }
@@ -403,10 +483,46 @@ impl<'p> Builder<'p> {
         let triangles = fan(&self.face_starts, &remapped, |&id| id);
         Ok(MeshData {
             positions,
-            normals: Some(normals),
+            normals: kept.normals.then_some(normals),
+            uvs: kept.uvs.then_some(uvs),
             triangles,
         })
     }
+
+    /// The vertex that `[position, texture, normal]` indices name; None if one
+    /// of the kept ones is out of range, which [`Builder::finish`] has ruled out.
+    fn vertex(&self, [position, texture, normal]: [u32; 3], kept: Kept) -> Option<Vertex> {
+        let p = *self.positions.get(position as usize)?;
+        let t = if kept.uvs {
+            Some(*self.uvs.get(texture as usize)?)
+        } else {
+            None
+        };
+        let n = if kept.normals {
+            Some(*self.normals.get(normal as usize)?)
+        } else {
+            None
+        };
+        Some(Vertex {
+            position: p,
+            uv: t,
+            normal: n,
+        })
+    }
+}
+
+/// Which per-corner attributes the mesh keeps: those every face corner names.
+#[derive(Clone, Copy, Debug)]
+struct Kept {
+    uvs: bool,
+    normals: bool,
+}
+
+/// A vertex of the mesh: a position with the kept attributes of its corners.
+struct Vertex {
+    position: [f32; 3],
+    uv: Option<[f32; 2]>,
+    normal: Option<[f32; 3]>,
 }
 
 /// Fan-triangulates each face, exact for the convex polygons modellers export.
@@ -479,8 +595,9 @@ mod tests {
         let faces = "f 1/1 2/2 3/3\nf 1/1/1 2/2/1 3/3/1\nf 1//1 3//1 4//1\n";
         let text = format!("{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n{faces}");
         let mesh = parse(&text).unwrap();
-        // One face lacks normals, so none are kept and the positions are used as they are.
-        assert_eq!(mesh.normals, None);
+        // One face lacks normals and another texture coordinates, so neither is
+        // kept and the positions are used as they are.
+        assert_eq!((mesh.normals, mesh.uvs), (None, None));
         assert_eq!(mesh.positions.len(), 4);
         assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 1, 2], [0, 2, 3]]);
     }
@@ -494,6 +611,7 @@ mod tests {
         let mesh = parse(text).unwrap();
         let normals = mesh.normals.as_ref().unwrap();
         assert_eq!((mesh.positions.len(), normals.len()), (6, 6));
+        assert_eq!(mesh.uvs, None);
         assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 4, 5], [0, 2, 1]]);
         let z = [0.0, 0.0, 1.0];
         let x = [1.0, 0.0, 0.0];
@@ -503,6 +621,194 @@ mod tests {
         assert_eq!(
             &mesh.positions[3..],
             &[[1.0, 0.0, 0.0], [1.0, 1.0, 1.0], [1.0, 1.0, 0.0]]
+        );
+    }
+
+    #[test]
+    fn texture_coordinates_follow_their_corners() {
+        let text = format!("{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n");
+        let mesh = parse(&text).unwrap();
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(mesh.positions, square);
+        let uvs = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(mesh.uvs, Some(uvs));
+        assert_eq!(mesh.normals, None);
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn each_corner_keeps_its_position_texture_coordinate_and_normal() {
+        // Position 2 is used with two normals, position 3 with two texture
+        // coordinates: each distinct triple is a vertex, in order of first use.
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0.5 0.5\n\
+                    vn 0 0 1\nvn 0 1 0\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/2 3/4/1\n";
+        let mesh = parse(text).unwrap();
+        let (z, y) = ([0.0, 0.0, 1.0], [0.0, 1.0, 0.0]);
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        assert_eq!(mesh.positions, positions);
+        let uvs = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.5, 0.5]];
+        assert_eq!(mesh.uvs, Some(uvs));
+        assert_eq!(mesh.normals, Some(vec![z, z, z, y, z]));
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 3, 4]]);
+    }
+
+    #[test]
+    fn a_position_with_two_texture_coordinates_is_split() {
+        // The faces share the edge 2-3 but map it to different places of the
+        // texture (a seam): both copies keep their own coordinates. Corners
+        // repeated with the same `vt` stay one vertex.
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\n\
+                    vt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 0.5 0.25\nvt 0.5 0.75\nvt 1 0\n\
+                    f 1/1 2/2 3/3\nf 2/4 4/6 3/5\nf 3/3 1/1 2/2\n";
+        let mesh = parse(text).unwrap();
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        assert_eq!(mesh.positions, positions);
+        let uvs = vec![
+            [0.0, 0.0],
+            [0.5, 0.0],
+            [0.5, 1.0],
+            [0.5, 0.25],
+            [1.0, 0.0],
+            [0.5, 0.75],
+        ];
+        assert_eq!(mesh.uvs, Some(uvs));
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 4, 5], [2, 0, 1]]);
+    }
+
+    #[test]
+    fn negative_texture_indices_count_back_from_the_latest() {
+        let text = format!(
+            "{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nf -4/-3 -3/-2 -2/-1\nvt 0.5 0.5\nf -4/-1 -2/-3 -1/-4\n"
+        );
+        let mesh = parse(&text).unwrap();
+        let uvs = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.5, 0.5],
+            [1.0, 0.0],
+            [0.0, 0.0],
+        ];
+        assert_eq!(mesh.uvs, Some(uvs));
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(mesh.positions, [0, 1, 2, 0, 2, 3].map(|i| square[i]));
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 4, 5]]);
+    }
+
+    #[test]
+    fn short_and_long_texture_coordinates() {
+        // `vt u` means (u, 0); a third number (w) is ignored.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25\nvt 0.5 0.75 0.9\nvt 1 1\nf 1/1 2/2 3/3\n";
+        let mesh = parse(text).unwrap();
+        assert_eq!(mesh.uvs, Some(vec![[0.25, 0.0], [0.5, 0.75], [1.0, 1.0]]));
+    }
+
+    #[test]
+    fn attributes_some_corners_lack_are_dropped_each_on_its_own() {
+        // Every corner has a normal, one face has no texture coordinates.
+        let text = format!("{SQUARE}vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1//1 3//1 4//1\n");
+        let mesh = parse(&text).unwrap();
+        assert_eq!(mesh.uvs, None);
+        assert_eq!(mesh.normals, Some(vec![[0.0, 0.0, 1.0]; 4]));
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        // Every corner has a texture coordinate, one face has no normals.
+        let text =
+            format!("{SQUARE}vt 0 0\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1/2 3/1 4/1\n");
+        let mesh = parse(&text).unwrap();
+        assert_eq!(mesh.normals, None);
+        assert_eq!(
+            mesh.uvs,
+            Some(vec![
+                [0.0, 0.0],
+                [0.0, 0.0],
+                [0.0, 0.0],
+                [1.0, 1.0],
+                [0.0, 0.0]
+            ])
+        );
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 2, 4]]);
+    }
+
+    #[test]
+    fn texture_coordinate_errors_give_line_and_column() {
+        assert_error(
+            "vt\n",
+            1,
+            3,
+            &["expected 1 to 3 texture coordinates, found 0"],
+        );
+        assert_error("v 0 0 0\n vt 0.5 x\n", 2, 9, &["malformed number `x`"]);
+        assert_error(
+            "vt 1 2 3 4\n",
+            1,
+            10,
+            &["unexpected `4` after 3 texture coordinates"],
+        );
+        assert_error("vt nan 0\n", 1, 4, &["`nan` is not a finite number"]);
+        let one = format!("{SQUARE}vt 0 0\n");
+        assert_error(
+            &format!("{one}f 1/1 2/1 3/2\n"),
+            6,
+            11,
+            &[
+                "texture coordinate index 2 is out of range",
+                "1 texture coordinates",
+            ],
+        );
+        // Indices are checked even where the mesh keeps no texture coordinates.
+        assert_error(
+            &format!("{one}f 1 2/7 3\n"),
+            6,
+            5,
+            &["texture coordinate index 7 is out of range"],
+        );
+        assert_error(
+            &format!("{one}f 1/1 2/0 3/1\n"),
+            6,
+            7,
+            &["index 0 is invalid"],
+        );
+        assert_error(
+            &format!("{one}f 1/1 2/1 3/-2\n"),
+            6,
+            11,
+            &["relative texture coordinate index -2", "1 defined so far"],
+        );
+        assert_error(
+            &format!("{one}f 1/1 2/1099511627776 3/1\n"),
+            6,
+            7,
+            &["texture coordinate index 1099511627776 is too large"],
+        );
+        let error = parse(&format!("{one}f 1/1 2/1 3/2\n"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            error,
+            "test.obj:6:11: texture coordinate index 2 is out of range (the file has 1 texture coordinates)"
         );
     }
 

@@ -1,5 +1,14 @@
 //! Stanford PLY reader (ASCII and both binary byte orders).
 //!
+//! The `vertex` element gives the positions (`x`, `y`, `z`, required), normals
+//! (`nx`, `ny`, `nz`, when all three are present) and texture coordinates: the
+//! first pair present, in this order, of `u`/`v`, `s`/`t`, `texture_u`/`texture_v`
+//! and `texture_s`/`texture_t` (names as written, lower case; numbers of any
+//! type, not lists). A vertex with only one property of a pair has no texture
+//! coordinates from it. The `face` element's `vertex_indices` (or `vertex_index`)
+//! list gives polygons, fan-triangulated. Other elements and properties are
+//! skipped.
+//!
 //! Files come from scanners, converters and the internet, so every count and index in
 //! them is treated as untrusted: allocations are bounded by the bytes actually present
 //! and all reads are checked, so a corrupt file yields an error naming the spot rather
@@ -55,6 +64,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, MeshError> {
 enum Action {
     Position(usize, Scalar),
     Normal(usize, Scalar),
+    Uv(usize, Scalar),
     Corners { count: Scalar, item: Scalar },
     Skip(PropKind),
 }
@@ -64,6 +74,7 @@ enum Plan {
     Vertices {
         actions: Vec<Action>,
         normals: bool,
+        uvs: bool,
     },
     Faces {
         actions: Vec<Action>,
@@ -148,6 +159,7 @@ fn vertex_plan(element: &Element, path: &Path) -> Result<Plan, MeshError> {
     for axis in ["nx", "ny", "nz"] {
         normals &= scalar_named(element, axis, path)?.is_some();
     }
+    let uv = uv_names(element);
     let actions = element
         .props
         .iter()
@@ -158,10 +170,36 @@ fn vertex_plan(element: &Element, path: &Path) -> Result<Plan, MeshError> {
             ("nx", PropKind::Scalar(t)) if normals => Action::Normal(0, t),
             ("ny", PropKind::Scalar(t)) if normals => Action::Normal(1, t),
             ("nz", PropKind::Scalar(t)) if normals => Action::Normal(2, t),
+            (name, PropKind::Scalar(t)) if uv.is_some_and(|(u, _)| u == name) => Action::Uv(0, t),
+            (name, PropKind::Scalar(t)) if uv.is_some_and(|(_, v)| v == name) => Action::Uv(1, t),
             (_, kind) => Action::Skip(kind),
         })
         .collect();
-    Ok(Plan::Vertices { actions, normals })
+    Ok(Plan::Vertices {
+        actions,
+        normals,
+        uvs: uv.is_some(),
+    })
+}
+
+/// Names of texture coordinate pairs, the first present one used.
+const UV_NAMES: [(&str, &str); 4] = [
+    ("u", "v"),
+    ("s", "t"),
+    ("texture_u", "texture_v"),
+    ("texture_s", "texture_t"),
+];
+
+/// The texture coordinate pair a vertex element has, if any: the first of
+/// [`UV_NAMES`] whose two properties are both numbers.
+fn uv_names(element: &Element) -> Option<(&'static str, &'static str)> {
+    let number = |name: &str| {
+        element
+            .props
+            .iter()
+            .any(|p| p.name == name && matches!(p.kind, PropKind::Scalar(_)))
+    };
+    UV_NAMES.into_iter().find(|&(u, v)| number(u) && number(v))
 }
 
 fn face_plan(element: &Element, vertex_count: u64, path: &Path) -> Result<Plan, MeshError> {
@@ -205,8 +243,16 @@ fn read_body<S: Source>(source: &mut S, header: &Header, plans: &[Plan]) -> Fall
         }
         source.start_element(element);
         match plan {
-            Plan::Vertices { actions, normals } => {
-                read_vertices(source, element, actions, *normals, &mut mesh)?
+            Plan::Vertices {
+                actions,
+                normals,
+                uvs,
+            } => {
+                let with = Attributes {
+                    normals: *normals,
+                    uvs: *uvs,
+                };
+                read_vertices(source, element, actions, with, &mut mesh)?
             }
             Plan::Faces {
                 actions,
@@ -236,24 +282,34 @@ fn skip_element<S: Source>(source: &mut S, element: &Element) -> Fallible<()> {
     Ok(())
 }
 
+/// Which vertex attributes besides positions the file has.
+#[derive(Clone, Copy, Debug)]
+struct Attributes {
+    normals: bool,
+    uvs: bool,
+}
+
 fn read_vertices<S: Source>(
     source: &mut S,
     element: &Element,
     actions: &[Action],
-    with_normals: bool,
+    with: Attributes,
     mesh: &mut MeshData,
 ) -> Fallible<()> {
     let capacity = source.capacity(element);
     mesh.positions.reserve_exact(capacity);
-    let mut normals = with_normals.then(|| Vec::with_capacity(capacity));
+    let mut normals = with.normals.then(|| Vec::with_capacity(capacity));
+    let mut uvs = with.uvs.then(|| Vec::with_capacity(capacity));
     for index in 0..element.count {
         source.begin_record(index)?;
         let mut position = [0.0; 3];
         let mut normal = [0.0; 3];
+        let mut uv = [0.0; 2];
         for (action, prop) in actions.iter().zip(&element.props) {
             let (slot, t) = match *action {
                 Action::Position(axis, t) => (position.get_mut(axis), t),
                 Action::Normal(axis, t) => (normal.get_mut(axis), t),
+                Action::Uv(axis, t) => (uv.get_mut(axis), t),
                 Action::Corners { .. } | Action::Skip(_) => {
                     source.skip(prop.kind, &prop.name)?;
                     continue;
@@ -269,8 +325,12 @@ fn read_vertices<S: Source>(
         if let Some(normals) = &mut normals {
             normals.push(normal);
         }
+        if let Some(uvs) = &mut uvs {
+            uvs.push(uv);
+        }
     }
     mesh.normals = normals;
+    mesh.uvs = uvs;
     Ok(())
 }
 
@@ -432,6 +492,7 @@ mod tests {
         MeshData {
             positions: POSITIONS.to_vec(),
             normals: Some((0..POSITIONS.len()).map(normal).collect()),
+            uvs: None,
             triangles: FANS.to_vec(),
         }
     }
@@ -847,6 +908,202 @@ mod tests {
         assert_error(twice.as_bytes(), at(7, 1), &["second `vertex`"]);
     }
 
+    const SQUARE: [[f32; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+
+    /// The value of vertex property `k` (after x, y, z) of vertex `i` in
+    /// [`textured`]: whole numbers for integer types.
+    fn extra_value(i: usize, k: usize, ty: &str) -> f64 {
+        let whole = (i + 4 * k) as f64;
+        match ty {
+            "float" | "double" => whole / 4.0,
+            _ => whole,
+        }
+    }
+
+    /// Texture coordinates [`textured`] holds when `u` and `v` are its
+    /// properties number `ku` and `kv` after x, y, z.
+    fn textured_uvs(ku: usize, kv: usize, ty: &str) -> Vec<[f32; 2]> {
+        (0..SQUARE.len())
+            .map(|i| [extra_value(i, ku, ty) as f32, extra_value(i, kv, ty) as f32])
+            .collect()
+    }
+
+    /// A square of two triangles in `format` (`ascii`, `binary_little_endian`
+    /// or `binary_big_endian`) whose vertices carry, after x, y, z, one
+    /// property of type `ty` (`float`, `double` or `uchar`) for each of `names`.
+    fn textured(format: &str, names: &[&str], ty: &str) -> Vec<u8> {
+        let mut header = format!(
+            "ply\nformat {format} 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\n"
+        );
+        for name in names {
+            writeln!(header, "property {ty} {name}").unwrap();
+        }
+        header.push_str("element face 2\nproperty list uchar int vertex_indices\nend_header\n");
+        let faces = [[0, 1, 2], [0, 2, 3]];
+        if format == "ascii" {
+            for (i, [x, y, z]) in SQUARE.iter().enumerate() {
+                write!(header, "{x} {y} {z}").unwrap();
+                for k in 0..names.len() {
+                    write!(header, " {}", extra_value(i, k, ty)).unwrap();
+                }
+                header.push('\n');
+            }
+            for [a, b, c] in faces {
+                writeln!(header, "3 {a} {b} {c}").unwrap();
+            }
+            return header.into_bytes();
+        }
+        let mut w = Writer::new(&header, format == "binary_big_endian");
+        for (i, position) in SQUARE.iter().enumerate() {
+            for &x in position {
+                w.f32(x);
+            }
+            for k in 0..names.len() {
+                let value = extra_value(i, k, ty);
+                match ty {
+                    "float" => w.f32(value as f32),
+                    "double" => w.f64(value),
+                    _ => w.u8(value as u8),
+                };
+            }
+        }
+        for face in faces {
+            w.u8(3);
+            for i in face {
+                w.i32(i);
+            }
+        }
+        w.out
+    }
+
+    /// Offset of the first byte after `end_header`.
+    fn body_start(bytes: &[u8]) -> usize {
+        let end = b"end_header\n";
+        bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len()
+    }
+
+    const FORMATS: [&str; 3] = ["ascii", "binary_little_endian", "binary_big_endian"];
+
+    #[test]
+    fn texture_coordinates_in_every_encoding_and_spelling() {
+        for format in FORMATS {
+            for (u, v) in UV_NAMES {
+                let mesh = parse(&textured(format, &[v, "w", u], "float")).unwrap();
+                assert_eq!(mesh.uvs, Some(textured_uvs(2, 0, "float")), "{format} {u}");
+                assert_eq!(mesh.positions, SQUARE, "{format} {u}");
+                assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+                assert_eq!(mesh.normals, None);
+            }
+            for ty in ["double", "uchar"] {
+                let mesh = parse(&textured(format, &["s", "t"], ty)).unwrap();
+                assert_eq!(mesh.uvs, Some(textured_uvs(0, 1, ty)), "{format} {ty}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_first_pair_present_wins() {
+        let all = [
+            "texture_s",
+            "texture_t",
+            "s",
+            "t",
+            "texture_u",
+            "texture_v",
+            "u",
+            "v",
+        ];
+        let some = ["texture_v", "t", "texture_u", "s"];
+        // `u` without `v` is no pair.
+        let lone_u = ["texture_t", "texture_s", "u"];
+        for format in FORMATS {
+            let mesh = parse(&textured(format, &all, "float")).unwrap();
+            assert_eq!(mesh.uvs, Some(textured_uvs(6, 7, "float")), "{format}");
+            let mesh = parse(&textured(format, &some, "float")).unwrap();
+            assert_eq!(mesh.uvs, Some(textured_uvs(3, 1, "float")), "{format}");
+            let mesh = parse(&textured(format, &lone_u, "float")).unwrap();
+            assert_eq!(mesh.uvs, Some(textured_uvs(1, 0, "float")), "{format}");
+        }
+    }
+
+    #[test]
+    fn half_a_pair_gives_no_texture_coordinates() {
+        for format in FORMATS {
+            for names in [&["u"][..], &["u", "t"], &["texture_u", "v"], &["U", "V"]] {
+                let mesh = parse(&textured(format, names, "float")).unwrap();
+                assert_eq!(mesh.uvs, None, "{format} {names:?}");
+                assert_eq!(mesh.positions, SQUARE);
+                assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+            }
+        }
+        // A list is not a texture coordinate: skipped like any other property.
+        let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                    property float z\nproperty list uchar float u\nproperty float v\n\
+                    element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                    0 0 0 2 0.5 0.5 1\n1 0 0 0 1\n0 1 0 1 7 1\n3 0 1 2\n";
+        let mesh = parse(text.as_bytes()).unwrap();
+        assert_eq!((mesh.uvs, mesh.triangles.len()), (None, 1));
+    }
+
+    #[test]
+    fn texture_coordinates_must_be_finite() {
+        let text = String::from_utf8(textured("ascii", &["u", "v"], "float")).unwrap();
+        let text = text.replace("0 1 0 0.75 1.75", "0 1 0 0.75 nan");
+        assert_error(text.as_bytes(), at(15, 12), &["vertex 3", "`v`", "finite"]);
+        let mut bytes = textured("binary_big_endian", &["u", "v"], "float");
+        let header = b"end_header\n";
+        let body = bytes
+            .windows(header.len())
+            .position(|w| w == header)
+            .unwrap()
+            + header.len();
+        // Vertices take 20 bytes: x, y, z, u, v.
+        let v = body + 2 * 20 + 16;
+        bytes[v..v + 4].copy_from_slice(&f32::INFINITY.to_be_bytes());
+        assert_error(&bytes, byte(v), &["vertex 2", "`v` is inf", "finite"]);
+    }
+
+    #[test]
+    fn textured_files_cut_anywhere_fail() {
+        for format in &FORMATS[1..] {
+            let bytes = textured(format, &["u", "v"], "double");
+            for cut in 0..bytes.len() {
+                let result = parse(&bytes[..cut]);
+                assert!(
+                    matches!(result, Err(MeshError::Parse { .. })),
+                    "{format}, cut at {cut}: {result:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn textured_files_claiming_absurd_counts_fail_fast() {
+        let start = Instant::now();
+        for format in FORMATS {
+            let bytes = textured(format, &["u", "v"], "float");
+            let (header, body) = bytes.split_at(body_start(&bytes));
+            let header = std::str::from_utf8(header).unwrap();
+            let mut lying = header
+                .replace("element vertex 4", "element vertex 4000000000")
+                .into_bytes();
+            lying.extend_from_slice(body);
+            let message = parse(&lying).unwrap_err().to_string();
+            assert!(message.contains("of 4000000000"), "{format}: {message}");
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            start.elapsed()
+        );
+    }
+
     /// xorshift64: deterministic, dependency-free randomness for the fuzz loop.
     struct Rng(u64);
 
@@ -900,6 +1157,23 @@ mod tests {
     }
 
     #[test]
+    fn mutated_textured_files_never_panic() {
+        let seeds = FORMATS.map(|format| textured(format, &["s", "t", "u", "v"], "float"));
+        let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+        let mut kept = 0;
+        for round in 0..3000 {
+            let mut bytes = seeds[round % seeds.len()].clone();
+            mutate(&mut rng, &mut bytes);
+            if let Ok(mesh) = parse(&bytes) {
+                let uvs = mesh.uvs.as_ref().map_or(0, Vec::len);
+                assert!(uvs == 0 || uvs == mesh.positions.len(), "{mesh:?}");
+                kept += usize::from(uvs > 0);
+            }
+        }
+        assert!(kept > 0, "no mutated file kept its texture coordinates");
+    }
+
+    #[test]
     fn reads_the_stanford_bunny_quickly() {
         // The test command passes the bunny's path; nothing looks for it.
         let path = std::path::PathBuf::from(std::env::var_os("PENUMBRA_BUNNY").unwrap_or_default());
@@ -926,7 +1200,7 @@ mod tests {
             (mesh.positions.len(), mesh.triangles.len()),
             (34_834, 69_451)
         );
-        assert_eq!(mesh.normals, None);
+        assert_eq!((mesh.normals, mesh.uvs), (None, None));
         let ranges = [(-0.0947, 0.0610), (0.0330, 0.1873), (-0.0619, 0.0588)];
         for (axis, (low, high)) in ranges.into_iter().enumerate() {
             let values = mesh.positions.iter().map(|p| p[axis]);
