@@ -193,6 +193,8 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
         elif o["kind"] == "stop_rule":
             choices = ("calibrated", "cycles", "povray", "dammertz")
             r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)
+        elif o["kind"] == "integrator":
+            r.add_argument(o["flag"], dest=name, choices=("whitted",), metavar=o["metavar"], help=help)
         elif o["kind"] == "path":
             r.add_argument(o["flag"], dest=name, metavar=o["metavar"], help=help)
         else:

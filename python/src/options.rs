@@ -17,7 +17,9 @@ use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::sampling::{Distribution, Filter, PointTable};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
-use penumbra::scene::{Choices, Overrides, Points, RenderOption, StopRule, OPTIONS};
+use penumbra::scene::{
+    Choices, IntegratorChoice, Overrides, Points, RenderOption, StopRule, OPTIONS,
+};
 
 use crate::points::{parse_points, PointsArg};
 
@@ -119,6 +121,7 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
             Kind::Int { .. } => "int",
             Kind::NonNegative | Kind::Positive | Kind::Between(..) => "float",
             Kind::StopRule => "stop_rule",
+            Kind::Integrator => "integrator",
             Kind::Switch => "bool",
             Kind::Distribution => "distribution",
             Kind::Filter => "filter",
@@ -150,6 +153,7 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
         Kind::Distribution => Value::Distribution(parse_distribution(name, v)?),
         Kind::Filter => Value::Filter(parse_filter(name, v)?),
         Kind::StopRule => Value::StopRule(parse_stop_rule(name, v)?),
+        Kind::Integrator => Value::Integrator(parse_integrator(name, v)?),
         Kind::Between(lo, hi) => Value::Number(between_f32(name, v, lo, hi)?),
         Kind::Colour => {
             return Err(PyTypeError::new_err(format!(
@@ -263,6 +267,12 @@ pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribu
 pub fn parse_stop_rule(name: &str, v: &Bound<'_, PyAny>) -> PyResult<StopRule> {
     let from = StopRule::from_name;
     by_name(name, "stop rule", v, from, &StopRule::ALL, StopRule::name)
+}
+
+/// An integrator by name, with the CLI's message for an unknown one.
+pub fn parse_integrator(name: &str, v: &Bound<'_, PyAny>) -> PyResult<IntegratorChoice> {
+    let from = IntegratorChoice::from_name;
+    by_name(name, "integrator", v, from, &IntegratorChoice::ALL, IntegratorChoice::name)
 }
 
 /// A pixel filter by name, with the CLI's message for an unknown one.

@@ -17,9 +17,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple, PyType};
 use serde_json::Value;
 
+use penumbra::description::toml_to_json;
 use penumbra::scene::{
-    default_bunny_path, LoadOptions, Scene as Built, SceneDesc,
-    SceneError as LibSceneError, SceneSource, WorldCache,
+    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError, SceneSource,
+    WorldCache,
 };
 
 use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
@@ -86,11 +87,7 @@ impl Scene {
             Text::Json { text } => {
                 let value: Value = serde_json::from_str(text)
                     .map_err(|e| LibSceneError::new(format!("corrupt scene JSON: {e}")))?;
-                Ok(SceneSource::from_desc(
-                    desc_from_value(value)?,
-                    &self.base_dir,
-                    &opts,
-                ))
+                SceneSource::from_json(&value, &self.base_dir, &opts)
             }
         }
     }
@@ -100,7 +97,7 @@ impl Scene {
     /// a `points=` function is called for the set sizes of the built scene.
     pub fn build(&self, py: Python<'_>, opts: &Options) -> PyResult<Built> {
         let mut source = self.source().map_err(scene_error)?;
-        opts.overrides.apply(&mut source.desc);
+        opts.overrides.apply(&mut source);
         let built = py.detach(|| {
             let mut worlds = self.worlds.lock().unwrap_or_else(|e| e.into_inner());
             source.build_reusing(&mut worlds)
@@ -155,20 +152,6 @@ impl Scene {
     }
 }
 
-/// A description from JSON, with serde's message at the key path
-/// (`objects[1].radius: invalid type: ...`), as a dict has no lines to point at.
-fn desc_from_value(value: Value) -> Result<SceneDesc, LibSceneError> {
-    serde_path_to_error::deserialize(value).map_err(|e| {
-        let path = e.path().to_string();
-        let message = e.inner().to_string();
-        if path == "." {
-            LibSceneError::new(message)
-        } else {
-            LibSceneError::new(format!("{path}: {message}"))
-        }
-    })
-}
-
 #[pymethods]
 impl Scene {
     /// What the stats call the scene: the path or built-in name given to
@@ -206,14 +189,17 @@ impl Scene {
             .map(|p| p.to_string_lossy().into_owned())
     }
 
-    /// The description as a dict (defaults filled in, absent values left
-    /// out). `scene_from_dict(scene.to_dict(), base_dir=scene.base_dir)`
-    /// renders exactly like `scene`: this is how animation frames change a
-    /// camera or an object.
+    /// The description as a dict, shaped like the scene file: the keys the
+    /// file (or dict) gives, defaults left out.
+    /// `scene_from_dict(scene.to_dict(), base_dir=scene.base_dir)` renders
+    /// exactly like `scene`: this is how animation frames change a camera
+    /// or an object.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let source = self.source().map_err(scene_error)?;
-        let value = serde_json::to_value(&source.desc)
-            .map_err(|e| PyValueError::new_err(format!("cannot convert the scene: {e}")))?;
+        let value = match &self.text {
+            Text::Toml { text, file } => toml_to_json(text, file).map_err(scene_error)?,
+            Text::Json { text } => serde_json::from_str(text)
+                .map_err(|e| PyValueError::new_err(format!("cannot convert the scene: {e}")))?,
+        };
         json_to_py_with(
             py,
             &value,
@@ -415,6 +401,7 @@ fn dict_text(func: &str, d: &Bound<'_, PyAny>) -> PyResult<Text> {
         }
     })?;
     let text = value.to_string();
-    desc_from_value(value).map_err(scene_error)?;
+    // Types, shapes and keys are checked now, values when the scene is built.
+    SceneSource::from_json(&value, Path::new("."), &LoadOptions::default()).map_err(scene_error)?;
     Ok(Text::Json { text })
 }

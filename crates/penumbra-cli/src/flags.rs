@@ -7,7 +7,7 @@ use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 use penumbra::sampling::{Distribution, Filter};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Flag, Kind, Value};
-use penumbra::scene::{Choices, RenderOption, StopRule, OPTIONS};
+use penumbra::scene::{Choices, IntegratorChoice, RenderOption, StopRule, OPTIONS};
 
 /// What the render options' flags say: `--width 320`, `--no-metric`, ...
 /// Flags not given leave the scene's values alone.
@@ -73,6 +73,7 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         Kind::Distribution => vec![with_value(arg.value_parser(parse_distribution))],
         Kind::Filter => vec![with_value(arg.value_parser(parse_filter))],
         Kind::StopRule => vec![with_value(arg.value_parser(parse_stop_rule))],
+        Kind::Integrator => vec![with_value(arg.value_parser(parse_integrator))],
         Kind::Between(lo, hi) => vec![with_value(
             arg.value_parser(move |s: &str| parse_between(s, lo, hi)),
         )],
@@ -91,6 +92,10 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
             m.get_one::<f32>(o.name).copied().map(Value::Number)
         }
         Kind::StopRule => m.get_one::<StopRule>(o.name).copied().map(Value::StopRule),
+        Kind::Integrator => m
+            .get_one::<IntegratorChoice>(o.name)
+            .copied()
+            .map(Value::Integrator),
         Kind::Distribution => m
             .get_one::<Distribution>(o.name)
             .copied()
@@ -147,6 +152,16 @@ pub fn parse_stop_rule(s: &str) -> Result<StopRule, String> {
         StopRule::from_name(s),
         &StopRule::ALL,
         StopRule::name,
+    )
+}
+
+pub fn parse_integrator(s: &str) -> Result<IntegratorChoice, String> {
+    by_name(
+        "integrator",
+        s,
+        IntegratorChoice::from_name(s),
+        &IntegratorChoice::ALL,
+        IntegratorChoice::name,
     )
 }
 
@@ -249,6 +264,10 @@ mod tests {
                 }
                 Kind::Filter => ("gaussian".into(), Value::Filter(Filter::Gaussian)),
                 Kind::StopRule => ("povray".into(), Value::StopRule(StopRule::Povray)),
+                Kind::Integrator => (
+                    "whitted".into(),
+                    Value::Integrator(IntegratorChoice::Whitted),
+                ),
                 Kind::Between(lo, _) => (lo.to_string(), Value::Number(lo)),
                 Kind::Switch | Kind::Colour | Kind::File => continue,
             };
@@ -288,6 +307,13 @@ mod tests {
                 Kind::StopRule => (
                     StopRule::ALL.iter().map(|r| r.name().to_string()).collect(),
                     vec!["mitsuba".into()],
+                ),
+                Kind::Integrator => (
+                    IntegratorChoice::NAMES
+                        .iter()
+                        .map(|n| n.to_string())
+                        .collect(),
+                    vec!["volpath".into()],
                 ),
                 Kind::Between(lo, hi) => (
                     vec![lo.to_string(), hi.to_string()],

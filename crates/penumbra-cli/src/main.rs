@@ -33,7 +33,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file or a built-in scene to PNG or EXR.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// List the built-in scenes.
     Scenes,
     /// Print or draw the points of a ray distribution.

@@ -58,7 +58,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;
-    choices.overrides.apply(&mut source.desc);
+    choices.overrides.apply(&mut source);
     let scene = source.build().map_err(input)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");

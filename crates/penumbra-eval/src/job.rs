@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use penumbra::scene::desc::{LightDesc, ObjectDesc};
+use penumbra::description::{from_json, Kind, Node, Props};
 use penumbra::scene::{LoadOptions, Overrides, Scene, SceneSource, WorldCache};
 
 use crate::error::EvalError;
@@ -115,39 +115,54 @@ impl Job {
             source,
         };
         let mut source = SceneSource::open(self.scene, &opts).map_err(err)?;
-        self.overrides.apply(&mut source.desc);
+        self.overrides.apply(&mut source);
+        let children = &mut source.root.children;
         match self.variant {
             Variant::AsIs => {}
             Variant::PointLight => {
-                source.desc.lights = source.desc.lights.iter().map(point_light).collect();
+                for light in children.iter_mut().filter(|c| c.kind == Kind::Emitter) {
+                    if let Some(point) = point_light(light) {
+                        *light = point;
+                    }
+                }
             }
-            Variant::FrostedPane => source.desc.objects.push(frosted_pane()),
+            Variant::FrostedPane => children.extend(frosted_pane()),
         }
         source.build_reusing(worlds).map_err(err)
     }
 }
 
-/// A 2 × 1.6 quad of the showcase's `frosted` material, upright at
-/// z = 3.2 between the camera and the right half of the scene.
-fn frosted_pane() -> ObjectDesc {
-    ObjectDesc {
-        kind: "quad".into(),
-        material: Some("frosted".into()),
-        origin: Some([-0.2, 0.0, 3.2]),
-        edge_u: Some([2.0, 0.0, 0.0]),
-        edge_v: Some([0.0, 1.6, 0.0]),
-        ..Default::default()
-    }
+/// The one node of kind `kind` of a scene given as JSON (a piece of a
+/// scene written in code).
+fn node(kind: Kind, scene: serde_json::Value) -> Option<Node> {
+    let root = from_json(&scene).ok()?;
+    root.children.into_iter().find(|c| c.kind == kind)
 }
 
-/// A point light with the power a one-sided rectangle light sends straight
-/// down (radiance × area, W/sr), at the rectangle's centre. Other lights are
-/// kept.
-fn point_light(l: &LightDesc) -> LightDesc {
-    let (Some(o), Some(u), Some(v), Some(radiance)) = (l.origin, l.edge_u, l.edge_v, l.radiance)
-    else {
-        return l.clone();
-    };
+/// A 2 × 1.6 quad of the showcase's `frosted` material, upright at
+/// z = 3.2 between the camera and the right half of the scene.
+fn frosted_pane() -> Option<Node> {
+    let quad = serde_json::json!({
+        "type": "quad",
+        "material": "frosted",
+        "origin": [-0.2, 0.0, 3.2],
+        "edge_u": [2.0, 0.0, 0.0],
+        "edge_v": [0.0, 1.6, 0.0],
+    });
+    node(Kind::Shape, serde_json::json!({ "objects": [quad] }))
+}
+
+/// For a rectangle light, a point light with the power it sends straight
+/// down (radiance × area, W/sr), at the rectangle's centre; `None` for
+/// other lights, which are kept.
+fn point_light(l: &Node) -> Option<Node> {
+    if l.plugin != "rect" {
+        return None;
+    }
+    let p = Props::new(l);
+    let [o, u, v, radiance] =
+        ["origin", "edge_u", "edge_v", "radiance"].map(|k| p.numbers::<3>(k).ok().flatten());
+    let (o, u, v, radiance) = (o?, u?, v?, radiance?);
     let centre = [0, 1, 2].map(|i| o[i] + 0.5 * (u[i] + v[i]));
     let cross = [
         u[1] * v[2] - u[2] * v[1],
@@ -155,12 +170,12 @@ fn point_light(l: &LightDesc) -> LightDesc {
         u[0] * v[1] - u[1] * v[0],
     ];
     let area = cross.iter().map(|c| c * c).sum::<f32>().sqrt();
-    LightDesc {
-        kind: "point".into(),
-        position: Some(centre),
-        intensity: Some(radiance.map(|r| r * area)),
-        ..Default::default()
-    }
+    let light = serde_json::json!({
+        "type": "point",
+        "position": centre,
+        "intensity": radiance.map(|r| r * area),
+    });
+    node(Kind::Emitter, serde_json::json!({ "lights": [light] }))
 }
 
 #[cfg(test)]
@@ -199,22 +214,26 @@ mod tests {
 
     #[test]
     fn point_light_keeps_the_power_and_position() {
-        let rect = LightDesc {
-            kind: "rect".into(),
-            origin: Some([-0.5, 4.0, -0.5]),
-            edge_u: Some([1.0, 0.0, 0.0]),
-            edge_v: Some([0.0, 0.0, 2.0]),
-            radiance: Some([40.0, 40.0, 40.0]),
-            ..Default::default()
-        };
-        let p = point_light(&rect);
-        assert_eq!(p.kind, "point");
-        assert_eq!(p.position, Some([0.0, 4.0, 0.5]));
-        assert_eq!(p.intensity, Some([80.0, 80.0, 80.0]));
-        let other = LightDesc {
-            kind: "point".into(),
-            ..Default::default()
-        };
-        assert_eq!(point_light(&other).kind, "point");
+        let rect = serde_json::json!({
+            "type": "rect",
+            "origin": [-0.5, 4.0, -0.5],
+            "edge_u": [1.0, 0.0, 0.0],
+            "edge_v": [0.0, 0.0, 2.0],
+            "radiance": [40.0, 40.0, 40.0],
+        });
+        let rect = node(Kind::Emitter, serde_json::json!({ "lights": [rect] })).unwrap();
+        let p = point_light(&rect).unwrap();
+        assert_eq!(p.plugin, "point");
+        let props = Props::new(&p);
+        assert_eq!(
+            props.numbers::<3>("position").unwrap(),
+            Some([0.0, 4.0, 0.5])
+        );
+        assert_eq!(
+            props.numbers::<3>("intensity").unwrap(),
+            Some([80.0, 80.0, 80.0])
+        );
+        assert!(point_light(&p).is_none(), "other lights are kept");
+        assert!(frosted_pane().is_some());
     }
 }

@@ -5,24 +5,33 @@
 mod common;
 
 use common::*;
+use penumbra::description::Kind;
 use penumbra::render::Region;
 use penumbra::sampling::Distribution;
-use penumbra::scene::{Scene, StopRule};
+use penumbra::scene::{Overrides, Scene, StopRule};
 
 /// The showcase at 64×48 and at most 64 camera rays, under `rule`.
 fn showcase(rule: StopRule) -> Scene {
     let mut src = builtin("showcase", None);
-    let r = &mut src.desc.render;
-    (r.width, r.height, r.spp) = (64, 48, 64);
-    r.distribution = Distribution::Sobol;
-    r.stop_rule = rule;
-    r.min_spp = 16;
-    r.noise_threshold = match rule {
+    let threshold = match rule {
         StopRule::Calibrated => 0.05,
         StopRule::Cycles => 0.05,
         StopRule::Povray => 0.1,
         StopRule::Dammertz => 0.01,
     };
+    set(
+        &mut src,
+        Overrides {
+            width: Some(64),
+            height: Some(48),
+            spp: Some(64),
+            distribution: Some(Distribution::Sobol),
+            stop_rule: Some(rule),
+            min_spp: Some(16),
+            noise_threshold: Some(threshold),
+            ..Default::default()
+        },
+    );
     src.build().expect("showcase builds")
 }
 
@@ -78,11 +87,18 @@ fn rules_save_rays_where_pixels_are_quiet() {
 fn an_unreachable_threshold_takes_the_budget() {
     for rule in [StopRule::Cycles, StopRule::Dammertz, StopRule::Povray] {
         let mut src = builtin("showcase", None);
-        let r = &mut src.desc.render;
-        (r.width, r.height, r.spp) = (32, 16, 32);
-        r.distribution = Distribution::Jitter;
-        r.stop_rule = rule;
-        r.noise_threshold = 1e-9;
+        set(
+            &mut src,
+            Overrides {
+                width: Some(32),
+                height: Some(16),
+                spp: Some(32),
+                distribution: Some(Distribution::Jitter),
+                stop_rule: Some(rule),
+                noise_threshold: Some(1e-9),
+                ..Default::default()
+            },
+        );
         let (_, stats) = render_scene(&src.build().unwrap(), 2);
         assert_eq!(stats.primary, 32 * 32 * 16, "{rule:?}");
     }
@@ -94,26 +110,51 @@ fn an_unreachable_threshold_takes_the_budget() {
 #[test]
 fn flat_pixels_stop_at_the_first_judgement() {
     let mut src = builtin("showcase", None);
-    src.desc.objects.clear();
-    src.desc.lights.clear();
-    let r = &mut src.desc.render;
-    (r.width, r.height, r.spp) = (40, 30, 256);
-    r.background = [0.2, 0.3, 0.4];
+    // Nothing but a background.
+    src.root
+        .children
+        .retain(|c| !matches!(c.kind, Kind::Shape | Kind::Emitter));
+    let sky = serde_json::json!({ "render": { "background": [0.2, 0.3, 0.4] } });
+    let sky = penumbra::description::from_json(&sky).unwrap();
+    src.root
+        .children
+        .extend(sky.children.into_iter().filter(|c| c.kind == Kind::Emitter));
+    set(
+        &mut src,
+        Overrides {
+            width: Some(40),
+            height: Some(30),
+            spp: Some(256),
+            ..Default::default()
+        },
+    );
     for (rule, first) in [
         (StopRule::Calibrated, 1),
         (StopRule::Cycles, 80),
         (StopRule::Dammertz, 16),
         (StopRule::Povray, 1),
     ] {
-        src.desc.render.stop_rule = rule;
-        src.desc.render.noise_threshold = 0.01;
+        set(
+            &mut src,
+            Overrides {
+                stop_rule: Some(rule),
+                noise_threshold: Some(0.01),
+                ..Default::default()
+            },
+        );
         let (image, stats) = render_scene(&src.build().unwrap(), 2);
         assert_eq!(stats.primary, 40 * 30 * first, "{rule:?}");
         let off = |p: &penumbra::math::Rgb| (*p - penumbra::math::Rgb::new(0.2, 0.3, 0.4)).abs();
         assert!(image.pixels.iter().all(|p| off(p).max_element() < 1e-6));
     }
-    src.desc.render.stop_rule = StopRule::Calibrated;
-    src.desc.render.min_spp = 32;
+    set(
+        &mut src,
+        Overrides {
+            stop_rule: Some(StopRule::Calibrated),
+            min_spp: Some(32),
+            ..Default::default()
+        },
+    );
     let (_, stats) = render_scene(&src.build().unwrap(), 2);
     assert_eq!(stats.primary, 40 * 30 * 32);
 }
@@ -174,7 +215,14 @@ fn pixels_report_their_rays_and_the_calibrated_interval() {
         }
     }
     let mut src = builtin("showcase", None);
-    (src.desc.render.width, src.desc.render.height) = (16, 12);
+    set(
+        &mut src,
+        Overrides {
+            width: Some(16),
+            height: Some(12),
+            ..Default::default()
+        },
+    );
     let plain = src.build().expect("showcase builds");
     let opts = penumbra::render::RenderOptions {
         threads: Some(1),
@@ -188,7 +236,6 @@ fn pixels_report_their_rays_and_the_calibrated_interval() {
 /// refraction rays (jittered, two levels deep), 8 camera rays a pixel,
 /// under `threshold` (0: no adaptive sampling).
 fn showcase_sets(threshold: f32) -> Scene {
-    use penumbra::scene::Overrides;
     let mut src = builtin("showcase", None);
     Overrides {
         width: Some(48),
@@ -204,7 +251,7 @@ fn showcase_sets(threshold: f32) -> Scene {
         replicas: Some(4),
         ..Default::default()
     }
-    .apply(&mut src.desc);
+    .apply(&mut src);
     src.build().expect("showcase builds")
 }
 

@@ -8,10 +8,16 @@ use penumbra::render::{render, RenderError, RenderOptions};
 use penumbra::scene::Scene;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-fn showcase(width: i64, height: i64) -> Scene {
+fn showcase(width: u32, height: u32) -> Scene {
     let mut src = builtin("showcase", None);
-    src.desc.render.width = width;
-    src.desc.render.height = height;
+    set(
+        &mut src,
+        penumbra::scene::Overrides {
+            width: Some(width),
+            height: Some(height),
+            ..Default::default()
+        },
+    );
     src.build().expect("showcase builds")
 }
 

@@ -5,7 +5,12 @@ use std::path::{Path, PathBuf};
 
 use penumbra::integrator::RayStats;
 use penumbra::render::{render, Image, Region, RenderOptions};
-use penumbra::scene::{LoadOptions, Scene, SceneError, SceneSource};
+use penumbra::scene::{LoadOptions, Overrides, Scene, SceneError, SceneSource};
+
+/// Applies `o` to `src` (the render options given in code).
+pub fn set(src: &mut SceneSource, o: Overrides) {
+    o.apply(src);
+}
 
 pub fn scene(toml: &str) -> Scene {
     try_scene(toml).unwrap_or_else(|e| panic!("scene should be valid: {e}"))

@@ -5,11 +5,19 @@ mod common;
 
 use common::*;
 use penumbra::render::Region;
+use penumbra::scene::Overrides;
+
+fn size(width: u32, height: u32) -> Overrides {
+    Overrides {
+        width: Some(width),
+        height: Some(height),
+        ..Default::default()
+    }
+}
 
 fn small_showcase() -> penumbra::scene::Scene {
     let mut src = builtin("showcase", None);
-    src.desc.render.width = 64;
-    src.desc.render.height = 48;
+    set(&mut src, size(64, 48));
     src.build().expect("showcase builds")
 }
 
@@ -45,10 +53,15 @@ fn regions_stitch_into_the_full_frame() {
 #[test]
 fn a_different_seed_gives_different_noise() {
     let mut src = builtin("showcase", None);
-    src.desc.render.width = 32;
-    src.desc.render.height = 24;
+    set(&mut src, size(32, 24));
     let a = render_scene(&src.build().unwrap(), 2).0;
-    src.desc.render.seed = 7;
+    set(
+        &mut src,
+        Overrides {
+            seed: Some(7),
+            ..Default::default()
+        },
+    );
     let b = render_scene(&src.build().unwrap(), 2).0;
     assert!(a != b, "seeds 0 and 7 gave the same image");
 }
@@ -57,8 +70,7 @@ fn a_different_seed_gives_different_noise() {
 fn bunny_renders_identically_on_one_and_two_threads() {
     let Some(bunny) = bunny() else { return };
     let mut src = builtin("bunny", Some(bunny));
-    src.desc.render.width = 80;
-    src.desc.render.height = 60;
+    set(&mut src, size(80, 60));
     let s = src.build().expect("bunny scene");
     assert!(
         render_scene(&s, 1) == render_scene(&s, 2),

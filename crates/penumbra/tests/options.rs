@@ -7,12 +7,12 @@
 
 use std::path::{Path, PathBuf};
 
+use penumbra::description::{Kind as NodeKind, Node, Value as Prop, RENDER_KEYS};
 use penumbra::sampling::{Distribution, Filter};
-use penumbra::scene::desc::{CameraDesc, RenderDesc};
 use penumbra::scene::options::markdown::{replace_section, table, View};
 use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
-use penumbra::scene::{LoadOptions, SceneDesc, SceneSource, StopRule, OPTIONS};
-use serde_json::{json, Value as Json};
+use penumbra::scene::schemas;
+use penumbra::scene::{IntegratorChoice, LoadOptions, Scene, SceneSource, StopRule, OPTIONS};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -56,55 +56,73 @@ fn in_table(t: Table) -> impl Iterator<Item = &'static RenderOption> {
     OPTIONS.iter().filter(move |o| o.table == Some(t))
 }
 
-fn fields(desc: impl serde::Serialize) -> serde_json::Map<String, Json> {
-    match serde_json::to_value(desc).unwrap() {
-        Json::Object(m) => m,
-        other => panic!("not a table: {other}"),
-    }
-}
-
 #[test]
 fn the_render_table_has_exactly_the_options_keys() {
-    let mut keys: Vec<String> = fields(RenderDesc::default()).keys().cloned().collect();
-    let mut names: Vec<String> = in_table(Table::Render).map(|o| o.name.into()).collect();
+    let mut keys: Vec<&str> = RENDER_KEYS.iter().map(|(k, _)| *k).collect();
+    let mut names: Vec<&str> = in_table(Table::Render).map(|o| o.name).collect();
     keys.sort();
     names.sort();
     assert_eq!(keys, names);
-    let camera = fields(CameraDesc::default());
+    let camera = schemas::of(NodeKind::Sensor)[0];
     for o in in_table(Table::Camera) {
-        assert!(camera.contains_key(o.name), "[camera] has no `{}`", o.name);
+        assert!(
+            camera.param(o.name).is_some(),
+            "[camera] has no `{}`",
+            o.name
+        );
     }
 }
 
-/// The JSON a description holds for an option's default.
-fn default_json(o: &RenderOption) -> Json {
+/// An option's fixed default as a scene file writes it.
+fn default_toml(o: &RenderOption) -> Option<String> {
     match o.default {
-        DefaultValue::Fixed(v) => value_json(v),
-        DefaultValue::Follows(_) | DefaultValue::Computed(_) => Json::Null,
+        DefaultValue::Fixed(v) => Some(value_toml(v)),
+        DefaultValue::Follows(_) | DefaultValue::Computed(_) => None,
     }
 }
 
-fn value_json(v: Value) -> Json {
+fn value_toml(v: Value) -> String {
     match v {
-        Value::Int(n) => json!(n),
-        Value::Number(x) => json!(x),
-        Value::Switch(b) => json!(b),
-        Value::Distribution(d) => json!(d.name()),
-        Value::Filter(f) => json!(f.name()),
-        Value::StopRule(r) => json!(r.name()),
-        Value::Colour(c) => json!(c),
+        Value::Int(n) => n.to_string(),
+        Value::Number(x) => format!("{x:?}"),
+        Value::Switch(b) => b.to_string(),
+        Value::Distribution(d) => format!("\"{}\"", d.name()),
+        Value::Filter(f) => format!("\"{}\"", f.name()),
+        Value::StopRule(r) => format!("\"{}\"", r.name()),
+        Value::Integrator(i) => format!("\"{}\"", i.name()),
+        Value::Colour(c) => format!("{c:?}"),
     }
 }
 
+fn scene(text: &str) -> Scene {
+    let opts = LoadOptions::default();
+    SceneSource::from_toml(text, Path::new("s.toml"), Path::new("."), &opts)
+        .and_then(|s| s.build())
+        .unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// What rays that hit nothing see.
+fn background(s: &Scene) -> [f32; 3] {
+    let far = s.emitters.iter().filter(|e| e.is_infinite());
+    let sky = far
+        .map(|e| e.eval_miss(penumbra::math::Vec3::Y))
+        .sum::<penumbra::math::Rgb>();
+    sky.to_array()
+}
+
+/// A scene file that leaves a key out builds what one that gives the
+/// option's default builds.
 #[test]
 fn scene_file_defaults_are_the_options_defaults() {
-    for (t, desc) in [
-        (Table::Render, fields(RenderDesc::default())),
-        (Table::Camera, fields(CameraDesc::default())),
-    ] {
-        for o in in_table(t) {
-            assert_eq!(desc[o.name], default_json(o), "[{}] {}", t.name(), o.name);
-        }
+    let plain = scene("");
+    for o in OPTIONS {
+        let (Some(t), Some(v)) = (o.table, default_toml(o)) else {
+            continue;
+        };
+        let given = scene(&format!("[{}]\n{} = {v}\n", t.name(), o.name));
+        assert_eq!(given.settings, plain.settings, "[{}] {}", t.name(), o.name);
+        assert_eq!(given.camera, plain.camera, "[{}] {}", t.name(), o.name);
+        assert_eq!(background(&given), background(&plain), "{}", o.name);
     }
 }
 
@@ -145,6 +163,7 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .collect(),
             vec!["\"mitsuba\"".into()],
         ),
+        Kind::Integrator => (vec!["\"whitted\"".into()], vec!["\"volpath\"".into()]),
         Kind::Between(lo, hi) => (
             vec![format!("{lo:?}"), format!("{hi:?}")],
             vec![format!("{:?}", lo - 0.01), format!("{:?}", hi + 0.01)],
@@ -185,6 +204,31 @@ fn scene_files_accept_exactly_the_options_ranges() {
     }
 }
 
+/// The node that holds a scene-file key of `table`.
+fn holder<'a>(root: &'a Node, table: Table, key: &str) -> &'a Node {
+    let sensor = root.child(NodeKind::Sensor).unwrap();
+    if table == Table::Camera {
+        return sensor;
+    }
+    match RENDER_KEYS.iter().find(|(k, _)| *k == key).unwrap().1 {
+        kind @ (NodeKind::Film | NodeKind::Sampler) => sensor.child(kind).unwrap(),
+        kind => root.child(kind).unwrap(),
+    }
+}
+
+/// What a scene file holds for a value.
+fn prop_of(v: Value) -> Prop {
+    match v {
+        Value::Int(n) => Prop::Int(i64::from(n)),
+        Value::Number(x) => Prop::Float(f64::from(x)),
+        Value::Switch(b) => Prop::Bool(b),
+        Value::Distribution(d) => Prop::String(d.name().into()),
+        Value::Filter(f) => Prop::String(f.name().into()),
+        Value::StopRule(r) => Prop::String(r.name().into()),
+        Value::Integrator(_) | Value::Colour(_) => unreachable!("not a property"),
+    }
+}
+
 /// A value given for an option on the command line or in Python lands on
 /// the scene-file key of the same name.
 #[test]
@@ -199,20 +243,34 @@ fn front_end_values_replace_the_key_of_the_same_name() {
             Kind::NonNegative | Kind::Positive => Value::Number(0.5),
             Kind::Between(lo, _) => Value::Number(lo),
             Kind::StopRule => Value::StopRule(StopRule::Dammertz),
+            Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
             Kind::Switch => Value::Switch(!matches!(
                 o.default,
                 DefaultValue::Fixed(Value::Switch(true))
             )),
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
             Kind::Filter => Value::Filter(Filter::Gaussian),
-            Kind::Colour => Value::Colour([0.5; 3]),
-            Kind::File => continue,
+            Kind::Colour | Kind::File => continue,
         };
         let mut c = Choices::default();
         o.store(&mut c, v);
-        let mut desc = SceneDesc::default();
-        c.overrides.apply(&mut desc);
-        let table = fields(&desc)[t.name()].clone();
-        assert_eq!(table[o.name], value_json(v), "{}", o.name);
+        let opts = LoadOptions::default();
+        let mut src =
+            SceneSource::from_toml("", Path::new("s.toml"), Path::new("."), &opts).unwrap();
+        c.overrides.apply(&mut src);
+        if o.name == "integrator" {
+            assert_eq!(
+                src.root.child(NodeKind::Integrator).unwrap().plugin,
+                "whitted"
+            );
+            continue;
+        }
+        let node = holder(&src.root, t, o.name);
+        let got = &node
+            .prop(o.name)
+            .unwrap_or_else(|| panic!("{} not set", o.name))
+            .value
+            .value;
+        assert_eq!(*got, prop_of(v), "{}", o.name);
     }
 }

@@ -287,3 +287,50 @@ intensity = [1.0, 1.0, 1.0]
         );
     }
 }
+
+/// A material of another model plugs in by name: the floor as Mitsuba's
+/// `diffuse` of reflectance ρ under a point light at height h renders
+/// ρ I / (π h²), through the Whitted integrator; seen from below, the
+/// one-sided model is black.
+#[test]
+fn a_diffuse_floor_gives_rho_i_over_pi_h2() {
+    let (h, i) = (2.0, 10.0);
+    let rho = Rgb::new(0.5, 0.25, 0.1);
+    let light = format!(
+        "[[lights]]\ntype = \"point\"\nposition = [0.0, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
+    );
+    let toml = looking_down(&light).replace(
+        "[materials.floor]\nalbedo = [0.5, 0.25, 0.1]",
+        "[materials.floor]\ntype = \"diffuse\"\nreflectance = [0.5, 0.25, 0.1]",
+    );
+    assert!(toml.contains("\"diffuse\""));
+    assert_close(centre(&toml), rho * (i / (PI * h * h)), 1e-4);
+    // edge_u × edge_v is the quad's normal: with the edges swapped the
+    // floor faces down, away from the camera and the light.
+    let flipped = toml.replace(
+        "edge_u = [0.0, 0.0, 100.0]\nedge_v = [100.0, 0.0, 0.0]",
+        "edge_u = [100.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 100.0]",
+    );
+    assert_eq!(centre(&flipped), Rgb::ZERO);
+    // Its parameters are checked as any model's.
+    let bad = toml.replace(
+        "reflectance = [0.5, 0.25, 0.1]",
+        "reflectance = [0.5, 1.5, 0.1]",
+    );
+    let e = try_scene(&bad).err().expect("refused").to_string();
+    assert!(
+        e.contains("materials.floor.reflectance: must not exceed 1"),
+        "{e}"
+    );
+    let bad = toml.replace(
+        "reflectance = [0.5, 0.25, 0.1]",
+        "albedo = [0.5, 0.25, 0.1]",
+    );
+    let e = try_scene(&bad).err().expect("refused").to_string();
+    assert!(
+        e.contains(
+            "`albedo` does not apply to a diffuse material; a diffuse material takes: reflectance"
+        ),
+        "{e}"
+    );
+}

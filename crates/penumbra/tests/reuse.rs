@@ -72,7 +72,7 @@ radiance = [5.0, 5.0, 5.0]
 fn source(dir: &Path, text: &str, overrides: &Overrides) -> SceneSource {
     let opts = LoadOptions::default();
     let mut s = SceneSource::from_toml(text, &dir.join("test.toml"), dir, &opts).expect("parses");
-    overrides.apply(&mut s.desc);
+    overrides.apply(&mut s);
     s
 }
 

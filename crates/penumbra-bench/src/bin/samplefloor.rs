@@ -223,8 +223,13 @@ fn build(size: (u32, u32), spp: u32) -> Result<Scene, String> {
         &LoadOptions::default(),
     )
     .map_err(|e| e.to_string())?;
-    (src.desc.render.width, src.desc.render.height) = (size.0 as _, size.1 as _);
-    src.desc.render.spp = spp as _;
+    penumbra::scene::Overrides {
+        width: Some(size.0),
+        height: Some(size.1),
+        spp: Some(spp),
+        ..Default::default()
+    }
+    .apply(&mut src);
     src.build().map_err(|e| e.to_string())
 }
 

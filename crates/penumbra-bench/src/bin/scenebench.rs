@@ -68,7 +68,7 @@ fn run(args: Args) -> Result<serde_json::Value, String> {
     };
     let (threads, repeat) = (args.threads, args.repeat as usize);
     let mut src = SceneSource::open(&scene, &load).map_err(|e| e.to_string())?;
-    ov.apply(&mut src.desc);
+    ov.apply(&mut src);
     let start = Instant::now();
     let scene_built = src.build().map_err(|e| e.to_string())?;
     let load_s = start.elapsed().as_secs_f64();

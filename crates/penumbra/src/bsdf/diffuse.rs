@@ -9,8 +9,10 @@
 
 use std::f32::consts::FRAC_1_PI;
 
+use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use super::BsdfModel;
+use crate::description::check::nonneg3;
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -23,6 +25,29 @@ pub struct Diffuse {
 
 impl BsdfModel for Diffuse {
     const NAME: &'static str = "diffuse";
+
+    const SCHEMA: Schema = Schema {
+        kind: Kind::Bsdf,
+        plugin: "diffuse",
+        what: "diffuse material",
+        params: &[Param {
+            name: "reflectance",
+            ty: Type::Colour,
+            default: "[0.5, 0.5, 0.5]",
+            doc: "the albedo, each channel in [0, 1]",
+        }],
+    };
+
+    fn build(p: &Props, _: &Defaults) -> Result<Diffuse, Invalid> {
+        let reflectance = nonneg3(p, "reflectance", [0.5; 3])?;
+        if reflectance.max_element() > 1.0 {
+            return Err(p.error(
+                "reflectance",
+                "must not exceed 1 in any channel (the surface would create light)",
+            ));
+        }
+        Ok(Diffuse { reflectance })
+    }
 
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();

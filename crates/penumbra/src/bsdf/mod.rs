@@ -22,49 +22,17 @@
 //! | [`diffuse`](diffuse::Diffuse) | an ideal Lambertian reflector (Mitsuba 3's `diffuse`) |
 
 pub mod diffuse;
+mod model;
 pub mod sample;
 pub mod thesis;
 
+pub use model::{BsdfModel, Defaults};
 pub use sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 
+use crate::description::{Invalid, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
-
-/// What every scattering model answers (see the [module docs](self)).
-pub trait BsdfModel {
-    /// The name scenes select the model by.
-    const NAME: &'static str;
-
-    /// The model's lobes by slot.
-    fn lobes(&self) -> Lobes;
-
-    /// The value for light arriving from `wi` and leaving toward `wo`,
-    /// without the cosine; 0 for delta lobes.
-    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb;
-
-    /// A direction drawn with the set point `u`: from lobe `lobe` alone
-    /// (its weight not divided by a choice), or from a lobe the point
-    /// chooses. `None` where the point gives no direction.
-    fn sample(
-        &self,
-        si: &SurfaceInteraction,
-        wo: Vec3,
-        lobe: Option<usize>,
-        u: SetPoint,
-    ) -> Option<BsdfSample>;
-
-    /// The solid-angle density of [`sample`](Self::sample) (no lobe asked)
-    /// drawing `wi`; 0 for delta lobes.
-    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32;
-
-    /// The fraction of light a shadow ray keeps when it crosses the
-    /// surface without bending (the thesis's transparent shadows); 0 for an
-    /// opaque surface.
-    fn shadow_transmittance(&self) -> f32 {
-        0.0
-    }
-}
 
 /// Makes [`Bsdf`], the enum of the models listed, and its dispatch.
 macro_rules! models {
@@ -84,6 +52,18 @@ macro_rules! models {
         impl Bsdf {
             /// The names of the models, as scenes select them.
             pub const NAMES: &'static [&'static str] = &[$(<$model as BsdfModel>::NAME,)*];
+
+            /// The models' parameters.
+            pub const SCHEMAS: &'static [&'static Schema] = &[$(&<$model as BsdfModel>::SCHEMA,)*];
+
+            /// The model `name` of the parameters `p`; `None` for a name
+            /// that is not a model's.
+            pub fn build(name: &str, p: &Props, defaults: &Defaults) -> Option<Result<Bsdf, Invalid>> {
+                match name {
+                    $(<$model as BsdfModel>::NAME => Some(<$model>::build(p, defaults).map(Bsdf::from)),)*
+                    _ => None,
+                }
+            }
 
             /// The model's name.
             pub fn name(&self) -> &'static str {

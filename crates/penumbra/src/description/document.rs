@@ -173,6 +173,30 @@ fn json_value(value: &serde_json::Value, depth: usize) -> Doc {
     Doc { value, at: None }
 }
 
+impl Doc {
+    /// The document as JSON, as a dict of the scene would be written: a
+    /// datetime as its text. Values JSON cannot hold (a float that is not
+    /// finite) are `null`.
+    pub(crate) fn to_json(&self) -> serde_json::Value {
+        use serde_json::Value as J;
+        match &self.value {
+            DocValue::Bool(b) => J::Bool(*b),
+            DocValue::Int(i) => J::from(*i),
+            DocValue::Float(f) => serde_json::Number::from_f64(*f).map_or(J::Null, J::Number),
+            DocValue::String(s) | DocValue::Datetime(s) => J::String(s.clone()),
+            DocValue::Array(items) => J::Array(items.iter().map(Doc::to_json).collect()),
+            DocValue::Table(entries) => J::Object(
+                entries
+                    .iter()
+                    .map(|e| (e.key.clone(), e.value.to_json()))
+                    .collect(),
+            ),
+            DocValue::Null | DocValue::TooDeep => J::Null,
+            DocValue::BigInt(s) | DocValue::BigFloat(s) => J::String(s.clone()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

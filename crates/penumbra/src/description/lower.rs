@@ -69,6 +69,12 @@ pub fn from_toml(text: &str, file: &Path) -> Result<Node, SceneError> {
     lower(doc).map_err(SceneError::from)
 }
 
+/// A TOML scene as the JSON of the dict that says the same (`file` names
+/// it in syntax errors): what Python's `Scene.to_dict` gives.
+pub fn toml_to_json(text: &str, file: &Path) -> Result<serde_json::Value, SceneError> {
+    Ok(document::parse_toml(text, file)?.to_json())
+}
+
 /// Reads a scene given as JSON (a Python dict's): errors name key paths.
 pub fn from_json(value: &serde_json::Value) -> Result<Node, SceneError> {
     lower(document::from_json(value)).map_err(SceneError::from)
@@ -492,7 +498,10 @@ mod tests {
         );
         assert!(bsdfs[0].prop("type").is_none());
         assert_eq!(place(&bsdfs[0].origin), ("materials.glass".into(), 4, 1));
-        assert_eq!(place(&bsdfs[0].plugin_origin), ("materials.glass.type".into(), 5, 8));
+        assert_eq!(
+            place(&bsdfs[0].plugin_origin),
+            ("materials.glass.type".into(), 5, 8)
+        );
         assert_eq!(
             place(&bsdfs[0].prop("ior").unwrap().value.origin),
             ("materials.glass.ior".into(), 6, 7)

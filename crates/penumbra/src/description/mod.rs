@@ -73,6 +73,7 @@
 //! property a plugin accepts but never reads, a bug of the plugin rather
 //! than the user's.
 
+pub mod check;
 mod document;
 pub mod error;
 pub mod lower;
@@ -83,7 +84,7 @@ pub mod source;
 pub mod tree;
 
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
-pub use lower::{from_json, from_toml, RENDER_KEYS};
+pub use lower::{from_json, from_toml, toml_to_json, RENDER_KEYS};
 pub use props::{Props, Scale};
 pub use schema::{check, Param, Schema, Type};
 pub use source::Source;

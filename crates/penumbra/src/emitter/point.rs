@@ -8,6 +8,8 @@
 //! | `intensity` | colour ≥ 0 | **required** | radiant intensity |
 
 use super::sample::LightSample;
+use crate::description::check::{finite3_value, nonneg3, required};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::math::{Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -17,6 +19,38 @@ pub struct Point {
 }
 
 impl Point {
+    pub const SCHEMA: Schema = Schema {
+        kind: Kind::Emitter,
+        plugin: "point",
+        what: "point light",
+        params: &[
+            Param {
+                name: "position",
+                ty: Type::Vector,
+                default: "required",
+                doc: "where it is",
+            },
+            Param {
+                name: "intensity",
+                ty: Type::Colour,
+                default: "required",
+                doc: "radiant intensity (W/sr per channel), ≥ 0",
+            },
+        ],
+    };
+
+    /// The light of a scene's parameters.
+    pub fn build(p: &Props) -> Result<Point, Invalid> {
+        let position = required(p, p.numbers::<3>("position")?, "position", "point light")?;
+        let position = finite3_value(p, "position", position)?;
+        required(p, p.numbers::<3>("intensity")?, "intensity", "point light")?;
+        let intensity = nonneg3(p, "intensity", [0.0; 3])?;
+        Ok(Point {
+            position,
+            intensity,
+        })
+    }
+
     /// The shadow ray's target and the irradiance weight `I / r²` at `p`.
     #[inline]
     pub(super) fn sample(&self, p: Vec3) -> Option<LightSample> {

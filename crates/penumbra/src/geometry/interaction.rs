@@ -73,7 +73,8 @@ pub fn shading_frame(n: Vec3, dpdu: Vec3) -> Frame {
     let t = dpdu - n * n.dot(dpdu);
     let len2 = t.length_squared();
     // A tangent part of less than 1e-4 of `dpdu` is rounding, not a direction.
-    if !(len2 > 1e-8 * dpdu.length_squared().max(f32::MIN_POSITIVE)) || !len2.is_finite() {
+    let enough = len2 > 1e-8 * dpdu.length_squared().max(f32::MIN_POSITIVE);
+    if !enough || !len2.is_finite() {
         return Frame::from_normal(n);
     }
     let u = t / len2.sqrt();

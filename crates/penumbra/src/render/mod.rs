@@ -20,7 +20,7 @@ pub use report::stats_document;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{pass_samples, BadSample, Integrator, RayStats, Whitted};
 use crate::math::Rgb;
-use crate::scene::Scene;
+use crate::scene::{IntegratorChoice, Scene};
 
 /// How to run a render (what to render is the scene's business).
 #[derive(Clone, Debug, Default)]
@@ -60,7 +60,7 @@ pub enum RenderError {
 /// Progress callback: (tiles done, tiles in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
-/// Renders the scene (or a region of it) with the scene's integrator and
+/// Renders the scene (or a region of it) with the integrator it chose and
 /// returns the image with its statistics.
 pub fn render(
     scene: &Scene,
@@ -68,7 +68,11 @@ pub fn render(
     progress: Progress<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<(Image, RenderStats), RenderError> {
-    render_with(&Whitted::new(scene), scene, opts, progress, cancel)
+    match scene.settings.integrator {
+        IntegratorChoice::Whitted => {
+            render_with(&Whitted::new(scene), scene, opts, progress, cancel)
+        }
+    }
 }
 
 /// Renders the scene (or a region of it) with `integrator`, in its passes:

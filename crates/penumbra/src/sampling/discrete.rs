@@ -28,7 +28,7 @@ impl Discrete {
             sums.push(sums[sums.len() - 1] + f64::from(w));
         }
         let total = *sums.last()?;
-        if !(total > 0.0) || !total.is_finite() {
+        if total <= 0.0 || !total.is_finite() {
             return None;
         }
         let cdf = sums.iter().map(|&s| (s / total) as f32).collect();

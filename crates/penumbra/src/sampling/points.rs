@@ -12,6 +12,10 @@ use super::warp::square_to_disk_concentric;
 use super::Distribution;
 use crate::math::{Frame, Vec2, Vec3};
 
+/// Largest ray budget per effect (the exponential growth of sets of sets
+/// makes more pointless).
+pub const MAX_RAYS: u32 = 1 << 16;
+
 /// How many rays a set of an effect traces and how they are distributed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct EffectSpec {

@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use super::build::{build, BuildContext, BuildError};
+use super::build::build;
 use super::builtin;
-use super::desc::SceneDesc;
-use super::error::SceneError;
+use super::context::BuildContext;
 use super::reuse::WorldCache;
-use super::source::SourceMap;
+use super::schemas;
 use super::Scene;
+use crate::description::{self, Location, Node, SceneError, Source};
 use crate::input::{self, InputError};
 
 /// Largest scene file read unless `--max-file-size` or
@@ -34,11 +34,14 @@ pub fn default_bunny_path() -> Option<PathBuf> {
     std::env::var_os("PENUMBRA_BUNNY").map(PathBuf::from)
 }
 
-/// A parsed scene description together with where it came from.
+/// A scene's description (its tree of plugins, see
+/// [`description`](crate::description)) together with where it came from.
 pub struct SceneSource {
-    pub desc: SceneDesc,
-    map: Option<SourceMap>,
-    ctx: BuildContext,
+    /// The tree; front ends change it before building (render options).
+    pub root: Node,
+    /// The file the tree was read from and its text.
+    text: Option<(PathBuf, String)>,
+    pub(super) ctx: BuildContext,
 }
 
 impl SceneSource {
@@ -70,26 +73,38 @@ impl SceneSource {
         base_dir: &Path,
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
-        let map = SourceMap::new(file, text.to_string());
-        let desc: SceneDesc = toml::from_str(text).map_err(|e| map.toml_error(&e))?;
+        let root = description::from_toml(text, file)?;
+        schemas::check(&root)?;
         Ok(SceneSource {
-            desc,
-            map: Some(map),
+            root,
+            text: Some((file.to_path_buf(), text.to_string())),
             ctx: context(base_dir, opts),
         })
+    }
+
+    /// Reads a scene given as JSON (a Python dict's, shaped like a scene
+    /// file): errors name key paths.
+    pub fn from_json(
+        value: &serde_json::Value,
+        base_dir: &Path,
+        opts: &LoadOptions,
+    ) -> Result<SceneSource, SceneError> {
+        let root = description::from_json(value)?;
+        schemas::check(&root)?;
+        Ok(SceneSource::from_tree(root, base_dir, opts))
     }
 
     /// The file the description was read from (as errors name it) and its
     /// text; `None` for a description made in code.
     pub fn text(&self) -> Option<(&Path, &str)> {
-        self.map.as_ref().map(|m| (m.file.as_path(), m.text()))
+        self.text.as_ref().map(|(f, t)| (f.as_path(), t.as_str()))
     }
 
     /// A description made in code (no file: errors name the key path only).
-    pub fn from_desc(desc: SceneDesc, base_dir: &Path, opts: &LoadOptions) -> SceneSource {
+    pub fn from_tree(root: Node, base_dir: &Path, opts: &LoadOptions) -> SceneSource {
         SceneSource {
-            desc,
-            map: None,
+            root,
+            text: None,
             ctx: context(base_dir, opts),
         }
     }
@@ -109,19 +124,7 @@ impl SceneSource {
     }
 
     fn build_with(&self, worlds: Option<&mut WorldCache>) -> Result<Scene, SceneError> {
-        build(&self.desc, &self.ctx, worlds).map_err(|e| match e {
-            BuildError::Invalid(i) => match &self.map {
-                Some(map) => map.locate(i),
-                None => SceneError::new(format!("{}: {}", i.path, i.message)),
-            },
-            BuildError::Mesh { path, error } => {
-                let i = super::error::Invalid::new(path, format!("cannot load mesh: {error}"));
-                match &self.map {
-                    Some(map) => map.locate(i),
-                    None => SceneError::new(format!("{}: {}", i.path, i.message)),
-                }
-            }
-        })
+        build(&self.root, &self.ctx, worlds).map_err(SceneError::from)
     }
 }
 
@@ -129,6 +132,7 @@ fn context(base_dir: &Path, opts: &LoadOptions) -> BuildContext {
     BuildContext {
         base_dir: base_dir.to_path_buf(),
         bunny: opts.bunny.clone(),
+        points: None,
     }
 }
 
@@ -154,7 +158,13 @@ fn read_text(path: &Path) -> Result<String, SceneError> {
     })?;
     String::from_utf8(bytes).map_err(|e| {
         let offset = e.utf8_error().valid_up_to();
-        let map = SourceMap::new(path, String::from_utf8_lossy(e.as_bytes()).into_owned());
-        map.error_at(Some(offset..offset), "the scene file is not valid UTF-8")
+        let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+        let file = std::sync::Arc::new(path.to_path_buf());
+        let Location { line, column, .. } = Source::new(&text, file).location(offset);
+        SceneError {
+            file: Some(path.to_path_buf()),
+            position: Some((line as usize, column as usize)),
+            message: "the scene file is not valid UTF-8".into(),
+        }
     })
 }

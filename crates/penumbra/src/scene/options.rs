@@ -28,17 +28,13 @@ use std::path::PathBuf;
 
 use super::overrides::Overrides;
 use super::points::Points;
-use super::settings::StopRule;
+use super::settings::{IntegratorChoice, StopRule};
 use crate::sampling::{Distribution, Filter};
 
 pub mod markdown;
 
-/// Largest image side; keeps `width * height` and the film allocation sane.
-pub const MAX_SIDE: u32 = 1 << 15;
-/// Largest ray budget per effect (the exponential growth makes more pointless).
-pub const MAX_RAYS: u32 = 1 << 16;
-/// Most replicas adaptive sampling may split a pixel's sets into.
-pub const MAX_REPLICAS: u32 = 64;
+pub use super::settings::{MAX_REPLICAS, MAX_SIDE};
+pub use crate::sampling::MAX_RAYS;
 
 /// One render option.
 #[derive(Clone, Copy, Debug)]
@@ -79,6 +75,8 @@ pub enum Kind {
     Filter,
     /// An adaptive sampling rule, by name ([`StopRule::name`]).
     StopRule,
+    /// An integrator, by name ([`IntegratorChoice::name`]).
+    Integrator,
     /// A number in `[lo, hi]`.
     Between(f32, f32),
     /// A linear RGB colour with no negative channel (scene file only).
@@ -98,6 +96,7 @@ pub enum Value {
     Distribution(Distribution),
     Filter(Filter),
     StopRule(StopRule),
+    Integrator(IntegratorChoice),
     Colour([f32; 3]),
 }
 
@@ -140,6 +139,13 @@ impl Value {
     pub fn stop_rule(self) -> Option<StopRule> {
         match self {
             Value::StopRule(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    pub fn integrator(self) -> Option<IntegratorChoice> {
+        match self {
+            Value::Integrator(i) => Some(i),
             _ => None,
         }
     }
@@ -279,6 +285,16 @@ const FOLLOWS_DISTRIBUTION: DefaultValue = DefaultValue::Follows("distribution")
 /// Every render option, in the order of `--help`, the docs and Python's
 /// `RENDER_OPTIONS`.
 pub const OPTIONS: &[RenderOption] = &[
+    RenderOption {
+        name: "integrator",
+        kind: Kind::Integrator,
+        default: DefaultValue::Fixed(Value::Integrator(IntegratorChoice::Whitted)),
+        doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.integrator = v.integrator()),
+    },
     RenderOption {
         name: "width",
         kind: SIDE,
@@ -713,6 +729,7 @@ mod tests {
             Kind::Distribution => Value::Distribution(Distribution::Poisson),
             Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::StopRule => Value::StopRule(StopRule::Cycles),
+            Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
             Kind::Colour => Value::Colour([0.5; 3]),
             Kind::File => unreachable!("a file option has no setter"),
         }

@@ -1,9 +1,10 @@
 //! Values given outside the scene file (command line, Python keyword
 //! arguments) that win over the file's.
 
-use super::desc::SceneDesc;
+use super::load::SceneSource;
 use super::points::Points;
-use super::settings::StopRule;
+use super::settings::{IntegratorChoice, StopRule};
+use crate::description::{KeyPath, Kind, Located, Node, Origin, Value, RENDER_KEYS};
 use crate::sampling::{Distribution, Filter};
 
 /// Settings that replace the scene description's. Ray counts and
@@ -11,6 +12,7 @@ use crate::sampling::{Distribution, Filter};
 /// a user asking for 16 shadow rays expects every light to use 16.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overrides {
+    pub integrator: Option<IntegratorChoice>,
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub max_depth: Option<u32>,
@@ -53,127 +55,176 @@ pub struct Overrides {
 }
 
 impl Overrides {
-    pub fn apply(&self, desc: &mut SceneDesc) {
-        let r = &mut desc.render;
-        set(&mut r.width, self.width.map(i64::from));
-        set(&mut r.height, self.height.map(i64::from));
-        set(&mut r.max_depth, self.max_depth.map(i64::from));
-        set(&mut r.seed, self.seed.map(i64::from));
-        set(&mut r.spp, self.spp.map(i64::from));
-        set(&mut r.passes, self.passes.map(i64::from));
-        set(&mut r.shadow_rays, self.shadow_rays.map(i64::from));
-        set(&mut r.reflection_rays, self.reflection_rays.map(i64::from));
-        set(&mut r.refraction_rays, self.refraction_rays.map(i64::from));
+    /// Sets the values given on the scene's tree: each on the node its
+    /// scene-file key goes to (the film, the sampler, the integrator, the
+    /// sensor), its origin the key's path without a place in the file (the
+    /// value came from elsewhere). A ray count or distribution given here
+    /// also removes the materials' and lights' own.
+    pub fn apply(&self, src: &mut SceneSource) {
+        let root = &mut src.root;
+        if let (Some(i), Some(n)) = (self.integrator, root.child_mut(Kind::Integrator)) {
+            n.plugin = i.name().to_string();
+            n.plugin_origin = Origin::unlocated(KeyPath::root().key("render").key("integrator"));
+        }
+        let int = |v: Option<u32>| v.map(|n| Value::Int(i64::from(n)));
+        let num = |v: Option<f32>| v.map(|x| Value::Float(f64::from(x)));
+        let flag = |v: Option<bool>| v.map(Value::Bool);
+        let name = |v: Option<&'static str>| v.map(|s| Value::String(s.to_string()));
+        let dist = |d: Option<Distribution>| name(d.map(Distribution::name));
+        set(root, "width", int(self.width));
+        set(root, "height", int(self.height));
+        set(root, "max_depth", int(self.max_depth));
+        set(root, "seed", int(self.seed));
+        set(root, "spp", int(self.spp));
+        set(root, "passes", int(self.passes));
+        set(root, "shadow_rays", int(self.shadow_rays));
+        set(root, "reflection_rays", int(self.reflection_rays));
+        set(root, "refraction_rays", int(self.refraction_rays));
         if let Some(d) = self.distribution {
-            r.distribution = d;
-            r.pixel_distribution = None;
-            r.lens_distribution = None;
-            r.time_distribution = None;
-            r.shadow_distribution = None;
-            r.reflection_distribution = None;
-            r.refraction_distribution = None;
+            set(root, "distribution", dist(Some(d)));
+            for key in [
+                "pixel_distribution",
+                "lens_distribution",
+                "time_distribution",
+                "shadow_distribution",
+                "reflection_distribution",
+                "refraction_distribution",
+            ] {
+                if let Some(n) = node(root, key) {
+                    n.remove_prop(key);
+                }
+            }
         }
         let shadow_d = self.shadow_distribution.or(self.distribution);
         let reflection_d = self.reflection_distribution.or(self.distribution);
         let refraction_d = self.refraction_distribution.or(self.distribution);
-        set_some(&mut r.pixel_distribution, self.pixel_distribution);
-        if let Some(f) = self.filter {
-            r.filter = f;
-        }
-        set_some(&mut r.lens_distribution, self.lens_distribution);
-        set_some(&mut r.time_distribution, self.time_distribution);
-        set_some(&mut r.shadow_distribution, shadow_d);
-        set_some(&mut r.reflection_distribution, reflection_d);
-        set_some(&mut r.refraction_distribution, refraction_d);
-        for l in &mut desc.lights {
-            clear_if(&mut l.shadow_rays, self.shadow_rays.is_some());
-            clear_if(&mut l.shadow_distribution, shadow_d.is_some());
-        }
-        for m in desc.materials.values_mut() {
-            clear_if(&mut m.reflection_rays, self.reflection_rays.is_some());
-            clear_if(&mut m.refraction_rays, self.refraction_rays.is_some());
-            clear_if(&mut m.reflection_distribution, reflection_d.is_some());
-            clear_if(&mut m.refraction_distribution, refraction_d.is_some());
+        set(root, "pixel_distribution", dist(self.pixel_distribution));
+        set(root, "filter", name(self.filter.map(Filter::name)));
+        set(root, "lens_distribution", dist(self.lens_distribution));
+        set(root, "time_distribution", dist(self.time_distribution));
+        set(root, "shadow_distribution", dist(shadow_d));
+        set(root, "reflection_distribution", dist(reflection_d));
+        set(root, "refraction_distribution", dist(refraction_d));
+        let clear = |n: &mut Node, key: &str, cond: bool| {
+            if cond {
+                n.remove_prop(key);
+            }
+        };
+        for n in root.children.iter_mut() {
+            match n.kind {
+                Kind::Emitter => {
+                    clear(n, "shadow_rays", self.shadow_rays.is_some());
+                    clear(n, "shadow_distribution", shadow_d.is_some());
+                }
+                Kind::Bsdf => {
+                    clear(n, "reflection_rays", self.reflection_rays.is_some());
+                    clear(n, "refraction_rays", self.refraction_rays.is_some());
+                    clear(n, "reflection_distribution", reflection_d.is_some());
+                    clear(n, "refraction_distribution", refraction_d.is_some());
+                }
+                _ => {}
+            }
         }
         match &self.points {
             // Taken from the working directory, not the scene's.
             Some(Points::File(path)) => {
                 let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-                (r.points, r.points_table) = (Some(path), None);
+                let text = path.to_string_lossy().into_owned();
+                set(root, "points", Some(Value::String(text)));
+                src.ctx.points = None;
             }
-            Some(Points::Table(t)) => (r.points, r.points_table) = (None, Some(t.clone())),
+            Some(Points::Table(t)) => src.ctx.points = Some(t.clone()),
             None => {}
         }
-        set(&mut r.metric, self.metric);
-        set(&mut r.reflection_metric, self.reflection_metric);
-        set(&mut r.shadow_metric, self.shadow_metric);
-        set(&mut r.metric_threshold, self.metric_threshold);
-        set(&mut r.metric_min_rays, self.metric_min_rays.map(i64::from));
-        set(
-            &mut r.shadow_metric_rays,
-            self.shadow_metric_rays.map(i64::from),
-        );
-        set(&mut r.pixel_metric, self.pixel_metric);
-        set(&mut r.noise_threshold, self.noise_threshold);
-        set(&mut r.stop_rule, self.stop_rule);
-        set(&mut r.confidence, self.confidence);
-        set(&mut r.replicas, self.replicas.map(i64::from));
-        set(&mut r.noise_floor, self.noise_floor);
-        set(&mut r.min_spp, self.min_spp.map(i64::from));
-        set(&mut desc.camera.aperture, self.aperture);
-        set_some(&mut desc.camera.focal_distance, self.focal_distance);
+        let root = &mut src.root;
+        set(root, "metric", flag(self.metric));
+        set(root, "reflection_metric", flag(self.reflection_metric));
+        set(root, "shadow_metric", flag(self.shadow_metric));
+        set(root, "metric_threshold", num(self.metric_threshold));
+        set(root, "metric_min_rays", int(self.metric_min_rays));
+        set(root, "shadow_metric_rays", int(self.shadow_metric_rays));
+        set(root, "pixel_metric", flag(self.pixel_metric));
+        set(root, "noise_threshold", num(self.noise_threshold));
+        set(root, "stop_rule", name(self.stop_rule.map(StopRule::name)));
+        set(root, "confidence", num(self.confidence));
+        set(root, "replicas", int(self.replicas));
+        set(root, "noise_floor", num(self.noise_floor));
+        set(root, "min_spp", int(self.min_spp));
+        set(root, "aperture", num(self.aperture));
+        set(root, "focal_distance", num(self.focal_distance));
     }
 }
 
-fn set<T>(slot: &mut T, v: Option<T>) {
-    if let Some(v) = v {
-        *slot = v;
+/// The node a scene-file key of `[render]` or `[camera]` belongs to.
+fn node<'a>(root: &'a mut Node, key: &str) -> Option<&'a mut Node> {
+    let kind = RENDER_KEYS
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or(Kind::Sensor, |(_, kind)| *kind);
+    match kind {
+        Kind::Film | Kind::Sampler => root.child_mut(Kind::Sensor)?.child_mut(kind),
+        kind => root.child_mut(kind),
     }
 }
 
-fn set_some<T>(slot: &mut Option<T>, v: Option<T>) {
-    if v.is_some() {
-        *slot = v;
-    }
-}
-
-fn clear_if<T>(slot: &mut Option<T>, cond: bool) {
-    if cond {
-        *slot = None;
+/// Sets `key` to `value` (if given) on its node.
+fn set(root: &mut Node, key: &str, value: Option<Value>) {
+    let Some(value) = value else { return };
+    let table = if RENDER_KEYS.iter().any(|(k, _)| *k == key) {
+        "render"
+    } else {
+        "camera"
+    };
+    let origin = Origin::unlocated(KeyPath::root().key(table).key(key));
+    if let Some(n) = node(root, key) {
+        n.set_prop(key, Located::new(value, origin));
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::desc::{LightDesc, MaterialDesc};
+    use crate::scene::LoadOptions;
 
     #[test]
     fn overrides_replace_per_light_and_per_material_values() {
-        let mut d = SceneDesc::default();
-        d.lights.push(LightDesc {
-            shadow_rays: Some(3),
-            shadow_distribution: Some(Distribution::Grid),
-            ..Default::default()
-        });
-        d.materials.insert(
-            "m".into(),
-            MaterialDesc {
-                reflection_rays: Some(5),
-                ..Default::default()
-            },
-        );
+        let text = "[render]\nshadow_rays = 3\n[materials.m]\nreflection_rays = 5\n\
+                    [[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = [1, 1, 1]\n\
+                    [[lights]]\ntype = \"rect\"\norigin = [0, 2, 0]\nedge_u = [1, 0, 0]\n\
+                    edge_v = [0, 0, 1]\nradiance = [1, 1, 1]\nshadow_rays = 4\nshadow_distribution = \"grid\"\n";
+        let here = std::path::Path::new(".");
+        let mut src = SceneSource::from_toml(text, here, here, &LoadOptions::default()).unwrap();
         let o = Overrides {
             shadow_rays: Some(16),
             distribution: Some(Distribution::Poisson),
             ..Default::default()
         };
-        o.apply(&mut d);
-        assert_eq!(d.render.shadow_rays, 16);
-        assert_eq!(d.lights[0].shadow_rays, None);
-        assert_eq!(d.lights[0].shadow_distribution, None);
-        assert_eq!(d.render.shadow_distribution, Some(Distribution::Poisson));
-        assert_eq!(d.materials["m"].reflection_rays, Some(5), "not overridden");
-        assert_eq!(d.render.distribution, Distribution::Poisson);
+        o.apply(&mut src);
+        let root = &src.root;
+        let sampler = root
+            .child(Kind::Sensor)
+            .unwrap()
+            .child(Kind::Sampler)
+            .unwrap();
+        assert_eq!(
+            sampler.prop("shadow_rays").unwrap().value.value,
+            Value::Int(16)
+        );
+        let poisson = Value::String("poisson".into());
+        assert_eq!(
+            sampler.prop("shadow_distribution").unwrap().value.value,
+            poisson
+        );
+        assert_eq!(sampler.prop("distribution").unwrap().value.value, poisson);
+        let rect = root.children_of(Kind::Emitter).nth(1).unwrap();
+        assert!(rect.prop("shadow_rays").is_none() && rect.prop("shadow_distribution").is_none());
+        let m = root.child(Kind::Bsdf).unwrap();
+        assert_eq!(
+            m.prop("reflection_rays").unwrap().value.value,
+            Value::Int(5),
+            "not overridden"
+        );
+        let scene = src.build().unwrap();
+        assert_eq!(scene.emitters[1].shadow().rays, 16);
     }
 }

@@ -12,10 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::SystemTime;
 
-use super::context::{resolve_mesh_path, BuildContext};
-use super::desc::{LightDesc, SceneDesc};
-use super::error::KeyPath;
+use super::context::{mesh_path, BuildContext};
 use crate::accel::World;
+use crate::description::{Kind, Node, Value};
 
 /// Worlds kept by [`WorldCache::default`]: enough for a sweep that
 /// alternates between a few scenes (the evaluation's bunny scenes, with and
@@ -72,53 +71,59 @@ impl WorldCache {
     }
 }
 
-/// Everything the world of `desc` is made from, as text: the objects, the
-/// material names (objects refer to materials by their index in name order,
-/// lights' surfaces to the one after the last) and which of them emit, the
-/// lights' shapes, where
-/// mesh paths point, and each mesh file's length and modification time (so
-/// that a file rewritten between builds is read again). `None` when a mesh
-/// path cannot be resolved or a file not examined: such a scene is built
-/// afresh, which reports the error.
+/// Everything the world of `root` is made from, as text: the shapes (their
+/// whole nodes: materials are named, placements given), the materials'
+/// names in order (objects refer to them by index, lights' surfaces to the
+/// one after the last) and what they emit (emitting objects carry
+/// emitters, numbered in the world), the lights without what does not
+/// shape them (power, model, shadow rays, so that sweeps over those share a
+/// world), where mesh paths point, and each mesh file's length and
+/// modification time (so that a file rewritten between builds is read
+/// again). `None` when a mesh path cannot be resolved or a file not
+/// examined: such a scene is built afresh, which reports the error.
 ///
-/// Debug formatting keeps every `f32` exactly (and tells NaN from infinity),
-/// so equal keys mean equal inputs.
-pub(super) fn key(desc: &SceneDesc, ctx: &BuildContext) -> Option<String> {
-    let names: Vec<&String> = desc.materials.keys().collect();
-    // Objects of an emitting material carry emitters, numbered in the world.
-    let emitting: Vec<bool> = desc
-        .materials
-        .values()
-        .map(|m| m.emission != [0.0; 3])
-        .collect();
-    let lights: Vec<LightDesc> = desc.lights.iter().map(shape_only).collect();
-    let files = mesh_stamps(desc, ctx)?;
-    Some(format!(
-        "{:?}|{names:?}|{emitting:?}|{lights:?}|{:?}|{:?}|{files:?}",
-        desc.objects, ctx.base_dir, ctx.bunny
-    ))
-}
-
-/// A light's description without what does not shape its surface (power,
-/// shadow rays), so that sweeps over those share a world.
-fn shape_only(l: &LightDesc) -> LightDesc {
-    LightDesc {
-        intensity: None,
-        radiance: None,
-        shadow_rays: None,
-        shadow_distribution: None,
-        ..l.clone()
+/// Fingerprints keep every `f32` exactly (and tell NaN from infinity), so
+/// equal keys mean equal inputs.
+pub(super) fn key(root: &Node, ctx: &BuildContext) -> Option<String> {
+    let mut key = String::new();
+    for m in root.children_of(Kind::Bsdf) {
+        let emits = m.prop("emission").map(|p| format!("{:?}", p.value.value));
+        key += &format!("bsdf {:?} {emits:?}|", m.id);
     }
+    for s in root.children_of(Kind::Shape) {
+        key += &s.fingerprint();
+        key.push('|');
+    }
+    for l in root
+        .children_of(Kind::Emitter)
+        .filter(|l| l.plugin != "constant")
+    {
+        let mut shape = l.clone();
+        for name in [
+            "radiance",
+            "intensity",
+            "model",
+            "shadow_rays",
+            "shadow_distribution",
+        ] {
+            shape.remove_prop(name);
+        }
+        key += &shape.fingerprint();
+        key.push('|');
+    }
+    let files = mesh_stamps(root, ctx)?;
+    Some(format!("{key}{:?}|{:?}|{files:?}", ctx.base_dir, ctx.bunny))
 }
 
-/// Path, length and modification time of every mesh file `desc` names.
-fn mesh_stamps(desc: &SceneDesc, ctx: &BuildContext) -> Option<Vec<(PathBuf, u64, SystemTime)>> {
-    let path = KeyPath::root();
-    desc.objects
-        .iter()
-        .filter_map(|o| o.path.as_deref())
+/// Path, length and modification time of every mesh file the shapes name.
+fn mesh_stamps(root: &Node, ctx: &BuildContext) -> Option<Vec<(PathBuf, u64, SystemTime)>> {
+    root.children_of(Kind::Shape)
+        .filter_map(|o| match &o.prop("path")?.value.value {
+            Value::String(file) => Some(file.as_str()),
+            _ => None,
+        })
         .map(|file| {
-            let p = resolve_mesh_path(&path, file, ctx).ok()?;
+            let p = mesh_path(file, ctx)?;
             stamp(&p).map(|(len, modified)| (p, len, modified))
         })
         .collect()

@@ -1,21 +1,59 @@
-//! Image-wide settings after validation, and the settings of the thesis's
-//! acceleration metrics and of the adaptive sampling rules (whose rules
-//! live in the integrator).
+//! Image-wide settings after validation — the film's, the sampler's and
+//! the integrator's — with the schemas of those three plugins, and the
+//! settings of the thesis's acceleration metrics and of the adaptive
+//! sampling rules (whose rules live in the integrator).
 
 use std::sync::Arc;
 
-use crate::math::Rgb;
-use crate::sampling::{Distribution, EffectSpec, Filter, PointTable};
+use crate::description::check::{int, range};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::sampling::{Distribution, EffectSpec, Filter, PointTable, MAX_RAYS};
+
+/// Largest image side; keeps `width * height` and the film allocation sane.
+pub const MAX_SIDE: u32 = 1 << 15;
+
+/// Most replicas adaptive sampling may split a pixel's sets into.
+pub const MAX_REPLICAS: u32 = 64;
+
+/// Most pixels an image may have (16384 × 16384): the frame is held in
+/// memory as 32-bit floats, 12 bytes a pixel, 3 GiB at this size.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// The integrators a scene may choose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorChoice {
+    /// The thesis's distributed Whitted tracer.
+    Whitted,
+}
+
+impl IntegratorChoice {
+    pub const ALL: [IntegratorChoice; 1] = [IntegratorChoice::Whitted];
+    pub const NAMES: [&'static str; 1] = ["whitted"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorChoice::Whitted => "whitted",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<IntegratorChoice> {
+        match s {
+            "whitted" => Some(IntegratorChoice::Whitted),
+            _ => None,
+        }
+    }
+}
 
 /// Image-wide settings after validation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
+    /// The integrator chosen.
+    pub integrator: IntegratorChoice,
     pub width: u32,
     pub height: u32,
     /// Levels of reflection/refraction rays (the thesis's recursion depth).
     pub max_depth: u32,
     pub seed: u64,
-    pub background: Rgb,
     /// Primary rays per pixel.
     pub spp: u32,
     /// Passes the render is made in.
@@ -116,4 +154,197 @@ impl StopRule {
     pub fn from_name(s: &str) -> Option<StopRule> {
         StopRule::ALL.into_iter().find(|r| r.name() == s)
     }
+}
+
+const fn param(name: &'static str, ty: Type) -> Param {
+    Param {
+        name,
+        ty,
+        default: "",
+        doc: "",
+    }
+}
+
+const FILTERS: [&str; 3] = ["box", "tent", "gaussian"];
+const STOP_RULES: [&str; 4] = ["calibrated", "cycles", "povray", "dammertz"];
+
+/// The film's parameters (documented with the render options).
+pub const FILM: Schema = Schema {
+    kind: Kind::Film,
+    plugin: "hdrfilm",
+    what: "film",
+    params: &[
+        param("width", Type::Int),
+        param("height", Type::Int),
+        param("filter", Type::Choice("pixel filter", &FILTERS)),
+    ],
+};
+
+/// The sampler's parameters (documented with the render options).
+pub const SAMPLER: Schema = Schema {
+    kind: Kind::Sampler,
+    plugin: "sets",
+    what: "sampler",
+    params: &[
+        param("seed", Type::Int),
+        param("spp", Type::Int),
+        param("shadow_rays", Type::Int),
+        param("reflection_rays", Type::Int),
+        param("refraction_rays", Type::Int),
+        param("distribution", Type::Distribution),
+        param("pixel_distribution", Type::Distribution),
+        param("lens_distribution", Type::Distribution),
+        param("time_distribution", Type::Distribution),
+        param("shadow_distribution", Type::Distribution),
+        param("reflection_distribution", Type::Distribution),
+        param("refraction_distribution", Type::Distribution),
+        param("points", Type::Path),
+    ],
+};
+
+/// The `whitted` integrator's parameters (documented with the render options).
+pub const WHITTED: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "whitted",
+    what: "whitted integrator",
+    params: &[
+        param("max_depth", Type::Int),
+        param("passes", Type::Int),
+        param("metric", Type::Bool),
+        param("reflection_metric", Type::Bool),
+        param("shadow_metric", Type::Bool),
+        param("metric_threshold", Type::Number),
+        param("metric_min_rays", Type::Int),
+        param("shadow_metric_rays", Type::Int),
+        param("pixel_metric", Type::Bool),
+        param("noise_threshold", Type::Number),
+        param(
+            "stop_rule",
+            Type::Choice("adaptive sampling rule", &STOP_RULES),
+        ),
+        param("confidence", Type::Number),
+        param("replicas", Type::Int),
+        param("noise_floor", Type::Number),
+        param("min_spp", Type::Int),
+    ],
+};
+
+/// The render's sets of shadow, reflection and refraction rays, which
+/// emitters and materials take unless they set their own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sets {
+    pub shadow: EffectSpec,
+    pub reflection: EffectSpec,
+    pub refraction: EffectSpec,
+}
+
+/// The settings of the film, the sampler and the integrator (named
+/// `integrator`), from their parameters. The `custom` distribution's
+/// points are left to the builder, which knows whether they are needed.
+pub fn read(
+    film: &Props,
+    sampler: &Props,
+    (integrator, name): (&Props, &str),
+) -> Result<Settings, Invalid> {
+    let width = int(film, "width", 800, 1, i64::from(MAX_SIDE))?;
+    let height = int(film, "height", 600, 1, i64::from(MAX_SIDE))?;
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > MAX_PIXELS {
+        return Err(film.error(
+            "height",
+            format!(
+                "a {width} x {height} image has {pixels} pixels, more than the {MAX_PIXELS} \
+                 (16384 x 16384) an image may have"
+            ),
+        ));
+    }
+    let filter = match film.choice("filter", "pixel filter", &FILTERS)? {
+        Some(f) => Filter::from_name(f).unwrap_or(Filter::Box),
+        None => Filter::Box,
+    };
+    let sets = sets(sampler)?;
+    let d = sampler
+        .distribution("distribution")?
+        .unwrap_or(Distribution::Grid);
+    let dist = |key: &str| -> Result<Distribution, Invalid> {
+        Ok(sampler.distribution(key)?.unwrap_or(d))
+    };
+    let choice = IntegratorChoice::from_name(name).unwrap_or(IntegratorChoice::Whitted);
+    let i = integrator;
+    Ok(Settings {
+        integrator: choice,
+        width,
+        height,
+        max_depth: int(i, "max_depth", 3, 0, 64)?,
+        seed: u64::from(int(sampler, "seed", 0, 0, i64::from(u32::MAX))?),
+        spp: int(sampler, "spp", 1, 1, i64::from(MAX_RAYS))?,
+        passes: int(i, "passes", 1, 1, i64::from(MAX_RAYS))?,
+        pixel: dist("pixel_distribution")?,
+        lens: dist("lens_distribution")?,
+        time: dist("time_distribution")?,
+        shadow: sets.shadow,
+        reflection: sets.reflection,
+        refraction: sets.refraction,
+        points: Arc::new(PointTable::NONE),
+        filter,
+        metric: metric(i)?,
+        stopping: stopping(i)?,
+    })
+}
+
+/// The render's sets (see [`Sets`]).
+fn sets(sampler: &Props) -> Result<Sets, Invalid> {
+    let d = sampler
+        .distribution("distribution")?
+        .unwrap_or(Distribution::Grid);
+    let spec = |rays: &str, dist: &str| -> Result<EffectSpec, Invalid> {
+        Ok(EffectSpec {
+            rays: int(sampler, rays, 1, 1, i64::from(MAX_RAYS))?,
+            distribution: sampler.distribution(dist)?.unwrap_or(d),
+        })
+    };
+    Ok(Sets {
+        shadow: spec("shadow_rays", "shadow_distribution")?,
+        reflection: spec("reflection_rays", "reflection_distribution")?,
+        refraction: spec("refraction_rays", "refraction_distribution")?,
+    })
+}
+
+/// Adaptive sampling's settings; `None` when `noise_threshold` is 0.
+fn stopping(i: &Props) -> Result<Option<Stopping>, Invalid> {
+    let threshold = range(i, "noise_threshold", 0.0, 0.0, 1e6)?;
+    let rule = match i.choice("stop_rule", "adaptive sampling rule", &STOP_RULES)? {
+        Some(r) => StopRule::from_name(r).unwrap_or_default(),
+        None => StopRule::default(),
+    };
+    let s = Stopping {
+        rule,
+        threshold,
+        confidence: range(i, "confidence", 0.9, 0.5, 0.999)?,
+        replicas: int(i, "replicas", 8, 2, i64::from(MAX_REPLICAS))?,
+        floor: range(i, "noise_floor", 1.0, 1e-6, 1e6)?,
+        min_spp: int(i, "min_spp", 0, 0, i64::from(MAX_RAYS))?,
+    };
+    let metric = i.bool("metric")?.unwrap_or(false);
+    if threshold > 0.0 && metric && i.bool("pixel_metric")?.unwrap_or(false) {
+        return Err(i.error(
+            "noise_threshold",
+            "adaptive sampling and `pixel_metric` both stop a pixel's camera rays: \
+             turn one of them off",
+        ));
+    }
+    Ok((threshold > 0.0).then_some(s))
+}
+
+fn metric(i: &Props) -> Result<Option<Metric>, Invalid> {
+    let m = Metric {
+        reflections: i.bool("reflection_metric")?.unwrap_or(true),
+        shadows: i.bool("shadow_metric")?.unwrap_or(true),
+        threshold: range(i, "metric_threshold", 0.01, 0.0, 1e6)?,
+        min_rays: int(i, "metric_min_rays", 4, 1, i64::from(MAX_RAYS))?,
+        shadow_rays: int(i, "shadow_metric_rays", 4, 1, i64::from(MAX_RAYS))?,
+        pixels: i.bool("pixel_metric")?.unwrap_or(false),
+    };
+    let any = m.reflections || m.shadows || m.pixels;
+    Ok((i.bool("metric")?.unwrap_or(false) && any).then_some(m))
 }

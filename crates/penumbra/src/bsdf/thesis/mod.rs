@@ -45,11 +45,13 @@ pub use dielectric::{fresnel_dielectric, Dielectric, Split};
 pub use mirror::Mirror;
 pub use phong::Phong;
 
+use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use super::BsdfModel;
+use crate::description::check::{int, nonneg3, range};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
-use crate::sampling::{EffectSpec, SetPoint};
+use crate::sampling::{EffectSpec, SetPoint, MAX_RAYS};
 
 /// The slots of the thesis material's lobes.
 const MIRROR: usize = 0;
@@ -144,8 +146,83 @@ fn delta(kind: BsdfFlags, radius: f32) -> BsdfFlags {
     BsdfFlags::DELTA | kind | blur
 }
 
+const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
+    Param {
+        name,
+        ty,
+        default,
+        doc,
+    }
+}
+
+impl ThesisParams {
+    /// The parameters of a scene's material, checked and defaulted (the
+    /// sets' budgets from `d`).
+    pub fn read(p: &Props, d: &Defaults) -> Result<ThesisParams, Invalid> {
+        let albedo = nonneg3(p, "albedo", [0.8; 3])?;
+        let specular = range(p, "specular", 0.0, 0.0, 1.0)?;
+        if (albedo + Rgb::splat(specular)).max_element() > 1.0 {
+            return Err(p.error(
+                "albedo",
+                "albedo + specular must not exceed 1 in any channel (the surface would create light)",
+            ));
+        }
+        let reflectivity = range(p, "reflectivity", 0.0, 0.0, 1.0)?;
+        let transparency = range(p, "transparency", 0.0, 0.0, 1.0)?;
+        if reflectivity + transparency > 1.0 + 1e-6 {
+            return Err(p.error(
+                "transparency",
+                "reflectivity + transparency must not exceed 1 (the surface would create light)",
+            ));
+        }
+        let effect = |rays: &str, dist: &str, def: EffectSpec| -> Result<EffectSpec, Invalid> {
+            Ok(EffectSpec {
+                rays: int(p, rays, i64::from(def.rays), 1, i64::from(MAX_RAYS))?,
+                distribution: p.distribution(dist)?.unwrap_or(def.distribution),
+            })
+        };
+        Ok(ThesisParams {
+            albedo,
+            specular,
+            shininess: range(p, "shininess", 32.0, 0.0, 1e6)?,
+            reflectivity,
+            transparency,
+            ior: range(p, "ior", 1.5, 1.0, 10.0)?,
+            glossiness: range(p, "glossiness", (1.0 - reflectivity) * 0.2, 0.0, 1e3)?,
+            translucency: range(p, "translucency", (1.0 - transparency) * 0.2, 0.0, 1e3)?,
+            reflection: effect("reflection_rays", "reflection_distribution", d.reflection)?,
+            refraction: effect("refraction_rays", "refraction_distribution", d.refraction)?,
+        })
+    }
+}
+
 impl BsdfModel for Thesis {
     const NAME: &'static str = "thesis";
+
+    const SCHEMA: Schema = Schema {
+        kind: Kind::Bsdf,
+        plugin: "thesis",
+        what: "material",
+        params: &[
+            param("albedo", Type::Colour, "[0.8, 0.8, 0.8]", "diffuse reflectance (Lambertian BRDF albedo/π), each channel in [0, 1]"),
+            param("specular", Type::Number, "0", "weight in [0, 1] of an energy-normalised Phong highlight from lights; `albedo + specular ≤ 1` per channel"),
+            param("shininess", Type::Number, "32", "Phong exponent, ≥ 0"),
+            param("reflectivity", Type::Number, "0", "fraction of light mirrored, in [0, 1]"),
+            param("transparency", Type::Number, "0", "fraction of light passing the dielectric interface (Fresnel-weighted reflection and refraction), in [0, 1]; `reflectivity + transparency ≤ 1`"),
+            param("ior", Type::Number, "1.5", "index of refraction, 1–10"),
+            param("emission", Type::Colour, "[0, 0, 0]", "emitted radiance (front side), ≥ 0: the objects of the material are area lights, sampled like a light's surface with `render.shadow_rays` (and, unlike a light's surface, they cast shadows)"),
+            param("glossiness", Type::Number, "(1 − reflectivity) · 0.2", "radius ≥ 0 of the reflection distribution (thesis §3.3); 0 is a perfect mirror"),
+            param("translucency", Type::Number, "(1 − transparency) · 0.2", "radius ≥ 0 of the refraction distribution; 0 is clear glass"),
+            param("reflection_rays", Type::Int, "render.reflection_rays", "rays per blurry reflection on this material, 1–65536"),
+            param("refraction_rays", Type::Int, "render.refraction_rays", "rays per blurry refraction on this material, 1–65536"),
+            param("reflection_distribution", Type::Distribution, "render.reflection_distribution", ""),
+            param("refraction_distribution", Type::Distribution, "render.refraction_distribution", ""),
+        ],
+    };
+
+    fn build(p: &Props, d: &Defaults) -> Result<Thesis, Invalid> {
+        Ok(Thesis::new(&ThesisParams::read(p, d)?))
+    }
 
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();
@@ -282,7 +359,7 @@ impl Thesis {
                 .local
                 .sample(Side::of(si, wo).n, wo, rescale(r + t, l).square())?;
             let p = l / total;
-            b.weight = b.weight * (1.0 / p);
+            b.weight *= 1.0 / p;
             b.pdf *= p;
             b.lobe = LOCAL;
             return Some(b);

@@ -31,11 +31,13 @@ mod sphere;
 
 pub use mesh::MeshLight;
 
+use crate::description::check::{int, nonneg3, required};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::emitter::sample::{area_pdf, LightSample};
 use crate::geometry::quad::Quad;
 use crate::math::{Frame, Rgb, Vec3};
 use crate::sampling::points::end_point;
-use crate::sampling::{Distribution, EffectSpec};
+use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
 /// [module docs](self)).
@@ -55,6 +57,71 @@ impl PenumbraModel {
             _ => None,
         }
     }
+}
+
+/// The parameters of an area emitter (and of the lights that are shapes
+/// carrying one).
+pub const PARAMS: [Param; 4] = [
+    Param {
+        name: "radiance",
+        ty: Type::Colour,
+        default: "required",
+        doc: "emitted radiance, ≥ 0",
+    },
+    Param {
+        name: "model",
+        ty: Type::Choice("penumbra model", &PenumbraModel::NAMES),
+        default: "\"surface\"",
+        doc: "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there",
+    },
+    Param {
+        name: "shadow_rays",
+        ty: Type::Int,
+        default: "render.shadow_rays",
+        doc: "shadow rays per shading point, 1–65536",
+    },
+    Param {
+        name: "shadow_distribution",
+        ty: Type::Distribution,
+        default: "render.shadow_distribution",
+        doc: "",
+    },
+];
+
+/// An `area` emitter, the child of the shape that carries it.
+pub const SCHEMA: Schema = Schema {
+    kind: Kind::Emitter,
+    plugin: "area",
+    what: "area emitter",
+    params: &PARAMS,
+};
+
+/// What an area emitter's parameters say, read and checked; `what` names
+/// the light in messages, `shadow` is the render's shadow set.
+pub fn read(
+    p: &Props,
+    what: &str,
+    shadow: EffectSpec,
+) -> Result<(Rgb, PenumbraModel, EffectSpec), Invalid> {
+    required(p, p.numbers::<3>("radiance")?, "radiance", what)?;
+    let radiance = nonneg3(p, "radiance", [0.0; 3])?;
+    let model = match p.choice("model", "penumbra model", &PenumbraModel::NAMES)? {
+        Some("thesis") => PenumbraModel::Thesis,
+        _ => PenumbraModel::Surface,
+    };
+    let shadow = EffectSpec {
+        rays: int(
+            p,
+            "shadow_rays",
+            i64::from(shadow.rays),
+            1,
+            i64::from(MAX_RAYS),
+        )?,
+        distribution: p
+            .distribution("shadow_distribution")?
+            .unwrap_or(shadow.distribution),
+    };
+    Ok((radiance, model, shadow))
 }
 
 /// The shape an area light samples, in world space.

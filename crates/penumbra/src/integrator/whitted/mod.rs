@@ -119,7 +119,7 @@ impl PixelWorker for WhittedWorker<'_> {
 mod tests {
     use super::*;
     use crate::math::Rgb;
-    use crate::scene::{LoadOptions, SceneSource};
+    use crate::scene::{LoadOptions, Overrides, SceneSource};
 
     /// A frame of one camera ray per pixel is rendered in spans of a row;
     /// every pixel is what rendering it alone gives (the showcase at one
@@ -128,7 +128,11 @@ mod tests {
     #[test]
     fn spans_give_what_single_pixels_give() {
         let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
-        src.desc.render.spp = 1;
+        Overrides {
+            spp: Some(1),
+            ..Default::default()
+        }
+        .apply(&mut src);
         let scene = src.build().expect("showcase builds");
         let whitted = Whitted::new(&scene);
         assert_eq!(whitted.spp, 1);

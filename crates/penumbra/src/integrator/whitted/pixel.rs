@@ -333,7 +333,7 @@ pub(super) fn camera_samples(
 mod tests {
     use super::*;
     use crate::sampling::Rng;
-    use crate::scene::{LoadOptions, SceneSource};
+    use crate::scene::{LoadOptions, Overrides, SceneSource};
 
     /// Film positions follow the pixel filter: within the pixel for the
     /// box, spread over the filter's radius (beyond the pixel) for the tent
@@ -343,8 +343,12 @@ mod tests {
         use crate::sampling::Filter;
         for f in Filter::ALL {
             let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
-            src.desc.render.spp = 64;
-            src.desc.render.filter = f;
+            Overrides {
+                spp: Some(64),
+                filter: Some(f),
+                ..Default::default()
+            }
+            .apply(&mut src);
             let scene = src.build().expect("showcase builds");
             let mut buf = Scratch::default();
             camera_rays(&scene, 5..6, 7, 0..64, &mut buf);
@@ -388,8 +392,11 @@ mod tests {
         use crate::integrator::whitted::Whitted;
         for spp in [4u32, 16] {
             let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
-            src.desc.render.spp = spp as _;
-            src.desc.render.pixel_metric = false;
+            Overrides {
+                spp: Some(spp),
+                ..Default::default()
+            }
+            .apply(&mut src);
             let scene = src.build().expect("showcase builds");
             let whitted = Whitted::new(&scene);
             let (mut tracer, mut bad) = (Tracer::new(&scene, &whitted), Vec::new());
@@ -436,9 +443,12 @@ mod tests {
     #[test]
     fn film_and_lens_points_pair_at_random() {
         let mut src = SceneSource::open("showcase", &LoadOptions::default()).expect("built-in");
-        src.desc.render.spp = 16;
-        src.desc.render.distribution = Distribution::Jitter;
-        src.desc.render.pixel_metric = false;
+        Overrides {
+            spp: Some(16),
+            distribution: Some(Distribution::Jitter),
+            ..Default::default()
+        }
+        .apply(&mut src);
         let scene = src.build().expect("showcase builds");
         assert!(scene.camera.has_lens());
         let (mut buf, mut row_order) = (Scratch::default(), Vec::new());

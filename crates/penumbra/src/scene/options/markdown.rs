@@ -5,6 +5,7 @@
 //! [`replace_section`] puts a fresh table there.
 
 use super::{DefaultValue, Kind, RenderOption, Table, Value, OPTIONS};
+use crate::scene::IntegratorChoice;
 
 /// Whose spelling a table uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,6 +100,7 @@ fn value_type(kind: Kind) -> String {
         Kind::Distribution => "distribution".into(),
         Kind::Filter => "box, tent or gaussian".into(),
         Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
+        Kind::Integrator => IntegratorChoice::NAMES.join(", "),
         Kind::Between(lo, hi) => format!("number {lo}–{hi}"),
         Kind::Colour => "colour ≥ 0".into(),
         Kind::File => "file".into(),
@@ -143,6 +145,8 @@ pub fn value_text(v: Value, view: View) -> String {
         Value::Filter(f) => format!("\"{}\"", f.name()),
         Value::StopRule(r) if view == View::CommandLine => r.name().into(),
         Value::StopRule(r) => format!("\"{}\"", r.name()),
+        Value::Integrator(i) if view == View::CommandLine => i.name().into(),
+        Value::Integrator(i) => format!("\"{}\"", i.name()),
         Value::Colour(c) => format!("[{}, {}, {}]", c[0], c[1], c[2]),
     }
 }

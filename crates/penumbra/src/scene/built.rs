@@ -1,0 +1,44 @@
+//! The built scene: what a render reads.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use super::ray_sets::custom_sets;
+use super::settings::Settings;
+use crate::accel::World;
+use crate::bsdf::Bsdf;
+use crate::camera::Camera;
+use crate::emitter::Emitter;
+
+/// A validated scene ready to render. Immutable: rendering only reads it.
+pub struct Scene {
+    pub camera: Camera,
+    /// The scattering models, by material index (hits name theirs).
+    pub bsdfs: Vec<Bsdf>,
+    /// The emitters: the lights in the order of the scene, then the
+    /// emitting objects', then those at infinity.
+    pub emitters: Vec<Emitter>,
+    /// The geometry and its BVH; shared with other scenes built from the
+    /// same geometry through a [`WorldCache`](super::WorldCache).
+    pub world: Arc<World>,
+    pub settings: Settings,
+    /// Per-material fraction of light a shadow ray keeps crossing it.
+    pub transparency: Vec<f32>,
+    /// Things worth telling the user once (non-square ray counts).
+    pub warnings: Vec<String>,
+    /// Time to validate the scene, load meshes and build the BVH.
+    pub build_time: Duration,
+}
+
+impl Scene {
+    /// The sizes of the sets the render draws from the `custom`
+    /// distribution, smallest first, each once: what a table made by a
+    /// function (Python's `points=`) is asked for.
+    pub fn custom_set_sizes(&self) -> Vec<u32> {
+        let sets = custom_sets(&self.settings, &self.bsdfs, &self.emitters);
+        let mut sizes: Vec<u32> = sets.into_iter().map(|(_, n)| n).collect();
+        sizes.sort_unstable();
+        sizes.dedup();
+        sizes
+    }
+}

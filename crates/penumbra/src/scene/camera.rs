@@ -1,0 +1,123 @@
+//! The sensor: a pinhole camera, a thin lens when `aperture > 0`, and a
+//! shutter (`[camera]` of a scene file).
+
+use super::settings::Settings;
+use crate::camera::{Camera, CameraSpec};
+use crate::description::check::{finite3, nonzero3, positive, range};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+
+const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
+    Param {
+        name,
+        ty,
+        default,
+        doc,
+    }
+}
+
+/// The parameters of the `perspective` sensor.
+pub const PERSPECTIVE: Schema = Schema {
+    kind: Kind::Sensor,
+    plugin: "perspective",
+    what: "camera",
+    params: &[
+        param(
+            "position",
+            Type::Vector,
+            "[0, 1, 5]",
+            "eye position at shutter open",
+        ),
+        param(
+            "look_at",
+            Type::Vector,
+            "[0, 0, 0]",
+            "point at the image centre",
+        ),
+        param(
+            "up",
+            Type::Vector,
+            "[0, 1, 0]",
+            "up direction; must not be parallel to the view",
+        ),
+        param("fov", Type::Number, "40", "vertical field of view, degrees"),
+        param(
+            "aperture",
+            Type::Number,
+            "0",
+            "lens radius in scene units; 0 is a pinhole (everything sharp)",
+        ),
+        param(
+            "focal_distance",
+            Type::Number,
+            "distance to `look_at`",
+            "distance of the plane in focus (measured along the view axis)",
+        ),
+        param(
+            "shutter",
+            Type::Numbers(2),
+            "[0, 1]",
+            "exposed part of the frame, 0 ≤ open ≤ close ≤ 1",
+        ),
+        param(
+            "position_end",
+            Type::Vector,
+            "`position`",
+            "eye position at frame time 1 (camera motion blur)",
+        ),
+        param(
+            "look_at_end",
+            Type::Vector,
+            "`look_at`",
+            "target at frame time 1",
+        ),
+    ],
+};
+
+/// The camera of the sensor's parameters `p`, for an image of `s`.
+pub fn build(p: &Props, s: &Settings) -> Result<Camera, Invalid> {
+    let position = finite3(p, "position", [0.0, 1.0, 5.0])?;
+    let look_at = finite3(p, "look_at", [0.0, 0.0, 0.0])?;
+    let up = nonzero3(p, "up", [0.0, 1.0, 0.0])?;
+    let position_end = finite3(p, "position_end", position.to_array())?;
+    let look_at_end = finite3(p, "look_at_end", look_at.to_array())?;
+    for (eye, target, key) in [
+        (position, look_at, "look_at"),
+        (position_end, look_at_end, "look_at_end"),
+    ] {
+        let view = target - eye;
+        if view.length_squared() <= 0.0 {
+            return Err(p.error(
+                key,
+                "the camera must look at a point other than its position",
+            ));
+        }
+        if view.normalize().cross(up.normalize()).length() < 1e-4 {
+            return Err(p.error("up", "`up` must not be parallel to the viewing direction"));
+        }
+    }
+    let fov = range(p, "fov", 40.0, 0.01, 179.0)?;
+    let aperture = range(p, "aperture", 0.0, 0.0, f32::MAX)?;
+    let focal_distance = match p.f32("focal_distance")? {
+        Some(_) => positive(p, "focal_distance", 1.0)?,
+        None => (look_at - position).length(),
+    };
+    let shutter = p.numbers::<2>("shutter")?.unwrap_or([0.0, 1.0]);
+    let [open, close] = shutter;
+    if !(open.is_finite() && close.is_finite() && 0.0 <= open && open <= close && close <= 1.0) {
+        return Err(p.error(
+            "shutter",
+            format!("must be [open, close] with 0 <= open <= close <= 1, got {shutter:?}"),
+        ));
+    }
+    Ok(Camera::new(CameraSpec {
+        position: [position, position_end],
+        look_at: [look_at, look_at_end],
+        up,
+        fov: fov.to_radians(),
+        aperture,
+        focal_distance,
+        shutter: [open, close],
+        width: s.width,
+        height: s.height,
+    }))
+}

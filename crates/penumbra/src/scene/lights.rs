@@ -1,0 +1,140 @@
+//! The lights of a scene (`[[lights]]` of a scene file): a point light is
+//! an emitter of its own; a rectangle, sphere or disk light is a shape
+//! carrying an `area` emitter, visible to rays but casting no shadow (so
+//! that it never blocks its own light, as the thesis's lights do not).
+
+use super::settings::Sets;
+use super::shapes::quad;
+use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::emitter::{area, Area, AreaShape, Constant, Emitter, PenumbraModel, Point};
+use crate::geometry::Shape;
+use crate::math::Frame;
+
+const fn param(name: &'static str, ty: Type, doc: &'static str) -> Param {
+    Param {
+        name,
+        ty,
+        default: "required",
+        doc,
+    }
+}
+
+pub const RECT: Schema = Schema {
+    kind: Kind::Emitter,
+    plugin: "rect",
+    what: "rect light",
+    params: &[
+        param("origin", Type::Vector, "one corner"),
+        param("edge_u", Type::Vector, "first edge"),
+        param(
+            "edge_v",
+            Type::Vector,
+            "second edge; the light emits along `edge_u × edge_v`",
+        ),
+        area::PARAMS[0],
+        area::PARAMS[1],
+        area::PARAMS[2],
+        area::PARAMS[3],
+    ],
+};
+
+pub const SPHERE: Schema = Schema {
+    kind: Kind::Emitter,
+    plugin: "sphere",
+    what: "sphere light",
+    params: &[
+        param("center", Type::Vector, "its centre"),
+        param("radius", Type::Number, "its radius > 0"),
+        area::PARAMS[0],
+        area::PARAMS[1],
+        area::PARAMS[2],
+        area::PARAMS[3],
+    ],
+};
+
+pub const DISK: Schema = Schema {
+    kind: Kind::Emitter,
+    plugin: "disk",
+    what: "disk light",
+    params: &[
+        param("center", Type::Vector, "its centre"),
+        param("normal", Type::Vector, "the direction it emits along"),
+        param("radius", Type::Number, "its radius > 0"),
+        area::PARAMS[0],
+        area::PARAMS[1],
+        area::PARAMS[2],
+        area::PARAMS[3],
+    ],
+};
+
+/// Every emitter a scene file names: its lights, and the background's.
+pub const SCHEMAS: [&Schema; 5] = [&Point::SCHEMA, &RECT, &SPHERE, &DISK, &Constant::SCHEMA];
+
+/// The light `plugin` of the parameters `p`: its emitter and, for an area
+/// light, the shape that carries it. `sets` gives the render's shadow set.
+pub(super) fn light(
+    plugin: &str,
+    p: &Props,
+    sets: &Sets,
+) -> Result<(Emitter, Option<Shape>), Invalid> {
+    let (shape, surface) = match plugin {
+        "point" => return Ok((Emitter::Point(Point::build(p)?), None)),
+        "constant" => return Ok((Emitter::Constant(Constant::build(p)?), None)),
+        "rect" => {
+            let q = quad(p, "rect light")?;
+            (AreaShape::Rect(q), Shape::Quad(q))
+        }
+        "sphere" => {
+            let center = required(p, p.numbers::<3>("center")?, "center", "sphere light")?;
+            let center = finite3_value(p, "center", center)?;
+            let radius = required(p, p.f32("radius")?, "radius", "sphere light")?;
+            let radius = positive_value(p, "radius", radius)?;
+            (
+                AreaShape::Sphere { center, radius },
+                Shape::Sphere { center, radius },
+            )
+        }
+        _ => {
+            let center = required(p, p.numbers::<3>("center")?, "center", "disk light")?;
+            let center = finite3_value(p, "center", center)?;
+            let normal = required(p, p.numbers::<3>("normal")?, "normal", "disk light")?;
+            let normal = nonzero3_value(p, "normal", normal)?;
+            let radius = required(p, p.f32("radius")?, "radius", "disk light")?;
+            let radius = positive_value(p, "radius", radius)?;
+            let frame = Frame::from_normal(normal.normalize());
+            (
+                AreaShape::Disk {
+                    center,
+                    frame,
+                    radius,
+                },
+                Shape::Disk {
+                    center,
+                    frame,
+                    radius,
+                },
+            )
+        }
+    };
+    let what = format!("{plugin} light");
+    let (radiance, model, shadow) = area::read(p, &what, sets.shadow)?;
+    let emitter = Emitter::Area(Area {
+        shape,
+        radiance,
+        model,
+        shadow,
+    });
+    Ok((emitter, Some(surface)))
+}
+
+/// The area emitter of an object whose material emits `radiance`: its
+/// shape sampled by the surface model with the render's shadow set.
+pub(super) fn emitting(shape: AreaShape, radiance: crate::math::Rgb, sets: &Sets) -> Emitter {
+    Emitter::Area(Area {
+        shape,
+        radiance,
+        model: PenumbraModel::Surface,
+        shadow: sets.shadow,
+    })
+}

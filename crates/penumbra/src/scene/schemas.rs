@@ -1,0 +1,89 @@
+//! Every plugin a scene may name, by kind, and the check of a scene's tree
+//! against their schemas when it is loaded: each plugin's name known, each
+//! key its plugin's, each value of its type (see
+//! [`description::check`](crate::description::check())).
+
+use super::{camera, lights, settings, shapes};
+use crate::bsdf::Bsdf;
+use crate::description::{self, Invalid, Kind, Node, Schema};
+use crate::emitter::area;
+
+/// The plugins of a kind.
+pub fn of(kind: Kind) -> &'static [&'static Schema] {
+    match kind {
+        Kind::Scene | Kind::Texture => &[],
+        Kind::Integrator => &[&settings::WHITTED],
+        Kind::Sensor => &[&camera::PERSPECTIVE],
+        Kind::Film => &[&settings::FILM],
+        Kind::Sampler => &[&settings::SAMPLER],
+        Kind::Bsdf => Bsdf::SCHEMAS,
+        Kind::Shape => &shapes::SCHEMAS,
+        Kind::Emitter => &EMITTERS,
+    }
+}
+
+/// Emitters: a scene file's lights and background, and the `area` emitter
+/// a shape carries.
+const EMITTERS: [&Schema; 6] = [
+    lights::SCHEMAS[0],
+    lights::SCHEMAS[1],
+    lights::SCHEMAS[2],
+    lights::SCHEMAS[3],
+    lights::SCHEMAS[4],
+    &area::SCHEMA,
+];
+
+/// What messages call a plugin of a kind when its name is not known.
+fn what(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Shape => "object type",
+        Kind::Emitter => "light type",
+        Kind::Bsdf => "material type",
+        Kind::Integrator => "integrator",
+        Kind::Sensor => "sensor",
+        Kind::Film => "film",
+        Kind::Sampler => "sampler",
+        Kind::Texture => "texture",
+        Kind::Scene => "scene",
+    }
+}
+
+/// The schema of a node's plugin, or the error that names the plugins of
+/// its kind.
+pub fn schema(node: &Node) -> Result<&'static Schema, Invalid> {
+    let all = of(node.kind);
+    all.iter()
+        .find(|s| s.plugin == node.plugin)
+        .copied()
+        .ok_or_else(|| {
+            let names: Vec<&str> = all
+                .iter()
+                .filter(|s| s.plugin != area::SCHEMA.plugin || node.kind != Kind::Emitter)
+                .map(|s| s.plugin)
+                .collect();
+            Invalid::at(
+                &node.plugin_origin,
+                format!(
+                    "unknown {} `{}`; valid choices are: {}",
+                    what(node.kind),
+                    node.plugin,
+                    names.join(", ")
+                ),
+            )
+        })
+}
+
+/// Checks every node of the tree below `root` against its plugin's schema.
+pub fn check(root: &Node) -> Result<(), Invalid> {
+    for node in &root.children {
+        let s = schema(node)?;
+        let others: Vec<&Schema> = of(node.kind)
+            .iter()
+            .copied()
+            .filter(|o| o.plugin != s.plugin)
+            .collect();
+        description::check(node, s, &others)?;
+        check(node)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,388 @@
+//! The shapes of a scene (`[[objects]]` of a scene file): their schemas,
+//! and objects of the world made of them, meshes read once per file and
+//! kind of normals.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::context::{resolve_mesh_path, BuildContext};
+use super::error::BuildError;
+use super::transform;
+use crate::accel::world::{mesh_bvh, Object};
+use crate::description::check::{finite3, finite3_value, nonzero3_value, positive, required};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::geometry::mesh_file::read_mesh;
+use crate::geometry::quad::Quad;
+use crate::geometry::{Mesh, Shape};
+use crate::math::{Mat4, Vec2, Vec3};
+
+/// Triangles a scene may always hold, counting a mesh once for every
+/// object that uses it (each is a copy in world space, or a BVH of its own).
+pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
+
+/// How many times the triangles of its mesh files a scene may hold, when
+/// that is more than [`INSTANCED_TRIANGLES`]: objects sharing a mesh
+/// multiply it, and a few hundred bytes of scene naming one small mesh
+/// thousands of times would otherwise fill memory (as entities do in the
+/// "billion laughs" of XML, whose parsers bound the same ratio).
+pub const INSTANCING_FACTOR: u64 = 16;
+
+const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
+    Param {
+        name,
+        ty,
+        default,
+        doc,
+    }
+}
+
+/// The keys every object has besides its shape's.
+const COMMON: [Param; 3] = [
+    param(
+        "material",
+        Type::String,
+        "the default material",
+        "name of a `[materials.NAME]` table",
+    ),
+    param(
+        "transform",
+        Type::Table(&transform::PARAMS),
+        "identity",
+        "placement (at frame time 0)",
+    ),
+    param(
+        "transform_end",
+        Type::Table(&transform::PARAMS),
+        "none",
+        "placement at frame time 1: the object moves during the exposure",
+    ),
+];
+
+pub const SPHERE: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "sphere",
+    what: "sphere",
+    params: &[
+        param(
+            "center",
+            Type::Vector,
+            "[0, 0, 0]",
+            "centre before the transform",
+        ),
+        param(
+            "radius",
+            Type::Number,
+            "1",
+            "radius > 0 before the transform (a static sphere may only be scaled uniformly)",
+        ),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
+    ],
+};
+
+pub const QUAD: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "quad",
+    what: "quad",
+    params: &[
+        param("origin", Type::Vector, "required", "one corner"),
+        param("edge_u", Type::Vector, "required", "first edge"),
+        param(
+            "edge_v",
+            Type::Vector,
+            "required",
+            "second edge, not parallel to `edge_u`",
+        ),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
+    ],
+};
+
+pub const MESH: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "mesh",
+    what: "mesh",
+    params: &[
+        param("path", Type::Path, "required", "a `.ply` or `.obj` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
+        param("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
+    ],
+};
+
+/// Every shape of a scene file.
+pub const SCHEMAS: [&Schema; 3] = [&SPHERE, &QUAD, &MESH];
+
+/// The meshes read so far (each file once) and the triangles the objects
+/// using them add up to.
+#[derive(Default)]
+pub(super) struct MeshFiles {
+    /// Meshes by file and kind of normals: a file named by several paths
+    /// (`m.ply`, `./m.ply`, a link to it) is read once, and counted once
+    /// in `read`; objects that use it flat and smooth get a mesh each.
+    cache: HashMap<(FileKey, bool), usize>,
+    /// Triangles in the files read.
+    read: u64,
+    /// Files read.
+    files: HashMap<FileKey, crate::geometry::mesh_file::MeshData>,
+    /// Triangles of the objects, a mesh counted once for each object using it.
+    used: u64,
+}
+
+/// Which file a path names: on Unix its device and inode, elsewhere its
+/// canonical path (the path as given if it cannot be resolved; reading it
+/// then fails with the error to report).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum FileKey {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+impl FileKey {
+    fn of(path: &Path) -> FileKey {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            // stat only: it follows links and never blocks, whatever the file is.
+            if let Ok(m) = std::fs::metadata(path) {
+                return FileKey::Inode(m.dev(), m.ino());
+            }
+        }
+        FileKey::Path(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()))
+    }
+}
+
+impl MeshFiles {
+    /// Counts an object's use of a mesh of `triangles`, refusing it past the
+    /// instancing bound.
+    fn use_mesh(&mut self, p: &Props, triangles: usize) -> Result<(), Invalid> {
+        let used = self.used + triangles as u64;
+        let limit = INSTANCED_TRIANGLES.max(INSTANCING_FACTOR * self.read);
+        if used > limit {
+            return Err(p.error(
+                "path",
+                format!(
+                    "the objects so far use meshes of {used} triangles in all (a mesh counted \
+                     once for each object using it), more than a scene may: {INSTANCED_TRIANGLES} \
+                     or {INSTANCING_FACTOR} times the {} triangles of its mesh files",
+                    self.read
+                ),
+            ));
+        }
+        self.used = used;
+        Ok(())
+    }
+}
+
+/// The object of shape `plugin` with the parameters `p` (its material
+/// already resolved), its mesh loaded into `meshes` (and baked into world
+/// space when it does not move).
+pub(super) fn object(
+    plugin: &str,
+    p: &Props,
+    material: u32,
+    ctx: &BuildContext,
+    meshes: &mut Vec<Mesh>,
+    files: &mut MeshFiles,
+) -> Result<Object, BuildError> {
+    let start = transform::read(p, "transform")?.unwrap_or(Mat4::IDENTITY);
+    let end = transform::read(p, "transform_end")?;
+    let motion = match end {
+        Some(end) => Some(transform::motion(p, &start, &end)?),
+        None => None,
+    };
+    let shape = match plugin {
+        "sphere" => {
+            let center = finite3(p, "center", [0.0; 3])?;
+            let radius = positive(p, "radius", 1.0)?;
+            sphere(p, center, radius, &start, motion.is_some())?
+        }
+        "quad" => {
+            let q = quad(p, "quad")?;
+            Shape::Quad(if motion.is_some() {
+                q
+            } else {
+                transform_quad(&q, &start)
+            })
+        }
+        _ => {
+            let file = required(p, p.string("path")?, "path", "mesh")?;
+            let smooth = p.bool("smooth")?.unwrap_or(false);
+            let m = load_mesh(p, file, ctx, files, meshes, smooth)?;
+            files.use_mesh(p, meshes[m].triangles.len())?;
+            let mesh = if motion.is_some() {
+                m
+            } else {
+                bake(meshes, m, &start)
+            };
+            Shape::Mesh { mesh: mesh as u32 }
+        }
+    };
+    let mesh_bvh = match (&shape, motion) {
+        (Shape::Mesh { mesh }, Some(_)) => Some(mesh_bvh(&meshes[*mesh as usize])),
+        _ => None,
+    };
+    Ok(Object {
+        shape,
+        material,
+        emitter: None,
+        casts_shadows: true,
+        motion,
+        mesh_bvh,
+    })
+}
+
+/// A static sphere stays analytic under translation, rotation and uniform
+/// scale; anything else would make an ellipsoid, which we do not support.
+fn sphere(p: &Props, center: Vec3, radius: f32, m: &Mat4, moving: bool) -> Result<Shape, Invalid> {
+    if moving {
+        return Ok(Shape::Sphere { center, radius });
+    }
+    let (scale, _, _) = m.to_scale_rotation_translation();
+    let s = scale.abs();
+    if (s.max_element() - s.min_element()) > 1e-4 * s.max_element() {
+        return Err(p.error("transform", "a sphere can only be scaled uniformly"));
+    }
+    Ok(Shape::Sphere {
+        center: m.transform_point3(center),
+        radius: radius * s.x,
+    })
+}
+
+/// The parallelogram of `origin`, `edge_u` and `edge_v` (`what` names the
+/// object in messages).
+pub(super) fn quad(p: &Props, what: &str) -> Result<Quad, Invalid> {
+    let origin = required(p, p.numbers::<3>("origin")?, "origin", what)?;
+    let origin = finite3_value(p, "origin", origin)?;
+    let eu = required(p, p.numbers::<3>("edge_u")?, "edge_u", what)?;
+    let eu = nonzero3_value(p, "edge_u", eu)?;
+    let ev = required(p, p.numbers::<3>("edge_v")?, "edge_v", what)?;
+    let ev = nonzero3_value(p, "edge_v", ev)?;
+    if eu.cross(ev).length() <= 1e-6 * eu.length() * ev.length() {
+        return Err(p.error("edge_v", "edge_u and edge_v must not be parallel"));
+    }
+    Ok(Quad::new(origin, eu, ev))
+}
+
+fn transform_quad(q: &Quad, m: &Mat4) -> Quad {
+    let o = m.transform_point3(q.origin);
+    Quad::new(
+        o,
+        m.transform_point3(q.origin + q.edge_u) - o,
+        m.transform_point3(q.origin + q.edge_v) - o,
+    )
+}
+
+fn load_mesh(
+    p: &Props,
+    file: &str,
+    ctx: &BuildContext,
+    files: &mut MeshFiles,
+    meshes: &mut Vec<Mesh>,
+    smooth: bool,
+) -> Result<usize, BuildError> {
+    let path = resolve_mesh_path(p, file, ctx)?;
+    let key = FileKey::of(&path);
+    if let Some(&i) = files.cache.get(&(key.clone(), smooth)) {
+        return Ok(i);
+    }
+    if !files.files.contains_key(&key) {
+        let data = read_mesh(&path).map_err(|error| BuildError::Mesh {
+            origin: p
+                .origin("path")
+                .cloned()
+                .unwrap_or_else(|| p.node_origin().clone()),
+            error,
+        })?;
+        if data.triangles.is_empty() {
+            return Err(p
+                .error("path", format!("{} has no faces", path.display()))
+                .into());
+        }
+        files.read += data.triangles.len() as u64;
+        files.files.insert(key.clone(), data);
+    }
+    let data = &files.files[&key];
+    let mut mesh = Mesh {
+        positions: data
+            .positions
+            .iter()
+            .map(|&v| Vec3::from_array(v))
+            .collect(),
+        normals: data.normals.as_ref().map(|ns| {
+            ns.iter()
+                .map(|&n| Vec3::from_array(n).normalize_or_zero())
+                .collect()
+        }),
+        uvs: data
+            .uvs
+            .as_ref()
+            .map(|uvs| uvs.iter().map(|&t| Vec2::from_array(t)).collect()),
+        triangles: data.triangles.clone(),
+    };
+    if !smooth {
+        mesh.normals = None;
+    } else if mesh.normals.is_none() {
+        mesh.compute_vertex_normals();
+    }
+    meshes.push(mesh);
+    files.cache.insert((key, smooth), meshes.len() - 1);
+    Ok(meshes.len() - 1)
+}
+
+/// A static mesh baked into world space (cached meshes are copied first).
+fn bake(meshes: &mut Vec<Mesh>, index: usize, m: &Mat4) -> usize {
+    let baked = meshes[index].transformed(m);
+    meshes.push(baked);
+    meshes.len() - 1
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::math::{Ray, Vec3};
+    use crate::scene::{LoadOptions, SceneSource};
+
+    /// An octahedron: smooth normals differ from the facets' everywhere
+    /// but at the face centres.
+    const OCTAHEDRON: &str = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+        f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+    /// Two objects share one mesh file, one flat and one smooth: each gets
+    /// its own normals, whichever comes first (the cache keys a mesh by its
+    /// file and its normals, not by its file alone).
+    #[test]
+    fn objects_sharing_a_file_keep_their_own_normals() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("o.obj"), OCTAHEDRON).unwrap();
+        let object = |x: f32, smooth: bool| {
+            format!(
+                "[[objects]]\ntype = \"mesh\"\npath = \"o.obj\"\nsmooth = {smooth}\n\
+                 transform = {{ translate = [{x}, 0, 0] }}\n"
+            )
+        };
+        for first_smooth in [false, true] {
+            let text = object(-2.0, first_smooth) + &object(2.0, !first_smooth);
+            let src = SceneSource::from_toml(
+                &text,
+                std::path::Path::new("t.toml"),
+                dir.path(),
+                &LoadOptions::default(),
+            )
+            .unwrap();
+            let scene = src.build().unwrap();
+            // A ray at each object, off the centre of the face it hits.
+            for (x, smooth) in [(-2.0, first_smooth), (2.0, !first_smooth)] {
+                let ray = Ray::new(Vec3::new(x + 0.2, 0.1, 5.0), -Vec3::Z, 0.0);
+                let hit = scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap();
+                let bent = hit.shading.n.dot(hit.ng) < 0.9999;
+                assert_eq!(
+                    bent, smooth,
+                    "object at x = {x}, smooth first: {first_smooth}"
+                );
+            }
+        }
+    }
+}
