@@ -38,6 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
+IntegratorName = Literal["whitted"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -69,6 +70,8 @@ class Stats(TypedDict, total=False):
     seed: int
     spp: int
     max_depth: int
+    integrator: str
+    passes: int
     primitives: int
     rays: Rays
     saved: Rays  # rays the acceleration metrics did not trace, where the library reports them
@@ -84,6 +87,8 @@ class Settings(TypedDict):
     seed: int
     spp: int
     max_depth: int
+    integrator: str
+    passes: int
     primitives: int
     build_s: float
     warnings: list[str]
@@ -119,9 +124,11 @@ class Scene:
     def settings(
         self,
         *,
+        integrator: IntegratorName | None = None,
         width: int | None = None,
         height: int | None = None,
         spp: int | None = None,
+        passes: int | None = None,
         shadow_rays: int | None = None,
         reflection_rays: int | None = None,
         refraction_rays: int | None = None,
@@ -202,9 +209,11 @@ def scene_from_dict(
 def render(
     scene: Scene,
     *,
+    integrator: IntegratorName | None = None,
     width: int | None = None,
     height: int | None = None,
     spp: int | None = None,
+    passes: int | None = None,
     shadow_rays: int | None = None,
     reflection_rays: int | None = None,
     refraction_rays: int | None = None,
@@ -246,9 +255,11 @@ def render_region(
     x1: int,
     y1: int,
     *,
+    integrator: IntegratorName | None = None,
     width: int | None = None,
     height: int | None = None,
     spp: int | None = None,
+    passes: int | None = None,
     shadow_rays: int | None = None,
     reflection_rays: int | None = None,
     refraction_rays: int | None = None,

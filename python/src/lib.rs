@@ -45,7 +45,7 @@ const MAX_SAMPLES: i64 = 100_000;
 #[pyfunction]
 #[pyo3(
     signature = (scene, **options),
-    text_signature = "(scene, *, width=None, height=None, spp=None, shadow_rays=None, \
+    text_signature = "(scene, *, integrator=None, width=None, height=None, spp=None, passes=None, shadow_rays=None, \
 reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
 lens_distribution=None, time_distribution=None, shadow_distribution=None, \
 reflection_distribution=None, refraction_distribution=None, points=None, filter=None, aperture=None, \
@@ -71,7 +71,7 @@ fn render<'py>(
 #[pyfunction]
 #[pyo3(
     signature = (scene, x0, y0, x1, y1, **options),
-    text_signature = "(scene, x0, y0, x1, y1, *, width=None, height=None, spp=None, \
+    text_signature = "(scene, x0, y0, x1, y1, *, integrator=None, width=None, height=None, spp=None, passes=None, \
 shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
 pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \

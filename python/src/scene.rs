@@ -255,6 +255,8 @@ impl Scene {
             "seed": s.seed,
             "spp": s.spp,
             "max_depth": s.max_depth,
+            "integrator": s.integrator.name(),
+            "passes": s.passes,
             "primitives": built.world.primitive_count(),
             "build_s": built.build_time.as_secs_f64(),
             "warnings": built.warnings,

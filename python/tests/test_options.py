@@ -26,6 +26,7 @@ ANNOTATIONS = {
     "distribution": "DistributionName | None",
     "filter": "FilterName | None",
     "stop_rule": "StopRuleName | None",
+    "integrator": "IntegratorName | None",
     "path": "PointSets | None",
 }
 VALID = {
@@ -35,6 +36,7 @@ VALID = {
     "distribution": "poisson",
     "filter": "tent",
     "stop_rule": "cycles",
+    "integrator": "whitted",
     "path": "points.json",
 }
 

@@ -9,17 +9,20 @@
 //! The library is a stack of layers, each a folder that uses only the ones
 //! before it: [`math`] (with the colour type [`math::Rgb`]) and [`input`]
 //! (every input file read bounded, every quoted value cut) → [`sampling`] →
-//! [`geometry`], [`accel`] and [`camera`] → [`scene`] → [`bsdf`] and
-//! [`emitter`] → [`integrator`] → [`render`] → [`io`]. A render goes:
+//! [`geometry`], [`accel`] and [`camera`] → [`description`] → [`bsdf`] and
+//! [`emitter`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
+//! goes:
 //!
-//! * [`scene`] parses a TOML scene (or a built-in one) into a plain
-//!   [`scene::SceneDesc`], validates it with errors at `file:line:column`, and
-//!   builds an immutable [`scene::Scene`] (meshes read by
-//!   [`geometry::mesh_file`], the world's BVHs from [`accel`]).
+//! * [`description`] reads a TOML scene (or a Python dict) into a tree of
+//!   plugins whose every value knows its `file:line:column`;
+//!   [`scene`] checks it against the plugins' schemas and builds an
+//!   immutable [`scene::Scene`]: camera, the world (meshes read by
+//!   [`geometry::mesh_file`], BVHs from [`accel`]), the BSDFs and emitters.
 //! * [`render::render`] cuts the image into tiles and renders them in
-//!   parallel, each with a worker of an [`integrator::Integrator`] (the
-//!   thesis's [`integrator::Whitted`]), and returns an [`render::Image`] plus
-//!   [`render::RenderStats`] (rays by kind, time).
+//!   parallel and in passes, each asking a worker of the scene's
+//!   [`integrator::Integrator`] (the thesis's [`integrator::Whitted`]) to add
+//!   a range of every pixel's samples to the tile's film, and returns an
+//!   [`render::Image`] plus [`render::RenderStats`] (rays by kind, time).
 //! * [`io::output`] writes PNG or EXR atomically.
 //!
 //! ```no_run

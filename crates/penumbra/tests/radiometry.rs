@@ -334,3 +334,58 @@ fn a_diffuse_floor_gives_rho_i_over_pi_h2() {
         "{e}"
     );
 }
+
+/// Emitters live on shapes: a quad of an emitting material, and the same
+/// rectangle as a mesh of two triangles (sampled by area through its
+/// table), light the floor with the rectangle's exact irradiance, as a
+/// rectangle light does.
+#[test]
+fn emitting_objects_light_like_a_light_of_their_shape() {
+    let l = 10.0;
+    let (o, eu, ev) = (
+        Vec3::new(-0.3, 1.5, -0.8),
+        Vec3::new(1.2, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.9),
+    );
+    let e = polygon_irradiance(&[o, o + eu, o + eu + ev, o + ev], l);
+    let want = Rgb::new(0.5, 0.25, 0.1) / PI * e;
+    let sets = "[render]\nshadow_rays = 4096\nshadow_distribution = \"jitter\"\n";
+    let glow = format!("[materials.glow]\nalbedo = [0, 0, 0]\nemission = [{l}, {l}, {l}]\n");
+    let quad = format!(
+        "{glow}[[objects]]\ntype = \"quad\"\nmaterial = \"glow\"\norigin = {:?}\nedge_u = {:?}\nedge_v = {:?}\n",
+        o.to_array(),
+        eu.to_array(),
+        ev.to_array()
+    );
+    let scene = |extra: &str| looking_down(extra).replace("[render]\n", sets);
+    assert_close(centre(&scene(&quad)), want, 5e-3);
+
+    let dir = tempfile::tempdir().unwrap();
+    let [a, b, c, d] = [o, o + eu, o + eu + ev, o + ev].map(|v| v.to_array());
+    // Faces wound as the quad, so that they face down too.
+    let obj = format!(
+        "v {} {} {}\nv {} {} {}\nv {} {} {}\nv {} {} {}\nf 1 2 3\nf 1 3 4\n",
+        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2]
+    );
+    let path = dir.path().join("glow.obj");
+    std::fs::write(&path, obj).unwrap();
+    let mesh = format!(
+        "{glow}[[objects]]\ntype = \"mesh\"\nmaterial = \"glow\"\npath = {:?}\n",
+        path.to_str().unwrap()
+    );
+    assert_close(centre(&scene(&mesh)), want, 5e-3);
+
+    // An emitting object cannot move, nor can a mesh of no area emit.
+    let moving = format!("{quad}transform_end = {{ translate = [0.1, 0, 0] }}\n");
+    let e = try_scene(&scene(&moving))
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        e.contains("materials.glow.emission: an object of an emitting material cannot move"),
+        "{e}"
+    );
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    let e = try_scene(&scene(&mesh)).err().expect("refused").to_string();
+    assert!(e.contains("an emitting mesh must have a surface"), "{e}");
+}

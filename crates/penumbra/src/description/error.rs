@@ -153,7 +153,8 @@ impl Invalid {
 impl Invalid {
     /// serde's message for a key a table does not take, at `at` (the key's
     /// place, with the path of its table):
-    /// ``unknown field `x`, expected one of `a`, `b` ``.
+    /// ``unknown field `x`, expected one of `a`, `b` ``. Without a place
+    /// (a dict), the path names the key itself, the only pointer there is.
     pub fn unknown_field<'a>(
         at: &Origin,
         key: &str,
@@ -168,7 +169,10 @@ impl Invalid {
                 names.join(", ")
             ),
         };
-        Invalid::at(at, message)
+        match at.at {
+            Some(_) => Invalid::at(at, message),
+            None => Invalid::at(&Origin::unlocated(at.path.key(key)), message),
+        }
     }
 }
 

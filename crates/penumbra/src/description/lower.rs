@@ -365,7 +365,11 @@ mod tests {
         );
         assert_eq!(
             json_err(r#"{"foo": 1}"#),
-            "unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`"
+            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`"
+        );
+        // A dict has no lines: the path names the key.
+        assert!(
+            json_err(r#"{"render": {"zoom": 2}}"#).starts_with("render.zoom: unknown field `zoom`")
         );
     }
 

@@ -22,6 +22,8 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "seed": s.seed,
         "spp": s.spp,
         "max_depth": s.max_depth,
+        "integrator": s.integrator.name(),
+        "passes": s.passes,
         "primitives": scene.world.primitive_count(),
         "rays": {
             "primary": r.primary,
