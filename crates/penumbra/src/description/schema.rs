@@ -21,6 +21,23 @@ pub struct Param {
     pub doc: &'static str,
 }
 
+impl Param {
+    /// A parameter and its docs.
+    pub const fn new(
+        name: &'static str,
+        ty: Type,
+        default: &'static str,
+        doc: &'static str,
+    ) -> Param {
+        Param {
+            name,
+            ty,
+            default,
+            doc,
+        }
+    }
+}
+
 /// The type of a parameter: what [`check`] requires of its value, and the
 /// [`Props`](super::Props) reader that reads it.
 #[derive(Clone, Copy, Debug, PartialEq)]

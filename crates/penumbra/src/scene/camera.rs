@@ -6,65 +6,56 @@ use crate::camera::{Camera, CameraSpec};
 use crate::description::check::{finite3, nonzero3, positive, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 
-const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
-    Param {
-        name,
-        ty,
-        default,
-        doc,
-    }
-}
-
 /// The parameters of the `perspective` sensor.
 pub const PERSPECTIVE: Schema = Schema {
     kind: Kind::Sensor,
     plugin: "perspective",
     what: "camera",
     params: &[
-        param(
+        Param::new(
             "position",
             Type::Vector,
             "[0, 1, 5]",
             "eye position at shutter open",
         ),
-        param(
+        Param::new(
             "look_at",
             Type::Vector,
             "[0, 0, 0]",
             "point at the image centre",
         ),
-        param(
+        Param::new(
             "up",
             Type::Vector,
             "[0, 1, 0]",
             "up direction; must not be parallel to the view",
         ),
-        param("fov", Type::Number, "40", "vertical field of view, degrees"),
-        param(
+        Param::new("fov", Type::Number, "40", "vertical field of view, degrees"),
+        Param::new(
             "aperture",
             Type::Number,
             "0",
             "lens radius in scene units; 0 is a pinhole (everything sharp)",
         ),
-        param(
+        Param::new(
             "focal_distance",
             Type::Number,
             "distance to `look_at`",
             "distance of the plane in focus (measured along the view axis)",
         ),
-        param(
+        Param::new(
             "shutter",
             Type::Numbers(2),
             "[0, 1]",
             "exposed part of the frame, 0 ≤ open ≤ close ≤ 1",
         ),
-        param(
+        Param::new(
             "position_end",
             Type::Vector,
             "`position`",
             "eye position at frame time 1 (camera motion blur)",
         ),
-        param(
+        Param::new(
             "look_at_end",
             Type::Vector,
             "`look_at`",

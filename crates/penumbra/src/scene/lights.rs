@@ -11,13 +11,9 @@ use crate::emitter::{area, Area, AreaShape, Constant, Emitter, PenumbraModel, Po
 use crate::geometry::Shape;
 use crate::math::Frame;
 
+/// A parameter a light cannot do without.
 const fn param(name: &'static str, ty: Type, doc: &'static str) -> Param {
-    Param {
-        name,
-        ty,
-        default: "required",
-        doc,
-    }
+    Param::new(name, ty, "required", doc)
 }
 
 pub const RECT: Schema = Schema {

@@ -156,13 +156,9 @@ impl StopRule {
     }
 }
 
+/// A parameter documented with the render options.
 const fn param(name: &'static str, ty: Type) -> Param {
-    Param {
-        name,
-        ty,
-        default: "",
-        doc: "",
-    }
+    Param::new(name, ty, "", "")
 }
 
 const FILTERS: [&str; 3] = ["box", "tent", "gaussian"];

@@ -27,30 +27,21 @@ pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
 /// "billion laughs" of XML, whose parsers bound the same ratio).
 pub const INSTANCING_FACTOR: u64 = 16;
 
-const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
-    Param {
-        name,
-        ty,
-        default,
-        doc,
-    }
-}
-
 /// The keys every object has besides its shape's.
 const COMMON: [Param; 3] = [
-    param(
+    Param::new(
         "material",
         Type::String,
         "the default material",
         "name of a `[materials.NAME]` table",
     ),
-    param(
+    Param::new(
         "transform",
         Type::Table(&transform::PARAMS),
         "identity",
         "placement (at frame time 0)",
     ),
-    param(
+    Param::new(
         "transform_end",
         Type::Table(&transform::PARAMS),
         "none",
@@ -63,13 +54,13 @@ pub const SPHERE: Schema = Schema {
     plugin: "sphere",
     what: "sphere",
     params: &[
-        param(
+        Param::new(
             "center",
             Type::Vector,
             "[0, 0, 0]",
             "centre before the transform",
         ),
-        param(
+        Param::new(
             "radius",
             Type::Number,
             "1",
@@ -86,9 +77,9 @@ pub const QUAD: Schema = Schema {
     plugin: "quad",
     what: "quad",
     params: &[
-        param("origin", Type::Vector, "required", "one corner"),
-        param("edge_u", Type::Vector, "required", "first edge"),
-        param(
+        Param::new("origin", Type::Vector, "required", "one corner"),
+        Param::new("edge_u", Type::Vector, "required", "first edge"),
+        Param::new(
             "edge_v",
             Type::Vector,
             "required",
@@ -105,8 +96,8 @@ pub const MESH: Schema = Schema {
     plugin: "mesh",
     what: "mesh",
     params: &[
-        param("path", Type::Path, "required", "a `.ply` or `.obj` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
-        param("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
+        Param::new("path", Type::Path, "required", "a `.ply` or `.obj` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
+        Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
         COMMON[0],
         COMMON[1],
         COMMON[2],

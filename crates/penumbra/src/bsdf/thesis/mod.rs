@@ -146,15 +146,6 @@ fn delta(kind: BsdfFlags, radius: f32) -> BsdfFlags {
     BsdfFlags::DELTA | kind | blur
 }
 
-const fn param(name: &'static str, ty: Type, default: &'static str, doc: &'static str) -> Param {
-    Param {
-        name,
-        ty,
-        default,
-        doc,
-    }
-}
-
 impl ThesisParams {
     /// The parameters of a scene's material, checked and defaulted (the
     /// sets' budgets from `d`).
@@ -204,19 +195,19 @@ impl BsdfModel for Thesis {
         plugin: "thesis",
         what: "material",
         params: &[
-            param("albedo", Type::Colour, "[0.8, 0.8, 0.8]", "diffuse reflectance (Lambertian BRDF albedo/π), each channel in [0, 1]"),
-            param("specular", Type::Number, "0", "weight in [0, 1] of an energy-normalised Phong highlight from lights; `albedo + specular ≤ 1` per channel"),
-            param("shininess", Type::Number, "32", "Phong exponent, ≥ 0"),
-            param("reflectivity", Type::Number, "0", "fraction of light mirrored, in [0, 1]"),
-            param("transparency", Type::Number, "0", "fraction of light passing the dielectric interface (Fresnel-weighted reflection and refraction), in [0, 1]; `reflectivity + transparency ≤ 1`"),
-            param("ior", Type::Number, "1.5", "index of refraction, 1–10"),
-            param("emission", Type::Colour, "[0, 0, 0]", "emitted radiance (front side), ≥ 0: the objects of the material are area lights, sampled like a light's surface with `render.shadow_rays` (and, unlike a light's surface, they cast shadows)"),
-            param("glossiness", Type::Number, "(1 − reflectivity) · 0.2", "radius ≥ 0 of the reflection distribution (thesis §3.3); 0 is a perfect mirror"),
-            param("translucency", Type::Number, "(1 − transparency) · 0.2", "radius ≥ 0 of the refraction distribution; 0 is clear glass"),
-            param("reflection_rays", Type::Int, "render.reflection_rays", "rays per blurry reflection on this material, 1–65536"),
-            param("refraction_rays", Type::Int, "render.refraction_rays", "rays per blurry refraction on this material, 1–65536"),
-            param("reflection_distribution", Type::Distribution, "render.reflection_distribution", ""),
-            param("refraction_distribution", Type::Distribution, "render.refraction_distribution", ""),
+            Param::new("albedo", Type::Colour, "[0.8, 0.8, 0.8]", "diffuse reflectance (Lambertian BRDF albedo/π), each channel in [0, 1]"),
+            Param::new("specular", Type::Number, "0", "weight in [0, 1] of an energy-normalised Phong highlight from lights; `albedo + specular ≤ 1` per channel"),
+            Param::new("shininess", Type::Number, "32", "Phong exponent, ≥ 0"),
+            Param::new("reflectivity", Type::Number, "0", "fraction of light mirrored, in [0, 1]"),
+            Param::new("transparency", Type::Number, "0", "fraction of light passing the dielectric interface (Fresnel-weighted reflection and refraction), in [0, 1]; `reflectivity + transparency ≤ 1`"),
+            Param::new("ior", Type::Number, "1.5", "index of refraction, 1–10"),
+            Param::new("emission", Type::Colour, "[0, 0, 0]", "emitted radiance (front side), ≥ 0: the objects of the material are area lights, sampled like a light's surface with `render.shadow_rays` (and, unlike a light's surface, they cast shadows)"),
+            Param::new("glossiness", Type::Number, "(1 − reflectivity) · 0.2", "radius ≥ 0 of the reflection distribution (thesis §3.3); 0 is a perfect mirror"),
+            Param::new("translucency", Type::Number, "(1 − transparency) · 0.2", "radius ≥ 0 of the refraction distribution; 0 is clear glass"),
+            Param::new("reflection_rays", Type::Int, "render.reflection_rays", "rays per blurry reflection on this material, 1–65536"),
+            Param::new("refraction_rays", Type::Int, "render.refraction_rays", "rays per blurry refraction on this material, 1–65536"),
+            Param::new("reflection_distribution", Type::Distribution, "render.reflection_distribution", ""),
+            Param::new("refraction_distribution", Type::Distribution, "render.refraction_distribution", ""),
         ],
     };
 
@@ -345,15 +336,17 @@ impl Thesis {
             let g = self.dielectric?;
             let s = Side::of(si, wo);
             let f = g.split(-wo, s.n, s.front).fresnel;
-            let v = rescale(r, t);
-            // Reflect with probability F, else refract.
-            let f_share = v.square().x;
-            let v = SetPoint::uniform(crate::math::Vec2::new(0.5, sq.y));
-            if f_share < f {
-                (FRESNEL, t / total * f, v)
+            // Reflect with probability F, else refract; the rest of the
+            // number within the choice is the point's first coordinate.
+            let y = rescale(r, t).square().x;
+            let (lobe, p, y) = if y < f {
+                (FRESNEL, f, y / f)
             } else {
-                (REFRACTION, t / total * (1.0 - f), v)
-            }
+                (REFRACTION, 1.0 - f, (y - f) / (1.0 - f))
+            };
+            let y = y.clamp(0.0, 1.0 - f32::EPSILON);
+            let v = SetPoint::uniform(crate::math::Vec2::new(y, sq.y));
+            (lobe, t / total * p, v)
         } else {
             let mut b = self
                 .local
