@@ -382,10 +382,59 @@ fn emitting_objects_light_like_a_light_of_their_shape() {
         .expect("refused")
         .to_string();
     assert!(
-        e.contains("materials.glow.emission: an object of an emitting material cannot move"),
+        e.contains("materials.glow.emission: an emitting object cannot move"),
         "{e}"
     );
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
     let e = try_scene(&scene(&mesh)).err().expect("refused").to_string();
     assert!(e.contains("an emitting mesh must have a surface"), "{e}");
+}
+
+/// Any shape can carry an emitter: a quad holding an `area` emitter child
+/// in the description (as Mitsuba's scenes attach emitters to shapes)
+/// lights the floor as the rectangle light of the same quad does; a scene
+/// names `area` only on a shape. (Such a shape casts shadows, as any
+/// shape: under the thesis model, whose targets leave the light's
+/// surface, it would shadow some of its own, which is why a scene's
+/// lights do not cast shadows.)
+#[test]
+fn a_shape_carrying_an_area_emitter_is_a_light() {
+    use penumbra::description::{Kind, Located, Node, Origin, Value};
+    use penumbra::scene::{LoadOptions, SceneSource};
+    let quad = "origin = [-0.3, 1.5, -0.8]\nedge_u = [1.2, 0.0, 0.0]\nedge_v = [0.0, 0.0, 0.9]\n";
+    let model = "surface";
+    let light = format!(
+        "[[lights]]\ntype = \"rect\"\n{quad}radiance = [10, 10, 10]\nmodel = \"{model}\"\nshadow_rays = 16\n"
+    );
+    let want = centre(&looking_down(&light));
+    let object = format!("[[objects]]\ntype = \"quad\"\n{quad}");
+    let here = std::path::Path::new(".");
+    let text = looking_down(&object);
+    let opts = LoadOptions::default();
+    let mut src = SceneSource::from_toml(&text, here, here, &opts).unwrap();
+    let origin = Origin::unlocated(Default::default());
+    let mut area = Node::new(Kind::Emitter, "area", origin.clone());
+    let value = |v: Value| Located::new(v, origin.clone());
+    let ten = || value(Value::Int(10));
+    area.set_prop("radiance", value(Value::Array(vec![ten(), ten(), ten()])));
+    area.set_prop("model", value(Value::String(model.into())));
+    area.set_prop("shadow_rays", value(Value::Int(16)));
+    let shapes = src
+        .root
+        .children
+        .iter_mut()
+        .filter(|c| c.kind == Kind::Shape);
+    shapes.last().unwrap().children.push(area);
+    let scene = src.build().unwrap();
+    let (img, _) = render_scene(&scene, 2);
+    assert_close(img.get(5, 5), want, 1e-6);
+    assert_eq!(scene.emitters.len(), 1);
+    let bad = looking_down("[[lights]]\ntype = \"area\"\nradiance = [1, 1, 1]\n");
+    let e = try_scene(&bad).err().expect("refused").to_string();
+    assert!(
+        e.contains(
+            "unknown light type `area`; valid choices are: point, rect, sphere, disk, constant"
+        ),
+        "{e}"
+    );
 }

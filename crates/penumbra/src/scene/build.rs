@@ -22,11 +22,12 @@ use crate::accel::world::{Object, World};
 use crate::bsdf::thesis::{Thesis, ThesisParams};
 use crate::bsdf::{self, Bsdf, BsdfModel};
 use crate::description::check::nonneg3;
+use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
-use crate::emitter::{AreaShape, Emitter, MeshLight};
+use crate::emitter::{area, Area, AreaShape, Emitter, MeshLight, PenumbraModel};
 use crate::geometry::{Mesh, Shape};
 use crate::math::Rgb;
-use crate::sampling::PointTable;
+use crate::sampling::{EffectSpec, PointTable};
 
 pub use super::error::BuildError;
 pub use super::settings::MAX_PIXELS;
@@ -109,12 +110,13 @@ pub fn build(
         }
         emitters.push(emitter);
     }
+    let carried = shape_emitters(root, &names, &emission, &sets)?;
     match &reused {
         Some(world) => {
             let mut copies = copies(world);
-            emitting_objects(&mut copies, &world.meshes, &emission, &sets, &mut emitters)?
+            emitting_objects(&mut copies, &world.meshes, &carried, &mut emitters)?
         }
-        None => emitting_objects(&mut objects, &meshes, &emission, &sets, &mut emitters)?,
+        None => emitting_objects(&mut objects, &meshes, &carried, &mut emitters)?,
     }
     emitters.extend(far);
     let sets_drawn = custom_sets(&settings, &bsdfs, &emitters);
@@ -251,26 +253,76 @@ fn material_index(p: &Props, names: &HashMap<String, u32>) -> Result<u32, Invali
     })
 }
 
-/// Gives every object whose material emits an area emitter, appended to
-/// `emitters`.
+/// What a shape's emitter is made of: its radiance, model and shadow
+/// set, and where it is described.
+struct Carried {
+    radiance: Rgb,
+    model: PenumbraModel,
+    shadow: EffectSpec,
+    at: Origin,
+}
+
+/// The emitter each shape carries, in the order of the shapes (the order
+/// of their objects): its `area` child's, else its material's emission's
+/// (the surface model with the render's shadow set), else none.
+fn shape_emitters(
+    root: &Node,
+    names: &HashMap<String, u32>,
+    emission: &[(Rgb, Origin)],
+    sets: &Sets,
+) -> Result<Vec<Option<Carried>>, Invalid> {
+    let mut out = Vec::new();
+    for shape in root.children_of(Kind::Shape) {
+        if let Some(child) = shape.child(Kind::Emitter) {
+            let p = Props::new(child);
+            let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow)?;
+            p.finish("area emitter")?;
+            let at = child.origin.clone();
+            out.push(Some(Carried {
+                radiance,
+                model,
+                shadow,
+                at,
+            }));
+            continue;
+        }
+        let material = match shape.prop("material").map(|p| &p.value.value) {
+            Some(Value::String(name)) => names.get(name).copied().unwrap_or(0),
+            _ => 0,
+        };
+        let (radiance, at) = &emission[material as usize];
+        out.push((*radiance != Rgb::ZERO).then(|| Carried {
+            radiance: *radiance,
+            model: PenumbraModel::Surface,
+            shadow: sets.shadow,
+            at: at.clone(),
+        }));
+    }
+    Ok(out)
+}
+
+/// Gives every object that carries an emitter (see [`shape_emitters`]) an
+/// area emitter of its shape, appended to `emitters`.
 fn emitting_objects(
     objects: &mut [Object],
     meshes: &[Mesh],
-    emission: &[(Rgb, Origin)],
-    sets: &Sets,
+    carried: &[Option<Carried>],
     emitters: &mut Vec<Emitter>,
 ) -> Result<(), Invalid> {
-    for o in objects.iter_mut() {
-        let Some((radiance, at)) = emission.get(o.material as usize) else {
+    for (o, c) in objects.iter_mut().zip(carried) {
+        let Some(Carried {
+            radiance,
+            model,
+            shadow,
+            at,
+        }) = c
+        else {
             continue;
         };
-        if *radiance == Rgb::ZERO || !o.casts_shadows {
-            continue;
-        }
         if o.motion.is_some() {
             return Err(Invalid::at(
                 at,
-                "an object of an emitting material cannot move (its emitter is sampled where it is)",
+                "an emitting object cannot move (its emitter is sampled where it is)",
             ));
         }
         let shape = match &o.shape {
@@ -289,6 +341,12 @@ fn emitting_objects(
                 radius: *radius,
             },
             Shape::Mesh { mesh } => {
+                if *model == PenumbraModel::Thesis {
+                    return Err(Invalid::at(
+                        at,
+                        "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh",
+                    ));
+                }
                 let m = &meshes[*mesh as usize];
                 let tris = (0..m.triangles.len()).map(|t| m.vertices(t)).collect();
                 AreaShape::Mesh(MeshLight::new(tris).ok_or_else(|| {
@@ -300,7 +358,12 @@ fn emitting_objects(
             }
         };
         o.emitter = Some(emitters.len() as u32);
-        emitters.push(lights::emitting(shape, *radiance, sets));
+        emitters.push(Emitter::Area(Area {
+            shape,
+            radiance: *radiance,
+            model: *model,
+            shadow: *shadow,
+        }));
     }
     Ok(())
 }

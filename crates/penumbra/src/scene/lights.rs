@@ -7,7 +7,7 @@ use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::emitter::{area, Area, AreaShape, Constant, Emitter, PenumbraModel, Point};
+use crate::emitter::{area, Area, AreaShape, Constant, Emitter, Point};
 use crate::geometry::Shape;
 use crate::math::Frame;
 
@@ -91,7 +91,7 @@ pub(super) fn light(
                 Shape::Sphere { center, radius },
             )
         }
-        _ => {
+        "disk" => {
             let center = required(p, p.numbers::<3>("center")?, "center", "disk light")?;
             let center = finite3_value(p, "center", center)?;
             let normal = required(p, p.numbers::<3>("normal")?, "normal", "disk light")?;
@@ -112,6 +112,7 @@ pub(super) fn light(
                 },
             )
         }
+        _ => return Err(p.node_error(format!("`{plugin}` is not a light a scene names by itself"))),
     };
     let what = format!("{plugin} light");
     let (radiance, model, shadow) = area::read(p, &what, sets.shadow)?;
@@ -122,15 +123,4 @@ pub(super) fn light(
         shadow,
     });
     Ok((emitter, Some(surface)))
-}
-
-/// The area emitter of an object whose material emits `radiance`: its
-/// shape sampled by the surface model with the render's shadow set.
-pub(super) fn emitting(shape: AreaShape, radiance: crate::math::Rgb, sets: &Sets) -> Emitter {
-    Emitter::Area(Area {
-        shape,
-        radiance,
-        model: PenumbraModel::Surface,
-        shadow: sets.shadow,
-    })
 }

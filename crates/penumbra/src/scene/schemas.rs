@@ -8,7 +8,7 @@ use crate::bsdf::Bsdf;
 use crate::description::{self, Invalid, Kind, Node, Schema};
 use crate::emitter::area;
 
-/// The plugins of a kind.
+/// The plugins of a kind a scene names by itself.
 pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
         Kind::Scene | Kind::Texture => &[],
@@ -18,20 +18,21 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Sampler => &[&settings::SAMPLER],
         Kind::Bsdf => Bsdf::SCHEMAS,
         Kind::Shape => &shapes::SCHEMAS,
-        Kind::Emitter => &EMITTERS,
+        Kind::Emitter => &lights::SCHEMAS,
     }
 }
 
-/// Emitters: a scene file's lights and background, and the `area` emitter
-/// a shape carries.
-const EMITTERS: [&Schema; 6] = [
-    lights::SCHEMAS[0],
-    lights::SCHEMAS[1],
-    lights::SCHEMAS[2],
-    lights::SCHEMAS[3],
-    lights::SCHEMAS[4],
-    &area::SCHEMA,
-];
+/// The plugins a node of `kind` may hold as its children, of kind `child`:
+/// the scene's are [`of`] their kind, the sensor's its film and sampler,
+/// a shape's the `area` emitter it carries.
+fn children(parent: Kind, child: Kind) -> &'static [&'static Schema] {
+    match (parent, child) {
+        (Kind::Scene, kind) => of(kind),
+        (Kind::Sensor, Kind::Film | Kind::Sampler) => of(child),
+        (Kind::Shape, Kind::Emitter) => &[&area::SCHEMA],
+        _ => &[],
+    }
+}
 
 /// What messages call a plugin of a kind when its name is not known.
 fn what(kind: Kind) -> &'static str {
@@ -48,19 +49,20 @@ fn what(kind: Kind) -> &'static str {
     }
 }
 
-/// The schema of a node's plugin, or the error that names the plugins of
-/// its kind.
+/// The schema of a node's plugin (a child of the scene), or the error that
+/// names the plugins of its kind.
 pub fn schema(node: &Node) -> Result<&'static Schema, Invalid> {
-    let all = of(node.kind);
+    schema_in(Kind::Scene, node)
+}
+
+/// [`schema`] for a child of a node of kind `parent`.
+fn schema_in(parent: Kind, node: &Node) -> Result<&'static Schema, Invalid> {
+    let all = children(parent, node.kind);
     all.iter()
         .find(|s| s.plugin == node.plugin)
         .copied()
         .ok_or_else(|| {
-            let names: Vec<&str> = all
-                .iter()
-                .filter(|s| s.plugin != area::SCHEMA.plugin || node.kind != Kind::Emitter)
-                .map(|s| s.plugin)
-                .collect();
+            let names: Vec<&str> = all.iter().map(|s| s.plugin).collect();
             Invalid::at(
                 &node.plugin_origin,
                 format!(
@@ -76,8 +78,8 @@ pub fn schema(node: &Node) -> Result<&'static Schema, Invalid> {
 /// Checks every node of the tree below `root` against its plugin's schema.
 pub fn check(root: &Node) -> Result<(), Invalid> {
     for node in &root.children {
-        let s = schema(node)?;
-        let others: Vec<&Schema> = of(node.kind)
+        let s = schema_in(root.kind, node)?;
+        let others: Vec<&Schema> = children(root.kind, node.kind)
             .iter()
             .copied()
             .filter(|o| o.plugin != s.plugin)
