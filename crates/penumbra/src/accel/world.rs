@@ -22,7 +22,7 @@ use super::bvh4::{Frustum, TraversalRay, ONE_PER_ITEM};
 use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
-use crate::geometry::{shading_frame, Mesh, Shape, ShapeHit, SurfaceInteraction};
+use crate::geometry::{Mesh, Shape, ShapeHit, SurfaceInteraction};
 use crate::math::{nearest_lane, Aabb, Ray, Vec3};
 
 /// What a ray finds: the surface-interaction record of the nearest surface.
@@ -537,7 +537,7 @@ impl World {
     fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
         let object = prim_object(prim);
         let o = &self.objects[object as usize];
-        let (local_ray, placement) = match (prim, o.motion) {
+        let (local_ray, placement) = match (prim, &o.motion) {
             (Prim::Object { .. }, Some(m)) => {
                 let (r, s) = m.to_object(ray);
                 (r, Some(s))
@@ -562,7 +562,7 @@ impl World {
             p: point,
             time: ray.time,
             ng,
-            shading: shading_frame(ns, dpdu),
+            n: ns,
             uv: g.uv,
             dpdu,
             dpdv,
@@ -993,9 +993,8 @@ mod tests {
                 for (ray, got) in rays.iter().zip(&out) {
                     let alone = world.intersect(ray, 0.0, f32::INFINITY);
                     assert_eq!(alone.map(|h| h.t.to_bits()), got.map(|h| h.t.to_bits()));
-                    let key = |h: Option<Hit>| {
-                        h.map(|h| (h.p, h.ng, h.shading.n, h.uv, h.dpdu, h.material))
-                    };
+                    let key =
+                        |h: Option<Hit>| h.map(|h| (h.p, h.ng, h.n, h.uv, h.dpdu, h.material));
                     assert_eq!(key(alone), key(*got), "{ray:?}");
                     total += usize::from(alone.is_some());
                 }

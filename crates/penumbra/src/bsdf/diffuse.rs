@@ -30,12 +30,12 @@ impl BsdfModel for Diffuse {
         kind: Kind::Bsdf,
         plugin: "diffuse",
         what: "diffuse material",
-        params: &[Param {
-            name: "reflectance",
-            ty: Type::Colour,
-            default: "[0.5, 0.5, 0.5]",
-            doc: "the albedo, each channel in [0, 1]",
-        }],
+        params: &[Param::new(
+            "reflectance",
+            Type::Colour,
+            "[0.5, 0.5, 0.5]",
+            "the albedo, each channel in [0, 1]",
+        )],
     };
 
     fn build(p: &Props, _: &Defaults) -> Result<Diffuse, Invalid> {
@@ -56,7 +56,7 @@ impl BsdfModel for Diffuse {
     }
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
-        let n = si.shading.n;
+        let n = si.n;
         if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
             return Rgb::ZERO;
         }
@@ -70,26 +70,27 @@ impl BsdfModel for Diffuse {
         lobe: Option<usize>,
         u: SetPoint,
     ) -> Option<BsdfSample> {
-        if lobe.is_some_and(|k| k != 0) || si.shading.n.dot(wo) <= 0.0 {
+        if lobe.is_some_and(|k| k != 0) || si.n.dot(wo) <= 0.0 {
             return None;
         }
-        let wi = si.shading.to_world(square_to_cosine_hemisphere(u.square()));
+        let frame = si.shading_frame();
+        let wi = frame.to_world(square_to_cosine_hemisphere(u.square()));
         // eval · cos / pdf = (ρ/π) cos / (cos/π) = ρ.
-        (wi.dot(si.shading.n) > 0.0).then(|| BsdfSample {
+        (wi.dot(si.n) > 0.0).then(|| BsdfSample {
             wi,
             weight: self.reflectance,
-            pdf: square_to_cosine_hemisphere_pdf(si.shading.to_local(wi)),
+            pdf: square_to_cosine_hemisphere_pdf(frame.to_local(wi)),
             flags: BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
             lobe: 0,
         })
     }
 
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
-        let n = si.shading.n;
+        let n = si.n;
         if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
             return 0.0;
         }
-        square_to_cosine_hemisphere_pdf(si.shading.to_local(wi))
+        square_to_cosine_hemisphere_pdf(si.shading_frame().to_local(wi))
     }
 }
 
@@ -130,7 +131,7 @@ mod tests {
                     theta.sin() * phi.sin(),
                     theta.cos(),
                 );
-                let wi = si.shading.to_world(l);
+                let wi = si.shading_frame().to_world(l);
                 total += d.pdf(&si, wo, wi) * theta.sin();
             }
         }

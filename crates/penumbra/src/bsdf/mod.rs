@@ -11,20 +11,18 @@
 //! vectors, `wo` toward the viewer and `wi` toward the light; the surface
 //! is described by its [`SurfaceInteraction`].
 //!
-//! The models form a closed enum, [`Bsdf`], made by the [`models!`] list at
+//! The models form a closed enum, [`Bsdf`], made by the `models!` list at
 //! the end of this file: one dispatch point, inlined into the shading loops.
 //! Adding a model is one file implementing [`BsdfModel`] and one line in
-//! that list.
+//! that list (which also declares the file's module).
 //!
 //! | model | what |
 //! |---|---|
 //! | [`thesis`](thesis::Thesis) | the thesis's layered material: Lambert + Phong, a mirror and a Fresnel dielectric, the last two blurred by distributed sets |
 //! | [`diffuse`](diffuse::Diffuse) | an ideal Lambertian reflector (Mitsuba 3's `diffuse`) |
 
-pub mod diffuse;
 mod model;
 pub mod sample;
-pub mod thesis;
 
 pub use model::{BsdfModel, Defaults};
 pub use sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
@@ -34,9 +32,15 @@ use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
 
-/// Makes [`Bsdf`], the enum of the models listed, and its dispatch.
+/// Declares the models' modules, and makes [`Bsdf`], the enum of the
+/// models listed (each `module::Model`, its variant named as the model),
+/// and its dispatch.
 macro_rules! models {
-    ($($variant:ident($model:ty),)*) => {
+    ($($module:ident::$variant:ident,)*) => {
+        $(pub mod $module;)*
+        models!(@enum $($variant($module::$variant),)*);
+    };
+    (@enum $($variant:ident($model:ty),)*) => {
         /// A scattering model: one of the models of this layer.
         #[derive(Clone, Copy, Debug)]
         pub enum Bsdf {
@@ -122,7 +126,8 @@ macro_rules! models {
     };
 }
 
+// The models: one line each.
 models! {
-    Thesis(thesis::Thesis),
-    Diffuse(diffuse::Diffuse),
+    thesis::Thesis,
+    diffuse::Diffuse,
 }

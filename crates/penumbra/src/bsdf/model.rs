@@ -14,7 +14,7 @@ pub struct Defaults {
     pub refraction: EffectSpec,
 }
 
-/// What every scattering model answers (see the [module docs](self)).
+/// What every scattering model answers (see the [module docs](crate::bsdf)).
 pub trait BsdfModel: Sized {
     /// The name scenes select the model by.
     const NAME: &'static str;

@@ -1,11 +1,11 @@
 //! The surface-interaction record: everything shading needs to know about
 //! the point where a ray met a surface.
 //!
-//! Every shape answers a hit with one ([`Shape::interaction`] for the shape's
+//! Every shape answers a hit with one ([`Shape::geometry`] for the shape's
 //! own part, completed by the acceleration structure with the object's
 //! material and emitter): the point, the geometric normal as the shape
-//! defines it, a shading frame (the interpolated normal of a smooth mesh,
-//! with tangents along `dp/du`), the surface coordinates `(u, v)` and their
+//! defines it, the shading normal (the interpolated normal of a smooth
+//! mesh) and the frame around it with tangents along `dp/du`, the surface coordinates `(u, v)` and their
 //! derivatives, and which primitive was hit. It is the role of pbrt-v4's
 //! `SurfaceInteraction` and Mitsuba 3's `SurfaceInteraction3f`: BSDFs,
 //! emitters and textures read it, and nothing else reaches into shapes.
@@ -20,7 +20,7 @@
 //! | disk | `u = r / radius`, `v = φ / 2π` about its normal from its frame's `u` axis | the derivatives in `u` and `v` (0 at the centre for `dp/dv`) |
 //! | triangle | the interpolated texture coordinates of the mesh, else the barycentrics `(b1, b2)` | solved from the texture coordinates, else the edges `p1 − p0`, `p2 − p0` |
 //!
-//! [`Shape::interaction`]: super::Shape::interaction
+//! [`Shape::geometry`]: super::Shape::geometry
 
 use crate::math::{Frame, Vec2, Vec3};
 
@@ -35,9 +35,10 @@ pub struct SurfaceInteraction {
     pub time: f32,
     /// Unit geometric normal, as the shape defines it (not turned toward the ray).
     pub ng: Vec3,
-    /// The shading frame: `n` is the unit shading normal, in the hemisphere
-    /// of `ng`; `u` lies along `dp/du` (orthogonalised), `v = n × u`.
-    pub shading: Frame,
+    /// The unit shading normal (the interpolated normal of a smooth mesh),
+    /// in the hemisphere of `ng`. The shading frame around it is
+    /// [`shading_frame`](Self::shading_frame).
+    pub n: Vec3,
     /// Surface coordinates.
     pub uv: Vec2,
     pub dpdu: Vec3,
@@ -50,6 +51,16 @@ pub struct SurfaceInteraction {
     pub material: u32,
     /// The object's emitter, if it emits.
     pub emitter: Option<u32>,
+}
+
+impl SurfaceInteraction {
+    /// The shading frame: `n` the shading normal, `u` along `dp/du`
+    /// (orthogonalised), `v = n × u`. Made when asked for: most shading
+    /// reads the normal alone.
+    #[inline]
+    pub fn shading_frame(&self) -> Frame {
+        shading_frame(self.n, self.dpdu)
+    }
 }
 
 /// The shape's part of a [`SurfaceInteraction`]: what the shape computes at

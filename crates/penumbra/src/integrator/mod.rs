@@ -2,12 +2,18 @@
 //! recursion.
 //!
 //! At every surface hit, each effect traces a *set* of rays distributed by its
-//! own distribution (thesis §3.1): shadow rays toward every light (penumbra),
-//! reflection rays around the mirror direction (blurry reflection) and
-//! refraction rays around the refracted direction (blurry transmission); each
-//! ray of a set recurses, so counts grow exponentially between mutually
-//! reflecting surfaces (Table 4.3). With one ray per effect and the grid
-//! distribution every set is the single perfect ray, i.e. Whitted's algorithm.
+//! own distribution (thesis §3.1): shadow rays toward every emitter
+//! (penumbra), and a set around the perfect direction of each delta lobe of
+//! the hit's BSDF (blurry reflection and transmission); each ray of a set
+//! recurses, so counts grow exponentially between mutually reflecting
+//! surfaces (Table 4.3). With one ray per effect and the grid distribution
+//! every set is the single perfect ray, i.e. Whitted's algorithm.
+//!
+//! Integrators shade only through the interfaces: a hit's
+//! [`SurfaceInteraction`](crate::geometry::SurfaceInteraction), its BSDF's
+//! [`lobes`, `eval` and `sample`](crate::bsdf::Bsdf), the emitters'
+//! [`sample`, `eval` and `eval_miss`](crate::emitter::Emitter). No file here
+//! names a model.
 //!
 //! # Random streams
 //!
@@ -18,9 +24,13 @@
 //! | stream | derived as |
 //! |---|---|
 //! | pixel `p`, its film, lens and time sets, path of primary sample `i` | see [`Sampler`](crate::sampling::Sampler) |
-//! | shadow set toward light `j` at a hit | `path.derive(SHADOW + j)` |
-//! | reflection / refraction / Fresnel-reflection set | `path.derive(REFLECT_SET)` … |
-//! | path of the k-th ray of such a set | `path.derive(REFLECT_RAY).derive(k)` … |
+//! | shadow set toward emitter `j` at a hit | `path.derive(SHADOW + j)` |
+//! | set of lobe `k` of the hit's BSDF | `path.derive(2k + 1)` |
+//! | path of the `i`-th ray of that set | `path.derive(2k + 2).child(i, n)` |
+//!
+//! (The thesis's material keeps its lobes in slots 0 to 2 — mirror,
+//! refraction, Fresnel reflection — so its sets draw the streams 1 to 6
+//! they always drew.)
 //!
 //! so the image is identical on any number of threads, tiles or machines.
 //!

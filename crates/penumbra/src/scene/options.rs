@@ -15,14 +15,15 @@
 //!   docs/python.md are [`markdown`] tables of it, kept in step by a test
 //!   (`PENUMBRA_UPDATE_DOCS=1 cargo test --release -p penumbra --test options`
 //!   rewrites them);
-//! * the scene file's keys are the fields of
-//!   [`RenderDesc`](super::desc::RenderDesc) and
-//!   [`CameraDesc`](super::desc::CameraDesc), which serde reads with located
-//!   errors; a test checks their names, defaults and accepted ranges against
-//!   this table.
+//! * the scene file's `[render]` keys are routed by
+//!   [`RENDER_KEYS`](crate::description::RENDER_KEYS) to the film, the
+//!   sampler and the integrator, whose schemas (and the sensor's, for
+//!   `[camera]`) read them; tests check their names, defaults and accepted
+//!   ranges against this table.
 //!
-//! Adding an option is one entry here, plus its field in [`Overrides`] (and
-//! in the description, for a scene-file key) and the code that uses it.
+//! Adding an option is one entry here, plus its field in [`Overrides`] (and,
+//! for a scene-file key, its route and its parameter in the schema of the
+//! plugin that reads it) and the code that uses it.
 
 use std::path::PathBuf;
 

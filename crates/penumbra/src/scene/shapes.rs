@@ -368,7 +368,7 @@ mod tests {
             for (x, smooth) in [(-2.0, first_smooth), (2.0, !first_smooth)] {
                 let ray = Ray::new(Vec3::new(x + 0.2, 0.1, 5.0), -Vec3::Z, 0.0);
                 let hit = scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap();
-                let bent = hit.shading.n.dot(hit.ng) < 0.9999;
+                let bent = hit.n.dot(hit.ng) < 0.9999;
                 assert_eq!(
                     bent, smooth,
                     "object at x = {x}, smooth first: {first_smooth}"

@@ -108,7 +108,7 @@ impl Side {
         let front = si.ng.dot(wo) >= 0.0;
         let flip = if front { 1.0 } else { -1.0 };
         Side {
-            n: si.shading.n * flip,
+            n: si.n * flip,
             ng: si.ng * flip,
             front,
         }
@@ -265,22 +265,24 @@ impl BsdfModel for Thesis {
         let s = Side::of(si, wo);
         let d = -wo;
         let one = |lobe: usize, u: &SetPoint| -> Option<(Vec3, Rgb, BsdfFlags)> {
-            let flags = self.lobes().flags[lobe];
             match lobe {
                 MIRROR => {
                     let m = self.mirror?;
                     let w = m.direction(d, s.n, s.ng, u);
+                    let flags = delta(BsdfFlags::REFLECTION, m.glossiness);
                     Some((w, Rgb::splat(m.reflectivity), flags))
                 }
                 REFRACTION | FRESNEL => {
                     let g = self.dielectric?;
                     let split = g.split(d, s.n, s.front);
-                    let (w, weight) = if lobe == REFRACTION {
-                        g.refraction(&split, s.ng, u)?
+                    let (w, weight, kind) = if lobe == REFRACTION {
+                        let (w, weight) = g.refraction(&split, s.ng, u)?;
+                        (w, weight, BsdfFlags::TRANSMISSION)
                     } else {
-                        g.reflection(&split, s.ng, u)?
+                        let (w, weight) = g.reflection(&split, s.ng, u)?;
+                        (w, weight, BsdfFlags::REFLECTION)
                     };
-                    Some((w, Rgb::splat(weight), flags))
+                    Some((w, Rgb::splat(weight), delta(kind, g.translucency)))
                 }
                 _ => None,
             }
@@ -371,7 +373,6 @@ impl Thesis {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::geometry::shading_frame;
     use crate::math::Vec2;
     use crate::sampling::{Distribution, Rng};
 
@@ -400,7 +401,7 @@ pub(crate) mod tests {
             p: Vec3::ZERO,
             time: 0.0,
             ng: n,
-            shading: shading_frame(n, Vec3::X),
+            n,
             uv: Vec2::ZERO,
             dpdu: Vec3::X,
             dpdv: Vec3::Z,

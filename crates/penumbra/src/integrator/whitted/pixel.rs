@@ -1,5 +1,5 @@
-//! A pixel's camera rays and their mean: one pixel with its samples, or a
-//! span of pixels of one sample each.
+//! A pixel's camera rays, each sample added to the tile's film: one pixel
+//! with its samples, or a span of pixels of one sample each.
 
 use super::tracer::{Continued, Tracer};
 use crate::camera::CameraSample;

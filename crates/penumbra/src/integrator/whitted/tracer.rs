@@ -68,6 +68,8 @@ pub struct Tracer<'a> {
     /// The branch of emitter `j`'s shadow sets, `SHADOW + j`, hashed once,
     /// for each of `sampled`.
     shadow_keys: Vec<BranchKey>,
+    /// The emitters at infinity, which rays that hit nothing see.
+    far: Vec<u32>,
     /// The calibrated rule on sets, if on (see [`SetRule`]).
     set_rule: Option<SetRule>,
     /// Replica sums of the sets being traced, one per nesting level.
@@ -124,7 +126,7 @@ impl Local {
             p: hit.p,
             reach: reach(hit.p, ray.origin),
             wo,
-            n: hit.shading.n * flip,
+            n: hit.n * flip,
             ng: hit.ng * flip,
             time: ray.time,
         }
@@ -162,6 +164,9 @@ impl<'a> Tracer<'a> {
             shadow_keys: (0..scene.emitters.len() as u64)
                 .filter(|&j| !scene.emitters[j as usize].is_infinite())
                 .map(|j| BranchKey::new(SHADOW + j))
+                .collect(),
+            far: (0..scene.emitters.len() as u32)
+                .filter(|&j| scene.emitters[j as usize].is_infinite())
                 .collect(),
             set_rule: SetRule::new(config.stopping),
             tallies: Vec::new(),
@@ -369,10 +374,10 @@ impl<'a> Tracer<'a> {
     /// The radiance of rays that hit nothing: what the emitters at infinity
     /// send along them.
     fn miss(&self, ray: &Ray) -> Rgb {
-        let mut far = self.scene.emitters.iter().filter(|e| e.is_infinite());
-        match far.next() {
+        let eval = |j: &u32| self.scene.emitters[*j as usize].eval_miss(ray.dir);
+        match self.far.split_first() {
             None => Rgb::ZERO,
-            Some(first) => far.fold(first.eval_miss(ray.dir), |l, e| l + e.eval_miss(ray.dir)),
+            Some((first, rest)) => rest.iter().fold(eval(first), |l, j| l + eval(j)),
         }
     }
 
