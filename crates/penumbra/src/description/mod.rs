@@ -2,9 +2,9 @@
 //! value carrying the file, line and column it came from (the role of
 //! Mitsuba 3's `Properties` and pbrt-v4's `ParameterDictionary`).
 //!
-//! Every input lowers into it: a TOML scene file ([`from_toml`]), a Python
-//! dict through its JSON ([`from_json`]), and later Mitsuba XML. One
-//! builder turns it into a scene. The description knows the shape of a
+//! Every input lowers into it: a TOML scene file ([`from_toml`]) and a
+//! Python dict through its JSON ([`from_json`]). One builder turns it into
+//! a scene. The description knows the shape of a
 //! scene file, not what any plugin means: nothing here depends on the
 //! layers that build or render.
 //!

@@ -1,7 +1,7 @@
 //! A discrete distribution over a list of non-negative weights, sampled by
 //! inverting its cumulative sum: which triangle of a mesh light a sample
-//! lands on (weights: areas), and later which emitter a path asks or which
-//! row of an environment map.
+//! lands on (weights: areas); the same table serves any choice among
+//! weighted items.
 //!
 //! Built once (a table of `n + 1` partial sums), sampled in `O(log n)` by a
 //! binary search; the uniform number is reused for the position within the
