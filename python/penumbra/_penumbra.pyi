@@ -38,7 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
-IntegratorName = Literal["whitted"]
+IntegratorName = Literal["whitted", "path"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -144,6 +144,8 @@ class Scene:
         aperture: float | None = None,
         focal_distance: float | None = None,
         max_depth: int | None = None,
+        rr_depth: int | None = None,
+        hide_emitters: bool | None = None,
         seed: int | None = None,
         metric: bool | None = None,
         reflection_metric: bool | None = None,
@@ -229,6 +231,8 @@ def render(
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,
+    rr_depth: int | None = None,
+    hide_emitters: bool | None = None,
     seed: int | None = None,
     metric: bool | None = None,
     reflection_metric: bool | None = None,
@@ -275,6 +279,8 @@ def render_region(
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,
+    rr_depth: int | None = None,
+    hide_emitters: bool | None = None,
     seed: int | None = None,
     metric: bool | None = None,
     reflection_metric: bool | None = None,

@@ -19,7 +19,8 @@ use serde_json::Value;
 
 use penumbra::description::toml_to_json;
 use penumbra::scene::{
-    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError, SceneSource,
+    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError,
+    SceneSource,
     WorldCache,
 };
 
@@ -254,7 +255,7 @@ impl Scene {
             "height": s.height,
             "seed": s.seed,
             "spp": s.spp,
-            "max_depth": s.max_depth,
+            "max_depth": s.depth(),
             "integrator": s.integrator.name(),
             "passes": s.passes,
             "primitives": built.world.primitive_count(),

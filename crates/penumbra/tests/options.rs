@@ -110,16 +110,33 @@ fn background(s: &Scene) -> [f32; 3] {
     sky.to_array()
 }
 
+/// What a scene file needs beside an option's key for the option to
+/// apply: the integrator it belongs to, when the default one lacks it.
+fn context(o: &RenderOption) -> &'static str {
+    let integrators = schemas::of(NodeKind::Integrator);
+    let whitted = integrators.iter().find(|s| s.plugin == "whitted").unwrap();
+    let path = integrators.iter().find(|s| s.plugin == "path").unwrap();
+    if o.table == Some(Table::Render)
+        && whitted.param(o.name).is_none()
+        && path.param(o.name).is_some()
+    {
+        "integrator = \"path\"\n"
+    } else {
+        ""
+    }
+}
+
 /// A scene file that leaves a key out builds what one that gives the
 /// option's default builds.
 #[test]
 fn scene_file_defaults_are_the_options_defaults() {
-    let plain = scene("");
     for o in OPTIONS {
         let (Some(t), Some(v)) = (o.table, default_toml(o)) else {
             continue;
         };
-        let given = scene(&format!("[{}]\n{} = {v}\n", t.name(), o.name));
+        let extra = context(o);
+        let plain = scene(&format!("[render]\n{extra}"));
+        let given = scene(&format!("[{}]\n{} = {v}\n{extra}", t.name(), o.name));
         assert_eq!(given.settings, plain.settings, "[{}] {}", t.name(), o.name);
         assert_eq!(given.camera, plain.camera, "[{}] {}", t.name(), o.name);
         assert_eq!(background(&given), background(&plain), "{}", o.name);
@@ -163,7 +180,13 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .collect(),
             vec!["\"mitsuba\"".into()],
         ),
-        Kind::Integrator => (vec!["\"whitted\"".into()], vec!["\"volpath\"".into()]),
+        Kind::Integrator => (
+            IntegratorChoice::ALL
+                .iter()
+                .map(|i| format!("\"{}\"", i.name()))
+                .collect(),
+            vec!["\"volpath\"".into()],
+        ),
         Kind::Between(lo, hi) => (
             vec![format!("{lo:?}"), format!("{hi:?}")],
             vec![format!("{:?}", lo - 0.01), format!("{:?}", hi + 0.01)],
@@ -184,12 +207,13 @@ fn scene_files_accept_exactly_the_options_ranges() {
     for o in OPTIONS {
         let Some(t) = o.table else { continue };
         let (good, bad) = boundaries(o);
+        let extra = context(o);
         for v in good {
-            let text = format!("[{}]\n{} = {v}\n", t.name(), o.name);
+            let text = format!("[{}]\n{} = {v}\n{extra}", t.name(), o.name);
             assert_eq!(build(&text), Ok(()), "{text}");
         }
         for v in bad {
-            let text = format!("[{}]\n{} = {v}\n", t.name(), o.name);
+            let text = format!("[{}]\n{} = {v}\n{extra}", t.name(), o.name);
             let e = build(&text).expect_err(&text);
             assert!(e.starts_with("s.toml:2:"), "{text}: {e}");
             if let Kind::Int { min, max } = o.kind {

@@ -17,6 +17,8 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("width", Kind::Film),
     ("height", Kind::Film),
     ("max_depth", Kind::Integrator),
+    ("rr_depth", Kind::Integrator),
+    ("hide_emitters", Kind::Integrator),
     ("seed", Kind::Sampler),
     ("background", Kind::Emitter),
     ("spp", Kind::Sampler),

@@ -163,7 +163,9 @@ mod tests {
     }
 
     /// For each area light, every sample's weight is `L / pdf` at its target
-    /// (in solid angle), so that the estimator of direct light is unbiased.
+    /// (in solid angle), so that the estimator of direct light is unbiased,
+    /// and the sample carries that pdf (what multiple importance sampling
+    /// weighs it by).
     #[test]
     fn weights_are_radiance_over_pdf() {
         let p = Vec3::new(0.3, 0.0, -0.2);
@@ -216,6 +218,11 @@ mod tests {
                 };
                 let pdf = e.pdf(p, s.target, n);
                 assert!(pdf > 0.0);
+                assert!(
+                    (s.pdf - pdf).abs() < 2e-3 * pdf,
+                    "{e:?}: {} vs {pdf}",
+                    s.pdf
+                );
                 let want = 2.0 / pdf;
                 assert!(
                     (s.weight.r - want).abs() < 2e-3 * want,
@@ -260,8 +267,11 @@ mod tests {
         let mut rng = Rng::new(23);
         let (mut kernel, mut valid, mut out) = (0, 0, Vec::new());
         let bits = |s: &Option<LightSample>| {
-            s.map(|s| [s.target, s.dir, Vec3::from(s.weight.to_array())].map(|v| v.to_array()))
-                .map(|v| v.map(|c| c.map(f32::to_bits)))
+            s.map(|s| {
+                let pdf = Vec3::splat(s.pdf);
+                [s.target, s.dir, Vec3::from(s.weight.to_array()), pdf].map(|v| v.to_array())
+            })
+            .map(|v| v.map(|c| c.map(f32::to_bits)))
         };
         for (light, _) in &lights {
             for d in Distribution::ALL {

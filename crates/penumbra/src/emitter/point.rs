@@ -63,6 +63,7 @@ impl Point {
             target: self.position,
             dir: to.normalize_or_zero(),
             weight: self.intensity / r2,
+            pdf: 0.0,
         })
     }
 }

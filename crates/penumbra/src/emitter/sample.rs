@@ -13,6 +13,11 @@ pub struct LightSample {
     /// `normalize_or_zero` gives), kept so that callers need not recompute it.
     pub dir: Vec3,
     pub weight: Rgb,
+    /// The solid-angle density the target was drawn with, for weighing the
+    /// sample against other strategies (multiple importance sampling); 0
+    /// for a point light and for the thesis model, whose targets are not
+    /// drawn from a density over the light's surface.
+    pub pdf: f32,
 }
 
 /// Four light samples, one per lane, as a four-wide kernel gives them:
@@ -24,6 +29,8 @@ pub(super) struct LightSamples4 {
     pub dir: [Vec4; 3],
     /// Per lane, [`LightSample::weight`]: red, green and blue.
     pub weight: [Vec4; 3],
+    /// Per lane, [`LightSample::pdf`].
+    pub pdf: Vec4,
     /// Bit `i` set if lane `i` gives a sample (where `sample` gives `Some`).
     pub valid: u32,
 }
@@ -38,6 +45,7 @@ impl LightSamples4 {
                 target: v3(&self.target, l),
                 dir: v3(&self.dir, l),
                 weight: Rgb::from(v3(&self.weight, l).to_array()),
+                pdf: self.pdf[l],
             })
         })
     }
@@ -67,6 +75,7 @@ pub(super) fn area_sample(
         // `normalize_or_zero`'s own operations, so the same bits.
         dir: to * r.recip(),
         weight: power * (cos_l * area / r2),
+        pdf: r2 / (cos_l * area),
     })
 }
 

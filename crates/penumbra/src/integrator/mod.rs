@@ -50,6 +50,7 @@
 mod film;
 mod interface;
 mod metric;
+mod path;
 mod stats;
 pub mod stopping;
 mod whitted;
@@ -57,5 +58,6 @@ mod whitted;
 pub use film::FilmTile;
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
+pub use path::{Path, PathWorker, WAVE};
 pub use stats::{RayCounts, RayStats};
 pub use whitted::{Tracer, Whitted, WhittedWorker};

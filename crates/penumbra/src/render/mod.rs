@@ -18,7 +18,7 @@ pub use region::{Region, TILE};
 pub use report::stats_document;
 
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{pass_samples, BadSample, Integrator, RayStats, Whitted};
+use crate::integrator::{pass_samples, BadSample, Integrator, Path, RayStats, Whitted};
 use crate::math::Rgb;
 use crate::scene::{IntegratorChoice, Scene};
 
@@ -72,6 +72,7 @@ pub fn render(
         IntegratorChoice::Whitted => {
             render_with(&Whitted::new(scene), scene, opts, progress, cancel)
         }
+        IntegratorChoice::Path => render_with(&Path::new(scene), scene, opts, progress, cancel),
     }
 }
 

@@ -21,7 +21,7 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "threads": stats.threads,
         "seed": s.seed,
         "spp": s.spp,
-        "max_depth": s.max_depth,
+        "max_depth": s.depth(),
         "integrator": s.integrator.name(),
         "passes": s.passes,
         "primitives": scene.world.primitive_count(),

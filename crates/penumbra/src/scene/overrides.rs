@@ -16,6 +16,9 @@ pub struct Overrides {
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub max_depth: Option<u32>,
+    /// The path tracer's Russian roulette depth and hidden emitters.
+    pub rr_depth: Option<u32>,
+    pub hide_emitters: Option<bool>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
@@ -74,6 +77,8 @@ impl Overrides {
         set(root, "width", int(self.width));
         set(root, "height", int(self.height));
         set(root, "max_depth", int(self.max_depth));
+        set(root, "rr_depth", int(self.rr_depth));
+        set(root, "hide_emitters", flag(self.hide_emitters));
         set(root, "seed", int(self.seed));
         set(root, "spp", int(self.spp));
         set(root, "passes", int(self.passes));

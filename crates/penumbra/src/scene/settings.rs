@@ -24,22 +24,44 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 pub enum IntegratorChoice {
     /// The thesis's distributed Whitted tracer.
     Whitted,
+    /// A unidirectional path tracer (Mitsuba 3's `path`).
+    Path,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 1] = [IntegratorChoice::Whitted];
-    pub const NAMES: [&'static str; 1] = ["whitted"];
+    pub const ALL: [IntegratorChoice; 2] = [IntegratorChoice::Whitted, IntegratorChoice::Path];
+    pub const NAMES: [&'static str; 2] = ["whitted", "path"];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorChoice::Whitted => "whitted",
+            IntegratorChoice::Path => "path",
         }
     }
 
     pub fn from_name(s: &str) -> Option<IntegratorChoice> {
-        match s {
-            "whitted" => Some(IntegratorChoice::Whitted),
-            _ => None,
+        IntegratorChoice::ALL.into_iter().find(|c| c.name() == s)
+    }
+}
+
+/// The settings of the `path` integrator, in Mitsuba 3's terms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PathSettings {
+    /// The longest path, in vertices counted from the camera (1: only
+    /// emitters seen directly, 2: direct light); `None` for no bound.
+    pub max_depth: Option<u32>,
+    /// The depth from which Russian roulette may end a path.
+    pub rr_depth: u32,
+    /// Emitters seen directly by camera rays are black.
+    pub hide_emitters: bool,
+}
+
+impl Default for PathSettings {
+    fn default() -> Self {
+        PathSettings {
+            max_depth: None,
+            rr_depth: 5,
+            hide_emitters: false,
         }
     }
 }
@@ -53,6 +75,8 @@ pub struct Settings {
     pub height: u32,
     /// Levels of reflection/refraction rays (the thesis's recursion depth).
     pub max_depth: u32,
+    /// The path tracer's settings (its defaults unless it is chosen).
+    pub path: PathSettings,
     pub seed: u64,
     /// Primary rays per pixel.
     pub spp: u32,
@@ -76,6 +100,17 @@ pub struct Settings {
     /// Adaptive sampling: the rule that stops a pixel's camera rays before
     /// `spp`, if on.
     pub stopping: Option<Stopping>,
+}
+
+impl Settings {
+    /// `max_depth` as the chosen integrator counts it (−1: no bound), as
+    /// reports show it.
+    pub fn depth(&self) -> i64 {
+        match self.integrator {
+            IntegratorChoice::Whitted => i64::from(self.max_depth),
+            IntegratorChoice::Path => self.path.max_depth.map_or(-1, i64::from),
+        }
+    }
 }
 
 /// Settings of the metrics; `None` in the scene settings means they are all
@@ -225,6 +260,21 @@ pub const WHITTED: Schema = Schema {
     ],
 };
 
+/// The path tracer's parameters (Mitsuba 3's `path`, whose names and
+/// defaults they keep). The sampler's and film's are the same for every
+/// integrator.
+pub const PATH: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "path",
+    what: "path integrator",
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("passes", Type::Int),
+    ],
+};
+
 /// The render's sets of shadow, reflection and refraction rays, which
 /// emitters and materials take unless they set their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -267,11 +317,16 @@ pub fn read(
     };
     let choice = IntegratorChoice::from_name(name).unwrap_or(IntegratorChoice::Whitted);
     let i = integrator;
+    let (max_depth, path) = match choice {
+        IntegratorChoice::Whitted => (int(i, "max_depth", 3, 0, 64)?, PathSettings::default()),
+        IntegratorChoice::Path => (0, path_settings(i)?),
+    };
     Ok(Settings {
         integrator: choice,
         width,
         height,
-        max_depth: int(i, "max_depth", 3, 0, 64)?,
+        max_depth,
+        path,
         seed: u64::from(int(sampler, "seed", 0, 0, i64::from(u32::MAX))?),
         spp: int(sampler, "spp", 1, 1, i64::from(MAX_RAYS))?,
         passes: int(i, "passes", 1, 1, i64::from(MAX_RAYS))?,
@@ -285,6 +340,29 @@ pub fn read(
         filter,
         metric: metric(i)?,
         stopping: stopping(i)?,
+    })
+}
+
+/// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
+/// bound), `rr_depth` (≥ 1) and `hide_emitters`.
+fn path_settings(i: &Props) -> Result<PathSettings, Invalid> {
+    let d = PathSettings::default();
+    let max_depth = match i.int("max_depth")? {
+        None | Some(-1) => None,
+        Some(v) => Some(u32::try_from(v).map_err(|_| {
+            i.error(
+                "max_depth",
+                format!(
+                    "must be -1 (no bound) or an integer from 0 to {}, got {v}",
+                    u32::MAX
+                ),
+            )
+        })?),
+    };
+    Ok(PathSettings {
+        max_depth,
+        rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
+        hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
     })
 }
 

@@ -242,12 +242,14 @@ impl BsdfModel for Thesis {
         self.local.eval(Side::of(si, wo).n, wo, wi)
     }
 
+    /// The local part's density times the probability that a sample with
+    /// no lobe asked chooses it.
     #[inline]
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
         if !self.lit {
             return 0.0;
         }
-        self.local.pdf(Side::of(si, wo).n, wo, wi)
+        self.local.pdf(Side::of(si, wo).n, wo, wi) * self.local_share()
     }
 
     /// With a lobe asked for, that lobe's ray for `u` (a delta lobe's weight
@@ -310,6 +312,15 @@ impl BsdfModel for Thesis {
 }
 
 impl Thesis {
+    /// The probability that [`sample_any`](Self::sample_any) chooses the
+    /// local part: its weight over the mirror's, the dielectric's and its own.
+    fn local_share(&self) -> f32 {
+        let r = self.mirror.map_or(0.0, |m| m.reflectivity);
+        let t = self.dielectric.map_or(0.0, |d| d.transparency);
+        let l = self.local.weight();
+        l / (r + t + l)
+    }
+
     /// A lobe chosen by `u` (see [`BsdfModel::sample`]).
     fn sample_any(
         &self,
@@ -438,6 +449,34 @@ pub(crate) mod tests {
         assert_eq!(black.eval(&si, Vec3::Z, wi), Rgb::ZERO);
         assert_eq!(black.pdf(&si, Vec3::Z, wi), 0.0);
         assert_eq!(Thesis::new(&glass).shadow_transmittance(), 1.0);
+    }
+
+    /// A smooth direction drawn with no lobe asked has the density `pdf`
+    /// gives (the local part's, times the chance of choosing it) and the
+    /// weight `eval · cos / pdf`: what multiple importance sampling needs.
+    #[test]
+    fn sampled_smooth_directions_have_the_models_density() {
+        let m = Thesis::new(&params(0.3, 0.4));
+        let si = interaction(Vec3::Z);
+        let wo = Vec3::new(0.3, 0.1, 0.9).normalize();
+        let mut rng = Rng::new(9);
+        let mut smooth = 0;
+        for _ in 0..2000 {
+            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let Some(b) = m.sample(&si, wo, None, u) else {
+                continue;
+            };
+            if !b.flags.is_smooth() {
+                continue;
+            }
+            smooth += 1;
+            let pdf = m.pdf(&si, wo, b.wi);
+            assert!((b.pdf - pdf).abs() <= 1e-4 * pdf, "{} vs {pdf}", b.pdf);
+            let want = m.eval(&si, wo, b.wi) * (b.wi.z / pdf);
+            assert!((b.weight - want).abs().max_element() <= 1e-3 * want.max_element());
+        }
+        // About the local part's share of the lobes' weights (0.3 of 1).
+        assert!((450..750).contains(&smooth), "{smooth}");
     }
 
     /// The material is two-sided: seen from below, it reflects below.

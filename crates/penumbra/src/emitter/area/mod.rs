@@ -259,6 +259,7 @@ impl Area {
             target,
             dir: to.normalize_or_zero(),
             weight,
+            pdf: 0.0,
         })
     }
 

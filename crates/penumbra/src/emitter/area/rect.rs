@@ -69,6 +69,7 @@ pub(super) fn sample4(power: Rgb, q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -
         target,
         dir: to.map(|c| c * inv),
         weight: power.to_array().map(|c| c * scale),
+        pdf: r2 / (cos_l * q.area()),
         valid,
     }
 }

@@ -51,6 +51,7 @@ pub(super) fn sample(
         target,
         dir: (target - p).normalize_or_zero(),
         weight: power * (2.0 * PI * (1.0 - cos_max)),
+        pdf: 1.0 / (2.0 * PI * (1.0 - cos_max)),
     })
 }
 

@@ -14,6 +14,7 @@ mod state;
 mod tracer;
 
 pub use config::Whitted;
+pub(super) use pixel::{guard, primary_rays};
 pub use state::TileState;
 pub use tracer::Tracer;
 

@@ -165,6 +165,32 @@ pub fn render_pixels(
     })
 }
 
+/// The camera rays of samples `keep` of pixels `xs` of row `y`, pixel by
+/// pixel and each pixel's in the order of their index, appended to `rays`,
+/// with the stream of each ray's path appended to `paths`: the rays and
+/// streams a Whitted render traces, for the integrators that follow paths
+/// instead.
+pub(in crate::integrator) fn primary_rays(
+    scene: &Scene,
+    (xs, y): (Range<u32>, u32),
+    keep: Range<usize>,
+    rays: &mut Vec<Ray>,
+    paths: &mut Vec<crate::sampling::Rng>,
+) {
+    with_scratch(|buf| {
+        let n = scene.settings.spp as usize;
+        if buf.paths.len() < n {
+            let have = buf.paths.len();
+            buf.paths.extend((have..n).map(PixelSampler::path_key));
+        }
+        camera_rays(scene, xs, y, keep.clone(), buf);
+        rays.extend_from_slice(&buf.rays);
+        for pixel in &buf.pixels {
+            paths.extend(keep.clone().map(|i| pixel.path_of(buf.paths[i], i)));
+        }
+    })
+}
+
 /// Samples `range` of pixel `(x, y)` under the pixel metric, continuing
 /// the running mean of its earlier samples (its film); true if the metric
 /// stopped it.
@@ -219,7 +245,13 @@ fn span_width(width: u32) -> u32 {
 }
 
 /// `l`, or black if it is not finite (reported as sample `i` of pixel (x, y)).
-pub(super) fn guard(l: Rgb, x: u32, y: u32, i: usize, bad: &mut Vec<BadSample>) -> Rgb {
+pub(in crate::integrator) fn guard(
+    l: Rgb,
+    x: u32,
+    y: u32,
+    i: usize,
+    bad: &mut Vec<BadSample>,
+) -> Rgb {
     if l.is_finite() {
         return l;
     }

@@ -1,0 +1,129 @@
+//! `path`: a unidirectional path tracer with next-event estimation,
+//! multiple importance sampling and Russian roulette, as Mitsuba 3's
+//! `path` integrator, run on a wavefront.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `max_depth` | integer ≥ −1 | `-1` | the longest path, in vertices from the camera (Mitsuba's count): 0 renders black, 1 only the emitters seen directly, 2 direct light, −1 no bound |
+//! | `rr_depth` | integer ≥ 1 | `5` | the depth from which Russian roulette may end a path |
+//! | `hide_emitters` | bool | `false` | emitters seen directly by camera rays are black |
+//!
+//! # The estimator
+//!
+//! A camera ray is followed from vertex to vertex. At each vertex the
+//! radiance the surface emits toward the previous one is added; then, while
+//! the next vertex would still be within `max_depth`, one emitter (chosen
+//! uniformly among those that can be sampled) is sampled for a shadow ray
+//! (next-event estimation) on the BSDF's smooth lobes, and the BSDF is
+//! sampled for the path's next direction. Emission reached by a BSDF
+//! sample and an emitter sample of the same light are combined by the power
+//! heuristic; after a delta lobe (a mirror, clear glass, a lobe the thesis
+//! blurs) the emission met counts whole. From `rr_depth` on, a path
+//! survives with probability `min(max(throughput), 0.95)` and is divided
+//! by it.
+//!
+//! Where this differs from Mitsuba: emitters at infinity (`constant`) are
+//! reached by BSDF samples only; shadow rays treat every surface as opaque
+//! (the thesis's transparent shadows are a `whitted` model); an area light
+//! under the thesis's penumbra model has no density over its surface, so it
+//! is lit by its shadow rays alone (BSDF samples that meet it add nothing).
+//! Russian roulette reads the throughput without Mitsuba's correction for
+//! the relative index of refraction crossed.
+//!
+//! # Random numbers
+//!
+//! Each path draws from the stream of its primary sample (the
+//! [`Sampler`](crate::sampling::Sampler)'s, the same as `whitted`'s),
+//! derived per bounce: bounce `b` reads `path.derive(BOUNCE + b)` in the
+//! order emitter choice, emitter point (2), BSDF point (2), roulette. A
+//! sample is a pure function of (seed, pixel, sample, bounce, dimension):
+//! the same on any number of threads, tiles or passes.
+//!
+//! # The wavefront
+//!
+//! A worker keeps the paths of whole rows of its tile (at least one row, up
+//! to [`WAVE`] paths) in structure-of-arrays buffers and advances them
+//! together, one stage at a time: one closest-hit call for all live paths
+//! ([`World::intersect_all`](crate::accel::World::intersect_all)), one
+//! shading pass that adds emission, prepares every shadow ray and samples
+//! every BSDF, one occlusion pass over all shadow rays, then compaction of
+//! the paths that ended. Radiance is kept per sample and added to the film
+//! in each pixel's sample order once the wave is done.
+
+mod wavefront;
+
+use super::film::FilmTile;
+use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
+use super::stats::RayStats;
+use crate::scene::{PathSettings, Scene};
+
+use wavefront::Wavefront;
+pub use wavefront::WAVE;
+
+/// The path tracer, with its settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    pub settings: PathSettings,
+    /// Camera rays per pixel.
+    pub spp: u32,
+    /// Passes the samples are cut into.
+    pub passes: u32,
+}
+
+impl Path {
+    /// The integrator with the scene's settings.
+    pub fn new(scene: &Scene) -> Path {
+        let s = &scene.settings;
+        Path {
+            settings: s.path,
+            spp: s.spp,
+            passes: s.passes,
+        }
+    }
+}
+
+impl Integrator for Path {
+    type Worker<'s> = PathWorker<'s>;
+    type TileState = ();
+
+    fn worker<'s>(&'s self, scene: &'s Scene) -> PathWorker<'s> {
+        PathWorker {
+            wave: Wavefront::new(scene, self.settings),
+        }
+    }
+
+    fn samples(&self) -> u32 {
+        self.spp
+    }
+
+    fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    fn whole_tiles(&self) -> bool {
+        false
+    }
+}
+
+/// A [`Path`] worker: its wavefront's buffers and ray counts.
+pub struct PathWorker<'s> {
+    wave: Wavefront<'s>,
+}
+
+impl PixelWorker for PathWorker<'_> {
+    type State = ();
+
+    fn render(
+        &mut self,
+        tile: TileJob<'_>,
+        _: &mut (),
+        film: &mut FilmTile,
+        bad: &mut Vec<BadSample>,
+    ) -> bool {
+        self.wave.render(tile, film, bad)
+    }
+
+    fn stats(&self) -> &RayStats {
+        &self.wave.stats
+    }
+}

@@ -1,0 +1,157 @@
+//! The path tracer against closed-form answers: a closed box whose walls
+//! all emit and reflect diffusely holds a radiance known at every depth.
+
+mod common;
+
+use common::*;
+use penumbra::math::Rgb;
+use penumbra::render::Image;
+
+/// A camera inside the cube [−1, 1]³ whose six walls face inward, each of
+/// albedo `rho` (Lambertian) emitting radiance 1. Every wall is an area
+/// light, sampled by next-event estimation and met by BSDF samples.
+fn closed_box(rho: f32, render: &str) -> String {
+    let walls = [
+        ([-1, -1, -1], [0, 0, 2], [2, 0, 0]),
+        ([-1, 1, -1], [2, 0, 0], [0, 0, 2]),
+        ([-1, -1, -1], [0, 2, 0], [0, 0, 2]),
+        ([1, -1, -1], [0, 0, 2], [0, 2, 0]),
+        ([-1, -1, -1], [2, 0, 0], [0, 2, 0]),
+        ([-1, -1, 1], [0, 2, 0], [2, 0, 0]),
+    ];
+    let mut s = format!(
+        "[render]\nwidth = 16\nheight = 16\nintegrator = \"path\"\nseed = 3\n{render}\n\
+         [camera]\nposition = [0.1, 0.2, 0.5]\nlook_at = [0.0, 0.0, -1.0]\nfov = 70\n\n\
+         [materials.wall]\nalbedo = [{rho}, {rho}, {rho}]\nemission = [1, 1, 1]\n"
+    );
+    for (o, u, v) in walls {
+        s += &format!(
+            "\n[[objects]]\ntype = \"quad\"\nmaterial = \"wall\"\norigin = {o:?}\n\
+             edge_u = {u:?}\nedge_v = {v:?}\n"
+        );
+    }
+    s
+}
+
+fn mean(img: &Image) -> Rgb {
+    let n = (img.width * img.height) as f32;
+    let mut sum = Rgb::ZERO;
+    for y in 0..img.height {
+        for x in 0..img.width {
+            sum += img.get(x, y);
+        }
+    }
+    sum / n
+}
+
+fn assert_near(got: Rgb, want: f32, rel: f32, what: &str) {
+    let err = (got - Rgb::splat(want)).abs().max_element() / want;
+    assert!(
+        err <= rel,
+        "{what}: got {got:?}, want {want} (relative error {err})"
+    );
+}
+
+/// Mitsuba's depth convention: a path of at most `d` vertices gathers the
+/// emission of the first `d` surfaces, `1 + ρ + … + ρ^(d−1)`; unbounded,
+/// `1 / (1 − ρ)`. Depth 0 renders black.
+#[test]
+fn a_closed_emitting_box_holds_the_radiance_of_each_depth() {
+    let rho = 0.5f32;
+    let black = render_toml(&closed_box(rho, "spp = 1\nmax_depth = 0")).0;
+    assert_eq!(mean(&black), Rgb::ZERO);
+    for (d, rel) in [(1, 1e-6), (2, 0.01), (3, 0.01)] {
+        let (img, rays) = render_toml(&closed_box(rho, &format!("spp = 64\nmax_depth = {d}")));
+        let want = (1.0 - rho.powi(d)) / (1.0 - rho);
+        assert_near(mean(&img), want, rel, &format!("max_depth = {d}"));
+        // A shadow ray per vertex that goes on.
+        assert_eq!(rays.shadow > 0, d >= 2, "max_depth = {d}");
+    }
+    let (img, _) = render_toml(&closed_box(rho, "spp = 256"));
+    assert_near(mean(&img), 1.0 / (1.0 - rho), 0.02, "unbounded");
+}
+
+/// Each pixel's samples are a function of the seed, the pixel and the
+/// sample alone: the same bits on any number of threads and in any number
+/// of passes.
+#[test]
+fn paths_are_the_same_on_any_threads_and_passes() {
+    let toml = closed_box(0.7, "spp = 12\nmax_depth = 8\nrr_depth = 2");
+    let s = scene(&toml);
+    let (one, rays) = render_scene(&s, 1);
+    let (three, rays3) = render_scene(&s, 3);
+    assert_eq!(one.pixels, three.pixels);
+    assert_eq!(rays, rays3);
+    let passes = closed_box(0.7, "spp = 12\nmax_depth = 8\nrr_depth = 2\npasses = 5");
+    let (five, _) = render_toml(&passes);
+    assert_eq!(one.pixels, five.pixels);
+}
+
+/// The path integrator's parameters are checked at their place.
+#[test]
+fn bad_path_parameters_are_located() {
+    for (line, want) in [
+        (
+            "max_depth = -2",
+            "must be -1 (no bound) or an integer from 0 to",
+        ),
+        ("rr_depth = 0", "must be an integer from 1 to"),
+        ("hide_emitters = 3", "hide_emitters"),
+        ("metric = true", "metric"),
+    ] {
+        let e = try_scene(&closed_box(0.5, line))
+            .err()
+            .unwrap_or_else(|| panic!("{line} refused"))
+            .to_string();
+        assert!(e.starts_with("test.toml:"), "{line}: {e}");
+        assert!(e.contains(want), "{line}: {e}");
+    }
+}
+
+/// Emitters seen directly are black with `hide_emitters`; what they light
+/// is not.
+#[test]
+fn hidden_emitters_still_light() {
+    let (img, _) = render_toml(&closed_box(
+        0.5,
+        "spp = 64\nmax_depth = 2\nhide_emitters = true",
+    ));
+    assert_near(mean(&img), 0.5, 0.01, "hide_emitters");
+}
+
+/// Direct light two ways: `path` at depth 2 (a light sample and a BSDF
+/// sample per vertex, weighed by MIS) and `whitted` at depth 0 (many
+/// shadow rays on the light's surface) converge to the same image of a
+/// floor lit by a rectangle light past a sphere's shadow.
+#[test]
+fn direct_light_is_whitteds_direct_light() {
+    let scene = |render: &str| {
+        format!(
+            "[render]\nwidth = 24\nheight = 18\nseed = 5\n{render}\n\
+             [camera]\nposition = [0, 2.5, 4]\nlook_at = [0, 0, 0]\nfov = 50\n\n\
+             [materials.floor]\nalbedo = [0.6, 0.5, 0.4]\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-4, 0, -4]\n\
+             edge_u = [0, 0, 8]\nedge_v = [8, 0, 0]\n\n\
+             [[objects]]\ntype = \"sphere\"\nmaterial = \"floor\"\ncenter = [0.3, 0.5, 0]\nradius = 0.5\n\n\
+             [[lights]]\ntype = \"rect\"\norigin = [-0.5, 2, -0.5]\nedge_u = [1, 0, 0]\n\
+             edge_v = [0, 0, 1]\nradiance = [4, 4, 4]\n"
+        )
+    };
+    let (whitted, _) = render_toml(&scene(
+        "max_depth = 0\nspp = 16\nshadow_rays = 64\ndistribution = \"jitter\"",
+    ));
+    let (path, _) = render_toml(&scene("integrator = \"path\"\nmax_depth = 2\nspp = 1024"));
+    let (a, b) = (mean(&whitted), mean(&path));
+    let err = ((a - b).abs() / a).max_element();
+    assert!(err < 0.02, "whitted {a:?}, path {b:?}");
+    // Pixel by pixel, within the noise of 1024 paths.
+    let mut far = 0;
+    for (p, w) in path.pixels.iter().zip(&whitted.pixels) {
+        let e = ((*p - *w).abs() / w.max(Rgb::splat(0.05))).max_element();
+        far += usize::from(e > 0.25);
+    }
+    assert!(
+        far <= path.pixels.len() / 50,
+        "{far} pixels differ by over 25%"
+    );
+}
