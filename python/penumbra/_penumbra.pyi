@@ -38,7 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
-IntegratorName = Literal["whitted", "path"]
+IntegratorName = Literal["whitted", "path", "direct"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -146,6 +146,8 @@ class Scene:
         max_depth: int | None = None,
         rr_depth: int | None = None,
         hide_emitters: bool | None = None,
+        emitter_samples: int | None = None,
+        bsdf_samples: int | None = None,
         seed: int | None = None,
         metric: bool | None = None,
         reflection_metric: bool | None = None,
@@ -233,6 +235,8 @@ def render(
     max_depth: int | None = None,
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
+    emitter_samples: int | None = None,
+    bsdf_samples: int | None = None,
     seed: int | None = None,
     metric: bool | None = None,
     reflection_metric: bool | None = None,
@@ -281,6 +285,8 @@ def render_region(
     max_depth: int | None = None,
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
+    emitter_samples: int | None = None,
+    bsdf_samples: int | None = None,
     seed: int | None = None,
     metric: bool | None = None,
     reflection_metric: bool | None = None,

@@ -111,18 +111,16 @@ fn background(s: &Scene) -> [f32; 3] {
 }
 
 /// What a scene file needs beside an option's key for the option to
-/// apply: the integrator it belongs to, when the default one lacks it.
-fn context(o: &RenderOption) -> &'static str {
+/// apply: the first integrator that takes it, when the default one does
+/// not.
+fn context(o: &RenderOption) -> String {
     let integrators = schemas::of(NodeKind::Integrator);
-    let whitted = integrators.iter().find(|s| s.plugin == "whitted").unwrap();
-    let path = integrators.iter().find(|s| s.plugin == "path").unwrap();
-    if o.table == Some(Table::Render)
-        && whitted.param(o.name).is_none()
-        && path.param(o.name).is_some()
-    {
-        "integrator = \"path\"\n"
-    } else {
-        ""
+    if o.table != Some(Table::Render) || integrators[0].param(o.name).is_some() {
+        return String::new();
+    }
+    match integrators.iter().find(|s| s.param(o.name).is_some()) {
+        Some(s) => format!("integrator = \"{}\"\n", s.plugin),
+        None => String::new(),
     }
 }
 

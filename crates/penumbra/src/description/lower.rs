@@ -19,6 +19,8 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("max_depth", Kind::Integrator),
     ("rr_depth", Kind::Integrator),
     ("hide_emitters", Kind::Integrator),
+    ("emitter_samples", Kind::Integrator),
+    ("bsdf_samples", Kind::Integrator),
     ("seed", Kind::Sampler),
     ("background", Kind::Emitter),
     ("spp", Kind::Sampler),

@@ -72,7 +72,9 @@ pub fn render(
         IntegratorChoice::Whitted => {
             render_with(&Whitted::new(scene), scene, opts, progress, cancel)
         }
-        IntegratorChoice::Path => render_with(&Path::new(scene), scene, opts, progress, cancel),
+        IntegratorChoice::Path | IntegratorChoice::Direct => {
+            render_with(&Path::new(scene), scene, opts, progress, cancel)
+        }
     }
 }
 

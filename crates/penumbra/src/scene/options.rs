@@ -290,8 +290,9 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "integrator",
         kind: Kind::Integrator,
         default: DefaultValue::Fixed(Value::Integrator(IntegratorChoice::Whitted)),
-        doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer) or \
-              path (a path tracer with next-event estimation, as Mitsuba 3's `path`)",
+        doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer), \
+              path (a path tracer with next-event estimation, as Mitsuba 3's `path`) or direct \
+              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
@@ -503,11 +504,38 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "hide_emitters",
         kind: Kind::Switch,
         default: switch(false),
-        doc: "path: emitters seen directly by camera rays are black (what they light is not)",
+        doc: "path and direct: emitters seen directly by camera rays are black (what they light is \
+              not)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
         set: Some(|c, v| c.overrides.hide_emitters = v.switch()),
+    },
+    RenderOption {
+        name: "emitter_samples",
+        kind: Kind::Int {
+            min: 0,
+            max: MAX_RAYS,
+        },
+        default: int(1),
+        doc: "direct: emitter samples at each shading point (with bsdf_samples, not both 0)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.emitter_samples = v.int()),
+    },
+    RenderOption {
+        name: "bsdf_samples",
+        kind: Kind::Int {
+            min: 0,
+            max: MAX_RAYS,
+        },
+        default: int(1),
+        doc: "direct: BSDF samples at each shading point",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.bsdf_samples = v.int()),
     },
     RenderOption {
         name: "seed",

@@ -19,6 +19,9 @@ pub struct Overrides {
     /// The path tracer's Russian roulette depth and hidden emitters.
     pub rr_depth: Option<u32>,
     pub hide_emitters: Option<bool>,
+    /// The direct integrator's samples per shading point.
+    pub emitter_samples: Option<u32>,
+    pub bsdf_samples: Option<u32>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
@@ -79,6 +82,8 @@ impl Overrides {
         set(root, "max_depth", int(self.max_depth));
         set(root, "rr_depth", int(self.rr_depth));
         set(root, "hide_emitters", flag(self.hide_emitters));
+        set(root, "emitter_samples", int(self.emitter_samples));
+        set(root, "bsdf_samples", int(self.bsdf_samples));
         set(root, "seed", int(self.seed));
         set(root, "spp", int(self.spp));
         set(root, "passes", int(self.passes));

@@ -12,7 +12,7 @@ use crate::emitter::area;
 pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
         Kind::Scene | Kind::Texture => &[],
-        Kind::Integrator => &[&settings::WHITTED, &settings::PATH],
+        Kind::Integrator => &[&settings::WHITTED, &settings::PATH, &settings::DIRECT],
         Kind::Sensor => &[&camera::PERSPECTIVE],
         Kind::Film => &[&settings::FILM],
         Kind::Sampler => &[&settings::SAMPLER],

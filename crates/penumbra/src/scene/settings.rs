@@ -26,16 +26,24 @@ pub enum IntegratorChoice {
     Whitted,
     /// A unidirectional path tracer (Mitsuba 3's `path`).
     Path,
+    /// Direct illumination by emitter and BSDF samples (Mitsuba 3's
+    /// `direct`).
+    Direct,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 2] = [IntegratorChoice::Whitted, IntegratorChoice::Path];
-    pub const NAMES: [&'static str; 2] = ["whitted", "path"];
+    pub const ALL: [IntegratorChoice; 3] = [
+        IntegratorChoice::Whitted,
+        IntegratorChoice::Path,
+        IntegratorChoice::Direct,
+    ];
+    pub const NAMES: [&'static str; 3] = ["whitted", "path", "direct"];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorChoice::Whitted => "whitted",
             IntegratorChoice::Path => "path",
+            IntegratorChoice::Direct => "direct",
         }
     }
 
@@ -44,7 +52,9 @@ impl IntegratorChoice {
     }
 }
 
-/// The settings of the `path` integrator, in Mitsuba 3's terms.
+/// The settings of the `path` and `direct` integrators, in Mitsuba 3's
+/// terms (`direct` is a path of two vertices whose first takes its own
+/// numbers of emitter and BSDF samples, without Russian roulette).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PathSettings {
     /// The longest path, in vertices counted from the camera (1: only
@@ -54,6 +64,11 @@ pub struct PathSettings {
     pub rr_depth: u32,
     /// Emitters seen directly by camera rays are black.
     pub hide_emitters: bool,
+    /// Emitter samples at the first vertex (1 at every other).
+    pub emitter_samples: u32,
+    /// BSDF samples at the first vertex, each going on as its own path (1
+    /// at every other).
+    pub bsdf_samples: u32,
 }
 
 impl Default for PathSettings {
@@ -62,6 +77,8 @@ impl Default for PathSettings {
             max_depth: None,
             rr_depth: 5,
             hide_emitters: false,
+            emitter_samples: 1,
+            bsdf_samples: 1,
         }
     }
 }
@@ -108,7 +125,9 @@ impl Settings {
     pub fn depth(&self) -> i64 {
         match self.integrator {
             IntegratorChoice::Whitted => i64::from(self.max_depth),
-            IntegratorChoice::Path => self.path.max_depth.map_or(-1, i64::from),
+            IntegratorChoice::Path | IntegratorChoice::Direct => {
+                self.path.max_depth.map_or(-1, i64::from)
+            }
         }
     }
 }
@@ -275,6 +294,20 @@ pub const PATH: Schema = Schema {
     ],
 };
 
+/// The direct illumination integrator's parameters (Mitsuba 3's `direct`).
+pub const DIRECT: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "direct",
+    what: "direct integrator",
+    params: &[
+        param("emitter_samples", Type::Int),
+        param("bsdf_samples", Type::Int),
+        param("shading_samples", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("passes", Type::Int),
+    ],
+};
+
 /// The render's sets of shadow, reflection and refraction rays, which
 /// emitters and materials take unless they set their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -320,6 +353,7 @@ pub fn read(
     let (max_depth, path) = match choice {
         IntegratorChoice::Whitted => (int(i, "max_depth", 3, 0, 64)?, PathSettings::default()),
         IntegratorChoice::Path => (0, path_settings(i)?),
+        IntegratorChoice::Direct => (0, direct_settings(i)?),
     };
     Ok(Settings {
         integrator: choice,
@@ -363,6 +397,36 @@ fn path_settings(i: &Props) -> Result<PathSettings, Invalid> {
         max_depth,
         rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
         hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
+        ..d
+    })
+}
+
+/// The `direct` integrator's settings: Mitsuba's `emitter_samples` and
+/// `bsdf_samples` (each 0 or more, not both 0), or `shading_samples` for
+/// both, and `hide_emitters`.
+fn direct_settings(i: &Props) -> Result<PathSettings, Invalid> {
+    let count = |key: &str, default: u32| int(i, key, i64::from(default), 0, i64::from(MAX_RAYS));
+    let both = count("shading_samples", 1)?;
+    let emitter_samples = count("emitter_samples", both)?;
+    let bsdf_samples = count("bsdf_samples", both)?;
+    if emitter_samples == 0 && bsdf_samples == 0 {
+        let key = if i.int("bsdf_samples")?.is_some() {
+            "bsdf_samples"
+        } else {
+            "shading_samples"
+        };
+        return Err(i.error(
+            key,
+            "a direct integrator needs an emitter or a BSDF sample: emitter_samples and \
+             bsdf_samples cannot both be 0",
+        ));
+    }
+    Ok(PathSettings {
+        max_depth: Some(2),
+        rr_depth: u32::MAX,
+        hide_emitters: i.bool("hide_emitters")?.unwrap_or(false),
+        emitter_samples,
+        bsdf_samples,
     })
 }
 

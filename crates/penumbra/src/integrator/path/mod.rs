@@ -1,12 +1,22 @@
 //! `path`: a unidirectional path tracer with next-event estimation,
 //! multiple importance sampling and Russian roulette, as Mitsuba 3's
-//! `path` integrator, run on a wavefront.
+//! `path` integrator, run on a wavefront; and `direct`, its first vertex
+//! alone with counts of its own, as Mitsuba 3's `direct`.
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `max_depth` | integer ≥ −1 | `-1` | the longest path, in vertices from the camera (Mitsuba's count): 0 renders black, 1 only the emitters seen directly, 2 direct light, −1 no bound |
-//! | `rr_depth` | integer ≥ 1 | `5` | the depth from which Russian roulette may end a path |
+//! | `max_depth` | integer ≥ −1 | `-1` | `path`: the longest path, in vertices from the camera (Mitsuba's count): 0 renders black, 1 only the emitters seen directly, 2 direct light, −1 no bound |
+//! | `rr_depth` | integer ≥ 1 | `5` | `path`: the depth from which Russian roulette may end a path |
+//! | `emitter_samples` | integer ≥ 0 | `1` | `direct`: emitter samples at the shading point |
+//! | `bsdf_samples` | integer ≥ 0 | `1` | `direct`: BSDF samples at the shading point (not both 0) |
+//! | `shading_samples` | integer ≥ 0 | `1` | `direct`: both counts at once (Mitsuba's name; the two above win) |
 //! | `hide_emitters` | bool | `false` | emitters seen directly by camera rays are black |
+//!
+//! `direct` is this estimator with two vertices and no roulette: at the
+//! first, `emitter_samples` emitter samples and `bsdf_samples` BSDF samples
+//! (each going on as its own path, its throughput divided by the count),
+//! weighed by the power heuristic on densities times counts, as Mitsuba
+//! weighs them; at the second, the emission met.
 //!
 //! # The estimator
 //!

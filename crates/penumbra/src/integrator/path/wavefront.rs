@@ -5,6 +5,8 @@
 use std::ops::Range;
 
 use crate::accel::{Hit, PacketScratch};
+use crate::bsdf::{Bsdf, BsdfFlags};
+use crate::emitter::Emitter;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::stats::RayStats;
@@ -37,9 +39,11 @@ struct Paths {
     rng: Vec<Rng>,
     /// The vertex the ray left from.
     from: Vec<Vec3>,
-    /// The solid-angle density the BSDF drew the ray with; 0 after a delta
-    /// lobe or from the camera (the emission met then counts whole).
-    pdf: Vec<f32>,
+    /// What the emission the ray meets is weighed by: the BSDF's
+    /// solid-angle density times its samples at the vertex the ray left
+    /// (0 after a delta lobe or from the camera: the emission then counts
+    /// whole), and the emitter samples taken there.
+    mis: Vec<(f32, f32)>,
 }
 
 impl Paths {
@@ -49,20 +53,20 @@ impl Paths {
         self.beta.clear();
         self.rng.clear();
         self.from.clear();
-        self.pdf.clear();
+        self.mis.clear();
     }
 
     fn len(&self) -> usize {
         self.ray.len()
     }
 
-    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, (from, pdf): (Vec3, f32)) {
+    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, (from, mis): (Vec3, (f32, f32))) {
         self.ray.push(ray);
         self.slot.push(slot);
         self.beta.push(beta);
         self.rng.push(rng);
         self.from.push(from);
-        self.pdf.push(pdf);
+        self.mis.push(mis);
     }
 }
 
@@ -181,7 +185,7 @@ impl<'s> Wavefront<'s> {
         paths.slot.extend(0..n as u32);
         paths.beta.resize(n, Rgb::ONE);
         paths.from.extend(paths.ray.iter().map(|r| r.origin));
-        paths.pdf.resize(n, 0.0);
+        paths.mis.resize(n, (0.0, 0.0));
         self.radiance.clear();
         self.radiance.resize(n, Rgb::ZERO);
         self.stats.primary += n as u64;
@@ -235,7 +239,7 @@ impl<'s> Wavefront<'s> {
                 continue;
             };
             if let (Some(e), true) = (hit.emitter, seen) {
-                let prev = (paths.from[i], paths.pdf[i]);
+                let prev = (paths.from[i], paths.mis[i]);
                 let w = emission_weight(scene, (sampled, lights.len()), e, prev, hit);
                 if w > 0.0 {
                     let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);
@@ -246,74 +250,79 @@ impl<'s> Wavefront<'s> {
                 continue;
             }
             let bsdf = &scene.bsdfs[hit.material as usize];
-            let wo = -ray.dir.normalize();
-            let reach = reach(hit.p, ray.origin);
+            let v = Vertex {
+                hit,
+                wo: -ray.dir.normalize(),
+                reach: reach(hit.p, ray.origin),
+                time: ray.time,
+                beta,
+                slot,
+            };
+            let (e, b) = if depth == 0 {
+                (settings.emitter_samples, settings.bsdf_samples)
+            } else {
+                (1, 1)
+            };
             let mut rng = paths.rng[i].derive(u64::from(depth));
-            let mut u2 = || Vec2::new(rng.next_f32(), rng.next_f32());
             // Next-event estimation on the smooth lobes.
-            let choice = u2();
-            let point = u2();
-            if bsdf.lobes().any_smooth() && !lights.is_empty() {
-                let k = ((choice.x * lights.len() as f32) as usize).min(lights.len() - 1);
-                let emitter = &scene.emitters[lights[k] as usize];
-                let p = SetPoint::uniform(point).native();
-                if let Some(ls) = emitter.sample_one(hit.p, p, Distribution::Jitter) {
-                    let wi = ls.dir;
-                    let f = bsdf.eval(hit, wo, wi);
-                    let cos = hit.n.dot(wi).abs();
-                    if f != Rgb::ZERO && cos > 0.0 {
-                        let choose = lights.len() as f32;
-                        let pdf_light = ls.pdf / choose;
-                        let w = if ls.pdf > 0.0 {
-                            power_heuristic(pdf_light, bsdf.pdf(hit, wo, wi))
-                        } else {
-                            1.0
-                        };
-                        let origin = offset_origin(hit.p, reach, hit.ng, wi);
-                        shadows
-                            .ray
-                            .push(Ray::new(origin, ls.target - origin, ray.time));
-                        shadows.slot.push(slot);
-                        shadows
-                            .value
-                            .push(beta * f * ls.weight * (cos * choose * w));
-                    }
+            let nee = bsdf.lobes().any_smooth() && !lights.is_empty() && e > 0;
+            for _ in 0..e {
+                let choice = rng.next_f32();
+                let point = Vec2::new(rng.next_f32(), rng.next_f32());
+                if nee {
+                    let k = ((choice * lights.len() as f32) as usize).min(lights.len() - 1);
+                    let emitter = &scene.emitters[lights[k] as usize];
+                    let counts = (e as f32, b as f32, lights.len() as f32);
+                    light_sample(&v, bsdf, emitter, point, counts, shadows);
                 }
             }
-            // The next direction.
-            let u = SetPoint::uniform(u2());
-            let roulette = rng.next_f32();
-            let Some(b) = bsdf.sample(hit, wo, None, u) else {
-                continue;
-            };
-            let delta = b.flags.is_delta();
-            if !delta && (b.pdf <= 0.0 || b.pdf.is_nan()) {
-                continue;
-            }
-            let mut beta = beta * b.weight;
-            if depth + 1 >= settings.rr_depth {
-                let q = beta.max_element().min(RR_MAX);
-                if roulette >= q || q.is_nan() {
+            // The next directions.
+            let lights_n = if nee { e as f32 } else { 0.0 };
+            for k in 0..b {
+                let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+                let roulette = rng.next_f32();
+                let Some(s) = bsdf.sample(hit, v.wo, None, u) else {
+                    continue;
+                };
+                let delta = s.flags.is_delta();
+                if !delta && (s.pdf <= 0.0 || s.pdf.is_nan()) {
                     continue;
                 }
-                beta /= q;
-            }
-            if beta.max_element() <= 0.0 {
-                continue;
-            }
-            let origin = offset_origin(hit.p, reach, hit.ng, b.wi);
-            let pdf = if delta { 0.0 } else { b.pdf };
-            next.push(
-                Ray::new(origin, b.wi, ray.time),
-                slot,
-                beta,
-                paths.rng[i],
-                (hit.p, pdf),
-            );
-            if b.flags.contains(crate::bsdf::BsdfFlags::TRANSMISSION) {
-                stats.refraction += 1;
-            } else {
-                stats.reflection += 1;
+                let mut beta = beta * s.weight / b as f32;
+                if depth + 1 >= settings.rr_depth {
+                    let q = beta.max_element().min(RR_MAX);
+                    if roulette >= q || q.is_nan() {
+                        continue;
+                    }
+                    beta /= q;
+                }
+                if beta.max_element() <= 0.0 {
+                    continue;
+                }
+                let origin = offset_origin(hit.p, v.reach, hit.ng, s.wi);
+                // The densities emission met next is weighed by.
+                let mis = if delta {
+                    (0.0, 0.0)
+                } else {
+                    (b as f32 * s.pdf, lights_n)
+                };
+                let stream = if b == 1 {
+                    paths.rng[i]
+                } else {
+                    paths.rng[i].child(k as usize, b as usize)
+                };
+                next.push(
+                    Ray::new(origin, s.wi, ray.time),
+                    slot,
+                    beta,
+                    stream,
+                    (hit.p, mis),
+                );
+                if s.flags.contains(BsdfFlags::TRANSMISSION) {
+                    stats.refraction += 1;
+                } else {
+                    stats.reflection += 1;
+                }
             }
         }
     }
@@ -336,28 +345,76 @@ impl<'s> Wavefront<'s> {
 }
 
 /// The weight of the emission of emitter `e` that a path meets at `hit`,
-/// having left `from` with BSDF density `pdf` (0: from the camera or a
-/// delta lobe, which next-event estimation could not have drawn): the power
-/// heuristic against the emitter's own density, when next-event estimation
-/// samples it; 0 for an emitter that it samples without a density (the
+/// having left `from` with BSDF density `pdf` times the BSDF samples taken
+/// there (0: from the camera or a delta lobe, which next-event estimation
+/// could not have drawn) and `samples` emitter samples: the power heuristic
+/// against the emitter samples' density, when next-event estimation samples
+/// the emitter; 0 for an emitter that it samples without a density (the
 /// thesis's penumbra model), whose light its shadow rays alone bring.
 fn emission_weight(
     scene: &Scene,
     (sampled, lights): (&[bool], usize),
     e: u32,
-    (from, pdf): (Vec3, f32),
+    (from, (pdf, samples)): (Vec3, (f32, f32)),
     hit: &Hit,
 ) -> f32 {
-    if pdf == 0.0 || !sampled[e as usize] {
+    if pdf == 0.0 || samples == 0.0 || !sampled[e as usize] {
         return 1.0;
     }
     let emitter = &scene.emitters[e as usize];
-    let pdf_light = emitter.pdf(from, hit.p, hit.ng) / lights as f32;
+    let pdf_light = samples * emitter.pdf(from, hit.p, hit.ng) / lights as f32;
     if pdf_light > 0.0 {
         power_heuristic(pdf, pdf_light)
     } else {
         0.0
     }
+}
+
+/// A shading point, as next-event estimation reads it.
+struct Vertex<'h> {
+    hit: &'h Hit,
+    wo: Vec3,
+    reach: f32,
+    time: f32,
+    beta: Rgb,
+    slot: u32,
+}
+
+/// One of `e` emitter samples at `v` toward `emitter` (chosen among
+/// `lights`) with the point `point`, beside `b` BSDF samples (`counts`):
+/// its shadow ray and what it brings, `f · L · cos / (pdf · e)` weighed by
+/// the power heuristic, pushed to `shadows` unless it brings nothing.
+fn light_sample(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    emitter: &Emitter,
+    point: Vec2,
+    (e, b, lights): (f32, f32, f32),
+    shadows: &mut Shadows,
+) {
+    let p = SetPoint::uniform(point).native();
+    let Some(ls) = emitter.sample_one(v.hit.p, p, Distribution::Jitter) else {
+        return;
+    };
+    let wi = ls.dir;
+    let f = bsdf.eval(v.hit, v.wo, wi);
+    let cos = v.hit.n.dot(wi).abs();
+    if f == Rgb::ZERO || cos <= 0.0 {
+        return;
+    }
+    let w = if ls.pdf > 0.0 {
+        power_heuristic(e * ls.pdf / lights, b * bsdf.pdf(v.hit, v.wo, wi))
+    } else {
+        1.0
+    };
+    let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, wi);
+    shadows
+        .ray
+        .push(Ray::new(origin, ls.target - origin, v.time));
+    shadows.slot.push(v.slot);
+    shadows
+        .value
+        .push(v.beta * f * ls.weight * (cos * lights * w / e));
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a`
