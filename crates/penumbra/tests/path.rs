@@ -203,3 +203,44 @@ fn split_paths_are_the_same_on_any_threads_and_passes() {
     let (two, _) = render_toml(&toml.replace("spp = 6", "spp = 6\npasses = 2"));
     assert_eq!(one.pixels, two.pixels);
 }
+
+/// The built-in Cornell box is path traced, and shows what only indirect
+/// light gives: the white ceiling is redder beside the red wall (image
+/// left) than beside the green one.
+#[test]
+fn the_cornell_box_bleeds_colour() {
+    let mut src = builtin("cornell-box", None);
+    set(
+        &mut src,
+        penumbra::scene::Overrides {
+            width: Some(48),
+            height: Some(48),
+            spp: Some(32),
+            ..Default::default()
+        },
+    );
+    let s = src.build().expect("the Cornell box builds");
+    assert_eq!(
+        s.settings.integrator,
+        penumbra::scene::IntegratorChoice::Path
+    );
+    let (img, _) = render_scene(&s, 2);
+    let patch = |x0: u32| {
+        let mut sum = Rgb::ZERO;
+        for y in 2..8 {
+            for x in x0..x0 + 6 {
+                sum += img.get(x, y);
+            }
+        }
+        sum
+    };
+    let (left, right) = (patch(6), patch(36));
+    assert!(
+        left.r / left.g > 1.2 * right.r / right.g,
+        "{left:?} {right:?}"
+    );
+    assert!(
+        right.g / right.r > 1.2 * left.g / left.r,
+        "{left:?} {right:?}"
+    );
+}

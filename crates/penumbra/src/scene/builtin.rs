@@ -29,6 +29,11 @@ pub const SCENES: &[Builtin] = &[
         "the default: every effect at once, no external files"
     ),
     builtin!(
+        "cornell-box",
+        false,
+        "the Cornell box, rendered by the path tracer"
+    ),
+    builtin!(
         "bunny",
         true,
         "the thesis's setting: Stanford bunny on a ground quad under a rectangle light"
