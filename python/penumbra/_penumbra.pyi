@@ -38,7 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
-IntegratorName = Literal["whitted", "path", "direct"]
+IntegratorName = Literal["whitted", "path", "direct", "distributed"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -146,6 +146,7 @@ class Scene:
         max_depth: int | None = None,
         rr_depth: int | None = None,
         hide_emitters: bool | None = None,
+        sets_depth: int | None = None,
         emitter_samples: int | None = None,
         bsdf_samples: int | None = None,
         seed: int | None = None,
@@ -235,6 +236,7 @@ def render(
     max_depth: int | None = None,
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
+    sets_depth: int | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,
@@ -285,6 +287,7 @@ def render_region(
     max_depth: int | None = None,
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
+    sets_depth: int | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,

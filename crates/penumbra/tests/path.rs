@@ -244,3 +244,39 @@ fn the_cornell_box_bleeds_colour() {
         "{left:?} {right:?}"
     );
 }
+
+/// `distributed`: the thesis's sets at the first vertices, each BSDF ray
+/// going on as a path, converge to what `path` converges to, for square
+/// and low-discrepancy distributions and sets reaching one or two
+/// vertices; the shadow and reflection counts are the sets'.
+#[test]
+fn distributed_sets_hold_the_box_radiance() {
+    for (dist, sets) in [("jitter", 1), ("sobol", 1), ("poisson", 2)] {
+        for (d, want) in [(2, 1.5), (3, 1.75)] {
+            let render = format!(
+                "integrator = \"distributed\"\nspp = 16\nmax_depth = {d}\nsets_depth = {sets}\n\
+                 shadow_rays = 4\nreflection_rays = 4\ndistribution = \"{dist}\""
+            );
+            let toml = closed_box(0.5, &render).replace("integrator = \"path\"\n", "");
+            let (img, rays) = render_toml(&toml);
+            assert_near(
+                mean(&img),
+                want,
+                0.01,
+                &format!("{dist}, sets to {sets}, depth {d}"),
+            );
+            // Six walls, each a light: a set of 4 toward each of the five
+            // a wall sees, at each vertex drawing sets.
+            assert!(rays.shadow >= 20 * rays.primary, "{rays:?}");
+            assert!(rays.reflection >= 4 * rays.primary * 9 / 10, "{rays:?}");
+        }
+    }
+    let s = scene(
+        &closed_box(0.6, "integrator = \"distributed\"\nspp = 4\nmax_depth = 6\nrr_depth = 2\nshadow_rays = 3\nreflection_rays = 5\ndistribution = \"random\"")
+            .replace("integrator = \"path\"\n", ""),
+    );
+    let (one, rays) = render_scene(&s, 1);
+    let (three, rays3) = render_scene(&s, 3);
+    assert_eq!(one.pixels, three.pixels);
+    assert_eq!(rays, rays3);
+}

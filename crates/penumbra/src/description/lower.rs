@@ -21,6 +21,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("hide_emitters", Kind::Integrator),
     ("emitter_samples", Kind::Integrator),
     ("bsdf_samples", Kind::Integrator),
+    ("sets_depth", Kind::Integrator),
     ("seed", Kind::Sampler),
     ("background", Kind::Emitter),
     ("spp", Kind::Sampler),

@@ -72,7 +72,7 @@ pub fn render(
         IntegratorChoice::Whitted => {
             render_with(&Whitted::new(scene), scene, opts, progress, cancel)
         }
-        IntegratorChoice::Path | IntegratorChoice::Direct => {
+        IntegratorChoice::Path | IntegratorChoice::Direct | IntegratorChoice::Distributed => {
             render_with(&Path::new(scene), scene, opts, progress, cancel)
         }
     }

@@ -291,8 +291,9 @@ pub const OPTIONS: &[RenderOption] = &[
         kind: Kind::Integrator,
         default: DefaultValue::Fixed(Value::Integrator(IntegratorChoice::Whitted)),
         doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer), \
-              path (a path tracer with next-event estimation, as Mitsuba 3's `path`) or direct \
-              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`)",
+              path (a path tracer with next-event estimation, as Mitsuba 3's `path`), direct \
+              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`) or distributed \
+              (the path tracer drawing the thesis's sets at its first vertices)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
@@ -494,7 +495,7 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "rr_depth",
         kind: RAYS,
         default: int(5),
-        doc: "path: the depth from which Russian roulette may end a path",
+        doc: "path and distributed: the depth from which Russian roulette may end a path",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
@@ -504,12 +505,24 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "hide_emitters",
         kind: Kind::Switch,
         default: switch(false),
-        doc: "path and direct: emitters seen directly by camera rays are black (what they light is \
-              not)",
+        doc: "path, direct and distributed: emitters seen directly by camera rays are black (what \
+              they light is not)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
         set: Some(|c, v| c.overrides.hide_emitters = v.switch()),
+    },
+    RenderOption {
+        name: "sets_depth",
+        kind: Kind::Int { min: 1, max: 64 },
+        default: int(1),
+        doc: "distributed: the vertices from the camera that draw the thesis's sets (shadow_rays \
+              toward every light, a set of reflection_rays from the BSDF, each ray going on as a \
+              path)",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.sets_depth = v.int()),
     },
     RenderOption {
         name: "emitter_samples",

@@ -22,6 +22,8 @@ pub struct Overrides {
     /// The direct integrator's samples per shading point.
     pub emitter_samples: Option<u32>,
     pub bsdf_samples: Option<u32>,
+    /// The distributed integrator's depth of sets.
+    pub sets_depth: Option<u32>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
@@ -84,6 +86,7 @@ impl Overrides {
         set(root, "hide_emitters", flag(self.hide_emitters));
         set(root, "emitter_samples", int(self.emitter_samples));
         set(root, "bsdf_samples", int(self.bsdf_samples));
+        set(root, "sets_depth", int(self.sets_depth));
         set(root, "seed", int(self.seed));
         set(root, "spp", int(self.spp));
         set(root, "passes", int(self.passes));

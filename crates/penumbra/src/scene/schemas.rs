@@ -12,7 +12,12 @@ use crate::emitter::area;
 pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
         Kind::Scene | Kind::Texture => &[],
-        Kind::Integrator => &[&settings::WHITTED, &settings::PATH, &settings::DIRECT],
+        Kind::Integrator => &[
+            &settings::WHITTED,
+            &settings::PATH,
+            &settings::DIRECT,
+            &settings::DISTRIBUTED,
+        ],
         Kind::Sensor => &[&camera::PERSPECTIVE],
         Kind::Film => &[&settings::FILM],
         Kind::Sampler => &[&settings::SAMPLER],

@@ -29,21 +29,25 @@ pub enum IntegratorChoice {
     /// Direct illumination by emitter and BSDF samples (Mitsuba 3's
     /// `direct`).
     Direct,
+    /// The thesis's sets at the first vertices of a path tracer.
+    Distributed,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 3] = [
+    pub const ALL: [IntegratorChoice; 4] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
+        IntegratorChoice::Distributed,
     ];
-    pub const NAMES: [&'static str; 3] = ["whitted", "path", "direct"];
+    pub const NAMES: [&'static str; 4] = ["whitted", "path", "direct", "distributed"];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorChoice::Whitted => "whitted",
             IntegratorChoice::Path => "path",
             IntegratorChoice::Direct => "direct",
+            IntegratorChoice::Distributed => "distributed",
         }
     }
 
@@ -69,6 +73,10 @@ pub struct PathSettings {
     /// BSDF samples at the first vertex, each going on as its own path (1
     /// at every other).
     pub bsdf_samples: u32,
+    /// Vertices below this depth draw the thesis's sets (`distributed`):
+    /// a shadow set toward every emitter and a set of BSDF samples, from
+    /// their distributions; 0 for `path` and `direct`.
+    pub sets_depth: u32,
 }
 
 impl Default for PathSettings {
@@ -79,6 +87,7 @@ impl Default for PathSettings {
             hide_emitters: false,
             emitter_samples: 1,
             bsdf_samples: 1,
+            sets_depth: 0,
         }
     }
 }
@@ -125,7 +134,7 @@ impl Settings {
     pub fn depth(&self) -> i64 {
         match self.integrator {
             IntegratorChoice::Whitted => i64::from(self.max_depth),
-            IntegratorChoice::Path | IntegratorChoice::Direct => {
+            IntegratorChoice::Path | IntegratorChoice::Direct | IntegratorChoice::Distributed => {
                 self.path.max_depth.map_or(-1, i64::from)
             }
         }
@@ -294,6 +303,21 @@ pub const PATH: Schema = Schema {
     ],
 };
 
+/// The distributed path tracer's parameters: the path tracer's and the
+/// depth its sets reach.
+pub const DISTRIBUTED: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "distributed",
+    what: "distributed integrator",
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("sets_depth", Type::Int),
+        param("passes", Type::Int),
+    ],
+};
+
 /// The direct illumination integrator's parameters (Mitsuba 3's `direct`).
 pub const DIRECT: Schema = Schema {
     kind: Kind::Integrator,
@@ -354,6 +378,11 @@ pub fn read(
         IntegratorChoice::Whitted => (int(i, "max_depth", 3, 0, 64)?, PathSettings::default()),
         IntegratorChoice::Path => (0, path_settings(i)?),
         IntegratorChoice::Direct => (0, direct_settings(i)?),
+        IntegratorChoice::Distributed => {
+            let sets_depth = int(i, "sets_depth", 1, 1, 64)?;
+            let path = path_settings(i)?;
+            (0, PathSettings { sets_depth, ..path })
+        }
     };
     Ok(Settings {
         integrator: choice,
@@ -427,6 +456,7 @@ fn direct_settings(i: &Props) -> Result<PathSettings, Invalid> {
         hide_emitters: i.bool("hide_emitters")?.unwrap_or(false),
         emitter_samples,
         bsdf_samples,
+        sets_depth: 0,
     })
 }
 

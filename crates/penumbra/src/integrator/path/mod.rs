@@ -1,7 +1,8 @@
 //! `path`: a unidirectional path tracer with next-event estimation,
 //! multiple importance sampling and Russian roulette, as Mitsuba 3's
-//! `path` integrator, run on a wavefront; and `direct`, its first vertex
-//! alone with counts of its own, as Mitsuba 3's `direct`.
+//! `path` integrator, run on a wavefront; `direct`, its first vertex
+//! alone with counts of its own, as Mitsuba 3's `direct`; and
+//! `distributed`, whose first vertices draw the thesis's sets.
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
@@ -10,8 +11,20 @@
 //! | `emitter_samples` | integer ≥ 0 | `1` | `direct`: emitter samples at the shading point |
 //! | `bsdf_samples` | integer ≥ 0 | `1` | `direct`: BSDF samples at the shading point (not both 0) |
 //! | `shading_samples` | integer ≥ 0 | `1` | `direct`: both counts at once (Mitsuba's name; the two above win) |
+//! | `sets_depth` | integer 1–64 | `1` | `distributed`: the vertices from the camera that draw sets |
 //! | `hide_emitters` | bool | `false` | emitters seen directly by camera rays are black |
 //!
+//! `distributed` carries the thesis into global illumination: a vertex
+//! below `sets_depth` traces a shadow set toward every emitter (its
+//! `shadow_rays`, points of its `shadow_distribution`) and one set of BSDF
+//! samples (the largest set the material's lobes ask for, else the
+//! render's reflection set; points of its distribution), every BSDF ray
+//! going on as a path of its own with the set's share of the throughput.
+//! The distribution supplies the sample numbers of the light and the BSDF,
+//! so the estimator converges to `path`'s image; a distribution that is not
+//! uniform (`fast-random`) biases it as it biases the thesis's sets.
+//! Light and BSDF samples are weighed by the power heuristic on density
+//! times count. The thesis's metrics do not stop these sets.
 //! `direct` is this estimator with two vertices and no roulette: at the
 //! first, `emitter_samples` emitter samples and `bsdf_samples` BSDF samples
 //! (each going on as its own path, its throughput divided by the count),

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use crate::accel::{Hit, PacketScratch};
 use crate::bsdf::{Bsdf, BsdfFlags};
-use crate::emitter::Emitter;
+use crate::emitter::{Emitter, LightSample};
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::stats::RayStats;
@@ -43,7 +43,20 @@ struct Paths {
     /// solid-angle density times its samples at the vertex the ray left
     /// (0 after a delta lobe or from the camera: the emission then counts
     /// whole), and the emitter samples taken there.
-    mis: Vec<(f32, f32)>,
+    mis: Vec<(f32, Nee)>,
+}
+
+/// The emitter samples a vertex took (next-event estimation), as the
+/// emission met from it is weighed against them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Nee {
+    /// None: the emission met counts whole.
+    None,
+    /// This many, each toward an emitter chosen uniformly.
+    Choice(f32),
+    /// A set toward every emitter, of the emitter's shadow rays (the
+    /// thesis's shadow sets).
+    Sets,
 }
 
 impl Paths {
@@ -60,7 +73,7 @@ impl Paths {
         self.ray.len()
     }
 
-    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, (from, mis): (Vec3, (f32, f32))) {
+    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, (from, mis): (Vec3, (f32, Nee))) {
         self.ray.push(ray);
         self.slot.push(slot);
         self.beta.push(beta);
@@ -100,6 +113,8 @@ pub(super) struct Wavefront<'s> {
     shadows: Shadows,
     /// Per sample of the wave, the radiance its path gathered.
     radiance: Vec<Rgb>,
+    /// The points of a set being drawn.
+    points: Vec<Vec3>,
 }
 
 impl<'s> Wavefront<'s> {
@@ -121,6 +136,7 @@ impl<'s> Wavefront<'s> {
             packet: PacketScratch::default(),
             shadows: Shadows::default(),
             radiance: Vec::new(),
+            points: Vec::new(),
         }
     }
 
@@ -185,7 +201,7 @@ impl<'s> Wavefront<'s> {
         paths.slot.extend(0..n as u32);
         paths.beta.resize(n, Rgb::ONE);
         paths.from.extend(paths.ray.iter().map(|r| r.origin));
-        paths.mis.resize(n, (0.0, 0.0));
+        paths.mis.resize(n, (0.0, Nee::None));
         self.radiance.clear();
         self.radiance.resize(n, Rgb::ZERO);
         self.stats.primary += n as u64;
@@ -219,6 +235,7 @@ impl<'s> Wavefront<'s> {
             hits,
             shadows,
             radiance,
+            points,
             ..
         } = self;
         next.clear();
@@ -263,6 +280,17 @@ impl<'s> Wavefront<'s> {
             } else {
                 (1, 1)
             };
+            if depth < settings.sets_depth {
+                let mut out = Out {
+                    shadows,
+                    next,
+                    stats,
+                    points: &mut *points,
+                };
+                let rr = depth + 1 >= settings.rr_depth;
+                thesis_sets(scene, &v, bsdf, lights, (paths.rng[i], rr), &mut out);
+                continue;
+            }
             let mut rng = paths.rng[i].derive(u64::from(depth));
             // Next-event estimation on the smooth lobes.
             let nee = bsdf.lobes().any_smooth() && !lights.is_empty() && e > 0;
@@ -277,7 +305,11 @@ impl<'s> Wavefront<'s> {
                 }
             }
             // The next directions.
-            let lights_n = if nee { e as f32 } else { 0.0 };
+            let lights_n = if nee {
+                Nee::Choice(e as f32)
+            } else {
+                Nee::None
+            };
             for k in 0..b {
                 let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
                 let roulette = rng.next_f32();
@@ -302,7 +334,7 @@ impl<'s> Wavefront<'s> {
                 let origin = offset_origin(hit.p, v.reach, hit.ng, s.wi);
                 // The densities emission met next is weighed by.
                 let mis = if delta {
-                    (0.0, 0.0)
+                    (0.0, Nee::None)
                 } else {
                     (b as f32 * s.pdf, lights_n)
                 };
@@ -318,11 +350,7 @@ impl<'s> Wavefront<'s> {
                     stream,
                     (hit.p, mis),
                 );
-                if s.flags.contains(BsdfFlags::TRANSMISSION) {
-                    stats.refraction += 1;
-                } else {
-                    stats.reflection += 1;
-                }
+                count_bounce(stats, s.flags);
             }
         }
     }
@@ -355,18 +383,129 @@ fn emission_weight(
     scene: &Scene,
     (sampled, lights): (&[bool], usize),
     e: u32,
-    (from, (pdf, samples)): (Vec3, (f32, f32)),
+    (from, (pdf, nee)): (Vec3, (f32, Nee)),
     hit: &Hit,
 ) -> f32 {
-    if pdf == 0.0 || samples == 0.0 || !sampled[e as usize] {
+    if pdf == 0.0 || !sampled[e as usize] {
         return 1.0;
     }
     let emitter = &scene.emitters[e as usize];
-    let pdf_light = samples * emitter.pdf(from, hit.p, hit.ng) / lights as f32;
+    let density = emitter.pdf(from, hit.p, hit.ng);
+    let pdf_light = match nee {
+        Nee::None => return 1.0,
+        Nee::Choice(samples) => samples * density / lights as f32,
+        Nee::Sets => emitter.shadow_rays() as f32 * density,
+    };
     if pdf_light > 0.0 {
         power_heuristic(pdf, pdf_light)
     } else {
         0.0
+    }
+}
+
+/// The branch of a path's stream that the shadow set toward light `j` of
+/// a vertex drawing the thesis's sets takes (`SHADOW_SETS + j`); the
+/// vertex's BSDF set takes `BSDF_SET`, and each path it starts the child
+/// stream of its index. Far above the bounces' branches.
+const SHADOW_SETS: u64 = 1 << 32;
+const BSDF_SET: u64 = SHADOW_SETS - 1;
+/// The branch of a set's path that its Russian roulette reads.
+const ROULETTE: u64 = SHADOW_SETS - 2;
+
+/// Where a vertex's work goes: its shadow rays, the paths it starts, the
+/// ray counts, and a buffer for a set's points.
+struct Out<'a> {
+    shadows: &'a mut Shadows,
+    next: &'a mut Paths,
+    stats: &'a mut RayStats,
+    points: &'a mut Vec<Vec3>,
+}
+
+/// A vertex that draws the thesis's sets (`distributed`): a set of shadow
+/// rays toward every emitter, of the emitter's `shadow_rays` from its
+/// `shadow_distribution`, and one set of BSDF samples whose count and
+/// distribution are the largest set the material's lobes ask for (the
+/// render's reflection set for a material without sets), each sample
+/// starting a path of its own with the set's share of the throughput. The
+/// two are weighed by the power heuristic on density times count. `path`
+/// is the vertex's stream; `rr` says whether the paths it starts face
+/// Russian roulette.
+fn thesis_sets(
+    scene: &Scene,
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    lights: &[u32],
+    (path, rr): (Rng, bool),
+    out: &mut Out<'_>,
+) {
+    let table = &scene.settings.points;
+    let set = bsdf
+        .lobes()
+        .sets
+        .iter()
+        .flatten()
+        .max_by_key(|s| s.rays)
+        .copied()
+        .unwrap_or(scene.settings.reflection);
+    let nb = set.rays as f32;
+    if bsdf.lobes().any_smooth() {
+        for (j, &l) in lights.iter().enumerate() {
+            let emitter = &scene.emitters[l as usize];
+            let (n, d) = (emitter.shadow_rays(), emitter.shadow().distribution);
+            let mut rng = path.derive(SHADOW_SETS + j as u64);
+            d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
+            for &point in out.points.iter() {
+                let Some(ls) = emitter.sample_one(v.hit.p, point, d) else {
+                    continue;
+                };
+                let ns = n as f32;
+                let weigh = |pdf_b: f32| power_heuristic(ns * ls.pdf, nb * pdf_b);
+                shadow_ray(v, bsdf, &ls, weigh, ns, out.shadows);
+            }
+        }
+    }
+    let mut rng = path.derive(BSDF_SET);
+    set.distribution
+        .generate_in(table, set.rays as usize, 1.0, &mut rng, out.points);
+    for (k, &point) in out.points.iter().enumerate() {
+        let u = SetPoint::new(point, set.distribution);
+        let Some(s) = bsdf.sample(v.hit, v.wo, None, u) else {
+            continue;
+        };
+        let delta = s.flags.is_delta();
+        if !delta && (s.pdf <= 0.0 || s.pdf.is_nan()) {
+            continue;
+        }
+        let stream = path.child(k, set.rays as usize);
+        let mut beta = v.beta * s.weight / nb;
+        if rr {
+            let q = beta.max_element().min(RR_MAX);
+            if stream.derive(ROULETTE).next_f32() >= q || q.is_nan() {
+                continue;
+            }
+            beta /= q;
+        }
+        if beta.max_element() <= 0.0 {
+            continue;
+        }
+        let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, s.wi);
+        let mis = if delta {
+            (0.0, Nee::None)
+        } else {
+            (nb * s.pdf, Nee::Sets)
+        };
+        let ray = Ray::new(origin, s.wi, v.time);
+        out.next.push(ray, v.slot, beta, stream, (v.hit.p, mis));
+        count_bounce(out.stats, s.flags);
+    }
+}
+
+/// Counts a BSDF sample's ray as a reflection or a refraction ray.
+fn count_bounce(stats: &mut RayStats, flags: BsdfFlags) {
+    if flags.contains(BsdfFlags::TRANSMISSION) {
+        stats.refraction += 1;
+    } else {
+        stats.reflection += 1;
     }
 }
 
@@ -396,6 +535,23 @@ fn light_sample(
     let Some(ls) = emitter.sample_one(v.hit.p, p, Distribution::Jitter) else {
         return;
     };
+    let weigh = |pdf_b: f32| power_heuristic(e * ls.pdf / lights, b * pdf_b);
+    shadow_ray(v, bsdf, &ls, weigh, e / lights, shadows);
+}
+
+/// The shadow ray of the light sample `ls` at `v`, one of `n` (the
+/// sample's share: divided by `n`), and what it brings if unblocked:
+/// `f · weight · cos / n`, times `weigh` of the BSDF's density toward it
+/// where the sample has a density (1 where it has none: a point light, the
+/// thesis's penumbra model). Pushed to `shadows` unless it brings nothing.
+fn shadow_ray(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    ls: &LightSample,
+    weigh: impl Fn(f32) -> f32,
+    n: f32,
+    shadows: &mut Shadows,
+) {
     let wi = ls.dir;
     let f = bsdf.eval(v.hit, v.wo, wi);
     let cos = v.hit.n.dot(wi).abs();
@@ -403,7 +559,7 @@ fn light_sample(
         return;
     }
     let w = if ls.pdf > 0.0 {
-        power_heuristic(e * ls.pdf / lights, b * bsdf.pdf(v.hit, v.wo, wi))
+        weigh(bsdf.pdf(v.hit, v.wo, wi))
     } else {
         1.0
     };
@@ -412,9 +568,7 @@ fn light_sample(
         .ray
         .push(Ray::new(origin, ls.target - origin, v.time));
     shadows.slot.push(v.slot);
-    shadows
-        .value
-        .push(v.beta * f * ls.weight * (cos * lights * w / e));
+    shadows.value.push(v.beta * f * ls.weight * (cos * w / n));
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a`
