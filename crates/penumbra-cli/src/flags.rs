@@ -361,6 +361,6 @@ mod tests {
         let o = OPTIONS.iter().find(|o| o.name == "max_depth").unwrap();
         assert_eq!(o.default, DefaultValue::Fixed(Value::Int(3)));
         assert!(help(o).ends_with("[default: 3]"), "{}", help(o));
-        assert!(help(o).starts_with("Levels of"), "{}", help(o));
+        assert!(help(o).starts_with("Whitted: levels of"), "{}", help(o));
     }
 }
