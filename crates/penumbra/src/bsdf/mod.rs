@@ -21,6 +21,11 @@
 //! | [`thesis`](thesis::Thesis) | the thesis's layered material: Lambert + Phong, a mirror and a Fresnel dielectric, the last two blurred by distributed sets |
 //! | [`diffuse`](diffuse::Diffuse) | an ideal Lambertian reflector (Mitsuba 3's `diffuse`) |
 
+#[cfg(test)]
+mod chi2;
+pub mod fresnel;
+pub mod ior;
+pub mod microfacet;
 mod model;
 pub mod sample;
 
