@@ -15,8 +15,14 @@
 
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::math::{Vec2, Vec3};
-use crate::sampling::Rng;
+use super::model::{BsdfModel, Defaults};
+use crate::description::{from_toml, Invalid, Kind, Props};
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_uniform_sphere;
+use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
+
+pub(crate) use super::thesis::tests::interaction;
 
 /// Cells expecting fewer samples are pooled into one.
 pub const MIN_EXPECTED: f64 = 5.0;
@@ -172,6 +178,96 @@ pub fn p_value(observed: &[f64], expected: &[f64]) -> Result<f64, String> {
     }
     let chi = ChiSquared::new((dof - 1) as f64).map_err(|e| e.to_string())?;
     Ok(chi.sf(stat))
+}
+
+/// The model `M` of the parameters `text` (TOML keys of a material).
+pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
+    let root = from_toml(
+        &format!("[materials.m]\n{text}\n"),
+        std::path::Path::new("t.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let node = root.child(Kind::Bsdf).expect("a material");
+    let set = EffectSpec {
+        rays: 1,
+        distribution: Distribution::Jitter,
+    };
+    let d = Defaults {
+        reflection: set,
+        refraction: set,
+    };
+    M::build(&Props::new(node), &d)
+}
+
+/// The χ² p-value of `m`'s directions sampled (no lobe asked for) for the
+/// view `wo` at the surface `si`, against its `pdf`.
+pub fn model_p_value<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    seed: u64,
+) -> Result<f64, String> {
+    Chi2::default().run(
+        seed,
+        |u| m.sample(si, wo, None, SetPoint::uniform(u)).map(|s| s.wi),
+        |v| f64::from(m.pdf(si, wo, v)),
+    )
+}
+
+/// For `n` samples of `m` (no lobe asked for) seen from `wo`: each
+/// weight is `eval · |cos| / pdf` and each pdf the one `pdf` gives (both
+/// to a relative 1e-3); returns the largest weight channel seen.
+pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> f32 {
+    let mut rng = Rng::new(77);
+    let mut most = 0.0f32;
+    for _ in 0..n {
+        let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+        let Some(s) = m.sample(si, wo, None, u) else {
+            continue;
+        };
+        let pdf = m.pdf(si, wo, s.wi);
+        assert!(
+            (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1e-3),
+            "pdf {} vs {pdf} at {:?}",
+            s.pdf,
+            s.wi
+        );
+        let want = m.eval(si, wo, s.wi) * (s.wi.dot(si.n).abs() / s.pdf);
+        let err = (s.weight - want).abs().max_element();
+        assert!(
+            err <= 1e-3 * want.max_element().max(1e-2),
+            "weight {:?} vs eval·cos/pdf {want:?} at {:?}",
+            s.weight,
+            s.wi
+        );
+        most = most.max(s.weight.max_element());
+    }
+    most
+}
+
+/// The albedo of `m` seen from `wo`, ∫ eval · |cos| dω over the sphere by
+/// Monte Carlo (`n` uniform directions, stratified), and its standard error.
+pub fn albedo<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> (Rgb, f32) {
+    let side = (n as f64).sqrt() as usize;
+    let mut rng = Rng::new(91);
+    let (mut sum, mut sq) = (Rgb::ZERO, 0.0f64);
+    let frame = si.shading_frame();
+    for i in 0..side {
+        for j in 0..side {
+            let u = Vec2::new(
+                (i as f32 + rng.next_f32()) / side as f32,
+                (j as f32 + rng.next_f32()) / side as f32,
+            );
+            let wi = frame.to_world(square_to_uniform_sphere(u));
+            let f = m.eval(si, wo, wi) * (wi.dot(si.n).abs() * 4.0 * std::f32::consts::PI);
+            sum += f;
+            sq += f64::from(f.max_element()).powi(2);
+        }
+    }
+    let k = (side * side) as f64;
+    let mean = sum / k as f32;
+    let var = (sq / k - f64::from(mean.max_element()).powi(2)).max(0.0);
+    (mean, (var / k).sqrt() as f32)
 }
 
 #[cfg(test)]

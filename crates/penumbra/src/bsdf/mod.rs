@@ -135,4 +135,5 @@ macro_rules! models {
 models! {
     thesis::Thesis,
     diffuse::Diffuse,
+    conductor::Conductor,
 }
