@@ -136,4 +136,5 @@ models! {
     thesis::Thesis,
     diffuse::Diffuse,
     conductor::Conductor,
+    roughconductor::RoughConductor,
 }
