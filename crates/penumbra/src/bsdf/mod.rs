@@ -137,4 +137,5 @@ models! {
     diffuse::Diffuse,
     conductor::Conductor,
     roughconductor::RoughConductor,
+    dielectric::Dielectric,
 }

@@ -308,7 +308,7 @@ pub(crate) fn number_or_choice(
     match v.value {
         Value::String(_) => choice(v, what, choices).map(NumberOr::Name),
         Value::Int(_) | Value::Float(_) => number(v).map(NumberOr::Number),
-        _ => Err(v.type_error(&format!("a number or a {what} name"))),
+        _ => Err(v.type_error("a number or a name")),
     }
 }
 
