@@ -138,4 +138,5 @@ models! {
     conductor::Conductor,
     roughconductor::RoughConductor,
     dielectric::Dielectric,
+    thindielectric::ThinDielectric,
 }
