@@ -106,10 +106,18 @@ impl Chi2 {
             std::f64::consts::PI / self.theta as f64,
             std::f64::consts::TAU / self.phi as f64,
         );
-        let (st, sp) = (dt / self.sub as f64, dp / self.sub as f64);
+        let sp = dp / self.sub as f64;
         let mut out = vec![0.0; self.theta * self.phi];
         for i in 0..self.theta {
-            for a in 0..self.sub {
+            // Eight times finer by the poles, where a sharp lobe (a
+            // refraction at normal incidence) may fit in one cell.
+            let sub = if i < 3 || i + 3 >= self.theta {
+                8 * self.sub
+            } else {
+                self.sub
+            };
+            let st = dt / sub as f64;
+            for a in 0..sub {
                 let theta = i as f64 * dt + (a as f64 + 0.5) * st;
                 let (s, c) = theta.sin_cos();
                 for j in 0..self.phi {

@@ -138,5 +138,6 @@ models! {
     conductor::Conductor,
     roughconductor::RoughConductor,
     dielectric::Dielectric,
+    roughdielectric::RoughDielectric,
     thindielectric::ThinDielectric,
 }
