@@ -91,7 +91,8 @@ impl Chi2 {
             let cell = self
                 .cell(v)
                 .ok_or_else(|| format!("not a unit direction: {v:?}"))?;
-            if !(pdf(v) > 0.0) {
+            let density = pdf(v);
+            if density.is_nan() || density <= 0.0 {
                 return Err(format!("a sample where the density is 0: {v:?} of {u:?}"));
             }
             counts[cell] += 1.0;

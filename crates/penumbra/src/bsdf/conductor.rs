@@ -6,7 +6,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`](super::ior)); `none` is a perfect mirror (`eta` 0, `k` 1) |
+//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
 //! | `eta` | colour ≥ 0 | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
 //! | `k` | colour ≥ 0 | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
 //! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection (1 for realism) |

@@ -6,7 +6,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the inside ([`ior`](super::ior) lists the names) |
+//! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the inside ([`ior`] lists the names) |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside |
 //! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
 //! | `specular_transmittance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the transmission (1 for realism) |

@@ -109,7 +109,7 @@ impl BsdfModel for RoughConductor {
         let d = &self.distribution;
         let (m, pdf_m) = d.sample(o, u.square());
         let om = o.dot(m);
-        if !(pdf_m > 0.0) || om <= 0.0 {
+        if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
             return None;
         }
         let i = 2.0 * om * m - o;

@@ -88,7 +88,7 @@ impl RoughDielectric {
         let reflect = i.z > 0.0;
         let h = if reflect { o + i } else { o + i * eta };
         let len = h.length();
-        if !(len > 0.0) {
+        if len.is_nan() || len <= 0.0 {
             return None;
         }
         let h = h / len;
@@ -138,7 +138,7 @@ impl RoughDielectric {
         let d = &self.distribution;
         let (m, pdf_m) = d.sample(o, u);
         let om = o.dot(m);
-        if !(pdf_m > 0.0) || om <= 0.0 {
+        if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
             return None;
         }
         let f = fresnel::dielectric(om, eta);
@@ -225,7 +225,7 @@ impl BsdfModel for RoughDielectric {
         };
         let d = &self.distribution;
         let dg = d.d(l.h) * d.g(l.o, l.i, l.h);
-        if !(dg > 0.0) {
+        if dg.is_nan() || dg <= 0.0 {
             return Rgb::ZERO;
         }
         let (oh, ih) = (l.o.dot(l.h), l.i.dot(l.h));
