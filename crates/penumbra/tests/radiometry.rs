@@ -543,3 +543,33 @@ fn a_dielectric_slab_passes_the_fresnel_transmittance() {
     );
     assert_close(centre(&thin), Rgb::splat(l), 1e-5);
 }
+
+/// The new materials' keys are checked where the scene writes them: a name
+/// that is not an index's, a negative roughness, a key of another model.
+#[test]
+fn material_keys_are_checked_at_their_place() {
+    for (material, want) in [
+        (
+            "type = \"dielectric\"\nint_ior = \"glass\"",
+            "materials.quad.int_ior: unknown index of refraction `glass`; valid choices are: vacuum, helium,",
+        ),
+        (
+            "type = \"roughconductor\"\nalpha = -0.1",
+            "materials.quad.alpha: must be between 0 and 100, got -0.1",
+        ),
+        (
+            "type = \"conductor\"\nint_ior = 1.5",
+            "`int_ior` does not apply to a conductor material; a conductor material takes: material, eta, k, specular_reflectance",
+        ),
+        (
+            "type = \"roughdielectric\"\nint_ior = 1.0\next_ior = \"vacuum\"",
+            "materials.quad.int_ior: must differ from `ext_ior`",
+        ),
+    ] {
+        let e = try_scene(&above_a_quad(material, ""))
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(e.contains(want), "{material}: {e}");
+    }
+}

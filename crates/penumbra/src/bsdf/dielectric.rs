@@ -164,7 +164,7 @@ impl BsdfModel for Dielectric {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{build, interaction};
+    use crate::bsdf::chi2::{self, build, interaction};
     use crate::math::Vec2;
     use crate::sampling::Rng;
 
@@ -225,30 +225,40 @@ mod tests {
     }
 
     /// With no lobe asked for, reflection is chosen with probability F
-    /// (5 sigma over 200000 points), and each weight is divided by its
-    /// probability.
+    /// (a χ² test of the two lobes' counts over views from both sides,
+    /// 200000 points each), and each weight is divided by its probability;
+    /// past the critical angle every point reflects.
     #[test]
     fn sampling_any_lobe_chooses_by_fresnel() {
         let g = build::<Dielectric>("int_ior = \"diamond\"\next_ior = 1").unwrap();
-        let si = interaction(Vec3::Z);
-        let wo = Vec3::new(0.8, 0.0, 0.6);
-        let f = fresnel::dielectric(0.6, 2.419);
-        let mut rng = Rng::new(4);
-        let n = 200_000;
-        let mut reflected = 0;
-        for _ in 0..n {
-            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
-            let s = g.sample(&si, wo, None, u).unwrap();
-            if s.lobe == 0 {
-                reflected += 1;
-                assert!((s.weight.r - 1.0).abs() < 1e-5 && (s.pdf - f.r).abs() < 1e-6);
-            } else {
-                assert!((s.weight.r - f.eta_ti * f.eta_ti).abs() < 1e-5);
+        let n = Vec3::new(0.2, 0.1, 0.97).normalize();
+        let si = interaction(n);
+        let all = views(n);
+        let level = chi2::sidak(all.len());
+        for (k, wo) in all.into_iter().enumerate() {
+            let f = fresnel::dielectric(wo.dot(n), g.eta);
+            let mut rng = Rng::new(k as u64);
+            let points = 200_000;
+            let mut counts = [0.0; 2];
+            for _ in 0..points {
+                let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+                let s = g.sample(&si, wo, None, u).unwrap();
+                counts[s.lobe] += 1.0;
+                if s.lobe == 0 {
+                    assert!((s.weight.r - 1.0).abs() < 1e-5 && (s.pdf - f.r).abs() < 1e-6);
+                } else {
+                    assert!((s.weight.r - f.eta_ti * f.eta_ti).abs() < 1e-4 * f.eta_ti * f.eta_ti);
+                }
             }
+            if f.r >= 1.0 {
+                assert_eq!(counts[1], 0.0, "total internal reflection at {wo:?}");
+                continue;
+            }
+            let p = f64::from(f.r);
+            let expected = [points as f64 * p, points as f64 * (1.0 - p)];
+            let pv = chi2::p_value(&counts, &expected).unwrap();
+            assert!(pv > level, "{wo:?}: p = {pv:e}");
         }
-        let (p, mean) = (f64::from(f.r), f64::from(reflected) / f64::from(n));
-        let sigma = (p * (1.0 - p) / f64::from(n)).sqrt();
-        assert!((mean - p).abs() < 5.0 * sigma, "{mean} vs {p}");
     }
 
     /// Indices are numbers or names; non-physical values are refused at

@@ -122,7 +122,7 @@ impl BsdfModel for ThinDielectric {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{build, interaction};
+    use crate::bsdf::chi2::{self, build, interaction};
     use crate::math::Vec2;
 
     /// The sheet reflects R' = 2R/(1 + R) and passes the rest straight on,
@@ -145,6 +145,22 @@ mod tests {
             let any = t.sample(&si, wo, None, u).unwrap();
             assert_eq!(any.lobe, usize::from(0.2 >= t.reflectance(wo.z)), "{wo:?}");
         }
+        // With no lobe asked for, reflection is chosen with probability R'
+        // (χ² of the two lobes' counts).
+        let wo = Vec3::new(0.0, 0.95, 0.312).normalize();
+        let r = f64::from(t.reflectance(wo.z));
+        let mut rng = crate::sampling::Rng::new(12);
+        let points = 200_000;
+        let mut counts = [0.0; 2];
+        for _ in 0..points {
+            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let s = t.sample(&si, wo, None, u).unwrap();
+            counts[s.lobe] += 1.0;
+            assert!((s.weight.r - 1.0).abs() < 1e-5, "{:?}", s.weight);
+        }
+        let expected = [points as f64 * r, points as f64 * (1.0 - r)];
+        let p = chi2::p_value(&counts, &expected).unwrap();
+        assert!(p > chi2::sidak(1), "p = {p:e}");
         let e = build::<ThinDielectric>("int_ior = 0").unwrap_err().to_string();
         assert!(e.contains("must be a positive number"), "{e}");
     }
