@@ -438,3 +438,138 @@ fn a_shape_carrying_an_area_emitter_is_a_light() {
         "{e}"
     );
 }
+
+/// A camera above a horizontal quad at the origin looking straight down
+/// (the centre pixel's ray meets it at normal incidence), with `material`
+/// the quad's and `extra` appended.
+fn above_a_quad(material: &str, extra: &str) -> String {
+    format!(
+        r#"
+[render]
+width = 11
+height = 11
+max_depth = 3
+{extra}
+[camera]
+position = [0.0, 0.5, 0.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, -1.0]
+fov = 10
+
+[materials.quad]
+{material}
+
+[[objects]]
+type = "quad"
+material = "quad"
+origin = [-50.0, 0.0, -50.0]
+edge_u = [0.0, 0.0, 100.0]
+edge_v = [100.0, 0.0, 0.0]
+"#
+    )
+}
+
+/// A `conductor` of `material = "none"` is a perfect mirror: looking down
+/// at it, the camera sees a diffuse ceiling lit by a point light between
+/// them with the ceiling's exact radiance ρ I / (π d²); gold sees it times
+/// its Fresnel reflectance at normal incidence; from behind the one-sided
+/// mirror is black.
+#[test]
+fn a_conductor_mirrors_a_lit_diffuse_ceiling_exactly() {
+    let (rho, i, d) = (Rgb::new(0.6, 0.3, 0.2), 5.0f32, 1.0f32);
+    let ceiling = format!(
+        "[materials.ceiling]\ntype = \"diffuse\"\nreflectance = [0.6, 0.3, 0.2]\n\
+         [[objects]]\ntype = \"quad\"\nmaterial = \"ceiling\"\norigin = [-50.0, 2.0, -50.0]\n\
+         edge_u = [100.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 100.0]\n\
+         [[lights]]\ntype = \"point\"\nposition = [0.0, {}, 0.0]\nintensity = [{i}, {i}, {i}]\n",
+        2.0 - d
+    );
+    let mirror = above_a_quad("type = \"conductor\"\nmaterial = \"none\"", "") + &ceiling;
+    let want = rho * (i / (PI * d * d));
+    assert_close(centre(&mirror), want, 1e-4);
+    // Gold: F = ((η − 1)² + k²) / ((η + 1)² + k²) per channel.
+    let gold = above_a_quad("type = \"conductor\"\nmaterial = \"Au\"", "") + &ceiling;
+    let f = |eta: f32, k: f32| ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k);
+    let fresnel = Rgb::new(f(0.1431, 3.9831), f(0.3749, 2.3857), f(1.4424, 1.6031));
+    assert_close(centre(&gold), want * fresnel, 1e-4);
+    // Its normal turned down (the ceiling's edges are written the other
+    // way round, so only the mirror's change).
+    let behind = mirror.replace(
+        "edge_u = [0.0, 0.0, 100.0]\nedge_v = [100.0, 0.0, 0.0]",
+        "edge_u = [100.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 100.0]",
+    );
+    assert_ne!(behind, mirror);
+    assert_eq!(centre(&behind), Rgb::ZERO);
+}
+
+/// A `dielectric` slab (two parallel quads, normals outward) over a
+/// constant background L, seen at normal incidence through the Whitted
+/// integrator with `max_depth = 3`: the camera sees the top's reflection
+/// F L, and what crosses both faces, (1 − F)² L, plus what crosses after
+/// one inner round trip within the depth, (1 − F)² F L — the radiance
+/// scales 1/η² entering and η² leaving cancel. F = ((η − 1)/(η + 1))² for
+/// bk7 in air, Mitsuba's defaults.
+#[test]
+fn a_dielectric_slab_passes_the_fresnel_transmittance() {
+    let l = 2.0f32;
+    let bottom =
+        "[[objects]]\ntype = \"quad\"\nmaterial = \"quad\"\norigin = [-50.0, -0.2, -50.0]\n\
+                  edge_u = [100.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 100.0]\n";
+    let toml = above_a_quad(
+        "type = \"dielectric\"",
+        &format!("background = [{l}, {l}, {l}]"),
+    ) + bottom;
+    let eta = 1.5046f32 / 1.000277;
+    let f = ((eta - 1.0) / (eta + 1.0)).powi(2);
+    let want = f * l + (1.0 - f) * (1.0 - f) * (1.0 + f) * l;
+    assert_close(centre(&toml), Rgb::splat(want), 1e-4);
+    // Water, named, and a tinted transmission (once in, once out).
+    let water = toml.replace(
+        "type = \"dielectric\"",
+        "type = \"dielectric\"\nint_ior = \"water\"\nspecular_transmittance = [0.5, 1.0, 1.0]",
+    );
+    let eta = 1.333f32 / 1.000277;
+    let f = ((eta - 1.0) / (eta + 1.0)).powi(2);
+    let through = |t: f32| f * l + t * t * (1.0 - f) * (1.0 - f) * (1.0 + f) * l;
+    assert_close(
+        centre(&water),
+        Rgb::new(through(0.5), through(1.0), through(1.0)),
+        1e-4,
+    );
+    // A thin sheet (one quad) reflects R' = 2F/(1 + F) and passes the rest.
+    let thin = above_a_quad(
+        "type = \"thindielectric\"\nint_ior = 1.5\next_ior = 1.0",
+        &format!("background = [{l}, {l}, {l}]"),
+    );
+    assert_close(centre(&thin), Rgb::splat(l), 1e-5);
+}
+
+/// The new materials' keys are checked where the scene writes them: a name
+/// that is not an index's, a negative roughness, a key of another model.
+#[test]
+fn material_keys_are_checked_at_their_place() {
+    for (material, want) in [
+        (
+            "type = \"dielectric\"\nint_ior = \"glass\"",
+            "materials.quad.int_ior: unknown index of refraction `glass`; valid choices are: vacuum, helium,",
+        ),
+        (
+            "type = \"roughconductor\"\nalpha = -0.1",
+            "materials.quad.alpha: must be between 0 and 100, got -0.1",
+        ),
+        (
+            "type = \"conductor\"\nint_ior = 1.5",
+            "`int_ior` does not apply to a conductor material; a conductor material takes: material, eta, k, specular_reflectance",
+        ),
+        (
+            "type = \"roughdielectric\"\nint_ior = 1.0\next_ior = \"vacuum\"",
+            "materials.quad.int_ior: must differ from `ext_ior`",
+        ),
+    ] {
+        let e = try_scene(&above_a_quad(material, ""))
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(e.contains(want), "{material}: {e}");
+    }
+}

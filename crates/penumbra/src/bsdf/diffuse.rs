@@ -138,6 +138,9 @@ mod tests {
         total *= std::f32::consts::FRAC_PI_2 / steps as f32 * std::f32::consts::TAU / steps as f32;
         assert!((total - 1.0).abs() < 1e-3, "{total}");
         assert_eq!(d.eval(&si, -wo, n), Rgb::ZERO);
+        // The directions follow the pdf (χ²).
+        let p = crate::bsdf::chi2::model_p_value(&d, &si, wo, 3).unwrap();
+        assert!(p > crate::bsdf::chi2::sidak(1), "p = {p:e}");
         assert!(d
             .sample(&si, -wo, None, SetPoint::uniform(Vec2::splat(0.5)))
             .is_none());

@@ -20,7 +20,23 @@
 //! |---|---|
 //! | [`thesis`](thesis::Thesis) | the thesis's layered material: Lambert + Phong, a mirror and a Fresnel dielectric, the last two blurred by distributed sets |
 //! | [`diffuse`](diffuse::Diffuse) | an ideal Lambertian reflector (Mitsuba 3's `diffuse`) |
+//! | [`conductor`](conductor::Conductor) | a smooth metal: delta reflection weighted by the conductor Fresnel reflectance (Mitsuba 3's `conductor`) |
+//! | [`roughconductor`](roughconductor::RoughConductor) | a rough metal: Beckmann or GGX microfacet reflection (Mitsuba 3's `roughconductor`) |
+//! | [`dielectric`](dielectric::Dielectric) | a smooth dielectric interface: Fresnel-weighted delta reflection and refraction (Mitsuba 3's `dielectric`) |
+//! | [`roughdielectric`](roughdielectric::RoughDielectric) | a rough dielectric interface: microfacet reflection and transmission (Mitsuba 3's `roughdielectric`) |
+//! | [`thindielectric`](thindielectric::ThinDielectric) | a thin dielectric sheet: reflection and straight transmission (Mitsuba 3's `thindielectric`) |
+//!
+//! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
+//! and their samplers), [`fresnel`] (dielectric and conductor
+//! reflectance) and [`ior`] (indices of refraction and conductor presets
+//! by name). The models' tests hold every sampler to its density by a χ²
+//! test (`chi2.rs`, Mitsuba 3's method).
 
+#[cfg(test)]
+mod chi2;
+pub mod fresnel;
+pub mod ior;
+pub mod microfacet;
 mod model;
 pub mod sample;
 
@@ -130,4 +146,9 @@ macro_rules! models {
 models! {
     thesis::Thesis,
     diffuse::Diffuse,
+    conductor::Conductor,
+    roughconductor::RoughConductor,
+    dielectric::Dielectric,
+    roughdielectric::RoughDielectric,
+    thindielectric::ThinDielectric,
 }

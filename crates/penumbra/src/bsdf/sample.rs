@@ -30,6 +30,11 @@ impl BsdfFlags {
         self.0 == 0
     }
 
+    /// Both sets of bits (`|` in constants).
+    pub const fn union(self, other: BsdfFlags) -> BsdfFlags {
+        BsdfFlags(self.0 | other.0)
+    }
+
     /// True if every bit of `other` is set.
     pub const fn contains(self, other: BsdfFlags) -> bool {
         self.0 & other.0 == other.0

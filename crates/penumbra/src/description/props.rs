@@ -22,6 +22,13 @@ pub enum Scale {
     PerAxis([f32; 3]),
 }
 
+/// A number, or a name standing for one (see [`Props::number_or_choice`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NumberOr {
+    Number(f32),
+    Name(&'static str),
+}
+
 /// The properties of a node (or of a table value) being read.
 pub struct Props<'a> {
     props: &'a [Prop],
@@ -134,6 +141,17 @@ impl<'a> Props<'a> {
         choices: &[&'static str],
     ) -> Result<Option<&'static str>, Invalid> {
         self.read(name, |v| choice(v, what, choices))
+    }
+
+    /// A number, or one of a closed set of names (`int_ior = 1.5` or
+    /// `int_ior = "water"`); `what` names the set in the message.
+    pub fn number_or_choice(
+        &self,
+        name: &str,
+        what: &str,
+        choices: &[&'static str],
+    ) -> Result<Option<NumberOr>, Invalid> {
+        self.read(name, |v| number_or_choice(v, what, choices))
     }
 
     /// A problem with a property: at its value if it is there, else at the
@@ -280,6 +298,18 @@ pub(crate) fn choice(
         .copied()
         .find(|c| *c == name)
         .ok_or_else(|| unknown_choice(v, name, what, choices))
+}
+
+pub(crate) fn number_or_choice(
+    v: &Located<Value>,
+    what: &str,
+    choices: &[&'static str],
+) -> Result<NumberOr, Invalid> {
+    match v.value {
+        Value::String(_) => choice(v, what, choices).map(NumberOr::Name),
+        Value::Int(_) | Value::Float(_) => number(v).map(NumberOr::Number),
+        _ => Err(v.type_error("a number or a name")),
+    }
 }
 
 fn unknown_choice(v: &Located<Value>, name: &str, what: &str, choices: &[&str]) -> Invalid {

@@ -64,6 +64,9 @@ pub enum Type {
     /// One of a closed set of names; the first field names the set in
     /// messages (`"penumbra model"`).
     Choice(&'static str, &'static [&'static str]),
+    /// A number, or one of a closed set of names standing for numbers (an
+    /// index of refraction by material); the first field names the set.
+    NumberOrChoice(&'static str, &'static [&'static str]),
     /// A table with these keys (a transform).
     Table(&'static [Param]),
 }
@@ -84,6 +87,7 @@ impl Type {
             Type::Path => "file".into(),
             Type::Distribution => "distribution".into(),
             Type::Choice(_, choices) => choices.join(", "),
+            Type::NumberOrChoice(what, _) => format!("number or {what} name"),
             Type::Table(_) => "table".into(),
         }
     }
@@ -156,6 +160,7 @@ fn check_value(v: &Located<Value>, ty: &Type) -> Result<(), Invalid> {
         Type::String | Type::Path => props::string(v).map(drop),
         Type::Distribution => props::distribution(v).map(drop),
         Type::Choice(what, choices) => props::choice(v, what, choices).map(drop),
+        Type::NumberOrChoice(what, choices) => props::number_or_choice(v, what, choices).map(drop),
         Type::Table(params) => {
             for p in props::table(v)? {
                 match params.iter().find(|param| param.name == p.name) {

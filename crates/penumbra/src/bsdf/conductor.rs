@@ -1,0 +1,185 @@
+//! `conductor`: a perfectly smooth metal, Mitsuba 3's `conductor`: one
+//! delta reflection lobe weighted by the conductor Fresnel reflectance of
+//! the complex index `eta + i·k` (per RGB channel) times
+//! `specular_reflectance`. One-sided, as Mitsuba's: it reflects on the side
+//! its shading normal points to and is black from behind.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
+//! | `eta` | colour ≥ 0 | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
+//! | `k` | colour ≥ 0 | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
+//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
+//!
+//! Its lobe, slot 0, is a delta reflection: the Whitted integrator traces
+//! one ray of it, the mirror direction about the shading normal.
+
+use super::ior::{self, Conductor as Index};
+use super::model::{BsdfModel, Defaults};
+use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use super::fresnel;
+use crate::description::check::nonneg3;
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::geometry::SurfaceInteraction;
+use crate::math::{reflect, Rgb, Vec3};
+use crate::sampling::SetPoint;
+
+/// The smooth conductor (see the [module docs](self)).
+#[derive(Clone, Copy, Debug)]
+pub struct Conductor {
+    /// `None`: the perfect mirror of `material = "none"` (reflectance 1).
+    pub index: Option<Index>,
+    pub specular_reflectance: Rgb,
+}
+
+/// The schema entries of the conductor's index, shared with
+/// `roughconductor`.
+pub const INDEX_PARAMS: [Param; 3] = [
+    Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror), `Au`, `Ag`, `Al`, `Cu`, `Cr`"),
+    Param::new("eta", Type::Colour, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`"),
+    Param::new("k", Type::Colour, "the material's", "imaginary part of the complex index (absorption), ≥ 0"),
+];
+
+/// The schema entry of `specular_reflectance`.
+pub const SPECULAR_REFLECTANCE: Param = Param::new(
+    "specular_reflectance",
+    Type::Colour,
+    "[1, 1, 1]",
+    "a factor on the reflection, each channel in [0, 1] (1 for realism)",
+);
+
+/// A reflectance-like factor `name` (each channel in [0, 1]), default 1.
+pub fn factor(p: &Props, name: &str) -> Result<Rgb, Invalid> {
+    let v = nonneg3(p, name, [1.0; 3])?;
+    if v.max_element() > 1.0 {
+        return Err(p.error(
+            name,
+            "must not exceed 1 in any channel (the surface would create light)",
+        ));
+    }
+    Ok(v)
+}
+
+/// The conductor's index of a scene's parameters: `None` for the perfect
+/// mirror (`eta` 0 and `k` 1, whether by name or by value).
+pub fn read_index(p: &Props) -> Result<Option<Index>, Invalid> {
+    let c = ior::read_conductor(p)?;
+    Ok((c.eta != Rgb::ZERO || c.k != Rgb::ONE).then_some(c))
+}
+
+/// The Fresnel reflectance of `index` at the cosine `cos` (1 for the
+/// perfect mirror).
+pub fn reflectance(index: &Option<Index>, cos: f32) -> Rgb {
+    match index {
+        None => Rgb::ONE,
+        Some(c) => fresnel::conductor(cos, c.eta, c.k),
+    }
+}
+
+impl BsdfModel for Conductor {
+    const NAME: &'static str = "conductor";
+
+    const SCHEMA: Schema = Schema {
+        kind: Kind::Bsdf,
+        plugin: "conductor",
+        what: "conductor material",
+        params: &[INDEX_PARAMS[0], INDEX_PARAMS[1], INDEX_PARAMS[2], SPECULAR_REFLECTANCE],
+    };
+
+    fn build(p: &Props, _: &Defaults) -> Result<Conductor, Invalid> {
+        Ok(Conductor {
+            index: read_index(p)?,
+            specular_reflectance: factor(p, "specular_reflectance")?,
+        })
+    }
+
+    fn lobes(&self) -> Lobes {
+        let mut l = Lobes::default();
+        l.flags[0] = BsdfFlags::DELTA | BsdfFlags::REFLECTION;
+        l
+    }
+
+    fn eval(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+
+    /// The mirror direction about the shading normal and its weight
+    /// `specular_reflectance · F(cos θo)`, whether the lobe is asked for or
+    /// not; `None` from behind.
+    fn sample(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: Option<usize>,
+        _: SetPoint,
+    ) -> Option<BsdfSample> {
+        let cos = si.n.dot(wo);
+        if lobe.is_some_and(|k| k != 0) || cos <= 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi: reflect(-wo, si.n),
+            weight: self.specular_reflectance * reflectance(&self.index, cos),
+            pdf: 1.0,
+            flags: BsdfFlags::DELTA | BsdfFlags::REFLECTION,
+            lobe: 0,
+        })
+    }
+
+    fn pdf(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> f32 {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::chi2::{build, interaction};
+    use crate::math::Vec2;
+
+    /// `material = "none"` reflects exactly 1 at every angle; gold reflects
+    /// its Fresnel value; from behind nothing; the direction is the mirror
+    /// direction about the shading normal.
+    #[test]
+    fn mirrors_with_the_fresnel_weight() {
+        let mirror = build::<Conductor>("").unwrap();
+        assert!(mirror.index.is_none());
+        let n = Vec3::new(0.2, 0.1, 0.97).normalize();
+        let si = interaction(n);
+        let u = SetPoint::uniform(Vec2::splat(0.3));
+        for wo in [n, Vec3::new(0.7, 0.0, 0.7).normalize(), Vec3::new(-0.1, 0.99, 0.08).normalize()] {
+            let s = mirror.sample(&si, wo, Some(0), u).unwrap();
+            assert_eq!(s.weight, Rgb::ONE);
+            assert!((s.wi - (2.0 * wo.dot(n) * n - wo)).length() < 1e-6);
+            assert!((s.wi.dot(n) - wo.dot(n)).abs() < 1e-6);
+            assert_eq!(mirror.sample(&si, wo, None, u).unwrap().weight, Rgb::ONE);
+        }
+        assert!(mirror.sample(&si, -n, None, u).is_none());
+        assert!(mirror.sample(&si, n, Some(1), u).is_none());
+        assert_eq!(mirror.eval(&si, n, n), Rgb::ZERO);
+        assert_eq!(mirror.pdf(&si, n, n), 0.0);
+        let gold = build::<Conductor>("material = \"Au\"\nspecular_reflectance = [0.5, 1, 1]").unwrap();
+        let s = gold.sample(&si, n, None, u).unwrap();
+        let f = fresnel::conductor(1.0, ior::conductor("Au").unwrap().eta, ior::conductor("Au").unwrap().k);
+        assert!((s.weight - f * Rgb::new(0.5, 1.0, 1.0)).abs().max_element() < 1e-5);
+        assert!(s.weight.max_element() < 1.0);
+        assert!(gold.lobes().any_delta() && !gold.lobes().any_smooth());
+    }
+
+    /// Values out of range and contradictory parameters are refused at
+    /// their place.
+    #[test]
+    fn bad_parameters_are_refused() {
+        for (text, want) in [
+            ("specular_reflectance = [1.2, 1, 1]", "must not exceed 1"),
+            ("eta = [-1, 0, 0]", "must not be negative"),
+            ("material = \"Au\"\neta = [1, 1, 1]", "not both"),
+            ("material = \"Xx\"", "unknown conductor material `Xx`"),
+        ] {
+            let e = build::<Conductor>(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+        }
+        let c = build::<Conductor>("eta = [0.2, 0.9, 1.1]\nk = [3.9, 2.5, 2.1]").unwrap();
+        assert_eq!(c.index.unwrap().k, Rgb::new(3.9, 2.5, 2.1));
+    }
+}

@@ -1,0 +1,385 @@
+//! `roughdielectric`: a rough interface between two dielectrics (frosted
+//! glass), Mitsuba 3's `roughdielectric`: the microfacet reflection and
+//! transmission of Walter et al. (2007) with a Beckmann or GGX
+//! distribution ([`microfacet`](super::microfacet)), the separable Smith G
+//! and the dielectric Fresnel reflectance at each facet. Two-sided, the
+//! normal pointing outside, as [`dielectric`](super::dielectric).
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the inside |
+//! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside; must differ from `int_ior` |
+//! | `distribution` | `beckmann`, `ggx` | `beckmann` | the microfacet distribution |
+//! | `alpha` | number ≥ 0 | `0.1` | roughness along both tangents |
+//! | `alpha_u`, `alpha_v` | number ≥ 0 | `alpha` | anisotropic roughness (both, not with `alpha`) |
+//! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
+//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection |
+//! | `specular_transmittance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the transmission |
+//!
+//! With `h` the half vector of the viewer's direction `wo` and the light's
+//! `wi` (`wo + wi` for reflection, `wo + η wi` for transmission, η the
+//! index of the light's side over the viewer's, turned to the outside),
+//! the value is `F D G / (4 |cos θo| |cos θi|)` for reflection and
+//! `(1 − F) D G |wo·h| |wi·h| / (|cos θo| |cos θi| (wo·h + η wi·h)²)` for
+//! transmission: Walter's, times 1/η² for radiance (which cancels its η²),
+//! as Mitsuba in radiance mode.
+//!
+//! Its lobes: slot 0 glossy reflection, slot 1 glossy transmission; the
+//! Whitted integrator lights them directly through `eval` (light from the
+//! viewer's side only: shadow rays do not cross the surface). `sample`
+//! with a lobe asked for draws that lobe (reflection about, or refraction
+//! through, a normal of the visible normals of `wo`); with none, it picks
+//! reflection with the probability `P` = the Fresnel reflectance at the
+//! macro normal kept within [0.1, 0.9], by the point's first coordinate
+//! (whose rest then draws the normal). Mitsuba picks by the reflectance
+//! at the drawn facet, which takes a third random number a set point does
+//! not carry; both are unbiased, this one weighs reflection `F G1 / P`.
+
+use super::conductor::{factor, SPECULAR_REFLECTANCE};
+use super::dielectric::{read_eta, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
+use super::fresnel;
+use super::microfacet::{Microfacet, PARAMS};
+use super::model::{BsdfModel, Defaults};
+use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use crate::description::{Invalid, Kind, Props, Schema};
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::SetPoint;
+
+/// The rough dielectric (see the [module docs](self)).
+#[derive(Clone, Copy, Debug)]
+pub struct RoughDielectric {
+    pub distribution: Microfacet,
+    /// `int_ior / ext_ior`.
+    pub eta: f32,
+    pub specular_reflectance: Rgb,
+    pub specular_transmittance: Rgb,
+}
+
+const REFLECTION: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::REFLECTION);
+const TRANSMISSION: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::TRANSMISSION);
+
+/// The bounds of the probability of choosing reflection.
+const CHOICE: (f32, f32) = (0.1, 0.9);
+
+/// A pair of directions in the shading frame, turned so that the viewer is
+/// outside (`o.z > 0`), with the relative index of the light's side over
+/// the viewer's.
+struct Local {
+    o: Vec3,
+    i: Vec3,
+    eta: f32,
+    reflect: bool,
+    /// The half vector, on the outside.
+    h: Vec3,
+}
+
+impl RoughDielectric {
+    fn local(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Option<Local> {
+        let frame = si.shading_frame();
+        let (mut o, mut i) = (frame.to_local(wo), frame.to_local(wi));
+        if o.z == 0.0 || i.z == 0.0 {
+            return None;
+        }
+        let mut eta = self.eta;
+        if o.z < 0.0 {
+            (o, i, eta) = (-o, -i, 1.0 / eta);
+        }
+        let reflect = i.z > 0.0;
+        let h = if reflect { o + i } else { o + i * eta };
+        let len = h.length();
+        if len.is_nan() || len <= 0.0 {
+            return None;
+        }
+        let h = h / len;
+        let h = if h.z < 0.0 { -h } else { h };
+        // Both directions on the facet's proper sides.
+        if o.dot(h) <= 0.0 || i.dot(h) * i.z <= 0.0 {
+            return None;
+        }
+        Some(Local {
+            o,
+            i,
+            eta,
+            reflect,
+            h,
+        })
+    }
+
+    /// The probability of choosing reflection for a viewer at the cosine
+    /// `cos` (outside when positive).
+    fn choice(&self, cos: f32) -> f32 {
+        fresnel::dielectric(cos, self.eta)
+            .r
+            .clamp(CHOICE.0, CHOICE.1)
+    }
+
+    /// The lobe's density (not times a choice) of `l`.
+    fn lobe_pdf(&self, l: &Local) -> f32 {
+        let pm = self.distribution.pdf(l.o, l.h);
+        if l.reflect {
+            pm / (4.0 * l.i.dot(l.h))
+        } else {
+            let (oh, ih) = (l.o.dot(l.h), l.i.dot(l.h));
+            let denom = oh + l.eta * ih;
+            pm * l.eta * l.eta * ih.abs() / (denom * denom)
+        }
+    }
+
+    /// Lobe `k`'s direction for the point `u`, its weight and density (not
+    /// divided by a choice).
+    fn sample_lobe(&self, si: &SurfaceInteraction, wo: Vec3, k: usize, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        let frame = si.shading_frame();
+        let o0 = frame.to_local(wo);
+        if o0.z == 0.0 {
+            return None;
+        }
+        let (o, eta) = if o0.z < 0.0 { (-o0, 1.0 / self.eta) } else { (o0, self.eta) };
+        let d = &self.distribution;
+        let (m, pdf_m) = d.sample(o, u);
+        let om = o.dot(m);
+        if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
+            return None;
+        }
+        let f = fresnel::dielectric(om, eta);
+        let i = if k == 0 {
+            2.0 * om * m - o
+        } else {
+            if f.r >= 1.0 {
+                return None;
+            }
+            (m * (f.eta_ti * om + f.cos_t) - o * f.eta_ti).normalize()
+        };
+        if (k == 0) != (i.z > 0.0) {
+            return None;
+        }
+        let wi = frame.to_world(if o0.z < 0.0 { -i } else { i });
+        // The weight from the half vector of the pair as `eval` and `pdf`
+        // find it (the drawn normal up to rounding, which near the
+        // critical angle moves the Fresnel factor).
+        let l = self.local(si, wo, wi)?;
+        let (h, i) = (l.h, l.i);
+        let oh = o.dot(h);
+        let f = fresnel::dielectric(oh, eta);
+        let value = if k == 0 {
+            self.specular_reflectance * f.r
+        } else {
+            self.specular_transmittance * ((1.0 - f.r) * f.eta_ti * f.eta_ti)
+        };
+        let shadowing = if d.sample_visible {
+            d.g1(i, h)
+        } else {
+            d.g(o, i, h) * oh / (o.z * h.z)
+        };
+        let pdf = self.lobe_pdf(&l);
+        (shadowing > 0.0 && pdf > 0.0).then_some((wi, value * shadowing, pdf))
+    }
+}
+
+impl BsdfModel for RoughDielectric {
+    const NAME: &'static str = "roughdielectric";
+
+    const SCHEMA: Schema = Schema {
+        kind: Kind::Bsdf,
+        plugin: "roughdielectric",
+        what: "rough dielectric material",
+        params: &[
+            IOR_PARAMS[0],
+            IOR_PARAMS[1],
+            PARAMS[0],
+            PARAMS[1],
+            PARAMS[2],
+            PARAMS[3],
+            PARAMS[4],
+            SPECULAR_REFLECTANCE,
+            SPECULAR_TRANSMITTANCE,
+        ],
+    };
+
+    fn build(p: &Props, _: &Defaults) -> Result<RoughDielectric, Invalid> {
+        let eta = read_eta(p)?;
+        if eta == 1.0 {
+            return Err(p.error(
+                "int_ior",
+                "must differ from `ext_ior` (an interface of one index is not there)",
+            ));
+        }
+        Ok(RoughDielectric {
+            distribution: Microfacet::read(p)?,
+            eta,
+            specular_reflectance: factor(p, "specular_reflectance")?,
+            specular_transmittance: factor(p, "specular_transmittance")?,
+        })
+    }
+
+    fn lobes(&self) -> Lobes {
+        let mut l = Lobes::default();
+        l.flags[0] = REFLECTION;
+        l.flags[1] = TRANSMISSION;
+        l
+    }
+
+    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
+        let Some(l) = self.local(si, wo, wi) else {
+            return Rgb::ZERO;
+        };
+        let d = &self.distribution;
+        let dg = d.d(l.h) * d.g(l.o, l.i, l.h);
+        if dg.is_nan() || dg <= 0.0 {
+            return Rgb::ZERO;
+        }
+        let (oh, ih) = (l.o.dot(l.h), l.i.dot(l.h));
+        let f = fresnel::dielectric(oh, l.eta).r;
+        let cos = l.o.z * l.i.z.abs();
+        if l.reflect {
+            self.specular_reflectance * (f * dg / (4.0 * cos))
+        } else {
+            let denom = oh + l.eta * ih;
+            let t = (1.0 - f) * dg * (oh * ih).abs() / (cos * denom * denom);
+            self.specular_transmittance * t
+        }
+    }
+
+    fn sample(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: Option<usize>,
+        u: SetPoint,
+    ) -> Option<BsdfSample> {
+        let sq = u.square();
+        let (k, p, v) = match lobe {
+            Some(k @ (0 | 1)) => (k, 1.0, sq),
+            Some(_) => return None,
+            None => {
+                let pr = self.choice(wo.dot(si.n));
+                let (k, p, x) = if sq.x < pr {
+                    (0, pr, sq.x / pr)
+                } else {
+                    (1, 1.0 - pr, (sq.x - pr) / (1.0 - pr))
+                };
+                (k, p, Vec2::new(x.clamp(0.0, 1.0 - f32::EPSILON), sq.y))
+            }
+        };
+        let (wi, weight, pdf) = self.sample_lobe(si, wo, k, v)?;
+        Some(BsdfSample {
+            wi,
+            weight: weight * (1.0 / p),
+            pdf: pdf * p,
+            flags: if k == 0 { REFLECTION } else { TRANSMISSION },
+            lobe: k,
+        })
+    }
+
+    /// The density of `sample` with no lobe asked for.
+    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
+        let Some(l) = self.local(si, wo, wi) else {
+            return 0.0;
+        };
+        let pr = self.choice(wo.dot(si.n));
+        self.lobe_pdf(&l) * if l.reflect { pr } else { 1.0 - pr }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::chi2::{self, albedo, build, check_weights, interaction, model_p_value};
+
+    fn models() -> Vec<(String, RoughDielectric)> {
+        let mut all = Vec::new();
+        for dist in ["beckmann", "ggx"] {
+            for visible in [true, false] {
+                for rough in ["alpha = 0.1", "alpha = 0.5", "alpha_u = 0.1\nalpha_v = 0.4"] {
+                    let text = format!("distribution = \"{dist}\"\n{rough}\nsample_visible = {visible}");
+                    all.push((text.clone(), build::<RoughDielectric>(&text).unwrap()));
+                }
+            }
+        }
+        all
+    }
+
+    fn views() -> [Vec3; 4] {
+        [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.6, 0.2, 0.77).normalize(),
+            Vec3::new(-0.3, 0.9, 0.15).normalize(),
+            Vec3::new(0.5, -0.1, -0.8).normalize(),
+        ]
+    }
+
+    /// The sampler's directions (reflected and transmitted, both sides)
+    /// follow its pdf.
+    #[test]
+    fn sampling_passes_chi2() {
+        let si = interaction(Vec3::Z);
+        let cases: Vec<_> = models()
+            .into_iter()
+            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m, wo)))
+            .collect();
+        let level = chi2::sidak(cases.len());
+        for (k, (text, m, wo)) in cases.iter().enumerate() {
+            let p = model_p_value(m, &si, *wo, k as u64)
+                .unwrap_or_else(|e| panic!("{text} {wo:?}: {e}"));
+            assert!(p > level, "{text} {wo:?}: p = {p:e}");
+        }
+    }
+
+    /// Weights are eval·cos/pdf, with a lobe asked for or not; reflection
+    /// is reciprocal; from outside the albedo is at most 1; with visible
+    /// normals a lobe asked for weighs at most its Fresnel part (times the
+    /// radiance scale).
+    #[test]
+    fn weights_reciprocity_and_energy() {
+        let n = Vec3::new(0.1, -0.2, 0.97).normalize();
+        let si = interaction(n);
+        let frame = si.shading_frame();
+        for (text, m) in models() {
+            for wo in views().map(|v| frame.to_world(v)) {
+                check_weights(&m, &si, wo, 20_000);
+                if wo.dot(n) > 0.0 {
+                    let (a, err) = albedo(&m, &si, wo, 250_000);
+                    assert!(a.max_element() <= 1.0 + 4.0 * err + 1e-3, "{text}: albedo {a:?} ± {err}");
+                }
+                for wi in views().map(|v| frame.to_world(Vec3::new(-v.y, v.x, v.z))) {
+                    if wi.dot(n) * wo.dot(n) > 0.0 {
+                        let (a, b) = (m.eval(&si, wo, wi), m.eval(&si, wi, wo));
+                        assert!((a - b).abs().max_element() <= 1e-4 * a.max_element().max(1.0), "{text}");
+                    }
+                }
+                let mut rng = crate::sampling::Rng::new(5);
+                for _ in 0..2000 {
+                    let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+                    for k in [0, 1] {
+                        let Some(s) = m.sample(&si, wo, Some(k), u) else { continue };
+                        let pr = m.choice(wo.dot(n));
+                        let p = if k == 0 { pr } else { 1.0 - pr };
+                        let want = m.eval(&si, wo, s.wi) * (s.wi.dot(n).abs() / s.pdf);
+                        assert!((s.weight - want).abs().max_element() <= 1e-3 * want.max_element().max(1e-2), "{text} lobe {k}");
+                        assert!((s.pdf * p - m.pdf(&si, wo, s.wi)).abs() <= 1e-3 * s.pdf.max(1e-3));
+                        if m.distribution.sample_visible {
+                            assert!(s.weight.max_element() <= 2.3, "{text}: {:?}", s.weight);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Parameters are Mitsuba's; equal indices and bad values are refused.
+    #[test]
+    fn parameters() {
+        let m = build::<RoughDielectric>("").unwrap();
+        assert!((m.eta - 1.5046 / 1.000277).abs() < 1e-6);
+        assert_eq!(m.distribution.alpha_u, 0.1);
+        for (text, want) in [
+            ("int_ior = 1.2\next_ior = 1.2", "must differ from `ext_ior`"),
+            ("alpha = -1", "must be between 0 and 100"),
+            ("ext_ior = -1", "must be a positive number"),
+            ("specular_transmittance = [0, 0, 1.1]", "must not exceed 1"),
+        ] {
+            let e = build::<RoughDielectric>(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+        }
+    }
+}
