@@ -280,3 +280,100 @@ fn distributed_sets_hold_the_box_radiance() {
     assert_eq!(one.pixels, three.pixels);
     assert_eq!(rays, rays3);
 }
+
+/// A sphere of `material` (a TOML table body) alone in a constant
+/// environment of radiance 1, filling most of a 24×24 frame.
+fn furnace(material: &str, render: &str) -> String {
+    format!(
+        "[render]\nwidth = 24\nheight = 24\nintegrator = \"path\"\nbackground = [1, 1, 1]\n{render}\n\
+         [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+         [materials.m]\n{material}\n\n\
+         [[objects]]\ntype = \"sphere\"\nmaterial = \"m\"\nradius = 1\n"
+    )
+}
+
+/// Furnace tests: in a uniform environment of radiance 1, a convex
+/// diffuse sphere of albedo ρ reflects ρ; a smooth dielectric sphere, a
+/// white conductor and a white sheet lose nothing, so every pixel is 1 (a
+/// diamond's radiance scale inside, 1/2.4², and out again cancel); a
+/// white rough conductor returns its directional albedo, what single
+/// scattering gives (masking keeps it below 1, the more the rougher).
+#[test]
+fn furnaces() {
+    let pixel = |img: &Image, x: u32, y: u32| img.get(x, y);
+    let lossless = [
+        "type = \"dielectric\"",
+        "type = \"dielectric\"\nint_ior = \"diamond\"",
+        "type = \"conductor\"",
+        "type = \"thindielectric\"",
+    ];
+    for m in lossless {
+        // No roulette: every event then weighs exactly 1.
+        let (img, _) = render_toml(&furnace(m, "spp = 16\nrr_depth = 1000"));
+        for (x, y) in [(12, 12), (8, 14), (15, 9)] {
+            assert_near(pixel(&img, x, y), 1.0, 2e-3, m);
+        }
+    }
+    let (img, _) = render_toml(&furnace(
+        "type = \"diffuse\"\nreflectance = [0.3, 0.5, 0.7]",
+        "spp = 4",
+    ));
+    let c = pixel(&img, 12, 12);
+    assert!(
+        (c - Rgb::new(0.3, 0.5, 0.7)).abs().max_element() < 1e-4,
+        "{c:?}"
+    );
+    // A white rough conductor returns its directional albedo, which
+    // masking keeps below 1 and lowers with roughness: the centre pixel
+    // (seen head-on) against ∫ f cos over the hemisphere on a fine grid.
+    let mut albedos = Vec::new();
+    for alpha in [0.05f32, 0.4, 1.0] {
+        let m = format!("type = \"roughconductor\"\ndistribution = \"ggx\"\nalpha = {alpha}");
+        let s = scene(&furnace(&m, "spp = 2048"));
+        let (img, _) = render_scene(&s, 2);
+        let got = (img.get(11, 11) + img.get(12, 12) + img.get(11, 12) + img.get(12, 11)) / 4.0;
+        let rough = s.bsdfs.iter().find(|b| b.name() == "roughconductor");
+        let want = albedo_head_on(rough.expect("the sphere's material"));
+        assert_near(got, want, 0.02, &format!("alpha {alpha}"));
+        albedos.push(want);
+    }
+    assert!(albedos[0] > 0.99, "{albedos:?}");
+    assert!(
+        albedos[1] < albedos[0] && albedos[2] < albedos[1] - 0.1,
+        "{albedos:?}"
+    );
+}
+
+/// `∫ f(n, wi) cos θ dwi` over the hemisphere of the normal `n = z`, on a
+/// grid fine in θ (finest by the pole, where a narrow lobe peaks) and φ.
+fn albedo_head_on(bsdf: &penumbra::bsdf::Bsdf) -> f32 {
+    use penumbra::geometry::SurfaceInteraction;
+    use penumbra::math::{Vec2, Vec3};
+    let si = SurfaceInteraction {
+        t: 1.0,
+        p: Vec3::ZERO,
+        time: 0.0,
+        ng: Vec3::Z,
+        n: Vec3::Z,
+        uv: Vec2::ZERO,
+        dpdu: Vec3::X,
+        dpdv: Vec3::Y,
+        prim: 0,
+        object: 0,
+        material: 0,
+        emitter: None,
+    };
+    let (nt, np) = (4000, 32);
+    let dt = std::f64::consts::FRAC_PI_2 / f64::from(nt);
+    let mut sum = 0.0f64;
+    for i in 0..nt {
+        let theta = (f64::from(i) + 0.5) * dt;
+        let (st, c) = (theta.sin() as f32, theta.cos() as f32);
+        for j in 0..np {
+            let phi = (j as f32 + 0.5) / np as f32 * std::f32::consts::TAU;
+            let wi = Vec3::new(st * phi.cos(), st * phi.sin(), c);
+            sum += f64::from(bsdf.eval(&si, Vec3::Z, wi).r * c) * theta.sin();
+        }
+    }
+    (sum * dt * std::f64::consts::TAU / f64::from(np)) as f32
+}

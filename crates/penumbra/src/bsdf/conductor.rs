@@ -123,6 +123,7 @@ impl BsdfModel for Conductor {
             pdf: 1.0,
             flags: BsdfFlags::DELTA | BsdfFlags::REFLECTION,
             lobe: 0,
+            eta: 1.0,
         })
     }
 

@@ -147,12 +147,17 @@ impl BsdfModel for Dielectric {
             }
         };
         let (wi, weight, flags) = self.lobe(si, wo, k)?;
+        let eta = match k {
+            1 => fresnel::dielectric(wo.dot(si.n), self.eta).eta_it,
+            _ => 1.0,
+        };
         Some(BsdfSample {
             wi,
             weight: weight * (1.0 / p),
             pdf: p,
             flags,
             lobe: k,
+            eta,
         })
     }
 

@@ -82,6 +82,7 @@ impl BsdfModel for Diffuse {
             pdf: square_to_cosine_hemisphere_pdf(frame.to_local(wi)),
             flags: BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
             lobe: 0,
+            eta: 1.0,
         })
     }
 

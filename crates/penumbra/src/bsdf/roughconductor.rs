@@ -130,6 +130,7 @@ impl BsdfModel for RoughConductor {
             pdf: self.pdf(si, wo, wi),
             flags: FLAGS,
             lobe: 0,
+            eta: 1.0,
         })
     }
 

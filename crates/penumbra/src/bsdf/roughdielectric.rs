@@ -262,12 +262,18 @@ impl BsdfModel for RoughDielectric {
             }
         };
         let (wi, weight, pdf) = self.sample_lobe(si, wo, k, v)?;
+        let eta = match (k, wo.dot(si.n) < 0.0) {
+            (0, _) => 1.0,
+            (_, true) => 1.0 / self.eta,
+            (_, false) => self.eta,
+        };
         Some(BsdfSample {
             wi,
             weight: weight * (1.0 / p),
             pdf: pdf * p,
             flags: if k == 0 { REFLECTION } else { TRANSMISSION },
             lobe: k,
+            eta,
         })
     }
 

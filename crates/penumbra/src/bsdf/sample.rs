@@ -73,6 +73,12 @@ pub struct BsdfSample {
     pub flags: BsdfFlags,
     /// Its slot (see [`Lobes`]).
     pub lobe: usize,
+    /// The relative index of refraction of the interface the sample
+    /// crossed, `η_far / η_viewer` (1 for a reflection or a crossing that
+    /// does not scale radiance): a path's throughput times its running
+    /// product of `eta²` is what Russian roulette reads, free of the `η²`
+    /// scaling of radiance between media.
+    pub eta: f32,
 }
 
 /// The most lobes a model has.

@@ -111,6 +111,7 @@ impl BsdfModel for ThinDielectric {
             pdf: p,
             flags,
             lobe: k,
+            eta: 1.0,
         })
     }
 

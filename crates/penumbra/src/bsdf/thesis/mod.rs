@@ -301,6 +301,7 @@ impl BsdfModel for Thesis {
                 pdf: 1.0,
                 flags,
                 lobe: k,
+                eta: 1.0,
             }),
             None => self.sample_any(si, wo, u, one),
         }
@@ -377,6 +378,7 @@ impl Thesis {
             pdf: p,
             flags,
             lobe,
+            eta: 1.0,
         })
     }
 }

@@ -120,6 +120,7 @@ impl Phong {
                 BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION
             },
             lobe: 0,
+            eta: 1.0,
         })
     }
 }

@@ -42,23 +42,24 @@
 //! sample and an emitter sample of the same light are combined by the power
 //! heuristic; after a delta lobe (a mirror, clear glass, a lobe the thesis
 //! blurs) the emission met counts whole. From `rr_depth` on, a path
-//! survives with probability `min(max(throughput), 0.95)` and is divided
-//! by it.
+//! survives with probability `min(max(throughput) · η², 0.95)` (η the
+//! product of the relative indices crossed) and is divided by it.
 //!
 //! Where this differs from Mitsuba: emitters at infinity (`constant`) are
 //! reached by BSDF samples only; shadow rays treat every surface as opaque
 //! (the thesis's transparent shadows are a `whitted` model); an area light
 //! under the thesis's penumbra model has no density over its surface, so it
 //! is lit by its shadow rays alone (BSDF samples that meet it add nothing).
-//! Russian roulette reads the throughput without Mitsuba's correction for
-//! the relative index of refraction crossed.
 //!
 //! # Random numbers
 //!
 //! Each path draws from the stream of its primary sample (the
 //! [`Sampler`](crate::sampling::Sampler)'s, the same as `whitted`'s),
-//! derived per bounce: bounce `b` reads `path.derive(BOUNCE + b)` in the
-//! order emitter choice, emitter point (2), BSDF point (2), roulette. A
+//! derived per bounce: bounce `b` reads `path.derive(b)` in the order
+//! emitter choice and point (3 numbers) for each emitter sample, then BSDF
+//! point and roulette (3) for each BSDF sample; a vertex's BSDF samples
+//! beyond one go on with the child streams of their index (a vertex drawing
+//! the thesis's sets takes other branches, see `wavefront`). A
 //! sample is a pure function of (seed, pixel, sample, bounce, dimension):
 //! the same on any number of threads, tiles or passes.
 //!

@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 use crate::accel::{Hit, PacketScratch};
-use crate::bsdf::{Bsdf, BsdfFlags};
+use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
 use crate::emitter::{Emitter, LightSample};
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
@@ -35,6 +35,9 @@ struct Paths {
     slot: Vec<u32>,
     /// Throughput: what the radiance found next is multiplied by.
     beta: Vec<Rgb>,
+    /// The product of the `eta²` of the interfaces crossed (see
+    /// [`BsdfSample::eta`](crate::bsdf::BsdfSample::eta)).
+    eta2: Vec<f32>,
     /// The path's stream (its primary sample's).
     rng: Vec<Rng>,
     /// The vertex the ray left from.
@@ -64,6 +67,7 @@ impl Paths {
         self.ray.clear();
         self.slot.clear();
         self.beta.clear();
+        self.eta2.clear();
         self.rng.clear();
         self.from.clear();
         self.mis.clear();
@@ -73,10 +77,18 @@ impl Paths {
         self.ray.len()
     }
 
-    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, (from, mis): (Vec3, (f32, Nee))) {
+    fn push(
+        &mut self,
+        ray: Ray,
+        slot: u32,
+        (beta, eta2): (Rgb, f32),
+        rng: Rng,
+        (from, mis): (Vec3, (f32, Nee)),
+    ) {
         self.ray.push(ray);
         self.slot.push(slot);
         self.beta.push(beta);
+        self.eta2.push(eta2);
         self.rng.push(rng);
         self.from.push(from);
         self.mis.push(mis);
@@ -200,6 +212,7 @@ impl<'s> Wavefront<'s> {
         let n = paths.ray.len();
         paths.slot.extend(0..n as u32);
         paths.beta.resize(n, Rgb::ONE);
+        paths.eta2.resize(n, 1.0);
         paths.from.extend(paths.ray.iter().map(|r| r.origin));
         paths.mis.resize(n, (0.0, Nee::None));
         self.radiance.clear();
@@ -273,6 +286,7 @@ impl<'s> Wavefront<'s> {
                 reach: reach(hit.p, ray.origin),
                 time: ray.time,
                 beta,
+                eta2: paths.eta2[i],
                 slot,
             };
             let (e, b) = if depth == 0 {
@@ -316,21 +330,11 @@ impl<'s> Wavefront<'s> {
                 let Some(s) = bsdf.sample(hit, v.wo, None, u) else {
                     continue;
                 };
+                let rr = (depth + 1 >= settings.rr_depth).then_some(roulette);
+                let Some(through) = go_through(&v, &s, b as f32, rr) else {
+                    continue;
+                };
                 let delta = s.flags.is_delta();
-                if !delta && (s.pdf <= 0.0 || s.pdf.is_nan()) {
-                    continue;
-                }
-                let mut beta = beta * s.weight / b as f32;
-                if depth + 1 >= settings.rr_depth {
-                    let q = beta.max_element().min(RR_MAX);
-                    if roulette >= q || q.is_nan() {
-                        continue;
-                    }
-                    beta /= q;
-                }
-                if beta.max_element() <= 0.0 {
-                    continue;
-                }
                 let origin = offset_origin(hit.p, v.reach, hit.ng, s.wi);
                 // The densities emission met next is weighed by.
                 let mis = if delta {
@@ -346,7 +350,7 @@ impl<'s> Wavefront<'s> {
                 next.push(
                     Ray::new(origin, s.wi, ray.time),
                     slot,
-                    beta,
+                    through,
                     stream,
                     (hit.p, mis),
                 );
@@ -472,22 +476,12 @@ fn thesis_sets(
         let Some(s) = bsdf.sample(v.hit, v.wo, None, u) else {
             continue;
         };
-        let delta = s.flags.is_delta();
-        if !delta && (s.pdf <= 0.0 || s.pdf.is_nan()) {
-            continue;
-        }
         let stream = path.child(k, set.rays as usize);
-        let mut beta = v.beta * s.weight / nb;
-        if rr {
-            let q = beta.max_element().min(RR_MAX);
-            if stream.derive(ROULETTE).next_f32() >= q || q.is_nan() {
-                continue;
-            }
-            beta /= q;
-        }
-        if beta.max_element() <= 0.0 {
+        let roulette = rr.then(|| stream.derive(ROULETTE).next_f32());
+        let Some(through) = go_through(v, &s, nb, roulette) else {
             continue;
-        }
+        };
+        let delta = s.flags.is_delta();
         let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, s.wi);
         let mis = if delta {
             (0.0, Nee::None)
@@ -495,9 +489,32 @@ fn thesis_sets(
             (nb * s.pdf, Nee::Sets)
         };
         let ray = Ray::new(origin, s.wi, v.time);
-        out.next.push(ray, v.slot, beta, stream, (v.hit.p, mis));
+        out.next.push(ray, v.slot, through, stream, (v.hit.p, mis));
         count_bounce(out.stats, s.flags);
     }
+}
+
+/// The throughput and `eta²` product of the path the BSDF sample `s`
+/// continues from `v`, one of `n` samples there; `None` if the sample has
+/// no density where it needs one, carries nothing, or Russian roulette
+/// (when `roulette` gives its number) ends it. Roulette keeps a path with
+/// probability `min(max(throughput) · eta², 0.95)`, as Mitsuba 3 does, so
+/// that the radiance scale of a crossing into a denser medium does not
+/// end paths that will cross back out.
+fn go_through(v: &Vertex<'_>, s: &BsdfSample, n: f32, roulette: Option<f32>) -> Option<(Rgb, f32)> {
+    if !s.flags.is_delta() && (s.pdf <= 0.0 || s.pdf.is_nan()) {
+        return None;
+    }
+    let mut beta = v.beta * s.weight / n;
+    let eta2 = v.eta2 * s.eta * s.eta;
+    if let Some(u) = roulette {
+        let q = (beta.max_element() * eta2).min(RR_MAX);
+        if u >= q || q.is_nan() {
+            return None;
+        }
+        beta /= q;
+    }
+    (beta.max_element() > 0.0).then_some((beta, eta2))
 }
 
 /// Counts a BSDF sample's ray as a reflection or a refraction ray.
@@ -516,6 +533,7 @@ struct Vertex<'h> {
     reach: f32,
     time: f32,
     beta: Rgb,
+    eta2: f32,
     slot: u32,
 }
 
