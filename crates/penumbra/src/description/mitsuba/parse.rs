@@ -376,13 +376,15 @@ impl<'a> Reader<'a> {
     /// theirs: relative to the scene's folder where it lies below it,
     /// otherwise absolute.
     pub fn scene_relative(&self, path: &Path) -> PathBuf {
-        if path.is_absolute() {
+        if !self.scene_dir.as_os_str().is_empty() {
+            if let Ok(rest) = path.strip_prefix(self.scene_dir) {
+                return rest.to_path_buf();
+            }
+        }
+        if path.is_absolute() || self.scene_dir.as_os_str().is_empty() {
             return path.to_path_buf();
         }
-        match path.strip_prefix(self.scene_dir) {
-            Ok(rest) => rest.to_path_buf(),
-            Err(_) => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
-        }
+        std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
     }
 }
 

@@ -273,13 +273,15 @@ pub fn transform_tag(e: &Element) -> Result<Mat4, SceneError> {
                     )
                 })?
             }
-            other => return Err(error_at(
-                &op.at,
-                format!(
+            other => {
+                return Err(error_at(
+                    &op.at,
+                    format!(
                     "<{}> is not a transform operation (translate, rotate, scale, matrix, lookat)",
                     clip(other)
                 ),
-            )),
+                ))
+            }
         };
         m = transform::mul(&step, &m);
     }
