@@ -20,7 +20,7 @@
 //! 2. [`upgrade`]: the elements of files of a `version` below 2.0 get
 //!    Mitsuba 3's parameter names (one warning for the scene).
 //! 3. [`objects`]: elements into objects with typed properties
-//!    ([`values`]: finite numbers, [`transform`]s composed `M = op · M`,
+//!    ([`values`]: [`number`]s finite, [`transform`]s composed `M = op · M`,
 //!    [`spectrum`]s), ids and aliases registered (each id once), references
 //!    kept by id.
 //! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved:
@@ -39,6 +39,7 @@
 //! Anything else is an error at its tag naming what is supported. Every
 //! error is a [`SceneError`] naming the file, line and column.
 
+pub mod number;
 pub mod objects;
 pub mod parse;
 pub mod plugins;
@@ -51,16 +52,7 @@ use std::path::Path;
 
 use super::error::SceneError;
 use super::tree::Node;
-
-/// Parameters given by the caller (`-D name=value`), which win over the
-/// file's `<default>`s.
-pub type Defines = [(String, String)];
-
-/// How deep elements nest, counting those of included files from the
-/// `<include>` down.
-pub const MAX_DEPTH: usize = 64;
-/// How deep includes nest.
-pub const MAX_INCLUDES: usize = 32;
+pub use parse::{Defines, MAX_DEPTH, MAX_INCLUDES};
 
 /// A scene read from XML.
 #[derive(Debug)]

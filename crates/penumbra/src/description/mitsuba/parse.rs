@@ -8,10 +8,19 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::{Defines, MAX_DEPTH, MAX_INCLUDES};
 use crate::description::error::{Location, SceneError};
 use crate::description::Source;
 use crate::input::{self, quote, InputError};
+
+/// Parameters given by the caller (`-D name=value`), which win over the
+/// file's `<default>`s.
+pub type Defines = [(String, String)];
+
+/// How deep elements nest, counting those of included files from the
+/// `<include>` down.
+pub const MAX_DEPTH: usize = 64;
+/// How deep includes nest.
+pub const MAX_INCLUDES: usize = 32;
 
 /// An attribute with the place of its value.
 #[derive(Clone, Debug)]

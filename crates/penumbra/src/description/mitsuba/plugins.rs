@@ -481,7 +481,7 @@ impl Out<'_> {
             (None, focal) => {
                 let (text, at) = focal.unwrap_or(("50mm", &obj.at));
                 let mm = text.strip_suffix("mm").unwrap_or(text);
-                let value = super::values::number(mm)
+                let value = super::number::number(mm)
                     .ok()
                     .filter(|v| *v > 0.0)
                     .ok_or_else(|| {

@@ -120,7 +120,7 @@ pub fn parse(text: &str) -> Result<Spectrum, String> {
         .filter(|t| !t.is_empty())
         .collect();
     if tokens.len() == 1 && !tokens[0].contains(':') {
-        return Ok(Spectrum::Constant(super::values::number(tokens[0])?));
+        return Ok(Spectrum::Constant(super::number::number(tokens[0])?));
     }
     let mut samples = Vec::with_capacity(tokens.len());
     for t in tokens {
@@ -130,7 +130,7 @@ pub fn parse(text: &str) -> Result<Spectrum, String> {
                 crate::input::quote::clip(t, crate::input::quote::MAX_QUOTED_CHARS)
             ));
         };
-        samples.push((super::values::number(w)?, super::values::number(v)?));
+        samples.push((super::number::number(w)?, super::number::number(v)?));
     }
     samples_checked(samples)
 }
@@ -148,7 +148,7 @@ pub fn parse_file(text: &str) -> Result<Spectrum, String> {
         let (Some(w), Some(v)) = (parts.next(), parts.next()) else {
             return Err(format!("line {}: expected a wavelength and a value", n + 1));
         };
-        let pair = (super::values::number(w), super::values::number(v));
+        let pair = (super::number::number(w), super::number::number(v));
         match pair {
             (Ok(w), Ok(v)) => samples.push((w, v)),
             (Err(e), _) | (_, Err(e)) => return Err(format!("line {}: {e}", n + 1)),
@@ -252,7 +252,7 @@ mod tests {
     }
 
     #[test]
-    fn a_constant_reflectance_is_grey_and_a_constant_emission_is_sRGB_of_xyz_white() {
+    fn a_constant_reflectance_is_grey_and_a_constant_emission_is_srgb_of_xyz_white() {
         assert_eq!(to_rgb(&Spectrum::Constant(0.5), Use::Reflectance), [0.5; 3]);
         let e = to_rgb(&Spectrum::Constant(2.0), Use::Emission);
         // 2 × (row sums of the XYZ → sRGB matrix).

@@ -183,7 +183,7 @@ mod tests {
     #[test]
     fn singular_and_projective_matrices_are_told_apart() {
         assert!(is_singular(&scale([1.0, 0.0, 1.0])));
-        assert!(is_singular(&scale([1e-9, 1e-9, 1e-9])) == false);
+        assert!(!is_singular(&scale([1e-9, 1e-9, 1e-9])));
         assert!(!is_singular(&rotate([1.0, 1.0, 0.0], 30.0)));
         let mut p = IDENTITY;
         p[3][2] = 1.0;

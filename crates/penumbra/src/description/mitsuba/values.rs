@@ -2,6 +2,7 @@
 //! `<point>`, `<vector>`, `<rgb>`, `<spectrum>` and `<transform>` read into
 //! typed values, every number finite.
 
+use super::number::{number, numbers};
 use super::parse::{check_attrs, clip, error_at, Element, Reader};
 use super::spectrum::{self, Spectrum};
 use super::transform::{self, Mat4};
@@ -36,27 +37,6 @@ impl PropValue {
             PropValue::Transform(_) => "a transform",
         }
     }
-}
-
-/// A finite number, as C's `strtod` reads one (no `nan` or `inf`).
-pub fn number(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let plain = !t.is_empty()
-        && t.bytes()
-            .all(|b| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E'));
-    match t.parse::<f64>() {
-        Ok(x) if plain && x.is_finite() => Ok(x),
-        Ok(_) if plain => Err(format!("`{}` is out of range of a 64-bit float", clip(t))),
-        _ => Err(format!("`{}` is not a finite number", clip(t))),
-    }
-}
-
-/// Numbers separated by spaces or commas.
-fn numbers(text: &str) -> Result<Vec<f64>, String> {
-    text.split(|c: char| c.is_whitespace() || c == ',')
-        .filter(|t| !t.is_empty())
-        .map(number)
-        .collect()
 }
 
 fn attr_number(e: &Element, name: &str) -> Result<Option<f64>, SceneError> {
