@@ -921,8 +921,12 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "bsdf `conductor` is not supported; supported: diffuse",
         ),
         (
-            r#"<bsdf type="twosided"><bsdf type="diffuse"/></bsdf>"#,
-            "its normal points to only",
+            r#"<bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#,
+            "a `twosided` of two materials is not supported",
+        ),
+        (
+            r#"<bsdf type="twosided"><bsdf type="plastic"/></bsdf>"#,
+            "bsdf inside `twosided` `plastic` is not supported; supported: diffuse",
         ),
         (
             r#"<shape type="disk"/>"#,
@@ -965,6 +969,41 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
     }
     let e = one("").err("scene.xml");
     assert!(e.contains("no <sensor>"), "{e}");
+}
+
+#[test]
+fn a_twosided_diffuse_is_a_diffuse_material_reflecting_on_both_sides() {
+    let d = with_sensor(
+        r#"<bsdf type="twosided" id="walls"><bsdf type="diffuse"><rgb name="reflectance" value="0.4"/></bsdf></bsdf>
+        <shape type="rectangle"><ref id="walls"/></shape>
+        <shape type="sphere"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let walls = root
+        .children_of(Kind::Bsdf)
+        .find(|b| b.id.as_deref() == Some("walls"))
+        .unwrap();
+    assert_eq!(walls.plugin, "diffuse");
+    assert_eq!(prop(walls, "two_sided"), &Value::Bool(true));
+    assert_eq!(numbers(prop(walls, "reflectance")), [0.4; 3]);
+    let s = shapes(&root);
+    assert_eq!(prop(s[0], "material"), &Value::String("walls".into()));
+    assert_eq!(prop(s[1], "material"), &Value::String("bsdf_1".into()));
+    let inner = root
+        .children_of(Kind::Bsdf)
+        .find(|b| b.id.as_deref() == Some("bsdf_1"))
+        .unwrap();
+    assert_eq!(prop(inner, "two_sided"), &Value::Bool(true));
+    // It builds: the diffuse material takes `two_sided`.
+    let mut src = SceneSource::from_tree(root, d.0.path(), &LoadOptions::default());
+    common::set(
+        &mut src,
+        Overrides {
+            integrator: Some(IntegratorChoice::Whitted),
+            ..Default::default()
+        },
+    );
+    src.build().unwrap();
 }
 
 #[test]

@@ -33,6 +33,7 @@
 //! | `<sampler>` | sampler `sets` (spp, seed, distribution) | `render` |
 //! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
 //! | `<bsdf type="diffuse">` | bsdf `diffuse` with its id or `bsdf_N` | `materials.NAME` |
+//! | `<bsdf type="twosided">` around a diffuse | the same with `two_sided = true` | `materials.NAME` |
 //! | `<shape>` `sphere`, `rectangle`, `obj`, `ply` | shape `sphere`, `quad`, `mesh`; `material`; an `area` emitter child | `objects[i]` |
 //! | `<emitter type="point">` | emitter `point` | `lights[i]` |
 //!

@@ -14,7 +14,7 @@ use crate::description::tree::{Kind, Located, Node, Prop, Value};
 
 /// The plugins read, by tag, in the order messages list them.
 pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply"];
-pub const BSDFS: &[&str] = &["diffuse"];
+pub const BSDFS: &[&str] = &["diffuse", "twosided (around a diffuse)"];
 pub const EMITTERS: &[&str] = &["point", "constant", "area"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
@@ -750,21 +750,40 @@ impl Out<'_> {
 
     /// The Penumbra material of a bsdf (made once per name): its name.
     fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
-        if obj.plugin != "diffuse" {
-            let why = if obj.plugin == "twosided" {
-                " (Penumbra's diffuse material reflects on the side its normal points to only)"
+        // `twosided` around one diffuse: the diffuse, reflecting on both sides.
+        let (inner, two_sided) = if obj.plugin == "twosided" {
+            self.no_props(obj, &[])?;
+            let inner = children(self.ids, obj)?;
+            match inner.as_slice() {
+                [one] if one.tag == "bsdf" => (*one, true),
+                [_, second] => {
+                    return Err(error_at(
+                        &second.at,
+                        "a `twosided` of two materials is not supported: Penumbra's two-sided \
+                         diffuse reflects alike on both sides",
+                    ))
+                }
+                _ => return Err(error_at(&obj.at, "a `twosided` holds one <bsdf>")),
+            }
+        } else {
+            (obj, false)
+        };
+        if inner.plugin != "diffuse" {
+            let supported: &[&str] = if two_sided {
+                &["diffuse"]
             } else {
-                ""
+                &["diffuse", "twosided (around a diffuse)"]
             };
-            let e = unsupported(obj, "bsdf", BSDFS);
-            return Err(SceneError {
-                message: format!("{}{why}", e.message),
-                ..e
-            });
+            let what = if two_sided {
+                "bsdf inside `twosided`"
+            } else {
+                "bsdf"
+            };
+            return Err(unsupported(inner, what, supported));
         }
-        self.no_props(obj, &["reflectance"])?;
-        self.no_children(obj)?;
-        let name = match &obj.id {
+        self.no_props(inner, &["reflectance"])?;
+        self.no_children(inner)?;
+        let name = match obj.id.as_ref().or(inner.id.as_ref().filter(|_| !two_sided)) {
             Some(id) => id.clone(),
             None => self.fresh_name(),
         };
@@ -779,8 +798,13 @@ impl Out<'_> {
         );
         node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
         node.id = Some(name.clone());
-        if let Some((c, at)) = get_color(obj, "reflectance", Use::Reflectance)? {
+        if let Some((c, at)) = get_color(inner, "reflectance", Use::Reflectance)? {
             set(&mut node, &base, "reflectance", at, |p, at| vec3(c, p, at));
+        }
+        if two_sided {
+            set(&mut node, &base, "two_sided", &obj.plugin_at, |p, at| {
+                located(Value::Bool(true), p, at)
+            });
         }
         self.bsdfs.push(node);
         Ok(name)
