@@ -1187,3 +1187,25 @@ fn defines_are_refused_for_a_toml_scene() {
         .to_string();
     assert!(e.contains("-D"), "{e}");
 }
+
+#[test]
+fn a_path_is_a_child_of_a_scene_in_any_file() {
+    let d = Dir::new(&[
+        (
+            "scene.xml",
+            &scene(&format!(r#"{SENSOR}<include filename="sub/more.xml"/>"#)),
+        ),
+        (
+            "sub/more.xml",
+            r#"<scene version="3.0.0"><path value="meshes"/><shape type="obj"><string name="filename" value="m.obj"/></shape></scene>"#,
+        ),
+        ("sub/meshes/m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    ]);
+    let root = d.tree("scene.xml");
+    assert_eq!(
+        prop(shapes(&root)[0], "path"),
+        &Value::String("sub/meshes/m.obj".into())
+    );
+    let e = with_sensor(r#"<shape type="sphere"><path value="."/></shape>"#).err("scene.xml");
+    assert!(e.contains("<path> must be a child of <scene>"), "{e}");
+}

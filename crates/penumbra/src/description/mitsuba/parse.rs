@@ -201,7 +201,7 @@ impl<'a> Reader<'a> {
             old,
         };
         let mut out = Vec::new();
-        self.element(&file, root, depth, &mut out)?;
+        self.element(&file, root, depth, None, &mut out)?;
         let mut root = out.pop().expect("the root element");
         root.attrs.retain(|a| a.name != "version");
         Ok(root)
@@ -214,6 +214,7 @@ impl<'a> Reader<'a> {
         file: &FileCtx,
         node: roxmltree::Node,
         depth: usize,
+        parent: Option<&str>,
         out: &mut Vec<Element>,
     ) -> Result<(), SceneError> {
         let at = file.src.location(node.range().start);
@@ -255,14 +256,14 @@ impl<'a> Reader<'a> {
             }
         }
         match element.tag.as_str() {
-            "default" => return self.default(&element, depth),
+            "default" => return self.default(&element),
             "include" => return self.include(&element, depth, out),
-            "path" => return self.path(&element, depth),
+            "path" => return self.path(&element, parent),
             _ => {}
         }
         let mut children = Vec::new();
         for child in node.children().filter(roxmltree::Node::is_element) {
-            self.element(file, child, depth + 1, &mut children)?;
+            self.element(file, child, depth + 1, Some(&element.tag), &mut children)?;
         }
         element.children = children;
         out.push(element);
@@ -302,7 +303,7 @@ impl<'a> Reader<'a> {
         Ok(out)
     }
 
-    fn default(&mut self, e: &Element, _depth: usize) -> Result<(), SceneError> {
+    fn default(&mut self, e: &Element) -> Result<(), SceneError> {
         check_attrs(e, &["name", "value"], &["name", "value"])?;
         let name = e.get("name").unwrap_or_default();
         if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
@@ -350,10 +351,10 @@ impl<'a> Reader<'a> {
         Ok(())
     }
 
-    fn path(&mut self, e: &Element, depth: usize) -> Result<(), SceneError> {
+    fn path(&mut self, e: &Element, parent: Option<&str>) -> Result<(), SceneError> {
         check_attrs(e, &["value"], &["value"])?;
         let attr = e.attr("value").expect("checked");
-        if depth != 1 {
+        if parent != Some("scene") {
             return Err(error_at(&e.at, "<path> must be a child of <scene>"));
         }
         let dir = e.dir.join(&attr.value);
