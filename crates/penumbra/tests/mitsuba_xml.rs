@@ -422,6 +422,12 @@ fn include_loops_directories_devices_and_deep_chains_are_refused() {
     let e = d.err("scene.xml");
     assert!(e.contains("a.xml") && e.contains("include loop"), "{e}");
 
+    let e = one(r#"<include filename="gone.xml"/>"#).err("scene.xml");
+    assert!(
+        e.contains("no file") && e.contains("gone.xml") && place_of(&e).1 == 3,
+        "{e}"
+    );
+
     let d = one(r#"<include filename="sub"/>"#);
     std::fs::create_dir(d.path("sub")).unwrap();
     let e = d.err("scene.xml");

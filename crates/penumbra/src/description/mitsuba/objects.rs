@@ -2,6 +2,7 @@
 //! properties, nested objects and references, and the scene's ids.
 
 use std::collections::HashMap;
+use std::rc::Rc;
 
 use super::parse::{check_attrs, clip, error_at, Element, Reader};
 use super::values::{self, PropValue};
@@ -36,8 +37,12 @@ pub struct Property {
 /// A nested object or a reference to one.
 #[derive(Clone, Debug)]
 pub enum Child {
-    Object(Object),
-    Ref { id: String, at: Location },
+    /// Shared with the ids that name it, never copied.
+    Object(Rc<Object>),
+    Ref {
+        id: String,
+        at: Location,
+    },
 }
 
 /// An object and what it holds.
@@ -64,19 +69,24 @@ impl Object {
 /// Every id and alias and the object it names.
 #[derive(Default)]
 pub struct Ids {
-    pub map: HashMap<String, Object>,
+    pub map: HashMap<String, Rc<Object>>,
 }
 
 impl Ids {
     pub fn get(&self, id: &str, at: &Location) -> Result<&Object, SceneError> {
         self.map
             .get(id)
+            .map(Rc::as_ref)
             .ok_or_else(|| error_at(at, format!("<ref>: no object has the id `{}`", clip(id))))
     }
 }
 
 /// The scene element into its object, registering every id.
-pub fn read_scene(root: &Element, reader: &Reader, ids: &mut Ids) -> Result<Object, SceneError> {
+pub fn read_scene(
+    root: &Element,
+    reader: &Reader,
+    ids: &mut Ids,
+) -> Result<Rc<Object>, SceneError> {
     if root.tag != "scene" {
         return Err(error_at(
             &root.at,
@@ -89,7 +99,7 @@ pub fn read_scene(root: &Element, reader: &Reader, ids: &mut Ids) -> Result<Obje
     object(root, reader, ids)
 }
 
-fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Object, SceneError> {
+fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, SceneError> {
     let is_scene = e.tag == "scene";
     if is_scene {
         check_attrs(e, &["id", "name"], &[])?;
@@ -162,19 +172,22 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Object, SceneEr
                     format!("<alias>: the id `{}` is taken", clip(dst)),
                 ));
             }
-            let target = ids.get(src, &a.at)?.clone();
+            ids.get(src, &a.at)?;
+            let target = Rc::clone(&ids.map[src]);
             ids.map.insert(dst.to_string(), target);
         }
     }
-    if let Some(id) = &obj.id {
-        if ids.map.contains_key(id) {
+    if let Some(id) = obj.id.clone() {
+        if ids.map.contains_key(&id) {
             let at = &e.attr("id").expect("an id").at;
             return Err(error_at(
                 at,
-                format!("the id `{}` is given twice", clip(id)),
+                format!("the id `{}` is given twice", clip(&id)),
             ));
         }
-        ids.map.insert(id.clone(), obj.clone());
+        let obj = Rc::new(obj);
+        ids.map.insert(id, Rc::clone(&obj));
+        return Ok(obj);
     }
-    Ok(obj)
+    Ok(Rc::new(obj))
 }

@@ -331,14 +331,14 @@ impl<'a> Reader<'a> {
         check_attrs(e, &["filename", "name"], &["filename"])?;
         let attr = e.attr("filename").expect("checked");
         let rel = self.resolve(&e.dir, &attr.value);
-        let mut root = self.file(&rel, depth).map_err(|inner| {
-            let mut outer = error_at(&attr.at, format!("in the included file: {inner}"));
-            // The included file's own place is the useful one: keep it.
-            if inner.file.is_some() {
-                outer = inner;
-            }
-            outer
-        })?;
+        if !rel.exists() {
+            return Err(error_at(
+                &attr.at,
+                format!("<include>: no file `{}`", rel.display()),
+            ));
+        }
+        // Errors inside name the included file and their place in it.
+        let mut root = self.file(&rel, depth)?;
         if root.tag == "scene" {
             out.append(&mut root.children);
         } else {

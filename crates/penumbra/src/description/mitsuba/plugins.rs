@@ -57,7 +57,7 @@ pub fn scene(
     out.no_props(root, &[])?;
     for (_, child) in &root.children {
         let obj = match child {
-            Child::Object(o) => o,
+            Child::Object(o) => o.as_ref(),
             Child::Ref { at, .. } => {
                 return Err(error_at(
                     at,
@@ -976,7 +976,7 @@ fn children<'o>(ids: &'o Ids, obj: &'o Object) -> Result<Vec<&'o Object>, SceneE
     obj.children
         .iter()
         .map(|(_, c)| match c {
-            Child::Object(o) => Ok(o),
+            Child::Object(o) => Ok(o.as_ref()),
             Child::Ref { id, at } => ids.get(id, at),
         })
         .collect()
