@@ -192,74 +192,73 @@ fn type_error(p: &Property, expected: &str) -> SceneError {
     )
 }
 
-fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Location)>, SceneError> {
+/// The property `name` of `obj` read by `read` (`None`: of the wrong type,
+/// `expected`), with the place of its tag.
+fn get<'o, T>(
+    obj: &'o Object,
+    name: &str,
+    expected: &str,
+    read: impl Fn(&'o PropValue) -> Option<T>,
+) -> Result<Option<(T, &'o Location)>, SceneError> {
     match obj.prop(name) {
         None => Ok(None),
-        Some(p) => match p.value {
-            PropValue::Float(x) => Ok(Some((x, &p.at))),
-            PropValue::Int(i) => Ok(Some((i as f64, &p.at))),
-            _ => Err(type_error(p, "a float")),
+        Some(p) => match read(&p.value) {
+            Some(v) => Ok(Some((v, &p.at))),
+            None => Err(type_error(p, expected)),
         },
     }
+}
+
+fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Location)>, SceneError> {
+    get(obj, name, "a float", |v| match v {
+        PropValue::Float(x) => Some(*x),
+        PropValue::Int(i) => Some(*i as f64),
+        _ => None,
+    })
 }
 
 fn get_int<'o>(obj: &'o Object, name: &str) -> Result<Option<(i64, &'o Location)>, SceneError> {
-    match obj.prop(name) {
-        None => Ok(None),
-        Some(p) => match p.value {
-            PropValue::Int(i) => Ok(Some((i, &p.at))),
-            _ => Err(type_error(p, "an integer")),
-        },
-    }
+    get(obj, name, "an integer", |v| match v {
+        PropValue::Int(i) => Some(*i),
+        _ => None,
+    })
 }
 
 fn get_bool<'o>(obj: &'o Object, name: &str) -> Result<Option<(bool, &'o Location)>, SceneError> {
-    match obj.prop(name) {
-        None => Ok(None),
-        Some(p) => match p.value {
-            PropValue::Bool(b) => Ok(Some((b, &p.at))),
-            _ => Err(type_error(p, "a boolean")),
-        },
-    }
+    get(obj, name, "a boolean", |v| match v {
+        PropValue::Bool(b) => Some(*b),
+        _ => None,
+    })
 }
 
 fn get_string<'o>(
     obj: &'o Object,
     name: &str,
 ) -> Result<Option<(&'o str, &'o Location)>, SceneError> {
-    match obj.prop(name) {
-        None => Ok(None),
-        Some(p) => match &p.value {
-            PropValue::String(s) => Ok(Some((s.as_str(), &p.at))),
-            _ => Err(type_error(p, "a string")),
-        },
-    }
+    get(obj, name, "a string", |v| match v {
+        PropValue::String(s) => Some(s.as_str()),
+        _ => None,
+    })
 }
 
 fn get_vector<'o>(
     obj: &'o Object,
     name: &str,
 ) -> Result<Option<([f64; 3], &'o Location)>, SceneError> {
-    match obj.prop(name) {
-        None => Ok(None),
-        Some(p) => match p.value {
-            PropValue::Vector(v) => Ok(Some((v, &p.at))),
-            _ => Err(type_error(p, "a point or vector")),
-        },
-    }
+    get(obj, name, "a point or vector", |v| match v {
+        PropValue::Vector(v) => Some(*v),
+        _ => None,
+    })
 }
 
 fn get_transform<'o>(
     obj: &'o Object,
     name: &str,
 ) -> Result<Option<(Mat4, &'o Location)>, SceneError> {
-    match obj.prop(name) {
-        None => Ok(None),
-        Some(p) => match p.value {
-            PropValue::Transform(m) => Ok(Some((m, &p.at))),
-            _ => Err(type_error(p, "a transform")),
-        },
-    }
+    get(obj, name, "a transform", |v| match v {
+        PropValue::Transform(m) => Some(*m),
+        _ => None,
+    })
 }
 
 /// A colour: `<rgb>`, `<spectrum>` or a number, converted as Mitsuba's RGB
