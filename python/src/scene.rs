@@ -82,6 +82,7 @@ impl Scene {
     fn source(&self) -> Result<SceneSource, LibSceneError> {
         let opts = LoadOptions {
             bunny: self.bunny.clone(),
+            ..Default::default()
         };
         match &self.text {
             Text::Toml { text, file } => SceneSource::from_toml(text, file, &self.base_dir, &opts),
@@ -337,13 +338,18 @@ pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyRe
     let bunny = bunny.or_else(default_bunny_path);
     let opts = LoadOptions {
         bunny: bunny.clone(),
+        ..Default::default()
     };
     // The library's own reading (bounded, regular files only), so every
     // error is the CLI's; the text kept is the text it parsed.
     let source = SceneSource::open(&name, &opts).map_err(scene_error)?;
     let (file, text) = source
         .text()
-        .ok_or_else(|| SceneError::new_err(format!("{name}: no such scene")))?;
+        .ok_or_else(|| {
+            SceneError::new_err(format!(
+                "{name}: a Mitsuba XML scene; Python loads TOML scenes (render XML with the command line)"
+            ))
+        })?;
     let path = Path::new(&name);
     // As the library resolves it: a file if one exists, else a built-in scene.
     let base = if path.exists() {

@@ -20,10 +20,13 @@ use crate::report::print_summary;
 #[command(
     after_help = "The render options win over the scene file's values (the ray counts and \
 distributions over per-light and per-material values too); a default is what a scene file that \
-does not set the option gets."
+does not set the option gets. A Mitsuba 3 XML scene (.xml) takes its `$name` parameters from \
+-D name=value (see docs/mitsuba.md); --integrator whitted renders one whose integrator Penumbra \
+does not have."
 )]
 pub struct RenderArgs {
-    /// Scene file (TOML) or built-in scene name (see `penumbra scenes`).
+    /// Scene file (TOML, or Mitsuba 3 XML when it ends in .xml) or built-in
+    /// scene name (see `penumbra scenes`).
     #[arg(default_value = "showcase")]
     pub scene: String,
     /// Output image; the extension picks the format: .png (8-bit sRGB) or .exr (32-bit linear).
@@ -38,6 +41,10 @@ pub struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Sets a parameter `$NAME` of a Mitsuba XML scene, winning over its
+    /// `<default>` (repeatable: -D spp=64 -D res=512).
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
     /// The render options (`--width`, `--spp`, `--metric`, ...).
     #[command(flatten)]
     pub options: OptionFlags,
@@ -55,6 +62,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     let opts = LoadOptions {
         bunny: args.bunny.clone().or_else(default_bunny_path),
+        defines: args.define.clone(),
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;
@@ -101,6 +109,19 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         print_summary(&args.output, &json);
     }
     Ok(())
+}
+
+/// `NAME=VALUE`, the name of letters, digits and `_`.
+fn parse_define(text: &str) -> Result<(String, String), String> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("`{text}` is not NAME=VALUE"))?;
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!(
+            "`{name}` is not a parameter name (letters, digits and _)"
+        ));
+    }
+    Ok((name.to_string(), value.to_string()))
 }
 
 /// An output whose directory does not exist is an argument error.

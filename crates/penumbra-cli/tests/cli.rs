@@ -388,3 +388,69 @@ fn custom_points_render_and_bad_ones_exit_2() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--points"), "{}", stderr(&o));
 }
+
+/// A Mitsuba XML scene: `-D` sets its parameters, `--integrator whitted`
+/// replaces its `path` integrator with a warning, and without it the
+/// render fails at the integrator's tag, leaving no image.
+#[test]
+fn renders_a_mitsuba_scene_with_defines() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = r#"<scene version="3.0.0">
+    <default name="res" value="16"/>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <film type="hdrfilm"><integer name="width" value="$res"/><integer name="height" value="$res"/></film>
+    </sensor>
+    <shape type="sphere"><point name="center" value="0, 0, 4"/></shape>
+    <emitter type="point"><point name="position" value="0, 2, 0"/><rgb name="intensity" value="5"/></emitter>
+</scene>
+"#;
+    std::fs::write(dir.path().join("scene.xml"), scene).unwrap();
+    let o = penumbra(
+        &[
+            "render",
+            "scene.xml",
+            "-o",
+            "out.png",
+            "--quiet",
+            "-D",
+            "res=24",
+            "--define",
+            "unused=1",
+        ],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("scene.xml:1:1:") && e.contains("unknown integrator `path`"),
+        "{e}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+
+    let o = penumbra(
+        &[
+            "render",
+            "scene.xml",
+            "-o",
+            "out.png",
+            "--quiet",
+            "-D",
+            "res=24",
+            "--integrator",
+            "whitted",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: --integrator whitted replaces the scene's integrator `path`")
+    );
+    let img = image::open(dir.path().join("out.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (24, 24));
+
+    let o = penumbra(&["render", "scene.xml", "-D", "no-equals"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("NAME=VALUE"), "{}", stderr(&o));
+}

@@ -664,6 +664,7 @@ fn corpus() -> Vec<Case> {
         }
     }
     let object = "[[objects]]\ntype = \"mesh\"\npath = \"grid.obj\"\n";
+    xml_cases(&mut cases);
     cases.push(Case {
         name: "mesh named 5000 times".into(),
         entries: vec![
@@ -675,6 +676,132 @@ fn corpus() -> Vec<Case> {
         limit: 20,
     });
     cases
+}
+
+/// Mitsuba XML scenes (`scene.xml`), rendered with `--integrator whitted`.
+fn xml_cases(cases: &mut Vec<Case>) {
+    use Expect::*;
+    let xml = |body: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/></sensor>\n{body}\n</scene>\n"
+        )
+        .into_bytes()
+    };
+    let mut case = |name: &str, entries: Vec<(&'static str, Entry)>, expect: Expect| {
+        cases.push(Case {
+            name: format!("XML: {name}"),
+            entries,
+            expect,
+            bare: false,
+            limit: 20,
+        });
+    };
+    let one = |body: &str| vec![("scene.xml", Entry::Bytes(xml(body)))];
+    case(
+        "valid",
+        one(
+            r#"<shape type="sphere"/><emitter type="point"><point name="position" value="0, 0, -3"/></emitter>"#,
+        ),
+        Valid,
+    );
+    let mut laughs =
+        String::from("<?xml version=\"1.0\"?>\n<!DOCTYPE scene [\n<!ENTITY a \"lol\">\n");
+    for i in 1..12 {
+        let prev = if i == 1 {
+            "a".to_string()
+        } else {
+            format!("a{}", i - 1)
+        };
+        laughs.push_str(&format!(
+            "<!ENTITY a{i} \"{}\">\n",
+            format!("&{prev};").repeat(10)
+        ));
+    }
+    laughs.push_str("]>\n<scene version=\"3.0.0\"><string name=\"x\" value=\"&a11;\"/></scene>\n");
+    case(
+        "billion laughs",
+        vec![("scene.xml", Entry::Bytes(laughs.into_bytes()))],
+        SceneLine,
+    );
+    let deep = format!(
+        "<scene version=\"3.0.0\">{}{}</scene>",
+        "<shape type=\"sphere\">".repeat(100_000),
+        "</shape>".repeat(100_000)
+    );
+    case(
+        "100,000 deep",
+        vec![("scene.xml", Entry::Bytes(deep.into_bytes()))],
+        SceneLine,
+    );
+    case(
+        "includes itself",
+        one(r#"<include filename="scene.xml"/>"#),
+        File("scene.xml"),
+    );
+    let mut dir = one(r#"<include filename="sub"/>"#);
+    dir.push(("sub", Entry::Dir));
+    case("includes a directory", dir, File("sub"));
+    case(
+        "includes /dev/zero",
+        one(r#"<include filename="/dev/zero"/>"#),
+        File("/dev/zero"),
+    );
+    let mut fifo = one(r#"<include filename="pipe.xml"/>"#);
+    fifo.push(("pipe.xml", Entry::Fifo));
+    case("includes a FIFO", fifo, File("pipe.xml"));
+    case(
+        "duplicate attribute",
+        one(r#"<shape type="sphere" type="sphere"/>"#),
+        SceneLine,
+    );
+    case(
+        "two roots",
+        vec![(
+            "scene.xml",
+            Entry::Bytes(b"<scene version=\"3.0.0\"/>\n<scene version=\"3.0.0\"/>\n".to_vec()),
+        )],
+        SceneLine,
+    );
+    case(
+        "not UTF-8",
+        vec![(
+            "scene.xml",
+            Entry::Bytes(b"<scene version=\"3.0.0\">\n<!-- \xff -->\n</scene>\n".to_vec()),
+        )],
+        SceneLine,
+    );
+    case(
+        "NaN",
+        one(r#"<shape type="sphere"><float name="radius" value="NaN"/></shape>"#),
+        SceneLine,
+    );
+    case(
+        "singular matrix",
+        one(
+            r#"<shape type="sphere"><transform name="to_world"><scale x="0"/></transform></shape>"#,
+        ),
+        SceneLine,
+    );
+    case(
+        "zero film width",
+        vec![(
+            "scene.xml",
+            Entry::Bytes(
+                b"<scene version=\"3.0.0\"><sensor type=\"perspective\">\n<film type=\"hdrfilm\"><integer name=\"width\" value=\"0\"/></film></sensor></scene>".to_vec(),
+            ),
+        )],
+        SceneLine,
+    );
+    case(
+        "missing mesh",
+        one(r#"<shape type="ply"><string name="filename" value="gone.ply"/></shape>"#),
+        Mesh("gone.ply"),
+    );
+    case(
+        "unknown bsdf",
+        one(r#"<bsdf type="conductor"/>"#),
+        SceneLine,
+    );
 }
 
 /// Makes a case's files; `false` if this platform cannot (no FIFOs).
@@ -848,9 +975,19 @@ fn check(case: &Case, logs: &Path) -> Result<(Duration, Option<i64>), String> {
     }
     std::fs::write(dir.path().join("out.png"), OLD_OUTPUT).unwrap();
     let before = listing(dir.path());
-    let mut args: Vec<String> = ["render", "scene.toml", "-o", "out.png", "--quiet"]
+    let scene_file = case
+        .entries
+        .iter()
+        .map(|(name, _)| *name)
+        .find(|name| name.starts_with("scene."))
+        .unwrap_or("scene.toml");
+    let mut args: Vec<String> = ["render", scene_file, "-o", "out.png", "--quiet"]
         .map(String::from)
         .to_vec();
+    if scene_file.ends_with(".xml") {
+        // Mitsuba's integrators are not Penumbra's.
+        args.extend(["--integrator", "whitted"].map(String::from));
+    }
     if !case.bare {
         args.extend(["--width", "32", "--height", "24", "--spp", "1"].map(String::from));
     }
@@ -920,9 +1057,9 @@ fn check(case: &Case, logs: &Path) -> Result<(Duration, Option<i64>), String> {
                     .any(|(i, m)| e[i + m.len()..].starts_with(|c: char| c.is_ascii_digit()))
             };
             let ok = match expect {
-                Expect::SceneLine => located("scene.toml"),
+                Expect::SceneLine => located(scene_file),
                 Expect::File(file) => e.starts_with(&format!("error: {file}: ")),
-                Expect::Mesh(file) => located("scene.toml") && e.contains(file),
+                Expect::Mesh(file) => located(scene_file) && e.contains(file),
                 Expect::Valid => unreachable!(),
             };
             if !ok {

@@ -109,6 +109,7 @@ impl Job {
     pub fn build(&self, bunny: &Path, worlds: &mut WorldCache) -> Result<Scene, EvalError> {
         let opts = LoadOptions {
             bunny: Some(bunny.to_path_buf()),
+            ..Default::default()
         };
         let err = |source| EvalError::Scene {
             job: self.label.clone(),

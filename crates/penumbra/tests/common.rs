@@ -55,7 +55,14 @@ pub fn bunny() -> Option<PathBuf> {
 }
 
 pub fn builtin(name: &str, bunny: Option<PathBuf>) -> SceneSource {
-    SceneSource::open(name, &LoadOptions { bunny }).expect("built-in scene")
+    SceneSource::open(
+        name,
+        &LoadOptions {
+            bunny,
+            ..Default::default()
+        },
+    )
+    .expect("built-in scene")
 }
 
 /// Renders `region` of `s` alone (two threads) and checks that its pixels

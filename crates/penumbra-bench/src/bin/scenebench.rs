@@ -57,6 +57,7 @@ fn run(args: Args) -> Result<serde_json::Value, String> {
     let scene = args.scene;
     let load = LoadOptions {
         bunny: args.bunny.or_else(default_bunny_path),
+        ..Default::default()
     };
     let ov = Overrides {
         width: args.width,

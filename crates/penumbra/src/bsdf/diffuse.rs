@@ -1,11 +1,12 @@
 //! `diffuse`: an ideal Lambertian reflector, `reflectance / π` (Mitsuba 3's
 //! `diffuse`). One-sided, as Mitsuba's: it reflects on the side its
-//! shading normal points to and is black from behind (wrap it in
-//! `twosided` for both).
+//! shading normal points to and is black from behind, unless `two_sided`
+//! (Mitsuba's `twosided` around it) makes both sides reflect alike.
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `reflectance` | colour in [0, 1] | `[0.5, 0.5, 0.5]` | the albedo |
+//! | `two_sided` | bool | `false` | reflect on both sides |
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -21,6 +22,22 @@ use crate::sampling::SetPoint;
 #[derive(Clone, Copy, Debug)]
 pub struct Diffuse {
     pub reflectance: Rgb,
+    pub two_sided: bool,
+}
+
+impl Diffuse {
+    /// The side `wo` leaves from: 1 in front, −1 behind a two-sided
+    /// material, `None` where nothing is reflected.
+    fn side(&self, si: &SurfaceInteraction, wo: Vec3) -> Option<f32> {
+        let c = si.n.dot(wo);
+        if c > 0.0 {
+            Some(1.0)
+        } else if self.two_sided && c < 0.0 {
+            Some(-1.0)
+        } else {
+            None
+        }
+    }
 }
 
 impl BsdfModel for Diffuse {
@@ -30,12 +47,20 @@ impl BsdfModel for Diffuse {
         kind: Kind::Bsdf,
         plugin: "diffuse",
         what: "diffuse material",
-        params: &[Param::new(
-            "reflectance",
-            Type::Colour,
-            "[0.5, 0.5, 0.5]",
-            "the albedo, each channel in [0, 1]",
-        )],
+        params: &[
+            Param::new(
+                "reflectance",
+                Type::Colour,
+                "[0.5, 0.5, 0.5]",
+                "the albedo, each channel in [0, 1]",
+            ),
+            Param::new(
+                "two_sided",
+                Type::Bool,
+                "false",
+                "reflect on both sides alike (otherwise only on the side the normal points to)",
+            ),
+        ],
     };
 
     fn build(p: &Props, _: &Defaults) -> Result<Diffuse, Invalid> {
@@ -46,7 +71,11 @@ impl BsdfModel for Diffuse {
                 "must not exceed 1 in any channel (the surface would create light)",
             ));
         }
-        Ok(Diffuse { reflectance })
+        let two_sided = p.bool("two_sided")?.unwrap_or(false);
+        Ok(Diffuse {
+            reflectance,
+            two_sided,
+        })
     }
 
     fn lobes(&self) -> Lobes {
@@ -56,11 +85,10 @@ impl BsdfModel for Diffuse {
     }
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
-        let n = si.n;
-        if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
-            return Rgb::ZERO;
+        match self.side(si, wo) {
+            Some(s) if si.n.dot(wi) * s > 0.0 => self.reflectance * FRAC_1_PI,
+            _ => Rgb::ZERO,
         }
-        self.reflectance * FRAC_1_PI
     }
 
     fn sample(
@@ -70,16 +98,19 @@ impl BsdfModel for Diffuse {
         lobe: Option<usize>,
         u: SetPoint,
     ) -> Option<BsdfSample> {
-        if lobe.is_some_and(|k| k != 0) || si.n.dot(wo) <= 0.0 {
+        if lobe.is_some_and(|k| k != 0) {
             return None;
         }
+        let s = self.side(si, wo)?;
         let frame = si.shading_frame();
-        let wi = frame.to_world(square_to_cosine_hemisphere(u.square()));
+        // Behind, the hemisphere mirrored through the surface.
+        let front = frame.to_world(square_to_cosine_hemisphere(u.square()));
+        let wi = front * s;
         // eval · cos / pdf = (ρ/π) cos / (cos/π) = ρ.
-        (wi.dot(si.n) > 0.0).then(|| BsdfSample {
+        (wi.dot(si.n) * s > 0.0).then(|| BsdfSample {
             wi,
             weight: self.reflectance,
-            pdf: square_to_cosine_hemisphere_pdf(frame.to_local(wi)),
+            pdf: square_to_cosine_hemisphere_pdf(frame.to_local(front)),
             flags: BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
             lobe: 0,
             eta: 1.0,
@@ -87,11 +118,12 @@ impl BsdfModel for Diffuse {
     }
 
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
-        let n = si.n;
-        if n.dot(wo) <= 0.0 || n.dot(wi) <= 0.0 {
-            return 0.0;
+        match self.side(si, wo) {
+            Some(s) if si.n.dot(wi) * s > 0.0 => {
+                square_to_cosine_hemisphere_pdf(si.shading_frame().to_local(wi * s))
+            }
+            _ => 0.0,
         }
-        square_to_cosine_hemisphere_pdf(si.shading_frame().to_local(wi))
     }
 }
 
@@ -109,6 +141,7 @@ mod tests {
     fn samples_weigh_the_reflectance_and_the_pdf_is_normalised() {
         let d = Diffuse {
             reflectance: Rgb::new(0.2, 0.5, 0.8),
+            two_sided: false,
         };
         let n = Vec3::new(0.3, 0.2, 0.9).normalize();
         let si = interaction(n);
@@ -145,5 +178,32 @@ mod tests {
         assert!(d
             .sample(&si, -wo, None, SetPoint::uniform(Vec2::splat(0.5)))
             .is_none());
+    }
+
+    /// Two-sided, the back reflects as the front: a sample from behind is
+    /// the front's mirrored through the surface, with the same weight and pdf.
+    #[test]
+    fn a_two_sided_material_reflects_behind_as_in_front() {
+        let d = Diffuse {
+            reflectance: Rgb::new(0.2, 0.5, 0.8),
+            two_sided: true,
+        };
+        let n = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let si = interaction(n);
+        let wo = Vec3::new(-0.2, 0.1, 0.95).normalize();
+        let mut rng = Rng::new(3);
+        for _ in 0..1000 {
+            let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let front = d.sample(&si, wo, None, u).unwrap();
+            let back = d.sample(&si, -wo, None, u).unwrap();
+            assert!((back.wi + front.wi).length() < 1e-6);
+            assert_eq!(back.weight, front.weight);
+            assert!((back.pdf - front.pdf).abs() < 1e-6);
+            assert!((d.pdf(&si, -wo, back.wi) - back.pdf).abs() < 1e-4 * back.pdf);
+            assert_eq!(d.eval(&si, -wo, back.wi), d.eval(&si, wo, front.wi));
+        }
+        // Through the surface, nothing.
+        assert_eq!(d.eval(&si, -wo, n), Rgb::ZERO);
+        assert_eq!(d.pdf(&si, -wo, n), 0.0);
     }
 }

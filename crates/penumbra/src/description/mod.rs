@@ -2,9 +2,10 @@
 //! value carrying the file, line and column it came from (the role of
 //! Mitsuba 3's `Properties` and pbrt-v4's `ParameterDictionary`).
 //!
-//! Every input lowers into it: a TOML scene file ([`from_toml`]) and a
-//! Python dict through its JSON ([`from_json`]). One builder turns it into
-//! a scene. The description knows the shape of a
+//! Every input lowers into it: a TOML scene file ([`from_toml`]), a Python
+//! dict through its JSON ([`from_json`]) and a Mitsuba 3 XML file
+//! ([`mitsuba`]). One builder turns it into a scene. The description knows
+//! the shape of a
 //! scene file, not what any plugin means: nothing here depends on the
 //! layers that build or render.
 //!
@@ -77,6 +78,7 @@ pub mod check;
 mod document;
 pub mod error;
 pub mod lower;
+pub mod mitsuba;
 mod nesting;
 pub mod props;
 pub mod schema;

@@ -9,7 +9,7 @@ use super::context::BuildContext;
 use super::reuse::WorldCache;
 use super::schemas;
 use super::Scene;
-use crate::description::{self, Location, Node, SceneError, Source};
+use crate::description::{self, Kind, Location, Node, SceneError, Source};
 use crate::input::{self, InputError};
 
 /// Largest scene file read unless `--max-file-size` or
@@ -27,6 +27,9 @@ pub struct LoadOptions {
     /// else: the front ends fill it from `--bunny`, `bunny=` or
     /// [`default_bunny_path`].
     pub bunny: Option<PathBuf>,
+    /// `name = value` parameters of a Mitsuba XML scene (`-D`), which win
+    /// over its `<default>`s; a TOML scene has none.
+    pub defines: Vec<(String, String)>,
 }
 
 /// The bunny named by `$PENUMBRA_BUNNY`, if set: what the command line and
@@ -43,6 +46,10 @@ pub struct SceneSource {
     /// The file the tree was read from and its text.
     text: Option<(PathBuf, String)>,
     pub(super) ctx: BuildContext,
+    /// Things to tell the user once about reading the scene (a Mitsuba
+    /// scene's upgrade, parameters without effect) or changing it (an
+    /// integrator replaced): the built scene's warnings start with them.
+    pub warnings: Vec<String>,
 }
 
 impl SceneSource {
@@ -60,11 +67,45 @@ impl SceneSource {
                 names.join(", ")
             )));
         }
-        let text = read_text(path)?;
         let base = path
             .parent()
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        if is_xml(path) {
+            return SceneSource::from_xml(path, &base, opts);
+        }
+        if !opts.defines.is_empty() {
+            return Err(SceneError::new(format!(
+                "{}: -D/--define sets parameters of Mitsuba XML scenes; this is not one (.xml)",
+                path.display()
+            )));
+        }
+        let text = read_text(path)?;
         SceneSource::from_toml(&text, path, &base, opts)
+    }
+
+    /// Reads a Mitsuba 3 XML scene (see
+    /// [`description::mitsuba`](crate::description::mitsuba)): `file` names
+    /// it in errors, `base_dir` anchors mesh paths, `opts.defines` override
+    /// its defaults.
+    pub fn from_xml(
+        file: &Path,
+        base_dir: &Path,
+        opts: &LoadOptions,
+    ) -> Result<SceneSource, SceneError> {
+        let limit = input::size_limit(MAX_SCENE_FILE_SIZE).map_err(|e| SceneError {
+            file: Some(file.to_path_buf()),
+            position: None,
+            message: e.to_string(),
+        })?;
+        let loaded = description::mitsuba::from_xml_file(file, &opts.defines, limit)?;
+        // The integrator is checked when the scene is built: Mitsuba's
+        // (`path`) may yet be replaced by `--integrator`.
+        let mut checked = loaded.root.clone();
+        checked.children.retain(|c| c.kind != Kind::Integrator);
+        schemas::check(&checked)?;
+        let mut source = SceneSource::from_tree(loaded.root, base_dir, opts);
+        source.warnings = loaded.warnings;
+        Ok(source)
     }
 
     /// Parses TOML text; `file` names it in errors, `base_dir` anchors mesh paths.
@@ -80,6 +121,7 @@ impl SceneSource {
             root,
             text: Some((file.to_path_buf(), text.to_string())),
             ctx: context(base_dir, opts),
+            warnings: Vec::new(),
         })
     }
 
@@ -107,6 +149,7 @@ impl SceneSource {
             root,
             text: None,
             ctx: context(base_dir, opts),
+            warnings: Vec::new(),
         }
     }
 
@@ -125,8 +168,16 @@ impl SceneSource {
     }
 
     fn build_with(&self, worlds: Option<&mut WorldCache>) -> Result<Scene, SceneError> {
-        build(&self.root, &self.ctx, worlds).map_err(SceneError::from)
+        let mut scene = build(&self.root, &self.ctx, worlds).map_err(SceneError::from)?;
+        scene.warnings.splice(0..0, self.warnings.iter().cloned());
+        Ok(scene)
     }
+}
+
+/// Whether a scene file is Mitsuba XML, by its extension (any case).
+fn is_xml(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
 }
 
 fn context(base_dir: &Path, opts: &LoadOptions) -> BuildContext {

@@ -71,6 +71,23 @@ impl Overrides {
     pub fn apply(&self, src: &mut SceneSource) {
         let root = &mut src.root;
         if let (Some(i), Some(n)) = (self.integrator, root.child_mut(Kind::Integrator)) {
+            // Another integrator's parameters mean nothing to this one: the
+            // node is replaced whole (a Mitsuba scene's `path`, say).
+            if n.plugin != i.name() {
+                let dropped: Vec<String> =
+                    n.props.iter().map(|p| format!("`{}`", p.name)).collect();
+                src.warnings.push(format!(
+                    "--integrator {} replaces the scene's integrator `{}`{}",
+                    i.name(),
+                    crate::input::quote::clip(&n.plugin, crate::input::quote::MAX_QUOTED_CHARS),
+                    if dropped.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" and its parameters {}", dropped.join(", "))
+                    }
+                ));
+                *n = Node::new(Kind::Integrator, i.name(), n.origin.clone());
+            }
             n.plugin = i.name().to_string();
             n.plugin_origin = Origin::unlocated(KeyPath::root().key("render").key("integrator"));
         }

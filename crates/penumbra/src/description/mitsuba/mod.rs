@@ -1,0 +1,92 @@
+//! Mitsuba 3 XML scenes read into the [scene description](super): the same
+//! tree of plugins a TOML scene lowers to, with Penumbra's plugin and
+//! property names and the TOML key paths (`objects[0].radius`), every value
+//! placed at its XML tag, so that one builder builds both. `docs/mitsuba.md`
+//! is the user's reference; this is the reader's.
+//!
+//! # Steps
+//!
+//! 1. [`parse`]: each file is read through [`crate::input`] (a regular file
+//!    only, the scene's size limit for each file and for all of them
+//!    together), must be UTF-8 and is parsed by roxmltree with DTDs refused
+//!    (no entity is ever expanded, nothing external is ever loaded). Every
+//!    attribute has its `$name`s substituted (`-D name=value` first, then
+//!    `<default name value>` in document order; an undefined name is an
+//!    error); `<include filename>` is read in place relative to the
+//!    including file (a `<scene>` root adds its children, any other root
+//!    itself), refusing loops; `<path value>` adds a search folder for
+//!    relative file names. Elements nest at most [`MAX_DEPTH`] deep,
+//!    includes counted in, and includes at most [`MAX_INCLUDES`] deep.
+//! 2. [`upgrade`]: the elements of files of a `version` below 2.0 get
+//!    Mitsuba 3's parameter names (one warning for the scene).
+//! 3. [`objects`]: elements into objects with typed properties
+//!    ([`values`]: [`number`]s finite, [`transform`]s composed `M = op · M`,
+//!    [`spectrum`]s), ids and aliases registered (each id once), references
+//!    kept by id.
+//! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved:
+//!
+//! | Mitsuba | Penumbra node | key path |
+//! |---|---|---|
+//! | `<integrator>` `path`, `direct` (default `path`) | integrator of that name | `render` |
+//! | `<sensor>` `perspective`, `thinlens` | sensor `perspective` (position, look_at, up, vertical fov; aperture, focal_distance) | `camera` |
+//! | `<film>` `hdrfilm`, its `<rfilter>` | film (width, height, filter) | `render` |
+//! | `<sampler>` | sampler `sets` (spp, seed, distribution) | `render` |
+//! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
+//! | `<bsdf type="diffuse">` | bsdf `diffuse` with its id or `bsdf_N` | `materials.NAME` |
+//! | `<bsdf type="twosided">` around a diffuse | the same with `two_sided = true` | `materials.NAME` |
+//! | `<shape>` `sphere`, `rectangle`, `obj`, `ply` | shape `sphere`, `quad`, `mesh`; `material`; an `area` emitter child | `objects[i]` |
+//! | `<emitter type="point">` | emitter `point` | `lights[i]` |
+//!
+//! Anything else is an error at its tag naming what is supported. Every
+//! error is a [`SceneError`] naming the file, line and column.
+
+pub mod number;
+pub mod objects;
+pub mod parse;
+pub mod plugins;
+pub mod spectrum;
+pub mod transform;
+pub mod upgrade;
+pub mod values;
+
+use std::path::Path;
+
+use super::error::SceneError;
+use super::tree::Node;
+pub use parse::{Defines, MAX_DEPTH, MAX_INCLUDES};
+
+/// A scene read from XML.
+#[derive(Debug)]
+pub struct Loaded {
+    pub root: Node,
+    /// Things to tell the user once (an upgraded old scene, a parameter
+    /// without effect, an inexact sampler).
+    pub warnings: Vec<String>,
+}
+
+/// Reads the XML scene at `path` (named so in errors), `defines` overriding
+/// its defaults, each file and all of them together at most `limit` bytes.
+pub fn from_xml_file(path: &Path, defines: &Defines, limit: u64) -> Result<Loaded, SceneError> {
+    let scene_dir = path.parent().unwrap_or(Path::new(""));
+    let mut reader = parse::Reader::new(scene_dir, defines, limit);
+    let mut root = reader.file(path, 0)?;
+    let mut warnings = Vec::new();
+    if let Some((file, version)) = reader.old_files.first() {
+        warnings.push(format!(
+            "{}: a scene of Mitsuba version {} (before 2.0), upgraded as Mitsuba 3 upgrades it: \
+             camelCase parameter names in snake_case, diffuse_reflectance as reflectance, \
+             uoffset/voffset/uscale/vscale as to_uv{}",
+            file.display(),
+            parse::clip(version),
+            match reader.old_files.len() {
+                1 => String::new(),
+                n => format!(" (and {} more old files)", n - 1),
+            }
+        ));
+        upgrade::upgrade(&mut root);
+    }
+    let mut ids = objects::Ids::default();
+    let scene = objects::read_scene(&root, &reader, &mut ids)?;
+    let root = plugins::scene(&scene, &ids, &reader, &mut warnings)?;
+    Ok(Loaded { root, warnings })
+}

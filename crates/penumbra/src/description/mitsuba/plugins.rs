@@ -1,0 +1,995 @@
+//! Mitsuba's plugins onto Penumbra's: the objects of a scene into the tree
+//! a TOML scene lowers to, under the same plugin names, property names and
+//! key paths (`objects[2].radius`), every value at its XML tag.
+
+use std::collections::HashSet;
+
+use super::objects::{Child, Ids, Object, Property};
+use super::parse::{clip, error_at, Reader};
+use super::spectrum::{self, Use};
+use super::transform::{self, Mat4};
+use super::values::PropValue;
+use crate::description::error::{KeyPath, Location, Origin, SceneError};
+use crate::description::tree::{Kind, Located, Node, Prop, Value};
+
+/// The plugins read, by tag, in the order messages list them.
+pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply"];
+pub const BSDFS: &[&str] = &["diffuse", "twosided (around a diffuse)"];
+pub const EMITTERS: &[&str] = &["point", "constant", "area"];
+pub const SENSORS: &[&str] = &["perspective", "thinlens"];
+pub const FILMS: &[&str] = &["hdrfilm"];
+pub const RFILTERS: &[&str] = &["box", "tent", "gaussian"];
+pub const SAMPLERS: &[&str] = &[
+    "independent",
+    "stratified",
+    "multijitter",
+    "ldsampler",
+    "orthogonal",
+];
+pub const INTEGRATORS: &[&str] = &["path", "direct"];
+
+/// Mitsuba's film size when the film gives none.
+pub const DEFAULT_WIDTH: i64 = 768;
+pub const DEFAULT_HEIGHT: i64 = 576;
+/// Mitsuba's samples per pixel when the sampler gives none.
+pub const DEFAULT_SAMPLE_COUNT: i64 = 4;
+
+/// Builds the tree of a scene object.
+pub fn scene(
+    root: &Object,
+    ids: &Ids,
+    reader: &Reader,
+    warnings: &mut Vec<String>,
+) -> Result<Node, SceneError> {
+    let mut out = Out {
+        ids,
+        reader,
+        warnings,
+        integrator: None,
+        sensor: None,
+        background: None,
+        bsdfs: Vec::new(),
+        names: HashSet::new(),
+        shapes: Vec::new(),
+        lights: Vec::new(),
+        default_material: None,
+    };
+    out.no_props(root, &[])?;
+    for (_, child) in &root.children {
+        let obj = match child {
+            Child::Object(o) => o.as_ref(),
+            Child::Ref { at, .. } => {
+                return Err(error_at(
+                    at,
+                    "a <ref> directly in <scene> is not supported: declare the object there",
+                ))
+            }
+        };
+        match obj.tag.as_str() {
+            "integrator" => out.integrator(obj)?,
+            "sensor" => out.sensor(obj)?,
+            "shape" => out.shape(obj)?,
+            "bsdf" => {
+                out.material(obj)?;
+            }
+            "emitter" => out.emitter(obj)?,
+            other => {
+                return Err(error_at(
+                    &obj.at,
+                    format!(
+                        "<{other}> is not supported in a scene; Penumbra reads <integrator>, <sensor>, \
+                         <shape>, <bsdf> and <emitter>"
+                    ),
+                ))
+            }
+        }
+    }
+    let root_at = Some(root.at.clone());
+    let mut node = Node::new(
+        Kind::Scene,
+        "scene",
+        Origin::new(KeyPath::root(), root_at.clone()),
+    );
+    let integrator = out.integrator.take().unwrap_or_else(|| {
+        Node::new(
+            Kind::Integrator,
+            "path",
+            Origin::new(render(), root_at.clone()),
+        )
+    });
+    let Some(sensor) = out.sensor.take() else {
+        return Err(error_at(
+            &root.at,
+            "the scene has no <sensor>; Penumbra renders through a perspective or thinlens sensor",
+        ));
+    };
+    node.children.push(integrator);
+    node.children.push(sensor);
+    node.children.extend(out.background.take());
+    out.bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
+    node.children.append(&mut out.bsdfs);
+    node.children.append(&mut out.shapes);
+    node.children.append(&mut out.lights);
+    Ok(node)
+}
+
+fn render() -> KeyPath {
+    KeyPath::root().key("render")
+}
+
+struct Out<'a> {
+    ids: &'a Ids,
+    reader: &'a Reader<'a>,
+    warnings: &'a mut Vec<String>,
+    integrator: Option<Node>,
+    sensor: Option<Node>,
+    background: Option<Node>,
+    bsdfs: Vec<Node>,
+    names: HashSet<String>,
+    shapes: Vec<Node>,
+    lights: Vec<Node>,
+    default_material: Option<String>,
+}
+
+/// `what` is not among `supported`.
+fn unsupported(obj: &Object, what: &str, supported: &[&str]) -> SceneError {
+    error_at(
+        &obj.plugin_at,
+        format!(
+            "{what} `{}` is not supported; supported: {}",
+            clip(&obj.plugin),
+            supported.join(", ")
+        ),
+    )
+}
+
+fn located(value: Value, path: KeyPath, at: &Location) -> Located<Value> {
+    Located::new(value, Origin::new(path, Some(at.clone())))
+}
+
+/// A float without a negative zero (which a file never means).
+fn float(x: f64, path: KeyPath, at: &Location) -> Located<Value> {
+    located(Value::Float(x + 0.0), path, at)
+}
+
+fn vec3(v: [f64; 3], path: KeyPath, at: &Location) -> Located<Value> {
+    let items = (0..3).map(|i| float(v[i], path.index(i), at)).collect();
+    located(Value::Array(items), path, at)
+}
+
+fn matrix(m: &Mat4, path: KeyPath, at: &Location) -> Located<Value> {
+    let rows = (0..4)
+        .map(|r| {
+            let row = path.index(r);
+            let items = (0..4).map(|c| float(m[r][c], row.index(c), at)).collect();
+            located(Value::Array(items), row, at)
+        })
+        .collect();
+    located(Value::Array(rows), path, at)
+}
+
+/// Sets `name` on `node`, whose key path is `base`, from the tag at `at`.
+fn set(
+    node: &mut Node,
+    base: &KeyPath,
+    name: &str,
+    at: &Location,
+    make: impl FnOnce(KeyPath, &Location) -> Located<Value>,
+) {
+    let path = base.key(name);
+    let key = Origin::new(path.clone(), Some(at.clone()));
+    node.props.push(Prop::new(name, key, make(path, at)));
+}
+
+fn type_error(p: &Property, expected: &str) -> SceneError {
+    error_at(
+        &p.at,
+        format!(
+            "`{}` must be {expected}, got {}",
+            clip(&p.name),
+            p.value.type_name()
+        ),
+    )
+}
+
+/// The property `name` of `obj` read by `read` (`None`: of the wrong type,
+/// `expected`), with the place of its tag.
+fn get<'o, T>(
+    obj: &'o Object,
+    name: &str,
+    expected: &str,
+    read: impl Fn(&'o PropValue) -> Option<T>,
+) -> Result<Option<(T, &'o Location)>, SceneError> {
+    match obj.prop(name) {
+        None => Ok(None),
+        Some(p) => match read(&p.value) {
+            Some(v) => Ok(Some((v, &p.at))),
+            None => Err(type_error(p, expected)),
+        },
+    }
+}
+
+fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Location)>, SceneError> {
+    get(obj, name, "a float", |v| match v {
+        PropValue::Float(x) => Some(*x),
+        PropValue::Int(i) => Some(*i as f64),
+        _ => None,
+    })
+}
+
+fn get_int<'o>(obj: &'o Object, name: &str) -> Result<Option<(i64, &'o Location)>, SceneError> {
+    get(obj, name, "an integer", |v| match v {
+        PropValue::Int(i) => Some(*i),
+        _ => None,
+    })
+}
+
+fn get_bool<'o>(obj: &'o Object, name: &str) -> Result<Option<(bool, &'o Location)>, SceneError> {
+    get(obj, name, "a boolean", |v| match v {
+        PropValue::Bool(b) => Some(*b),
+        _ => None,
+    })
+}
+
+fn get_string<'o>(
+    obj: &'o Object,
+    name: &str,
+) -> Result<Option<(&'o str, &'o Location)>, SceneError> {
+    get(obj, name, "a string", |v| match v {
+        PropValue::String(s) => Some(s.as_str()),
+        _ => None,
+    })
+}
+
+fn get_vector<'o>(
+    obj: &'o Object,
+    name: &str,
+) -> Result<Option<([f64; 3], &'o Location)>, SceneError> {
+    get(obj, name, "a point or vector", |v| match v {
+        PropValue::Vector(v) => Some(*v),
+        _ => None,
+    })
+}
+
+fn get_transform<'o>(
+    obj: &'o Object,
+    name: &str,
+) -> Result<Option<(Mat4, &'o Location)>, SceneError> {
+    get(obj, name, "a transform", |v| match v {
+        PropValue::Transform(m) => Some(*m),
+        _ => None,
+    })
+}
+
+/// A colour: `<rgb>`, `<spectrum>` or a number, converted as Mitsuba's RGB
+/// variants convert it for `usage`.
+fn get_color<'o>(
+    obj: &'o Object,
+    name: &str,
+    usage: Use,
+) -> Result<Option<([f64; 3], &'o Location)>, SceneError> {
+    let Some(p) = obj.prop(name) else {
+        return Ok(None);
+    };
+    let rgb = match &p.value {
+        PropValue::Rgb(c) => *c,
+        PropValue::Float(x) => [*x; 3],
+        PropValue::Int(i) => [*i as f64; 3],
+        PropValue::Spectrum(s) => spectrum::to_rgb(s, usage),
+        _ => return Err(type_error(p, "an rgb colour, a spectrum or a float")),
+    };
+    if rgb.iter().any(|c| !c.is_finite()) {
+        return Err(error_at(
+            &p.at,
+            format!("`{}` is not a finite colour", clip(name)),
+        ));
+    }
+    Ok(Some((rgb, &p.at)))
+}
+
+impl Out<'_> {
+    /// Refuses a property of `obj` not in `known`.
+    fn no_props(&self, obj: &Object, known: &[&str]) -> Result<(), SceneError> {
+        for p in &obj.props {
+            if !known.contains(&p.name.as_str()) {
+                let reads = if known.is_empty() {
+                    "no parameters".to_string()
+                } else {
+                    known.join(", ")
+                };
+                return Err(error_at(
+                    &p.at,
+                    format!(
+                        "`{}` is not a parameter of the {} `{}` that Penumbra reads (it reads {reads})",
+                        clip(&p.name),
+                        obj.tag,
+                        clip(&obj.plugin)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn no_children(&self, obj: &Object) -> Result<(), SceneError> {
+        match children(self.ids, obj)?.first() {
+            None => Ok(()),
+            Some(c) => Err(error_at(
+                &c.at,
+                format!(
+                    "a <{}> inside the {} `{}` is not supported",
+                    c.tag,
+                    obj.tag,
+                    clip(&obj.plugin)
+                ),
+            )),
+        }
+    }
+
+    fn integrator(&mut self, obj: &Object) -> Result<(), SceneError> {
+        if self.integrator.is_some() {
+            return Err(error_at(&obj.at, "a second <integrator>: a scene has one"));
+        }
+        let known: &[&str] = match obj.plugin.as_str() {
+            "path" => &["max_depth", "rr_depth", "hide_emitters"],
+            "direct" => &[
+                "emitter_samples",
+                "bsdf_samples",
+                "shading_samples",
+                "hide_emitters",
+            ],
+            _ => return Err(unsupported(obj, "integrator", INTEGRATORS)),
+        };
+        self.no_props(obj, known)?;
+        self.no_children(obj)?;
+        let mut node = Node::new(
+            Kind::Integrator,
+            obj.plugin.clone(),
+            Origin::new(render(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(render().key("integrator"), Some(obj.plugin_at.clone()));
+        for p in &obj.props {
+            let value = match &p.value {
+                PropValue::Int(i) => Value::Int(*i),
+                PropValue::Bool(b) => Value::Bool(*b),
+                PropValue::Float(x) => Value::Float(*x),
+                _ => return Err(type_error(p, "an integer or a boolean")),
+            };
+            set(&mut node, &render(), &p.name, &p.at, |path, at| {
+                located(value, path, at)
+            });
+        }
+        self.integrator = Some(node);
+        Ok(())
+    }
+
+    fn sensor(&mut self, obj: &Object) -> Result<(), SceneError> {
+        if self.sensor.is_some() {
+            return Err(error_at(&obj.at, "a second <sensor>: Penumbra renders one"));
+        }
+        let thin = match obj.plugin.as_str() {
+            "perspective" => false,
+            "thinlens" => true,
+            _ => return Err(unsupported(obj, "sensor", SENSORS)),
+        };
+        let mut known = vec![
+            "fov",
+            "fov_axis",
+            "focal_length",
+            "to_world",
+            "near_clip",
+            "far_clip",
+        ];
+        if thin {
+            known.extend(["aperture_radius", "focus_distance"]);
+        }
+        self.no_props(obj, &known)?;
+        let (mut film, mut sampler) = (None, None);
+        for c in children(self.ids, obj)? {
+            match c.tag.as_str() {
+                "film" if film.is_none() => film = Some(c),
+                "sampler" if sampler.is_none() => sampler = Some(c),
+                "film" | "sampler" => {
+                    return Err(error_at(&c.at, format!("a second <{}> in the sensor", c.tag)))
+                }
+                _ => {
+                    return Err(error_at(
+                        &c.at,
+                        format!("a <{}> inside a sensor is not supported (a sensor holds a film and a sampler)", c.tag),
+                    ))
+                }
+            }
+        }
+        let camera = KeyPath::root().key("camera");
+        let mut node = Node::new(
+            Kind::Sensor,
+            "perspective",
+            Origin::new(camera.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(camera.clone(), Some(obj.plugin_at.clone()));
+        let (film_node, (width, height)) = self.film(film, obj)?;
+        let sampler_node = self.sampler(sampler, obj)?;
+        node.children = vec![film_node, sampler_node];
+
+        let (m, m_at) = match get_transform(obj, "to_world")? {
+            Some((m, at)) => (m, at.clone()),
+            None => (transform::IDENTITY, obj.at.clone()),
+        };
+        if transform::det3(&m) < 0.0 {
+            return Err(error_at(
+                &m_at,
+                "the sensor's `to_world` mirrors the image, which Penumbra's camera cannot",
+            ));
+        }
+        let position = transform::point(&m, [0.0; 3]);
+        let dir = transform::normalize(transform::vector(&m, [0.0, 0.0, 1.0]));
+        let up = transform::normalize(transform::vector(&m, [0.0, 1.0, 0.0]));
+        let look_at = [0, 1, 2].map(|i| position[i] + dir[i]);
+        set(&mut node, &camera, "position", &m_at, |p, at| {
+            vec3(position, p, at)
+        });
+        set(&mut node, &camera, "look_at", &m_at, |p, at| {
+            vec3(look_at, p, at)
+        });
+        set(&mut node, &camera, "up", &m_at, |p, at| vec3(up, p, at));
+        let (fov, fov_at) = self.vertical_fov(obj, width as f64 / height as f64)?;
+        set(&mut node, &camera, "fov", &fov_at, |p, at| {
+            float(fov, p, at)
+        });
+        if thin {
+            let Some((radius, r_at)) = get_float(obj, "aperture_radius")? else {
+                return Err(error_at(&obj.at, "thinlens: missing `aperture_radius`"));
+            };
+            set(&mut node, &camera, "aperture", r_at, |p, at| {
+                float(radius, p, at)
+            });
+            let Some((focus, f_at)) = get_float(obj, "focus_distance")? else {
+                return Err(error_at(&obj.at, "thinlens: missing `focus_distance`"));
+            };
+            set(&mut node, &camera, "focal_distance", f_at, |p, at| {
+                float(focus, p, at)
+            });
+        }
+        for clip_name in ["near_clip", "far_clip"] {
+            if obj.prop(clip_name).is_some() {
+                self.warnings.push(format!(
+                    "the sensor's `{clip_name}` is ignored: Penumbra's camera does not clip"
+                ));
+            }
+        }
+        self.sensor = Some(node);
+        Ok(())
+    }
+
+    /// Mitsuba's field of view (`fov` along `fov_axis`, or `focal_length`)
+    /// as Penumbra's vertical one, for a film of aspect `aspect`.
+    fn vertical_fov(&self, obj: &Object, aspect: f64) -> Result<(f64, Location), SceneError> {
+        let half_tan = |deg: f64| (deg.to_radians() / 2.0).tan();
+        let from_half_tan = |t: f64| 2.0 * t.atan().to_degrees();
+        let (fov, axis, at) = match (get_float(obj, "fov")?, get_string(obj, "focal_length")?) {
+            (Some(_), Some((_, at))) => {
+                return Err(error_at(at, "give `fov` or `focal_length`, not both"))
+            }
+            (Some((f, at)), None) => {
+                let axis = match get_string(obj, "fov_axis")? {
+                    None => "x".to_string(),
+                    Some((a, _)) => a.to_ascii_lowercase(),
+                };
+                (f, axis, at.clone())
+            }
+            (None, focal) => {
+                let (text, at) = focal.unwrap_or(("50mm", &obj.at));
+                let mm = text.strip_suffix("mm").unwrap_or(text);
+                let value = super::number::number(mm)
+                    .ok()
+                    .filter(|v| *v > 0.0)
+                    .ok_or_else(|| {
+                        error_at(
+                            at,
+                            format!(
+                                "`focal_length` `{}` is not a length such as 50mm",
+                                clip(text)
+                            ),
+                        )
+                    })?;
+                let diagonal = 2.0
+                    * ((36.0f64 * 36.0 + 24.0 * 24.0).sqrt() / (2.0 * value))
+                        .atan()
+                        .to_degrees();
+                (diagonal, "diagonal".to_string(), at.clone())
+            }
+        };
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(error_at(
+                &at,
+                format!("`fov` must be between 0 and 180 degrees, got {fov}"),
+            ));
+        }
+        let axis = match axis.as_str() {
+            "smaller" if aspect > 1.0 => "y",
+            "smaller" => "x",
+            "larger" if aspect > 1.0 => "x",
+            "larger" => "y",
+            a => a,
+        };
+        let vertical = match axis {
+            "x" => from_half_tan(half_tan(fov) / aspect),
+            "y" => fov,
+            "diagonal" => from_half_tan(half_tan(fov) / (1.0 + aspect * aspect).sqrt()),
+            other => {
+                let at = obj.prop("fov_axis").map_or(&at, |p| &p.at);
+                return Err(error_at(
+                    at,
+                    format!(
+                        "`fov_axis` `{}` is not one of x, y, diagonal, smaller, larger",
+                        clip(other)
+                    ),
+                ));
+            }
+        };
+        Ok((vertical, at))
+    }
+
+    /// The film node and the film's size.
+    fn film(
+        &mut self,
+        film: Option<&Object>,
+        sensor: &Object,
+    ) -> Result<(Node, (i64, i64)), SceneError> {
+        let at = film.map_or(&sensor.at, |f| &f.at).clone();
+        let mut node = Node::new(
+            Kind::Film,
+            "hdrfilm",
+            Origin::new(render(), Some(at.clone())),
+        );
+        let mut size = (DEFAULT_WIDTH, DEFAULT_HEIGHT);
+        let mut filter = ("gaussian", at.clone());
+        if let Some(f) = film {
+            if f.plugin != "hdrfilm" {
+                return Err(unsupported(f, "film", FILMS));
+            }
+            self.no_props(
+                f,
+                &[
+                    "width",
+                    "height",
+                    "file_format",
+                    "pixel_format",
+                    "component_format",
+                ],
+            )?;
+            for (name, slot) in [("width", &mut size.0), ("height", &mut size.1)] {
+                if let Some((v, v_at)) = get_int(f, name)? {
+                    if v < 1 {
+                        return Err(error_at(
+                            v_at,
+                            format!("the film's `{name}` must be at least 1, got {v}"),
+                        ));
+                    }
+                    *slot = v;
+                }
+            }
+            for name in ["file_format", "pixel_format", "component_format"] {
+                if obj_has(f, name) {
+                    self.warnings.push(format!(
+                        "the film's `{name}` is ignored: the output file's extension chooses the format"
+                    ));
+                }
+            }
+            for c in children(self.ids, f)? {
+                if c.tag != "rfilter" {
+                    return Err(error_at(
+                        &c.at,
+                        format!("a <{}> inside a film is not supported", c.tag),
+                    ));
+                }
+                filter = (self.rfilter(c)?, c.at.clone());
+            }
+        }
+        let (w_at, h_at) = match film {
+            Some(f) => (
+                f.prop("width").map_or(&f.at, |p| &p.at).clone(),
+                f.prop("height").map_or(&f.at, |p| &p.at).clone(),
+            ),
+            None => (at.clone(), at.clone()),
+        };
+        set(&mut node, &render(), "width", &w_at, |p, at| {
+            located(Value::Int(size.0), p, at)
+        });
+        set(&mut node, &render(), "height", &h_at, |p, at| {
+            located(Value::Int(size.1), p, at)
+        });
+        set(&mut node, &render(), "filter", &filter.1, |p, at| {
+            located(Value::String(filter.0.into()), p, at)
+        });
+        Ok((node, size))
+    }
+
+    /// The Penumbra filter of a reconstruction filter with Mitsuba's
+    /// default parameters (the only ones Penumbra has).
+    fn rfilter(&self, f: &Object) -> Result<&'static str, SceneError> {
+        let (name, param, default) = match f.plugin.as_str() {
+            "box" => ("box", "radius", 0.5),
+            "tent" => ("tent", "radius", 1.0),
+            "gaussian" => ("gaussian", "stddev", 0.5),
+            _ => return Err(unsupported(f, "rfilter", RFILTERS)),
+        };
+        self.no_props(f, &[param])?;
+        if let Some((v, at)) = get_float(f, param)? {
+            if v != default {
+                return Err(error_at(at, format!("the {name} filter's `{param}` is {default} in Penumbra; other values are not supported")));
+            }
+        }
+        Ok(name)
+    }
+
+    fn sampler(&mut self, sampler: Option<&Object>, sensor: &Object) -> Result<Node, SceneError> {
+        let at = sampler.map_or(&sensor.at, |s| &s.at).clone();
+        let mut node = Node::new(
+            Kind::Sampler,
+            "sets",
+            Origin::new(render(), Some(at.clone())),
+        );
+        let mut count = (DEFAULT_SAMPLE_COUNT, at.clone());
+        let mut distribution = "random";
+        if let Some(s) = sampler {
+            let known: &[&str] = match s.plugin.as_str() {
+                "independent" | "ldsampler" | "orthogonal" => &["sample_count", "seed"],
+                "stratified" | "multijitter" => &["sample_count", "seed", "jitter"],
+                _ => return Err(unsupported(s, "sampler", SAMPLERS)),
+            };
+            self.no_props(s, known)?;
+            self.no_children(s)?;
+            let jitter = get_bool(s, "jitter")?.is_none_or(|(j, _)| j);
+            distribution = match (s.plugin.as_str(), jitter) {
+                ("independent", _) => "random",
+                ("stratified", true) => "jitter",
+                ("stratified", false) => "grid",
+                ("multijitter", _) => "jitter",
+                ("ldsampler", _) => "sobol",
+                _ => "pmj02",
+            };
+            if matches!(
+                s.plugin.as_str(),
+                "multijitter" | "ldsampler" | "orthogonal"
+            ) {
+                self.warnings.push(format!(
+                    "the `{}` sampler is rendered with Penumbra's `{distribution}` distribution, \
+                     its nearest",
+                    s.plugin
+                ));
+            }
+            if let Some((n, n_at)) = get_int(s, "sample_count")? {
+                count = (n, n_at.clone());
+            }
+            if let Some((seed, seed_at)) = get_int(s, "seed")? {
+                set(&mut node, &render(), "seed", seed_at, |p, at| {
+                    located(Value::Int(seed), p, at)
+                });
+            }
+        }
+        set(&mut node, &render(), "spp", &count.1, |p, at| {
+            located(Value::Int(count.0), p, at)
+        });
+        set(&mut node, &render(), "distribution", &at, |p, at| {
+            located(Value::String(distribution.into()), p, at)
+        });
+        Ok(node)
+    }
+
+    fn emitter(&mut self, obj: &Object) -> Result<(), SceneError> {
+        match obj.plugin.as_str() {
+            "point" => {
+                self.no_props(obj, &["position", "to_world", "intensity"])?;
+                self.no_children(obj)?;
+                let i = self.lights.len();
+                let base = KeyPath::root().key("lights").index(i);
+                let mut node = Node::new(
+                    Kind::Emitter,
+                    "point",
+                    Origin::new(base.clone(), Some(obj.at.clone())),
+                );
+                node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+                let position = match (
+                    get_vector(obj, "position")?,
+                    get_transform(obj, "to_world")?,
+                ) {
+                    (Some(_), Some((_, at))) => {
+                        return Err(error_at(
+                            at,
+                            "give the point light `position` or `to_world`, not both",
+                        ))
+                    }
+                    (Some((p, at)), None) => (p, at.clone()),
+                    (None, Some((m, at))) => (transform::point(&m, [0.0; 3]), at.clone()),
+                    (None, None) => ([0.0; 3], obj.at.clone()),
+                };
+                set(&mut node, &base, "position", &position.1, |p, at| {
+                    vec3(position.0, p, at)
+                });
+                let (intensity, at) = get_color(obj, "intensity", Use::Emission)?
+                    .map_or(([1.0; 3], obj.at.clone()), |(c, at)| (c, at.clone()));
+                set(&mut node, &base, "intensity", &at, |p, at| {
+                    vec3(intensity, p, at)
+                });
+                self.lights.push(node);
+            }
+            "constant" => {
+                self.no_props(obj, &["radiance"])?;
+                self.no_children(obj)?;
+                if self.background.is_some() {
+                    return Err(error_at(
+                        &obj.at,
+                        "a second `constant` emitter: Penumbra has one background",
+                    ));
+                }
+                let path = render().key("background");
+                let (radiance, at) = get_color(obj, "radiance", Use::Emission)?
+                    .map_or(([1.0; 3], obj.at.clone()), |(c, at)| (c, at.clone()));
+                let mut node = Node::new(
+                    Kind::Emitter,
+                    "constant",
+                    Origin::new(path.clone(), Some(at.clone())),
+                );
+                let key = Origin::new(path.clone(), Some(at.clone()));
+                node.props
+                    .push(Prop::new("radiance", key, vec3(radiance, path, &at)));
+                self.background = Some(node);
+            }
+            "area" => {
+                return Err(error_at(
+                    &obj.at,
+                    "an `area` emitter lights a shape: put it inside a <shape>",
+                ))
+            }
+            _ => return Err(unsupported(obj, "emitter", EMITTERS)),
+        }
+        Ok(())
+    }
+
+    /// The Penumbra material of a bsdf (made once per name): its name.
+    fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
+        // `twosided` around one diffuse: the diffuse, reflecting on both sides.
+        let (inner, two_sided) = if obj.plugin == "twosided" {
+            self.no_props(obj, &[])?;
+            let inner = children(self.ids, obj)?;
+            match inner.as_slice() {
+                [one] if one.tag == "bsdf" => (*one, true),
+                [_, second] => {
+                    return Err(error_at(
+                        &second.at,
+                        "a `twosided` of two materials is not supported: Penumbra's two-sided \
+                         diffuse reflects alike on both sides",
+                    ))
+                }
+                _ => return Err(error_at(&obj.at, "a `twosided` holds one <bsdf>")),
+            }
+        } else {
+            (obj, false)
+        };
+        if inner.plugin != "diffuse" {
+            let supported: &[&str] = if two_sided {
+                &["diffuse"]
+            } else {
+                &["diffuse", "twosided (around a diffuse)"]
+            };
+            let what = if two_sided {
+                "bsdf inside `twosided`"
+            } else {
+                "bsdf"
+            };
+            return Err(unsupported(inner, what, supported));
+        }
+        self.no_props(inner, &["reflectance"])?;
+        self.no_children(inner)?;
+        let name = match obj.id.as_ref().or(inner.id.as_ref().filter(|_| !two_sided)) {
+            Some(id) => id.clone(),
+            None => self.fresh_name(),
+        };
+        if !self.names.insert(name.clone()) {
+            return Ok(name);
+        }
+        let base = KeyPath::root().key("materials").key(&name);
+        let mut node = Node::new(
+            Kind::Bsdf,
+            "diffuse",
+            Origin::new(base.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        node.id = Some(name.clone());
+        if let Some((c, at)) = get_color(inner, "reflectance", Use::Reflectance)? {
+            set(&mut node, &base, "reflectance", at, |p, at| vec3(c, p, at));
+        }
+        if two_sided {
+            set(&mut node, &base, "two_sided", &obj.plugin_at, |p, at| {
+                located(Value::Bool(true), p, at)
+            });
+        }
+        self.bsdfs.push(node);
+        Ok(name)
+    }
+
+    /// `bsdf_N`, the first such name that is neither an id nor taken.
+    fn fresh_name(&self) -> String {
+        (1..)
+            .map(|n| format!("bsdf_{n}"))
+            .find(|n| !self.names.contains(n) && !self.ids.map.contains_key(n))
+            .expect("a free name")
+    }
+
+    /// Mitsuba's default material (diffuse, reflectance 0.5), made once.
+    fn default_material(&mut self, at: &Location) -> String {
+        if let Some(name) = &self.default_material {
+            return name.clone();
+        }
+        let name = self.fresh_name();
+        self.names.insert(name.clone());
+        let base = KeyPath::root().key("materials").key(&name);
+        let mut node = Node::new(Kind::Bsdf, "diffuse", Origin::new(base, Some(at.clone())));
+        node.id = Some(name.clone());
+        self.bsdfs.push(node);
+        self.default_material = Some(name.clone());
+        name
+    }
+
+    fn shape(&mut self, obj: &Object) -> Result<(), SceneError> {
+        let known: &[&str] = match obj.plugin.as_str() {
+            "sphere" => &["center", "radius", "to_world", "flip_normals"],
+            "rectangle" => &["to_world", "flip_normals"],
+            "obj" | "ply" => &[
+                "filename",
+                "face_normals",
+                "to_world",
+                "flip_normals",
+                "flip_tex_coords",
+            ],
+            _ => return Err(unsupported(obj, "shape", SHAPES)),
+        };
+        self.no_props(obj, known)?;
+        if let Some((true, at)) = get_bool(obj, "flip_normals")? {
+            return Err(error_at(at, "`flip_normals` is not supported"));
+        }
+        get_bool(obj, "flip_tex_coords")?;
+        let i = self.shapes.len();
+        let base = KeyPath::root().key("objects").index(i);
+        let plugin = match obj.plugin.as_str() {
+            "sphere" => "sphere",
+            "rectangle" => "quad",
+            _ => "mesh",
+        };
+        let mut node = Node::new(
+            Kind::Shape,
+            plugin,
+            Origin::new(base.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let to_world = get_transform(obj, "to_world")?.map(|(m, at)| (m, at.clone()));
+        match obj.plugin.as_str() {
+            "sphere" => {
+                if let Some((c, at)) = get_vector(obj, "center")? {
+                    set(&mut node, &base, "center", at, |p, at| vec3(c, p, at));
+                }
+                if let Some((r, at)) = get_float(obj, "radius")? {
+                    set(&mut node, &base, "radius", at, |p, at| float(r, p, at));
+                }
+                self.placement(&mut node, &base, &to_world);
+            }
+            "rectangle" => {
+                let (m, at) = to_world
+                    .clone()
+                    .unwrap_or((transform::IDENTITY, obj.at.clone()));
+                let origin = transform::point(&m, [-1.0, -1.0, 0.0]);
+                let mut u = transform::vector(&m, [2.0, 0.0, 0.0]);
+                let mut v = transform::vector(&m, [0.0, 2.0, 0.0]);
+                // Mitsuba's normal is the transformed +z; a mirroring
+                // transform would turn u × v the other way.
+                if transform::det3(&m) < 0.0 {
+                    std::mem::swap(&mut u, &mut v);
+                }
+                set(&mut node, &base, "origin", &at, |p, at| vec3(origin, p, at));
+                set(&mut node, &base, "edge_u", &at, |p, at| vec3(u, p, at));
+                set(&mut node, &base, "edge_v", &at, |p, at| vec3(v, p, at));
+            }
+            _ => {
+                let Some((file, at)) = get_string(obj, "filename")? else {
+                    return Err(error_at(
+                        &obj.at,
+                        format!("{}: missing `filename`", obj.plugin),
+                    ));
+                };
+                let path = self.reader.resolve(&file_dir(obj), file);
+                let text = self
+                    .reader
+                    .scene_relative(&path)
+                    .to_string_lossy()
+                    .into_owned();
+                set(&mut node, &base, "path", at, |p, at| {
+                    located(Value::String(text), p, at)
+                });
+                let (faces, f_at) = get_bool(obj, "face_normals")?
+                    .map_or((false, obj.at.clone()), |(b, at)| (b, at.clone()));
+                set(&mut node, &base, "smooth", &f_at, |p, at| {
+                    located(Value::Bool(!faces), p, at)
+                });
+                self.placement(&mut node, &base, &to_world);
+            }
+        }
+        let mut material = None;
+        let mut emitter = None;
+        for c in children(self.ids, obj)? {
+            match c.tag.as_str() {
+                "bsdf" if material.is_none() => material = Some(self.material(c)?),
+                "emitter" if emitter.is_none() => {
+                    if c.plugin != "area" {
+                        return Err(error_at(&c.plugin_at, format!("a shape carries an `area` emitter, not `{}`", clip(&c.plugin))));
+                    }
+                    self.no_props(c, &["radiance"])?;
+                    self.no_children(c)?;
+                    let path = base.key("emitter");
+                    let mut e = Node::new(Kind::Emitter, "area", Origin::new(path.clone(), Some(c.at.clone())));
+                    let (radiance, at) = get_color(c, "radiance", Use::Emission)?
+                        .map_or(([1.0; 3], c.at.clone()), |(v, at)| (v, at.clone()));
+                    set(&mut e, &path, "radiance", &at, |p, at| vec3(radiance, p, at));
+                    emitter = Some(e);
+                }
+                "bsdf" | "emitter" => {
+                    return Err(error_at(&c.at, format!("a second <{}> in the shape", c.tag)))
+                }
+                other => {
+                    return Err(error_at(&c.at, format!("a <{other}> inside a shape is not supported (a shape holds a bsdf and an area emitter)")))
+                }
+            }
+        }
+        let material = match material {
+            Some(m) => m,
+            None => self.default_material(&obj.at),
+        };
+        set(&mut node, &base, "material", &obj.at, |p, at| {
+            located(Value::String(material), p, at)
+        });
+        node.children.extend(emitter);
+        self.shapes.push(node);
+        Ok(())
+    }
+
+    /// `to_world` as the shape's `transform = { matrix = ... }`.
+    fn placement(&self, node: &mut Node, base: &KeyPath, to_world: &Option<(Mat4, Location)>) {
+        let Some((m, at)) = to_world else {
+            return;
+        };
+        let path = base.key("transform");
+        let inner = path.key("matrix");
+        let table = vec![Prop::new(
+            "matrix",
+            Origin::new(inner.clone(), Some(at.clone())),
+            matrix(m, inner, at),
+        )];
+        set(node, base, "transform", at, |p, at| {
+            located(Value::Table(table), p, at)
+        });
+    }
+}
+
+/// The objects `obj` holds, references resolved.
+fn children<'o>(ids: &'o Ids, obj: &'o Object) -> Result<Vec<&'o Object>, SceneError> {
+    obj.children
+        .iter()
+        .map(|(_, c)| match c {
+            Child::Object(o) => Ok(o.as_ref()),
+            Child::Ref { id, at } => ids.get(id, at),
+        })
+        .collect()
+}
+
+fn obj_has(obj: &Object, name: &str) -> bool {
+    obj.prop(name).is_some()
+}
+
+/// The folder of the file `obj`'s `filename` is written in.
+fn file_dir(obj: &Object) -> std::path::PathBuf {
+    let at = obj.prop("filename").map_or(&obj.at, |p| &p.at);
+    at.file
+        .parent()
+        .map(|p| p.to_path_buf())
+        .unwrap_or_default()
+}

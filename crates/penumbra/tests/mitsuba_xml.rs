@@ -1,0 +1,1217 @@
+//! Mitsuba 3 XML scenes: every tag and plugin read, the tree they make
+//! against the TOML scene that says the same, the pixels of both, and
+//! hostile files refused with their place.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use penumbra::description::mitsuba::{self, spectrum, transform, Loaded};
+use penumbra::description::{from_toml, KeyPath, Kind, Located, Node, Origin, Prop, Value};
+use penumbra::scene::{IntegratorChoice, LoadOptions, Overrides, SceneError, SceneSource};
+
+const LIMIT: u64 = 4 << 20;
+
+/// A folder with files in it.
+struct Dir(tempfile::TempDir);
+
+impl Dir {
+    fn new(files: &[(&str, &str)]) -> Dir {
+        let d = Dir(tempfile::tempdir().unwrap());
+        for (name, text) in files {
+            d.write(name, text.as_bytes());
+        }
+        d
+    }
+
+    fn write(&self, name: &str, bytes: &[u8]) {
+        let p = self.0.path().join(name);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, bytes).unwrap();
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.path().join(name)
+    }
+
+    fn load(&self, name: &str, defines: &[(&str, &str)]) -> Result<Loaded, SceneError> {
+        let defines: Vec<(String, String)> = defines
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        mitsuba::from_xml_file(&self.path(name), &defines, LIMIT)
+    }
+
+    fn tree(&self, name: &str) -> Node {
+        self.load(name, &[]).unwrap_or_else(|e| panic!("{e}")).root
+    }
+
+    fn err(&self, name: &str) -> String {
+        match self.load(name, &[]) {
+            Ok(_) => panic!("{name} should be refused"),
+            Err(e) => e.to_string(),
+        }
+    }
+}
+
+/// `scene.xml` built with `--integrator whitted`, as the command line does.
+fn build_whitted(d: &Dir) -> Result<penumbra::scene::Scene, SceneError> {
+    let path = d.path("scene.xml");
+    let mut src = SceneSource::open(path.to_str().unwrap(), &LoadOptions::default())?;
+    common::set(
+        &mut src,
+        Overrides {
+            integrator: Some(IntegratorChoice::Whitted),
+            ..Default::default()
+        },
+    );
+    src.build()
+}
+
+/// One file scene `scene.xml` of `body` (inside `<scene version="3.0.0">`).
+fn one(body: &str) -> Dir {
+    Dir::new(&[("scene.xml", &scene(body))])
+}
+
+fn scene(body: &str) -> String {
+    format!("<?xml version=\"1.0\"?>\n<scene version=\"3.0.0\">\n{body}\n</scene>\n")
+}
+
+/// A minimal sensor, so that a scene is complete.
+const SENSOR: &str = r#"<sensor type="perspective"><float name="fov" value="45"/></sensor>"#;
+
+fn with_sensor(body: &str) -> Dir {
+    one(&format!("{SENSOR}\n{body}"))
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(items) => items.iter().flat_map(|i| numbers(&i.value)).collect(),
+        Value::Float(x) => vec![*x],
+        Value::Int(i) => vec![*i as f64],
+        other => panic!("not numbers: {other:?}"),
+    }
+}
+
+fn prop<'a>(node: &'a Node, name: &str) -> &'a Value {
+    &node
+        .prop(name)
+        .unwrap_or_else(|| panic!("no `{name}` in {node:?}"))
+        .value
+        .value
+}
+
+fn close(a: &[f64], b: &[f64], tol: f64) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+fn shapes(root: &Node) -> Vec<&Node> {
+    root.children_of(Kind::Shape).collect()
+}
+
+fn sensor(root: &Node) -> &Node {
+    root.child(Kind::Sensor).unwrap()
+}
+
+/// The place an error names, `file:line:column`.
+fn place_of(e: &str) -> (&str, u32, u32) {
+    let mut parts = e.splitn(4, ':');
+    let file = parts.next().unwrap();
+    let line = parts.next().and_then(|l| l.parse().ok()).unwrap_or(0);
+    let col = parts
+        .next()
+        .and_then(|c| c.trim().parse().ok())
+        .unwrap_or(0);
+    (file, line, col)
+}
+
+// ---------------------------------------------------------------------------
+// The same scene in XML and TOML.
+
+const XML_SCENE: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- a diffuse sphere on a floor, a point light, a lit rectangle -->
+<scene version="3.0.0">
+    <integrator type="path">
+        <integer name="max_depth" value="3"/>
+    </integrator>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <string name="fov_axis" value="y"/>
+        <transform name="to_world">
+            <lookat origin="0, 1, 5" target="0, 1, 0" up="0, 1, 0"/>
+        </transform>
+        <film type="hdrfilm">
+            <integer name="width" value="64"/>
+            <integer name="height" value="48"/>
+            <rfilter type="box"/>
+        </film>
+        <sampler type="independent">
+            <integer name="sample_count" value="4"/>
+            <integer name="seed" value="7"/>
+        </sampler>
+    </sensor>
+    <emitter type="constant">
+        <rgb name="radiance" value="0.1"/>
+    </emitter>
+    <bsdf type="diffuse" id="red">
+        <rgb name="reflectance" value="0.7, 0.2, 0.2"/>
+    </bsdf>
+    <shape type="sphere">
+        <point name="center" x="0" y="1" z="0"/>
+        <float name="radius" value="0.8"/>
+        <ref id="red"/>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world">
+            <matrix value="5 0 0 0  0 0 5 0  0 -5 0 0  0 0 0 1"/>
+        </transform>
+        <bsdf type="diffuse">
+            <spectrum name="reflectance" value="0.5"/>
+        </bsdf>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world">
+            <matrix value="0.5 0 0 0  0 0 -0.5 3  0 0.5 0 0  0 0 0 1"/>
+        </transform>
+        <emitter type="area">
+            <rgb name="radiance" value="10, 10, 10"/>
+        </emitter>
+    </shape>
+    <emitter type="point">
+        <point name="position" value="2, 4, 2"/>
+        <rgb name="intensity" value="20"/>
+    </emitter>
+</scene>
+"#;
+
+const TOML_SCENE: &str = r#"
+[render]
+integrator = "path"
+max_depth = 3
+width = 64
+height = 48
+filter = "box"
+spp = 4
+seed = 7
+distribution = "random"
+background = [0.1, 0.1, 0.1]
+
+[camera]
+position = [0.0, 1.0, 5.0]
+look_at = [0.0, 1.0, 4.0]
+up = [0.0, 1.0, 0.0]
+fov = 40.0
+
+[materials.red]
+type = "diffuse"
+reflectance = [0.7, 0.2, 0.2]
+
+[materials.bsdf_1]
+type = "diffuse"
+reflectance = [0.5, 0.5, 0.5]
+
+[materials.bsdf_2]
+type = "diffuse"
+
+[[objects]]
+type = "sphere"
+center = [0.0, 1.0, 0.0]
+radius = 0.8
+material = "red"
+
+[[objects]]
+type = "quad"
+origin = [-5.0, 0.0, 5.0]
+edge_u = [10.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, -10.0]
+material = "bsdf_1"
+
+[[objects]]
+type = "quad"
+origin = [-0.5, 3.0, -0.5]
+edge_u = [1.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 1.0]
+material = "bsdf_2"
+
+[[lights]]
+type = "point"
+position = [2.0, 4.0, 2.0]
+intensity = [20.0, 20.0, 20.0]
+"#;
+
+/// The TOML scene's tree with the area emitter a TOML file cannot give a
+/// shape (a tree made in code can).
+fn toml_tree(integrator: Option<&str>) -> Node {
+    let text = match integrator {
+        Some(i) => TOML_SCENE.replace(
+            "integrator = \"path\"\nmax_depth = 3\n",
+            &format!("integrator = \"{i}\"\n"),
+        ),
+        None => TOML_SCENE.to_string(),
+    };
+    let mut root = from_toml(&text, Path::new("scene.toml")).unwrap();
+    let path = KeyPath::root().key("objects").index(2).key("emitter");
+    let mut area = Node::new(Kind::Emitter, "area", Origin::unlocated(path.clone()));
+    let radiance = path.key("radiance");
+    let items = (0..3)
+        .map(|i| Located::new(Value::Float(10.0), Origin::unlocated(radiance.index(i))))
+        .collect();
+    area.props.push(Prop::new(
+        "radiance",
+        Origin::unlocated(radiance.clone()),
+        Located::new(Value::Array(items), Origin::unlocated(radiance)),
+    ));
+    let lit = root
+        .children
+        .iter_mut()
+        .filter(|c| c.kind == Kind::Shape)
+        .nth(2)
+        .unwrap();
+    lit.children.push(area);
+    root
+}
+
+#[test]
+fn an_xml_scene_and_its_toml_scene_make_the_same_tree() {
+    let d = Dir::new(&[("scene.xml", XML_SCENE)]);
+    let xml = d.tree("scene.xml");
+    let toml = toml_tree(None);
+    assert!(
+        xml.same_as(&toml),
+        "XML:\n{}\nTOML:\n{}",
+        xml.fingerprint(),
+        toml.fingerprint()
+    );
+    // Every value is placed at its XML tag.
+    let sphere = shapes(&xml)[0];
+    let radius = sphere.prop("radius").unwrap();
+    let at = radius.value.origin.at.as_ref().unwrap();
+    assert_eq!((at.line, at.column), (31, 9));
+    assert_eq!(at.file.as_path(), d.path("scene.xml"));
+    assert_eq!(radius.key.path.to_string(), "objects[0].radius");
+}
+
+#[test]
+fn an_xml_scene_renders_the_pixels_of_its_toml_scene() {
+    let d = Dir::new(&[("scene.xml", XML_SCENE)]);
+    let opts = LoadOptions::default();
+    let mut xml = SceneSource::open(d.path("scene.xml").to_str().unwrap(), &opts).unwrap();
+    // Penumbra has no `path` integrator: the build says so, naming the tag.
+    let e = xml.build().err().expect("no path integrator").to_string();
+    assert!(
+        e.contains("scene.xml:4:") && e.contains("unknown integrator `path`"),
+        "{e}"
+    );
+    common::set(
+        &mut xml,
+        Overrides {
+            integrator: Some(IntegratorChoice::Whitted),
+            ..Default::default()
+        },
+    );
+    let xml = xml.build().unwrap();
+    assert!(
+        xml.warnings
+            .iter()
+            .any(|w| w.contains("replaces the scene's integrator `path`")
+                && w.contains("`max_depth`")),
+        "{:?}",
+        xml.warnings
+    );
+    let toml = SceneSource::from_tree(toml_tree(Some("whitted")), d.0.path(), &opts)
+        .build()
+        .unwrap();
+    let (a, _) = common::render_scene(&xml, 2);
+    let (b, _) = common::render_scene(&toml, 2);
+    assert_eq!((a.width, a.height), (64, 48));
+    assert!(a.pixels == b.pixels, "the XML scene renders other pixels");
+    assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+}
+
+// ---------------------------------------------------------------------------
+// Language features.
+
+#[test]
+fn defaults_and_defines_substitute_parameters() {
+    let body = format!(
+        r#"<default name="r" value="0.25"/>
+        <default name="ty" value="sphere"/>
+        {SENSOR}
+        <shape type="$ty"><float name="radius" value="$r"/></shape>"#
+    );
+    let d = one(&body);
+    assert_eq!(
+        prop(shapes(&d.tree("scene.xml"))[0], "radius"),
+        &Value::Float(0.25)
+    );
+    let defined = d.load("scene.xml", &[("r", "2")]).unwrap().root;
+    assert_eq!(prop(shapes(&defined)[0], "radius"), &Value::Float(2.0));
+    let d = with_sensor(r#"<shape type="sphere"><float name="radius" value="$nothing"/></shape>"#);
+    let e = d.err("scene.xml");
+    assert!(e.contains("undefined parameter `$nothing`"), "{e}");
+    assert_eq!(place_of(&e).1, 4);
+}
+
+#[test]
+fn includes_defaults_and_refs_work_across_nested_files() {
+    let d = Dir::new(&[
+        (
+            "scene.xml",
+            &scene(&format!(
+                r#"<default name="radius" value="0.5"/>
+                {SENSOR}
+                <include filename="parts/materials.xml"/>
+                <shape type="sphere"><float name="radius" value="$radius"/><ref id="blue"/></shape>"#
+            )),
+        ),
+        (
+            "parts/materials.xml",
+            r#"<scene version="3.0.0">
+                <default name="radius" value="9"/>
+                <bsdf type="diffuse" id="blue"><rgb name="reflectance" value="0.1, 0.2, 0.7"/></bsdf>
+                <include filename="shapes.xml"/>
+            </scene>"#,
+        ),
+        (
+            "parts/shapes.xml",
+            r#"<shape version="3.0.0" type="sphere"><float name="radius" value="$radius"/><ref id="blue"/></shape>"#,
+        ),
+    ]);
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(s.len(), 2);
+    // The first default of a name holds.
+    for shape in &s {
+        assert_eq!(prop(shape, "radius"), &Value::Float(0.5));
+        assert_eq!(prop(shape, "material"), &Value::String("blue".into()));
+    }
+    let bsdf = root.child(Kind::Bsdf).unwrap();
+    assert_eq!(bsdf.id.as_deref(), Some("blue"));
+    assert_eq!(numbers(prop(bsdf, "reflectance")), [0.1, 0.2, 0.7]);
+    // Places name the file each value is written in.
+    let inner = s[0]
+        .prop("radius")
+        .unwrap()
+        .value
+        .origin
+        .at
+        .clone()
+        .unwrap();
+    assert_eq!(inner.file.as_path(), d.path("parts/shapes.xml"));
+
+    // An error in an included file names that file's line and column.
+    d.write(
+        "parts/shapes.xml",
+        b"<shape version=\"3.0.0\" type=\"sphere\">\n  <float name=\"radius\" value=\"abc\"/>\n</shape>",
+    );
+    let e = d.err("scene.xml");
+    assert!(
+        e.starts_with(&format!("{}:2:31:", d.path("parts/shapes.xml").display())),
+        "{e}"
+    );
+    assert!(e.contains("`abc` is not a finite number"), "{e}");
+}
+
+#[test]
+fn include_loops_directories_devices_and_deep_chains_are_refused() {
+    let d = Dir::new(&[
+        ("scene.xml", &scene(r#"<include filename="a.xml"/>"#)),
+        ("a.xml", &scene(r#"<include filename="b.xml"/>"#)),
+        ("b.xml", &scene(r#"<include filename="a.xml"/>"#)),
+    ]);
+    let e = d.err("scene.xml");
+    assert!(e.contains("a.xml") && e.contains("include loop"), "{e}");
+
+    let e = one(r#"<include filename="gone.xml"/>"#).err("scene.xml");
+    assert!(
+        e.contains("no file") && e.contains("gone.xml") && place_of(&e).1 == 3,
+        "{e}"
+    );
+
+    let d = one(r#"<include filename="sub"/>"#);
+    std::fs::create_dir(d.path("sub")).unwrap();
+    let e = d.err("scene.xml");
+    assert!(e.contains("sub") && e.contains("not a regular file"), "{e}");
+
+    #[cfg(unix)]
+    {
+        let d = one(r#"<include filename="/dev/zero"/>"#);
+        let e = d.err("scene.xml");
+        assert!(
+            e.starts_with("/dev/zero:") && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+
+    // A chain of 40 files, each including the next.
+    let d = Dir::new(&[]);
+    for i in 0..40 {
+        d.write(
+            &format!("f{i}.xml"),
+            scene(&format!(r#"<include filename="f{}.xml"/>"#, i + 1)).as_bytes(),
+        );
+    }
+    d.write("f40.xml", scene("").as_bytes());
+    let e = d.err("f0.xml");
+    assert!(e.contains("deep"), "{e}");
+}
+
+#[test]
+fn the_size_limit_covers_each_file_and_all_includes_together() {
+    let pad = format!("<!-- {} -->", "x".repeat(3000));
+    let d = Dir::new(&[
+        (
+            "scene.xml",
+            &scene(&format!("{pad}<include filename=\"b.xml\"/>")),
+        ),
+        ("b.xml", &scene(&pad)),
+    ]);
+    assert!(
+        mitsuba::from_xml_file(&d.path("scene.xml"), &[], 10_000).is_err_and(|e| {
+            let e = e.to_string();
+            e.contains("sensor")
+        })
+    );
+    let e = mitsuba::from_xml_file(&d.path("scene.xml"), &[], 5_000)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!("{}:", d.path("b.xml").display())) && e.contains("limit"),
+        "{e}"
+    );
+}
+
+#[test]
+fn paths_aliases_and_refs_resolve_and_unknown_or_duplicate_ids_are_refused() {
+    let d = with_sensor(
+        r#"<path value="meshes"/>
+        <bsdf type="diffuse" id="grey"/>
+        <alias id="grey" as="stone"/>
+        <emitter type="area" id="glow"><rgb name="radiance" value="3"/></emitter>
+        <shape type="obj"><string name="filename" value="tri.obj"/><ref name="bsdf" id="stone"/></shape>"#,
+    );
+    std::fs::create_dir(d.path("meshes")).unwrap();
+    // The top-level area emitter is refused: it lights nothing.
+    let e = d.err("scene.xml");
+    assert!(e.contains("area") && e.contains("inside a <shape>"), "{e}");
+
+    let d = with_sensor(
+        r#"<path value="meshes"/>
+        <bsdf type="diffuse" id="grey"/>
+        <alias id="grey" as="stone"/>
+        <shape type="obj"><string name="filename" value="tri.obj"/><ref name="bsdf" id="stone"/>
+            <boolean name="face_normals" value="true"/></shape>
+        <shape type="ply"><string name="filename" value="tri.obj"/></shape>"#,
+    );
+    std::fs::create_dir(d.path("meshes")).unwrap();
+    d.write("meshes/tri.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(s[0].plugin, "mesh");
+    assert_eq!(prop(s[0], "path"), &Value::String("meshes/tri.obj".into()));
+    assert_eq!(prop(s[0], "smooth"), &Value::Bool(false));
+    // The alias names the very material.
+    assert_eq!(prop(s[0], "material"), &Value::String("grey".into()));
+    // Mitsuba's default: smooth normals, and the default material.
+    assert_eq!(prop(s[1], "smooth"), &Value::Bool(true));
+    assert_eq!(prop(s[1], "material"), &Value::String("bsdf_1".into()));
+
+    let d = with_sensor(r#"<shape type="sphere"><ref id="nowhere"/></shape>"#);
+    let e = d.err("scene.xml");
+    assert!(
+        e.contains("no object has the id `nowhere`") && place_of(&e).1 == 4,
+        "{e}"
+    );
+    let d = with_sensor(
+        r#"<bsdf type="diffuse" id="twice"/>
+        <bsdf type="diffuse" id="twice"/>"#,
+    );
+    let e = d.err("scene.xml");
+    assert!(
+        e.contains("the id `twice` is given twice") && place_of(&e).1 == 5,
+        "{e}"
+    );
+    let d = with_sensor(r#"<path value="not-there"/>"#);
+    assert!(d.err("scene.xml").contains("no folder"));
+}
+
+#[test]
+fn property_tags_are_read_and_wrong_types_refused() {
+    let d = with_sensor(
+        r#"<shape type="sphere">
+            <point name="center" value="1, 2, 3"/>
+            <integer name="radius" value="2"/>
+        </shape>
+        <shape type="sphere"><vector name="center" x="1" y="2" z="3"/></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(numbers(prop(s[0], "center")), [1.0, 2.0, 3.0]);
+    assert_eq!(numbers(prop(s[1], "center")), [1.0, 2.0, 3.0]);
+    assert_eq!(prop(s[0], "radius"), &Value::Float(2.0));
+
+    for (body, message) in [
+        (
+            r#"<shape type="sphere"><string name="radius" value="big"/></shape>"#,
+            "`radius` must be a float, got a string",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="1" extra="2"/></shape>"#,
+            "unexpected attribute `extra`",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius"/></shape>"#,
+            "missing attribute `value`",
+        ),
+        (
+            r#"<shape type="sphere"><boolean name="flip_normals" value="yes"/></shape>"#,
+            "is not `true` or `false`",
+        ),
+        (
+            r#"<shape type="sphere"><integer name="radius" value="1.5"/></shape>"#,
+            "is not an integer",
+        ),
+        (
+            r#"<shape type="sphere"><point name="center" value="1, 2"/></shape>"#,
+            "expected 1 or 3 numbers, got 2",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="1"/><float name="radius" value="2"/></shape>"#,
+            "given twice",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="nan"/></shape>"#,
+            "`nan` is not a finite number",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="inf"/></shape>"#,
+            "`inf` is not a finite number",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="1e999"/></shape>"#,
+            "out of range",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="1.2.3"/></shape>"#,
+            "is not a finite number",
+        ),
+        (
+            r#"<shape type="sphere"><rgb name="x" value="1, 2"/></shape>"#,
+            "<rgb>: expected 1 or 3 numbers",
+        ),
+        (
+            r#"<shape type="sphere"><blob name="x"/></shape>"#,
+            "<blob> is not a tag",
+        ),
+        (
+            r#"<shape type="sphere">text</shape>"#,
+            "text is not allowed",
+        ),
+        (
+            r#"<shape><float name="radius" value="1"/></shape>"#,
+            "missing attribute `type`",
+        ),
+    ] {
+        let e = with_sensor(body).err("scene.xml");
+        assert!(e.contains(message), "{body}: {e}");
+        let (file, line, col) = place_of(&e);
+        assert!(
+            file.ends_with("scene.xml") && line == 4 && col > 0,
+            "{body}: {e}"
+        );
+    }
+}
+
+#[test]
+fn spectra_convert_as_mitsubas_rgb_variants() {
+    let d = with_sensor(
+        r#"<bsdf type="diffuse" id="flat"><spectrum name="reflectance" value="0.5"/></bsdf>
+        <bsdf type="diffuse" id="sampled"><spectrum name="reflectance" value="400:0.2, 500:0.6, 600:0.4, 700:0.3"/></bsdf>
+        <bsdf type="diffuse" id="filed"><spectrum name="reflectance" filename="refl.spd"/></bsdf>
+        <emitter type="point"><spectrum name="intensity" value="10"/></emitter>
+        <emitter type="constant"><spectrum name="radiance" value="360:1, 830:1"/></emitter>"#,
+    );
+    d.write(
+        "refl.spd",
+        b"# wavelength value\n400 0.2\n500 0.6\n600 0.4\n700 0.3\n",
+    );
+    let root = d.tree("scene.xml");
+    let bsdf = |id: &str| {
+        root.children_of(Kind::Bsdf)
+            .find(|b| b.id.as_deref() == Some(id))
+            .unwrap()
+    };
+    assert_eq!(numbers(prop(bsdf("flat"), "reflectance")), [0.5; 3]);
+    let sampled = numbers(prop(bsdf("sampled"), "reflectance"));
+    let expect = spectrum::to_rgb(
+        &spectrum::parse("400:0.2, 500:0.6, 600:0.4, 700:0.3").unwrap(),
+        spectrum::Use::Reflectance,
+    );
+    assert_eq!(sampled, expect);
+    assert_eq!(numbers(prop(bsdf("filed"), "reflectance")), expect);
+    // A constant emission is the value times sRGB of XYZ (1, 1, 1): the
+    // row sums of the XYZ → sRGB matrix.
+    let light = root
+        .child(Kind::Emitter)
+        .filter(|e| e.plugin == "constant")
+        .unwrap();
+    let point = root
+        .children_of(Kind::Emitter)
+        .find(|e| e.plugin == "point")
+        .unwrap();
+    let by_hand = [1.204794, 0.948291, 0.908916];
+    assert!(close(
+        &numbers(prop(point, "intensity")),
+        &by_hand.map(|c| 10.0 * c),
+        1e-9
+    ));
+    // A flat sampled emission over the whole range is the same colour.
+    assert!(close(&numbers(prop(light, "radiance")), &by_hand, 5e-3));
+    let e = with_sensor(
+        r#"<bsdf type="diffuse"><spectrum name="reflectance" value="500:1, 400:1"/></bsdf>"#,
+    )
+    .err("scene.xml");
+    assert!(e.contains("must increase"), "{e}");
+    let e = with_sensor(
+        r#"<bsdf type="diffuse"><spectrum name="reflectance" filename="none.spd"/></bsdf>"#,
+    )
+    .err("scene.xml");
+    assert!(
+        e.contains("cannot read the spectrum") && place_of(&e).1 == 4,
+        "{e}"
+    );
+}
+
+#[test]
+fn transforms_compose_each_operation_after_the_last() {
+    let d = with_sensor(
+        r#"<shape type="sphere">
+            <transform name="to_world">
+                <translate x="1"/>
+                <scale value="2"/>
+                <rotate z="1" angle="90"/>
+            </transform>
+        </shape>
+        <shape type="obj">
+            <string name="filename" value="m.obj"/>
+            <transform name="to_world">
+                <scale x="2" y="3" z="4"/>
+                <translate value="1, 2, 3"/>
+            </transform>
+        </shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let matrix = |shape: &Node| match prop(shape, "transform") {
+        Value::Table(props) => numbers(&props[0].value.value),
+        other => panic!("{other:?}"),
+    };
+    // rotate_z(90) · scale(2) · translate(1, 0, 0), by hand.
+    let by_hand = [
+        0.0, -2.0, 0.0, 0.0, //
+        2.0, 0.0, 0.0, 2.0, //
+        0.0, 0.0, 2.0, 0.0, //
+        0.0, 0.0, 0.0, 1.0,
+    ];
+    let s = shapes(&root);
+    assert!(close(&matrix(s[0]), &by_hand, 1e-12), "{:?}", matrix(s[0]));
+    let by_hand = [
+        2.0, 0.0, 0.0, 1.0, //
+        0.0, 3.0, 0.0, 2.0, //
+        0.0, 0.0, 4.0, 3.0, //
+        0.0, 0.0, 0.0, 1.0,
+    ];
+    assert_eq!(matrix(s[1]), by_hand);
+    // The same order as the module's own product.
+    let m = transform::mul(
+        &transform::translate([1.0, 2.0, 3.0]),
+        &transform::scale([2.0, 3.0, 4.0]),
+    );
+    assert_eq!(m.iter().flatten().copied().collect::<Vec<_>>(), by_hand);
+
+    for (ops, message) in [
+        (r#"<scale x="0"/>"#, "singular"),
+        (
+            r#"<matrix value="1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1"/>"#,
+            "affine",
+        ),
+        (
+            r#"<matrix value="1 0 0"/>"#,
+            "expected 16 (or 9) numbers, got 3",
+        ),
+        (r#"<rotate angle="30"/>"#, "the axis is zero"),
+        (r#"<rotate x="1"/>"#, "missing attribute `angle`"),
+        (r#"<lookat origin="0,0,0" target="0,0,0"/>"#, "coincide"),
+        (r#"<translate x="nan"/>"#, "not a finite number"),
+        (r#"<shear x="1"/>"#, "not a transform operation"),
+    ] {
+        let body =
+            format!(r#"<shape type="sphere"><transform name="to_world">{ops}</transform></shape>"#);
+        let e = with_sensor(&body).err("scene.xml");
+        assert!(e.contains(message) && place_of(&e).1 == 4, "{ops}: {e}");
+    }
+}
+
+#[test]
+fn rectangles_become_quads_with_mitsubas_normal() {
+    let d = with_sensor(
+        r#"<shape type="rectangle"/>
+        <shape type="rectangle"><transform name="to_world"><scale z="-1"/></transform></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(s[0].plugin, "quad");
+    assert_eq!(numbers(prop(s[0], "origin")), [-1.0, -1.0, 0.0]);
+    assert_eq!(numbers(prop(s[0], "edge_u")), [2.0, 0.0, 0.0]);
+    assert_eq!(numbers(prop(s[0], "edge_v")), [0.0, 2.0, 0.0]);
+    // Mirrored: the edges swap, so that u × v is still the transformed +z (-z).
+    let (u, v) = (numbers(prop(s[1], "edge_u")), numbers(prop(s[1], "edge_v")));
+    let n = transform::cross([u[0], u[1], u[2]], [v[0], v[1], v[2]]);
+    assert!(n[2] < 0.0, "{n:?}");
+}
+
+#[test]
+fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
+    let fov_of = |body: &str| {
+        let d = one(body);
+        let root = d.tree("scene.xml");
+        match prop(sensor(&root), "fov") {
+            Value::Float(f) => *f,
+            other => panic!("{other:?}"),
+        }
+    };
+    let film = r#"<film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/></film>"#;
+    let half_tan = |deg: f64| (deg.to_radians() / 2.0).tan();
+    let deg = |t: f64| 2.0 * t.atan().to_degrees();
+    let cases = [
+        ("x", deg(half_tan(60.0) / 2.0)),
+        ("y", 60.0),
+        ("diagonal", deg(half_tan(60.0) / 5f64.sqrt())),
+        ("smaller", 60.0),
+        ("larger", deg(half_tan(60.0) / 2.0)),
+    ];
+    for (axis, expect) in cases {
+        let body = format!(
+            r#"<sensor type="perspective"><float name="fov" value="60"/><string name="fov_axis" value="{axis}"/>{film}</sensor>"#
+        );
+        assert!((fov_of(&body) - expect).abs() < 1e-12, "{axis}");
+    }
+    // No fov: a 50 mm lens on 36 × 24 mm film, along the diagonal; 768 × 576.
+    let d = one(r#"<sensor type="perspective"/>"#);
+    let root = d.tree("scene.xml");
+    let f = root.child(Kind::Sensor).unwrap().child(Kind::Film).unwrap();
+    assert_eq!(
+        (prop(f, "width"), prop(f, "height")),
+        (&Value::Int(768), &Value::Int(576))
+    );
+    assert_eq!(prop(f, "filter"), &Value::String("gaussian".into()));
+    let diagonal = 2.0 * (43.266615305567875f64 / 100.0).atan().to_degrees();
+    let expect = deg(half_tan(diagonal) / (1.0 + (4.0f64 / 3.0).powi(2)).sqrt());
+    let Value::Float(v) = prop(sensor(&root), "fov") else {
+        panic!()
+    };
+    assert!((v - expect).abs() < 1e-9, "{v} {expect}");
+    let s = sensor(&root).child(Kind::Sampler).unwrap();
+    assert_eq!(prop(s, "spp"), &Value::Int(4));
+    assert_eq!(prop(s, "distribution"), &Value::String("random".into()));
+
+    // A thin lens, looking down -z from (1, 2, 3).
+    let d = one(r#"<sensor type="thinlens">
+            <float name="aperture_radius" value="0.1"/><float name="focus_distance" value="4"/>
+            <float name="fov" value="30"/>
+            <transform name="to_world"><translate value="1, 2, 3"/><rotate y="1" angle="180"/></transform>
+            <sampler type="ldsampler"><integer name="sample_count" value="16"/></sampler>
+            <film type="hdrfilm"><rfilter type="tent"/></film>
+        </sensor>"#);
+    let loaded = d.load("scene.xml", &[]).unwrap();
+    let cam = sensor(&loaded.root);
+    assert_eq!(prop(cam, "aperture"), &Value::Float(0.1));
+    assert_eq!(prop(cam, "focal_distance"), &Value::Float(4.0));
+    assert!(close(
+        &numbers(prop(cam, "position")),
+        &[-1.0, 2.0, -3.0],
+        1e-12
+    ));
+    assert!(close(
+        &numbers(prop(cam, "look_at")),
+        &[-1.0, 2.0, -4.0],
+        1e-12
+    ));
+    assert!(close(&numbers(prop(cam, "up")), &[0.0, 1.0, 0.0], 1e-12));
+    let s = cam.child(Kind::Sampler).unwrap();
+    assert_eq!(prop(s, "distribution"), &Value::String("sobol".into()));
+    assert_eq!(prop(s, "spp"), &Value::Int(16));
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[0].contains("ldsampler"));
+    let f = cam.child(Kind::Film).unwrap();
+    assert_eq!(prop(f, "filter"), &Value::String("tent".into()));
+
+    for (sampler, dist) in [
+        ("independent", "random"),
+        ("stratified", "jitter"),
+        ("multijitter", "jitter"),
+        ("orthogonal", "pmj02"),
+    ] {
+        let d = one(&format!(
+            r#"<sensor type="perspective"><sampler type="{sampler}"/></sensor>"#
+        ));
+        let root = d.tree("scene.xml");
+        let s = sensor(&root).child(Kind::Sampler).unwrap();
+        assert_eq!(
+            prop(s, "distribution"),
+            &Value::String(dist.into()),
+            "{sampler}"
+        );
+    }
+
+    for (body, message) in [
+        (
+            r#"<sensor type="perspective"><transform name="to_world"><scale x="-1"/></transform></sensor>"#,
+            "mirrors",
+        ),
+        (
+            r#"<sensor type="perspective"><float name="fov" value="180"/></sensor>"#,
+            "between 0 and 180",
+        ),
+        (
+            r#"<sensor type="perspective"><string name="fov_axis" value="z"/><float name="fov" value="30"/></sensor>"#,
+            "not one of x, y",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="0"/></film></sensor>"#,
+            "at least 1",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="specfilm"/></sensor>"#,
+            "film `specfilm` is not supported; supported: hdrfilm",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="lanczos"/></film></sensor>"#,
+            "rfilter `lanczos` is not supported",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="gaussian"><float name="stddev" value="2"/></rfilter></film></sensor>"#,
+            "other values are not supported",
+        ),
+        (
+            r#"<sensor type="orthographic"/>"#,
+            "sensor `orthographic` is not supported; supported: perspective, thinlens",
+        ),
+        (
+            r#"<sensor type="thinlens"><float name="focus_distance" value="1"/></sensor>"#,
+            "missing `aperture_radius`",
+        ),
+        (
+            r#"<sensor type="perspective"><sampler type="sobolish"/></sensor>"#,
+            "sampler `sobolish` is not supported",
+        ),
+    ] {
+        let e = one(body).err("scene.xml");
+        assert!(e.contains(message) && place_of(&e).1 >= 3, "{body}: {e}");
+    }
+    // An absurd size passes the reader and is refused by the builder.
+    let d = one(
+        r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="1000000"/></film></sensor>"#,
+    );
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("scene.xml:3:") && e.contains("render.width"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unsupported_plugins_are_refused_naming_what_is_supported() {
+    for (body, message) in [
+        (
+            r#"<bsdf type="conductor"/>"#,
+            "bsdf `conductor` is not supported; supported: diffuse",
+        ),
+        (
+            r#"<bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#,
+            "a `twosided` of two materials is not supported",
+        ),
+        (
+            r#"<bsdf type="twosided"><bsdf type="plastic"/></bsdf>"#,
+            "bsdf inside `twosided` `plastic` is not supported; supported: diffuse",
+        ),
+        (
+            r#"<shape type="disk"/>"#,
+            "shape `disk` is not supported; supported: sphere, rectangle, obj, ply",
+        ),
+        (r#"<shape type="cube"/>"#, "shape `cube` is not supported"),
+        (
+            r#"<emitter type="envmap"/>"#,
+            "emitter `envmap` is not supported; supported: point, constant, area",
+        ),
+        (
+            r#"<integrator type="volpath"/>"#,
+            "integrator `volpath` is not supported; supported: path, direct",
+        ),
+        (
+            r#"<texture type="bitmap"/>"#,
+            "<texture> is not supported in a scene",
+        ),
+        (
+            r#"<shape type="sphere"><emitter type="point"/></shape>"#,
+            "carries an `area` emitter, not `point`",
+        ),
+        (
+            r#"<shape type="sphere"><float name="weird" value="1"/></shape>"#,
+            "`weird` is not a parameter of the shape `sphere`",
+        ),
+        (
+            r#"<shape type="sphere"><boolean name="flip_normals" value="true"/></shape>"#,
+            "`flip_normals` is not supported",
+        ),
+        (
+            r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance"/></bsdf>"#,
+            "a <texture> inside the bsdf `diffuse` is not supported",
+        ),
+        (r#"<shape type="obj"/>"#, "missing `filename`"),
+    ] {
+        let e = with_sensor(body).err("scene.xml");
+        assert!(e.contains(message), "{body}: {e}");
+        assert_eq!(place_of(&e).1, 4, "{body}: {e}");
+    }
+    let e = one("").err("scene.xml");
+    assert!(e.contains("no <sensor>"), "{e}");
+}
+
+#[test]
+fn a_twosided_diffuse_is_a_diffuse_material_reflecting_on_both_sides() {
+    let d = with_sensor(
+        r#"<bsdf type="twosided" id="walls"><bsdf type="diffuse"><rgb name="reflectance" value="0.4"/></bsdf></bsdf>
+        <shape type="rectangle"><ref id="walls"/></shape>
+        <shape type="sphere"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let walls = root
+        .children_of(Kind::Bsdf)
+        .find(|b| b.id.as_deref() == Some("walls"))
+        .unwrap();
+    assert_eq!(walls.plugin, "diffuse");
+    assert_eq!(prop(walls, "two_sided"), &Value::Bool(true));
+    assert_eq!(numbers(prop(walls, "reflectance")), [0.4; 3]);
+    let s = shapes(&root);
+    assert_eq!(prop(s[0], "material"), &Value::String("walls".into()));
+    assert_eq!(prop(s[1], "material"), &Value::String("bsdf_1".into()));
+    let inner = root
+        .children_of(Kind::Bsdf)
+        .find(|b| b.id.as_deref() == Some("bsdf_1"))
+        .unwrap();
+    assert_eq!(prop(inner, "two_sided"), &Value::Bool(true));
+    // It builds: the diffuse material takes `two_sided`.
+    let mut src = SceneSource::from_tree(root, d.0.path(), &LoadOptions::default());
+    common::set(
+        &mut src,
+        Overrides {
+            integrator: Some(IntegratorChoice::Whitted),
+            ..Default::default()
+        },
+    );
+    src.build().unwrap();
+}
+
+#[test]
+fn integrators_are_lowered_as_themselves_and_absent_is_path() {
+    let root = with_sensor("").tree("scene.xml");
+    let i = root.child(Kind::Integrator).unwrap();
+    assert_eq!((i.plugin.as_str(), i.props.len()), ("path", 0));
+    let root = with_sensor(
+        r#"<integrator type="direct"><integer name="emitter_samples" value="4"/><boolean name="hide_emitters" value="true"/></integrator>"#,
+    )
+    .tree("scene.xml");
+    let i = root.child(Kind::Integrator).unwrap();
+    assert_eq!(i.plugin, "direct");
+    assert_eq!(prop(i, "emitter_samples"), &Value::Int(4));
+    assert_eq!(prop(i, "hide_emitters"), &Value::Bool(true));
+}
+
+#[test]
+fn old_scenes_are_upgraded_with_one_warning() {
+    let d = Dir::new(&[(
+        "scene.xml",
+        r#"<scene version="0.6.0">
+            <sensor type="perspective">
+                <float name="fov" value="30"/>
+                <string name="fovAxis" value="y"/>
+                <sampler type="independent"><integer name="sampleCount" value="8"/></sampler>
+            </sensor>
+            <bsdf type="diffuse" id="m"><rgb name="diffuseReflectance" value="0.3"/></bsdf>
+            <shape type="sphere"><ref id="m"/></shape>
+            <shape type="obj"><string name="filename" value="x.obj"/><boolean name="faceNormals" value="true"/></shape>
+        </scene>"#,
+    )]);
+    let loaded = d.load("scene.xml", &[]).unwrap();
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings[0].contains("0.6.0"),
+        "{}",
+        loaded.warnings[0]
+    );
+    let root = &loaded.root;
+    assert_eq!(prop(sensor(root), "fov"), &Value::Float(30.0));
+    let s = sensor(root).child(Kind::Sampler).unwrap();
+    assert_eq!(prop(s, "spp"), &Value::Int(8));
+    let m = root
+        .children_of(Kind::Bsdf)
+        .find(|b| b.id.as_deref() == Some("m"))
+        .unwrap();
+    assert_eq!(numbers(prop(m, "reflectance")), [0.3; 3]);
+    assert_eq!(prop(shapes(root)[1], "smooth"), &Value::Bool(false));
+
+    // uoffset/uscale become a to_uv transform, which no plugin here takes.
+    let d = Dir::new(&[(
+        "scene.xml",
+        r#"<scene version="0.5.0"><shape type="sphere"><float name="uoffset" value="0.5"/></shape></scene>"#,
+    )]);
+    let e = d.err("scene.xml");
+    assert!(e.contains("`to_uv` is not a parameter"), "{e}");
+}
+
+// ---------------------------------------------------------------------------
+// Hostile files.
+
+#[test]
+fn malformed_xml_is_refused_with_its_place() {
+    for (text, message, line) in [
+        (
+            "<scene version=\"3.0.0\">\n<shape type=\"sphere\" type=\"x\"/>\n</scene>",
+            "malformed XML",
+            2,
+        ),
+        (
+            "<scene version=\"3.0.0\"/>\n<scene version=\"3.0.0\"/>\n",
+            "malformed XML",
+            2,
+        ),
+        (
+            "<scene version=\"3.0.0\">\n<shape>\n</scene>",
+            "malformed XML",
+            3,
+        ),
+        ("<scene>\n</scene>", "missing attribute `version`", 1),
+        ("<scene version=\"three\"/>", "is not a version", 1),
+        (
+            "<shape version=\"3.0.0\" type=\"sphere\"/>",
+            "the root element is <shape>",
+            1,
+        ),
+        ("", "malformed XML", 1),
+    ] {
+        let d = Dir::new(&[("scene.xml", text)]);
+        let e = d.err("scene.xml");
+        let (file, l, c) = place_of(&e);
+        assert!(
+            e.contains(message) && file.ends_with("scene.xml") && l == line && c > 0,
+            "{text:?}: {e}"
+        );
+    }
+    let d = Dir::new(&[]);
+    d.write(
+        "scene.xml",
+        b"<scene version=\"3.0.0\">\n<!-- \xff\xfe -->\n</scene>",
+    );
+    let e = d.err("scene.xml");
+    assert!(e.contains("not valid UTF-8") && place_of(&e).1 == 2, "{e}");
+}
+
+#[test]
+fn a_billion_laughs_is_refused_at_once() {
+    let mut text =
+        String::from("<?xml version=\"1.0\"?>\n<!DOCTYPE scene [\n<!ENTITY lol \"lol\">\n");
+    for i in 1..10 {
+        let prev = if i == 1 {
+            "lol".to_string()
+        } else {
+            format!("lol{}", i - 1)
+        };
+        text.push_str(&format!(
+            "<!ENTITY lol{i} \"{}\">\n",
+            format!("&{prev};").repeat(10)
+        ));
+    }
+    text.push_str("]>\n<scene version=\"3.0.0\"><string name=\"x\" value=\"&lol9;\"/></scene>\n");
+    let d = Dir::new(&[("scene.xml", &text)]);
+    let start = std::time::Instant::now();
+    let e = d.err("scene.xml");
+    assert!(start.elapsed().as_secs() < 2);
+    assert!(
+        e.contains("malformed XML") && e.contains("DTD") && place_of(&e).1 >= 1,
+        "{e}"
+    );
+    // An external entity is never fetched either: DTDs are refused whole.
+    let ext = "<?xml version=\"1.0\"?>\n<!DOCTYPE scene [<!ENTITY x SYSTEM \"/etc/passwd\">]>\n<scene version=\"3.0.0\"/>";
+    let e = Dir::new(&[("scene.xml", ext)]).err("scene.xml");
+    assert!(e.contains("DTD"), "{e}");
+}
+
+#[test]
+fn deep_nesting_is_refused_without_overflowing_the_stack() {
+    let n = 100_000;
+    let text = format!(
+        "<scene version=\"3.0.0\">{}{}</scene>",
+        "<shape type=\"sphere\">".repeat(n),
+        "</shape>".repeat(n)
+    );
+    let d = Dir::new(&[("scene.xml", &text)]);
+    // A thread with a small stack, as tests and Python callers have.
+    let path = d.path("scene.xml");
+    let e = std::thread::Builder::new()
+        .stack_size(256 << 10)
+        .spawn(move || {
+            mitsuba::from_xml_file(&path, &[], LIMIT)
+                .unwrap_err()
+                .to_string()
+        })
+        .unwrap()
+        .join()
+        .unwrap();
+    assert!(
+        e.contains("nest more than 64 deep") && place_of(&e).1 == 1,
+        "{e}"
+    );
+}
+
+#[test]
+fn a_missing_mesh_is_named_when_the_scene_is_built() {
+    let d = with_sensor(r#"<shape type="ply"><string name="filename" value="gone.ply"/></shape>"#);
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(e.contains("scene.xml:4:") && e.contains("gone.ply"), "{e}");
+}
+
+#[test]
+fn defines_are_refused_for_a_toml_scene() {
+    let d = Dir::new(&[("scene.toml", "")]);
+    let opts = LoadOptions {
+        defines: vec![("a".into(), "1".into())],
+        ..Default::default()
+    };
+    let e = SceneSource::open(d.path("scene.toml").to_str().unwrap(), &opts)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("-D"), "{e}");
+}
+
+#[test]
+fn a_path_is_a_child_of_a_scene_in_any_file() {
+    let d = Dir::new(&[
+        (
+            "scene.xml",
+            &scene(&format!(r#"{SENSOR}<include filename="sub/more.xml"/>"#)),
+        ),
+        (
+            "sub/more.xml",
+            r#"<scene version="3.0.0"><path value="meshes"/><shape type="obj"><string name="filename" value="m.obj"/></shape></scene>"#,
+        ),
+        ("sub/meshes/m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    ]);
+    let root = d.tree("scene.xml");
+    assert_eq!(
+        prop(shapes(&root)[0], "path"),
+        &Value::String("sub/meshes/m.obj".into())
+    );
+    let e = with_sensor(r#"<shape type="sphere"><path value="."/></shape>"#).err("scene.xml");
+    assert!(e.contains("<path> must be a child of <scene>"), "{e}");
+}
