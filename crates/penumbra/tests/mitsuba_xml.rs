@@ -296,12 +296,18 @@ fn an_xml_scene_renders_the_pixels_of_its_toml_scene() {
     let d = Dir::new(&[("scene.xml", XML_SCENE)]);
     let opts = LoadOptions::default();
     let mut xml = SceneSource::open(d.path("scene.xml").to_str().unwrap(), &opts).unwrap();
-    // Penumbra has no `path` integrator: the build says so, naming the tag.
-    let e = xml.build().err().expect("no path integrator").to_string();
-    assert!(
-        e.contains("scene.xml:4:") && e.contains("unknown integrator `path`"),
-        "{e}"
-    );
+    // Its `path` integrator renders what the TOML scene's does.
+    let path = xml.build().expect("the path integrator builds");
+    assert_eq!(path.settings.integrator, IntegratorChoice::Path);
+    assert_eq!(path.settings.depth(), 3);
+    let toml = SceneSource::from_tree(toml_tree(None), d.0.path(), &opts)
+        .build()
+        .unwrap();
+    let (a, _) = common::render_scene(&path, 2);
+    let (b, _) = common::render_scene(&toml, 2);
+    assert!(a.pixels == b.pixels, "the XML scene's paths differ");
+    assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+    // `--integrator whitted` replaces it whole, saying what it drops.
     common::set(
         &mut xml,
         Overrides {
@@ -923,8 +929,17 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
 fn unsupported_plugins_are_refused_naming_what_is_supported() {
     for (body, message) in [
         (
-            r#"<bsdf type="conductor"/>"#,
-            "bsdf `conductor` is not supported; supported: diffuse",
+            r#"<bsdf type="plastic"/>"#,
+            "bsdf `plastic` is not supported; supported: diffuse, twosided (around a diffuse), \
+             conductor, roughconductor, dielectric, roughdielectric, thindielectric",
+        ),
+        (
+            r#"<bsdf type="twosided"><bsdf type="conductor"/></bsdf>"#,
+            "bsdf inside `twosided` `conductor` is not supported; supported: diffuse",
+        ),
+        (
+            r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
+            "`alpha` is not a parameter of the bsdf `conductor`",
         ),
         (
             r#"<bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#,
@@ -975,6 +990,75 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
     }
     let e = one("").err("scene.xml");
     assert!(e.contains("no <sensor>"), "{e}");
+}
+
+/// Mitsuba's conductors and dielectrics are Penumbra's models of the same
+/// names, their parameters as they are: names of materials and indices,
+/// numbers, colours, microfacet settings; the scene builds and renders.
+#[test]
+fn conductors_and_dielectrics_keep_their_names_and_parameters() {
+    let d = with_sensor(
+        r#"<bsdf type="roughconductor" id="gold">
+            <string name="material" value="Au"/>
+            <string name="distribution" value="ggx"/>
+            <float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/>
+            <boolean name="sample_visible" value="false"/>
+        </bsdf>
+        <bsdf type="conductor" id="mirror">
+            <rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 1.6"/>
+        </bsdf>
+        <bsdf type="dielectric" id="water"><string name="int_ior" value="water"/><float name="ext_ior" value="1.0"/></bsdf>
+        <bsdf type="roughdielectric" id="frosted"><float name="alpha" value="0.2"/><rgb name="specular_transmittance" value="0.9"/></bsdf>
+        <bsdf type="thindielectric" id="sheet"/>
+        <shape type="sphere"><ref id="gold"/></shape>
+        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="mirror"/></shape>
+        <shape type="sphere"><point name="center" x="-2" y="0" z="0"/><ref id="water"/></shape>
+        <shape type="sphere"><point name="center" x="0" y="2" z="0"/><ref id="frosted"/></shape>
+        <shape type="sphere"><point name="center" x="0" y="-2" z="0"/><ref id="sheet"/></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let bsdf = |id: &str| {
+        root.children_of(Kind::Bsdf)
+            .find(|b| b.id.as_deref() == Some(id))
+            .unwrap_or_else(|| panic!("{id}"))
+    };
+    let gold = bsdf("gold");
+    assert_eq!(gold.plugin, "roughconductor");
+    assert_eq!(prop(gold, "material"), &Value::String("Au".into()));
+    assert_eq!(prop(gold, "alpha_v"), &Value::Float(0.3));
+    assert_eq!(prop(gold, "sample_visible"), &Value::Bool(false));
+    assert_eq!(numbers(prop(bsdf("mirror"), "k")), [3.9, 2.4, 1.6]);
+    let water = bsdf("water");
+    assert_eq!(prop(water, "int_ior"), &Value::String("water".into()));
+    assert_eq!(prop(water, "ext_ior"), &Value::Float(1.0));
+    assert_eq!(bsdf("frosted").plugin, "roughdielectric");
+    assert_eq!(bsdf("sheet").plugin, "thindielectric");
+    let mut src = SceneSource::open(
+        d.path("scene.xml").to_str().unwrap(),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    common::set(
+        &mut src,
+        Overrides {
+            width: Some(16),
+            height: Some(12),
+            spp: Some(2),
+            ..Default::default()
+        },
+    );
+    let scene = src.build().unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = scene.bsdfs.iter().map(|b| b.name()).collect();
+    for m in [
+        "roughconductor",
+        "conductor",
+        "dielectric",
+        "roughdielectric",
+        "thindielectric",
+    ] {
+        assert!(names.contains(&m), "{names:?}");
+    }
+    common::render_scene(&scene, 2);
 }
 
 #[test]

@@ -14,7 +14,103 @@ use crate::description::tree::{Kind, Located, Node, Prop, Value};
 
 /// The plugins read, by tag, in the order messages list them.
 pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply"];
-pub const BSDFS: &[&str] = &["diffuse", "twosided (around a diffuse)"];
+pub const BSDFS: &[&str] = &[
+    "diffuse",
+    "twosided (around a diffuse)",
+    "conductor",
+    "roughconductor",
+    "dielectric",
+    "roughdielectric",
+    "thindielectric",
+];
+
+/// The parameters of the BSDFs Penumbra has under Mitsuba's own names and
+/// parameters, each read as the kind it is.
+const MITSUBA_BSDFS: &[(&str, &[(&str, BsdfParam)])] = {
+    use BsdfParam::{Flag, Ior, Number, Reflectance, Text, Unbounded};
+    const MICROFACET: [(&str, BsdfParam); 5] = [
+        ("distribution", Text),
+        ("alpha", Number),
+        ("alpha_u", Number),
+        ("alpha_v", Number),
+        ("sample_visible", Flag),
+    ];
+    &[
+        (
+            "conductor",
+            &[
+                ("material", Text),
+                ("eta", Unbounded),
+                ("k", Unbounded),
+                ("specular_reflectance", Reflectance),
+            ],
+        ),
+        (
+            "roughconductor",
+            &[
+                ("material", Text),
+                ("eta", Unbounded),
+                ("k", Unbounded),
+                ("specular_reflectance", Reflectance),
+                MICROFACET[0],
+                MICROFACET[1],
+                MICROFACET[2],
+                MICROFACET[3],
+                MICROFACET[4],
+            ],
+        ),
+        (
+            "dielectric",
+            &[
+                ("int_ior", Ior),
+                ("ext_ior", Ior),
+                ("specular_reflectance", Reflectance),
+                ("specular_transmittance", Reflectance),
+            ],
+        ),
+        (
+            "roughdielectric",
+            &[
+                ("int_ior", Ior),
+                ("ext_ior", Ior),
+                ("specular_reflectance", Reflectance),
+                ("specular_transmittance", Reflectance),
+                MICROFACET[0],
+                MICROFACET[1],
+                MICROFACET[2],
+                MICROFACET[3],
+                MICROFACET[4],
+            ],
+        ),
+        (
+            "thindielectric",
+            &[
+                ("int_ior", Ior),
+                ("ext_ior", Ior),
+                ("specular_reflectance", Reflectance),
+                ("specular_transmittance", Reflectance),
+            ],
+        ),
+    ]
+};
+
+/// How a parameter of [`MITSUBA_BSDFS`] is read.
+#[derive(Clone, Copy)]
+enum BsdfParam {
+    /// A colour factor in [0, 1], a spectrum converted as a reflectance.
+    Reflectance,
+    /// A colour of any size (a conductor's `eta` and `k`), a spectrum
+    /// converted without an illuminant.
+    Unbounded,
+    /// A float.
+    Number,
+    /// A float or a name (an index of refraction).
+    Ior,
+    /// A string.
+    Text,
+    /// A boolean.
+    Flag,
+}
 pub const EMITTERS: &[&str] = &["point", "constant", "area"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
@@ -767,12 +863,14 @@ impl Out<'_> {
         } else {
             (obj, false)
         };
+        if let (Some((_, params)), false) = (
+            MITSUBA_BSDFS.iter().find(|(n, _)| *n == inner.plugin),
+            two_sided,
+        ) {
+            return self.mitsuba_bsdf(inner, params);
+        }
         if inner.plugin != "diffuse" {
-            let supported: &[&str] = if two_sided {
-                &["diffuse"]
-            } else {
-                &["diffuse", "twosided (around a diffuse)"]
-            };
+            let supported: &[&str] = if two_sided { &["diffuse"] } else { BSDFS };
             let what = if two_sided {
                 "bsdf inside `twosided`"
             } else {
@@ -804,6 +902,62 @@ impl Out<'_> {
             set(&mut node, &base, "two_sided", &obj.plugin_at, |p, at| {
                 located(Value::Bool(true), p, at)
             });
+        }
+        self.bsdfs.push(node);
+        Ok(name)
+    }
+
+    /// A BSDF Penumbra has under Mitsuba's name, with its parameters as
+    /// they are (`params`: each name and how it is read): its material's
+    /// name.
+    fn mitsuba_bsdf(
+        &mut self,
+        obj: &Object,
+        params: &[(&str, BsdfParam)],
+    ) -> Result<String, SceneError> {
+        let known: Vec<&str> = params.iter().map(|(n, _)| *n).collect();
+        self.no_props(obj, &known)?;
+        self.no_children(obj)?;
+        let name = match obj.id.as_ref() {
+            Some(id) => id.clone(),
+            None => self.fresh_name(),
+        };
+        if !self.names.insert(name.clone()) {
+            return Ok(name);
+        }
+        let base = KeyPath::root().key("materials").key(&name);
+        let mut node = Node::new(
+            Kind::Bsdf,
+            obj.plugin.clone(),
+            Origin::new(base.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        node.id = Some(name.clone());
+        for &(key, kind) in params {
+            let value = match kind {
+                BsdfParam::Reflectance | BsdfParam::Unbounded => {
+                    let usage = match kind {
+                        BsdfParam::Reflectance => Use::Reflectance,
+                        _ => Use::Emission,
+                    };
+                    if let Some((c, at)) = get_color(obj, key, usage)? {
+                        set(&mut node, &base, key, at, |p, at| vec3(c, p, at));
+                    }
+                    continue;
+                }
+                BsdfParam::Number => get_float(obj, key)?.map(|(x, at)| (Value::Float(x), at)),
+                BsdfParam::Flag => get_bool(obj, key)?.map(|(b, at)| (Value::Bool(b), at)),
+                BsdfParam::Text => {
+                    get_string(obj, key)?.map(|(s, at)| (Value::String(s.to_string()), at))
+                }
+                BsdfParam::Ior => match obj.prop(key).map(|p| (&p.value, &p.at)) {
+                    Some((PropValue::String(s), at)) => Some((Value::String(s.clone()), at)),
+                    _ => get_float(obj, key)?.map(|(x, at)| (Value::Float(x), at)),
+                },
+            };
+            if let Some((v, at)) = value {
+                set(&mut node, &base, key, at, |p, at| located(v, p, at));
+            }
         }
         self.bsdfs.push(node);
         Ok(name)
