@@ -82,8 +82,9 @@ def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
     expected = {f["flag"] for f in FLAGS} | {f["off_flag"] for f in FLAGS if f["off_flag"]}
     binary = subprocess.run([str(cli), "render", "--help"], capture_output=True, text=True, check=True)
     # --max-file-size is the binary's global flag, not a render option
-    # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE, as its workers do).
-    binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size"}
+    # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE, as its workers do);
+    # --define sets a Mitsuba XML scene's parameters, which only the binary reads.
+    binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--define"}
     assert _flags(binary.stdout) - binary_others == expected
     module = subprocess.run(
         [sys.executable, "-m", "penumbra", "render", "--help"], capture_output=True, text=True, check=True
