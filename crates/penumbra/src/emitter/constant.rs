@@ -5,10 +5,13 @@
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `radiance` | colour ≥ 0 | **required** | the radiance of every direction |
+//!
+//! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
 use crate::description::check::{nonneg3, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::math::Rgb;
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::warp::{square_to_uniform_sphere, square_to_uniform_sphere_pdf};
 
 #[derive(Clone, Copy, Debug)]
 pub struct Constant {
@@ -39,5 +42,47 @@ impl Constant {
         Ok(Constant {
             radiance: nonneg3(p, "radiance", [0.0; 3])?,
         })
+    }
+
+    /// The direction toward the background for the point `u` of the unit
+    /// square, and its solid-angle density.
+    pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
+        let dir = square_to_uniform_sphere(u);
+        (dir, square_to_uniform_sphere_pdf(dir))
+    }
+
+    /// The density of [`sample`](Self::sample) for any direction.
+    pub fn pdf(&self) -> f32 {
+        square_to_uniform_sphere_pdf(Vec3::Z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    /// Directions cover the sphere evenly (each octant an eighth) at the
+    /// density `1 / 4π` that weighs them.
+    #[test]
+    fn directions_are_uniform_over_the_sphere() {
+        let c = Constant { radiance: Rgb::ONE };
+        let mut rng = Rng::new(3);
+        let mut octants = [0u32; 8];
+        let n = 80_000;
+        for _ in 0..n {
+            let (d, pdf) = c.sample(Vec2::new(rng.next_f32(), rng.next_f32()));
+            assert!((d.length() - 1.0).abs() < 1e-5);
+            assert!((pdf * 4.0 * std::f32::consts::PI - 1.0).abs() < 1e-6);
+            let k =
+                usize::from(d.x > 0.0) | usize::from(d.y > 0.0) << 1 | usize::from(d.z > 0.0) << 2;
+            octants[k] += 1;
+        }
+        for o in octants {
+            assert!(
+                (f64::from(o) / f64::from(n) - 0.125).abs() < 0.005,
+                "{octants:?}"
+            );
+        }
     }
 }

@@ -29,7 +29,7 @@ pub use constant::Constant;
 pub use point::Point;
 pub use sample::LightSample;
 
-use crate::math::{Rgb, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec};
 
 /// An emitter, ready to be sampled.
@@ -128,6 +128,30 @@ impl Emitter {
             Emitter::Area(a) => a.sample_one(p, point, d),
             Emitter::Point(l) => l.sample(p),
             Emitter::Constant(_) => None,
+        }
+    }
+
+    /// For an emitter at infinity, the direction toward it for the point
+    /// `u` of the unit square, the radiance arriving from there and the
+    /// solid-angle density of the direction; `None` for the others. The
+    /// integrators that follow paths sample the background with it.
+    pub fn sample_direction(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        match self {
+            Emitter::Constant(c) => {
+                let (dir, pdf) = c.sample(u);
+                Some((dir, c.radiance, pdf))
+            }
+            Emitter::Point(_) | Emitter::Area(_) => None,
+        }
+    }
+
+    /// The solid-angle density with which
+    /// [`sample_direction`](Self::sample_direction) draws `dir`; 0 for
+    /// emitters not at infinity.
+    pub fn pdf_direction(&self, _dir: Vec3) -> f32 {
+        match self {
+            Emitter::Constant(c) => c.pdf(),
+            Emitter::Point(_) | Emitter::Area(_) => 0.0,
         }
     }
 

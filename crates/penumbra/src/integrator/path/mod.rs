@@ -45,8 +45,10 @@
 //! survives with probability `min(max(throughput) · η², 0.95)` (η the
 //! product of the relative indices crossed) and is divided by it.
 //!
-//! Where this differs from Mitsuba: emitters at infinity (`constant`) are
-//! reached by BSDF samples only; shadow rays treat every surface as opaque
+//! Emitters at infinity (`constant`) are sampled as Mitsuba samples them,
+//! uniformly over the sphere, their shadow rays ending beyond the world.
+//!
+//! Where this differs from Mitsuba: shadow rays treat every surface as opaque
 //! (the thesis's transparent shadows are a `whitted` model); an area light
 //! under the thesis's penumbra model has no density over its surface, so it
 //! is lit by its shadow rays alone (BSDF samples that meet it add nothing).

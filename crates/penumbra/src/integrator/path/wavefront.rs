@@ -12,7 +12,8 @@ use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::stats::RayStats;
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{offset_origin, reach, Ray, Rgb, Vec2, Vec3};
-use crate::sampling::{Distribution, Rng, SetPoint};
+use crate::sampling::points::unit_square;
+use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
 use crate::scene::{PathSettings, Scene};
 
 /// The most paths a wave holds, unless one row of a tile's samples holds
@@ -109,13 +110,12 @@ pub(super) struct Wavefront<'s> {
     scene: &'s Scene,
     settings: PathSettings,
     pub(super) stats: RayStats,
-    /// The emitters next-event estimation chooses among (those with a
-    /// position: not at infinity).
+    /// The emitters next-event estimation chooses among: every one.
     lights: Vec<u32>,
-    /// Per emitter, whether it is one of `lights`.
-    sampled: Vec<bool>,
     /// The emitters at infinity, which rays that hit nothing see.
     far: Vec<u32>,
+    /// How to reach the emitters at infinity from a point (see [`Escape`]).
+    escape: Escape,
     /// Per material, the transparency shadow rays see: none.
     opaque: Vec<f32>,
     paths: Paths,
@@ -131,16 +131,24 @@ pub(super) struct Wavefront<'s> {
 
 impl<'s> Wavefront<'s> {
     pub(super) fn new(scene: &'s Scene, settings: PathSettings) -> Wavefront<'s> {
-        let (far, lights): (Vec<u32>, Vec<u32>) = (0..scene.emitters.len() as u32)
-            .partition(|&e| scene.emitters[e as usize].is_infinite());
-        let sampled = scene.emitters.iter().map(|e| !e.is_infinite()).collect();
+        let lights: Vec<u32> = (0..scene.emitters.len() as u32).collect();
+        let far = lights
+            .iter()
+            .copied()
+            .filter(|&e| scene.emitters[e as usize].is_infinite())
+            .collect();
+        let b = scene.world.bounds();
+        let escape = Escape {
+            center: 0.5 * (b.min + b.max),
+            radius: 0.5 * (b.max - b.min).length(),
+        };
         Wavefront {
             scene,
             settings,
             stats: RayStats::default(),
             lights,
-            sampled,
             far,
+            escape,
             opaque: vec![0.0; scene.bsdfs.len()],
             paths: Paths::default(),
             next: Paths::default(),
@@ -241,8 +249,8 @@ impl<'s> Wavefront<'s> {
             settings,
             stats,
             lights,
-            sampled,
             far,
+            escape,
             paths,
             next,
             hits,
@@ -257,20 +265,27 @@ impl<'s> Wavefront<'s> {
         shadows.value.clear();
         let seen = !(settings.hide_emitters && depth == 0);
         let go_on = depth.saturating_add(1) < max_depth;
+        let counts = (lights.len(), scene.settings.shadow);
         for (i, hit) in hits.iter().enumerate() {
             let (ray, slot, beta) = (&paths.ray[i], paths.slot[i], paths.beta[i]);
             let acc = &mut radiance[slot as usize];
+            let prev = paths.mis[i];
             let Some(hit) = hit else {
                 if seen {
                     for &e in far.iter() {
-                        *acc += beta * scene.emitters[e as usize].eval_miss(ray.dir);
+                        let emitter = &scene.emitters[e as usize];
+                        let w = emission_weight(emitter, counts, prev, || {
+                            emitter.pdf_direction(ray.dir)
+                        });
+                        *acc += beta * emitter.eval_miss(ray.dir) * w;
                     }
                 }
                 continue;
             };
             if let (Some(e), true) = (hit.emitter, seen) {
-                let prev = (paths.from[i], paths.mis[i]);
-                let w = emission_weight(scene, (sampled, lights.len()), e, prev, hit);
+                let emitter = &scene.emitters[e as usize];
+                let from = paths.from[i];
+                let w = emission_weight(emitter, counts, prev, || emitter.pdf(from, hit.p, hit.ng));
                 if w > 0.0 {
                     let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);
                     *acc += beta * le * w;
@@ -300,6 +315,7 @@ impl<'s> Wavefront<'s> {
                     next,
                     stats,
                     points: &mut *points,
+                    escape: *escape,
                 };
                 let rr = depth + 1 >= settings.rr_depth;
                 thesis_sets(scene, &v, bsdf, lights, (paths.rng[i], rr), &mut out);
@@ -314,8 +330,8 @@ impl<'s> Wavefront<'s> {
                 if nee {
                     let k = ((choice * lights.len() as f32) as usize).min(lights.len() - 1);
                     let emitter = &scene.emitters[lights[k] as usize];
-                    let counts = (e as f32, b as f32, lights.len() as f32);
-                    light_sample(&v, bsdf, emitter, point, counts, shadows);
+                    let n = (e as f32, b as f32, lights.len() as f32);
+                    light_sample(&v, bsdf, (emitter, *escape), point, n, shadows);
                 }
             }
             // The next directions.
@@ -376,29 +392,28 @@ impl<'s> Wavefront<'s> {
     }
 }
 
-/// The weight of the emission of emitter `e` that a path meets at `hit`,
-/// having left `from` with BSDF density `pdf` times the BSDF samples taken
+/// The weight of the emission of `emitter` that a path meets, having left
+/// its last vertex with BSDF density `pdf` times the BSDF samples taken
 /// there (0: from the camera or a delta lobe, which next-event estimation
-/// could not have drawn) and `samples` emitter samples: the power heuristic
-/// against the emitter samples' density, when next-event estimation samples
-/// the emitter; 0 for an emitter that it samples without a density (the
+/// could not have drawn) beside the emitter samples `nee`: the power
+/// heuristic against the emitter samples' density (`density()` of one
+/// sample toward where the path met it, times their count: `lights` share
+/// them under a uniform choice; a set has its emitter's size, `shadow` for
+/// one at infinity); 0 for an emitter sampled without a density (the
 /// thesis's penumbra model), whose light its shadow rays alone bring.
 fn emission_weight(
-    scene: &Scene,
-    (sampled, lights): (&[bool], usize),
-    e: u32,
-    (from, (pdf, nee)): (Vec3, (f32, Nee)),
-    hit: &Hit,
+    emitter: &Emitter,
+    (lights, shadow): (usize, EffectSpec),
+    (pdf, nee): (f32, Nee),
+    density: impl FnOnce() -> f32,
 ) -> f32 {
-    if pdf == 0.0 || !sampled[e as usize] {
+    if pdf == 0.0 {
         return 1.0;
     }
-    let emitter = &scene.emitters[e as usize];
-    let density = emitter.pdf(from, hit.p, hit.ng);
     let pdf_light = match nee {
         Nee::None => return 1.0,
-        Nee::Choice(samples) => samples * density / lights as f32,
-        Nee::Sets => emitter.shadow_rays() as f32 * density,
+        Nee::Choice(samples) => samples * density() / lights as f32,
+        Nee::Sets => shadow_set(emitter, shadow).rays as f32 * density(),
     };
     if pdf_light > 0.0 {
         power_heuristic(pdf, pdf_light)
@@ -423,6 +438,7 @@ struct Out<'a> {
     next: &'a mut Paths,
     stats: &'a mut RayStats,
     points: &'a mut Vec<Vec3>,
+    escape: Escape,
 }
 
 /// A vertex that draws the thesis's sets (`distributed`): a set of shadow
@@ -455,11 +471,12 @@ fn thesis_sets(
     if bsdf.lobes().any_smooth() {
         for (j, &l) in lights.iter().enumerate() {
             let emitter = &scene.emitters[l as usize];
-            let (n, d) = (emitter.shadow_rays(), emitter.shadow().distribution);
+            let set = shadow_set(emitter, scene.settings.shadow);
+            let (n, d) = (set.rays, set.distribution);
             let mut rng = path.derive(SHADOW_SETS + j as u64);
             d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
             for &point in out.points.iter() {
-                let Some(ls) = emitter.sample_one(v.hit.p, point, d) else {
+                let Some(ls) = sample_emitter(emitter, v.hit.p, (point, d), out.escape) else {
                     continue;
                 };
                 let ns = n as f32;
@@ -544,17 +561,60 @@ struct Vertex<'h> {
 fn light_sample(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
-    emitter: &Emitter,
+    (emitter, escape): (&Emitter, Escape),
     point: Vec2,
     (e, b, lights): (f32, f32, f32),
     shadows: &mut Shadows,
 ) {
     let p = SetPoint::uniform(point).native();
-    let Some(ls) = emitter.sample_one(v.hit.p, p, Distribution::Jitter) else {
+    let Some(ls) = sample_emitter(emitter, v.hit.p, (p, Distribution::Jitter), escape) else {
         return;
     };
     let weigh = |pdf_b: f32| power_heuristic(e * ls.pdf / lights, b * pdf_b);
     shadow_ray(v, bsdf, &ls, weigh, e / lights, shadows);
+}
+
+/// How far a shadow ray toward an emitter at infinity goes: past the
+/// sphere around the world's bounds.
+#[derive(Clone, Copy, Debug)]
+struct Escape {
+    center: Vec3,
+    radius: f32,
+}
+
+/// The shadow set of `emitter` at a vertex drawing the thesis's sets: its
+/// own, but one at infinity takes the render's shadow set (`shadow`).
+fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
+    if emitter.is_infinite() {
+        shadow
+    } else {
+        EffectSpec {
+            rays: emitter.shadow_rays(),
+            distribution: emitter.shadow().distribution,
+        }
+    }
+}
+
+/// A sample of `emitter` seen from `p` for the distribution point `point`
+/// of `d`: [`Emitter::sample_one`], or for an emitter at infinity a
+/// direction with a target beyond the world (`escape`).
+fn sample_emitter(
+    emitter: &Emitter,
+    p: Vec3,
+    (point, d): (Vec3, Distribution),
+    escape: Escape,
+) -> Option<LightSample> {
+    if !emitter.is_infinite() {
+        return emitter.sample_one(p, point, d);
+    }
+    let (dir, radiance, pdf) = emitter.sample_direction(unit_square(point, d))?;
+    let far = 2.0 * (escape.radius + (p - escape.center).length()) + 1.0;
+    Some(LightSample {
+        target: p + dir * far,
+        dir,
+        weight: radiance / pdf,
+        pdf,
+    })
 }
 
 /// The shadow ray of the light sample `ls` at `v`, one of `n` (the
