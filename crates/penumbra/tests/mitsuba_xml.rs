@@ -212,6 +212,7 @@ reflectance = [0.5, 0.5, 0.5]
 
 [materials.bsdf_2]
 type = "diffuse"
+reflectance = [0.0, 0.0, 0.0]
 
 [[objects]]
 type = "sphere"

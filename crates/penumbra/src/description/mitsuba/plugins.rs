@@ -148,7 +148,7 @@ pub fn scene(
         names: HashSet::new(),
         shapes: Vec::new(),
         lights: Vec::new(),
-        default_material: None,
+        default_material: [None, None],
     };
     out.no_props(root, &[])?;
     for (_, child) in &root.children {
@@ -224,7 +224,7 @@ struct Out<'a> {
     names: HashSet<String>,
     shapes: Vec<Node>,
     lights: Vec<Node>,
-    default_material: Option<String>,
+    default_material: [Option<String>; 2],
 }
 
 /// `what` is not among `supported`.
@@ -971,18 +971,29 @@ impl Out<'_> {
             .expect("a free name")
     }
 
-    /// Mitsuba's default material (diffuse, reflectance 0.5), made once.
-    fn default_material(&mut self, at: &Location) -> String {
-        if let Some(name) = &self.default_material {
+    /// Mitsuba's default material of a shape, made once each: a diffuse of
+    /// reflectance 0.5, or a black one for a shape that emits (`black`).
+    fn default_material(&mut self, at: &Location, black: bool) -> String {
+        let slot = usize::from(black);
+        if let Some(name) = &self.default_material[slot] {
             return name.clone();
         }
         let name = self.fresh_name();
         self.names.insert(name.clone());
         let base = KeyPath::root().key("materials").key(&name);
-        let mut node = Node::new(Kind::Bsdf, "diffuse", Origin::new(base, Some(at.clone())));
+        let mut node = Node::new(
+            Kind::Bsdf,
+            "diffuse",
+            Origin::new(base.clone(), Some(at.clone())),
+        );
         node.id = Some(name.clone());
+        if black {
+            set(&mut node, &base, "reflectance", at, |p, at| {
+                vec3([0.0; 3], p, at)
+            });
+        }
         self.bsdfs.push(node);
-        self.default_material = Some(name.clone());
+        self.default_material[slot] = Some(name.clone());
         name
     }
 
@@ -1094,9 +1105,11 @@ impl Out<'_> {
                 }
             }
         }
-        let material = match material {
-            Some(m) => m,
-            None => self.default_material(&obj.at),
+        let material = match (material, &emitter) {
+            (Some(m), _) => m,
+            (None, None) => self.default_material(&obj.at, false),
+            // An emitter without a bsdf reflects nothing, as in Mitsuba.
+            (None, Some(_)) => self.default_material(&obj.at, true),
         };
         set(&mut node, &base, "material", &obj.at, |p, at| {
             located(Value::String(material), p, at)
