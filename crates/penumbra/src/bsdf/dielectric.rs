@@ -63,6 +63,16 @@ pub const SPECULAR_TRANSMITTANCE: Param = Param::new(
     "a factor on the transmission, each channel in [0, 1] (1 for realism)",
 );
 
+/// What a smooth interface reads: the relative index and the factors on
+/// reflection and transmission.
+pub fn read_interface(p: &Props) -> Result<(f32, Rgb, Rgb), Invalid> {
+    Ok((
+        read_eta(p)?,
+        factor(p, "specular_reflectance")?,
+        factor(p, "specular_transmittance")?,
+    ))
+}
+
 /// The relative index `int_ior / ext_ior` of a scene's parameters.
 pub fn read_eta(p: &Props) -> Result<f32, Invalid> {
     let int = ior::read_dielectric(p, "int_ior", "bk7")?;
@@ -110,18 +120,16 @@ impl BsdfModel for Dielectric {
     };
 
     fn build(p: &Props, _: &Defaults) -> Result<Dielectric, Invalid> {
+        let (eta, specular_reflectance, specular_transmittance) = read_interface(p)?;
         Ok(Dielectric {
-            eta: read_eta(p)?,
-            specular_reflectance: factor(p, "specular_reflectance")?,
-            specular_transmittance: factor(p, "specular_transmittance")?,
+            eta,
+            specular_reflectance,
+            specular_transmittance,
         })
     }
 
     fn lobes(&self) -> Lobes {
-        let mut l = Lobes::default();
-        l.flags[0] = REFLECTION;
-        l.flags[1] = TRANSMISSION;
-        l
+        Lobes::reflection_and_transmission(BsdfFlags::DELTA)
     }
 
     fn eval(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> Rgb {

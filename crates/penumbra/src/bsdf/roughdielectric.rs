@@ -213,10 +213,7 @@ impl BsdfModel for RoughDielectric {
     }
 
     fn lobes(&self) -> Lobes {
-        let mut l = Lobes::default();
-        l.flags[0] = REFLECTION;
-        l.flags[1] = TRANSMISSION;
-        l
+        Lobes::reflection_and_transmission(BsdfFlags::GLOSSY)
     }
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {

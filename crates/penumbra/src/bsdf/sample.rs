@@ -96,6 +96,15 @@ pub struct Lobes {
 }
 
 impl Lobes {
+    /// A reflection lobe in slot 0 and a transmission lobe in slot 1, both
+    /// of `kind` (delta or glossy): the dielectrics' lobes.
+    pub fn reflection_and_transmission(kind: BsdfFlags) -> Lobes {
+        let mut l = Lobes::default();
+        l.flags[0] = kind | BsdfFlags::REFLECTION;
+        l.flags[1] = kind | BsdfFlags::TRANSMISSION;
+        l
+    }
+
     /// The present lobes: (slot, flags, set).
     pub fn iter(&self) -> impl Iterator<Item = (usize, BsdfFlags, Option<EffectSpec>)> + '_ {
         (0..MAX_LOBES)

@@ -26,8 +26,8 @@
 //! shadow rays through; here shadow rays stop at the sheet (the
 //! transmission is seen along traced rays only), as in Mitsuba's `path`.
 
-use super::conductor::{factor, SPECULAR_REFLECTANCE};
-use super::dielectric::{read_eta, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
+use super::conductor::SPECULAR_REFLECTANCE;
+use super::dielectric::{read_interface, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
 use super::fresnel;
 use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
@@ -67,18 +67,16 @@ impl BsdfModel for ThinDielectric {
     };
 
     fn build(p: &Props, _: &Defaults) -> Result<ThinDielectric, Invalid> {
+        let (eta, specular_reflectance, specular_transmittance) = read_interface(p)?;
         Ok(ThinDielectric {
-            eta: read_eta(p)?,
-            specular_reflectance: factor(p, "specular_reflectance")?,
-            specular_transmittance: factor(p, "specular_transmittance")?,
+            eta,
+            specular_reflectance,
+            specular_transmittance,
         })
     }
 
     fn lobes(&self) -> Lobes {
-        let mut l = Lobes::default();
-        l.flags[0] = REFLECTION;
-        l.flags[1] = TRANSMISSION;
-        l
+        Lobes::reflection_and_transmission(BsdfFlags::DELTA)
     }
 
     fn eval(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> Rgb {

@@ -110,8 +110,8 @@ pub(super) struct Wavefront<'s> {
     scene: &'s Scene,
     settings: PathSettings,
     pub(super) stats: RayStats,
-    /// The emitters next-event estimation chooses among: every one.
-    lights: Vec<u32>,
+    /// Per material, what its vertices need of its lobes (found once).
+    materials: Vec<Material>,
     /// The emitters at infinity, which rays that hit nothing see.
     far: Vec<u32>,
     /// How to reach the emitters at infinity from a point (see [`Escape`]).
@@ -131,11 +131,13 @@ pub(super) struct Wavefront<'s> {
 
 impl<'s> Wavefront<'s> {
     pub(super) fn new(scene: &'s Scene, settings: PathSettings) -> Wavefront<'s> {
-        let lights: Vec<u32> = (0..scene.emitters.len() as u32).collect();
-        let far = lights
-            .iter()
-            .copied()
+        let far = (0..scene.emitters.len() as u32)
             .filter(|&e| scene.emitters[e as usize].is_infinite())
+            .collect();
+        let materials = scene
+            .bsdfs
+            .iter()
+            .map(|bsdf| Material::of(bsdf, scene.settings.reflection))
             .collect();
         let b = scene.world.bounds();
         let escape = Escape {
@@ -146,7 +148,7 @@ impl<'s> Wavefront<'s> {
             scene,
             settings,
             stats: RayStats::default(),
-            lights,
+            materials,
             far,
             escape,
             opaque: vec![0.0; scene.bsdfs.len()],
@@ -248,7 +250,7 @@ impl<'s> Wavefront<'s> {
         let Wavefront {
             settings,
             stats,
-            lights,
+            materials,
             far,
             escape,
             paths,
@@ -265,7 +267,9 @@ impl<'s> Wavefront<'s> {
         shadows.value.clear();
         let seen = !(settings.hide_emitters && depth == 0);
         let go_on = depth.saturating_add(1) < max_depth;
-        let counts = (lights.len(), scene.settings.shadow);
+        // Next-event estimation chooses among every emitter.
+        let lights = scene.emitters.len();
+        let counts = (lights, scene.settings.shadow);
         for (i, hit) in hits.iter().enumerate() {
             let (ray, slot, beta) = (&paths.ray[i], paths.slot[i], paths.beta[i]);
             let acc = &mut radiance[slot as usize];
@@ -318,24 +322,26 @@ impl<'s> Wavefront<'s> {
                     escape: *escape,
                 };
                 let rr = depth + 1 >= settings.rr_depth;
-                thesis_sets(scene, &v, bsdf, lights, (paths.rng[i], rr), &mut out);
+                let m = &materials[hit.material as usize];
+                thesis_sets(scene, &v, (bsdf, m), (paths.rng[i], rr), &mut out);
                 continue;
             }
             let mut rng = paths.rng[i].derive(u64::from(depth));
             // Next-event estimation on the smooth lobes.
-            let nee = bsdf.lobes().any_smooth() && !lights.is_empty() && e > 0;
+            let smooth = materials[hit.material as usize].smooth;
+            let nee = smooth && lights > 0 && e > 0;
             for _ in 0..e {
                 let choice = rng.next_f32();
                 let point = Vec2::new(rng.next_f32(), rng.next_f32());
                 if nee {
-                    let k = ((choice * lights.len() as f32) as usize).min(lights.len() - 1);
-                    let emitter = &scene.emitters[lights[k] as usize];
-                    let n = (e as f32, b as f32, lights.len() as f32);
+                    let k = ((choice * lights as f32) as usize).min(lights - 1);
+                    let emitter = &scene.emitters[k];
+                    let n = (e as f32, b as f32, lights as f32);
                     light_sample(&v, bsdf, (emitter, *escape), point, n, shadows);
                 }
             }
             // The next directions.
-            let lights_n = if nee {
+            let taken = if nee {
                 Nee::Choice(e as f32)
             } else {
                 Nee::None
@@ -356,7 +362,7 @@ impl<'s> Wavefront<'s> {
                 let mis = if delta {
                     (0.0, Nee::None)
                 } else {
-                    (b as f32 * s.pdf, lights_n)
+                    (b as f32 * s.pdf, taken)
                 };
                 let stream = if b == 1 {
                     paths.rng[i]
@@ -453,24 +459,15 @@ struct Out<'a> {
 fn thesis_sets(
     scene: &Scene,
     v: &Vertex<'_>,
-    bsdf: &Bsdf,
-    lights: &[u32],
+    (bsdf, material): (&Bsdf, &Material),
     (path, rr): (Rng, bool),
     out: &mut Out<'_>,
 ) {
     let table = &scene.settings.points;
-    let set = bsdf
-        .lobes()
-        .sets
-        .iter()
-        .flatten()
-        .max_by_key(|s| s.rays)
-        .copied()
-        .unwrap_or(scene.settings.reflection);
+    let set = material.set;
     let nb = set.rays as f32;
-    if bsdf.lobes().any_smooth() {
-        for (j, &l) in lights.iter().enumerate() {
-            let emitter = &scene.emitters[l as usize];
+    if material.smooth {
+        for (j, emitter) in scene.emitters.iter().enumerate() {
             let set = shadow_set(emitter, scene.settings.shadow);
             let (n, d) = (set.rays, set.distribution);
             let mut rng = path.derive(SHADOW_SETS + j as u64);
@@ -572,6 +569,27 @@ fn light_sample(
     };
     let weigh = |pdf_b: f32| power_heuristic(e * ls.pdf / lights, b * pdf_b);
     shadow_ray(v, bsdf, &ls, weigh, e / lights, shadows);
+}
+
+/// What a vertex needs of its material's lobes.
+#[derive(Clone, Copy, Debug)]
+struct Material {
+    /// It has a smooth lobe: emitter samples can light it.
+    smooth: bool,
+    /// The set of BSDF samples a vertex drawing the thesis's sets takes:
+    /// the largest set its lobes ask for, else the render's reflection set.
+    set: EffectSpec,
+}
+
+impl Material {
+    fn of(bsdf: &Bsdf, reflection: EffectSpec) -> Material {
+        let lobes = bsdf.lobes();
+        let largest = lobes.sets.iter().flatten().max_by_key(|s| s.rays);
+        Material {
+            smooth: lobes.any_smooth(),
+            set: largest.copied().unwrap_or(reflection),
+        }
+    }
 }
 
 /// How far a shadow ray toward an emitter at infinity goes: past the
