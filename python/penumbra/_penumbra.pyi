@@ -39,6 +39,7 @@ DistributionName = Literal[
 FilterName = Literal["box", "tent", "gaussian"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
 IntegratorName = Literal["whitted", "path", "direct", "distributed"]
+PathSamplerName = Literal["independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -147,6 +148,7 @@ class Scene:
         rr_depth: int | None = None,
         hide_emitters: bool | None = None,
         sets_depth: int | None = None,
+        path_sampler: PathSamplerName | None = None,
         emitter_samples: int | None = None,
         bsdf_samples: int | None = None,
         seed: int | None = None,
@@ -237,6 +239,7 @@ def render(
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
     sets_depth: int | None = None,
+    path_sampler: PathSamplerName | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,
@@ -288,6 +291,7 @@ def render_region(
     rr_depth: int | None = None,
     hide_emitters: bool | None = None,
     sets_depth: int | None = None,
+    path_sampler: PathSamplerName | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,

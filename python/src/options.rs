@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
-use penumbra::sampling::{Distribution, Filter, PointTable};
+use penumbra::sampling::{Distribution, Filter, PathSampler, PointTable};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
 use penumbra::scene::{
@@ -122,6 +122,7 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
             Kind::NonNegative | Kind::Positive | Kind::Between(..) => "float",
             Kind::StopRule => "stop_rule",
             Kind::Integrator => "integrator",
+            Kind::PathSampler => "path_sampler",
             Kind::Switch => "bool",
             Kind::Distribution => "distribution",
             Kind::Filter => "filter",
@@ -154,6 +155,7 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
         Kind::Filter => Value::Filter(parse_filter(name, v)?),
         Kind::StopRule => Value::StopRule(parse_stop_rule(name, v)?),
         Kind::Integrator => Value::Integrator(parse_integrator(name, v)?),
+        Kind::PathSampler => Value::PathSampler(parse_path_sampler(name, v)?),
         Kind::Between(lo, hi) => Value::Number(between_f32(name, v, lo, hi)?),
         Kind::Colour => {
             return Err(PyTypeError::new_err(format!(
@@ -273,6 +275,12 @@ pub fn parse_stop_rule(name: &str, v: &Bound<'_, PyAny>) -> PyResult<StopRule> {
 pub fn parse_integrator(name: &str, v: &Bound<'_, PyAny>) -> PyResult<IntegratorChoice> {
     let from = IntegratorChoice::from_name;
     by_name(name, "integrator", v, from, &IntegratorChoice::ALL, IntegratorChoice::name)
+}
+
+/// A path sampler by name, with the CLI's message for an unknown one.
+pub fn parse_path_sampler(name: &str, v: &Bound<'_, PyAny>) -> PyResult<PathSampler> {
+    let from = PathSampler::from_name;
+    by_name(name, "path sampler", v, from, &PathSampler::ALL, PathSampler::name)
 }
 
 /// A pixel filter by name, with the CLI's message for an unknown one.

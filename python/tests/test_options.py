@@ -27,6 +27,7 @@ ANNOTATIONS = {
     "filter": "FilterName | None",
     "stop_rule": "StopRuleName | None",
     "integrator": "IntegratorName | None",
+    "path_sampler": "PathSamplerName | None",
     "path": "PointSets | None",
 }
 VALID = {
@@ -37,6 +38,7 @@ VALID = {
     "filter": "tent",
     "stop_rule": "cycles",
     "integrator": "whitted",
+    "path_sampler": "sobol",
     "path": "points.json",
 }
 

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
-use penumbra::sampling::{Distribution, Filter};
+use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Flag, Kind, Value};
 use penumbra::scene::{Choices, IntegratorChoice, RenderOption, StopRule, OPTIONS};
@@ -74,6 +74,7 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         Kind::Filter => vec![with_value(arg.value_parser(parse_filter))],
         Kind::StopRule => vec![with_value(arg.value_parser(parse_stop_rule))],
         Kind::Integrator => vec![with_value(arg.value_parser(parse_integrator))],
+        Kind::PathSampler => vec![with_value(arg.value_parser(parse_path_sampler))],
         Kind::Between(lo, hi) => vec![with_value(
             arg.value_parser(move |s: &str| parse_between(s, lo, hi)),
         )],
@@ -96,6 +97,10 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
             .get_one::<IntegratorChoice>(o.name)
             .copied()
             .map(Value::Integrator),
+        Kind::PathSampler => m
+            .get_one::<PathSampler>(o.name)
+            .copied()
+            .map(Value::PathSampler),
         Kind::Distribution => m
             .get_one::<Distribution>(o.name)
             .copied()
@@ -162,6 +167,16 @@ pub fn parse_integrator(s: &str) -> Result<IntegratorChoice, String> {
         IntegratorChoice::from_name(s),
         &IntegratorChoice::ALL,
         IntegratorChoice::name,
+    )
+}
+
+pub fn parse_path_sampler(s: &str) -> Result<PathSampler, String> {
+    by_name(
+        "path sampler",
+        s,
+        PathSampler::from_name(s),
+        &PathSampler::ALL,
+        PathSampler::name,
     )
 }
 
@@ -268,6 +283,10 @@ mod tests {
                     "whitted".into(),
                     Value::Integrator(IntegratorChoice::Whitted),
                 ),
+                Kind::PathSampler => (
+                    "halton".into(),
+                    Value::PathSampler(PathSampler::Sequence(Distribution::Halton)),
+                ),
                 Kind::Between(lo, _) => (lo.to_string(), Value::Number(lo)),
                 Kind::Switch | Kind::Colour | Kind::File => continue,
             };
@@ -314,6 +333,10 @@ mod tests {
                         .map(|n| n.to_string())
                         .collect(),
                     vec!["volpath".into()],
+                ),
+                Kind::PathSampler => (
+                    PathSampler::NAMES.iter().map(|n| n.to_string()).collect(),
+                    vec!["jitter".into(), "stratified".into()],
                 ),
                 Kind::Between(lo, hi) => (
                     vec![lo.to_string(), hi.to_string()],

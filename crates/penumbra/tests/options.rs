@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use penumbra::description::{Kind as NodeKind, Node, Value as Prop, RENDER_KEYS};
-use penumbra::sampling::{Distribution, Filter};
+use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{replace_section, table, View};
 use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
 use penumbra::scene::schemas;
@@ -90,6 +90,7 @@ fn value_toml(v: Value) -> String {
         Value::Filter(f) => format!("\"{}\"", f.name()),
         Value::StopRule(r) => format!("\"{}\"", r.name()),
         Value::Integrator(i) => format!("\"{}\"", i.name()),
+        Value::PathSampler(p) => format!("\"{}\"", p.name()),
         Value::Colour(c) => format!("{c:?}"),
     }
 }
@@ -185,6 +186,13 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .collect(),
             vec!["\"volpath\"".into()],
         ),
+        Kind::PathSampler => (
+            PathSampler::NAMES
+                .iter()
+                .map(|n| format!("\"{n}\""))
+                .collect(),
+            vec!["\"jitter\"".into()],
+        ),
         Kind::Between(lo, hi) => (
             vec![format!("{lo:?}"), format!("{hi:?}")],
             vec![format!("{:?}", lo - 0.01), format!("{:?}", hi + 0.01)],
@@ -247,6 +255,7 @@ fn prop_of(v: Value) -> Prop {
         Value::Distribution(d) => Prop::String(d.name().into()),
         Value::Filter(f) => Prop::String(f.name().into()),
         Value::StopRule(r) => Prop::String(r.name().into()),
+        Value::PathSampler(p) => Prop::String(p.name().into()),
         Value::Integrator(_) | Value::Colour(_) => unreachable!("not a property"),
     }
 }
@@ -266,6 +275,7 @@ fn front_end_values_replace_the_key_of_the_same_name() {
             Kind::Between(lo, _) => Value::Number(lo),
             Kind::StopRule => Value::StopRule(StopRule::Dammertz),
             Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
+            Kind::PathSampler => Value::PathSampler(PathSampler::Sequence(Distribution::Halton)),
             Kind::Switch => Value::Switch(!matches!(
                 o.default,
                 DefaultValue::Fixed(Value::Switch(true))

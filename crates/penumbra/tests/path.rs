@@ -6,6 +6,7 @@ mod common;
 use common::*;
 use penumbra::math::Rgb;
 use penumbra::render::Image;
+use penumbra::sampling::PathSampler;
 
 /// A camera inside the cube [−1, 1]³ whose six walls face inward, each of
 /// albedo `rho` (Lambertian) emitting radiance 1. Every wall is an area
@@ -404,4 +405,121 @@ fn the_sky_is_sampled_as_an_emitter() {
         assert!(err < 0.03, "{e} emitter, {b} BSDF samples: {c:?}");
         assert_eq!(rays.shadow > 0, e > 0);
     }
+}
+
+/// A diffuse floor and back wall lit by a square light above and a sky:
+/// soft shadows and one bounce of indirect light at `max_depth = 3`.
+fn lit_corner(render: &str) -> String {
+    format!(
+        "[render]\nwidth = 20\nheight = 20\nintegrator = \"path\"\nmax_depth = 3\n\
+         background = [0.2, 0.2, 0.3]\n{render}\n\
+         [camera]\nposition = [0, 1.2, 4]\nlook_at = [0, 0.4, 0]\nfov = 45\n\n\
+         [materials.white]\ntype = \"diffuse\"\nreflectance = [0.7, 0.7, 0.7]\n\n\
+         [materials.red]\ntype = \"diffuse\"\nreflectance = [0.7, 0.1, 0.1]\n\n\
+         [[objects]]\ntype = \"quad\"\nmaterial = \"white\"\norigin = [-2, 0, 2]\n\
+         edge_u = [4, 0, 0]\nedge_v = [0, 0, -4]\n\n\
+         [[objects]]\ntype = \"quad\"\nmaterial = \"red\"\norigin = [-2, 0, -1]\n\
+         edge_u = [4, 0, 0]\nedge_v = [0, 3, 0]\n\n\
+         [[objects]]\ntype = \"sphere\"\nmaterial = \"white\"\ncenter = [0.3, 0.5, 0.3]\n\
+         radius = 0.5\n\n\
+         [[lights]]\ntype = \"rect\"\norigin = [-0.5, 2.5, -0.2]\nedge_u = [1, 0, 0]\n\
+         edge_v = [0, 0, 1]\nradiance = [12, 12, 12]\n"
+    )
+}
+
+fn rel_mse(img: &Image, reference: &Image) -> f64 {
+    let mut sum = 0.0f64;
+    for (a, b) in img.pixels.iter().zip(&reference.pixels) {
+        for (a, b) in a.to_array().into_iter().zip(b.to_array()) {
+            let (a, b) = (f64::from(a), f64::from(b));
+            sum += (a - b).powi(2) / (b * b + 0.01);
+        }
+    }
+    sum / (3 * img.pixels.len()) as f64
+}
+
+/// Every path sampler converges to the same image: the furnace's diffuse
+/// sphere reflects ρ at unbounded depth, and on a lit corner each
+/// sequence's mean agrees with independent numbers'. A pixel's samples
+/// stratified in every dimension of a bounce lower the error at equal
+/// samples: at 16 spp every sequence's relative MSE against a 4096-spp
+/// reference is at most half independent numbers' (0.28–0.34 measured).
+#[test]
+fn every_path_sampler_converges_and_sequences_lower_the_noise() {
+    for name in PathSampler::NAMES {
+        let (img, _) = render_toml(&furnace(
+            "type = \"diffuse\"\nreflectance = [0.3, 0.5, 0.7]",
+            &format!("spp = 64\npath_sampler = \"{name}\""),
+        ));
+        let mut sum = Rgb::ZERO;
+        for (x, y) in [(11, 11), (12, 12), (11, 12), (12, 11)] {
+            sum += img.get(x, y);
+        }
+        let c = sum / 4.0;
+        let err = ((c - Rgb::new(0.3, 0.5, 0.7)) / Rgb::new(0.3, 0.5, 0.7)).abs();
+        assert!(err.max_element() < 0.03, "{name}: {c:?}");
+    }
+    let reference = render_toml(&lit_corner("spp = 4096\nseed = 99")).0;
+    let want = mean(&reference);
+    let mut errors = Vec::new();
+    for name in PathSampler::NAMES {
+        // The mean over seeds of the relative MSE, and the image mean.
+        let mut e = 0.0;
+        let mut m = Rgb::ZERO;
+        for seed in 0..4 {
+            let toml = lit_corner(&format!(
+                "spp = 16\nseed = {seed}\npath_sampler = \"{name}\""
+            ));
+            let img = render_toml(&toml).0;
+            e += rel_mse(&img, &reference) / 4.0;
+            m += mean(&img) / 4.0;
+        }
+        let off = ((m - want) / want).abs().max_element();
+        assert!(off < 0.02, "{name}: mean {m:?} against {want:?}");
+        errors.push((name, e));
+    }
+    eprintln!("relative MSE at 16 spp: {errors:?}");
+    let independent = errors[0].1;
+    for &(name, e) in &errors[1..] {
+        assert!(e < 0.5 * independent, "{name}: {e} against {independent}");
+    }
+}
+
+/// A sequence's numbers are a function of (seed, pixel, sample, bounce,
+/// dimension): the same pixels on any thread count and pass split, for
+/// `path` and for the split samples of `direct`.
+#[test]
+fn sequenced_paths_are_the_same_on_any_threads_and_passes() {
+    for render in [
+        "spp = 8\nmax_depth = 6\nrr_depth = 2\npath_sampler = \"sobol\"",
+        "spp = 8\nmax_depth = 6\npath_sampler = \"zsobol\"",
+        "spp = 4\nintegrator = \"direct\"\nemitter_samples = 3\nbsdf_samples = 2\n\
+         path_sampler = \"pmj02\"",
+    ] {
+        let toml = closed_box(0.7, render).replace("integrator = \"path\"\n", "");
+        let toml = if render.contains("direct") {
+            toml
+        } else {
+            toml.replace("[render]\n", "[render]\nintegrator = \"path\"\n")
+        };
+        let s = scene(&toml);
+        let (one, rays) = render_scene(&s, 1);
+        let (three, rays3) = render_scene(&s, 3);
+        assert_eq!(one.pixels, three.pixels, "{render}");
+        assert_eq!(rays, rays3);
+        let (passes, _) = render_toml(&toml.replace("[render]\n", "[render]\npasses = 3\n"));
+        assert_eq!(one.pixels, passes.pixels, "{render}");
+    }
+    // The whitted integrator has no paths to sample.
+    let error = |toml: &str| match try_scene(toml) {
+        Ok(_) => panic!("should be refused:\n{toml}"),
+        Err(e) => e.to_string(),
+    };
+    let err = error(
+        &closed_box(0.5, "path_sampler = \"sobol\"")
+            .replace("integrator = \"path\"", "integrator = \"whitted\""),
+    );
+    assert!(err.contains("path_sampler"), "{err}");
+    let err = error(&closed_box(0.5, "path_sampler = \"jitter\""));
+    assert!(err.contains("independent, sobol"), "{err}");
 }

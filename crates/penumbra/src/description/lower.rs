@@ -22,6 +22,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("emitter_samples", Kind::Integrator),
     ("bsdf_samples", Kind::Integrator),
     ("sets_depth", Kind::Integrator),
+    ("path_sampler", Kind::Integrator),
     ("seed", Kind::Sampler),
     ("background", Kind::Emitter),
     ("spp", Kind::Sampler),

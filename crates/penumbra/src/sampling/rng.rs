@@ -50,6 +50,17 @@ impl Place {
         let morton = morton(self.pixel as u32, (self.pixel >> 32) as u32);
         u128::from(morton) << self.local_bits | u128::from(self.local)
     }
+
+    /// The pixel, `x` in the low 32 bits and `y` in the high ones.
+    pub fn pixel_code(&self) -> u64 {
+        self.pixel
+    }
+
+    /// The siblings' numbers below the pixel: their low 32 bits, and the
+    /// bits above.
+    pub fn local_parts(&self) -> (u32, u64) {
+        (self.local as u32, self.local >> 32)
+    }
 }
 
 /// The Morton code of (x, y): the bits of `x` at the even positions, those

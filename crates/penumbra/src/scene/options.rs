@@ -30,7 +30,7 @@ use std::path::PathBuf;
 use super::overrides::Overrides;
 use super::points::Points;
 use super::settings::{IntegratorChoice, StopRule};
-use crate::sampling::{Distribution, Filter};
+use crate::sampling::{Distribution, Filter, PathSampler};
 
 pub mod markdown;
 
@@ -78,6 +78,8 @@ pub enum Kind {
     StopRule,
     /// An integrator, by name ([`IntegratorChoice::name`]).
     Integrator,
+    /// A path sampler, by name ([`PathSampler::name`]).
+    PathSampler,
     /// A number in `[lo, hi]`.
     Between(f32, f32),
     /// A linear RGB colour with no negative channel (scene file only).
@@ -98,6 +100,7 @@ pub enum Value {
     Filter(Filter),
     StopRule(StopRule),
     Integrator(IntegratorChoice),
+    PathSampler(PathSampler),
     Colour([f32; 3]),
 }
 
@@ -147,6 +150,13 @@ impl Value {
     pub fn integrator(self) -> Option<IntegratorChoice> {
         match self {
             Value::Integrator(i) => Some(i),
+            _ => None,
+        }
+    }
+
+    pub fn path_sampler(self) -> Option<PathSampler> {
+        match self {
+            Value::PathSampler(p) => Some(p),
             _ => None,
         }
     }
@@ -525,6 +535,18 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.sets_depth = v.int()),
     },
     RenderOption {
+        name: "path_sampler",
+        kind: Kind::PathSampler,
+        default: DefaultValue::Fixed(Value::PathSampler(PathSampler::Independent)),
+        doc: "path, direct and distributed: where the numbers of each bounce come from: \
+              independent, or a low-discrepancy sequence (sobol, zsobol, pmj02, pmj02bn, halton, \
+              r2) stratifying a pixel's samples in every dimension",
+        table: Some(Table::Render),
+        flag: Flag::metavar("SAMPLER"),
+        python: true,
+        set: Some(|c, v| c.overrides.path_sampler = v.path_sampler()),
+    },
+    RenderOption {
         name: "emitter_samples",
         kind: Kind::Int {
             min: 0,
@@ -795,6 +817,7 @@ mod tests {
             Kind::Filter => Value::Filter(Filter::Gaussian),
             Kind::StopRule => Value::StopRule(StopRule::Cycles),
             Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
+            Kind::PathSampler => Value::PathSampler(PathSampler::Sequence(Distribution::Sobol)),
             Kind::Colour => Value::Colour([0.5; 3]),
             Kind::File => unreachable!("a file option has no setter"),
         }

@@ -5,7 +5,7 @@ use super::load::SceneSource;
 use super::points::Points;
 use super::settings::{IntegratorChoice, StopRule};
 use crate::description::{KeyPath, Kind, Located, Node, Origin, Value, RENDER_KEYS};
-use crate::sampling::{Distribution, Filter};
+use crate::sampling::{Distribution, Filter, PathSampler};
 
 /// Settings that replace the scene description's. Ray counts and
 /// distributions given here also replace per-light and per-material values:
@@ -24,6 +24,8 @@ pub struct Overrides {
     pub bsdf_samples: Option<u32>,
     /// The distributed integrator's depth of sets.
     pub sets_depth: Option<u32>,
+    /// The path tracers' source of per-bounce numbers.
+    pub path_sampler: Option<PathSampler>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
@@ -104,6 +106,11 @@ impl Overrides {
         set(root, "emitter_samples", int(self.emitter_samples));
         set(root, "bsdf_samples", int(self.bsdf_samples));
         set(root, "sets_depth", int(self.sets_depth));
+        set(
+            root,
+            "path_sampler",
+            name(self.path_sampler.map(PathSampler::name)),
+        );
         set(root, "seed", int(self.seed));
         set(root, "spp", int(self.spp));
         set(root, "passes", int(self.passes));

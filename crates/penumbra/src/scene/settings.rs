@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use crate::description::check::{int, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::sampling::{Distribution, EffectSpec, Filter, PointTable, MAX_RAYS};
+use crate::sampling::{Distribution, EffectSpec, Filter, PathSampler, PointTable, MAX_RAYS};
 
 /// Largest image side; keeps `width * height` and the film allocation sane.
 pub const MAX_SIDE: u32 = 1 << 15;
@@ -77,6 +77,8 @@ pub struct PathSettings {
     /// a shadow set toward every emitter and a set of BSDF samples, from
     /// their distributions; 0 for `path` and `direct`.
     pub sets_depth: u32,
+    /// Where the numbers of each bounce come from.
+    pub sampler: PathSampler,
 }
 
 impl Default for PathSettings {
@@ -88,6 +90,7 @@ impl Default for PathSettings {
             emitter_samples: 1,
             bsdf_samples: 1,
             sets_depth: 0,
+            sampler: PathSampler::Independent,
         }
     }
 }
@@ -299,9 +302,13 @@ pub const PATH: Schema = Schema {
         param("max_depth", Type::Int),
         param("rr_depth", Type::Int),
         param("hide_emitters", Type::Bool),
+        param("path_sampler", PATH_SAMPLER),
         param("passes", Type::Int),
     ],
 };
+
+/// The type of `path_sampler`.
+const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
 
 /// The distributed path tracer's parameters: the path tracer's and the
 /// depth its sets reach.
@@ -314,6 +321,7 @@ pub const DISTRIBUTED: Schema = Schema {
         param("rr_depth", Type::Int),
         param("hide_emitters", Type::Bool),
         param("sets_depth", Type::Int),
+        param("path_sampler", PATH_SAMPLER),
         param("passes", Type::Int),
     ],
 };
@@ -328,6 +336,7 @@ pub const DIRECT: Schema = Schema {
         param("bsdf_samples", Type::Int),
         param("shading_samples", Type::Int),
         param("hide_emitters", Type::Bool),
+        param("path_sampler", PATH_SAMPLER),
         param("passes", Type::Int),
     ],
 };
@@ -374,7 +383,7 @@ pub fn read(
     };
     let choice = IntegratorChoice::from_name(name).unwrap_or(IntegratorChoice::Whitted);
     let i = integrator;
-    let (max_depth, path) = match choice {
+    let (max_depth, mut path) = match choice {
         IntegratorChoice::Whitted => (int(i, "max_depth", 3, 0, 64)?, PathSettings::default()),
         IntegratorChoice::Path => (0, path_settings(i)?),
         IntegratorChoice::Direct => (0, direct_settings(i)?),
@@ -384,6 +393,12 @@ pub fn read(
             (0, PathSettings { sets_depth, ..path })
         }
     };
+    if choice != IntegratorChoice::Whitted {
+        path.sampler = i
+            .choice("path_sampler", "path sampler", &PathSampler::NAMES)?
+            .and_then(PathSampler::from_name)
+            .unwrap_or_default();
+    }
     Ok(Settings {
         integrator: choice,
         width,
@@ -457,6 +472,7 @@ fn direct_settings(i: &Props) -> Result<PathSettings, Invalid> {
         emitter_samples,
         bsdf_samples,
         sets_depth: 0,
+        sampler: PathSampler::Independent,
     })
 }
 

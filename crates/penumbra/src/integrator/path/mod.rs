@@ -13,6 +13,7 @@
 //! | `shading_samples` | integer ≥ 0 | `1` | `direct`: both counts at once (Mitsuba's name; the two above win) |
 //! | `sets_depth` | integer 1–64 | `1` | `distributed`: the vertices from the camera that draw sets |
 //! | `hide_emitters` | bool | `false` | emitters seen directly by camera rays are black |
+//! | `path_sampler` | name | `independent` | where each bounce's numbers come from ([`PathSampler`](crate::sampling::PathSampler)) |
 //!
 //! `distributed` carries the thesis into global illumination: a vertex
 //! below `sets_depth` traces a shadow set toward every emitter (its
@@ -57,9 +58,12 @@
 //!
 //! Each path draws from the stream of its primary sample (the
 //! [`Sampler`](crate::sampling::Sampler)'s, the same as `whitted`'s),
-//! derived per bounce: bounce `b` reads `path.derive(b)` in the order
-//! emitter choice and point (3 numbers) for each emitter sample, then BSDF
-//! point and roulette (3) for each BSDF sample; a vertex's BSDF samples
+//! derived per bounce: bounce `b` reads `path.derive(b)` through the
+//! [`PathSampler`](crate::sampling::PathSampler), in the order emitter
+//! choice and point (dimensions 2j and 2j + 1) for each emitter sample j,
+//! then BSDF point and roulette (2e + 2k, 2e + 2k + 1) for each BSDF
+//! sample k (independent numbers are drawn in that order, a sequence's by
+//! dimension); a vertex's BSDF samples
 //! beyond one go on with the child streams of their index (a vertex drawing
 //! the thesis's sets takes other branches, see `wavefront`). A
 //! sample is a pure function of (seed, pixel, sample, bounce, dimension):

@@ -326,13 +326,17 @@ impl<'s> Wavefront<'s> {
                 thesis_sets(scene, &v, (bsdf, m), (paths.rng[i], rr), &mut out);
                 continue;
             }
-            let mut rng = paths.rng[i].derive(u64::from(depth));
+            // The bounce's numbers: dimensions 2j and 2j + 1 for emitter
+            // sample j, then 2e + 2k and 2e + 2k + 1 for BSDF sample k.
+            let mut u = settings
+                .sampler
+                .bounce(paths.rng[i].derive(u64::from(depth)));
             // Next-event estimation on the smooth lobes.
             let smooth = materials[hit.material as usize].smooth;
             let nee = smooth && lights > 0 && e > 0;
-            for _ in 0..e {
-                let choice = rng.next_f32();
-                let point = Vec2::new(rng.next_f32(), rng.next_f32());
+            for j in 0..u64::from(e) {
+                let choice = u.value(2 * j);
+                let point = u.point(2 * j + 1);
                 if nee {
                     let k = ((choice * lights as f32) as usize).min(lights - 1);
                     let emitter = &scene.emitters[k];
@@ -347,9 +351,10 @@ impl<'s> Wavefront<'s> {
                 Nee::None
             };
             for k in 0..b {
-                let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
-                let roulette = rng.next_f32();
-                let Some(s) = bsdf.sample(hit, v.wo, None, u) else {
+                let d = 2 * u64::from(e + k);
+                let point = SetPoint::uniform(u.point(d));
+                let roulette = u.value(d + 1);
+                let Some(s) = bsdf.sample(hit, v.wo, None, point) else {
                     continue;
                 };
                 let rr = (depth + 1 >= settings.rr_depth).then_some(roulette);

@@ -5,6 +5,7 @@
 //! [`replace_section`] puts a fresh table there.
 
 use super::{DefaultValue, Kind, RenderOption, Table, Value, OPTIONS};
+use crate::sampling::PathSampler;
 use crate::scene::IntegratorChoice;
 
 /// Whose spelling a table uses.
@@ -101,6 +102,7 @@ fn value_type(kind: Kind) -> String {
         Kind::Filter => "box, tent or gaussian".into(),
         Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
         Kind::Integrator => IntegratorChoice::NAMES.join(", "),
+        Kind::PathSampler => PathSampler::NAMES.join(", "),
         Kind::Between(lo, hi) => format!("number {lo}–{hi}"),
         Kind::Colour => "colour ≥ 0".into(),
         Kind::File => "file".into(),
@@ -147,6 +149,8 @@ pub fn value_text(v: Value, view: View) -> String {
         Value::StopRule(r) => format!("\"{}\"", r.name()),
         Value::Integrator(i) if view == View::CommandLine => i.name().into(),
         Value::Integrator(i) => format!("\"{}\"", i.name()),
+        Value::PathSampler(p) if view == View::CommandLine => p.name().into(),
+        Value::PathSampler(p) => format!("\"{}\"", p.name()),
         Value::Colour(c) => format!("[{}, {}, {}]", c[0], c[1], c[2]),
     }
 }
