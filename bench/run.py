@@ -24,6 +24,11 @@ Sections (--only and --skip take their names):
   million  a procedural 1,000,000-triangle mesh: build, render, memory
   points   the cost of a point of each low-discrepancy distribution (sets of
            256) and of a set of one
+  path     the path tracer on the Cornell box (bench/scenes/mitsuba/
+           cornell.xml, read by both renderers) at 256x256, 64 spp,
+           max_depth 8, 2 threads, vs Mitsuba 3 scalar_rgb and llvm_ad_rgb
+           at equal spp; then relative MSE x time against a 2048-spp
+           reference (Mitsuba llvm_ad_rgb, rendered once into bench/.work)
   before   with --baseline REV: git revision REV against the working tree
            on three bunny scenes (one thread, CPU time)
 
@@ -67,7 +72,8 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # A row of the baseline table is flagged when this tree is worse (slower, or
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
-SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "before"]
+SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path",
+            "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -627,6 +633,98 @@ def section_million(args, bins, data):
     return out
 
 
+CORNELL = HERE / "scenes" / "mitsuba" / "cornell.xml"
+CORNELL_SET = ["spp=64", "res=256", "max_depth=8"]
+CORNELL_REF_SPP = 2048
+
+
+def defines(pairs):
+    return [x for d in pairs for x in ("-D", d)]
+
+
+def penumbra_xml(b, scene, sets, exr, *extra):
+    """One `penumbra render` of a Mitsuba XML scene: the render call's wall
+    time (from --stats) and the process's CPU time (loading and writing
+    included)."""
+    stats = HERE / ".work" / "xml.json"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run([b["penumbra"], "render", scene, *defines(sets), *extra, "-o", exr, "--quiet", "--stats", stats], cwd=ROOT)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    s = json.loads(stats.read_text())
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return {"render_s": s["time"]["render_s"], "render_cpu_s": cpu, "rays": s["rays"]["total"]}
+
+
+def mitsuba_xml(variant, scene, sets, exr, repeat, env=None):
+    p = run([VENV_PY, HERE / "mitsuba_render.py", variant, scene, *defines(sets), "--repeat", repeat,
+             "--exr", exr], env=env, check=False)
+    if p.returncode != 0:
+        return {"error": (p.stderr.strip().splitlines() or ["?"])[-1]}
+    return json.loads(p.stdout)
+
+
+def section_path(args, bins, data):
+    """Penumbra's `path` against Mitsuba 3's on the Cornell box: time at
+    equal samples, then relative MSE x time (lower is better) against a
+    high-sample reference, each renderer's 64-spp image measured."""
+    import mitsuba as mi
+    import numpy as np
+
+    w = HERE / ".work"
+    llvm = llvm_library()
+    env = dict(os.environ)
+    if llvm:
+        env["DRJIT_LIBLLVM_PATH"] = llvm
+    rounds, base = [], []
+    exr = {k: w / f"cornell_{k}.exr" for k in ("penumbra", "scalar", "llvm")}
+    for k in range(args.rounds):
+        p, pb = both(bins, data["base"], k,
+                     lambda b: penumbra_xml(b, CORNELL, CORNELL_SET, exr["penumbra"], "--threads", "2"))
+        base.append(pb)
+        s = mitsuba_xml("scalar_rgb", CORNELL, CORNELL_SET, exr["scalar"], 1)
+        l = mitsuba_xml("llvm_ad_rgb", CORNELL, CORNELL_SET, exr["llvm"], 2, env)
+        rounds.append((p, s, l))
+    ref = w / f"cornell_ref_{CORNELL_REF_SPP}.exr"
+    if not ref.exists():
+        variant = "llvm_ad_rgb" if "render_s" in rounds[0][2] else "scalar_rgb"
+        sets = [f"spp={CORNELL_REF_SPP}"] + CORNELL_SET[1:]
+        r = mitsuba_xml(variant, CORNELL, sets, w / "cornell_ref.tmp.exr", 1, env)
+        if "error" in r:
+            raise SystemExit(f"the Cornell reference: {r['error']}")
+        (w / "cornell_ref.tmp.exr").rename(ref)
+    mi.set_variant("scalar_rgb")
+    read = lambda path: np.array(mi.Bitmap(str(path)), dtype=np.float64)[..., :3]
+    reference = read(ref)
+    rel_mse = lambda x: float(((x - reference) ** 2 / (reference ** 2 + 0.01)).mean())
+    out = {
+        "penumbra_s": med([x[0]["render_s"] for x in rounds]),
+        "penumbra_cpu_s": med([x[0]["render_cpu_s"] for x in rounds]),
+        "penumbra_rays": rounds[0][0]["rays"],
+        "scalar_s": med([x[1]["render_s"] for x in rounds]),
+        "ratio_scalar": med([x[0]["render_s"] / x[1]["render_s"] for x in rounds]),
+        "mean_penumbra": [float(v) for v in read(exr["penumbra"]).reshape(-1, 3).mean(axis=0)],
+        "mean_mitsuba": rounds[0][1]["mean_rgb"],
+        "relmse_penumbra": rel_mse(read(exr["penumbra"])),
+        "relmse_scalar": rel_mse(read(exr["scalar"])),
+        "reference_spp": CORNELL_REF_SPP,
+    }
+    out["work_ratio_scalar"] = (out["relmse_penumbra"] * out["penumbra_s"]) / (out["relmse_scalar"] * out["scalar_s"])
+    if all("render_s" in x[2] for x in rounds):
+        out |= {
+            "llvm_s": med([x[2]["render_s"] for x in rounds]),
+            "llvm_first_s": med([x[2]["first_render_s"] for x in rounds]),
+            "ratio_llvm": med([x[0]["render_s"] / x[2]["render_s"] for x in rounds]),
+            "relmse_llvm": rel_mse(read(exr["llvm"])),
+        }
+        out["work_ratio_llvm"] = (out["relmse_penumbra"] * out["penumbra_s"]) / (out["relmse_llvm"] * out["llvm_s"])
+    else:
+        out["llvm_error"] = next(x[2]["error"] for x in rounds if "error" in x[2])
+    if data["base"] is not None:
+        out["vs"] = [versus("Cornell box, path, 256×256, 64 spp, 2 threads, s (wall)",
+                            [x[0]["render_s"] for x in rounds], [x["render_s"] for x in base])]
+    return out
+
+
 # ---------------------------------------------------------------------------
 # Report
 # ---------------------------------------------------------------------------
@@ -721,6 +819,21 @@ def report(res):
                 "—", "≤ 20", x["point_ns"] <= 20)
             row(f"a set of one point of `{name}`, stream derivation included, ns (CPU)", "—", f(x["one_ns"], 1),
                 "—", "—", True)
+    if "path" in res:
+        c = res["path"]
+        row("Cornell box, `path`, 256×256, 64 spp, max_depth 8, 2 threads, s (wall)",
+            f"Mitsuba scalar_rgb {f(c['scalar_s'])}", f(c["penumbra_s"]), f"{f(c['ratio_scalar'])}×", "≤ 0.5×",
+            c["ratio_scalar"] <= 0.5)
+        if "llvm_s" in c:
+            row("Cornell box, `path`, s (wall)", f"Mitsuba llvm_ad_rgb {f(c['llvm_s'])}", f(c["penumbra_s"]),
+                f"{f(c['ratio_llvm'])}×", "as measured", True)
+        row("Cornell box, relative MSE × s at 64 spp (lower is better)",
+            f"Mitsuba scalar_rgb {c['relmse_scalar'] * c['scalar_s']:.3g}",
+            f"{c['relmse_penumbra'] * c['penumbra_s']:.3g}", f"{f(c['work_ratio_scalar'])}×", "≤ 1×",
+            c["work_ratio_scalar"] <= 1)
+        if "llvm_s" in c:
+            row("Cornell box, relative MSE × s at 64 spp", f"Mitsuba llvm_ad_rgb {c['relmse_llvm'] * c['llvm_s']:.3g}",
+                f"{c['relmse_penumbra'] * c['penumbra_s']:.3g}", f"{f(c['work_ratio_llvm'])}×", "as measured", True)
     if "a" in res and "efficiency" in res["a"]:
         e = res["a"]["efficiency"]
         row("parallel efficiency, 2 threads, scene (a) (wall: t1 / 2 t2)", "—", f"{100 * e:.0f}%", "—", "≥ 90%",
@@ -794,6 +907,15 @@ def report(res):
         for x in res["before"]["rows"]:
             L.append(f"| {x['what']} | {x['rays']:,} | {f(x['before_cpu'])} | {f(x['after_cpu'])} | "
                      f"{f(x['ratio_cpu'])}× | {f(x['before_s'])} | {f(x['after_s'])} |")
+    if "path" in res:
+        c = res["path"]
+        L.append(f"Cornell box image means (linear RGB): Penumbra {', '.join(f(x, 4) for x in c['mean_penumbra'])}; "
+                 f"Mitsuba {', '.join(f(x, 4) for x in c['mean_mitsuba'])}. Relative MSE at 64 spp against Mitsuba's "
+                 f"{c['reference_spp']}-spp reference: Penumbra {c['relmse_penumbra']:.3g}, Mitsuba scalar_rgb "
+                 f"{c['relmse_scalar']:.3g}" + (f", llvm_ad_rgb {c['relmse_llvm']:.3g}" if "relmse_llvm" in c else "")
+                 + f". Penumbra traced {c['penumbra_rays']:,} rays."
+                 + (f" Mitsuba llvm_ad_rgb's first render (kernel compilation): {f(c['llvm_first_s'])} s."
+                    if "llvm_first_s" in c else ""))
     if "million" in res:
         mm = res["million"]
         L.append("")
@@ -869,7 +991,7 @@ def main():
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
-           "before": section_before}
+           "path": section_path, "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

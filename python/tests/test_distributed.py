@@ -47,6 +47,17 @@ def test_tiles_on_two_worker_processes_give_exactly_the_local_image(client, smal
         assert stats[key] == local_stats[key], key
 
 
+@pytest.mark.parametrize("integrator", ["path", "distributed"])
+def test_path_traced_tiles_on_two_workers_give_exactly_the_local_image(client, integrator):
+    scene = penumbra.load_scene("cornell-box")
+    opts = {"width": 40, "height": 40, "spp": 4, "integrator": integrator, "max_depth": 6, "seed": 5}
+    local, local_stats = penumbra.render(scene, **opts)
+    image, stats = pd.render(scene, client, tile=13, **opts)
+    assert local.mean() > 0.01
+    assert np.array_equal(image, local)
+    assert stats["rays"] == local_stats["rays"]
+
+
 def test_progress_counts_tiles(client, small):
     calls = []
     pd.render(penumbra.load_scene("showcase"), client, tile=16,
