@@ -231,7 +231,9 @@ fn scenes_lists_every_built_in() {
         "bunny-mirror",
         "bunny-glass",
         "bunnies-dof",
+        "bunny-gi",
         "bunny-motion",
+        "cornell-box",
     ] {
         assert!(out.contains(name), "{name} missing from:\n{out}");
     }

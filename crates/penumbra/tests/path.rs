@@ -246,6 +246,44 @@ fn the_cornell_box_bleeds_colour() {
     );
 }
 
+/// The built-in `bunny-gi` is path traced and bleeds colour: the floor
+/// beside the orange wall (image left) is more orange than the floor on
+/// the right, which the blue wall lights.
+#[test]
+fn the_bunny_in_its_corner_bleeds_colour() {
+    let Some(bunny) = common::bunny() else { return };
+    let mut src = builtin("bunny-gi", Some(bunny));
+    set(
+        &mut src,
+        penumbra::scene::Overrides {
+            width: Some(64),
+            height: Some(48),
+            spp: Some(16),
+            ..Default::default()
+        },
+    );
+    let s = src.build().expect("bunny-gi builds");
+    assert_eq!(
+        s.settings.integrator,
+        penumbra::scene::IntegratorChoice::Path
+    );
+    let (img, _) = render_scene(&s, 2);
+    let patch = |x0: u32| {
+        let mut sum = Rgb::ZERO;
+        for y in 40..46 {
+            for x in x0..x0 + 6 {
+                sum += img.get(x, y);
+            }
+        }
+        sum
+    };
+    let (left, right) = (patch(2), patch(56));
+    assert!(
+        left.r / left.b > 1.2 * right.r / right.b,
+        "{left:?} {right:?}"
+    );
+}
+
 /// `distributed`: the thesis's sets at the first vertices, each BSDF ray
 /// going on as a path, converge to what `path` converges to, for square
 /// and low-discrepancy distributions and sets reaching one or two

@@ -59,6 +59,11 @@ pub const SCENES: &[Builtin] = &[
         "three bunnies at different depths, thin-lens depth of field (Figs. 4.2-4.3)"
     ),
     builtin!(
+        "bunny-gi",
+        true,
+        "the bunny in a corner of coloured walls, path traced: colour bleeding, soft shadows"
+    ),
+    builtin!(
         "bunny-motion",
         true,
         "the bunny sliding and turning during the exposure: motion blur"
