@@ -32,6 +32,7 @@
 //! built in) and writes `distributions.md`, `distributions.html`,
 //! `distributions.json` and `plots/{distributions,render,stopping}-*.svg`.
 
+mod chart;
 mod compose;
 mod convergence;
 mod distributions;
@@ -48,7 +49,6 @@ mod loglog;
 mod measure;
 mod output;
 mod plan;
-mod plot;
 pub mod render_level;
 mod report;
 mod runner;
