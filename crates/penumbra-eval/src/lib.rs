@@ -52,6 +52,7 @@ mod plan;
 pub mod render_level;
 mod report;
 mod runner;
+pub mod samples;
 mod sections;
 pub mod stopping;
 mod tables;
