@@ -31,6 +31,10 @@
 //! compared at equal RMSE ([`stopping`]). It needs no bunny (its scenes are
 //! built in) and writes `distributions.md`, `distributions.html`,
 //! `distributions.json` and `plots/{distributions,render,stopping}-*.svg`.
+//!
+//! Every plot, figure and picture is an SVG drawn by `plotters` (or, for
+//! figures, panels embedded as PNG data under SVG text labels): no font file
+//! is read. [`samples`] draws the pictures of `penumbra samples`.
 
 mod chart;
 mod compose;
