@@ -1,13 +1,14 @@
-//! `penumbra samples`: the points of a distribution, as JSON or a picture.
+//! `penumbra samples`: the points of a distribution, as JSON or an SVG
+//! picture.
 
 use std::path::PathBuf;
 
 use clap::Args;
 use penumbra::io::output::write_bytes;
-use penumbra::io::plot;
 use penumbra::math::Vec3;
 use penumbra::sampling::{Distribution, PointTable, Rng};
 use penumbra::scene::read_points;
+use penumbra_eval::samples;
 use serde_json::json;
 
 use crate::error::{input, other, CliError};
@@ -17,7 +18,7 @@ use crate::flags::parse_positive;
 #[derive(Args)]
 pub struct SamplesArgs {
     /// grid, jitter, semi-jitter, poisson, random, fast-random, sobol, zsobol,
-    /// pmj02, pmj02bn, halton, r2, custom (with --points), or `all` (PNG only).
+    /// pmj02, pmj02bn, halton, r2, custom (with --points), or `all` (SVG only).
     #[arg(long, short)]
     pub distribution: String,
     /// Number of points.
@@ -29,7 +30,7 @@ pub struct SamplesArgs {
     pub seed: u64,
     #[arg(long, short, value_enum, default_value = "json")]
     pub format: SampleFormat,
-    /// Output file (default: standard output for JSON, samples.png for PNG).
+    /// Output file (default: standard output for JSON, samples.svg for SVG).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// The custom distribution's point sets: a JSON or .npy file (see the
@@ -41,7 +42,7 @@ pub struct SamplesArgs {
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum SampleFormat {
     Json,
-    Png,
+    Svg,
 }
 
 pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
@@ -69,7 +70,7 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
         };
     match (a.format, dist) {
         (SampleFormat::Json, None) => Err(input(
-            "`--distribution all` draws a picture: use --format png",
+            "`--distribution all` draws a picture: use --format svg",
         )),
         (SampleFormat::Json, Some(d)) => {
             let points = points(d, &table, a);
@@ -93,22 +94,17 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
                 }
             }
         }
-        (SampleFormat::Png, d) => {
-            let img = match d {
-                Some(d) => plot::draw_points(&points(d, &table, a), a.radius, 512, d.name()),
-                None => plot::draw_all(a.count as usize, a.radius, a.seed, 320),
-            };
+        (SampleFormat::Svg, d) => {
+            let svg = match d {
+                Some(d) => samples::draw_points(&points(d, &table, a), a.radius, d.name()),
+                None => samples::draw_all(a.count as usize, a.radius, a.seed),
+            }
+            .map_err(other)?;
             let path = a
                 .output
                 .clone()
-                .unwrap_or_else(|| PathBuf::from("samples.png"));
-            let mut bytes = Vec::new();
-            img.write_to(
-                &mut std::io::Cursor::new(&mut bytes),
-                image::ImageFormat::Png,
-            )
-            .map_err(other)?;
-            write_bytes(&path, &bytes).map_err(other)
+                .unwrap_or_else(|| PathBuf::from("samples.svg"));
+            write_bytes(&path, svg.as_bytes()).map_err(other)
         }
     }
 }

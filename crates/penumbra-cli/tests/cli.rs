@@ -324,12 +324,37 @@ fn samples_prints_json_in_trace_order() {
         .all(|p| p.as_array().unwrap().len() == 3));
     let o = penumbra(
         &[
-            "samples", "-d", "all", "-c", "16", "-f", "png", "-o", "all.png",
+            "samples", "-d", "all", "-c", "16", "-f", "svg", "-o", "all.svg",
         ],
         dir.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(image::open(dir.path().join("all.png")).is_ok());
+    let svg = std::fs::read_to_string(dir.path().join("all.svg")).unwrap();
+    let panels = penumbra::sampling::Distribution::ALL.len();
+    assert_eq!(svg.matches("<circle").count(), 16 * panels);
+    for d in penumbra::sampling::Distribution::ALL {
+        assert!(
+            svg.contains(&format!(">\n{}\n</text>", d.name())),
+            "{}",
+            d.name()
+        );
+    }
+    // One distribution, by default into samples.svg; a PNG is not offered.
+    let o = penumbra(
+        &["samples", "-d", "halton", "-c", "9", "-f", "svg"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(dir.path().join("samples.svg")).unwrap();
+    assert_eq!(svg.matches("<circle").count(), 9);
+    let o = penumbra(
+        &["samples", "-d", "all", "-c", "4", "-f", "png"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = penumbra(&["samples", "-d", "all", "-c", "4"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--format svg"), "{}", stderr(&o));
 }
 
 /// `custom` renders from a points file given by flag or scene key, and

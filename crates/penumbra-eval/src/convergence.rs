@@ -12,15 +12,15 @@ use std::path::Path;
 use penumbra::render::Image;
 use penumbra::sampling::Distribution;
 use penumbra::scene::Overrides;
+use plotters::style::RGBColor;
 use serde::Serialize;
 
-use crate::compose::save_png;
+use crate::chart::{Chart, Legend, Line, Scale, Series};
 use crate::error::EvalError;
 use crate::fit;
 use crate::growth::Plot;
 use crate::job::{Crop, Job, Variant};
 use crate::plan::Plan;
-use crate::plot::{Chart, Line, Marker, Scale, Series};
 use crate::runner::Runner;
 use crate::tables::frame;
 
@@ -323,6 +323,7 @@ fn write_plot(
         Scale::Log,
         Scale::Log,
     );
+    chart.legend = Legend::UpperRight;
     for (i, c) in curves.iter().enumerate() {
         let points = c.points.iter().map(|p| (f64::from(p.0), p.1)).collect();
         chart.series.push(Series::styled(
@@ -346,13 +347,11 @@ fn write_plot(
             .iter()
             .map(|&n| (n, e0 * (n / n0).powf(-0.5)))
             .collect();
-        chart.series.push(Series {
-            name: "slope -0.5".into(),
+        chart.series.push(Series::dashed(
+            "slope -0.5",
             points,
-            color: image::Rgb([150, 150, 150]),
-            marker: Marker::None,
-            line: Line::Dashed,
-        });
+            RGBColor(150, 150, 150),
+        ));
     }
     if reference_rmse > 0.0 {
         let span: Vec<f64> = curves
@@ -361,17 +360,17 @@ fn write_plot(
             .collect();
         let lo = span.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = span.iter().copied().fold(0.0, f64::max);
-        chart.series.push(Series {
-            name: "reference noise".into(),
-            points: vec![(lo, reference_rmse), (hi, reference_rmse)],
-            color: image::Rgb([90, 90, 90]),
-            marker: Marker::None,
-            line: Line::Solid,
-        });
+        let mut noise = Series::dashed(
+            "reference noise",
+            vec![(lo, reference_rmse), (hi, reference_rmse)],
+            RGBColor(90, 90, 90),
+        );
+        noise.line = Line::Solid;
+        chart.series.push(noise);
     }
     let id = format!("convergence-{}", e.name.replace(' ', "-"));
-    let file = format!("plots/{id}.png");
-    save_png(&dir.join(&file), &chart.render())?;
+    let file = format!("plots/{id}.svg");
+    chart.write(&dir.join(&file))?;
     Ok(Plot {
         id,
         title: chart.title.clone(),

@@ -218,7 +218,7 @@ mod tests {
             Block::List(vec!["one".into()]),
             Block::Table(t),
             Block::Image {
-                src: "figures/fig-4.1.png".into(),
+                src: "figures/fig-4.1.svg".into(),
                 alt: "Figure 4.1".into(),
                 caption: "c".into(),
             },
@@ -236,7 +236,7 @@ mod tests {
         let md = to_markdown(&sample());
         assert!(md.contains("## Table 4.1\n"));
         assert!(md.contains("| setting | rays |\n|---|---:|\n| a\\|b | 1,000 |"));
-        assert!(md.contains("![Figure 4.1](figures/fig-4.1.png)"));
+        assert!(md.contains("![Figure 4.1](figures/fig-4.1.svg)"));
         assert!(md.contains("- one\n"));
         assert!(md.contains("![P](plots/p.svg)\n\n*d*"));
     }
@@ -246,7 +246,7 @@ mod tests {
         let html = to_html("R & D", &sample());
         assert!(html.contains("<title>R &amp; D</title>"));
         assert!(html.contains("<code>--quick</code> &amp; &lt;see&gt;."));
-        assert!(html.contains("<img src=\"figures/fig-4.1.png\""));
+        assert!(html.contains("<img src=\"figures/fig-4.1.svg\""));
         assert!(html.contains("<td class=\"n\">1,000</td>"));
         assert!(html.trim_end().ends_with("</html>"));
         assert!(html.contains(

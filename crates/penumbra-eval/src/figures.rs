@@ -1,5 +1,5 @@
 //! Figures 4.1–4.10 of the thesis, rendered: the same settings side by side,
-//! one composed PNG per figure, each panel labelled with its setting.
+//! one composed SVG per figure, each panel labelled with its setting.
 
 use std::path::Path;
 
@@ -8,7 +8,7 @@ use penumbra::sampling::Distribution;
 use penumbra::scene::Overrides;
 use serde::Serialize;
 
-use crate::compose::{difference, enlarge, grid, save_png, shrink, to_rgb8, Panel};
+use crate::compose::{difference, enlarge, save_grid, shrink, to_rgb8, Panel};
 use crate::error::EvalError;
 use crate::format::rays;
 use crate::job::{Crop, Job, Variant};
@@ -401,7 +401,7 @@ pub fn jobs(plan: &Plan) -> Vec<Job> {
     out
 }
 
-/// Renders and writes every figure into `dir` (`figures/fig-4.N.png`).
+/// Renders and writes every figure into `dir` (`figures/fig-4.N.svg`).
 pub fn run(runner: &mut Runner, plan: &Plan, dir: &Path) -> Result<Vec<Figure>, EvalError> {
     let mut out = Vec::new();
     for spec in specs(plan) {
@@ -420,8 +420,8 @@ pub fn run(runner: &mut Runner, plan: &Plan, dir: &Path) -> Result<Vec<Figure>, 
             });
         }
         let panels = display_size(panels);
-        let file = format!("figures/fig-{}.png", spec.id);
-        save_png(&dir.join(&file), &grid(&panels, spec.cols))?;
+        let file = format!("figures/fig-{}.svg", spec.id);
+        save_grid(&dir.join(&file), &panels, spec.cols)?;
         out.push(Figure {
             id: spec.id.into(),
             title: spec.title.into(),

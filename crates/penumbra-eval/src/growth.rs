@@ -4,14 +4,14 @@
 
 use std::path::Path;
 
+use plotters::style::RGBColor;
 use serde::Serialize;
 
-use crate::compose::save_png;
+use crate::chart::{Chart, Legend, Line, Marker, Scale, Series};
 use crate::error::EvalError;
 use crate::job::Job;
 use crate::measure::{reduction, Measurement};
 use crate::plan::Plan;
-use crate::plot::{Chart, Line, Marker, Scale, Series};
 use crate::runner::Runner;
 use crate::tables::{frame, metric_text, with_metric, MetricKind, Tables};
 use crate::thesis;
@@ -161,6 +161,8 @@ pub fn plots(tables: &Tables, sweep: &[SweepPoint], dir: &Path) -> Result<Vec<Pl
         let rel = points.iter().map(|p| (p.0, p.1 / base)).collect();
         relative.series.push(Series::styled(i, *name, rel));
     }
+    absolute.legend = Legend::LowerRight;
+    relative.legend = Legend::LowerRight;
     relative.series.push(guide("n (linear)", 1, 32.0, 185));
     relative.series.push(guide("n^3", 3, 32.0, 90));
     let mut out = vec![
@@ -180,13 +182,7 @@ fn guide(name: &str, power: i32, to: f64, grey: u8) -> Series {
             (x, x.powi(power))
         })
         .collect();
-    Series {
-        name: name.into(),
-        points,
-        color: image::Rgb([grey; 3]),
-        marker: Marker::None,
-        line: Line::Dashed,
-    }
+    Series::dashed(name, points, RGBColor(grey, grey, grey))
 }
 
 fn metric_chart(sweep: &[SweepPoint]) -> Chart {
@@ -234,12 +230,13 @@ fn metric_chart(sweep: &[SweepPoint]) -> Chart {
     t4.line = Line::None;
     t4.marker = Marker::Plus;
     chart.series.extend([t6, t4]);
+    chart.legend = Legend::LowerRight;
     chart
 }
 
 fn write(dir: &Path, id: &str, chart: &Chart, caption: &str) -> Result<Plot, EvalError> {
-    let file = format!("plots/{id}.png");
-    save_png(&dir.join(&file), &chart.render())?;
+    let file = format!("plots/{id}.svg");
+    chart.write(&dir.join(&file))?;
     Ok(Plot {
         id: id.into(),
         title: chart.title.clone(),

@@ -31,7 +31,12 @@
 //! compared at equal RMSE ([`stopping`]). It needs no bunny (its scenes are
 //! built in) and writes `distributions.md`, `distributions.html`,
 //! `distributions.json` and `plots/{distributions,render,stopping}-*.svg`.
+//!
+//! Every plot, figure and picture is an SVG drawn by `plotters` (or, for
+//! figures, panels embedded as PNG data under SVG text labels): no font file
+//! is read. [`samples`] draws the pictures of `penumbra samples`.
 
+mod chart;
 mod compose;
 mod convergence;
 mod distributions;
@@ -48,10 +53,10 @@ mod loglog;
 mod measure;
 mod output;
 mod plan;
-mod plot;
 pub mod render_level;
 mod report;
 mod runner;
+pub mod samples;
 mod sections;
 pub mod stopping;
 mod tables;

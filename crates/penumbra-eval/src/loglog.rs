@@ -1,43 +1,23 @@
-//! Log–log plots drawn with `plotters` into SVG, shared by the studies:
-//! one colour per series, filled dots joined by a line on the points that
-//! count, hollow dots on those shown but set aside, and for each series an
-//! optional dashed guide (a theoretical slope); grey dashed lines with a
-//! legend of their own (a reference's noise). Text is written as SVG
-//! `<text>`: no font files are read.
+//! Log–log plots shared by the studies, drawn as a
+//! [`Chart`](crate::chart::Chart): one colour per series, filled dots
+//! joined by a line on the points that count, hollow dots on those shown
+//! but set aside, and for each series an optional dashed guide (a
+//! theoretical slope); grey dashed lines with a legend of their own (a
+//! reference's noise).
 
 use std::path::Path;
 
-use plotters::coord::Shift;
-use plotters::prelude::*;
+use plotters::style::RGBColor;
 
+use crate::chart::{colour, Chart, Legend, Line, Marker, Scale, Series};
 use crate::error::EvalError;
-use crate::output::write_file;
-
-const SIZE: (u32, u32) = (960, 640);
-
-/// Colours for the series, cycled past their number (Tableau 10, then two
-/// more).
-const COLOURS: [RGBColor; 12] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-    RGBColor(0, 0, 0),
-    RGBColor(170, 110, 0),
-];
 
 /// How the x axis is labelled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum XAxis {
     /// Counts on a base-2 scale, labelled as integers.
     Counts,
-    /// Any positive quantity on a base-10 scale, labelled like `3e-2`.
+    /// Any positive quantity on a base-10 scale.
     Values,
 }
 
@@ -68,140 +48,50 @@ pub struct LogLog {
 impl LogLog {
     /// Draws the plot, writes it to `path` and returns its SVG text.
     pub fn write(&self, path: &Path) -> Result<String, EvalError> {
-        let err = |message: String| EvalError::Write {
-            path: path.to_path_buf(),
-            message,
+        self.chart().write(path)
+    }
+
+    /// The plot as a [`Chart`]: per series a line with dots (in the
+    /// legend), hollow dots and a dashed guide (not in it); then the grey
+    /// lines.
+    pub fn chart(&self) -> Chart {
+        let x = match self.x_axis {
+            XAxis::Counts => Scale::Log2,
+            XAxis::Values => Scale::Log,
         };
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            self.draw(&root).map_err(|e| err(e.to_string()))?;
-            root.present().map_err(|e| err(e.to_string()))?;
-        }
-        write_file(path, svg.as_bytes())?;
-        Ok(svg)
-    }
-
-    fn draw(&self, root: &DrawingArea<SVGBackend<'_>, Shift>) -> DrawResult {
-        root.fill(&WHITE)?;
-        let (x, y) = self.ranges();
-        let mut builder = ChartBuilder::on(root);
-        builder
-            .caption(&self.title, ("sans-serif", 22))
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(80);
-        match self.x_axis {
-            XAxis::Counts => {
-                let mut chart =
-                    builder.build_cartesian_2d(x.log_scale().base(2.0), y.log_scale())?;
-                chart
-                    .configure_mesh()
-                    .x_desc(self.x_desc.as_str())
-                    .y_desc(self.y_desc.as_str())
-                    .x_label_formatter(&|v| format!("{}", v.round()))
-                    .y_label_formatter(&|v| format!("{v:.0e}"))
-                    .label_style(("sans-serif", 14))
-                    .light_line_style(RGBColor(235, 235, 235))
-                    .x_max_light_lines(0)
-                    .draw()?;
-                self.draw_series(&mut chart)
-            }
-            XAxis::Values => {
-                let mut chart = builder.build_cartesian_2d(x.log_scale(), y.log_scale())?;
-                chart
-                    .configure_mesh()
-                    .x_desc(self.x_desc.as_str())
-                    .y_desc(self.y_desc.as_str())
-                    .x_label_formatter(&|v| format!("{v:.0e}"))
-                    .y_label_formatter(&|v| format!("{v:.0e}"))
-                    .label_style(("sans-serif", 14))
-                    .light_line_style(RGBColor(235, 235, 235))
-                    .draw()?;
-                self.draw_series(&mut chart)
-            }
-        }
-    }
-
-    fn draw_series<'a, 'b: 'a, X, Y>(
-        &self,
-        chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
-    ) -> DrawResult
-    where
-        X: Ranged<ValueType = f64>,
-        Y: Ranged<ValueType = f64>,
-    {
+        let mut chart = Chart::new(&self.title, &self.x_desc, &self.y_desc, x, Scale::Log);
+        chart.legend = Legend::LowerLeft;
         for (i, s) in self.series.iter().enumerate() {
-            let colour = COLOURS[i % COLOURS.len()];
-            let points = positive(&s.points);
+            let c = colour(i);
+            let one = |label: &str, points: &[(f64, f64)], marker, line, width| Series {
+                label: label.to_string(),
+                points: positive(points),
+                colour: c,
+                marker,
+                line,
+                width,
+            };
             chart
-                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 22, y)], colour.stroke_width(2))
-                });
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
-            chart.draw_series(
-                positive(&s.hollow)
-                    .into_iter()
-                    .map(|p| Circle::new(p, 3, colour.stroke_width(1))),
-            )?;
+                .series
+                .push(one(&s.label, &s.points, Marker::Dot, Line::Solid, 2));
+            chart
+                .series
+                .push(one("", &s.hollow, Marker::Ring, Line::None, 1));
             if let Some(guide) = &s.guide {
-                let guide = positive(guide);
-                chart.draw_series(DashedLineSeries::new(guide, 7, 5, colour.stroke_width(1)))?;
+                chart
+                    .series
+                    .push(one("", guide, Marker::None, Line::Dashed, 1));
             }
         }
         let grey = RGBColor(110, 110, 110);
         for (label, line) in &self.lines {
-            let drawn = chart.draw_series(DashedLineSeries::new(
-                positive(line),
-                4,
-                4,
-                grey.stroke_width(1),
-            ))?;
-            if !label.is_empty() {
-                drawn.label(label.as_str()).legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 22, y)], grey.stroke_width(1))
-                });
-            }
+            chart
+                .series
+                .push(Series::dashed(label.as_str(), positive(line), grey));
         }
         chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .label_font(("sans-serif", 13))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()?;
-        Ok(())
-    }
-
-    /// The axes' ranges over every positive point, padded by a little on
-    /// the log scale.
-    fn ranges(&self) -> (std::ops::Range<f64>, std::ops::Range<f64>) {
-        let all: Vec<(f64, f64)> = self
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().chain(&s.hollow))
-            .chain(self.lines.iter().flat_map(|l| &l.1))
-            .copied()
-            .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite())
-            .collect();
-        let span = |f: fn(&(f64, f64)) -> f64, default: (f64, f64)| {
-            let lo = all.iter().map(f).fold(f64::INFINITY, f64::min);
-            let hi = all.iter().map(f).fold(0.0, f64::max);
-            if lo <= hi {
-                (lo, hi)
-            } else {
-                default
-            }
-        };
-        let (x0, x1) = span(|p| p.0, (1.0, 2.0));
-        let (y0, y1) = span(|p| p.1, (1e-3, 1.0));
-        (x0 / 1.2..x1 * 1.2, y0 / 1.6..y1 * 1.6)
     }
 }
-
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
 /// The points a log scale can show.
 fn positive(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
@@ -265,7 +155,24 @@ mod tests {
         };
         let svg = plot.write(&dir.path().join("p.svg"));
         let svg = svg.unwrap_or_default();
-        assert!(svg.contains("alpha") && svg.contains("floor"), "{svg}");
-        assert!(dir.path().join("p.svg").is_file());
+        let texts = crate::chart::texts(&svg);
+        assert!(texts.iter().any(|t| t == "alpha"), "{texts:?}");
+        assert!(texts.iter().any(|t| t == "floor"), "{texts:?}");
+        let circles = crate::chart::elements(&svg, "circle");
+        let filled = |c: &&Vec<(String, String)>| c.iter().any(|a| a.0 == "fill" && a.1 != "none");
+        // Two dots and the legend's; one hollow dot.
+        assert_eq!(circles.iter().filter(filled).count(), 3, "{svg}");
+        assert_eq!(circles.len(), 4, "{svg}");
+        // The series' line and its legend key; the guide is dashed.
+        let thick_blue = crate::chart::elements(&svg, "polyline")
+            .into_iter()
+            .filter(|l| l.contains(&("stroke".into(), "#1F77B4".into())))
+            .filter(|l| l.contains(&("stroke-width".into(), "2".into())))
+            .count();
+        assert_eq!(thick_blue, 2, "{svg}");
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("p.svg")).ok(),
+            Some(svg)
+        );
     }
 }

@@ -74,12 +74,34 @@ fn files_and_sections(r: &Report) -> Result<(), Box<dyn Error>> {
     for f in r.files() {
         let path = r.out.join(&f);
         assert!(path.is_file(), "missing {f}");
-        if f.ends_with(".png") {
-            let img = image::open(&path)?;
-            assert!(img.width() >= 100 && img.height() >= 100, "{f} is tiny");
+        if f.ends_with(".svg") {
+            let svg = std::fs::read_to_string(&path)?;
+            assert!(
+                svg.contains("<svg") && svg.contains("<text"),
+                "{f}: no labels"
+            );
         }
     }
     assert_eq!(r.figures.len(), 10);
+    // A figure embeds each panel's render under its label.
+    for f in &r.figures {
+        let svg = std::fs::read_to_string(r.out.join(&f.file))?;
+        let images = svg.matches("<image ").count();
+        assert_eq!(images, f.panels.len(), "{}", f.file);
+        assert_eq!(svg.matches("data:image/png;base64,").count(), images);
+        assert_eq!(svg.matches("</text>").count(), f.panels.len(), "{}", f.file);
+    }
+    // A plot is drawn with a line and markers per series.
+    for p in &r.plots {
+        let svg = std::fs::read_to_string(r.out.join(&p.file))?;
+        assert!(p.file.ends_with(".svg"), "{}", p.file);
+        assert!(svg.matches("<polyline").count() > 2, "{}", p.file);
+        assert!(
+            svg.contains(&format!(">\n{}\n</text>", p.title)),
+            "{}",
+            p.file
+        );
+    }
     let md = std::fs::read_to_string(r.markdown_path())?;
     let html = std::fs::read_to_string(r.html_path())?;
     for id in ["4.1", "4.2", "4.3", "4.4", "4.5", "4.6"] {

@@ -1,6 +1,3 @@
-//! Files out: image writers (PNG, EXR, written atomically), and pictures of
-//! ray distributions with the bitmap font their titles use.
+//! Files out: image writers (PNG, EXR, written atomically).
 
-pub mod font;
 pub mod output;
-pub mod plot;

@@ -18,8 +18,8 @@
 //! # The six distributions
 //!
 //! Sets of 16 points each, in the square `[-r, r]^2` (`o` is a point, `8`
-//! two; fast-random seen from above, its x and y; `io::plot::draw_all` draws the
-//! same as an image):
+//! two; fast-random seen from above, its x and y; `penumbra samples
+//! --distribution all --format svg` draws the same as a picture):
 //!
 //! ```text
 //!       grid             jitter         semi-jitter
