@@ -112,7 +112,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 }
 
 /// `NAME=VALUE`, the name of letters, digits and `_`.
-fn parse_define(text: &str) -> Result<(String, String), String> {
+pub fn parse_define(text: &str) -> Result<(String, String), String> {
     let (name, value) = text
         .split_once('=')
         .ok_or_else(|| format!("`{text}` is not NAME=VALUE"))?;

@@ -7,7 +7,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use penumbra::description::mitsuba::{self, spectrum, transform, Loaded};
-use penumbra::description::{from_toml, KeyPath, Kind, Located, Node, Origin, Prop, Value};
+use penumbra::description::{from_toml, Kind, Node, Value};
+use penumbra::scene::convert;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Overrides, SceneError, SceneSource};
 
 const LIMIT: u64 = 4 << 20;
@@ -233,6 +234,7 @@ origin = [-0.5, 3.0, -0.5]
 edge_u = [1.0, 0.0, 0.0]
 edge_v = [0.0, 0.0, 1.0]
 material = "bsdf_2"
+emitter = { type = "area", radiance = [10.0, 10.0, 10.0] }
 
 [[lights]]
 type = "point"
@@ -240,8 +242,7 @@ position = [2.0, 4.0, 2.0]
 intensity = [20.0, 20.0, 20.0]
 "#;
 
-/// The TOML scene's tree with the area emitter a TOML file cannot give a
-/// shape (a tree made in code can).
+/// The TOML scene's tree, its integrator replaced.
 fn toml_tree(integrator: Option<&str>) -> Node {
     let text = match integrator {
         Some(i) => TOML_SCENE.replace(
@@ -250,26 +251,7 @@ fn toml_tree(integrator: Option<&str>) -> Node {
         ),
         None => TOML_SCENE.to_string(),
     };
-    let mut root = from_toml(&text, Path::new("scene.toml")).unwrap();
-    let path = KeyPath::root().key("objects").index(2).key("emitter");
-    let mut area = Node::new(Kind::Emitter, "area", Origin::unlocated(path.clone()));
-    let radiance = path.key("radiance");
-    let items = (0..3)
-        .map(|i| Located::new(Value::Float(10.0), Origin::unlocated(radiance.index(i))))
-        .collect();
-    area.props.push(Prop::new(
-        "radiance",
-        Origin::unlocated(radiance.clone()),
-        Located::new(Value::Array(items), Origin::unlocated(radiance)),
-    ));
-    let lit = root
-        .children
-        .iter_mut()
-        .filter(|c| c.kind == Kind::Shape)
-        .nth(2)
-        .unwrap();
-    lit.children.push(area);
-    root
+    from_toml(&text, Path::new("scene.toml")).unwrap()
 }
 
 #[test]
@@ -333,6 +315,58 @@ fn an_xml_scene_renders_the_pixels_of_its_toml_scene() {
     assert_eq!((a.width, a.height), (64, 48));
     assert!(a.pixels == b.pixels, "the XML scene renders other pixels");
     assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+}
+
+/// `penumbra convert`'s text: the XML scene's tree, written as TOML and
+/// read back, is the tree read from the XML; both render the same pixels.
+#[test]
+fn an_xml_scene_converted_to_toml_reads_back_to_its_tree_and_pixels() {
+    let d = Dir::new(&[("scene.xml", XML_SCENE)]);
+    d.write("meshes/tri.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let opts = LoadOptions::default();
+    let with_mesh = XML_SCENE.replace(
+        "    <emitter type=\"point\">",
+        "    <shape type=\"obj\"><string name=\"filename\" value=\"meshes/tri.obj\"/>\
+         <boolean name=\"face_normals\" value=\"true\"/></shape>\n    <emitter type=\"point\">",
+    );
+    d.write("mesh.xml", with_mesh.as_bytes());
+    for name in ["scene.xml", "mesh.xml"] {
+        let xml = SceneSource::open(d.path(name).to_str().unwrap(), &opts).unwrap();
+        let text = convert::to_toml(&xml, d.0.path()).unwrap_or_else(|e| panic!("{e}"));
+        d.write("scene.toml", text.as_bytes());
+        let toml = SceneSource::open(d.path("scene.toml").to_str().unwrap(), &opts).unwrap();
+        assert!(
+            xml.root.same_as(&toml.root),
+            "{text}\nXML:\n{}\nTOML:\n{}",
+            xml.root.fingerprint(),
+            toml.root.fingerprint()
+        );
+        let (a, _) = common::render_scene(&xml.build().unwrap(), 2);
+        let (b, _) = common::render_scene(&toml.build().unwrap(), 2);
+        assert!(
+            a.pixels == b.pixels,
+            "{name}: the TOML scene renders other pixels"
+        );
+        assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+    }
+    // The mesh stays where it is: relative beside the XML file, absolute elsewhere.
+    let xml = SceneSource::open(d.path("mesh.xml").to_str().unwrap(), &opts).unwrap();
+    let here = convert::to_toml(&xml, d.0.path()).unwrap();
+    assert!(here.contains("path = \"meshes/tri.obj\""), "{here}");
+    let elsewhere = tempfile::tempdir().unwrap();
+    let there = convert::to_toml(&xml, elsewhere.path()).unwrap();
+    let absolute = std::path::absolute(d.path("meshes/tri.obj")).unwrap();
+    let written = from_toml(&there, Path::new("x.toml")).unwrap();
+    let mesh = shapes(&written)[3];
+    assert_eq!(
+        prop(mesh, "path"),
+        &Value::String(absolute.to_string_lossy().into_owned())
+    );
+    // Only keys the scene format documents: the written file passes its checks.
+    assert!(
+        !here.contains("to_world") && !here.contains("filename"),
+        "{here}"
+    );
 }
 
 // ---------------------------------------------------------------------------

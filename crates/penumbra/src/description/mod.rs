@@ -24,6 +24,7 @@
 //! ├── emitter "constant"                 only if render.background is given
 //! ├── bsdf <type, else "thesis"> #NAME   one per [materials.NAME], in file order
 //! ├── shape <type>                       one per [[objects]], in order
+//! │   └── emitter <type, else "area">    its `emitter` table, if any
 //! └── emitter <type>                     one per [[lights]], in order
 //! ```
 //!
@@ -84,6 +85,7 @@ pub mod props;
 pub mod schema;
 pub mod source;
 pub mod tree;
+pub mod write;
 
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
 pub use lower::{from_json, from_toml, toml_to_json, RENDER_KEYS};
@@ -91,3 +93,4 @@ pub use props::{NumberOr, Props, Scale};
 pub use schema::{check, Param, Schema, Type};
 pub use source::Source;
 pub use tree::{Kind, Located, Node, Prop, Value};
+pub use write::to_toml;
