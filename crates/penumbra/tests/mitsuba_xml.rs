@@ -369,6 +369,76 @@ fn an_xml_scene_converted_to_toml_reads_back_to_its_tree_and_pixels() {
     );
 }
 
+/// A `serialized` mesh the test writes itself: mesh `shape_index` of the
+/// file renders as the same triangles from an OBJ file do.
+#[test]
+fn serialized_meshes_are_read_by_shape_index() {
+    use penumbra::geometry::mesh_file::serialized::write_serialized;
+    use penumbra::geometry::mesh_file::MeshData;
+    let quad = |z: f32| MeshData {
+        positions: vec![
+            [-1.0, -1.0, z],
+            [1.0, -1.0, z],
+            [1.0, 1.0, z],
+            [-1.0, 1.0, z],
+        ],
+        normals: Some(vec![[0.0, 0.0, -1.0]; 4]),
+        uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        triangles: vec![[0, 2, 1], [0, 3, 2]],
+    };
+    let body = |shape: &str| {
+        scene(&format!(
+            r#"<sensor type="perspective"><float name="fov" value="60"/>
+            <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="24"/></film></sensor>
+            {shape}
+            <emitter type="point"><point name="position" value="0, 0, 0"/><rgb name="intensity" value="5"/></emitter>"#
+        ))
+    };
+    let d = Dir::new(&[
+        (
+            "ser.xml",
+            &body(
+                r#"<shape type="serialized"><string name="filename" value="m.serialized"/>
+                <integer name="shape_index" value="1"/></shape>"#,
+            ),
+        ),
+        (
+            "obj.xml",
+            &body(r#"<shape type="obj"><string name="filename" value="m.obj"/></shape>"#),
+        ),
+        (
+            "m.obj",
+            "v -1 -1 3\nv 1 -1 3\nv 1 1 3\nv -1 1 3\nf 1 3 2\nf 1 4 3\n",
+        ),
+    ]);
+    for (version, double) in [(3, false), (4, true)] {
+        d.write(
+            "m.serialized",
+            &write_serialized(&[quad(9.0), quad(3.0)], version, double),
+        );
+        let opts = LoadOptions::default();
+        let ser = SceneSource::open(d.path("ser.xml").to_str().unwrap(), &opts).unwrap();
+        let mesh = shapes(&ser.root)[0];
+        assert_eq!(prop(mesh, "shape_index"), &Value::Int(1));
+        let obj = SceneSource::open(d.path("obj.xml").to_str().unwrap(), &opts).unwrap();
+        let (a, _) = common::render_scene(&ser.build().unwrap(), 2);
+        let (b, _) = common::render_scene(&obj.build().unwrap(), 2);
+        assert!(a.pixels == b.pixels, "version {version}: other pixels");
+        assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+    }
+    // An index past the file's meshes is an error naming the file.
+    let out_of_range = scene(&format!(
+        "{SENSOR}<shape type=\"serialized\"><string name=\"filename\" value=\"m.serialized\"/>\
+         <integer name=\"shape_index\" value=\"2\"/></shape>"
+    ));
+    d.write("scene.xml", out_of_range.as_bytes());
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("m.serialized") && e.contains("holds 2 meshes"),
+        "{e}"
+    );
+}
+
 // ---------------------------------------------------------------------------
 // Language features.
 

@@ -13,7 +13,7 @@ use crate::description::error::{KeyPath, Location, Origin, SceneError};
 use crate::description::tree::{Kind, Located, Node, Prop, Value};
 
 /// The plugins read, by tag, in the order messages list them.
-pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply"];
+pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply", "serialized"];
 pub const BSDFS: &[&str] = &[
     "diffuse",
     "twosided (around a diffuse)",
@@ -1008,6 +1008,13 @@ impl Out<'_> {
                 "flip_normals",
                 "flip_tex_coords",
             ],
+            "serialized" => &[
+                "filename",
+                "shape_index",
+                "face_normals",
+                "to_world",
+                "flip_normals",
+            ],
             _ => return Err(unsupported(obj, "shape", SHAPES)),
         };
         self.no_props(obj, known)?;
@@ -1076,6 +1083,11 @@ impl Out<'_> {
                 set(&mut node, &base, "smooth", &f_at, |p, at| {
                     located(Value::Bool(!faces), p, at)
                 });
+                if let Some((index, at)) = get_int(obj, "shape_index")? {
+                    set(&mut node, &base, "shape_index", at, |p, at| {
+                        located(Value::Int(index), p, at)
+                    });
+                }
                 self.placement(&mut node, &base, &to_world);
             }
         }
