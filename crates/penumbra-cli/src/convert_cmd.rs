@@ -27,6 +27,10 @@ pub struct ConvertArgs {
     /// `<default>` (repeatable).
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     pub define: Vec<(String, String)>,
+    /// Parameters of a Mitsuba XML scene that Penumbra does not read are
+    /// warnings instead of errors (unsupported plugins stay errors).
+    #[arg(long)]
+    pub lenient: bool,
 }
 
 pub fn run(args: &ConvertArgs) -> Result<(), CliError> {
@@ -60,6 +64,7 @@ pub fn run(args: &ConvertArgs) -> Result<(), CliError> {
     let opts = LoadOptions {
         bunny: None,
         defines: args.define.clone(),
+        lenient: args.lenient,
     };
     let source = SceneSource::open(&scene.to_string_lossy(), &opts).map_err(input)?;
     for w in &source.warnings {

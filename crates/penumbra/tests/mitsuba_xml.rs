@@ -1404,3 +1404,40 @@ fn a_path_is_a_child_of_a_scene_in_any_file() {
     let e = with_sensor(r#"<shape type="sphere"><path value="."/></shape>"#).err("scene.xml");
     assert!(e.contains("<path> must be a child of <scene>"), "{e}");
 }
+
+/// `--lenient`: a parameter Penumbra does not read is a warning naming its
+/// place and is left out of the tree; an unsupported plugin stays an error.
+#[test]
+fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
+    let d = with_sensor(
+        r#"<integrator type="path"><integer name="max_depth" value="4"/><boolean name="foo" value="true"/></integrator>
+        <shape type="sphere"><float name="radius" value="2"/><string name="glow" value="yes"/></shape>"#,
+    );
+    let path = d.path("scene.xml");
+    let strict = mitsuba::from_xml_file(&path, &[], LIMIT)
+        .unwrap_err()
+        .to_string();
+    assert!(strict.contains("`foo` is not a parameter"), "{strict}");
+    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true).unwrap();
+    assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[1].contains("scene.xml:5:") && loaded.warnings[1].contains("`glow`"));
+    assert!(loaded.warnings[1].ends_with("ignored (--lenient)"));
+    let integrator = loaded.root.child(Kind::Integrator).unwrap();
+    assert_eq!(integrator.props.len(), 1);
+    assert_eq!(prop(shapes(&loaded.root)[0], "radius"), &Value::Float(2.0));
+    assert!(shapes(&loaded.root)[0].prop("glow").is_none());
+    // The lenient tree loads and builds.
+    let opts = LoadOptions {
+        lenient: true,
+        ..Default::default()
+    };
+    SceneSource::open(path.to_str().unwrap(), &opts)
+        .unwrap()
+        .build()
+        .unwrap();
+    let d = with_sensor(r#"<shape type="torus"/>"#);
+    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("shape `torus` is not supported"), "{e}");
+}
