@@ -53,7 +53,10 @@
 //! The root's keys are `render`, `camera`, `materials`, `objects` and
 //! `lights`; any other is an error. `[camera]`'s keys are all properties
 //! of the sensor, a material's and an object's or light's of its node (but
-//! `type`, the plugin, required for objects and lights). `[render]`'s keys
+//! `type`, the plugin, required for objects and lights). An object's
+//! `emitter` table is the area emitter it carries: a child node of the
+//! shape (its `type` defaults to `"area"`). [`write`](mod@write) turns a tree back
+//! into a scene file. `[render]`'s keys
 //! are routed by [`RENDER_KEYS`]:
 //!
 //! | `[render]` key | goes to |
