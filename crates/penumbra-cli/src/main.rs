@@ -3,6 +3,7 @@
 //! Exit status: 0 on success, 2 for invalid input (arguments, scene, mesh,
 //! output path), 1 for anything else.
 
+mod convert_cmd;
 mod error;
 mod flags;
 mod render_cmd;
@@ -15,6 +16,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use penumbra::input::quote::bounded;
 
+use convert_cmd::ConvertArgs;
 use render_cmd::RenderArgs;
 use reproduce_cmd::ReproduceArgs;
 use samples_cmd::SamplesArgs;
@@ -34,6 +36,8 @@ struct Cli {
 enum Command {
     /// Render a scene file or a built-in scene to PNG or EXR.
     Render(Box<RenderArgs>),
+    /// Convert a Mitsuba 3 XML scene into a TOML scene file.
+    Convert(ConvertArgs),
     /// List the built-in scenes.
     Scenes,
     /// Print or draw the points of a ray distribution.
@@ -50,6 +54,7 @@ fn main() -> ExitCode {
     }
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(&args),
+        Command::Convert(args) => convert_cmd::run(&args),
         Command::Scenes => {
             report::print_scenes();
             Ok(())

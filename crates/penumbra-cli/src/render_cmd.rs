@@ -45,6 +45,10 @@ pub struct RenderArgs {
     /// `<default>` (repeatable: -D spp=64 -D res=512).
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     pub define: Vec<(String, String)>,
+    /// Parameters of a Mitsuba XML scene that Penumbra does not read are
+    /// warnings instead of errors (unsupported plugins stay errors).
+    #[arg(long)]
+    pub lenient: bool,
     /// The render options (`--width`, `--spp`, `--metric`, ...).
     #[command(flatten)]
     pub options: OptionFlags,
@@ -63,6 +67,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let opts = LoadOptions {
         bunny: args.bunny.clone().or_else(default_bunny_path),
         defines: args.define.clone(),
+        lenient: args.lenient,
     };
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;
@@ -112,7 +117,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 }
 
 /// `NAME=VALUE`, the name of letters, digits and `_`.
-fn parse_define(text: &str) -> Result<(String, String), String> {
+pub fn parse_define(text: &str) -> Result<(String, String), String> {
     let (name, value) = text
         .split_once('=')
         .ok_or_else(|| format!("`{text}` is not NAME=VALUE"))?;

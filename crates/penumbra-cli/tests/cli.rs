@@ -242,7 +242,7 @@ fn scenes_lists_every_built_in() {
 #[test]
 fn every_subcommand_has_help() {
     let dir = tempfile::tempdir().unwrap();
-    for sub in ["render", "scenes", "samples"] {
+    for sub in ["render", "convert", "scenes", "samples"] {
         let o = penumbra(&[sub, "--help"], dir.path());
         assert!(o.status.success());
         assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
@@ -474,4 +474,79 @@ fn renders_a_mitsuba_scene_with_defines() {
     let o = penumbra(&["render", "scene.xml", "-D", "no-equals"], dir.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("NAME=VALUE"), "{}", stderr(&o));
+}
+
+/// `penumbra convert`: the TOML file renders the XML file's pixels; it is
+/// never written over the input, and a bad scene leaves an existing output
+/// as it was (exit 2).
+#[test]
+fn converts_a_mitsuba_scene_to_toml() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = r#"<scene version="3.0.0">
+    <default name="r" value="1"/>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film>
+    </sensor>
+    <shape type="sphere"><point name="center" value="0, 0, 4"/><float name="radius" value="$r"/></shape>
+    <emitter type="point"><point name="position" value="0, 2, 0"/><rgb name="intensity" value="5"/></emitter>
+</scene>
+"#;
+    std::fs::write(dir.path().join("scene.xml"), scene).unwrap();
+    let o = penumbra(
+        &["convert", "scene.xml", "-o", "scene.toml", "-D", "r=0.5"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let toml = std::fs::read_to_string(dir.path().join("scene.toml")).unwrap();
+    assert!(toml.contains("radius = 0.5"), "{toml}");
+    for (input, image) in [("scene.xml", "xml.png"), ("scene.toml", "toml.png")] {
+        let mut args = vec!["render", input, "-o", image, "--quiet"];
+        if input.ends_with("xml") {
+            args.extend(["-D", "r=0.5"]);
+        }
+        let o = penumbra(&args, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let a = std::fs::read(dir.path().join("xml.png")).unwrap();
+    let b = std::fs::read(dir.path().join("toml.png")).unwrap();
+    assert!(a == b, "the TOML scene renders other pixels");
+
+    // Never over the input, whatever the path says.
+    let o = penumbra(&["convert", "scene.xml", "-o", "./scene.xml"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("the output is the input"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("scene.xml")).unwrap(),
+        scene
+    );
+
+    // A bad scene: exit 2 at its place, the old output untouched, no stray file.
+    std::fs::write(
+        dir.path().join("bad.xml"),
+        "<scene version=\"3.0.0\"><shape type=\"torus\"/></scene>",
+    )
+    .unwrap();
+    let o = penumbra(&["convert", "bad.xml", "-o", "scene.toml"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.xml:1:"), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("scene.toml")).unwrap(),
+        toml
+    );
+    let o = penumbra(&["convert", "scene.toml", "-o", "again.toml"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["bad.xml", "scene.toml", "scene.xml", "toml.png", "xml.png"]
+    );
 }

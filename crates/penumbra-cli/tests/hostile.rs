@@ -799,6 +799,65 @@ fn xml_cases(cases: &mut Vec<Case>) {
         Mesh("gone.ply"),
     );
     case("unknown bsdf", one(r#"<bsdf type="plastic"/>"#), SceneLine);
+    let serialized = |bytes: Vec<u8>| {
+        let mut entries = one(
+            r#"<shape type="serialized"><string name="filename" value="m.serialized"/></shape>"#,
+        );
+        entries.push(("m.serialized", Entry::Bytes(bytes)));
+        entries
+    };
+    // A zlib stream of these bytes behind a version 3 header.
+    let stream = |body: &[u8]| {
+        let mut z =
+            flate2::write::ZlibEncoder::new(vec![0x1C, 0x04, 3, 0], flate2::Compression::best());
+        std::io::Write::write_all(&mut z, body).unwrap();
+        z.finish().unwrap()
+    };
+    let counts = |vertices: u64, faces: u64| {
+        let mut b = 0x1000u32.to_le_bytes().to_vec();
+        b.extend(vertices.to_le_bytes());
+        b.extend(faces.to_le_bytes());
+        b
+    };
+    let mut one_triangle = counts(3, 1);
+    for x in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        one_triangle.extend(x.to_le_bytes());
+    }
+    for i in [0u32, 1, 2] {
+        one_triangle.extend(i.to_le_bytes());
+    }
+    case("serialized mesh", serialized(stream(&one_triangle)), Valid);
+    let valid = stream(&one_triangle);
+    case(
+        "serialized: truncated",
+        serialized(valid[..valid.len() - 9].to_vec()),
+        Mesh("m.serialized"),
+    );
+    case(
+        "serialized: counts lie",
+        serialized(stream(&counts(1 << 40, 1 << 40))),
+        Mesh("m.serialized"),
+    );
+    let mut bomb = counts(1 << 28, 0);
+    bomb.resize(64 << 20, 0);
+    case(
+        "serialized: zip bomb",
+        serialized(stream(&bomb)),
+        Mesh("m.serialized"),
+    );
+    let mut index = one_triangle.clone();
+    let n = index.len();
+    index[n - 4..].copy_from_slice(&7u32.to_le_bytes());
+    case(
+        "serialized: index past the vertices",
+        serialized(stream(&index)),
+        Mesh("m.serialized"),
+    );
+    case(
+        "serialized: version 5",
+        serialized(vec![0x1C, 0x04, 5, 0, 0, 0]),
+        Mesh("m.serialized"),
+    );
 }
 
 /// Makes a case's files; `false` if this platform cannot (no FIFOs).

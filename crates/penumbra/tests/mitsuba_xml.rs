@@ -7,7 +7,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use penumbra::description::mitsuba::{self, spectrum, transform, Loaded};
-use penumbra::description::{from_toml, KeyPath, Kind, Located, Node, Origin, Prop, Value};
+use penumbra::description::{from_toml, Kind, Node, Value};
+use penumbra::scene::convert;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Overrides, SceneError, SceneSource};
 
 const LIMIT: u64 = 4 << 20;
@@ -233,6 +234,7 @@ origin = [-0.5, 3.0, -0.5]
 edge_u = [1.0, 0.0, 0.0]
 edge_v = [0.0, 0.0, 1.0]
 material = "bsdf_2"
+emitter = { type = "area", radiance = [10.0, 10.0, 10.0] }
 
 [[lights]]
 type = "point"
@@ -240,8 +242,7 @@ position = [2.0, 4.0, 2.0]
 intensity = [20.0, 20.0, 20.0]
 "#;
 
-/// The TOML scene's tree with the area emitter a TOML file cannot give a
-/// shape (a tree made in code can).
+/// The TOML scene's tree, its integrator replaced.
 fn toml_tree(integrator: Option<&str>) -> Node {
     let text = match integrator {
         Some(i) => TOML_SCENE.replace(
@@ -250,26 +251,7 @@ fn toml_tree(integrator: Option<&str>) -> Node {
         ),
         None => TOML_SCENE.to_string(),
     };
-    let mut root = from_toml(&text, Path::new("scene.toml")).unwrap();
-    let path = KeyPath::root().key("objects").index(2).key("emitter");
-    let mut area = Node::new(Kind::Emitter, "area", Origin::unlocated(path.clone()));
-    let radiance = path.key("radiance");
-    let items = (0..3)
-        .map(|i| Located::new(Value::Float(10.0), Origin::unlocated(radiance.index(i))))
-        .collect();
-    area.props.push(Prop::new(
-        "radiance",
-        Origin::unlocated(radiance.clone()),
-        Located::new(Value::Array(items), Origin::unlocated(radiance)),
-    ));
-    let lit = root
-        .children
-        .iter_mut()
-        .filter(|c| c.kind == Kind::Shape)
-        .nth(2)
-        .unwrap();
-    lit.children.push(area);
-    root
+    from_toml(&text, Path::new("scene.toml")).unwrap()
 }
 
 #[test]
@@ -333,6 +315,128 @@ fn an_xml_scene_renders_the_pixels_of_its_toml_scene() {
     assert_eq!((a.width, a.height), (64, 48));
     assert!(a.pixels == b.pixels, "the XML scene renders other pixels");
     assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+}
+
+/// `penumbra convert`'s text: the XML scene's tree, written as TOML and
+/// read back, is the tree read from the XML; both render the same pixels.
+#[test]
+fn an_xml_scene_converted_to_toml_reads_back_to_its_tree_and_pixels() {
+    let d = Dir::new(&[("scene.xml", XML_SCENE)]);
+    d.write("meshes/tri.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let opts = LoadOptions::default();
+    let with_mesh = XML_SCENE.replace(
+        "    <emitter type=\"point\">",
+        "    <shape type=\"obj\"><string name=\"filename\" value=\"meshes/tri.obj\"/>\
+         <boolean name=\"face_normals\" value=\"true\"/></shape>\n    <emitter type=\"point\">",
+    );
+    d.write("mesh.xml", with_mesh.as_bytes());
+    for name in ["scene.xml", "mesh.xml"] {
+        let xml = SceneSource::open(d.path(name).to_str().unwrap(), &opts).unwrap();
+        let text = convert::to_toml(&xml, d.0.path()).unwrap_or_else(|e| panic!("{e}"));
+        d.write("scene.toml", text.as_bytes());
+        let toml = SceneSource::open(d.path("scene.toml").to_str().unwrap(), &opts).unwrap();
+        assert!(
+            xml.root.same_as(&toml.root),
+            "{text}\nXML:\n{}\nTOML:\n{}",
+            xml.root.fingerprint(),
+            toml.root.fingerprint()
+        );
+        let (a, _) = common::render_scene(&xml.build().unwrap(), 2);
+        let (b, _) = common::render_scene(&toml.build().unwrap(), 2);
+        assert!(
+            a.pixels == b.pixels,
+            "{name}: the TOML scene renders other pixels"
+        );
+        assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+    }
+    // The mesh stays where it is: relative beside the XML file, absolute elsewhere.
+    let xml = SceneSource::open(d.path("mesh.xml").to_str().unwrap(), &opts).unwrap();
+    let here = convert::to_toml(&xml, d.0.path()).unwrap();
+    assert!(here.contains("path = \"meshes/tri.obj\""), "{here}");
+    let elsewhere = tempfile::tempdir().unwrap();
+    let there = convert::to_toml(&xml, elsewhere.path()).unwrap();
+    let absolute = std::path::absolute(d.path("meshes/tri.obj")).unwrap();
+    let written = from_toml(&there, Path::new("x.toml")).unwrap();
+    let mesh = shapes(&written)[3];
+    assert_eq!(
+        prop(mesh, "path"),
+        &Value::String(absolute.to_string_lossy().into_owned())
+    );
+    // Only keys the scene format documents: the written file passes its checks.
+    assert!(
+        !here.contains("to_world") && !here.contains("filename"),
+        "{here}"
+    );
+}
+
+/// A `serialized` mesh the test writes itself: mesh `shape_index` of the
+/// file renders as the same triangles from an OBJ file do.
+#[test]
+fn serialized_meshes_are_read_by_shape_index() {
+    use penumbra::geometry::mesh_file::serialized::write_serialized;
+    use penumbra::geometry::mesh_file::MeshData;
+    let quad = |z: f32| MeshData {
+        positions: vec![
+            [-1.0, -1.0, z],
+            [1.0, -1.0, z],
+            [1.0, 1.0, z],
+            [-1.0, 1.0, z],
+        ],
+        normals: Some(vec![[0.0, 0.0, -1.0]; 4]),
+        uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        triangles: vec![[0, 2, 1], [0, 3, 2]],
+    };
+    let body = |shape: &str| {
+        scene(&format!(
+            r#"<sensor type="perspective"><float name="fov" value="60"/>
+            <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="24"/></film></sensor>
+            {shape}
+            <emitter type="point"><point name="position" value="0, 0, 0"/><rgb name="intensity" value="5"/></emitter>"#
+        ))
+    };
+    let d = Dir::new(&[
+        (
+            "ser.xml",
+            &body(
+                r#"<shape type="serialized"><string name="filename" value="m.serialized"/>
+                <integer name="shape_index" value="1"/></shape>"#,
+            ),
+        ),
+        (
+            "obj.xml",
+            &body(r#"<shape type="obj"><string name="filename" value="m.obj"/></shape>"#),
+        ),
+        (
+            "m.obj",
+            "v -1 -1 3\nv 1 -1 3\nv 1 1 3\nv -1 1 3\nf 1 3 2\nf 1 4 3\n",
+        ),
+    ]);
+    for (version, double) in [(3, false), (4, true)] {
+        d.write(
+            "m.serialized",
+            &write_serialized(&[quad(9.0), quad(3.0)], version, double),
+        );
+        let opts = LoadOptions::default();
+        let ser = SceneSource::open(d.path("ser.xml").to_str().unwrap(), &opts).unwrap();
+        let mesh = shapes(&ser.root)[0];
+        assert_eq!(prop(mesh, "shape_index"), &Value::Int(1));
+        let obj = SceneSource::open(d.path("obj.xml").to_str().unwrap(), &opts).unwrap();
+        let (a, _) = common::render_scene(&ser.build().unwrap(), 2);
+        let (b, _) = common::render_scene(&obj.build().unwrap(), 2);
+        assert!(a.pixels == b.pixels, "version {version}: other pixels");
+        assert!(a.pixels.iter().any(|p| p.r > 0.0), "a black image");
+    }
+    // An index past the file's meshes is an error naming the file.
+    let out_of_range = scene(&format!(
+        "{SENSOR}<shape type=\"serialized\"><string name=\"filename\" value=\"m.serialized\"/>\
+         <integer name=\"shape_index\" value=\"2\"/></shape>"
+    ));
+    d.write("scene.xml", out_of_range.as_bytes());
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("m.serialized") && e.contains("holds 2 meshes"),
+        "{e}"
+    );
 }
 
 // ---------------------------------------------------------------------------
@@ -1299,4 +1403,41 @@ fn a_path_is_a_child_of_a_scene_in_any_file() {
     );
     let e = with_sensor(r#"<shape type="sphere"><path value="."/></shape>"#).err("scene.xml");
     assert!(e.contains("<path> must be a child of <scene>"), "{e}");
+}
+
+/// `--lenient`: a parameter Penumbra does not read is a warning naming its
+/// place and is left out of the tree; an unsupported plugin stays an error.
+#[test]
+fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
+    let d = with_sensor(
+        r#"<integrator type="path"><integer name="max_depth" value="4"/><boolean name="foo" value="true"/></integrator>
+        <shape type="sphere"><float name="radius" value="2"/><string name="glow" value="yes"/></shape>"#,
+    );
+    let path = d.path("scene.xml");
+    let strict = mitsuba::from_xml_file(&path, &[], LIMIT)
+        .unwrap_err()
+        .to_string();
+    assert!(strict.contains("`foo` is not a parameter"), "{strict}");
+    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true).unwrap();
+    assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[1].contains("scene.xml:5:") && loaded.warnings[1].contains("`glow`"));
+    assert!(loaded.warnings[1].ends_with("ignored (--lenient)"));
+    let integrator = loaded.root.child(Kind::Integrator).unwrap();
+    assert_eq!(integrator.props.len(), 1);
+    assert_eq!(prop(shapes(&loaded.root)[0], "radius"), &Value::Float(2.0));
+    assert!(shapes(&loaded.root)[0].prop("glow").is_none());
+    // The lenient tree loads and builds.
+    let opts = LoadOptions {
+        lenient: true,
+        ..Default::default()
+    };
+    SceneSource::open(path.to_str().unwrap(), &opts)
+        .unwrap()
+        .build()
+        .unwrap();
+    let d = with_sensor(r#"<shape type="torus"/>"#);
+    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("shape `torus` is not supported"), "{e}");
 }

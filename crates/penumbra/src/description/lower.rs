@@ -66,6 +66,8 @@ pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
 /// The emitter `render.background` becomes; its one property is `radiance`.
 pub const BACKGROUND_EMITTER: &str = "constant";
+/// The emitter an object's `emitter` table is when it names no `type`.
+pub const CARRIED_EMITTER: &str = "area";
 
 /// Reads a TOML scene: `file` names it in errors. Syntax errors and keys
 /// nested too deeply are located as the parser reports them; everything
@@ -130,8 +132,23 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         scene.children.extend(bsdfs);
     }
     for (part, kind) in [(objects, Kind::Shape), (lights, Kind::Emitter)] {
-        for (origin, props) in array_of_tables(part)? {
-            scene.children.push(plugin_node(kind, origin, props, None)?);
+        for (origin, mut props) in array_of_tables(part)? {
+            // An object's `emitter` table: the area emitter it carries.
+            let carried = match props.iter().position(|p| p.name == "emitter") {
+                Some(i) if kind == Kind::Shape => {
+                    let (at, inner) = table(props.remove(i).value)?;
+                    Some(plugin_node(
+                        Kind::Emitter,
+                        at,
+                        inner,
+                        Some(CARRIED_EMITTER),
+                    )?)
+                }
+                _ => None,
+            };
+            let mut node = plugin_node(kind, origin, props, None)?;
+            node.children.extend(carried);
+            scene.children.push(node);
         }
     }
     Ok(scene)

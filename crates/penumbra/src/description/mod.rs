@@ -24,6 +24,7 @@
 //! ├── emitter "constant"                 only if render.background is given
 //! ├── bsdf <type, else "thesis"> #NAME   one per [materials.NAME], in file order
 //! ├── shape <type>                       one per [[objects]], in order
+//! │   └── emitter <type, else "area">    its `emitter` table, if any
 //! └── emitter <type>                     one per [[lights]], in order
 //! ```
 //!
@@ -52,7 +53,10 @@
 //! The root's keys are `render`, `camera`, `materials`, `objects` and
 //! `lights`; any other is an error. `[camera]`'s keys are all properties
 //! of the sensor, a material's and an object's or light's of its node (but
-//! `type`, the plugin, required for objects and lights). `[render]`'s keys
+//! `type`, the plugin, required for objects and lights). An object's
+//! `emitter` table is the area emitter it carries: a child node of the
+//! shape (its `type` defaults to `"area"`). [`write`](mod@write) turns a tree back
+//! into a scene file. `[render]`'s keys
 //! are routed by [`RENDER_KEYS`]:
 //!
 //! | `[render]` key | goes to |
@@ -84,6 +88,7 @@ pub mod props;
 pub mod schema;
 pub mod source;
 pub mod tree;
+pub mod write;
 
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
 pub use lower::{from_json, from_toml, toml_to_json, RENDER_KEYS};
@@ -91,3 +96,4 @@ pub use props::{NumberOr, Props, Scale};
 pub use schema::{check, Param, Schema, Type};
 pub use source::Source;
 pub use tree::{Kind, Located, Node, Prop, Value};
+pub use write::to_toml;

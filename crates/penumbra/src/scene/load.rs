@@ -30,6 +30,9 @@ pub struct LoadOptions {
     /// `name = value` parameters of a Mitsuba XML scene (`-D`), which win
     /// over its `<default>`s; a TOML scene has none.
     pub defines: Vec<(String, String)>,
+    /// A Mitsuba XML scene's parameters Penumbra does not read are
+    /// warnings rather than errors (`--lenient`); a TOML scene has none.
+    pub lenient: bool,
 }
 
 /// The bunny named by `$PENUMBRA_BUNNY`, if set: what the command line and
@@ -97,7 +100,8 @@ impl SceneSource {
             position: None,
             message: e.to_string(),
         })?;
-        let loaded = description::mitsuba::from_xml_file(file, &opts.defines, limit)?;
+        let loaded =
+            description::mitsuba::from_xml_file_with(file, &opts.defines, limit, opts.lenient)?;
         // The integrator is checked when the scene is built: Mitsuba's
         // (`path`) may yet be replaced by `--integrator`.
         let mut checked = loaded.root.clone();

@@ -9,6 +9,7 @@ mod built;
 pub mod builtin;
 mod camera;
 mod context;
+pub mod convert;
 mod error;
 mod lights;
 mod load;

@@ -61,7 +61,7 @@ pub fn schema(node: &Node) -> Result<&'static Schema, Invalid> {
 }
 
 /// [`schema`] for a child of a node of kind `parent`.
-fn schema_in(parent: Kind, node: &Node) -> Result<&'static Schema, Invalid> {
+pub(crate) fn schema_in(parent: Kind, node: &Node) -> Result<&'static Schema, Invalid> {
     let all = children(parent, node.kind);
     all.iter()
         .find(|s| s.plugin == node.plugin)

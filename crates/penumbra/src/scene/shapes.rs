@@ -11,7 +11,7 @@ use super::transform;
 use crate::accel::world::{mesh_bvh, Object};
 use crate::description::check::{finite3, finite3_value, nonzero3_value, positive, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::geometry::mesh_file::read_mesh;
+use crate::geometry::mesh_file::read_mesh_part;
 use crate::geometry::quad::Quad;
 use crate::geometry::{Mesh, Shape};
 use crate::math::{Mat4, Vec2, Vec3};
@@ -96,8 +96,9 @@ pub const MESH: Schema = Schema {
     plugin: "mesh",
     what: "mesh",
     params: &[
-        Param::new("path", Type::Path, "required", "a `.ply` or `.obj` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
+        Param::new("path", Type::Path, "required", "a `.ply`, `.obj` or `.serialized` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
         Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
+        Param::new("shape_index", Type::Int, "0", "which mesh of a `.serialized` file, which may hold several (0: the first); other files hold one"),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -111,14 +112,14 @@ pub const SCHEMAS: [&Schema; 3] = [&SPHERE, &QUAD, &MESH];
 /// using them add up to.
 #[derive(Default)]
 pub(super) struct MeshFiles {
-    /// Meshes by file and kind of normals: a file named by several paths
+    /// Meshes by file, mesh in the file and kind of normals: a file named by several paths
     /// (`m.ply`, `./m.ply`, a link to it) is read once, and counted once
     /// in `read`; objects that use it flat and smooth get a mesh each.
-    cache: HashMap<(FileKey, bool), usize>,
+    cache: HashMap<(FileKey, u32, bool), usize>,
     /// Triangles in the files read.
     read: u64,
     /// Files read.
-    files: HashMap<FileKey, crate::geometry::mesh_file::MeshData>,
+    files: HashMap<(FileKey, u32), crate::geometry::mesh_file::MeshData>,
     /// Triangles of the objects, a mesh counted once for each object using it.
     used: u64,
 }
@@ -276,12 +277,20 @@ fn load_mesh(
     smooth: bool,
 ) -> Result<usize, BuildError> {
     let path = resolve_mesh_path(p, file, ctx)?;
-    let key = FileKey::of(&path);
-    if let Some(&i) = files.cache.get(&(key.clone(), smooth)) {
+    let index = match p.int("shape_index")?.unwrap_or(0) {
+        i @ 0..=0xFFFF_FFFF => i as u32,
+        i => {
+            return Err(p
+                .error("shape_index", format!("must be at least 0, got {i}"))
+                .into())
+        }
+    };
+    let key = (FileKey::of(&path), index);
+    if let Some(&i) = files.cache.get(&(key.0.clone(), index, smooth)) {
         return Ok(i);
     }
     if !files.files.contains_key(&key) {
-        let data = read_mesh(&path).map_err(|error| BuildError::Mesh {
+        let data = read_mesh_part(&path, index).map_err(|error| BuildError::Mesh {
             origin: p
                 .origin("path")
                 .cloned()
@@ -320,7 +329,7 @@ fn load_mesh(
         mesh.compute_vertex_normals();
     }
     meshes.push(mesh);
-    files.cache.insert((key, smooth), meshes.len() - 1);
+    files.cache.insert((key.0, index, smooth), meshes.len() - 1);
     Ok(meshes.len() - 1)
 }
 

@@ -34,7 +34,7 @@
 //! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
 //! | `<bsdf type="diffuse">` | bsdf `diffuse` with its id or `bsdf_N` | `materials.NAME` |
 //! | `<bsdf type="twosided">` around a diffuse | the same with `two_sided = true` | `materials.NAME` |
-//! | `<shape>` `sphere`, `rectangle`, `obj`, `ply` | shape `sphere`, `quad`, `mesh`; `material`; an `area` emitter child | `objects[i]` |
+//! | `<shape>` `sphere`, `rectangle`, `obj`, `ply`, `serialized` | shape `sphere`, `quad`, `mesh`; `material`; an `area` emitter child | `objects[i]` |
 //! | `<emitter type="point">` | emitter `point` | `lights[i]` |
 //!
 //! Anything else is an error at its tag naming what is supported. Every
@@ -67,6 +67,17 @@ pub struct Loaded {
 /// Reads the XML scene at `path` (named so in errors), `defines` overriding
 /// its defaults, each file and all of them together at most `limit` bytes.
 pub fn from_xml_file(path: &Path, defines: &Defines, limit: u64) -> Result<Loaded, SceneError> {
+    from_xml_file_with(path, defines, limit, false)
+}
+
+/// [`from_xml_file`], with `lenient` turning parameters Penumbra does not
+/// read into warnings (unsupported plugins stay errors).
+pub fn from_xml_file_with(
+    path: &Path,
+    defines: &Defines,
+    limit: u64,
+    lenient: bool,
+) -> Result<Loaded, SceneError> {
     let scene_dir = path.parent().unwrap_or(Path::new(""));
     let mut reader = parse::Reader::new(scene_dir, defines, limit);
     let mut root = reader.file(path, 0)?;
@@ -87,6 +98,6 @@ pub fn from_xml_file(path: &Path, defines: &Defines, limit: u64) -> Result<Loade
     }
     let mut ids = objects::Ids::default();
     let scene = objects::read_scene(&root, &reader, &mut ids)?;
-    let root = plugins::scene(&scene, &ids, &reader, &mut warnings)?;
+    let root = plugins::scene(&scene, &ids, &reader, lenient, &mut warnings)?;
     Ok(Loaded { root, warnings })
 }

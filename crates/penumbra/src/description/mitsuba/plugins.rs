@@ -13,7 +13,7 @@ use crate::description::error::{KeyPath, Location, Origin, SceneError};
 use crate::description::tree::{Kind, Located, Node, Prop, Value};
 
 /// The plugins read, by tag, in the order messages list them.
-pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply"];
+pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply", "serialized"];
 pub const BSDFS: &[&str] = &[
     "diffuse",
     "twosided (around a diffuse)",
@@ -135,11 +135,13 @@ pub fn scene(
     root: &Object,
     ids: &Ids,
     reader: &Reader,
+    lenient: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Node, SceneError> {
     let mut out = Out {
         ids,
         reader,
+        lenient,
         warnings,
         integrator: None,
         sensor: None,
@@ -216,6 +218,8 @@ fn render() -> KeyPath {
 struct Out<'a> {
     ids: &'a Ids,
     reader: &'a Reader<'a>,
+    /// Unknown parameters are warnings, not errors (`--lenient`).
+    lenient: bool,
     warnings: &'a mut Vec<String>,
     integrator: Option<Node>,
     sensor: Option<Node>,
@@ -384,8 +388,9 @@ fn get_color<'o>(
 }
 
 impl Out<'_> {
-    /// Refuses a property of `obj` not in `known`.
-    fn no_props(&self, obj: &Object, known: &[&str]) -> Result<(), SceneError> {
+    /// Refuses a property of `obj` not in `known` (with `lenient`, warns
+    /// that it is ignored).
+    fn no_props(&mut self, obj: &Object, known: &[&str]) -> Result<(), SceneError> {
         for p in &obj.props {
             if !known.contains(&p.name.as_str()) {
                 let reads = if known.is_empty() {
@@ -393,7 +398,7 @@ impl Out<'_> {
                 } else {
                     known.join(", ")
                 };
-                return Err(error_at(
+                let e = error_at(
                     &p.at,
                     format!(
                         "`{}` is not a parameter of the {} `{}` that Penumbra reads (it reads {reads})",
@@ -401,7 +406,11 @@ impl Out<'_> {
                         obj.tag,
                         clip(&obj.plugin)
                     ),
-                ));
+                );
+                if !self.lenient {
+                    return Err(e);
+                }
+                self.warnings.push(format!("{e}; ignored (--lenient)"));
             }
         }
         Ok(())
@@ -444,7 +453,11 @@ impl Out<'_> {
             Origin::new(render(), Some(obj.at.clone())),
         );
         node.plugin_origin = Origin::new(render().key("integrator"), Some(obj.plugin_at.clone()));
-        for p in &obj.props {
+        for p in obj
+            .props
+            .iter()
+            .filter(|p| known.contains(&p.name.as_str()))
+        {
             let value = match &p.value {
                 PropValue::Int(i) => Value::Int(*i),
                 PropValue::Bool(b) => Value::Bool(*b),
@@ -703,7 +716,7 @@ impl Out<'_> {
 
     /// The Penumbra filter of a reconstruction filter with Mitsuba's
     /// default parameters (the only ones Penumbra has).
-    fn rfilter(&self, f: &Object) -> Result<&'static str, SceneError> {
+    fn rfilter(&mut self, f: &Object) -> Result<&'static str, SceneError> {
         let (name, param, default) = match f.plugin.as_str() {
             "box" => ("box", "radius", 0.5),
             "tent" => ("tent", "radius", 1.0),
@@ -1008,6 +1021,13 @@ impl Out<'_> {
                 "flip_normals",
                 "flip_tex_coords",
             ],
+            "serialized" => &[
+                "filename",
+                "shape_index",
+                "face_normals",
+                "to_world",
+                "flip_normals",
+            ],
             _ => return Err(unsupported(obj, "shape", SHAPES)),
         };
         self.no_props(obj, known)?;
@@ -1076,6 +1096,11 @@ impl Out<'_> {
                 set(&mut node, &base, "smooth", &f_at, |p, at| {
                     located(Value::Bool(!faces), p, at)
                 });
+                if let Some((index, at)) = get_int(obj, "shape_index")? {
+                    set(&mut node, &base, "shape_index", at, |p, at| {
+                        located(Value::Int(index), p, at)
+                    });
+                }
                 self.placement(&mut node, &base, &to_world);
             }
         }

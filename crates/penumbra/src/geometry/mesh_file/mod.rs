@@ -1,4 +1,5 @@
-//! Mesh files: PLY (ASCII and binary) and Wavefront OBJ, read into plain
+//! Mesh files: PLY (ASCII and binary), Wavefront OBJ and Mitsuba's
+//! `serialized` meshes, read into plain
 //! arrays ([`MeshData`]) with errors that name the file, line and column.
 //!
 //! A shape reads its own file, as Mitsuba's `ply` and `obj` shape plugins do:
@@ -10,6 +11,7 @@ mod error;
 pub mod obj;
 mod open;
 pub mod ply;
+pub mod serialized;
 mod text;
 
 use std::path::Path;
@@ -19,21 +21,39 @@ pub use error::{Location, MeshData, MeshError};
 /// Reads a triangle mesh, choosing the format by extension because neither PLY nor
 /// OBJ content is reliably recognisable from a few leading bytes (OBJ has no magic).
 pub fn read_mesh(path: &Path) -> Result<MeshData, MeshError> {
+    read_mesh_part(path, 0)
+}
+
+/// [`read_mesh`] of mesh `shape_index` of a file that holds several (a
+/// `.serialized` file; any other holds one, index 0).
+pub fn read_mesh_part(path: &Path, shape_index: u32) -> Result<MeshData, MeshError> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let one = |read: fn(&Path) -> Result<MeshData, MeshError>| {
+        if shape_index == 0 {
+            read(path)
+        } else {
+            Err(MeshError::parse(
+                path,
+                Location::Unknown,
+                format!("shape_index {shape_index}: only a .serialized file holds several meshes"),
+            ))
+        }
+    };
     match extension.as_deref() {
-        Some("ply") => ply::read_ply(path),
-        Some("obj") => obj::read_obj(path),
+        Some("ply") => one(ply::read_ply),
+        Some("obj") => one(obj::read_obj),
+        Some("serialized") => serialized::read_serialized(path, shape_index),
         Some(other) => Err(MeshError::parse(
             path,
             Location::Unknown,
-            format!("unsupported mesh format `.{other}`; supported: .ply, .obj"),
+            format!("unsupported mesh format `.{other}`; supported: .ply, .obj, .serialized"),
         )),
         None => Err(MeshError::parse(
             path,
             Location::Unknown,
-            "mesh file has no extension; supported: .ply, .obj",
+            "mesh file has no extension; supported: .ply, .obj, .serialized",
         )),
     }
 }
