@@ -58,9 +58,10 @@ pub enum Filter {
     Lanczos,
 }
 
-/// The cells of a filter's table per pixel of its radius (a table has at
-/// least 1024).
-const CELLS_PER_PIXEL: usize = 512;
+/// The cells of a filter's table: 1024, or 512 per lobe of a Lanczos
+/// filter of more than 2 (whose profile has a lobe per pixel of its
+/// radius; the others' shapes do not change with their size).
+const CELLS: usize = 1024;
 
 impl Filter {
     pub const ALL: [Filter; 6] = [
@@ -257,7 +258,10 @@ impl PixelFilter {
             Profile::Box(_) | Profile::Tent(_) => None,
             _ => {
                 let r = profile.radius();
-                let cells = (CELLS_PER_PIXEL * r.ceil() as usize).max(1024);
+                let cells = match profile {
+                    Profile::Lanczos(l) => (CELLS / 2 * l.lobes as usize).max(CELLS),
+                    _ => CELLS,
+                };
                 let t =
                     InverseCdf::new(r, cells, |x| profile.eval(x)).ok_or_else(|| FilterError {
                         param: filter.params().first().copied().unwrap_or(""),
