@@ -1323,7 +1323,10 @@ fn a_path_is_a_child_of_a_scene_in_any_file() {
 #[test]
 fn rfilters_carry_their_parameters() {
     use penumbra::sampling::{Filter, FilterParams, PixelFilter};
-    let cases: [(&str, &str, &[(&str, Value)], FilterParams); 6] = [
+    // The rfilter, its XML parameters, the film's keys they give, and the
+    // parameters the built filter has.
+    type Case<'a> = (&'a str, &'a str, &'a [(&'a str, Value)], FilterParams);
+    let cases: [Case; 6] = [
         ("box", "", &[], FilterParams::default()),
         (
             "tent",

@@ -217,6 +217,10 @@ pub fn scene(
     Ok(node)
 }
 
+/// The film's keys of a filter's parameters, their values and where the
+/// XML gives them.
+type FilterKeys = Vec<(&'static str, Value, Location)>;
+
 fn render() -> KeyPath {
     KeyPath::root().key("render")
 }
@@ -719,11 +723,7 @@ impl Out<'_> {
     /// `filter_*` keys of the parameters it gives (checked here, so that a
     /// bad value is an error at the XML's parameter). The box's `radius`
     /// is 0.5 and nothing else.
-    #[allow(clippy::type_complexity)]
-    fn rfilter(
-        &self,
-        f: &Object,
-    ) -> Result<(Filter, Vec<(&'static str, Value, Location)>), SceneError> {
+    fn rfilter(&self, f: &Object) -> Result<(Filter, FilterKeys), SceneError> {
         let Some(filter) = Filter::from_name(&f.plugin) else {
             return Err(unsupported(f, "rfilter", RFILTERS));
         };

@@ -14,23 +14,23 @@
 //! radius 1/2, the thesis's supersampling over the pixel, leaves the
 //! points as they are.
 //!
-//! | `filter` | parameters (default) | radius | sign | file |
+//! | `filter` | parameters (default) | radius | sign | module |
 //! |---|---|---|---|---|
-//! | `box` | none | 1/2 | ≥ 0 | [`r#box`](BoxFilter) |
-//! | `tent` | `radius` (1) | `radius` | ≥ 0 | [`tent`](Tent) |
-//! | `gaussian` | `stddev` (0.5) | 4·`stddev` | ≥ 0 | [`gaussian`](Gaussian) |
-//! | `mitchell` | `B` (1/3), `C` (1/3) | 2 | signed | [`mitchell`](Mitchell) |
-//! | `catmullrom` | none (`B` = 0, `C` = 1/2) | 2 | signed | [`mitchell`](Mitchell) |
-//! | `lanczos` | `lobes` (3) | `lobes` | signed | [`lanczos`](Lanczos) |
+//! | `box` | none | 1/2 | ≥ 0 | [`box`](BoxFilter) |
+//! | `tent` | `radius` (1) | `radius` | ≥ 0 | [`tent`] |
+//! | `gaussian` | `stddev` (0.5) | 4·`stddev` | ≥ 0 | [`gaussian`] |
+//! | `mitchell` | `B` (1/3), `C` (1/3) | 2 | signed | [`mitchell`] |
+//! | `catmullrom` | none (`B` = 0, `C` = 1/2) | 2 | signed | [`mitchell`] |
+//! | `lanczos` | `lobes` (3) | `lobes` | signed | [`lanczos`] |
 //!
 //! The names, parameters and defaults are Mitsuba 3's.
 
-mod r#box;
-mod gaussian;
-mod lanczos;
-mod mitchell;
+pub mod r#box;
+pub mod gaussian;
+pub mod lanczos;
+pub mod mitchell;
 mod table;
-mod tent;
+pub mod tent;
 
 use std::sync::Arc;
 
@@ -458,6 +458,7 @@ mod tests {
                     (f64::from(c) - e).powi(2) / e
                 })
                 .sum();
+            println!("{:?}: chi2 {chi2:.1}", f.profile());
             assert!(chi2 < 72.1, "{f:?}: chi2 {chi2}");
         }
     }
@@ -479,6 +480,11 @@ mod tests {
             }
             let mean = sum / n as f64;
             let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+            println!(
+                "{:?}: mean weight {mean:.5} ± {se:.5}, {:.2}% negative",
+                f.profile(),
+                100.0 * negative as f64 / n as f64
+            );
             if f.is_signed() {
                 assert!(negative > 0, "{f:?}");
                 assert!((mean - 1.0).abs() < 4.0 * se + 1e-3, "{f:?}: {mean} ± {se}");
@@ -523,6 +529,10 @@ mod tests {
                 let cov = wlw / nf - ma * mb;
                 let var = (va - 2.0 * got * cov + got * got * vb) / (mb * mb * nf);
                 let se = var.max(0.0).sqrt();
+                println!(
+                    "{:?}, edge {e:.2}: {got:.5} against {want:.5} ± {se:.5}",
+                    f.profile()
+                );
                 assert!(
                     (got - want).abs() < 4.0 * se + 1e-3,
                     "{f:?}, edge {e}: {got} against {want} ± {se}"
