@@ -189,7 +189,7 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
         elif o["kind"] == "distribution":
             r.add_argument(o["flag"], dest=name, choices=DISTRIBUTIONS, metavar=o["metavar"], help=help)
         elif o["kind"] == "filter":
-            r.add_argument(o["flag"], dest=name, choices=("box", "tent", "gaussian"), metavar=o["metavar"], help=help)
+            r.add_argument(o["flag"], dest=name, choices=("box", "tent", "gaussian", "mitchell", "catmullrom", "lanczos"), metavar=o["metavar"], help=help)
         elif o["kind"] == "stop_rule":
             choices = ("calibrated", "cycles", "povray", "dammertz")
             r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)

@@ -36,7 +36,7 @@ DistributionName = Literal[
     "custom",
 ]
 #: The pixel filters, by name.
-FilterName = Literal["box", "tent", "gaussian"]
+FilterName = Literal["box", "tent", "gaussian", "mitchell", "catmullrom", "lanczos"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
 IntegratorName = Literal["whitted", "path", "direct", "distributed"]
 PathSamplerName = Literal["independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"]
@@ -142,6 +142,11 @@ class Scene:
         refraction_distribution: DistributionName | None = None,
         points: PointSets | None = None,
         filter: FilterName | None = None,
+        filter_radius: float | None = None,
+        filter_stddev: float | None = None,
+        filter_b: float | None = None,
+        filter_c: float | None = None,
+        filter_lobes: int | None = None,
         aperture: float | None = None,
         focal_distance: float | None = None,
         max_depth: int | None = None,
@@ -233,6 +238,11 @@ def render(
     refraction_distribution: DistributionName | None = None,
     points: PointSets | None = None,
     filter: FilterName | None = None,
+    filter_radius: float | None = None,
+    filter_stddev: float | None = None,
+    filter_b: float | None = None,
+    filter_c: float | None = None,
+    filter_lobes: int | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,
@@ -285,6 +295,11 @@ def render_region(
     refraction_distribution: DistributionName | None = None,
     points: PointSets | None = None,
     filter: FilterName | None = None,
+    filter_radius: float | None = None,
+    filter_stddev: float | None = None,
+    filter_b: float | None = None,
+    filter_c: float | None = None,
+    filter_lobes: int | None = None,
     aperture: float | None = None,
     focal_distance: float | None = None,
     max_depth: int | None = None,

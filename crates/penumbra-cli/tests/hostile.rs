@@ -131,6 +131,27 @@ fn corpus() -> Vec<Case> {
         SceneLine,
     );
     scene("unclosed header", s("[render\nwidth = 3\n"), SceneLine);
+    // Pixel filters' parameters out of range, or of another filter.
+    for text in [
+        "[render]\nfilter = \"lanczos\"\nfilter_lobes = 0\n",
+        "[render]\nfilter = \"lanczos\"\nfilter_lobes = 9223372036854775807\n",
+        "[render]\nfilter = \"gaussian\"\nfilter_stddev = -1.0\n",
+        "[render]\nfilter = \"gaussian\"\nfilter_stddev = 1e40\n",
+        "[render]\nfilter = \"tent\"\nfilter_radius = nan\n",
+        "[render]\nfilter = \"mitchell\"\nfilter_b = -0.5\n",
+        "[render]\nfilter_c = 0.5\n",
+    ] {
+        scene(&format!("filter {text:?}"), s(text), SceneLine);
+    }
+    // Filters far narrower and far wider than a pixel are filters still.
+    for text in [
+        "[render]\nfilter = \"gaussian\"\nfilter_stddev = 1e-40\n",
+        "[render]\nfilter = \"gaussian\"\nfilter_stddev = 1e30\n",
+        "[render]\nfilter = \"tent\"\nfilter_radius = 3e38\n",
+        "[render]\nfilter = \"lanczos\"\nfilter_lobes = 32\nspp = 4\n",
+    ] {
+        scene(&format!("filter {text:?}"), s(text), Valid);
+    }
     scene(
         "unclosed string",
         s("[render]\nfilter = \"box\n"),

@@ -996,12 +996,28 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
             "film `specfilm` is not supported; supported: hdrfilm",
         ),
         (
-            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="lanczos"/></film></sensor>"#,
-            "rfilter `lanczos` is not supported",
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="sinc"/></film></sensor>"#,
+            "rfilter `sinc` is not supported; supported: box, tent, gaussian, mitchell, catmullrom, lanczos",
         ),
         (
-            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="gaussian"><float name="stddev" value="2"/></rfilter></film></sensor>"#,
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="box"><float name="radius" value="2"/></rfilter></film></sensor>"#,
             "other values are not supported",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="gaussian"><float name="stddev" value="-1"/></rfilter></film></sensor>"#,
+            "the gaussian rfilter's `stddev` must be a positive number, got -1",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="lanczos"><integer name="lobes" value="0"/></rfilter></film></sensor>"#,
+            "the lanczos rfilter's `lobes` must be an integer from 1 to 32, got 0",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="mitchell"><float name="B" value="1.5"/></rfilter></film></sensor>"#,
+            "the mitchell rfilter's `B` must be between 0 and 1, got 1.5",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="catmullrom"><float name="C" value="0.5"/></rfilter></film></sensor>"#,
+            "`C` is not a parameter of the rfilter `catmullrom`",
         ),
         (
             r#"<sensor type="orthographic"/>"#,
@@ -1440,4 +1456,78 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("shape `torus` is not supported"), "{e}");
+}
+
+/// Each `rfilter` of Mitsuba 3 lands on the film with its parameters (the
+/// film's `filter_*` keys), and the built
+/// scene's filter has them.
+#[test]
+fn rfilters_carry_their_parameters() {
+    use penumbra::sampling::{Filter, FilterParams, PixelFilter};
+    // The rfilter, its XML parameters, the film's keys they give, and the
+    // parameters the built filter has.
+    type Case<'a> = (&'a str, &'a str, &'a [(&'a str, Value)], FilterParams);
+    let cases: [Case; 6] = [
+        ("box", "", &[], FilterParams::default()),
+        (
+            "tent",
+            r#"<float name="radius" value="1.5"/>"#,
+            &[("filter_radius", Value::Float(1.5))],
+            FilterParams {
+                radius: Some(1.5),
+                ..Default::default()
+            },
+        ),
+        (
+            "gaussian",
+            r#"<float name="stddev" value="0.25"/>"#,
+            &[("filter_stddev", Value::Float(0.25))],
+            FilterParams {
+                stddev: Some(0.25),
+                ..Default::default()
+            },
+        ),
+        (
+            "mitchell",
+            r#"<float name="B" value="0.5"/><float name="C" value="0.25"/>"#,
+            &[
+                ("filter_b", Value::Float(0.5)),
+                ("filter_c", Value::Float(0.25)),
+            ],
+            FilterParams {
+                b: Some(0.5),
+                c: Some(0.25),
+                ..Default::default()
+            },
+        ),
+        ("catmullrom", "", &[], FilterParams::default()),
+        (
+            "lanczos",
+            r#"<integer name="lobes" value="2"/>"#,
+            &[("filter_lobes", Value::Int(2))],
+            FilterParams {
+                lobes: Some(2),
+                ..Default::default()
+            },
+        ),
+    ];
+    for (name, params, props, expect) in cases {
+        let body = format!(
+            r#"<sensor type="perspective"><float name="fov" value="45"/><film type="hdrfilm"><rfilter type="{name}">{params}</rfilter></film></sensor>"#
+        );
+        let d = one(&body);
+        let root = d.tree("scene.xml");
+        let film = sensor(&root).child(Kind::Film).unwrap();
+        assert_eq!(prop(film, "filter"), &Value::String(name.into()));
+        for (key, v) in props {
+            assert_eq!(prop(film, key), v, "{name}");
+        }
+        let scene = build_whitted(&d).unwrap();
+        let f = Filter::from_name(name).unwrap();
+        assert_eq!(
+            scene.settings.filter,
+            PixelFilter::new(f, &expect).unwrap(),
+            "{name}"
+        );
+    }
 }

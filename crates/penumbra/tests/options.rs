@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use penumbra::description::{Kind as NodeKind, Node, Value as Prop, RENDER_KEYS};
+use penumbra::sampling::filter::FILTER_KEYS;
 use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{replace_section, table, View};
 use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
@@ -113,8 +114,12 @@ fn background(s: &Scene) -> [f32; 3] {
 
 /// What a scene file needs beside an option's key for the option to
 /// apply: the first integrator that takes it, when the default one does
-/// not.
+/// not; the filter that takes a filter's parameter.
 fn context(o: &RenderOption) -> String {
+    if let Some((param, _)) = FILTER_KEYS.iter().find(|(_, k)| *k == o.name) {
+        let f = Filter::ALL.into_iter().find(|f| f.params().contains(param));
+        return format!("filter = \"{}\"\n", f.unwrap().name());
+    }
     let integrators = schemas::of(NodeKind::Integrator);
     if o.table != Some(Table::Render) || integrators[0].param(o.name).is_some() {
         return String::new();
@@ -170,7 +175,7 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .iter()
                 .map(|f| format!("\"{}\"", f.name()))
                 .collect(),
-            vec!["\"mitchell\"".into()],
+            vec!["\"sinc\"".into()],
         ),
         Kind::StopRule => (
             StopRule::ALL

@@ -382,3 +382,40 @@ fn a_mesh_used_too_many_times_is_refused() {
         "{e}"
     );
 }
+
+/// A filter's bad parameter, or the parameter of another filter, is an
+/// error at its value.
+#[test]
+fn bad_filter_parameters_point_at_the_value() {
+    for (toml, place, message) in [
+        (
+            "[render]\nfilter = \"gaussian\"\nfilter_stddev = -0.5\n",
+            "test.toml:3:17:",
+            "render.filter_stddev: must be a positive number, got -0.5",
+        ),
+        (
+            "[render]\nfilter = \"lanczos\"\nfilter_lobes = 0\n",
+            "test.toml:3:16:",
+            "render.filter_lobes: must be an integer from 1 to 32, got 0",
+        ),
+        (
+            "[render]\nfilter = \"mitchell\"\nfilter_c = 1.5\n",
+            "test.toml:3:12:",
+            "render.filter_c: must be between 0 and 1, got 1.5",
+        ),
+        (
+            "[render]\nfilter_stddev = 0.3\n",
+            "test.toml:2:17:",
+            "the box filter has no parameter `stddev` (it takes: none)",
+        ),
+        (
+            "[render]\nfilter = \"mitchell\"\nfilter_lobes = 2\n",
+            "test.toml:3:16:",
+            "the mitchell filter has no parameter `lobes` (it takes: B, C)",
+        ),
+    ] {
+        let e = err(toml);
+        assert!(e.starts_with(place), "{toml}: {e}");
+        assert!(e.contains(message), "{toml}: {e}");
+    }
+}

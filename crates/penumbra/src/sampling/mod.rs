@@ -25,7 +25,7 @@ pub use discrete::Discrete;
 pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
-pub use filter::Filter;
+pub use filter::{Filter, FilterParams, PixelFilter};
 pub use path_sampler::{BounceNumbers, PathSampler};
 pub use points::{EffectSpec, SetPoint, MAX_RAYS};
 pub use rng::{index_bits, mix64, BranchKey, Place, Rng};

@@ -5,6 +5,7 @@ use super::load::SceneSource;
 use super::points::Points;
 use super::settings::{IntegratorChoice, StopRule};
 use crate::description::{KeyPath, Kind, Located, Node, Origin, Value, RENDER_KEYS};
+use crate::sampling::filter::FILTER_KEYS;
 use crate::sampling::{Distribution, Filter, PathSampler};
 
 /// Settings that replace the scene description's. Ray counts and
@@ -35,7 +36,15 @@ pub struct Overrides {
     /// Distribution for every effect (replaces every more specific one in the file).
     pub distribution: Option<Distribution>,
     pub pixel_distribution: Option<Distribution>,
+    /// The pixel filter; the scene's parameters of another filter are
+    /// dropped.
     pub filter: Option<Filter>,
+    /// The filter's parameters (each taken by one filter).
+    pub filter_radius: Option<f32>,
+    pub filter_stddev: Option<f32>,
+    pub filter_b: Option<f32>,
+    pub filter_c: Option<f32>,
+    pub filter_lobes: Option<u32>,
     pub lens_distribution: Option<Distribution>,
     pub time_distribution: Option<Distribution>,
     pub shadow_distribution: Option<Distribution>,
@@ -137,6 +146,18 @@ impl Overrides {
         let refraction_d = self.refraction_distribution.or(self.distribution);
         set(root, "pixel_distribution", dist(self.pixel_distribution));
         set(root, "filter", name(self.filter.map(Filter::name)));
+        if let (Some(f), Some(film)) = (self.filter, node(root, "filter")) {
+            for (param, key) in FILTER_KEYS {
+                if !f.params().contains(&param) {
+                    film.remove_prop(key);
+                }
+            }
+        }
+        set(root, "filter_radius", num(self.filter_radius));
+        set(root, "filter_stddev", num(self.filter_stddev));
+        set(root, "filter_b", num(self.filter_b));
+        set(root, "filter_c", num(self.filter_c));
+        set(root, "filter_lobes", int(self.filter_lobes));
         set(root, "lens_distribution", dist(self.lens_distribution));
         set(root, "time_distribution", dist(self.time_distribution));
         set(root, "shadow_distribution", dist(shadow_d));

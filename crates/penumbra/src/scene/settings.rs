@@ -7,7 +7,10 @@ use std::sync::Arc;
 
 use crate::description::check::{int, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::sampling::{Distribution, EffectSpec, Filter, PathSampler, PointTable, MAX_RAYS};
+use crate::sampling::filter::FILTER_KEYS;
+use crate::sampling::{
+    Distribution, EffectSpec, Filter, FilterParams, PathSampler, PixelFilter, PointTable, MAX_RAYS,
+};
 
 /// Largest image side; keeps `width * height` and the film allocation sane.
 pub const MAX_SIDE: u32 = 1 << 15;
@@ -122,8 +125,9 @@ pub struct Settings {
     /// The `custom` distribution's points ([`PointTable::NONE`] when none
     /// are given, which only a render without `custom` may have).
     pub points: Arc<PointTable>,
-    /// The pixel filter the film points are drawn by.
-    pub filter: Filter,
+    /// The pixel filter the film points are drawn by, and the samples
+    /// weighted by.
+    pub filter: PixelFilter,
     /// The acceleration metrics, if on.
     pub metric: Option<Metric>,
     /// Adaptive sampling: the rule that stops a pixel's camera rays before
@@ -227,7 +231,15 @@ const fn param(name: &'static str, ty: Type) -> Param {
     Param::new(name, ty, "", "")
 }
 
-const FILTERS: [&str; 3] = ["box", "tent", "gaussian"];
+const FILTERS: [&str; 6] = [
+    "box",
+    "tent",
+    "gaussian",
+    "mitchell",
+    "catmullrom",
+    "lanczos",
+];
+
 const STOP_RULES: [&str; 4] = ["calibrated", "cycles", "povray", "dammertz"];
 
 /// The film's parameters (documented with the render options).
@@ -239,6 +251,11 @@ pub const FILM: Schema = Schema {
         param("width", Type::Int),
         param("height", Type::Int),
         param("filter", Type::Choice("pixel filter", &FILTERS)),
+        param("filter_radius", Type::Number),
+        param("filter_stddev", Type::Number),
+        param("filter_b", Type::Number),
+        param("filter_c", Type::Number),
+        param("filter_lobes", Type::Int),
     ],
 };
 
@@ -370,10 +387,7 @@ pub fn read(
             ),
         ));
     }
-    let filter = match film.choice("filter", "pixel filter", &FILTERS)? {
-        Some(f) => Filter::from_name(f).unwrap_or(Filter::Box),
-        None => Filter::Box,
-    };
+    let filter = pixel_filter(film)?;
     let sets = sets(sampler)?;
     let d = sampler
         .distribution("distribution")?
@@ -423,6 +437,30 @@ pub fn read(
 
 /// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
 /// bound), `rr_depth` (≥ 1) and `hide_emitters`.
+/// The film's pixel filter, its parameters read from the `filter_*` keys:
+/// a bad value, or a key of another filter's parameter, is an error at
+/// that key.
+fn pixel_filter(film: &Props) -> Result<PixelFilter, Invalid> {
+    let filter = match film.choice("filter", "pixel filter", &FILTERS)? {
+        Some(f) => Filter::from_name(f).unwrap_or(Filter::Box),
+        None => Filter::Box,
+    };
+    let params = FilterParams {
+        radius: film.f32("filter_radius")?,
+        stddev: film.f32("filter_stddev")?,
+        b: film.f32("filter_b")?,
+        c: film.f32("filter_c")?,
+        lobes: film.int("filter_lobes")?,
+    };
+    PixelFilter::new(filter, &params).map_err(|e| {
+        let key = FILTER_KEYS
+            .iter()
+            .find(|(p, _)| *p == e.param)
+            .map_or("filter", |(_, k)| *k);
+        film.error(key, e.message)
+    })
+}
+
 fn path_settings(i: &Props) -> Result<PathSettings, Invalid> {
     let d = PathSettings::default();
     let max_depth = match i.int("max_depth")? {

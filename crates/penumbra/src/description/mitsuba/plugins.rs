@@ -11,6 +11,7 @@ use super::transform::{self, Mat4};
 use super::values::PropValue;
 use crate::description::error::{KeyPath, Location, Origin, SceneError};
 use crate::description::tree::{Kind, Located, Node, Prop, Value};
+use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
 /// The plugins read, by tag, in the order messages list them.
 pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply", "serialized"];
@@ -114,7 +115,14 @@ enum BsdfParam {
 pub const EMITTERS: &[&str] = &["point", "constant", "area"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
-pub const RFILTERS: &[&str] = &["box", "tent", "gaussian"];
+pub const RFILTERS: &[&str] = &[
+    "box",
+    "tent",
+    "gaussian",
+    "mitchell",
+    "catmullrom",
+    "lanczos",
+];
 pub const SAMPLERS: &[&str] = &[
     "independent",
     "stratified",
@@ -210,6 +218,10 @@ pub fn scene(
     node.children.append(&mut out.lights);
     Ok(node)
 }
+
+/// The film's keys of a filter's parameters, their values and where the
+/// XML gives them.
+type FilterKeys = Vec<(&'static str, Value, Location)>;
 
 fn render() -> KeyPath {
     KeyPath::root().key("render")
@@ -652,7 +664,7 @@ impl Out<'_> {
             Origin::new(render(), Some(at.clone())),
         );
         let mut size = (DEFAULT_WIDTH, DEFAULT_HEIGHT);
-        let mut filter = ("gaussian", at.clone());
+        let mut filter = (Filter::Gaussian, Vec::new(), at.clone());
         if let Some(f) = film {
             if f.plugin != "hdrfilm" {
                 return Err(unsupported(f, "film", FILMS));
@@ -692,7 +704,8 @@ impl Out<'_> {
                         format!("a <{}> inside a film is not supported", c.tag),
                     ));
                 }
-                filter = (self.rfilter(c)?, c.at.clone());
+                let (f, params) = self.rfilter(c)?;
+                filter = (f, params, c.at.clone());
             }
         }
         let (w_at, h_at) = match film {
@@ -708,28 +721,76 @@ impl Out<'_> {
         set(&mut node, &render(), "height", &h_at, |p, at| {
             located(Value::Int(size.1), p, at)
         });
-        set(&mut node, &render(), "filter", &filter.1, |p, at| {
-            located(Value::String(filter.0.into()), p, at)
+        set(&mut node, &render(), "filter", &filter.2, |p, at| {
+            located(Value::String(filter.0.name().into()), p, at)
         });
+        for (key, value, at) in filter.1 {
+            set(&mut node, &render(), key, &at, |p, at| {
+                located(value, p, at)
+            });
+        }
         Ok((node, size))
     }
 
-    /// The Penumbra filter of a reconstruction filter with Mitsuba's
-    /// default parameters (the only ones Penumbra has).
-    fn rfilter(&mut self, f: &Object) -> Result<&'static str, SceneError> {
-        let (name, param, default) = match f.plugin.as_str() {
-            "box" => ("box", "radius", 0.5),
-            "tent" => ("tent", "radius", 1.0),
-            "gaussian" => ("gaussian", "stddev", 0.5),
-            _ => return Err(unsupported(f, "rfilter", RFILTERS)),
+    /// The Penumbra filter of a reconstruction filter, and the film's
+    /// `filter_*` keys of the parameters it gives (checked here, so that a
+    /// bad value is an error at the XML's parameter). The box's `radius`
+    /// is 0.5 and nothing else.
+    fn rfilter(&mut self, f: &Object) -> Result<(Filter, FilterKeys), SceneError> {
+        let Some(filter) = Filter::from_name(&f.plugin) else {
+            return Err(unsupported(f, "rfilter", RFILTERS));
         };
-        self.no_props(f, &[param])?;
-        if let Some((v, at)) = get_float(f, param)? {
-            if v != default {
-                return Err(error_at(at, format!("the {name} filter's `{param}` is {default} in Penumbra; other values are not supported")));
+        if filter == Filter::Box {
+            self.no_props(f, &["radius"])?;
+            if let Some((v, at)) = get_float(f, "radius")? {
+                if v != 0.5 {
+                    return Err(error_at(
+                        at,
+                        "the box filter's `radius` is 0.5; other values are not supported",
+                    ));
+                }
+            }
+            return Ok((filter, Vec::new()));
+        }
+        self.no_props(f, filter.params())?;
+        let mut params = FilterParams::default();
+        let mut keys = Vec::new();
+        let key = |param: &str| {
+            FILTER_KEYS
+                .iter()
+                .find(|(p, _)| *p == param)
+                .map_or("filter", |(_, k)| *k)
+        };
+        for &param in filter.params() {
+            if param == "lobes" {
+                if let Some((v, at)) = get_int(f, param)? {
+                    params.lobes = Some(v);
+                    keys.push((key(param), Value::Int(v), at.clone()));
+                }
+            } else if let Some((v, at)) = get_float(f, param)? {
+                let slot = match param {
+                    "radius" => &mut params.radius,
+                    "stddev" => &mut params.stddev,
+                    "B" => &mut params.b,
+                    _ => &mut params.c,
+                };
+                *slot = Some(v as f32);
+                keys.push((key(param), Value::Float(v + 0.0), at.clone()));
             }
         }
-        Ok(name)
+        if let Err(e) = PixelFilter::new(filter, &params) {
+            let at = f.prop(e.param).map_or(&f.at, |p| &p.at);
+            return Err(error_at(
+                at,
+                format!(
+                    "the {} rfilter's `{}` {}",
+                    filter.name(),
+                    e.param,
+                    e.message
+                ),
+            ));
+        }
+        Ok((filter, keys))
     }
 
     fn sampler(&mut self, sampler: Option<&Object>, sensor: &Object) -> Result<Node, SceneError> {

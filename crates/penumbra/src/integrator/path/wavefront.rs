@@ -125,6 +125,8 @@ pub(super) struct Wavefront<'s> {
     shadows: Shadows,
     /// Per sample of the wave, the radiance its path gathered.
     radiance: Vec<Rgb>,
+    /// Per sample of the wave, its pixel-filter weight.
+    weights: Vec<f32>,
     /// The points of a set being drawn.
     points: Vec<Vec3>,
 }
@@ -158,6 +160,7 @@ impl<'s> Wavefront<'s> {
             packet: PacketScratch::default(),
             shadows: Shadows::default(),
             radiance: Vec::new(),
+            weights: Vec::new(),
             points: Vec::new(),
         }
     }
@@ -189,13 +192,13 @@ impl<'s> Wavefront<'s> {
             }
             let y1 = (y0 + rows).min(ys.end);
             self.wave(&xs, y0..y1, &samples);
-            let mut values = self.radiance.iter();
+            let mut values = self.radiance.iter().zip(&self.weights);
             for y in y0..y1 {
                 for x in xs.clone() {
                     let k = film.index(x, y);
                     for i in samples.clone() {
-                        let l = *values.next().expect("a value per sample");
-                        film.add(k, guard(l, x, y, i as usize, bad), 1.0);
+                        let (&l, &w) = values.next().expect("a value per sample");
+                        film.add(k, guard(l, x, y, i as usize, bad), w);
                     }
                 }
             }
@@ -210,6 +213,7 @@ impl<'s> Wavefront<'s> {
         let keep = samples.start as usize..samples.end as usize;
         let paths = &mut self.paths;
         paths.clear();
+        self.weights.clear();
         for y in ys {
             primary_rays(
                 self.scene,
@@ -217,6 +221,7 @@ impl<'s> Wavefront<'s> {
                 keep.clone(),
                 &mut paths.ray,
                 &mut paths.rng,
+                &mut self.weights,
             );
         }
         let n = paths.ray.len();

@@ -87,6 +87,7 @@ pub fn render_tile(
                 let range = t.n..(t.n + size).min(spp);
                 with_scratch(|buf| {
                     buf.samples.clear();
+                    buf.weights.clear();
                     rays.clear();
                     let pixel = pixel_stream(scene, x, y);
                     for r in 0..replicas {
@@ -114,8 +115,11 @@ pub fn render_tile(
                     for &q in &order {
                         let (r, i, _) = rays[q];
                         let l = guard(buf.radiance[q], x, y, i as usize, bad);
-                        sched.block.add(k, i, r as usize, l);
-                        film.add(f, l, 1.0);
+                        let w = buf.weights[q];
+                        // The rule judges the weighted samples, whose mean
+                        // tends to the pixel's value.
+                        sched.block.add(k, i, r as usize, l * w);
+                        film.add(f, l, w);
                     }
                     tracer.stats.primary += rays.len() as u64;
                 });

@@ -23,6 +23,8 @@ pub(super) struct Scratch {
     pub(super) lens: Vec<Vec3>,
     pub(super) times: Vec<f32>,
     pub(super) samples: Vec<CameraSample>,
+    /// The pixel filter's weight of each camera sample.
+    pub(super) weights: Vec<f32>,
     pub(super) rays: Vec<Ray>,
     pub(super) radiance: Vec<Rgb>,
     /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
@@ -143,6 +145,7 @@ pub fn render_pixels(
                 radiance,
                 paths,
                 pixels,
+                weights,
                 ..
             } = buf;
             // Ray `j` is sample `range.start + j % m` of pixel `j / m`, `m`
@@ -154,11 +157,14 @@ pub fn render_pixels(
             };
             radiance.clear();
             tracer.radiance(rays, 0, path, radiance);
-            for (x, samples) in (x0..x1).zip(radiance.chunks_exact(range.len())) {
+            let m = range.len();
+            for (x, (samples, weights)) in
+                (x0..x1).zip(radiance.chunks_exact(m).zip(weights.chunks_exact(m)))
+            {
                 let k = film.index(x, y);
-                for (j, &l) in samples.iter().enumerate() {
+                for (j, (&l, &w)) in samples.iter().zip(weights).enumerate() {
                     tracer.stats.primary += 1;
-                    film.add(k, guard(l, x, y, range.start + j, bad), 1.0);
+                    film.add(k, guard(l, x, y, range.start + j, bad), w);
                 }
             }
         }
@@ -169,13 +175,14 @@ pub fn render_pixels(
 /// pixel and each pixel's in the order of their index, appended to `rays`,
 /// with the stream of each ray's path appended to `paths`: the rays and
 /// streams a Whitted render traces, for the integrators that follow paths
-/// instead.
+/// instead, and each ray's pixel-filter weight appended to `weights`.
 pub(in crate::integrator) fn primary_rays(
     scene: &Scene,
     (xs, y): (Range<u32>, u32),
     keep: Range<usize>,
     rays: &mut Vec<Ray>,
     paths: &mut Vec<crate::sampling::Rng>,
+    weights: &mut Vec<f32>,
 ) {
     with_scratch(|buf| {
         let n = scene.settings.spp as usize;
@@ -185,6 +192,7 @@ pub(in crate::integrator) fn primary_rays(
         }
         camera_rays(scene, xs, y, keep.clone(), buf);
         rays.extend_from_slice(&buf.rays);
+        weights.extend_from_slice(&buf.weights);
         for pixel in &buf.pixels {
             paths.extend(keep.clone().map(|i| pixel.path_of(buf.paths[i], i)));
         }
@@ -212,18 +220,23 @@ fn metric_pixel(
         rays,
         paths,
         pixels,
+        weights,
         ..
     } = buf;
     let path = |i: usize| pixels[0].path_of(paths[i], i);
+    // The running mean is of the weighted samples `w·L` (whose mean tends
+    // to the pixel's value, the weights' mean being 1), over the samples
+    // added before: all of `..range.start`, the pixel not being stopped.
     let set = Continued {
         n,
         rays: range.clone(),
-        mean: RunningMean::resume(film.sum[k], film.weight[k] as u32),
+        mean: RunningMean::resume(film.sum[k], range.start as u32),
     };
     let value = |i: usize, l: Rgb| {
         let l = guard(l, x, y, i, bad);
-        film.add(k, l, 1.0);
-        l
+        let w = weights[i - range.start];
+        film.add(k, l, w);
+        l * w
     };
     let ray = |i: usize| rays[i - range.start];
     let (_, end, stopped) = tracer.continue_mean(set, ray, 0, path, Some(m), None, value);
@@ -277,6 +290,7 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, keep: Range<usize>, buf: &
     buf.pixels
         .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
     buf.samples.clear();
+    buf.weights.clear();
     let n = scene.settings.spp as usize;
     // Without the pixel metric every camera ray is traced and the pixel is
     // their mean, so the order of the film points does not matter; the
@@ -293,7 +307,7 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, keep: Range<usize>, buf: &
 
 /// Appends samples `keep` of the `n` camera samples of pixel (x, y) (drawn
 /// from the streams of `pixel`, the film set in trace order if `ordered`)
-/// to `buf.samples`. Film positions, lens points and times come from three
+/// to `buf.samples`, and their pixel-filter weights to `buf.weights`. Film positions, lens points and times come from three
 /// decorrelated streams, each set in its own shuffled trace order, so
 /// pairing them by index mixes them randomly.
 pub(super) fn camera_samples(
@@ -311,6 +325,7 @@ pub(super) fn camera_samples(
         lens,
         times,
         samples,
+        weights,
         ..
     } = buf;
     if n == 1 && s.pixel == Distribution::Grid {
@@ -335,30 +350,34 @@ pub(super) fn camera_samples(
     // All camera samples first, so that their hits can be found together
     // (making a ray costs far less than tracing it, so the few a pixel
     // metric may leave untraced are no loss).
-    // The film points, warped by the pixel filter (the box leaves them).
-    let f = s.filter;
+    // The film points, warped by the pixel filter (the box leaves them),
+    // and their weights (1 but for a filter with negative lobes).
+    let f = &s.filter;
     let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-    let at = |p: &Vec3| centre + Vec2::new(f.warp(p.x), f.warp(p.y));
-    if lens.is_empty() && times.is_empty() {
-        // A pinhole camera and nothing moving: every sample is a film point
-        // at the shutter's opening time.
-        let time = cam.time(0.0);
-        let sample = |p| CameraSample {
-            film: at(p),
-            lens: Vec2::ZERO,
-            time,
-        };
-        samples.extend(film[keep].iter().map(sample));
-        return;
+    let pinhole = lens.is_empty() && times.is_empty();
+    // A pinhole camera and nothing moving: every sample is a film point at
+    // the shutter's opening time.
+    let opening = cam.time(0.0);
+    for i in keep {
+        let (offset, w) = f.sample(film[i].x, film[i].y);
+        weights.push(w);
+        let film = centre + Vec2::from(offset);
+        samples.push(if pinhole {
+            CameraSample {
+                film,
+                lens: Vec2::ZERO,
+                time: opening,
+            }
+        } else {
+            CameraSample {
+                film,
+                lens: lens
+                    .get(i)
+                    .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
+                time: cam.time(times.get(i).copied().unwrap_or(0.0)),
+            }
+        });
     }
-    let sample = |i: usize| CameraSample {
-        film: at(&film[i]),
-        lens: lens
-            .get(i)
-            .map_or(Vec2::ZERO, |p: &Vec3| unit_disk(*p, s.lens)),
-        time: cam.time(times.get(i).copied().unwrap_or(0.0)),
-    };
-    samples.extend(keep.map(sample));
 }
 
 #[cfg(test)]
@@ -368,8 +387,10 @@ mod tests {
     use crate::scene::{LoadOptions, Overrides, SceneSource};
 
     /// Film positions follow the pixel filter: within the pixel for the
-    /// box, spread over the filter's radius (beyond the pixel) for the tent
-    /// and the Gaussian, centred on the pixel's centre.
+    /// box, spread over the filter's radius (beyond the pixel) for the
+    /// others, centred on the pixel's centre; each sample has its weight,
+    /// 1 but for the filters with negative lobes, whose weights take both
+    /// signs.
     #[test]
     fn film_positions_follow_the_filter() {
         use crate::sampling::Filter;
@@ -384,7 +405,10 @@ mod tests {
             let scene = src.build().expect("showcase builds");
             let mut buf = Scratch::default();
             camera_rays(&scene, 5..6, 7, 0..64, &mut buf);
-            let (r, c) = (f.radius(), Vec2::new(5.5, 7.5));
+            let (r, c) = (
+                crate::sampling::PixelFilter::of(f).radius(),
+                Vec2::new(5.5, 7.5),
+            );
             let offsets: Vec<Vec2> = buf.samples.iter().map(|s| s.film - c).collect();
             assert!(
                 offsets.iter().all(|o| o.abs().max_element() <= r + 1e-5),
@@ -400,7 +424,14 @@ mod tests {
                 "{f:?}: {outside} outside the pixel"
             );
             let mean = offsets.iter().sum::<Vec2>() / offsets.len() as f32;
-            assert!(mean.length() < 0.1, "{f:?}: mean offset {mean:?}");
+            assert!(mean.length() < 0.15 * r, "{f:?}: mean offset {mean:?}");
+            assert_eq!(buf.weights.len(), buf.samples.len());
+            let signed = matches!(f, Filter::Mitchell | Filter::CatmullRom | Filter::Lanczos);
+            let negative = buf.weights.iter().filter(|w| **w < 0.0).count();
+            assert_eq!(negative > 0, signed, "{f:?}: {:?}", buf.weights);
+            if !signed {
+                assert!(buf.weights.iter().all(|w| *w == 1.0), "{f:?}");
+            }
         }
     }
 

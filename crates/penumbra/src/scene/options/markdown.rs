@@ -99,7 +99,7 @@ fn value_type(kind: Kind) -> String {
         Kind::Positive => "number > 0".into(),
         Kind::Switch => "bool".into(),
         Kind::Distribution => "distribution".into(),
-        Kind::Filter => "box, tent or gaussian".into(),
+        Kind::Filter => "box, tent, gaussian, mitchell, catmullrom or lanczos".into(),
         Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
         Kind::Integrator => IntegratorChoice::NAMES.join(", "),
         Kind::PathSampler => PathSampler::NAMES.join(", "),
