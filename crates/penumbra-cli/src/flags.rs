@@ -321,7 +321,7 @@ mod tests {
                 ),
                 Kind::Filter => (
                     Filter::ALL.iter().map(|f| f.name().to_string()).collect(),
-                    vec!["mitchell".into()],
+                    vec!["sinc".into()],
                 ),
                 Kind::StopRule => (
                     StopRule::ALL.iter().map(|r| r.name().to_string()).collect(),
