@@ -268,7 +268,9 @@ mod tests {
                 );
                 found += 1;
             }
-            assert!(found > 1000);
+            // Under half of a tube faces a point outside it.
+            let tube = matches!(a.shape, AreaShape::Cylinder { .. });
+            assert!(found > if tube { 600 } else { 1000 }, "{found}");
         }
     }
 
