@@ -165,6 +165,11 @@ fn bad_shapes_and_instances_are_located() {
         e.contains("no group named `nope`; defined groups: a"),
         "{e}"
     );
+    let e = err("[[objects]]\ntype = \"shapegroup\"\n");
+    assert!(
+        e.starts_with("test.toml:2:8:") && e.contains("`[groups.NAME]`"),
+        "{e}"
+    );
     let e = err("[[groups.g.objects]]\ntype = \"shapegroup\"\n");
     assert!(e.contains("groups do not nest"), "{e}");
 }

@@ -231,7 +231,13 @@ fn objects(
     for node in root.children_of(Kind::Shape) {
         match node.plugin.as_str() {
             "shapegroup" => {
-                let name = node.id.as_deref().unwrap_or_default();
+                let Some(name) = node.id.as_deref() else {
+                    return Err(Invalid::at(
+                        &node.plugin_origin,
+                        "a group is a `[groups.NAME]` table, not an object",
+                    )
+                    .into());
+                };
                 let group = group(node, ctx, names, emission, &mut meshes, &mut files)?;
                 groups.insert(name, group);
                 continue;
