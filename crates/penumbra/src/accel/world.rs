@@ -830,7 +830,11 @@ mod tests {
         let mut best: Option<(f32, u32)> = None;
         for (i, o) in w.objects.iter().enumerate() {
             let tmax = best.map_or(f32::INFINITY, |b| b.0);
-            let local = o.motion.map_or(*ray, |m| m.to_object(ray).0);
+            let local = match (o.motion, &o.placement) {
+                (Some(m), _) => m.to_object(ray).0,
+                (None, Some(pl)) => pl.ray_to_object(ray),
+                (None, None) => *ray,
+            };
             let t = match o.shape {
                 Shape::Mesh { mesh } => {
                     let m = &w.meshes[mesh as usize];
@@ -854,7 +858,8 @@ mod tests {
     }
 
     /// A scene of every kind of object: a static mesh, a moving mesh,
-    /// static and moving spheres, quads (four of them packed together) and
+    /// sheared instances of a mesh sharing its tree, static and moving
+    /// cylinders and spheres, quads (four of them packed together) and
     /// disks, over 300 objects so that the top level is a real tree. Each
     /// object has a material of its own, so a hit names its object.
     #[test]
@@ -916,6 +921,24 @@ mod tests {
         add(Shape::Mesh { mesh: 0 }, None);
         let m = slide(&mut r);
         add(Shape::Mesh { mesh: 1 }, m);
+        // Instances of the first mesh, sheared; cylinders, some moving.
+        let shared = mesh_bvh(&meshes[0]);
+        let mut placed = Vec::new();
+        for _ in 0..40 {
+            let mut m = glam::Mat4::from_translation(point(&mut r));
+            m.y_axis.x = r.range(-0.5, 0.5);
+            let mut o = Object::new(Shape::Mesh { mesh: 0 }, 0);
+            o.placement = Some(Arc::new(Placement::new(m).unwrap()));
+            o.mesh_bvh = Some(Arc::clone(&shared));
+            placed.push(o);
+        }
+        for i in 0..40 {
+            let c = point(&mut r);
+            let axis = Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
+            let cyl = crate::geometry::Cylinder::new(c, c + axis, r.range(0.1, 0.5)).unwrap();
+            let m = if i % 2 == 0 { slide(&mut r) } else { None };
+            add(Shape::Cylinder(cyl), m);
+        }
         for i in 0..320 {
             let c = point(&mut r);
             match i % 4 {
@@ -952,6 +975,10 @@ mod tests {
                     )
                 }
             }
+        }
+        for mut o in placed {
+            o.material = objects.len() as u32;
+            objects.push(o);
         }
         let world = World::new(objects, meshes);
         assert!(world.top.single_leaf().is_none());
