@@ -29,6 +29,8 @@ Sections (--only and --skip take their names):
            max_depth 8, 2 threads, vs Mitsuba 3 scalar_rgb and llvm_ad_rgb
            at equal spp; then relative MSE x time against a 2048-spp
            reference (Mitsuba llvm_ad_rgb, rendered once into bench/.work)
+  instances 10,000 instances of the bunny (one group, one tree): read and
+           build time, memory beyond one instance, closest-hit rate
   before   with --baseline REV: git revision REV against the working tree
            on three bunny scenes (one thread, CPU time)
 
@@ -72,7 +74,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # A row of the baseline table is flagged when this tree is worse (slower, or
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
-SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path",
+SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path", "instances",
             "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
@@ -532,6 +534,21 @@ def section_points(args, bins, data):
     return json.loads(p.stdout)
 
 
+def section_instances(args, bins, data):
+    """10,000 instances of the bunny against one (instancebench, built with
+    the other binaries of penumbra-bench): medians over the rounds."""
+    import common
+
+    tool = common.target_dir() / "release" / "instancebench"
+    runs = [json.loads(run([tool, "--bunny", data["bunny"]], cwd=ROOT).stdout) for _ in range(max(args.rounds, 1))]
+    pick = {"load_build_s": lambda r: r["all_instances"]["load_and_build_s"],
+            "build_s": lambda r: r["all_instances"]["build_s"],
+            "extra_live_mb": lambda r: r["extra_live_mb"],
+            "extra_peak_mb": lambda r: r["extra_peak_mb"],
+            "mrays": lambda r: r["closest_hit_mrays_per_s_1_thread"]}
+    return {k: med([get(r) for r in runs]) for k, get in pick.items()} | {"instances": runs[0]["instances"]}
+
+
 def section_scaling(args, bins, data):
     """Parallel efficiency as the median of many adjacent pairs: on a shared
     machine one pair swings by a quarter either way, and a pair of frames
@@ -847,6 +864,16 @@ def report(res):
     if "memory" in res:
         for k, v in res["memory"]["rss_mb"].items():
             row(f"max resident memory, `penumbra render` {k}, MB", "—", f(v, 0), "—", "< 100", v < 100)
+    if "instances" in res:
+        x = res["instances"]
+        row(f"{x['instances']:,} bunny instances: read + build, s (wall)", "—", f(x["load_build_s"]), "—", "< 2",
+            x["load_build_s"] < 2)
+        row(f"{x['instances']:,} bunny instances: memory held beyond one instance, MB", "—", f(x["extra_live_mb"], 1),
+            "—", "< 50", x["extra_live_mb"] < 50)
+        row(f"{x['instances']:,} bunny instances: peak memory while reading and building, beyond one instance's, MB",
+            "—", f(x["extra_peak_mb"], 1), "—", "< 50", x["extra_peak_mb"] < 50)
+        row(f"{x['instances']:,} bunny instances: closest hits into the field, Mrays/s, 1 thread (CPU)", "—",
+            f(x["mrays"]), "—", "—", True)
     if "million" in res:
         mm = res["million"]
         row(f"1,000,000-triangle mesh: load + build s / render s / memory MB", "—",
@@ -991,7 +1018,8 @@ def main():
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
-           "path": section_path, "before": section_before}
+           "path": section_path, "instances": section_instances,
+           "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

@@ -152,6 +152,39 @@ fn corpus() -> Vec<Case> {
     ] {
         scene(&format!("filter {text:?}"), s(text), Valid);
     }
+
+    // Shapes and instances.
+    let group = "[[groups.g.objects]]\ntype = \"cube\"\n";
+    let instance = |t: &str| format!("{group}[[objects]]\ntype = \"instance\"\ngroup = \"g\"\n{t}");
+    scene("instances", s(&instance("")), Valid);
+    scene(
+        "instance with a singular matrix",
+        s(&instance(
+            "transform = { matrix = [[1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]] }\n",
+        )),
+        SceneLine,
+    );
+    scene(
+        "instance of an unknown group",
+        s("[[objects]]\ntype = \"instance\"\ngroup = \"none\"\n"),
+        SceneLine,
+    );
+    scene(
+        "group holding an instance of itself",
+        s("[[groups.g.objects]]\ntype = \"instance\"\ngroup = \"g\"\n\
+           [[objects]]\ntype = \"instance\"\ngroup = \"g\"\n"),
+        SceneLine,
+    );
+    scene(
+        "cylinder of zero radius",
+        s("[[objects]]\ntype = \"cylinder\"\nradius = 0\n"),
+        SceneLine,
+    );
+    scene(
+        "cylinder with equal ends",
+        s("[[objects]]\ntype = \"cylinder\"\np0 = [1, 1, 1]\np1 = [1, 1, 1]\n"),
+        SceneLine,
+    );
     scene(
         "unclosed string",
         s("[render]\nfilter = \"box\n"),

@@ -880,6 +880,131 @@ fn rectangles_become_quads_with_mitsubas_normal() {
     assert!(n[2] < 0.0, "{n:?}");
 }
 
+/// `cube`, `cylinder` and `disk` keep their names and parameters,
+/// `to_world` as the transform, `flip_normals` on every shape, and
+/// `face_normals` as the mesh's flat facets; `rectangle` takes
+/// `flip_normals` too. The scene builds, and each shape is where Mitsuba
+/// puts it.
+#[test]
+fn cubes_cylinders_disks_and_flipped_normals_map_by_name() {
+    let d = with_sensor(
+        r#"<shape type="cube"><transform name="to_world"><translate x="10"/></transform>
+            <boolean name="flip_normals" value="true"/></shape>
+        <shape type="cylinder"><point name="p0" x="0" y="0" z="-5"/>
+            <point name="p1" x="0" y="0" z="-3"/><float name="radius" value="0.5"/></shape>
+        <shape type="disk"><transform name="to_world"><scale value="2"/><translate y="-10"/></transform></shape>
+        <shape type="rectangle"><boolean name="flip_normals" value="true"/></shape>
+        <shape type="ply"><string name="filename" value="m.ply"/><boolean name="face_normals" value="true"/></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    let plugins: Vec<&str> = s.iter().map(|n| n.plugin.as_str()).collect();
+    assert_eq!(plugins, ["cube", "cylinder", "disk", "quad", "mesh"]);
+    assert_eq!(prop(s[0], "flip_normals"), &Value::Bool(true));
+    assert!(s[0].prop("transform").is_some());
+    assert_eq!(numbers(prop(s[1], "p0")), [0.0, 0.0, -5.0]);
+    assert_eq!(numbers(prop(s[1], "p1")), [0.0, 0.0, -3.0]);
+    assert_eq!(numbers(prop(s[1], "radius")), [0.5]);
+    assert!(s[2].prop("transform").is_some());
+    assert_eq!(prop(s[3], "flip_normals"), &Value::Bool(true));
+    assert_eq!(prop(s[4], "smooth"), &Value::Bool(false));
+    // Built (without the mesh): each shape where Mitsuba has it.
+    let d = with_sensor(
+        r#"<shape type="cube"><transform name="to_world"><translate x="10"/></transform>
+            <boolean name="flip_normals" value="true"/></shape>
+        <shape type="cylinder"><point name="p0" x="0" y="0" z="-5"/>
+            <point name="p1" x="0" y="0" z="-3"/><float name="radius" value="0.5"/></shape>
+        <shape type="disk"><transform name="to_world"><scale value="2"/><translate y="-10"/></transform></shape>"#,
+    );
+    let scene = build_whitted(&d).unwrap();
+    let hit = |o: [f32; 3], dir: [f32; 3]| {
+        let ray = penumbra::math::Ray::new(o.into(), dir.into(), 0.0);
+        scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap()
+    };
+    // The cube at x = 10, its normals turned in.
+    let h = hit([10.0, 0.0, 5.0], [0.0, 0.0, -1.0]);
+    assert!((h.t - 4.0).abs() < 1e-5 && h.ng.z < -0.999, "{h:?}");
+    // The cylinder of radius 0.5 around z from −5 to −3.
+    let h = hit([3.0, 0.0, -4.0], [-1.0, 0.0, 0.0]);
+    assert!((h.t - 2.5).abs() < 1e-5 && h.ng.x > 0.999, "{h:?}");
+    // The disk of radius 2 at y = −10, facing +z.
+    let h = hit([1.5, -10.0, 5.0], [0.0, 0.0, -1.0]);
+    assert!((h.t - 5.0).abs() < 1e-5 && h.ng.z > 0.999, "{h:?}");
+}
+
+/// `shapegroup` and `instance` are `[groups.ID]` and objects of type
+/// `instance` naming it, `to_world` as the transform; the instances are
+/// hit where they are placed. An emitter in a group, a reference to
+/// something else than a group, and a group inside a group are refused
+/// at their place.
+#[test]
+fn shapegroups_and_instances_map_onto_groups() {
+    let group = r#"<shape type="shapegroup" id="g">
+            <shape type="sphere"><float name="radius" value="0.5"/></shape>
+            <shape type="cube"><transform name="to_world"><scale value="0.25"/><translate z="2"/></transform></shape>
+        </shape>"#;
+    let d = with_sensor(&format!(
+        r#"{group}
+        <shape type="instance"><ref id="g"/></shape>
+        <shape type="instance"><ref id="g"/><transform name="to_world"><translate x="5"/></transform></shape>"#
+    ));
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(s[0].plugin, "shapegroup");
+    assert_eq!(s[0].id.as_deref(), Some("g"));
+    assert_eq!(s[0].children_of(Kind::Shape).count(), 2);
+    assert_eq!(s[1].plugin, "instance");
+    assert_eq!(prop(s[1], "group"), &Value::String("g".into()));
+    assert!(s[2].prop("transform").is_some());
+    let scene = build_whitted(&d).unwrap();
+    assert_eq!(scene.world.objects.len(), 4);
+    for x in [0.0, 5.0] {
+        let ray = penumbra::math::Ray::new([x, 0.0, 9.0].into(), [0.0, 0.0, -1.0].into(), 0.0);
+        let h = scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap();
+        // The cube's top (z = 2.25) first.
+        assert!((h.t - 6.75).abs() < 1e-5, "{x}: {h:?}");
+        assert!((h.p.x - x).abs() < 1e-5);
+    }
+    // Errors, each at the place it is about.
+    for (body, message, line) in [
+        (
+            r#"<shape type="shapegroup" id="g">
+            <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+            </shape><shape type="instance"><ref id="g"/></shape>"#,
+            "a shape inside a group cannot emit",
+            5,
+        ),
+        (
+            r#"<bsdf type="diffuse" id="m"/><shape type="instance"><ref id="m"/></shape>"#,
+            "an instance refers to a shapegroup; `m` is a <bsdf>",
+            4,
+        ),
+        (
+            r#"<shape type="shapegroup" id="g">
+            <shape type="shapegroup" id="h"/></shape>"#,
+            "groups do not nest",
+            5,
+        ),
+        (
+            r#"<shape type="instance"><ref id="g"/><transform name="to_world"><scale x="0"/></transform></shape>
+            <shape type="shapegroup" id="g"><shape type="sphere"/></shape>"#,
+            "",
+            4,
+        ),
+    ] {
+        let d = with_sensor(body);
+        let e = match d.load("scene.xml", &[]) {
+            Err(e) => e.to_string(),
+            Ok(_) => match build_whitted(&d) {
+                Err(e) => e.to_string(),
+                Ok(_) => panic!("{body} should be refused"),
+            },
+        };
+        assert!(e.contains(message), "{body}: {e}");
+        assert_eq!(place_of(&e).1, line, "{body}: {e}");
+    }
+}
+
 #[test]
 fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
     let fov_of = |body: &str| {
@@ -1071,10 +1196,10 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "bsdf inside `twosided` `plastic` is not supported; supported: diffuse",
         ),
         (
-            r#"<shape type="disk"/>"#,
-            "shape `disk` is not supported; supported: sphere, rectangle, obj, ply",
+            r#"<shape type="serialized"/>"#,
+            "shape `serialized` is not supported; supported: sphere, rectangle, disk, cube, \
+             cylinder, obj, ply, shapegroup, instance",
         ),
-        (r#"<shape type="cube"/>"#, "shape `cube` is not supported"),
         (
             r#"<emitter type="envmap"/>"#,
             "emitter `envmap` is not supported; supported: point, constant, area",
@@ -1096,8 +1221,12 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "`weird` is not a parameter of the shape `sphere`",
         ),
         (
-            r#"<shape type="sphere"><boolean name="flip_normals" value="true"/></shape>"#,
-            "`flip_normals` is not supported",
+            r#"<shape type="instance"/>"#,
+            "an instance needs a <ref id=\"...\"/> to its shapegroup",
+        ),
+        (
+            r#"<shape type="shapegroup"/>"#,
+            "a shapegroup needs an `id`",
         ),
         (
             r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance"/></bsdf>"#,

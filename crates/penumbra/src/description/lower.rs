@@ -61,7 +61,14 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
 ];
 
 /// The keys of a scene's root table.
-pub const ROOT_KEYS: &[&str] = &["render", "camera", "materials", "objects", "lights"];
+pub const ROOT_KEYS: &[&str] = &[
+    "render",
+    "camera",
+    "materials",
+    "objects",
+    "lights",
+    "groups",
+];
 
 /// The plugins a scene gets when its input names none.
 pub const DEFAULT_INTEGRATOR: &str = "whitted";
@@ -100,7 +107,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         DocValue::Table(entries) => entries,
         value => return Err(located(Doc { value, ..doc }, KeyPath::root())?.type_error("a table")),
     };
-    let mut parts: [Option<Located<Value>>; 5] = Default::default();
+    let mut parts: [Option<Located<Value>>; 6] = Default::default();
     for entry in entries {
         let Some(i) = ROOT_KEYS.iter().position(|k| *k == entry.key) else {
             let at = Origin::new(KeyPath::root(), entry.key_at);
@@ -112,7 +119,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         };
         parts[i] = Some(prop(entry, &root.path)?.value);
     }
-    let [render, camera, materials, objects, lights] = parts;
+    let [render, camera, materials, objects, lights, groups] = parts;
 
     let mut scene = Node::new(Kind::Scene, "scene", root.clone());
     let render = route_render(render, &root)?;
@@ -135,6 +142,28 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         }
         bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
         scene.children.extend(bsdfs);
+    }
+    if let Some(groups) = groups {
+        // `[groups.NAME]` with its `[[groups.NAME.objects]]`: a shape
+        // group named NAME holding its shapes, in name order.
+        let mut nodes = Vec::new();
+        for g in table(groups)?.1 {
+            let (origin, props) = table(g.value)?;
+            let mut node = Node::new(Kind::Shape, "shapegroup", origin.clone());
+            node.id = Some(g.name);
+            for p in props {
+                if p.name != "objects" {
+                    return Err(Invalid::unknown_field(&p.key, &p.name, ["objects"]));
+                }
+                for (origin, props) in array_of_tables(Some(p.value))? {
+                    node.children
+                        .push(plugin_node(Kind::Shape, origin, props, None)?);
+                }
+            }
+            nodes.push(node);
+        }
+        nodes.sort_by(|a, b| a.id.cmp(&b.id));
+        scene.children.extend(nodes);
     }
     for (part, kind) in [(objects, Kind::Shape), (lights, Kind::Emitter)] {
         for (origin, mut props) in array_of_tables(part)? {
@@ -389,11 +418,11 @@ mod tests {
         assert_eq!(
             err("[render]\nwidth = 3\n\n[renders]\nwidth = 3\n"),
             "test.toml:4:2: unknown field `renders`, expected one of `render`, `camera`, \
-             `materials`, `objects`, `lights`"
+             `materials`, `objects`, `lights`, `groups`"
         );
         assert_eq!(
             json_err(r#"{"foo": 1}"#),
-            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`"
+            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`"
         );
         // A dict has no lines: the path names the key.
         assert!(

@@ -18,7 +18,14 @@
 //! | sphere | `u = φ / 2π` (φ the angle about the z axis from +x, in [0, 2π)), `v = θ / π` (θ from +z) | the derivatives of the point in `u` and `v` |
 //! | quad | the `(s, t)` of `origin + s·edge_u + t·edge_v` | `edge_u`, `edge_v` |
 //! | disk | `u = r / radius`, `v = φ / 2π` about its normal from its frame's `u` axis | the derivatives in `u` and `v` (0 at the centre for `dp/dv`) |
+//! | cylinder | `u = φ / 2π` about its axis from its frame's `u` axis, `v = z / length` from `p0` | `2π (−y u + x v)`, `length · axis` |
 //! | triangle | the interpolated texture coordinates of the mesh, else the barycentrics `(b1, b2)` | solved from the texture coordinates, else the edges `p1 − p0`, `p2 − p0` |
+//! | cube | a mesh: each face's corners carry the unit square's coordinates, as Mitsuba's | as for triangles |
+//!
+//! A shape of an instance answers in its group's space; the record carries
+//! the point, normals (by the inverse transpose) and tangents carried to
+//! world space. With `flip_normals` both normals are negated, the
+//! coordinates and tangents kept (as Mitsuba does).
 //!
 //! [`Shape::geometry`]: super::Shape::geometry
 

@@ -1,6 +1,9 @@
 //! Shapes and their intersection routines, and rigid motion over the shutter.
 
+pub mod cube;
+pub mod cylinder;
 pub mod disk;
+pub mod instance;
 pub mod interaction;
 pub mod mesh;
 pub mod mesh_file;
@@ -11,6 +14,7 @@ pub mod sphere;
 pub mod tessellate;
 pub mod triangle;
 
+pub use cylinder::Cylinder;
 pub use interaction::{shading_frame, LocalGeometry, SurfaceInteraction};
 pub use mesh::Mesh;
 pub use motion::{Motion, Similarity};

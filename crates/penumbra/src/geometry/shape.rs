@@ -10,6 +10,7 @@
 
 use std::f32::consts::{PI, TAU};
 
+use super::cylinder::Cylinder;
 use super::disk::intersect_disk;
 use super::interaction::LocalGeometry;
 use super::mesh::Mesh;
@@ -32,6 +33,8 @@ pub enum Shape {
         frame: Frame,
         radius: f32,
     },
+    /// An open tube (Mitsuba's `cylinder`).
+    Cylinder(Cylinder),
     /// A triangle mesh: the index of one of the scene's meshes.
     Mesh {
         mesh: u32,
@@ -73,6 +76,7 @@ impl Shape {
                 let r = *radius * Vec3::from_array(e.max(Vec3::ZERO).to_array().map(f32::sqrt));
                 Aabb::new(*center - r, *center + r)
             }
+            Shape::Cylinder(c) => c.bounds(),
             Shape::Mesh { mesh } => meshes[*mesh as usize].bounds(),
         }
     }
@@ -102,6 +106,7 @@ impl Shape {
                 frame,
                 radius,
             } => intersect_disk(ray, *center, frame.n, *radius, tmin, tmax).map(at),
+            Shape::Cylinder(c) => c.intersect(ray, tmin, tmax).map(at),
             Shape::Mesh { .. } => None,
         }
     }
@@ -126,10 +131,11 @@ impl Shape {
         })
     }
 
-    /// True if a segment can cross the shape twice (in and out): a sphere.
+    /// True if a segment can cross the shape twice (in and out): a sphere
+    /// or a cylinder.
     #[inline]
     pub fn is_closed(&self) -> bool {
-        matches!(self, Shape::Sphere { .. })
+        matches!(self, Shape::Sphere { .. } | Shape::Cylinder(_))
     }
 
     /// The plane of a flat analytic shape: its unit normal and a point of it.
@@ -138,7 +144,7 @@ impl Shape {
         match self {
             Shape::Quad(q) => Some((q.normal, q.origin)),
             Shape::Disk { center, frame, .. } => Some((frame.n, *center)),
-            Shape::Sphere { .. } | Shape::Mesh { .. } => None,
+            Shape::Sphere { .. } | Shape::Cylinder(_) | Shape::Mesh { .. } => None,
         }
     }
 
@@ -169,6 +175,7 @@ impl Shape {
                 frame,
                 radius,
             } => disk_geometry(p - *center, frame, *radius),
+            Shape::Cylinder(c) => c.geometry(p - c.base),
             Shape::Mesh { mesh } => {
                 let m = &meshes[*mesh as usize];
                 let tri = hit.inner as usize;
@@ -201,6 +208,7 @@ impl Shape {
             Shape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
             Shape::Quad(q) => q.area(),
             Shape::Disk { radius, .. } => PI * radius * radius,
+            Shape::Cylinder(c) => c.area(),
             Shape::Mesh { mesh } => {
                 let m = &meshes[*mesh as usize];
                 (0..m.triangles.len())

@@ -17,16 +17,19 @@ use super::reuse::{self, WorldCache};
 use super::schemas;
 use super::settings::{self, Sets, Settings};
 use super::shapes::{self, MeshFiles};
+use super::transform;
 use super::{camera, Scene};
-use crate::accel::world::{Object, World};
+use crate::accel::world::{mesh_bvh, Object, World};
 use crate::bsdf::thesis::{Thesis, ThesisParams};
 use crate::bsdf::{self, Bsdf, BsdfModel};
-use crate::description::check::nonneg3;
+use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
 use crate::emitter::{area, Area, AreaShape, Emitter, MeshLight, PenumbraModel};
+use crate::geometry::instance::Placement;
+use crate::geometry::quad::Quad;
 use crate::geometry::{Mesh, Shape};
-use crate::math::Rgb;
+use crate::math::{Frame, Mat4, Rgb};
 use crate::sampling::{EffectSpec, PointTable};
 
 pub use super::error::BuildError;
@@ -84,7 +87,7 @@ pub fn build(
         .and_then(|(k, w)| w.get(k));
     let (mut objects, meshes) = match reused {
         Some(_) => (Vec::new(), Vec::new()),
-        None => objects(root, ctx, &names)?,
+        None => objects(root, ctx, &names, &emission)?,
     };
     let light_material = bsdfs.len() as u32;
     bsdfs.push(Thesis::new(&black(&sets)).into());
@@ -105,6 +108,8 @@ pub fn build(
                 emitter: Some(emitters.len() as u32),
                 casts_shadows: false,
                 motion: None,
+                placement: None,
+                flip_normals: false,
                 mesh_bvh: None,
             });
         }
@@ -210,15 +215,39 @@ fn black(sets: &Sets) -> ThesisParams {
     }
 }
 
-/// The objects of the tree's shapes (meshes loaded and baked) and their meshes.
+/// The objects of the tree's shapes (meshes loaded and baked) and their
+/// meshes: the plain shapes' in their order, then those of the instances
+/// (see [`instance`](crate::geometry::instance)), each group built once.
 fn objects(
     root: &Node,
     ctx: &BuildContext,
     names: &HashMap<String, u32>,
+    emission: &[(Rgb, Origin)],
 ) -> Result<(Vec<Object>, Vec<Mesh>), BuildError> {
     let (mut objects, mut meshes) = (Vec::new(), Vec::new());
     let mut files = MeshFiles::default();
+    let mut groups: HashMap<&str, Vec<Object>> = HashMap::new();
+    let mut instances = Vec::new();
     for node in root.children_of(Kind::Shape) {
+        match node.plugin.as_str() {
+            "shapegroup" => {
+                let Some(name) = node.id.as_deref() else {
+                    return Err(Invalid::at(
+                        &node.plugin_origin,
+                        "a group is a `[groups.NAME]` table, not an object",
+                    )
+                    .into());
+                };
+                let group = group(node, ctx, names, emission, &mut meshes, &mut files)?;
+                groups.insert(name, group);
+                continue;
+            }
+            "instance" => {
+                instances.push(node);
+                continue;
+            }
+            _ => {}
+        }
         let p = Props::new(node);
         let material = material_index(&p, names)?;
         objects.push(shapes::object(
@@ -231,7 +260,100 @@ fn objects(
         )?);
         p.finish(schemas::schema(node)?.what)?;
     }
+    for node in instances {
+        let p = Props::new(node);
+        let name = required(&p, p.string("group")?, "group", "instance")?;
+        let Some(shapes) = groups.get(name) else {
+            let mut known: Vec<&str> = groups.keys().copied().collect();
+            known.sort_unstable();
+            let list = if known.is_empty() {
+                "none are defined".to_string()
+            } else {
+                known.join(", ")
+            };
+            return Err(p
+                .error(
+                    "group",
+                    format!("no group named `{name}`; defined groups: {list}"),
+                )
+                .into());
+        };
+        let m = transform::read(&p, "transform")?.unwrap_or(Mat4::IDENTITY);
+        let placement = Placement::new(m)
+            .ok_or_else(|| p.error("transform", "the transform must be invertible"))?;
+        let placement = Arc::new(placement);
+        objects.extend(shapes.iter().map(|o| Object {
+            placement: Some(Arc::clone(&placement)),
+            flip_normals: o.flip_normals,
+            mesh_bvh: o.mesh_bvh.clone(),
+            ..Object::new(o.shape.clone(), o.material)
+        }));
+        p.finish("instance")?;
+    }
     Ok((objects, meshes))
+}
+
+/// The shapes of a group (a `shapegroup` node's children) in the group's
+/// own space, each mesh with its tree, built once for all the group's
+/// instances. A group holds neither emitters nor groups nor instances, and
+/// nothing in it moves.
+fn group(
+    node: &Node,
+    ctx: &BuildContext,
+    names: &HashMap<String, u32>,
+    emission: &[(Rgb, Origin)],
+    meshes: &mut Vec<Mesh>,
+    files: &mut MeshFiles,
+) -> Result<Vec<Object>, BuildError> {
+    let gp = Props::new(node);
+    gp.finish("group")?;
+    let mut out = Vec::new();
+    for child in node.children_of(Kind::Shape) {
+        if matches!(child.plugin.as_str(), "shapegroup" | "instance") {
+            return Err(Invalid::at(
+                &child.plugin_origin,
+                format!(
+                    "a group cannot hold a `{}`: groups do not nest, they hold shapes",
+                    child.plugin
+                ),
+            )
+            .into());
+        }
+        if let Some(e) = child.child(Kind::Emitter) {
+            return Err(Invalid::at(
+                &e.origin,
+                "a shape inside a group cannot emit (as in Mitsuba): place the emitting \
+                 shape outside the group",
+            )
+            .into());
+        }
+        let p = Props::new(child);
+        let material = material_index(&p, names)?;
+        if emission[material as usize].0 != Rgb::ZERO {
+            return Err(p
+                .error(
+                    "material",
+                    "a shape inside a group cannot emit (as in Mitsuba): its material has an \
+                     emission; place the emitting shape outside the group",
+                )
+                .into());
+        }
+        if p.has("transform_end") {
+            return Err(p
+                .error(
+                    "transform_end",
+                    "a shape inside a group cannot move; instances place the group",
+                )
+                .into());
+        }
+        let mut o = shapes::object(&child.plugin, &p, material, ctx, meshes, files)?;
+        if let Shape::Mesh { mesh } = o.shape {
+            o.mesh_bvh = Some(mesh_bvh(&meshes[mesh as usize]));
+        }
+        p.finish(schemas::schema(child)?.what)?;
+        out.push(o);
+    }
+    Ok(out)
 }
 
 fn material_index(p: &Props, names: &HashMap<String, u32>) -> Result<u32, Invalid> {
@@ -272,7 +394,10 @@ fn shape_emitters(
     sets: &Sets,
 ) -> Result<Vec<Option<Carried>>, Invalid> {
     let mut out = Vec::new();
-    for shape in root.children_of(Kind::Shape) {
+    let plain = root
+        .children_of(Kind::Shape)
+        .filter(|s| !matches!(s.plugin.as_str(), "shapegroup" | "instance"));
+    for shape in plain {
         if let Some(child) = shape.child(Kind::Emitter) {
             let p = Props::new(child);
             let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow)?;
@@ -325,8 +450,18 @@ fn emitting_objects(
                 "an emitting object cannot move (its emitter is sampled where it is)",
             ));
         }
+        let flip = o.flip_normals;
         let shape = match &o.shape {
+            // Flipped, a flat light emits to the other side: its edges
+            // (or its frame's normal) the other way round.
+            Shape::Quad(q) if flip => AreaShape::Rect(Quad::new(q.origin, q.edge_v, q.edge_u)),
             Shape::Quad(q) => AreaShape::Rect(*q),
+            Shape::Sphere { .. } if flip => {
+                return Err(Invalid::at(
+                    at,
+                    "a sphere light emits outward: an emitting sphere cannot flip its normals",
+                ))
+            }
             Shape::Sphere { center, radius } => AreaShape::Sphere {
                 center: *center,
                 radius: *radius,
@@ -337,18 +472,40 @@ fn emitting_objects(
                 radius,
             } => AreaShape::Disk {
                 center: *center,
-                frame: *frame,
+                frame: if flip {
+                    Frame {
+                        u: frame.u,
+                        v: -frame.v,
+                        n: -frame.n,
+                    }
+                } else {
+                    *frame
+                },
                 radius: *radius,
             },
+            Shape::Cylinder(_) | Shape::Mesh { .. } if *model == PenumbraModel::Thesis => {
+                return Err(Invalid::at(
+                    at,
+                    "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh \
+                     or cylinder",
+                ));
+            }
+            Shape::Cylinder(c) => AreaShape::Cylinder {
+                cylinder: *c,
+                inward: flip,
+            },
             Shape::Mesh { mesh } => {
-                if *model == PenumbraModel::Thesis {
-                    return Err(Invalid::at(
-                        at,
-                        "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh",
-                    ));
-                }
                 let m = &meshes[*mesh as usize];
-                let tris = (0..m.triangles.len()).map(|t| m.vertices(t)).collect();
+                let tris = (0..m.triangles.len())
+                    .map(|t| {
+                        let [a, b, c] = m.vertices(t);
+                        if flip {
+                            [a, c, b]
+                        } else {
+                            [a, b, c]
+                        }
+                    })
+                    .collect();
                 AreaShape::Mesh(MeshLight::new(tris).ok_or_else(|| {
                     Invalid::at(
                         at,
@@ -380,6 +537,8 @@ fn copies(world: &World) -> Vec<Object> {
             emitter: None,
             casts_shadows: o.casts_shadows,
             motion: o.motion,
+            placement: o.placement.clone(),
+            flip_normals: o.flip_normals,
             mesh_bvh: None,
         })
         .collect()

@@ -118,6 +118,7 @@ pub(super) fn key(root: &Node, ctx: &BuildContext) -> Option<String> {
 /// Path, length and modification time of every mesh file the shapes name.
 fn mesh_stamps(root: &Node, ctx: &BuildContext) -> Option<Vec<(PathBuf, u64, SystemTime)>> {
     root.children_of(Kind::Shape)
+        .flat_map(|o| std::iter::once(o).chain(o.children_of(Kind::Shape)))
         .filter_map(|o| match &o.prop("path")?.value.value {
             Value::String(file) => Some(file.as_str()),
             _ => None,

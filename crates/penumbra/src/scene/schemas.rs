@@ -35,6 +35,8 @@ fn children(parent: Kind, child: Kind) -> &'static [&'static Schema] {
         (Kind::Scene, kind) => of(kind),
         (Kind::Sensor, Kind::Film | Kind::Sampler) => of(child),
         (Kind::Shape, Kind::Emitter) => &[&area::SCHEMA],
+        // The shapes of a group.
+        (Kind::Shape, Kind::Shape) => of(Kind::Shape),
         _ => &[],
     }
 }

@@ -11,10 +11,11 @@ use super::transform;
 use crate::accel::world::{mesh_bvh, Object};
 use crate::description::check::{finite3, finite3_value, nonzero3_value, positive, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::geometry::cube::cube;
 use crate::geometry::mesh_file::read_mesh_part;
 use crate::geometry::quad::Quad;
-use crate::geometry::{Mesh, Shape};
-use crate::math::{Mat4, Vec2, Vec3};
+use crate::geometry::{Cylinder, Mesh, Shape};
+use crate::math::{Frame, Mat4, Vec2, Vec3};
 
 /// Triangles a scene may always hold, counting a mesh once for every
 /// object that uses it (each is a copy in world space, or a BVH of its own).
@@ -28,7 +29,7 @@ pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
 pub const INSTANCING_FACTOR: u64 = 16;
 
 /// The keys every object has besides its shape's.
-const COMMON: [Param; 3] = [
+const COMMON: [Param; 4] = [
     Param::new(
         "material",
         Type::String,
@@ -46,6 +47,12 @@ const COMMON: [Param; 3] = [
         Type::Table(&transform::PARAMS),
         "none",
         "placement at frame time 1: the object moves during the exposure",
+    ),
+    Param::new(
+        "flip_normals",
+        Type::Bool,
+        "false",
+        "turn the normals the other way: into a sphere, cube or cylinder, against a flat shape's or a mesh's winding (a one-sided light then emits to the other side)",
     ),
 ];
 
@@ -69,6 +76,7 @@ pub const SPHERE: Schema = Schema {
         COMMON[0],
         COMMON[1],
         COMMON[2],
+        COMMON[3],
     ],
 };
 
@@ -88,6 +96,7 @@ pub const QUAD: Schema = Schema {
         COMMON[0],
         COMMON[1],
         COMMON[2],
+        COMMON[3],
     ],
 };
 
@@ -102,11 +111,125 @@ pub const MESH: Schema = Schema {
         COMMON[0],
         COMMON[1],
         COMMON[2],
+        COMMON[3],
     ],
 };
 
+pub const RECTANGLE: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "rectangle",
+    what: "rectangle",
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
+};
+
+pub const DISK: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "disk",
+    what: "disk",
+    params: &[
+        Param::new(
+            "center",
+            Type::Vector,
+            "[0, 0, 0]",
+            "centre before the transform",
+        ),
+        Param::new(
+            "normal",
+            Type::Vector,
+            "[0, 0, 1]",
+            "the side it faces before the transform (non-zero)",
+        ),
+        Param::new(
+            "radius",
+            Type::Number,
+            "1",
+            "radius > 0 before the transform (a static disk may only be scaled uniformly)",
+        ),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
+        COMMON[3],
+    ],
+};
+
+pub const CUBE: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "cube",
+    what: "cube",
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
+};
+
+pub const CYLINDER: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "cylinder",
+    what: "cylinder",
+    params: &[
+        Param::new(
+            "p0",
+            Type::Vector,
+            "[0, 0, 0]",
+            "centre of the first end before the transform",
+        ),
+        Param::new(
+            "p1",
+            Type::Vector,
+            "[0, 0, 1]",
+            "centre of the second end before the transform, ≠ `p0`",
+        ),
+        Param::new(
+            "radius",
+            Type::Number,
+            "1",
+            "radius > 0 before the transform (a static cylinder may only be scaled uniformly)",
+        ),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
+        COMMON[3],
+    ],
+};
+
+pub const INSTANCE: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "instance",
+    what: "instance",
+    params: &[
+        Param::new(
+            "group",
+            Type::String,
+            "required",
+            "name of a `[groups.NAME]` table: the shapes placed",
+        ),
+        Param::new(
+            "transform",
+            Type::Table(&transform::PARAMS),
+            "identity",
+            "placement of the group: any invertible affine map (shear and non-uniform scale included)",
+        ),
+    ],
+};
+
+/// A group of shapes that instances place (`[groups.NAME]`; its shapes are
+/// the node's children).
+pub const SHAPEGROUP: Schema = Schema {
+    kind: Kind::Shape,
+    plugin: "shapegroup",
+    what: "group",
+    params: &[],
+};
+
 /// Every shape of a scene file.
-pub const SCHEMAS: [&Schema; 3] = [&SPHERE, &QUAD, &MESH];
+pub const SCHEMAS: [&Schema; 9] = [
+    &SPHERE,
+    &QUAD,
+    &MESH,
+    &RECTANGLE,
+    &DISK,
+    &CUBE,
+    &CYLINDER,
+    &INSTANCE,
+    &SHAPEGROUP,
+];
 
 /// The meshes read so far (each file once) and the triangles the objects
 /// using them add up to.
@@ -186,11 +309,69 @@ pub(super) fn object(
         Some(end) => Some(transform::motion(p, &start, &end)?),
         None => None,
     };
+    let flip_normals = p.bool("flip_normals")?.unwrap_or(false);
     let shape = match plugin {
         "sphere" => {
             let center = finite3(p, "center", [0.0; 3])?;
             let radius = positive(p, "radius", 1.0)?;
             sphere(p, center, radius, &start, motion.is_some())?
+        }
+        "rectangle" => {
+            let q = Quad::new(Vec3::new(-1.0, -1.0, 0.0), 2.0 * Vec3::X, 2.0 * Vec3::Y);
+            Shape::Quad(if motion.is_some() {
+                q
+            } else {
+                transform_rectangle(&q, &start)
+            })
+        }
+        "disk" => {
+            let center = finite3(p, "center", [0.0; 3])?;
+            let normal = match p.numbers::<3>("normal")? {
+                Some(n) => nonzero3_value(p, "normal", n)?.normalize(),
+                None => Vec3::Z,
+            };
+            let radius = positive(p, "radius", 1.0)?;
+            let frame = Frame::from_normal(normal);
+            let m = if motion.is_some() {
+                Mat4::IDENTITY
+            } else {
+                start
+            };
+            let s = uniform_scale(p, "disk", &m)?;
+            Shape::Disk {
+                center: m.transform_point3(center),
+                frame: placed_frame(&m, &frame),
+                radius: radius * s,
+            }
+        }
+        "cylinder" => {
+            let p0 = finite3(p, "p0", [0.0; 3])?;
+            let p1 = finite3(p, "p1", [0.0, 0.0, 1.0])?;
+            let radius = positive(p, "radius", 1.0)?;
+            let Some(c) = Cylinder::new(p0, p1, radius) else {
+                return Err(p.error("p1", "p0 and p1 must differ").into());
+            };
+            let m = if motion.is_some() {
+                Mat4::IDENTITY
+            } else {
+                start
+            };
+            let s = uniform_scale(p, "cylinder", &m)?;
+            Shape::Cylinder(Cylinder {
+                base: m.transform_point3(c.base),
+                frame: placed_frame(&m, &c.frame),
+                radius: c.radius * s,
+                length: c.length * s,
+            })
+        }
+        "cube" => {
+            meshes.push(match motion {
+                Some(_) => cube(),
+                None => cube().transformed(&start),
+            });
+            Shape::Mesh {
+                mesh: (meshes.len() - 1) as u32,
+            }
         }
         "quad" => {
             let q = quad(p, "quad")?;
@@ -223,8 +404,47 @@ pub(super) fn object(
         emitter: None,
         casts_shadows: true,
         motion,
+        placement: None,
+        flip_normals,
         mesh_bvh,
     })
+}
+
+/// The uniform scale of a placement `m` of a shape that stays analytic
+/// (`what`) only under rotation, translation and uniform scale.
+fn uniform_scale(p: &Props, what: &str, m: &Mat4) -> Result<f32, Invalid> {
+    let (scale, _, _) = m.to_scale_rotation_translation();
+    let s = scale.abs();
+    if (s.max_element() - s.min_element()) > 1e-4 * s.max_element() {
+        return Err(p.error(
+            "transform",
+            format!("a {what} can only be scaled uniformly"),
+        ));
+    }
+    Ok(s.x)
+}
+
+/// The frame `f` turned by the rotation of a similarity `m`: its axes
+/// carried by `m` and made unit (right-handed, also under a mirror).
+fn placed_frame(m: &Mat4, f: &Frame) -> Frame {
+    let n = m.transform_vector3(f.n).normalize();
+    let u = m.transform_vector3(f.u).normalize();
+    Frame {
+        u,
+        v: n.cross(u),
+        n,
+    }
+}
+
+/// Mitsuba's rectangle under `m`: its normal is the transformed +z, so a
+/// mirroring transform takes the edges in the other order.
+fn transform_rectangle(q: &Quad, m: &Mat4) -> Quad {
+    let t = transform_quad(q, m);
+    if m.determinant() < 0.0 {
+        Quad::new(t.origin, t.edge_v, t.edge_u)
+    } else {
+        t
+    }
 }
 
 /// A static sphere stays analytic under translation, rotation and uniform

@@ -14,7 +14,18 @@ use crate::description::tree::{Kind, Located, Node, Prop, Value};
 use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
 /// The plugins read, by tag, in the order messages list them.
-pub const SHAPES: &[&str] = &["sphere", "rectangle", "obj", "ply", "serialized"];
+pub const SHAPES: &[&str] = &[
+    "sphere",
+    "rectangle",
+    "disk",
+    "cube",
+    "cylinder",
+    "obj",
+    "ply",
+    "serialized",
+    "shapegroup",
+    "instance",
+];
 pub const BSDFS: &[&str] = &[
     "diffuse",
     "twosided (around a diffuse)",
@@ -1072,9 +1083,118 @@ impl Out<'_> {
     }
 
     fn shape(&mut self, obj: &Object) -> Result<(), SceneError> {
+        let base = KeyPath::root().key("objects").index(self.shapes.len());
+        let node = match obj.plugin.as_str() {
+            "shapegroup" => self.shapegroup(obj)?,
+            "instance" => self.instance(obj, base)?,
+            _ => self.shape_node(obj, base)?,
+        };
+        self.shapes.push(node);
+        Ok(())
+    }
+
+    /// A `shapegroup` as `[groups.ID]`: its shapes, each as an object of
+    /// the group.
+    fn shapegroup(&mut self, obj: &Object) -> Result<Node, SceneError> {
+        self.no_props(obj, &[])?;
+        let Some(id) = obj.id.clone() else {
+            return Err(error_at(
+                &obj.at,
+                "a shapegroup needs an `id`, which its instances refer to",
+            ));
+        };
+        let path = KeyPath::root().key("groups").key(&id);
+        let mut node = Node::new(
+            Kind::Shape,
+            "shapegroup",
+            Origin::new(path.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(path.clone(), Some(obj.plugin_at.clone()));
+        node.id = Some(id);
+        for c in children(self.ids, obj)? {
+            if c.tag != "shape" {
+                return Err(error_at(
+                    &c.at,
+                    format!("a shapegroup holds shapes, not a <{}>", c.tag),
+                ));
+            }
+            let base = path.key("objects").index(node.children.len());
+            let child = match c.plugin.as_str() {
+                // Refused by the builder: groups do not nest.
+                "shapegroup" | "instance" => {
+                    let mut n = Node::new(
+                        Kind::Shape,
+                        c.plugin.clone(),
+                        Origin::new(base.clone(), Some(c.at.clone())),
+                    );
+                    n.plugin_origin = Origin::new(base.key("type"), Some(c.plugin_at.clone()));
+                    n
+                }
+                _ => self.shape_node(c, base)?,
+            };
+            node.children.push(child);
+        }
+        Ok(node)
+    }
+
+    /// An `instance`: the shapegroup it refers to and its `to_world`.
+    fn instance(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
+        self.no_props(obj, &["to_world"])?;
+        let mut node = Node::new(
+            Kind::Shape,
+            "instance",
+            Origin::new(base.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut group = None;
+        for (_, c) in &obj.children {
+            let (id, at) = match c {
+                Child::Ref { id, at } => (id.clone(), at),
+                Child::Object(o) => {
+                    return Err(error_at(
+                        &o.at,
+                        "an instance refers to a shapegroup by <ref id=\"...\"/>: declare the \
+                         group with an id in the scene",
+                    ))
+                }
+            };
+            let target = self.ids.get(&id, at)?;
+            if target.tag != "shape" || target.plugin != "shapegroup" {
+                return Err(error_at(
+                    at,
+                    format!(
+                        "an instance refers to a shapegroup; `{}` is a <{}> of type `{}`",
+                        clip(&id),
+                        target.tag,
+                        clip(&target.plugin)
+                    ),
+                ));
+            }
+            if group.is_some() {
+                return Err(error_at(at, "an instance refers to one shapegroup"));
+            }
+            group = Some((id, at.clone()));
+        }
+        let Some((id, at)) = group else {
+            return Err(error_at(
+                &obj.at,
+                "an instance needs a <ref id=\"...\"/> to its shapegroup",
+            ));
+        };
+        set(&mut node, &base, "group", &at, |p, at| {
+            located(Value::String(id), p, at)
+        });
+        let to_world = get_transform(obj, "to_world")?.map(|(m, at)| (m, at.clone()));
+        self.placement(&mut node, &base, &to_world);
+        Ok(node)
+    }
+
+    /// The node of a shape other than a group or an instance, at `base`.
+    fn shape_node(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
         let known: &[&str] = match obj.plugin.as_str() {
             "sphere" => &["center", "radius", "to_world", "flip_normals"],
-            "rectangle" => &["to_world", "flip_normals"],
+            "rectangle" | "disk" | "cube" => &["to_world", "flip_normals"],
+            "cylinder" => &["p0", "p1", "radius", "to_world", "flip_normals"],
             "obj" | "ply" => &[
                 "filename",
                 "face_normals",
@@ -1092,15 +1212,13 @@ impl Out<'_> {
             _ => return Err(unsupported(obj, "shape", SHAPES)),
         };
         self.no_props(obj, known)?;
-        if let Some((true, at)) = get_bool(obj, "flip_normals")? {
-            return Err(error_at(at, "`flip_normals` is not supported"));
-        }
         get_bool(obj, "flip_tex_coords")?;
-        let i = self.shapes.len();
-        let base = KeyPath::root().key("objects").index(i);
         let plugin = match obj.plugin.as_str() {
             "sphere" => "sphere",
             "rectangle" => "quad",
+            "disk" => "disk",
+            "cube" => "cube",
+            "cylinder" => "cylinder",
             _ => "mesh",
         };
         let mut node = Node::new(
@@ -1110,7 +1228,24 @@ impl Out<'_> {
         );
         node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
         let to_world = get_transform(obj, "to_world")?.map(|(m, at)| (m, at.clone()));
+        if let Some((flip, at)) = get_bool(obj, "flip_normals")? {
+            set(&mut node, &base, "flip_normals", at, |p, at| {
+                located(Value::Bool(flip), p, at)
+            });
+        }
         match obj.plugin.as_str() {
+            "disk" | "cube" => self.placement(&mut node, &base, &to_world),
+            "cylinder" => {
+                for name in ["p0", "p1"] {
+                    if let Some((v, at)) = get_vector(obj, name)? {
+                        set(&mut node, &base, name, at, |p, at| vec3(v, p, at));
+                    }
+                }
+                if let Some((r, at)) = get_float(obj, "radius")? {
+                    set(&mut node, &base, "radius", at, |p, at| float(r, p, at));
+                }
+                self.placement(&mut node, &base, &to_world);
+            }
             "sphere" => {
                 if let Some((c, at)) = get_vector(obj, "center")? {
                     set(&mut node, &base, "center", at, |p, at| vec3(c, p, at));
@@ -1201,8 +1336,7 @@ impl Out<'_> {
             located(Value::String(material), p, at)
         });
         node.children.extend(emitter);
-        self.shapes.push(node);
-        Ok(())
+        Ok(node)
     }
 
     /// `to_world` as the shape's `transform = { matrix = ... }`.

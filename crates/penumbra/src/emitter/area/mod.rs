@@ -1,5 +1,6 @@
 //! `area`: a surface emitting uniform radiance, carried by a shape (Mitsuba
-//! 3's `area` emitter): a rectangle, sphere, disk or triangle mesh. What a
+//! 3's `area` emitter): a rectangle, sphere, disk, cylinder or triangle
+//! mesh (cubes included). What a
 //! ray that hits the shape sees, and what a shading point is lit by.
 //!
 //! One-sided (emitting along the shape's geometric normal), but for
@@ -24,6 +25,7 @@
 //! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
 //! | `shadow_distribution` | distribution | the render's | |
 
+mod cylinder;
 mod disk;
 mod mesh;
 mod rect;
@@ -35,6 +37,7 @@ use crate::description::check::{int, nonneg3, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::emitter::sample::{area_pdf, LightSample};
 use crate::geometry::quad::Quad;
+use crate::geometry::Cylinder;
 use crate::math::{Frame, Rgb, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
@@ -139,6 +142,12 @@ pub enum AreaShape {
         frame: Frame,
         radius: f32,
     },
+    /// An open cylinder emitting away from its axis, or toward it when
+    /// `inward` (`flip_normals`).
+    Cylinder {
+        cylinder: Cylinder,
+        inward: bool,
+    },
     Mesh(MeshLight),
 }
 
@@ -158,6 +167,7 @@ impl Area {
         match &self.shape {
             AreaShape::Rect(q) => q.center(),
             AreaShape::Sphere { center, .. } | AreaShape::Disk { center, .. } => *center,
+            AreaShape::Cylinder { cylinder: c, .. } => c.base + 0.5 * c.length * c.frame.n,
             AreaShape::Mesh(m) => m.centroid(),
         }
     }
@@ -169,6 +179,7 @@ impl Area {
         match &self.shape {
             AreaShape::Rect(q) => rect::size(q),
             AreaShape::Sphere { radius, .. } | AreaShape::Disk { radius, .. } => *radius,
+            AreaShape::Cylinder { cylinder: c, .. } => 0.5 * c.area().sqrt(),
             AreaShape::Mesh(m) => 0.5 * m.area().sqrt(),
         }
     }
@@ -241,6 +252,7 @@ impl Area {
             AreaShape::Sphere { center, radius } => sphere::pdf(p, *center, *radius, cos_l, r2),
             AreaShape::Rect(q) => area_pdf(cos_l, r2, q.area()),
             AreaShape::Disk { radius, .. } => area_pdf(cos_l, r2, disk::area(*radius)),
+            AreaShape::Cylinder { cylinder: c, .. } => area_pdf(cos_l, r2, c.area()),
             AreaShape::Mesh(m) => m.pdf(cos_l, r2),
         }
     }
@@ -271,8 +283,10 @@ impl Area {
             AreaShape::Rect(q) => rect::intensity(power, q, w),
             AreaShape::Sphere { radius, .. } => sphere::intensity(power, *radius),
             AreaShape::Disk { frame, radius, .. } => disk::intensity(power, frame.n, *radius, w),
-            // Not reached: the thesis model is refused on meshes when the
-            // scene is built; a flat light of the mesh's area facing `w`.
+            // Not reached: the thesis model is refused on meshes and
+            // cylinders when the scene is built; a flat light of the
+            // shape's area facing `w`.
+            AreaShape::Cylinder { cylinder: c, .. } => power * c.area(),
             AreaShape::Mesh(m) => power * m.area(),
         }
     }
@@ -288,6 +302,9 @@ impl Area {
             } => disk::sample(power, *center, frame, *radius, p, point, d),
             AreaShape::Sphere { center, radius } => {
                 sphere::sample(power, *center, *radius, p, point, d)
+            }
+            AreaShape::Cylinder { cylinder, inward } => {
+                cylinder::sample(power, cylinder, *inward, p, point, d)
             }
             AreaShape::Mesh(m) => m.sample(power, p, point, d),
         }
