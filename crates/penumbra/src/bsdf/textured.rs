@@ -185,7 +185,7 @@ fn textures_out_of_range_are_refused() {
         (
             "diffuse",
             "reflectance = { type = \"bricks\" }",
-            "t.toml:3:24: materials.m.reflectance.type: unknown texture `bricks`; valid choices are: checkerboard",
+            "t.toml:3:24: materials.m.reflectance.type: unknown texture `bricks`; valid choices are: checkerboard, bitmap",
         ),
         (
             "diffuse",

@@ -19,7 +19,8 @@
 //!
 //! | texture | what |
 //! |---|---|
-//! | [`checkerboard`](checkerboard::Checkerboard) | two colours in a checkerboard of unit squares in `(u, v)` (Mitsuba 3's `checkerboard`) |
+//! | [`checkerboard`](checkerboard::Checkerboard) | two colours alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
+//! | [`bitmap`](bitmap::Bitmap) | an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped (Mitsuba 3's `bitmap`) |
 //!
 //! Every texture takes `to_uv`, a 2D affine map applied to `(u, v)` before
 //! the lookup ([`UvTransform`]), written as a table applied as scale, then
@@ -32,6 +33,7 @@
 //! | `translate` | array of 2 numbers | `[0, 0]` | offset added to `(u, v)` |
 //! | `matrix` | 3×3 array of rows | — | instead of the keys above: the affine matrix acting on `(u, v, 1)` (last row `[0, 0, 1]`) |
 
+pub mod bitmap;
 pub mod checkerboard;
 
 use std::collections::HashMap;
@@ -43,6 +45,7 @@ use crate::description::{
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2};
 
+use bitmap::Bitmap;
 use checkerboard::Checkerboard;
 
 /// A texture: a constant or one of the texture models.
@@ -51,14 +54,15 @@ pub enum Texture {
     /// The same colour everywhere: a plain value.
     Constant(Rgb),
     Checkerboard(Checkerboard),
+    Bitmap(Bitmap),
 }
 
 impl Texture {
     /// The names of the textures, as scenes select them.
-    pub const NAMES: &'static [&'static str] = &[checkerboard::NAME];
+    pub const NAMES: &'static [&'static str] = &[checkerboard::NAME, bitmap::NAME];
 
     /// The textures' parameters.
-    pub const SCHEMAS: &'static [&'static Schema] = &[&checkerboard::SCHEMA];
+    pub const SCHEMAS: &'static [&'static Schema] = &[&checkerboard::SCHEMA, &bitmap::SCHEMA];
 
     /// The colour at the interaction's `(u, v)`.
     #[inline]
@@ -83,6 +87,7 @@ impl Texture {
         match self {
             Texture::Constant(c) => *c,
             Texture::Checkerboard(t) => t.eval(uv),
+            Texture::Bitmap(t) => t.eval(uv),
         }
     }
 
@@ -91,6 +96,7 @@ impl Texture {
         match self {
             Texture::Constant(c) => one(*c),
             Texture::Checkerboard(t) => t.eval_1(uv),
+            Texture::Bitmap(t) => t.eval_1(uv),
         }
     }
 
@@ -108,6 +114,7 @@ impl Texture {
         match self {
             Texture::Constant(c) => (*c, *c),
             Texture::Checkerboard(t) => t.bounds(),
+            Texture::Bitmap(t) => t.bounds(),
         }
     }
 
@@ -116,6 +123,7 @@ impl Texture {
         match self {
             Texture::Constant(c) => (one(*c), one(*c)),
             Texture::Checkerboard(t) => t.bounds_1(),
+            Texture::Bitmap(t) => t.bounds_1(),
         }
     }
 }
@@ -306,6 +314,7 @@ impl Textures {
         let p = Props::new(&node);
         let texture = match plugin {
             checkerboard::NAME => Texture::Checkerboard(Checkerboard::build(&p)?),
+            bitmap::NAME => Texture::Bitmap(Bitmap::build(&p, &self.base_dir)?),
             _ => unreachable!("every schema has a builder"),
         };
         p.finish(schema.what)?;

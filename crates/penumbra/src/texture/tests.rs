@@ -129,7 +129,7 @@ fn bad_textures_are_refused_at_their_place() {
     );
     let e = err("[textures.a]\ntype = \"bricks\"\n");
     assert!(
-        e.starts_with("t.toml:2:8: textures.a.type: unknown texture `bricks`; valid choices are: checkerboard"),
+        e.starts_with("t.toml:2:8: textures.a.type: unknown texture `bricks`; valid choices are: checkerboard, bitmap"),
         "{e}"
     );
 }
