@@ -964,8 +964,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "integrator `volpath` is not supported; supported: path, direct",
         ),
         (
-            r#"<texture type="bitmap"/>"#,
-            "<texture> is not supported in a scene",
+            r#"<texture type="gridtexture"/>"#,
+            "texture `gridtexture` is not supported; supported: checkerboard, bitmap",
         ),
         (
             r#"<shape type="sphere"><emitter type="point"/></shape>"#,
@@ -980,8 +980,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "`flip_normals` is not supported",
         ),
         (
-            r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance"/></bsdf>"#,
-            "a <texture> inside the bsdf `diffuse` is not supported",
+            r#"<bsdf type="conductor"><texture type="bitmap" name="eta"/></bsdf>"#,
+            "a texture as `eta` of the bsdf `conductor` is not supported",
         ),
         (r#"<shape type="obj"/>"#, "missing `filename`"),
     ] {
