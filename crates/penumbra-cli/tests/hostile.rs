@@ -717,6 +717,7 @@ fn corpus() -> Vec<Case> {
             );
         }
     }
+    texture_cases(&mut cases);
     let object = "[[objects]]\ntype = \"mesh\"\npath = \"grid.obj\"\n";
     xml_cases(&mut cases);
     cases.push(Case {
@@ -730,6 +731,125 @@ fn corpus() -> Vec<Case> {
         limit: 20,
     });
     cases
+}
+
+/// A CRC-32 (PNG's), bit by bit.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = !0u32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                (c >> 1) ^ 0xEDB8_8320
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+/// A PNG whose header, checksum and all, claims `w` × `h` RGB pixels, with
+/// no pixel data after it.
+fn png_claiming(w: u32, h: u32) -> Vec<u8> {
+    let mut ihdr = b"IHDR".to_vec();
+    ihdr.extend(w.to_be_bytes());
+    ihdr.extend(h.to_be_bytes());
+    ihdr.extend([8, 2, 0, 0, 0]);
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    out.extend(13u32.to_be_bytes());
+    out.extend(&ihdr);
+    out.extend(crc32(&ihdr).to_be_bytes());
+    out.extend(0u32.to_be_bytes());
+    out.extend(b"IEND");
+    out.extend(crc32(b"IEND").to_be_bytes());
+    out
+}
+
+/// Scenes whose textures are bad: image files missing, lying, truncated or
+/// not images, unknown filter and wrap names. A valid bitmap renders.
+fn texture_cases(cases: &mut Vec<Case>) {
+    use Expect::*;
+    let scene = |texture: &str| {
+        format!(
+            "[camera]\nposition = [0, 0, 3]\n\n[materials.m]\ntype = \"diffuse\"\n\
+             reflectance = {{ type = \"bitmap\", {texture} }}\n\n\
+             [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n\n\
+             [[lights]]\ntype = \"point\"\nposition = [0, 2, 3]\nintensity = [5, 5, 5]\n"
+        )
+        .into_bytes()
+    };
+    let mut good = Vec::new();
+    image::RgbImage::from_fn(64, 64, |x, y| {
+        image::Rgb([(x * 4) as u8, (y * 4) as u8, 128])
+    })
+    .write_to(
+        &mut std::io::Cursor::new(&mut good),
+        image::ImageFormat::Png,
+    )
+    .unwrap();
+    let truncated = good[..good.len() / 2].to_vec();
+    let mut case = |name: &str, texture: &str, file: Option<Vec<u8>>, expect: Expect| {
+        let mut entries = vec![("scene.toml", Entry::Bytes(scene(texture)))];
+        if let Some(bytes) = file {
+            entries.push(("t.png", Entry::Bytes(bytes)));
+        }
+        cases.push(Case {
+            name: format!("texture: {name}"),
+            entries,
+            expect,
+            bare: false,
+            limit: 20,
+        });
+    };
+    let file = "filename = \"t.png\"";
+    case("valid bitmap", file, Some(good.clone()), Valid);
+    case("missing image file", file, None, SceneLine);
+    case(
+        "header claiming 65535² pixels",
+        file,
+        Some(png_claiming(65535, 65535)),
+        SceneLine,
+    );
+    case(
+        "header claiming more rows than present",
+        file,
+        Some(png_claiming(64, 4096)),
+        SceneLine,
+    );
+    case("truncated PNG", file, Some(truncated), SceneLine);
+    case(
+        "not an image",
+        file,
+        Some(b"P6 this is no image at all".to_vec()),
+        SceneLine,
+    );
+    case("empty image file", file, Some(Vec::new()), SceneLine);
+    case(
+        "image file is a directory",
+        "filename = \".\"",
+        None,
+        SceneLine,
+    );
+    case(
+        "unknown filter type",
+        &format!("{file}, filter_type = \"trilinear\""),
+        Some(good.clone()),
+        SceneLine,
+    );
+    case(
+        "unknown wrap mode",
+        &format!("{file}, wrap_mode = \"border\""),
+        Some(good.clone()),
+        SceneLine,
+    );
+    case("bitmap without a file", "raw = true", None, SceneLine);
+    case(
+        "singular to_uv",
+        "filename = \"t.png\", to_uv = { matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 0]] }",
+        Some(good),
+        SceneLine,
+    );
 }
 
 /// Mitsuba XML scenes (`scene.xml`), rendered with their own integrator

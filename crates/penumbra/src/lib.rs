@@ -9,8 +9,8 @@
 //! The library is a stack of layers, each a folder that uses only the ones
 //! before it: [`math`] (with the colour type [`math::Rgb`]) and [`input`]
 //! (every input file read bounded, every quoted value cut) → [`sampling`] →
-//! [`geometry`], [`accel`] and [`camera`] → [`description`] → [`bsdf`] and
-//! [`emitter`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
+//! [`geometry`], [`accel`] and [`camera`] → [`description`] → [`texture`]
+//! → [`bsdf`] and [`emitter`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
 //! goes:
 //!
 //! * [`description`] reads a TOML scene (or a Python dict) into a tree of
@@ -49,3 +49,4 @@ pub mod math;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod texture;

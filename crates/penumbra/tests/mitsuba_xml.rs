@@ -1209,8 +1209,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "integrator `volpath` is not supported; supported: path, direct",
         ),
         (
-            r#"<texture type="bitmap"/>"#,
-            "<texture> is not supported in a scene",
+            r#"<texture type="gridtexture"/>"#,
+            "texture `gridtexture` is not supported; supported: checkerboard, bitmap",
         ),
         (
             r#"<shape type="sphere"><emitter type="point"/></shape>"#,
@@ -1229,8 +1229,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a shapegroup needs an `id`",
         ),
         (
-            r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance"/></bsdf>"#,
-            "a <texture> inside the bsdf `diffuse` is not supported",
+            r#"<bsdf type="conductor"><texture type="bitmap" name="eta"/></bsdf>"#,
+            "a texture as `eta` of the bsdf `conductor` is not supported",
         ),
         (r#"<shape type="obj"/>"#, "missing `filename`"),
     ] {
@@ -1659,4 +1659,104 @@ fn rfilters_carry_their_parameters() {
             "{name}"
         );
     }
+}
+
+/// Textures nested in a bsdf become the parameter's table, references to a
+/// texture of the scene its name; `to_uv` is Mitsuba's 3×3 of the
+/// transform; a bitmap's file is relative to the XML file. The scene builds
+/// and its textures vary where they should.
+#[test]
+fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
+    let d = with_sensor(
+        r#"
+        <texture type="checkerboard" id="board">
+            <rgb name="color0" value="0.9, 0.9, 0.9"/>
+            <float name="color1" value="0.1"/>
+            <transform name="to_uv"><scale x="2" y="4"/><translate x="0.5" y="0"/></transform>
+        </texture>
+        <bsdf type="diffuse" id="floor"><ref name="reflectance" id="board"/></bsdf>
+        <bsdf type="roughconductor" id="metal">
+            <texture type="bitmap" name="alpha">
+                <string name="filename" value="maps/rough.png"/>
+                <boolean name="raw" value="true"/>
+                <string name="filter_type" value="nearest"/>
+                <string name="wrap_mode" value="clamp"/>
+            </texture>
+        </bsdf>
+        <shape type="sphere"><ref id="floor"/></shape>
+        <shape type="sphere"><ref id="metal"/></shape>"#,
+    );
+    std::fs::create_dir_all(d.path("maps")).unwrap();
+    image::GrayImage::from_fn(2, 2, |x, _| image::Luma([if x == 0 { 51 } else { 204 }]))
+        .save(d.path("maps/rough.png"))
+        .unwrap();
+    let root = d.tree("scene.xml");
+    let board = root.child(Kind::Texture).unwrap();
+    assert_eq!(
+        (board.plugin.as_str(), board.id.as_deref()),
+        ("checkerboard", Some("board"))
+    );
+    assert_eq!(numbers(prop(board, "color1")), [0.1; 3]);
+    let Value::Table(to_uv) = prop(board, "to_uv") else {
+        panic!()
+    };
+    assert!(close(
+        &numbers(&to_uv[0].value.value),
+        &[2.0, 0.0, 0.5, 0.0, 4.0, 0.0, 0.0, 0.0, 1.0],
+        1e-12
+    ));
+    let bsdfs: Vec<&Node> = root.children_of(Kind::Bsdf).collect();
+    assert_eq!(
+        prop(bsdfs[0], "reflectance"),
+        &Value::String("board".into())
+    );
+    let Value::Table(alpha) = prop(bsdfs[1], "alpha") else {
+        panic!()
+    };
+    let file = alpha.iter().find(|p| p.name == "filename").unwrap();
+    assert_eq!(
+        file.value.value,
+        Value::String(d.path("maps/rough.png").to_string_lossy().into())
+    );
+    assert_eq!(
+        file.value.origin.path.to_string(),
+        "materials.metal.alpha.filename"
+    );
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+
+    for (body, want) in [
+        (
+            r#"<bsdf type="diffuse" id="m"><texture type="wood" name="reflectance"/></bsdf>"#,
+            "texture `wood` is not supported; supported: checkerboard, bitmap",
+        ),
+        (
+            r#"<bsdf type="conductor" id="m"><texture type="checkerboard" name="eta"/></bsdf>"#,
+            "a texture as `eta` of the bsdf `conductor` is not supported (textures go to: specular_reflectance)",
+        ),
+        (
+            r#"<bsdf type="diffuse" id="m"><rgb name="reflectance" value="0.5"/><texture type="checkerboard" name="reflectance"/></bsdf>"#,
+            "`reflectance` is given twice",
+        ),
+        (
+            r#"<bsdf type="diffuse" id="m"><texture type="bitmap" name="reflectance"><string name="format" value="float16"/></texture></bsdf>"#,
+            "`format` is not a parameter of the texture `bitmap` that Penumbra reads",
+        ),
+    ] {
+        let e = with_sensor(body).err("scene.xml");
+        assert!(e.contains(want), "{e}\n{want}");
+        assert!(e.contains("scene.xml:"), "{e}");
+    }
+    // A bitmap whose file is missing is refused when the scene is built,
+    // at the filename's tag.
+    let d = with_sensor(
+        r#"<bsdf type="diffuse" id="m"><texture type="bitmap" name="reflectance">
+           <string name="filename" value="nowhere.png"/></texture></bsdf>
+           <shape type="sphere"><ref id="m"/></shape>"#,
+    );
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("scene.xml:5:12: materials.m.reflectance.filename:"),
+        "{e}"
+    );
+    assert!(e.contains("nowhere.png"), "{e}");
 }

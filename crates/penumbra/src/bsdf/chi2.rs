@@ -201,9 +201,11 @@ pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
         rays: 1,
         distribution: Distribution::Jitter,
     };
+    let textures = crate::texture::Textures::default();
     let d = Defaults {
         reflection: set,
         refraction: set,
+        textures: &textures,
     };
     M::build(&Props::new(node), &d)
 }

@@ -9,7 +9,7 @@
 //! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
 //! | `eta` | colour ≥ 0 | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
 //! | `k` | colour ≥ 0 | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
 //!
 //! Its lobe, slot 0, is a delta reflection: the Whitted integrator traces
 //! one ray of it, the mirror direction about the shading normal.
@@ -18,18 +18,18 @@ use super::ior::{self, Conductor as Index};
 use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::fresnel;
-use crate::description::check::nonneg3;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{reflect, Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::{Texture, Textures};
 
 /// The smooth conductor (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Conductor {
     /// `None`: the perfect mirror of `material = "none"` (reflectance 1).
     pub index: Option<Index>,
-    pub specular_reflectance: Rgb,
+    pub specular_reflectance: Texture,
 }
 
 /// The schema entries of the conductor's index, shared with
@@ -43,21 +43,39 @@ pub const INDEX_PARAMS: [Param; 3] = [
 /// The schema entry of `specular_reflectance`.
 pub const SPECULAR_REFLECTANCE: Param = Param::new(
     "specular_reflectance",
-    Type::Colour,
+    Type::ColourTexture,
     "[1, 1, 1]",
     "a factor on the reflection, each channel in [0, 1] (1 for realism)",
 );
 
-/// A reflectance-like factor `name` (each channel in [0, 1]), default 1.
-pub fn factor(p: &Props, name: &str) -> Result<Rgb, Invalid> {
-    let v = nonneg3(p, name, [1.0; 3])?;
-    if v.max_element() > 1.0 {
-        return Err(p.error(
-            name,
-            "must not exceed 1 in any channel (the surface would create light)",
-        ));
+/// A reflectance-like factor `name`, a colour or a texture (each channel
+/// in [0, 1]), default 1.
+pub fn factor(p: &Props, textures: &Textures, name: &str) -> Result<Texture, Invalid> {
+    reflectance_texture(p, textures, name, Rgb::ONE)
+}
+
+/// A reflectance `name`, a colour or a texture with each channel in
+/// [0, 1]; `default` when it is not there.
+pub fn reflectance_texture(
+    p: &Props,
+    textures: &Textures,
+    name: &str,
+    default: Rgb,
+) -> Result<Texture, Invalid> {
+    let t = textures.colour(p, name, default)?;
+    let (lo, hi) = t.bounds();
+    if hi.max_element() > 1.0 {
+        let what = if t.constant().is_some() {
+            "must not exceed 1 in any channel (the surface would create light)"
+        } else {
+            "must not exceed 1 in any channel (the surface would create light); the texture reaches more"
+        };
+        return Err(p.error(name, what));
     }
-    Ok(v)
+    if lo.min_element() < 0.0 {
+        return Err(p.error(name, "must not be negative"));
+    }
+    Ok(t)
 }
 
 /// The conductor's index of a scene's parameters: `None` for the perfect
@@ -86,10 +104,10 @@ impl BsdfModel for Conductor {
         params: &[INDEX_PARAMS[0], INDEX_PARAMS[1], INDEX_PARAMS[2], SPECULAR_REFLECTANCE],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<Conductor, Invalid> {
+    fn build(p: &Props, d: &Defaults) -> Result<Conductor, Invalid> {
         Ok(Conductor {
             index: read_index(p)?,
-            specular_reflectance: factor(p, "specular_reflectance")?,
+            specular_reflectance: factor(p, d.textures, "specular_reflectance")?,
         })
     }
 
@@ -119,7 +137,7 @@ impl BsdfModel for Conductor {
         }
         Some(BsdfSample {
             wi: reflect(-wo, si.n),
-            weight: self.specular_reflectance * reflectance(&self.index, cos),
+            weight: self.specular_reflectance.eval(si) * reflectance(&self.index, cos),
             pdf: 1.0,
             flags: BsdfFlags::DELTA | BsdfFlags::REFLECTION,
             lobe: 0,

@@ -8,8 +8,8 @@
 //! |---|---|---|---|
 //! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the inside ([`ior`] lists the names) |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
-//! | `specular_transmittance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the transmission (1 for realism) |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
+//! | `specular_transmittance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the transmission (1 for realism) |
 //!
 //! Its lobes, by slot:
 //!
@@ -39,14 +39,15 @@ use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::{Texture, Textures};
 
 /// The smooth dielectric (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Dielectric {
     /// `int_ior / ext_ior`.
     pub eta: f32,
-    pub specular_reflectance: Rgb,
-    pub specular_transmittance: Rgb,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 /// The schema entries of the two indices, shared by the dielectrics.
@@ -58,18 +59,18 @@ pub const IOR_PARAMS: [Param; 2] = [
 /// The schema entry of `specular_transmittance`.
 pub const SPECULAR_TRANSMITTANCE: Param = Param::new(
     "specular_transmittance",
-    Type::Colour,
+    Type::ColourTexture,
     "[1, 1, 1]",
     "a factor on the transmission, each channel in [0, 1] (1 for realism)",
 );
 
 /// What a smooth interface reads: the relative index and the factors on
 /// reflection and transmission.
-pub fn read_interface(p: &Props) -> Result<(f32, Rgb, Rgb), Invalid> {
+pub fn read_interface(p: &Props, textures: &Textures) -> Result<(f32, Texture, Texture), Invalid> {
     Ok((
         read_eta(p)?,
-        factor(p, "specular_reflectance")?,
-        factor(p, "specular_transmittance")?,
+        factor(p, textures, "specular_reflectance")?,
+        factor(p, textures, "specular_transmittance")?,
     ))
 }
 
@@ -99,9 +100,9 @@ impl Dielectric {
         let cos_i = wo.dot(n);
         let f = fresnel::dielectric(cos_i, self.eta);
         match k {
-            0 if f.r > 0.0 => Some((2.0 * cos_i * n - wo, self.specular_reflectance * f.r, REFLECTION)),
+            0 if f.r > 0.0 => Some((2.0 * cos_i * n - wo, self.specular_reflectance.eval(si) * f.r, REFLECTION)),
             1 if f.r < 1.0 => {
-                let weight = self.specular_transmittance * ((1.0 - f.r) * f.eta_ti * f.eta_ti);
+                let weight = self.specular_transmittance.eval(si) * ((1.0 - f.r) * f.eta_ti * f.eta_ti);
                 Some((refract(wo, n, &f), weight, TRANSMISSION))
             }
             _ => None,
@@ -119,8 +120,8 @@ impl BsdfModel for Dielectric {
         params: &[IOR_PARAMS[0], IOR_PARAMS[1], SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<Dielectric, Invalid> {
-        let (eta, specular_reflectance, specular_transmittance) = read_interface(p)?;
+    fn build(p: &Props, d: &Defaults) -> Result<Dielectric, Invalid> {
+        let (eta, specular_reflectance, specular_transmittance) = read_interface(p, d.textures)?;
         Ok(Dielectric {
             eta,
             specular_reflectance,
@@ -280,7 +281,7 @@ mod tests {
     fn parameters() {
         let g = build::<Dielectric>("int_ior = \"water\"\next_ior = \"vacuum\"\nspecular_transmittance = [0.5, 1, 1]").unwrap();
         assert_eq!(g.eta, 1.333);
-        assert_eq!(g.specular_transmittance, Rgb::new(0.5, 1.0, 1.0));
+        assert_eq!(g.specular_transmittance, Texture::Constant(Rgb::new(0.5, 1.0, 1.0)));
         for (text, want) in [
             ("int_ior = -1.5", "int_ior: must be a positive number, got -1.5"),
             ("ext_ior = 0", "ext_ior: must be a positive number, got 0"),

@@ -5,23 +5,24 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `reflectance` | colour in [0, 1] | `[0.5, 0.5, 0.5]` | the albedo |
+//! | `reflectance` | colour in [0, 1] or texture | `[0.5, 0.5, 0.5]` | the albedo |
 //! | `two_sided` | bool | `false` | reflect on both sides |
 
 use std::f32::consts::FRAC_1_PI;
 
 use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use crate::description::check::nonneg3;
+use super::conductor::reflectance_texture;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Diffuse {
-    pub reflectance: Rgb,
+    pub reflectance: Texture,
     pub two_sided: bool,
 }
 
@@ -50,7 +51,7 @@ impl BsdfModel for Diffuse {
         params: &[
             Param::new(
                 "reflectance",
-                Type::Colour,
+                Type::ColourTexture,
                 "[0.5, 0.5, 0.5]",
                 "the albedo, each channel in [0, 1]",
             ),
@@ -63,14 +64,8 @@ impl BsdfModel for Diffuse {
         ],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<Diffuse, Invalid> {
-        let reflectance = nonneg3(p, "reflectance", [0.5; 3])?;
-        if reflectance.max_element() > 1.0 {
-            return Err(p.error(
-                "reflectance",
-                "must not exceed 1 in any channel (the surface would create light)",
-            ));
-        }
+    fn build(p: &Props, d: &Defaults) -> Result<Diffuse, Invalid> {
+        let reflectance = reflectance_texture(p, d.textures, "reflectance", Rgb::splat(0.5))?;
         let two_sided = p.bool("two_sided")?.unwrap_or(false);
         Ok(Diffuse {
             reflectance,
@@ -86,7 +81,7 @@ impl BsdfModel for Diffuse {
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
         match self.side(si, wo) {
-            Some(s) if si.n.dot(wi) * s > 0.0 => self.reflectance * FRAC_1_PI,
+            Some(s) if si.n.dot(wi) * s > 0.0 => self.reflectance.eval(si) * FRAC_1_PI,
             _ => Rgb::ZERO,
         }
     }
@@ -109,7 +104,7 @@ impl BsdfModel for Diffuse {
         // eval · cos / pdf = (ρ/π) cos / (cos/π) = ρ.
         (wi.dot(si.n) * s > 0.0).then(|| BsdfSample {
             wi,
-            weight: self.reflectance,
+            weight: self.reflectance.eval(si),
             pdf: square_to_cosine_hemisphere_pdf(frame.to_local(front)),
             flags: BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
             lobe: 0,
@@ -140,7 +135,7 @@ mod tests {
     #[test]
     fn samples_weigh_the_reflectance_and_the_pdf_is_normalised() {
         let d = Diffuse {
-            reflectance: Rgb::new(0.2, 0.5, 0.8),
+            reflectance: Texture::Constant(Rgb::new(0.2, 0.5, 0.8)),
             two_sided: false,
         };
         let n = Vec3::new(0.3, 0.2, 0.9).normalize();
@@ -185,7 +180,7 @@ mod tests {
     #[test]
     fn a_two_sided_material_reflects_behind_as_in_front() {
         let d = Diffuse {
-            reflectance: Rgb::new(0.2, 0.5, 0.8),
+            reflectance: Texture::Constant(Rgb::new(0.2, 0.5, 0.8)),
             two_sided: true,
         };
         let n = Vec3::new(0.3, 0.2, 0.9).normalize();

@@ -22,19 +22,22 @@
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `distribution` | `beckmann` or `ggx` | `beckmann` | the normal distribution |
-//! | `alpha` | number ≥ 0 | `0.1` | roughness (the RMS slope for Beckmann); both `alpha_u` and `alpha_v` |
-//! | `alpha_u`, `alpha_v` | number ≥ 0 | `alpha` | roughness along the tangent and the bitangent; both or neither, not with `alpha` |
+//! | `alpha` | number ≥ 0 or texture | `0.1` | roughness (the RMS slope for Beckmann); both `alpha_u` and `alpha_v` |
+//! | `alpha_u`, `alpha_v` | number ≥ 0 or texture | `alpha` | roughness along the tangent and the bitangent; both or neither, not with `alpha` |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
 //!
-//! Roughness below 1e-4 is raised to 1e-4, as Mitsuba does.
+//! Roughness below 1e-4 is raised to 1e-4, as Mitsuba does. A textured
+//! roughness ([`Roughness`]) is read as one value ([`Texture::eval_1`])
+//! at each interaction.
 
 use std::f64::consts::PI as PI64;
 
 use statrs::function::erf::{erf, erf_inv};
 
-use crate::description::check::range;
 use crate::description::{Invalid, Param, Props, Type};
+use crate::geometry::SurfaceInteraction;
 use crate::math::{Vec2, Vec3};
+use crate::texture::{NumberOr, Texture, Textures};
 
 /// The kind of normal distribution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,19 +70,19 @@ pub const PARAMS: [Param; 5] = [
     ),
     Param::new(
         "alpha",
-        Type::Number,
+        Type::NumberTexture,
         "0.1",
         "roughness ≥ 0 (RMS slope for Beckmann), along both tangents",
     ),
     Param::new(
         "alpha_u",
-        Type::Number,
+        Type::NumberTexture,
         "alpha",
         "roughness ≥ 0 along the tangent `dp/du`; with `alpha_v`, not with `alpha`",
     ),
     Param::new(
         "alpha_v",
-        Type::Number,
+        Type::NumberTexture,
         "alpha",
         "roughness ≥ 0 along the bitangent; with `alpha_u`, not with `alpha`",
     ),
@@ -90,6 +93,40 @@ pub const PARAMS: [Param; 5] = [
         "sample the normals visible from the viewer (else the whole distribution)",
     ),
 ];
+
+/// A rough model's distribution: fixed, or with its roughness textured
+/// (`alpha_u`, `alpha_v` looked up at each interaction).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Roughness {
+    /// The distribution; its roughness is the one used unless textured.
+    pub base: Microfacet,
+    /// The textures of `alpha_u` and `alpha_v`, if either varies.
+    pub textures: Option<Box<[Texture; 2]>>,
+}
+
+impl Roughness {
+    /// A fixed distribution.
+    pub fn fixed(base: Microfacet) -> Roughness {
+        Roughness {
+            base,
+            textures: None,
+        }
+    }
+
+    /// The distribution at the interaction.
+    #[inline]
+    pub fn at(&self, si: &SurfaceInteraction) -> Microfacet {
+        match &self.textures {
+            None => self.base,
+            Some(t) => Microfacet::new(
+                self.base.kind,
+                t[0].eval_1(si),
+                t[1].eval_1(si),
+                self.base.sample_visible,
+            ),
+        }
+    }
+}
 
 /// The largest roughness a scene may ask for.
 const MAX_ALPHA: f32 = 100.0;
@@ -106,9 +143,27 @@ impl Microfacet {
         }
     }
 
-    /// The distribution of a rough model's parameters ([`PARAMS`]):
-    /// `alpha`, or both `alpha_u` and `alpha_v`; each in [0, 100].
+    /// The distribution of a rough model's parameters ([`PARAMS`]) for a
+    /// model whose roughness is not textured: `alpha`, or both `alpha_u`
+    /// and `alpha_v`; each a number in [0, 100].
     pub fn read(p: &Props) -> Result<Microfacet, Invalid> {
+        let r = Microfacet::read_textured(p, &Textures::default())?;
+        match r.textures {
+            None => Ok(r.base),
+            Some(_) => {
+                let name = ["alpha", "alpha_u"].into_iter().find(|n| p.has(n));
+                Err(p.error(
+                    name.unwrap_or("alpha"),
+                    "this model takes a number here, not a texture",
+                ))
+            }
+        }
+    }
+
+    /// The distribution of a rough model's parameters ([`PARAMS`]) whose
+    /// roughness may be textured: `alpha`, or both `alpha_u` and
+    /// `alpha_v`, each a number or a texture with values in [0, 100].
+    pub fn read_textured(p: &Props, textures: &Textures) -> Result<Roughness, Invalid> {
         let kind = match p.choice(
             "distribution",
             "microfacet distribution",
@@ -118,6 +173,25 @@ impl Microfacet {
             _ => Kind::Beckmann,
         };
         let (has_u, has_v) = (p.has("alpha_u"), p.has("alpha_v"));
+        let one = |name: &str| -> Result<NumberOr, Invalid> {
+            let v = textures.number(p, name)?.unwrap_or(NumberOr::Number(0.1));
+            let (lo, hi) = match &v {
+                NumberOr::Number(x) => (*x, *x),
+                NumberOr::Texture(t) => t.bounds_1(),
+            };
+            if lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi <= MAX_ALPHA {
+                Ok(v)
+            } else if lo == hi {
+                Err(p.error(name, format!("must be between 0 and {MAX_ALPHA}, got {lo}")))
+            } else {
+                Err(p.error(
+                    name,
+                    format!(
+                        "must be between 0 and {MAX_ALPHA}; the texture's values span {lo} to {hi}"
+                    ),
+                ))
+            }
+        };
         let (au, av) = if has_u || has_v {
             if p.has("alpha") {
                 return Err(p.error(
@@ -131,16 +205,28 @@ impl Microfacet {
                     "`alpha_u` and `alpha_v` go together: `{missing}` is missing"
                 )));
             }
-            (
-                range(p, "alpha_u", 0.1, 0.0, MAX_ALPHA)?,
-                range(p, "alpha_v", 0.1, 0.0, MAX_ALPHA)?,
-            )
+            (one("alpha_u")?, one("alpha_v")?)
         } else {
-            let a = range(p, "alpha", 0.1, 0.0, MAX_ALPHA)?;
-            (a, a)
+            let a = one("alpha")?;
+            (a.clone(), a)
         };
         let visible = p.bool("sample_visible")?.unwrap_or(true);
-        Ok(Microfacet::new(kind, au, av, visible))
+        Ok(match (au, av) {
+            (NumberOr::Number(u), NumberOr::Number(v)) => Roughness {
+                base: Microfacet::new(kind, u, v, visible),
+                textures: None,
+            },
+            (u, v) => {
+                let texture = |x: NumberOr| match x {
+                    NumberOr::Number(x) => Texture::Constant(crate::math::Rgb::splat(x)),
+                    NumberOr::Texture(t) => t,
+                };
+                Roughness {
+                    base: Microfacet::new(kind, 0.1, 0.1, visible),
+                    textures: Some(Box::new([texture(u), texture(v)])),
+                }
+            }
+        })
     }
 
     /// True if the two roughnesses differ.

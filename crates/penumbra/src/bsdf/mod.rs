@@ -39,6 +39,8 @@ pub mod ior;
 pub mod microfacet;
 mod model;
 pub mod sample;
+#[cfg(test)]
+mod textured;
 
 pub use model::{BsdfModel, Defaults};
 pub use sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
@@ -58,7 +60,7 @@ macro_rules! models {
     };
     (@enum $($variant:ident($model:ty),)*) => {
         /// A scattering model: one of the models of this layer.
-        #[derive(Clone, Copy, Debug)]
+        #[derive(Clone, Debug)]
         pub enum Bsdf {
             $($variant($model),)*
         }

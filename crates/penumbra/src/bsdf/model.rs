@@ -5,13 +5,16 @@ use crate::description::{Invalid, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::{EffectSpec, SetPoint};
+use crate::texture::Textures;
 
 /// What a model's parameters default to that the scene sets: the render's
-/// sets of reflection and refraction rays.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Defaults {
+/// sets of reflection and refraction rays; and the scene's named textures
+/// and folder, which its texture-typed parameters are read with.
+#[derive(Clone, Copy, Debug)]
+pub struct Defaults<'a> {
     pub reflection: EffectSpec,
     pub refraction: EffectSpec,
+    pub textures: &'a Textures,
 }
 
 /// What every scattering model answers (see the [module docs](crate::bsdf)).

@@ -8,12 +8,12 @@
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `distribution` | `beckmann`, `ggx` | `beckmann` | the microfacet distribution |
-//! | `alpha` | number ≥ 0 | `0.1` | roughness along both tangents |
-//! | `alpha_u`, `alpha_v` | number ≥ 0 | `alpha` | anisotropic roughness (both, not with `alpha`); `u` along `dp/du` |
+//! | `alpha` | number ≥ 0 or texture | `0.1` | roughness along both tangents |
+//! | `alpha_u`, `alpha_v` | number ≥ 0 or texture | `alpha` | anisotropic roughness (both, not with `alpha`); `u` along `dp/du` |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
 //! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index; `none` reflects 1 at every facet |
 //! | `eta`, `k` | colour ≥ 0 | the material's | the complex index, not with a `material` other than `none` |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection |
 //!
 //! Its lobe, slot 0, is glossy reflection: the Whitted integrator lights it
 //! directly through `eval`. Sampling draws a microfacet normal (of the
@@ -23,21 +23,22 @@
 
 use super::conductor::{factor, read_index, reflectance, INDEX_PARAMS, SPECULAR_REFLECTANCE};
 use super::ior::Conductor as Index;
-use super::microfacet::{Microfacet, PARAMS};
+use super::microfacet::{Microfacet, Roughness, PARAMS};
 use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// The rough conductor (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct RoughConductor {
-    pub distribution: Microfacet,
+    pub distribution: Roughness,
     /// `None`: reflectance 1 at every facet (`material = "none"`).
     pub index: Option<Index>,
-    pub specular_reflectance: Rgb,
+    pub specular_reflectance: Texture,
 }
 
 const FLAGS: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::REFLECTION);
@@ -62,11 +63,11 @@ impl BsdfModel for RoughConductor {
         ],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<RoughConductor, Invalid> {
+    fn build(p: &Props, d: &Defaults) -> Result<RoughConductor, Invalid> {
         Ok(RoughConductor {
-            distribution: Microfacet::read(p)?,
+            distribution: Microfacet::read_textured(p, d.textures)?,
             index: read_index(p)?,
-            specular_reflectance: factor(p, "specular_reflectance")?,
+            specular_reflectance: factor(p, d.textures, "specular_reflectance")?,
         })
     }
 
@@ -83,12 +84,12 @@ impl BsdfModel for RoughConductor {
             return Rgb::ZERO;
         }
         let h = (o + i).normalize();
-        let m = &self.distribution;
+        let m = &self.distribution.at(si);
         let dg = m.d(h) * m.g(o, i, h);
         if dg <= 0.0 {
             return Rgb::ZERO;
         }
-        self.specular_reflectance * reflectance(&self.index, i.dot(h)) * (dg / (4.0 * o.z * i.z))
+        self.specular_reflectance.eval(si) * reflectance(&self.index, i.dot(h)) * (dg / (4.0 * o.z * i.z))
     }
 
     fn sample(
@@ -106,7 +107,7 @@ impl BsdfModel for RoughConductor {
         if o.z <= 0.0 {
             return None;
         }
-        let d = &self.distribution;
+        let d = &self.distribution.at(si);
         let (m, pdf_m) = d.sample(o, u.square());
         let om = o.dot(m);
         if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
@@ -121,7 +122,7 @@ impl BsdfModel for RoughConductor {
         } else {
             d.g(o, i, m) * om / (o.z * m.z)
         };
-        let weight = self.specular_reflectance * reflectance(&self.index, i.dot(m)) * shadowing;
+        let weight = self.specular_reflectance.eval(si) * reflectance(&self.index, i.dot(m)) * shadowing;
         let wi = frame.to_world(i);
         Some(BsdfSample {
             wi,
@@ -145,7 +146,7 @@ impl BsdfModel for RoughConductor {
         if o.dot(h) <= 0.0 || ih <= 0.0 {
             return 0.0;
         }
-        self.distribution.pdf(o, h) / (4.0 * ih)
+        self.distribution.at(si).pdf(o, h) / (4.0 * ih)
     }
 }
 
@@ -184,7 +185,7 @@ mod tests {
         let si = interaction(Vec3::Z);
         let cases: Vec<_> = models()
             .into_iter()
-            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m, wo)))
+            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m.clone(), wo)))
             .collect();
         let level = chi2::sidak(cases.len());
         for (k, (text, m, wo)) in cases.iter().enumerate() {
@@ -231,8 +232,8 @@ mod tests {
     #[test]
     fn parameters() {
         let m = build::<RoughConductor>("").unwrap();
-        assert_eq!(m.distribution, Microfacet::new(super::super::microfacet::Kind::Beckmann, 0.1, 0.1, true));
-        assert!(m.index.is_none() && m.specular_reflectance == Rgb::ONE);
+        assert_eq!(m.distribution, Roughness::fixed(Microfacet::new(super::super::microfacet::Kind::Beckmann, 0.1, 0.1, true)));
+        assert!(m.index.is_none() && m.specular_reflectance == Texture::Constant(Rgb::ONE));
         for (text, want) in [
             ("alpha = -0.1", "must be between 0 and 100"),
             ("alpha_u = 0.1", "`alpha_v` is missing"),

@@ -10,11 +10,11 @@
 //! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the inside |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside; must differ from `int_ior` |
 //! | `distribution` | `beckmann`, `ggx` | `beckmann` | the microfacet distribution |
-//! | `alpha` | number ≥ 0 | `0.1` | roughness along both tangents |
-//! | `alpha_u`, `alpha_v` | number ≥ 0 | `alpha` | anisotropic roughness (both, not with `alpha`) |
+//! | `alpha` | number ≥ 0 or texture | `0.1` | roughness along both tangents |
+//! | `alpha_u`, `alpha_v` | number ≥ 0 or texture | `alpha` | anisotropic roughness (both, not with `alpha`) |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection |
-//! | `specular_transmittance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the transmission |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection |
+//! | `specular_transmittance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the transmission |
 //!
 //! With `h` the half vector of the viewer's direction `wo` and the light's
 //! `wi` (`wo + wi` for reflection, `wo + η wi` for transmission, η the
@@ -38,22 +38,23 @@
 use super::conductor::{factor, SPECULAR_REFLECTANCE};
 use super::dielectric::{read_eta, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
 use super::fresnel;
-use super::microfacet::{Microfacet, PARAMS};
+use super::microfacet::{Microfacet, Roughness, PARAMS};
 use super::model::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// The rough dielectric (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct RoughDielectric {
-    pub distribution: Microfacet,
+    pub distribution: Roughness,
     /// `int_ior / ext_ior`.
     pub eta: f32,
-    pub specular_reflectance: Rgb,
-    pub specular_transmittance: Rgb,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 const REFLECTION: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::REFLECTION);
@@ -115,8 +116,8 @@ impl RoughDielectric {
     }
 
     /// The lobe's density (not times a choice) of `l`.
-    fn lobe_pdf(&self, l: &Local) -> f32 {
-        let pm = self.distribution.pdf(l.o, l.h);
+    fn lobe_pdf(&self, d: &Microfacet, l: &Local) -> f32 {
+        let pm = d.pdf(l.o, l.h);
         if l.reflect {
             pm / (4.0 * l.i.dot(l.h))
         } else {
@@ -135,7 +136,7 @@ impl RoughDielectric {
             return None;
         }
         let (o, eta) = if o0.z < 0.0 { (-o0, 1.0 / self.eta) } else { (o0, self.eta) };
-        let d = &self.distribution;
+        let d = &self.distribution.at(si);
         let (m, pdf_m) = d.sample(o, u);
         let om = o.dot(m);
         if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
@@ -162,16 +163,16 @@ impl RoughDielectric {
         let oh = o.dot(h);
         let f = fresnel::dielectric(oh, eta);
         let value = if k == 0 {
-            self.specular_reflectance * f.r
+            self.specular_reflectance.eval(si) * f.r
         } else {
-            self.specular_transmittance * ((1.0 - f.r) * f.eta_ti * f.eta_ti)
+            self.specular_transmittance.eval(si) * ((1.0 - f.r) * f.eta_ti * f.eta_ti)
         };
         let shadowing = if d.sample_visible {
             d.g1(i, h)
         } else {
             d.g(o, i, h) * oh / (o.z * h.z)
         };
-        let pdf = self.lobe_pdf(&l);
+        let pdf = self.lobe_pdf(d, &l);
         (shadowing > 0.0 && pdf > 0.0).then_some((wi, value * shadowing, pdf))
     }
 }
@@ -196,7 +197,7 @@ impl BsdfModel for RoughDielectric {
         ],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<RoughDielectric, Invalid> {
+    fn build(p: &Props, d: &Defaults) -> Result<RoughDielectric, Invalid> {
         let eta = read_eta(p)?;
         if eta == 1.0 {
             return Err(p.error(
@@ -205,10 +206,10 @@ impl BsdfModel for RoughDielectric {
             ));
         }
         Ok(RoughDielectric {
-            distribution: Microfacet::read(p)?,
+            distribution: Microfacet::read_textured(p, d.textures)?,
             eta,
-            specular_reflectance: factor(p, "specular_reflectance")?,
-            specular_transmittance: factor(p, "specular_transmittance")?,
+            specular_reflectance: factor(p, d.textures, "specular_reflectance")?,
+            specular_transmittance: factor(p, d.textures, "specular_transmittance")?,
         })
     }
 
@@ -220,7 +221,7 @@ impl BsdfModel for RoughDielectric {
         let Some(l) = self.local(si, wo, wi) else {
             return Rgb::ZERO;
         };
-        let d = &self.distribution;
+        let d = &self.distribution.at(si);
         let dg = d.d(l.h) * d.g(l.o, l.i, l.h);
         if dg.is_nan() || dg <= 0.0 {
             return Rgb::ZERO;
@@ -229,11 +230,11 @@ impl BsdfModel for RoughDielectric {
         let f = fresnel::dielectric(oh, l.eta).r;
         let cos = l.o.z * l.i.z.abs();
         if l.reflect {
-            self.specular_reflectance * (f * dg / (4.0 * cos))
+            self.specular_reflectance.eval(si) * (f * dg / (4.0 * cos))
         } else {
             let denom = oh + l.eta * ih;
             let t = (1.0 - f) * dg * (oh * ih).abs() / (cos * denom * denom);
-            self.specular_transmittance * t
+            self.specular_transmittance.eval(si) * t
         }
     }
 
@@ -280,7 +281,7 @@ impl BsdfModel for RoughDielectric {
             return 0.0;
         };
         let pr = self.choice(wo.dot(si.n));
-        self.lobe_pdf(&l) * if l.reflect { pr } else { 1.0 - pr }
+        self.lobe_pdf(&self.distribution.at(si), &l) * if l.reflect { pr } else { 1.0 - pr }
     }
 }
 
@@ -318,7 +319,7 @@ mod tests {
         let si = interaction(Vec3::Z);
         let cases: Vec<_> = models()
             .into_iter()
-            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m, wo)))
+            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m.clone(), wo)))
             .collect();
         let level = chi2::sidak(cases.len());
         for (k, (text, m, wo)) in cases.iter().enumerate() {
@@ -360,7 +361,7 @@ mod tests {
                         let want = m.eval(&si, wo, s.wi) * (s.wi.dot(n).abs() / s.pdf);
                         assert!((s.weight - want).abs().max_element() <= 1e-3 * want.max_element().max(1e-2), "{text} lobe {k}");
                         assert!((s.pdf * p - m.pdf(&si, wo, s.wi)).abs() <= 1e-3 * s.pdf.max(1e-3));
-                        if m.distribution.sample_visible {
+                        if m.distribution.base.sample_visible {
                             assert!(s.weight.max_element() <= 2.3, "{text}: {:?}", s.weight);
                         }
                     }
@@ -374,7 +375,7 @@ mod tests {
     fn parameters() {
         let m = build::<RoughDielectric>("").unwrap();
         assert!((m.eta - 1.5046 / 1.000277).abs() < 1e-6);
-        assert_eq!(m.distribution.alpha_u, 0.1);
+        assert_eq!(m.distribution.base.alpha_u, 0.1);
         for (text, want) in [
             ("int_ior = 1.2\next_ior = 1.2", "must differ from `ext_ior`"),
             ("alpha = -1", "must be between 0 and 100"),

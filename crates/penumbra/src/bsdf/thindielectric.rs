@@ -11,8 +11,8 @@
 //! |---|---|---|---|
 //! | `int_ior` | number > 0 or a name | `bk7` (1.5046) | index of the sheet ([`ior`](super::ior) lists the names) |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index around it |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the reflection |
-//! | `specular_transmittance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the transmission |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection |
+//! | `specular_transmittance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the transmission |
 //!
 //! Its lobes, by slot:
 //!
@@ -35,14 +35,15 @@ use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// The thin dielectric sheet (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct ThinDielectric {
     /// `int_ior / ext_ior`.
     pub eta: f32,
-    pub specular_reflectance: Rgb,
-    pub specular_transmittance: Rgb,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 const REFLECTION: BsdfFlags = BsdfFlags::DELTA.union(BsdfFlags::REFLECTION);
@@ -66,8 +67,8 @@ impl BsdfModel for ThinDielectric {
         params: &[IOR_PARAMS[0], IOR_PARAMS[1], SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<ThinDielectric, Invalid> {
-        let (eta, specular_reflectance, specular_transmittance) = read_interface(p)?;
+    fn build(p: &Props, d: &Defaults) -> Result<ThinDielectric, Invalid> {
+        let (eta, specular_reflectance, specular_transmittance) = read_interface(p, d.textures)?;
         Ok(ThinDielectric {
             eta,
             specular_reflectance,
@@ -99,8 +100,8 @@ impl BsdfModel for ThinDielectric {
             None => (1, 1.0 - r),
         };
         let (wi, weight, flags) = match k {
-            0 if r > 0.0 => (2.0 * cos * n - wo, self.specular_reflectance * r, REFLECTION),
-            1 if r < 1.0 => (-wo, self.specular_transmittance * (1.0 - r), TRANSMISSION),
+            0 if r > 0.0 => (2.0 * cos * n - wo, self.specular_reflectance.eval(si) * r, REFLECTION),
+            1 if r < 1.0 => (-wo, self.specular_transmittance.eval(si) * (1.0 - r), TRANSMISSION),
             _ => return None,
         };
         Some(BsdfSample {

@@ -1,5 +1,5 @@
-//! Lowering: a scene file's five parts (`[render]`, `[camera]`,
-//! `[materials.NAME]`, `[[objects]]`, `[[lights]]`) into the tree of
+//! Lowering: a scene file's parts (`[render]`, `[camera]`,
+//! `[textures.NAME]`, `[materials.NAME]`, `[[objects]]`, `[[lights]]`) into the tree of
 //! plugins, the same way for a TOML file and a dict. The tree's shape is
 //! described in the [module docs](super).
 
@@ -68,6 +68,7 @@ pub const ROOT_KEYS: &[&str] = &[
     "objects",
     "lights",
     "groups",
+    "textures",
 ];
 
 /// The plugins a scene gets when its input names none.
@@ -107,7 +108,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         DocValue::Table(entries) => entries,
         value => return Err(located(Doc { value, ..doc }, KeyPath::root())?.type_error("a table")),
     };
-    let mut parts: [Option<Located<Value>>; 6] = Default::default();
+    let mut parts: [Option<Located<Value>>; 7] = Default::default();
     for entry in entries {
         let Some(i) = ROOT_KEYS.iter().position(|k| *k == entry.key) else {
             let at = Origin::new(KeyPath::root(), entry.key_at);
@@ -119,7 +120,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         };
         parts[i] = Some(prop(entry, &root.path)?.value);
     }
-    let [render, camera, materials, objects, lights, groups] = parts;
+    let [render, camera, materials, objects, lights, groups, textures] = parts;
 
     let mut scene = Node::new(Kind::Scene, "scene", root.clone());
     let render = route_render(render, &root)?;
@@ -131,6 +132,18 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
     scene.children.push(sensor);
     scene.children.extend(render.background);
 
+    if let Some(textures) = textures {
+        // In name order, as materials; each names its plugin by `type`.
+        let mut nodes = Vec::new();
+        for t in table(textures)?.1 {
+            let (origin, props) = table(t.value)?;
+            let mut node = plugin_node(Kind::Texture, origin, props, None)?;
+            node.id = Some(t.name);
+            nodes.push(node);
+        }
+        nodes.sort_by(|a, b| a.id.cmp(&b.id));
+        scene.children.extend(nodes);
+    }
     if let Some(materials) = materials {
         // In name order, whatever order the input keeps its keys in.
         let mut bsdfs = Vec::new();
@@ -418,11 +431,11 @@ mod tests {
         assert_eq!(
             err("[render]\nwidth = 3\n\n[renders]\nwidth = 3\n"),
             "test.toml:4:2: unknown field `renders`, expected one of `render`, `camera`, \
-             `materials`, `objects`, `lights`, `groups`"
+             `materials`, `objects`, `lights`, `groups`, `textures`"
         );
         assert_eq!(
             json_err(r#"{"foo": 1}"#),
-            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`"
+            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`, `textures`"
         );
         // A dict has no lines: the path names the key.
         assert!(

@@ -22,14 +22,16 @@
 //! │   ├── film "hdrfilm"
 //! │   └── sampler "sets"
 //! ├── emitter "constant"                 only if render.background is given
-//! ├── bsdf <type, else "thesis"> #NAME   one per [materials.NAME], in file order
+//! ├── texture <type> #NAME               one per [textures.NAME], in name order
+//! ├── bsdf <type, else "thesis"> #NAME   one per [materials.NAME], in name order
 //! ├── shape <type>                       one per [[objects]], in order
 //! │   └── emitter <type, else "area">    its `emitter` table, if any
 //! └── emitter <type>                     one per [[lights]], in order
 //! ```
 //!
 //! A property's [`Value`] is what the input wrote: a boolean, an integer, a
-//! float, a string, an array, a table (a transform), or a TOML datetime
+//! float, a string, an array, a table (a transform, or a texture with its
+//! `type` and parameters), or a TOML datetime
 //! (which no reader accepts). Nothing is converted, checked or defaulted
 //! in the tree.
 //!
@@ -50,8 +52,9 @@
 //!
 //! # From a scene file to the tree
 //!
-//! The root's keys are `render`, `camera`, `materials`, `objects` and
-//! `lights`; any other is an error. `[camera]`'s keys are all properties
+//! The root's keys are `render`, `camera`, `textures`, `materials`,
+//! `objects` and `lights`; any other is an error. A texture's keys are
+//! properties of its node but `type`, its plugin, required. `[camera]`'s keys are all properties
 //! of the sensor, a material's and an object's or light's of its node (but
 //! `type`, the plugin, required for objects and lights). An object's
 //! `emitter` table is the area emitter it carries: a child node of the

@@ -121,6 +121,11 @@ impl<'a> Props<'a> {
         self.read(name, matrix4)
     }
 
+    /// 3 rows of 3 numbers each.
+    pub fn matrix3(&self, name: &str) -> Result<Option<[[f32; 3]; 3]>, Invalid> {
+        self.read(name, matrix3)
+    }
+
     /// A table's properties, to be read in turn (and
     /// [`finish`](Self::finish)ed on their own).
     pub fn table(&self, name: &str) -> Result<Option<Props<'a>>, Invalid> {
@@ -262,11 +267,20 @@ pub(crate) fn scale(v: &Located<Value>) -> Result<Scale, Invalid> {
 }
 
 pub(crate) fn matrix4(v: &Located<Value>) -> Result<[[f32; 4]; 4], Invalid> {
-    let rows = array(v, "an array of 4 rows")?;
-    exact_length(v, rows, 4, "rows")?;
-    let mut m = [[0.0; 4]; 4];
+    matrix(v)
+}
+
+pub(crate) fn matrix3(v: &Located<Value>) -> Result<[[f32; 3]; 3], Invalid> {
+    matrix(v)
+}
+
+/// `N` rows of `N` numbers each.
+fn matrix<const N: usize>(v: &Located<Value>) -> Result<[[f32; N]; N], Invalid> {
+    let rows = array(v, &format!("an array of {N} rows"))?;
+    exact_length(v, rows, N, "rows")?;
+    let mut m = [[0.0; N]; N];
     for (row, r) in m.iter_mut().zip(rows) {
-        let xs = numbers(r, 4)?;
+        let xs = numbers(r, N)?;
         row.copy_from_slice(&xs);
     }
     Ok(m)

@@ -54,8 +54,12 @@ pub enum Type {
     Numbers(usize),
     /// A number or 3 numbers.
     Scale,
+    /// A number or 2 numbers (a scale of `(u, v)`).
+    Scale2,
     /// 4 rows of 4 numbers.
     Matrix4,
+    /// 3 rows of 3 numbers.
+    Matrix3,
     String,
     /// A file name (a string).
     Path,
@@ -69,6 +73,13 @@ pub enum Type {
     NumberOrChoice(&'static str, &'static [&'static str]),
     /// A table with these keys (a transform).
     Table(&'static [Param]),
+    /// A colour (3 numbers), a texture's table (its `type` and parameters)
+    /// or the name of a texture of the scene; the texture's own keys are
+    /// its builder's to check.
+    ColourTexture,
+    /// A number, a texture's table or a texture's name (a texture read as
+    /// one value).
+    NumberTexture,
 }
 
 impl Type {
@@ -82,13 +93,17 @@ impl Type {
             Type::Vector => "vector".into(),
             Type::Numbers(n) => format!("array of {n} numbers"),
             Type::Scale => "number or vector".into(),
+            Type::Scale2 => "number or array of 2 numbers".into(),
             Type::Matrix4 => "4×4 array of rows".into(),
+            Type::Matrix3 => "3×3 array of rows".into(),
             Type::String => "string".into(),
             Type::Path => "file".into(),
             Type::Distribution => "distribution".into(),
             Type::Choice(_, choices) => choices.join(", "),
             Type::NumberOrChoice(what, _) => format!("number or {what} name"),
             Type::Table(_) => "table".into(),
+            Type::ColourTexture => "colour or texture".into(),
+            Type::NumberTexture => "number or texture".into(),
         }
     }
 }
@@ -156,7 +171,25 @@ fn check_value(v: &Located<Value>, ty: &Type) -> Result<(), Invalid> {
         Type::Colour | Type::Vector => props::numbers(v, 3).map(drop),
         Type::Numbers(n) => props::numbers(v, *n).map(drop),
         Type::Scale => props::scale(v).map(drop),
+        Type::Scale2 => match v.value {
+            Value::Array(_) => props::numbers(v, 2).map(drop),
+            _ => props::number(v)
+                .map(drop)
+                .map_err(|_| v.type_error("a number or an array of 2 numbers")),
+        },
         Type::Matrix4 => props::matrix4(v).map(drop),
+        Type::Matrix3 => props::matrix3(v).map(drop),
+        Type::ColourTexture => match v.value {
+            Value::Table(_) | Value::String(_) => Ok(()),
+            Value::Array(_) => props::numbers(v, 3).map(drop),
+            _ => Err(v.type_error("3 numbers, a texture table or a texture's name")),
+        },
+        Type::NumberTexture => match v.value {
+            Value::Table(_) | Value::String(_) => Ok(()),
+            _ => props::number(v)
+                .map(drop)
+                .map_err(|_| v.type_error("a number, a texture table or a texture's name")),
+        },
         Type::String | Type::Path => props::string(v).map(drop),
         Type::Distribution => props::distribution(v).map(drop),
         Type::Choice(what, choices) => props::choice(v, what, choices).map(drop),

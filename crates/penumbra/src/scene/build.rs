@@ -31,6 +31,7 @@ use crate::geometry::quad::Quad;
 use crate::geometry::{Mesh, Shape};
 use crate::math::{Frame, Mat4, Rgb};
 use crate::sampling::{EffectSpec, PointTable};
+use crate::texture::Textures;
 
 pub use super::error::BuildError;
 pub use super::settings::MAX_PIXELS;
@@ -77,7 +78,8 @@ pub fn build(
     fp.finish("film")?;
     ip.finish("integrator")?;
 
-    let (mut bsdfs, emission, names) = materials(root, &sets)?;
+    let textures = Textures::of_scene(root, &ctx.base_dir)?;
+    let (mut bsdfs, emission, names) = materials(root, &sets, &textures)?;
     let key = worlds.as_ref().and_then(|_| reuse::key(root, ctx));
     // A world built under the same key came from these very objects, which
     // were valid then and are now: they need neither checking nor loading.
@@ -157,10 +159,11 @@ pub fn build(
 /// emits, and their indices by name.
 type Materials = (Vec<Bsdf>, Vec<(Rgb, Origin)>, HashMap<String, u32>);
 
-fn materials(root: &Node, sets: &Sets) -> Result<Materials, Invalid> {
+fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials, Invalid> {
     let defaults = bsdf::Defaults {
         reflection: sets.reflection,
         refraction: sets.refraction,
+        textures,
     };
     let none = Origin::unlocated(Default::default());
     let default = empty(Kind::Bsdf, "thesis");

@@ -7,11 +7,13 @@ use super::{camera, lights, settings, shapes};
 use crate::bsdf::Bsdf;
 use crate::description::{self, Invalid, Kind, Node, Schema};
 use crate::emitter::area;
+use crate::texture::Texture;
 
 /// The plugins of a kind a scene names by itself.
 pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
-        Kind::Scene | Kind::Texture => &[],
+        Kind::Scene => &[],
+        Kind::Texture => Texture::SCHEMAS,
         Kind::Integrator => &[
             &settings::WHITTED,
             &settings::PATH,

@@ -124,6 +124,7 @@ enum BsdfParam {
     Flag,
 }
 pub const EMITTERS: &[&str] = &["point", "constant", "area"];
+pub const TEXTURES: &[&str] = &["checkerboard", "bitmap"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
 pub const RFILTERS: &[&str] = &[
@@ -166,6 +167,15 @@ pub fn scene(
         sensor: None,
         background: None,
         bsdfs: Vec::new(),
+        textures: Vec::new(),
+        texture_ids: root
+            .children
+            .iter()
+            .filter_map(|(_, c)| match c {
+                Child::Object(o) if o.tag == "texture" => o.id.clone(),
+                _ => None,
+            })
+            .collect(),
         names: HashSet::new(),
         shapes: Vec::new(),
         lights: Vec::new(),
@@ -190,12 +200,13 @@ pub fn scene(
                 out.material(obj)?;
             }
             "emitter" => out.emitter(obj)?,
+            "texture" => out.texture(obj)?,
             other => {
                 return Err(error_at(
                     &obj.at,
                     format!(
                         "<{other}> is not supported in a scene; Penumbra reads <integrator>, <sensor>, \
-                         <shape>, <bsdf> and <emitter>"
+                         <shape>, <bsdf>, <emitter> and <texture>"
                     ),
                 ))
             }
@@ -223,6 +234,8 @@ pub fn scene(
     node.children.push(integrator);
     node.children.push(sensor);
     node.children.extend(out.background.take());
+    out.textures.sort_by(|a, b| a.id.cmp(&b.id));
+    node.children.append(&mut out.textures);
     out.bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
     node.children.append(&mut out.bsdfs);
     node.children.append(&mut out.shapes);
@@ -248,6 +261,10 @@ struct Out<'a> {
     sensor: Option<Node>,
     background: Option<Node>,
     bsdfs: Vec<Node>,
+    /// The scene's textures (`textures.ID`), and the ids of those declared
+    /// in the scene, which a `<ref>` names rather than copies.
+    textures: Vec<Node>,
+    texture_ids: HashSet<String>,
     names: HashSet<String>,
     shapes: Vec<Node>,
     lights: Vec<Node>,
@@ -964,7 +981,6 @@ impl Out<'_> {
             return Err(unsupported(inner, what, supported));
         }
         self.no_props(inner, &["reflectance"])?;
-        self.no_children(inner)?;
         let name = match obj.id.as_ref().or(inner.id.as_ref().filter(|_| !two_sided)) {
             Some(id) => id.clone(),
             None => self.fresh_name(),
@@ -983,6 +999,7 @@ impl Out<'_> {
         if let Some((c, at)) = get_color(inner, "reflectance", Use::Reflectance)? {
             set(&mut node, &base, "reflectance", at, |p, at| vec3(c, p, at));
         }
+        self.texture_children(inner, &["reflectance"], &mut node, &base)?;
         if two_sided {
             set(&mut node, &base, "two_sided", &obj.plugin_at, |p, at| {
                 located(Value::Bool(true), p, at)
@@ -1002,7 +1019,11 @@ impl Out<'_> {
     ) -> Result<String, SceneError> {
         let known: Vec<&str> = params.iter().map(|(n, _)| *n).collect();
         self.no_props(obj, &known)?;
-        self.no_children(obj)?;
+        let texturable: Vec<&str> = params
+            .iter()
+            .filter(|(n, kind)| matches!(kind, BsdfParam::Reflectance) || n.starts_with("alpha"))
+            .map(|(n, _)| *n)
+            .collect();
         let name = match obj.id.as_ref() {
             Some(id) => id.clone(),
             None => self.fresh_name(),
@@ -1044,8 +1065,87 @@ impl Out<'_> {
                 set(&mut node, &base, key, at, |p, at| located(v, p, at));
             }
         }
+        self.texture_children(obj, &texturable, &mut node, &base)?;
         self.bsdfs.push(node);
         Ok(name)
+    }
+
+    /// The textures `obj` holds as the parameters `names` (a nested
+    /// `<texture name=...>` or a `<ref name=... id=...>`) set on `node`, at
+    /// `base`; any other child is refused.
+    fn texture_children(
+        &self,
+        obj: &Object,
+        names: &[&str],
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        for (name, child) in &obj.children {
+            let (target, at) = match child {
+                Child::Object(o) => (o.as_ref(), &o.at),
+                Child::Ref { id, at } => (self.ids.get(id, at)?, at),
+            };
+            let param = name.as_deref().filter(|n| names.contains(n));
+            let Some(param) = param.filter(|_| target.tag == "texture") else {
+                let what =
+                    match name {
+                        Some(n) if target.tag == "texture" => format!(
+                        "a texture as `{}` of the {} `{}` is not supported (textures go to: {})",
+                        clip(n),
+                        obj.tag,
+                        clip(&obj.plugin),
+                        if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                    ),
+                        _ => format!(
+                            "a <{}> inside the {} `{}` is not supported",
+                            target.tag,
+                            obj.tag,
+                            clip(&obj.plugin)
+                        ),
+                    };
+                return Err(error_at(at, what));
+            };
+            if obj_has(obj, param) || node.prop(param).is_some() {
+                return Err(error_at(at, format!("`{}` is given twice", clip(param))));
+            }
+            let value = match child {
+                Child::Ref { id, .. } if self.texture_ids.contains(id) => {
+                    located(Value::String(id.clone()), base.key(param), at)
+                }
+                _ => texture_table(target, base.key(param), at)?,
+            };
+            let key = Origin::new(base.key(param), Some(at.clone()));
+            node.props.push(Prop::new(param, key, value));
+        }
+        Ok(())
+    }
+
+    /// A texture declared in the scene: `textures.ID`.
+    fn texture(&mut self, obj: &Object) -> Result<(), SceneError> {
+        let id = match &obj.id {
+            Some(id) => id.clone(),
+            None => (1..)
+                .map(|n| format!("texture_{n}"))
+                .find(|n| !self.texture_ids.contains(n) && !self.ids.map.contains_key(n))
+                .expect("a free name"),
+        };
+        let base = KeyPath::root().key("textures").key(&id);
+        let Value::Table(mut props) = texture_table(obj, base.clone(), &obj.at)?.value else {
+            unreachable!("a texture is a table")
+        };
+        let i = props.iter().position(|p| p.name == "type").expect("a type");
+        let ty = props.remove(i);
+        let mut node = Node::new(
+            Kind::Texture,
+            obj.plugin.clone(),
+            Origin::new(base, Some(obj.at.clone())),
+        );
+        node.plugin_origin = ty.value.origin;
+        node.id = Some(id.clone());
+        node.props = props;
+        self.texture_ids.insert(id);
+        self.textures.push(node);
+        Ok(())
     }
 
     /// `bsdf_N`, the first such name that is neither an id nor taken.
@@ -1355,6 +1455,99 @@ impl Out<'_> {
             located(Value::Table(table), p, at)
         });
     }
+}
+
+/// A `<texture>` as the table of a texture-typed parameter at `path`: its
+/// `type` and parameters under Penumbra's (and Mitsuba's) names, `to_uv`
+/// as its matrix, a `filename` relative to the file that names it.
+fn texture_table(obj: &Object, path: KeyPath, at: &Location) -> Result<Located<Value>, SceneError> {
+    let known: &[&str] = match obj.plugin.as_str() {
+        "checkerboard" => &["color0", "color1", "to_uv"],
+        "bitmap" => &["filename", "raw", "filter_type", "wrap_mode", "to_uv"],
+        _ => return Err(unsupported(obj, "texture", TEXTURES)),
+    };
+    for p in &obj.props {
+        if !known.contains(&p.name.as_str()) {
+            return Err(error_at(
+                &p.at,
+                format!(
+                    "`{}` is not a parameter of the texture `{}` that Penumbra reads (it reads {})",
+                    clip(&p.name),
+                    clip(&obj.plugin),
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
+    if let Some((_, c)) = obj.children.first() {
+        let at = match c {
+            Child::Object(o) => &o.at,
+            Child::Ref { at, .. } => at,
+        };
+        return Err(error_at(
+            at,
+            format!(
+                "an object inside the texture `{}` is not supported (its colours are plain values)",
+                clip(&obj.plugin)
+            ),
+        ));
+    }
+    let mut table = Node::new(
+        Kind::Texture,
+        "",
+        Origin::new(path.clone(), Some(at.clone())),
+    );
+    set(&mut table, &path, "type", &obj.plugin_at, |p, at| {
+        located(Value::String(obj.plugin.clone()), p, at)
+    });
+    for key in ["color0", "color1"] {
+        if let Some((c, at)) = get_color(obj, key, Use::Reflectance)? {
+            set(&mut table, &path, key, at, |p, at| vec3(c, p, at));
+        }
+    }
+    if let Some((name, at)) = get_string(obj, "filename")? {
+        let file = file_dir(obj).join(name);
+        set(&mut table, &path, "filename", at, |p, at| {
+            located(Value::String(file.to_string_lossy().into_owned()), p, at)
+        });
+    }
+    if let Some((b, at)) = get_bool(obj, "raw")? {
+        set(&mut table, &path, "raw", at, |p, at| {
+            located(Value::Bool(b), p, at)
+        });
+    }
+    for key in ["filter_type", "wrap_mode"] {
+        if let Some((s, at)) = get_string(obj, key)? {
+            set(&mut table, &path, key, at, |p, at| {
+                located(Value::String(s.to_string()), p, at)
+            });
+        }
+    }
+    if let Some((m, at)) = get_transform(obj, "to_uv")? {
+        // Mitsuba's 3×3 of a 4×4: the upper-left 2×2 and the translation.
+        let uv = [
+            [m[0][0], m[0][1], m[0][3]],
+            [m[1][0], m[1][1], m[1][3]],
+            [0.0, 0.0, 1.0],
+        ];
+        let inner = path.key("to_uv");
+        let rows = (0..3)
+            .map(|r| {
+                let row = inner.key("matrix").index(r);
+                let items = (0..3).map(|c| float(uv[r][c], row.index(c), at)).collect();
+                located(Value::Array(items), row, at)
+            })
+            .collect();
+        let matrix = Prop::new(
+            "matrix",
+            Origin::new(inner.key("matrix"), Some(at.clone())),
+            located(Value::Array(rows), inner.key("matrix"), at),
+        );
+        set(&mut table, &path, "to_uv", at, |p, at| {
+            located(Value::Table(vec![matrix]), p, at)
+        });
+    }
+    Ok(located(Value::Table(table.props), path, at))
 }
 
 /// The objects `obj` holds, references resolved.

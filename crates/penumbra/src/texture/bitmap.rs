@@ -1,0 +1,367 @@
+//! `bitmap`: an image file mapped onto `(u, v)` (Mitsuba 3's `bitmap`).
+//! PNG, JPEG, OpenEXR and Radiance HDR, read by
+//! [`input::image`](crate::input::image): 8- and 16-bit files are decoded
+//! from sRGB to linear unless `raw`, float files are linear; alpha is
+//! dropped, grey is grey in each channel.
+//!
+//! Coordinates as Mitsuba's: `(u, v)` (after `to_uv`) is scaled to texels,
+//! `(0, 0)` at the top-left corner of the image's first row and `(1, 1)`
+//! at the bottom-right corner of its last, with no flip (Mitsuba's OBJ
+//! reader flips `v` instead). Texel `(i, j)` has its centre at
+//! `((i + ½) / width, (j + ½) / height)`. `nearest` takes the texel the
+//! point falls in; `bilinear` weighs the four texels whose centres
+//! surround it. Texel indices outside the image wrap by `wrap_mode`:
+//! `repeat` tiles the image, `mirror` tiles it flipped every other time
+//! (… 1 0 | 0 1 … n−1 | n−1 n−2 …), `clamp` repeats the edge texels.
+//! Read as one value (a roughness), a texel is its grey, or the luminance
+//! of its colour.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `filename` | file | **required** | the image, relative to the scene file |
+//! | `raw` | bool | `false` | take 8- and 16-bit values as linear (a roughness or normal map) instead of decoding sRGB |
+//! | `filter_type` | `bilinear`, `nearest` | `bilinear` | interpolation between texels |
+//! | `wrap_mode` | `repeat`, `mirror`, `clamp` | `repeat` | texel indices outside the image |
+//! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::{one, UvTransform, TO_UV};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::input::image::{read_image, Encoding, Image};
+use crate::math::{Rgb, Vec2};
+
+/// The name scenes select the texture by.
+pub const NAME: &str = "bitmap";
+
+const FILTERS: &[&str] = &["bilinear", "nearest"];
+const WRAPS: &[&str] = &["repeat", "mirror", "clamp"];
+
+/// Its parameters.
+pub const SCHEMA: Schema = Schema {
+    kind: Kind::Texture,
+    plugin: NAME,
+    what: "bitmap texture",
+    params: &[
+        Param::new(
+            "filename",
+            Type::Path,
+            "required",
+            "the image file (PNG, JPEG, OpenEXR, Radiance HDR), relative to the scene file",
+        ),
+        Param::new(
+            "raw",
+            Type::Bool,
+            "false",
+            "take 8- and 16-bit values as linear instead of decoding sRGB",
+        ),
+        Param::new(
+            "filter_type",
+            Type::Choice("filter type", FILTERS),
+            "bilinear",
+            "interpolation between texels",
+        ),
+        Param::new(
+            "wrap_mode",
+            Type::Choice("wrap mode", WRAPS),
+            "repeat",
+            "texel indices outside the image: tiled, tiled mirrored, or the edge's",
+        ),
+        TO_UV,
+    ],
+};
+
+/// How texels are interpolated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    Nearest,
+    Bilinear,
+}
+
+/// What texel indices outside the image become.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wrap {
+    Repeat,
+    Mirror,
+    Clamp,
+}
+
+impl Wrap {
+    /// Index `i` of a row or column of `n` texels, wrapped into `0..n`.
+    #[inline]
+    pub fn index(self, i: i64, n: u32) -> u32 {
+        let n = i64::from(n);
+        let j = match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m >= n {
+                    2 * n - 1 - m
+                } else {
+                    m
+                }
+            }
+        };
+        j as u32
+    }
+}
+
+/// The bitmap texture (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bitmap {
+    pub image: Arc<Image>,
+    pub filter: Filter,
+    pub wrap: Wrap,
+    pub to_uv: UvTransform,
+    /// The smallest and largest texel values, channel by channel.
+    bounds: (Rgb, Rgb),
+    /// The same, read as one value.
+    bounds_1: (f32, f32),
+}
+
+impl Bitmap {
+    /// The texture of an image, its range found.
+    pub fn new(image: Arc<Image>, filter: Filter, wrap: Wrap, to_uv: UvTransform) -> Bitmap {
+        let mut lo = Rgb::splat(f32::INFINITY);
+        let mut hi = Rgb::splat(f32::NEG_INFINITY);
+        let (mut lo1, mut hi1) = (f32::INFINITY, f32::NEG_INFINITY);
+        for y in 0..image.height {
+            for x in 0..image.width {
+                let c = Rgb::from_array(image.rgb(x, y));
+                lo = lo.min(c);
+                hi = hi.max(c);
+                lo1 = lo1.min(one(c));
+                hi1 = hi1.max(one(c));
+            }
+        }
+        Bitmap {
+            image,
+            filter,
+            wrap,
+            to_uv,
+            bounds: (lo, hi),
+            bounds_1: (lo1, hi1),
+        }
+    }
+
+    /// The texture of a scene's parameters, its file relative to `base_dir`.
+    pub fn build(p: &Props, base_dir: &Path) -> Result<Bitmap, Invalid> {
+        let Some(file) = p.string("filename")? else {
+            return Err(p.node_error("missing field `filename` (the image file)"));
+        };
+        let raw = p.bool("raw")?.unwrap_or(false);
+        let filter = match p.choice("filter_type", "filter type", FILTERS)? {
+            Some("nearest") => Filter::Nearest,
+            _ => Filter::Bilinear,
+        };
+        let wrap = match p.choice("wrap_mode", "wrap mode", WRAPS)? {
+            Some("mirror") => Wrap::Mirror,
+            Some("clamp") => Wrap::Clamp,
+            _ => Wrap::Repeat,
+        };
+        let to_uv = UvTransform::read(p)?;
+        let encoding = if raw { Encoding::Raw } else { Encoding::Srgb };
+        let image = read_image(&base_dir.join(file), encoding)
+            .map_err(|e| p.error("filename", e.to_string()))?;
+        if image.width == 0 || image.height == 0 {
+            return Err(p.error("filename", "the image has no pixels"));
+        }
+        let b = Bitmap::new(Arc::new(image), filter, wrap, to_uv);
+        if !(b.bounds.0.is_finite() && b.bounds.1.is_finite()) {
+            return Err(p.error("filename", "the image holds values that are not finite"));
+        }
+        Ok(b)
+    }
+
+    /// The texel at column `x`, row `y` (any integers; wrapped).
+    #[inline]
+    fn texel(&self, x: i64, y: i64) -> Rgb {
+        let (w, h) = (self.image.width, self.image.height);
+        Rgb::from_array(self.image.rgb(self.wrap.index(x, w), self.wrap.index(y, h)))
+    }
+
+    pub fn eval(&self, uv: Vec2) -> Rgb {
+        let t = self.to_uv.apply(uv);
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        match self.filter {
+            Filter::Nearest => self.texel((t.x * w).floor() as i64, (t.y * h).floor() as i64),
+            Filter::Bilinear => {
+                let (px, py) = (t.x * w - 0.5, t.y * h - 0.5);
+                let (fx, fy) = (px.floor(), py.floor());
+                let (ax, ay) = (px - fx, py - fy);
+                let (x, y) = (fx as i64, fy as i64);
+                let top = self.texel(x, y) * (1.0 - ax) + self.texel(x + 1, y) * ax;
+                let bottom = self.texel(x, y + 1) * (1.0 - ax) + self.texel(x + 1, y + 1) * ax;
+                top * (1.0 - ay) + bottom * ay
+            }
+        }
+    }
+
+    /// One value: the grey, or the luminance of the colour.
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        one(self.eval(uv))
+    }
+
+    pub fn bounds(&self) -> (Rgb, Rgb) {
+        self.bounds
+    }
+
+    pub fn bounds_1(&self) -> (f32, f32) {
+        self.bounds_1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::image::srgb_to_linear;
+
+    /// A 3 × 2 image of greys: row 0 is 0, 1, 2; row 1 is 10, 11, 12.
+    fn image() -> Arc<Image> {
+        let values = [0.0, 1.0, 2.0, 10.0, 11.0, 12.0];
+        Arc::new(Image {
+            width: 3,
+            height: 2,
+            channels: 3,
+            pixels: values.iter().flat_map(|&v| [v; 3]).collect(),
+        })
+    }
+
+    fn grey(b: &Bitmap, u: f32, v: f32) -> f32 {
+        let c = b.eval(Vec2::new(u, v));
+        assert!(c.r == c.g && c.g == c.b);
+        c.r
+    }
+
+    #[test]
+    fn wrap_modes_by_hand() {
+        let n = 3;
+        let idx = |w: Wrap| (-4..7).map(|i| w.index(i, n)).collect::<Vec<_>>();
+        assert_eq!(idx(Wrap::Repeat), [2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0]);
+        assert_eq!(idx(Wrap::Clamp), [0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2]);
+        assert_eq!(idx(Wrap::Mirror), [2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0]);
+        assert_eq!(
+            Wrap::Repeat.index(i64::MIN, 3),
+            (i64::MIN).rem_euclid(3) as u32
+        );
+        assert_eq!(Wrap::Mirror.index(0, 1), 0);
+        assert_eq!(Wrap::Mirror.index(-1, 1), 0);
+    }
+
+    /// Nearest: the texel the point falls in, row 0 at v = 0; outside the
+    /// unit square by the wrap mode.
+    #[test]
+    fn nearest_takes_the_texel_the_point_falls_in() {
+        let b = Bitmap::new(
+            image(),
+            Filter::Nearest,
+            Wrap::Repeat,
+            UvTransform::IDENTITY,
+        );
+        assert_eq!(grey(&b, 0.1, 0.1), 0.0);
+        assert_eq!(grey(&b, 0.5, 0.1), 1.0);
+        assert_eq!(grey(&b, 0.9, 0.9), 12.0);
+        assert_eq!(grey(&b, 0.34, 0.6), 11.0);
+        assert_eq!(grey(&b, 1.1, 1.1), 0.0);
+        assert_eq!(grey(&b, -0.1, 0.1), 2.0);
+        let m = Bitmap::new(
+            image(),
+            Filter::Nearest,
+            Wrap::Mirror,
+            UvTransform::IDENTITY,
+        );
+        assert_eq!(grey(&m, -0.1, 0.1), 0.0);
+        assert_eq!(grey(&m, 1.1, 1.1), 12.0);
+        assert_eq!(grey(&m, 1.5, 0.1), 1.0);
+        let c = Bitmap::new(image(), Filter::Nearest, Wrap::Clamp, UvTransform::IDENTITY);
+        assert_eq!(grey(&c, 5.0, -3.0), 2.0);
+        assert_eq!(grey(&c, -5.0, 3.0), 10.0);
+        assert_eq!(b.bounds(), (Rgb::ZERO, Rgb::splat(12.0)));
+    }
+
+    /// Bilinear: exact at texel centres, the weighted mean of four between
+    /// them, the wrap mode at the border (hand-computed).
+    #[test]
+    fn bilinear_weighs_the_four_surrounding_centres() {
+        let b = Bitmap::new(
+            image(),
+            Filter::Bilinear,
+            Wrap::Clamp,
+            UvTransform::IDENTITY,
+        );
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-5;
+        // Texel centres: u = 1/6, 1/2, 5/6; v = 1/4, 3/4.
+        assert!(close(grey(&b, 1.0 / 6.0, 0.25), 0.0));
+        assert!(close(grey(&b, 0.5, 0.75), 11.0));
+        // Halfway between the first two columns, a quarter down toward row 1.
+        // x = 0.5 (between 0 and 1), y = 0.25 → (0.5·0 + 0.5·1)·0.75 + (0.5·10 + 0.5·11)·0.25.
+        let want = 0.5 * 0.75 + 10.5 * 0.25;
+        assert!(close(grey(&b, 2.0 / 6.0, 0.25 + 0.125), want));
+        // Clamp at the left border: the edge texel alone.
+        assert!(close(grey(&b, 0.0, 0.25), 0.0));
+        // Repeat at the left border: halfway between the last column and the first.
+        let r = Bitmap::new(
+            image(),
+            Filter::Bilinear,
+            Wrap::Repeat,
+            UvTransform::IDENTITY,
+        );
+        assert!(close(grey(&r, 0.0, 0.25), 1.0));
+        // Mirror at the left border: the first column twice.
+        let m = Bitmap::new(
+            image(),
+            Filter::Bilinear,
+            Wrap::Mirror,
+            UvTransform::IDENTITY,
+        );
+        assert!(close(grey(&m, 0.0, 0.25), 0.0));
+        // Nearest differs from bilinear between centres.
+        let n = Bitmap::new(image(), Filter::Nearest, Wrap::Clamp, UvTransform::IDENTITY);
+        assert_eq!(grey(&n, 2.0 / 6.0, 0.375), 1.0);
+    }
+
+    #[test]
+    fn to_uv_maps_before_the_lookup() {
+        let t = UvTransform {
+            rows: [[1.0, 0.0, 1.0 / 3.0], [0.0, 1.0, 0.0]],
+        };
+        let b = Bitmap::new(image(), Filter::Nearest, Wrap::Repeat, t);
+        assert_eq!(grey(&b, 0.1, 0.1), 1.0);
+        assert_eq!(b.eval_1(Vec2::new(0.1, 0.6)), 11.0);
+    }
+
+    /// A PNG's 8-bit values are sRGB-decoded unless `raw`, through a scene.
+    #[test]
+    fn png_texels_are_decoded_from_srgb_unless_raw() {
+        let dir = tempfile::tempdir().unwrap();
+        let img = image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([128 * x as u8, 64, 255]));
+        img.save(dir.path().join("t.png")).unwrap();
+        let build = |raw: bool| {
+            let text = format!(
+                "[textures.t]\ntype = \"bitmap\"\nfilename = \"t.png\"\nraw = {raw}\nfilter_type = \"nearest\"\n"
+            );
+            let root = crate::description::from_toml(&text, Path::new("s.toml")).unwrap();
+            let t = crate::texture::Textures::of_scene(&root, dir.path()).unwrap();
+            t.get("t").unwrap().clone()
+        };
+        let srgb = build(false).eval_uv(Vec2::new(0.75, 0.5));
+        let want = Rgb::new(
+            srgb_to_linear(128.0 / 255.0),
+            srgb_to_linear(64.0 / 255.0),
+            1.0,
+        );
+        assert!((srgb - want).abs().max_element() < 1e-6, "{srgb:?}");
+        // The sRGB curve by its formula, independently: ((c + 0.055) / 1.055)^2.4.
+        assert!((want.r - ((128.0f32 / 255.0 + 0.055) / 1.055).powf(2.4)).abs() < 1e-6);
+        let raw = build(true).eval_uv(Vec2::new(0.75, 0.5));
+        assert!(
+            (raw - Rgb::new(128.0 / 255.0, 64.0 / 255.0, 1.0))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        assert_eq!(build(true).eval_uv(Vec2::new(0.25, 0.5)).r, 0.0);
+    }
+}

@@ -1,0 +1,163 @@
+//! `checkerboard`: two colours alternating in squares of side ½ in
+//! `(u, v)` (Mitsuba 3's `checkerboard`). At `(u, v)` mapped by `to_uv`,
+//! with `fu`, `fv` the fractional parts: `color0` where `fu > ½` and
+//! `fv > ½` agree, `color1` where they differ. The unit square holds four
+//! squares, `color0` in its lower-left one.
+//!
+//! Read as one value (a roughness), the squares swap: `color0` where `fu > ½`
+//! and `fv > ½` differ. That is what Mitsuba 3's `eval_1` does, kept so that
+//! its scenes render alike.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `color0` | colour ≥ 0 | `[0.4, 0.4, 0.4]` | the colour of the squares where `fu > ½` and `fv > ½` agree |
+//! | `color1` | colour ≥ 0 | `[0.2, 0.2, 0.2]` | the colour of the other squares |
+//! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
+
+use super::{one, read_colour, UvTransform, TO_UV};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::math::{Rgb, Vec2};
+
+/// The name scenes select the texture by.
+pub const NAME: &str = "checkerboard";
+
+/// Its parameters.
+pub const SCHEMA: Schema = Schema {
+    kind: Kind::Texture,
+    plugin: NAME,
+    what: "checkerboard texture",
+    params: &[
+        Param::new(
+            "color0",
+            Type::Colour,
+            "[0.4, 0.4, 0.4]",
+            "the colour of the squares where u and v both have fractional parts above ½ or both not, each channel ≥ 0",
+        ),
+        Param::new(
+            "color1",
+            Type::Colour,
+            "[0.2, 0.2, 0.2]",
+            "the colour of the other squares, each channel ≥ 0",
+        ),
+        TO_UV,
+    ],
+};
+
+/// The checkerboard (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Checkerboard {
+    pub color0: Rgb,
+    pub color1: Rgb,
+    pub to_uv: UvTransform,
+}
+
+impl Checkerboard {
+    pub fn build(p: &Props) -> Result<Checkerboard, Invalid> {
+        Ok(Checkerboard {
+            color0: read_colour(p, "color0", Rgb::splat(0.4))?,
+            color1: read_colour(p, "color1", Rgb::splat(0.2))?,
+            to_uv: UvTransform::read(p)?,
+        })
+    }
+
+    /// Whether `(u, v)` (before `to_uv`) lies in a square of `color0`.
+    #[inline]
+    fn first(&self, uv: Vec2) -> bool {
+        let t = self.to_uv.apply(uv);
+        let high = |x: f32| x - x.floor() > 0.5;
+        high(t.x) == high(t.y)
+    }
+
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> Rgb {
+        if self.first(uv) {
+            self.color0
+        } else {
+            self.color1
+        }
+    }
+
+    /// One value: Mitsuba's `eval_1`, with the squares swapped.
+    #[inline]
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        one(if self.first(uv) {
+            self.color1
+        } else {
+            self.color0
+        })
+    }
+
+    pub fn bounds(&self) -> (Rgb, Rgb) {
+        (self.color0.min(self.color1), self.color0.max(self.color1))
+    }
+
+    pub fn bounds_1(&self) -> (f32, f32) {
+        let (a, b) = (one(self.color0), one(self.color1));
+        (a.min(b), a.max(b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn board(to_uv: UvTransform) -> Checkerboard {
+        Checkerboard {
+            color0: Rgb::new(1.0, 0.0, 0.0),
+            color1: Rgb::new(0.0, 0.0, 1.0),
+            to_uv,
+        }
+    }
+
+    /// The four squares of the unit square, and their repetition outside it
+    /// (negative coordinates included), by hand.
+    #[test]
+    fn squares_alternate_with_color0_at_the_origin() {
+        let b = board(UvTransform::IDENTITY);
+        let (c0, c1) = (b.color0, b.color1);
+        for (u, v, want) in [
+            (0.25, 0.25, c0),
+            (0.75, 0.25, c1),
+            (0.25, 0.75, c1),
+            (0.75, 0.75, c0),
+            (1.25, 0.25, c0),
+            (-0.25, 0.25, c1),
+            (-0.25, -0.25, c0),
+            (3.75, -2.25, c0),
+            (3.25, -2.25, c1),
+        ] {
+            assert_eq!(b.eval(Vec2::new(u, v)), want, "({u}, {v})");
+        }
+        // One value: the squares swap, the values are the greys'.
+        let g = Checkerboard {
+            color0: Rgb::splat(0.4),
+            color1: Rgb::splat(0.2),
+            to_uv: UvTransform::IDENTITY,
+        };
+        assert_eq!(g.eval_1(Vec2::new(0.25, 0.25)), 0.2);
+        assert_eq!(g.eval_1(Vec2::new(0.75, 0.25)), 0.4);
+        assert_eq!(b.bounds(), (Rgb::ZERO, Rgb::new(1.0, 0.0, 1.0)));
+    }
+
+    /// `to_uv` scales (four times as many squares), translates and rotates
+    /// the coordinates before the lookup.
+    #[test]
+    fn to_uv_maps_the_coordinates_first() {
+        let scaled = board(UvTransform {
+            rows: [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]],
+        });
+        assert_eq!(scaled.eval(Vec2::new(0.125, 0.125)), scaled.color0);
+        assert_eq!(scaled.eval(Vec2::new(0.375, 0.125)), scaled.color1);
+        assert_eq!(scaled.eval(Vec2::new(0.625, 0.125)), scaled.color0);
+        let shifted = board(UvTransform {
+            rows: [[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]],
+        });
+        assert_eq!(shifted.eval(Vec2::new(0.25, 0.25)), shifted.color1);
+        // A quarter turn: (u, v) ↦ (−v, u).
+        let turned = board(UvTransform {
+            rows: [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0]],
+        });
+        assert_eq!(turned.eval(Vec2::new(0.25, 0.25)), turned.color1);
+        assert_eq!(turned.eval(Vec2::new(0.25, 0.75)), turned.color0);
+    }
+}

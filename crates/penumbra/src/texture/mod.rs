@@ -1,0 +1,424 @@
+//! Textures: values that vary over a surface, looked up at the surface
+//! coordinates `(u, v)` of a [`SurfaceInteraction`] (Mitsuba 3's textures).
+//!
+//! Every parameter of a model that Mitsuba lets take a texture takes one
+//! here (its schema type is [`Type::ColourTexture`] or
+//! [`Type::NumberTexture`]): a colour, the texture of a model's colours; a
+//! number, a roughness. In a scene such a parameter is written as
+//!
+//! * a plain value, 3 numbers or a number: a [`Texture::Constant`], which
+//!   costs what a plain colour costs;
+//! * a texture's table, its `type` and parameters:
+//!   `reflectance = { type = "checkerboard", color0 = [0.9, 0.9, 0.9] }`;
+//! * the name of a texture declared once under `[textures.NAME]`:
+//!   `reflectance = "wood"`.
+//!
+//! A texture answers as a colour ([`Texture::eval`]) or as one value
+//! ([`Texture::eval_1`], Mitsuba's `eval_1`: a grey colour's value, else the
+//! luminance of the colour).
+//!
+//! | texture | what |
+//! |---|---|
+//! | [`checkerboard`](checkerboard::Checkerboard) | two colours alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
+//! | [`bitmap`](bitmap::Bitmap) | an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped (Mitsuba 3's `bitmap`) |
+//!
+//! Every texture takes `to_uv`, a 2D affine map applied to `(u, v)` before
+//! the lookup ([`UvTransform`]), written as a table applied as scale, then
+//! rotation, then translation:
+//!
+//! | key | type | default | meaning |
+//! |---|---|---|---|
+//! | `scale` | number or array of 2 numbers | `1` | uniform or per-axis scale of `(u, v)` |
+//! | `rotate_degrees` | number | `0` | counter-clockwise rotation in the `(u, v)` plane |
+//! | `translate` | array of 2 numbers | `[0, 0]` | offset added to `(u, v)` |
+//! | `matrix` | 3×3 array of rows | — | instead of the keys above: the affine matrix acting on `(u, v, 1)` (last row `[0, 0, 1]`) |
+
+pub mod bitmap;
+pub mod checkerboard;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::description::{
+    check, Invalid, Kind, Node, Origin, Param, Prop, Props, Schema, Type, Value,
+};
+use crate::geometry::SurfaceInteraction;
+use crate::math::{Rgb, Vec2};
+
+use bitmap::Bitmap;
+use checkerboard::Checkerboard;
+
+/// A texture: a constant or one of the texture models.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    /// The same colour everywhere: a plain value.
+    Constant(Rgb),
+    Checkerboard(Checkerboard),
+    Bitmap(Bitmap),
+}
+
+impl Texture {
+    /// The names of the textures, as scenes select them.
+    pub const NAMES: &'static [&'static str] = &[checkerboard::NAME, bitmap::NAME];
+
+    /// The textures' parameters.
+    pub const SCHEMAS: &'static [&'static Schema] = &[&checkerboard::SCHEMA, &bitmap::SCHEMA];
+
+    /// The colour at the interaction's `(u, v)`.
+    #[inline]
+    pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            _ => self.eval_uv(si.uv),
+        }
+    }
+
+    /// One value at the interaction's `(u, v)` (Mitsuba's `eval_1`).
+    #[inline]
+    pub fn eval_1(&self, si: &SurfaceInteraction) -> f32 {
+        match self {
+            Texture::Constant(c) => one(*c),
+            _ => self.eval_1_uv(si.uv),
+        }
+    }
+
+    /// The colour at surface coordinates `uv`.
+    pub fn eval_uv(&self, uv: Vec2) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            Texture::Checkerboard(t) => t.eval(uv),
+            Texture::Bitmap(t) => t.eval(uv),
+        }
+    }
+
+    /// One value at surface coordinates `uv`.
+    pub fn eval_1_uv(&self, uv: Vec2) -> f32 {
+        match self {
+            Texture::Constant(c) => one(*c),
+            Texture::Checkerboard(t) => t.eval_1(uv),
+            Texture::Bitmap(t) => t.eval_1(uv),
+        }
+    }
+
+    /// The constant's colour; `None` for a texture that varies.
+    pub fn constant(&self) -> Option<Rgb> {
+        match self {
+            Texture::Constant(c) => Some(*c),
+            _ => None,
+        }
+    }
+
+    /// The smallest and the largest value of each channel anywhere on the
+    /// texture (for range checks).
+    pub fn bounds(&self) -> (Rgb, Rgb) {
+        match self {
+            Texture::Constant(c) => (*c, *c),
+            Texture::Checkerboard(t) => t.bounds(),
+            Texture::Bitmap(t) => t.bounds(),
+        }
+    }
+
+    /// The smallest and largest value [`eval_1`](Self::eval_1) gives.
+    pub fn bounds_1(&self) -> (f32, f32) {
+        match self {
+            Texture::Constant(c) => (one(*c), one(*c)),
+            Texture::Checkerboard(t) => t.bounds_1(),
+            Texture::Bitmap(t) => t.bounds_1(),
+        }
+    }
+}
+
+/// A colour as one value: a grey's value (exactly), else its luminance.
+#[inline]
+pub fn one(c: Rgb) -> f32 {
+    if c.r == c.g && c.g == c.b {
+        c.r
+    } else {
+        c.luminance()
+    }
+}
+
+/// Mitsuba's `to_uv`: the affine map `(u, v) ↦ (a·u + b·v + c, d·u + e·v + f)`,
+/// rows `[a, b, c]` and `[d, e, f]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    pub rows: [[f32; 3]; 2],
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        UvTransform::IDENTITY
+    }
+}
+
+/// The keys of a `to_uv` table.
+pub const TO_UV_KEYS: &[Param] = &[
+    Param::new(
+        "scale",
+        Type::Scale2,
+        "1",
+        "uniform or per-axis scale of (u, v)",
+    ),
+    Param::new(
+        "rotate_degrees",
+        Type::Number,
+        "0",
+        "counter-clockwise rotation",
+    ),
+    Param::new(
+        "translate",
+        Type::Numbers(2),
+        "[0, 0]",
+        "offset added to (u, v)",
+    ),
+    Param::new(
+        "matrix",
+        Type::Matrix3,
+        "",
+        "the affine matrix acting on (u, v, 1)",
+    ),
+];
+
+/// The schema entry of `to_uv`, which every texture takes.
+pub const TO_UV: Param = Param::new(
+    "to_uv",
+    Type::Table(TO_UV_KEYS),
+    "identity",
+    "a 2D affine map of (u, v) before the lookup: `scale`, `rotate_degrees`, `translate` (in that order) or a 3×3 `matrix`",
+);
+
+impl UvTransform {
+    pub const IDENTITY: UvTransform = UvTransform {
+        rows: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    };
+
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let [a, b] = &self.rows;
+        Vec2::new(
+            a[0] * uv.x + a[1] * uv.y + a[2],
+            b[0] * uv.x + b[1] * uv.y + b[2],
+        )
+    }
+
+    /// A texture's `to_uv` (identity without one).
+    pub fn read(p: &Props) -> Result<UvTransform, Invalid> {
+        let Some(t) = p.table("to_uv")? else {
+            return Ok(UvTransform::IDENTITY);
+        };
+        let out = if let Some(m) = t.matrix3("matrix")? {
+            if ["scale", "rotate_degrees", "translate"]
+                .iter()
+                .any(|k| t.has(k))
+            {
+                return Err(t.error("matrix", "give either `matrix` or the other keys, not both"));
+            }
+            if m[2] != [0.0, 0.0, 1.0] {
+                return Err(t.error("matrix", "must be affine: its last row is [0, 0, 1]"));
+            }
+            UvTransform { rows: [m[0], m[1]] }
+        } else {
+            let (sx, sy) = match t.get("scale") {
+                None => (1.0, 1.0),
+                Some(prop) => match &prop.value.value {
+                    Value::Array(_) => {
+                        let xs = crate::description::props::numbers(&prop.value, 2)?;
+                        (xs[0], xs[1])
+                    }
+                    _ => {
+                        let s = crate::description::props::number(&prop.value)?;
+                        (s, s)
+                    }
+                },
+            };
+            let angle = t.f32("rotate_degrees")?.unwrap_or(0.0).to_radians();
+            let [tx, ty] = t.numbers::<2>("translate")?.unwrap_or([0.0; 2]);
+            let (s, c) = angle.sin_cos();
+            UvTransform {
+                rows: [[c * sx, -s * sy, tx], [s * sx, c * sy, ty]],
+            }
+        };
+        if out.rows.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(p.error("to_uv", "expected finite numbers"));
+        }
+        t.finish("to_uv")?;
+        Ok(out)
+    }
+}
+
+/// The textures of a scene by name, and where its files are: what a model
+/// reads its texture-typed parameters with ([`Textures::colour`],
+/// [`Textures::number`]).
+#[derive(Clone, Debug, Default)]
+pub struct Textures {
+    /// The folder relative file names start from.
+    pub base_dir: PathBuf,
+    named: HashMap<String, Texture>,
+}
+
+impl Textures {
+    /// No named textures; files relative to `base_dir`.
+    pub fn new(base_dir: &Path) -> Textures {
+        Textures {
+            base_dir: base_dir.to_path_buf(),
+            named: HashMap::new(),
+        }
+    }
+
+    /// Builds the scene's named textures: the children of `root` of kind
+    /// texture, each by its id.
+    pub fn of_scene(root: &Node, base_dir: &Path) -> Result<Textures, Invalid> {
+        let mut t = Textures::new(base_dir);
+        for node in root.children_of(Kind::Texture) {
+            let texture = t.build(&node.plugin, &node.plugin_origin, &node.props, &node.origin)?;
+            if let Some(id) = &node.id {
+                t.named.insert(id.clone(), texture);
+            }
+        }
+        Ok(t)
+    }
+
+    /// The texture named `name`, if the scene declares one.
+    pub fn get(&self, name: &str) -> Option<&Texture> {
+        self.named.get(name)
+    }
+
+    /// Builds the texture `plugin` of the properties `props` (checked
+    /// against its schema here, since a texture's table is checked as a
+    /// whole when the scene is loaded).
+    fn build(
+        &self,
+        plugin: &str,
+        plugin_at: &Origin,
+        props: &[Prop],
+        origin: &Origin,
+    ) -> Result<Texture, Invalid> {
+        let Some(schema) = Texture::SCHEMAS.iter().find(|s| s.plugin == plugin) else {
+            return Err(Invalid::at(
+                plugin_at,
+                format!(
+                    "unknown texture `{}`; valid choices are: {}",
+                    crate::input::quote::clip(plugin, crate::input::quote::MAX_QUOTED_CHARS),
+                    Texture::NAMES.join(", ")
+                ),
+            ));
+        };
+        let mut node = Node::new(Kind::Texture, plugin, origin.clone());
+        node.props = props.to_vec();
+        let others: Vec<&Schema> = Texture::SCHEMAS
+            .iter()
+            .copied()
+            .filter(|s| s.plugin != plugin)
+            .collect();
+        check(&node, schema, &others)?;
+        let p = Props::new(&node);
+        let texture = match plugin {
+            checkerboard::NAME => Texture::Checkerboard(Checkerboard::build(&p)?),
+            bitmap::NAME => Texture::Bitmap(Bitmap::build(&p, &self.base_dir)?),
+            _ => unreachable!("every schema has a builder"),
+        };
+        p.finish(schema.what)?;
+        Ok(texture)
+    }
+
+    /// The texture a parameter's value names: its table or a name.
+    fn texture_of(
+        &self,
+        v: &crate::description::Located<Value>,
+    ) -> Result<Option<Texture>, Invalid> {
+        match &v.value {
+            Value::String(name) => match self.named.get(name) {
+                Some(t) => Ok(Some(t.clone())),
+                None => {
+                    let mut names: Vec<&str> = self.named.keys().map(String::as_str).collect();
+                    names.sort_unstable();
+                    let known = if names.is_empty() {
+                        "the scene declares none".to_string()
+                    } else {
+                        format!("the scene's textures are: {}", names.join(", "))
+                    };
+                    Err(Invalid::at(
+                        &v.origin,
+                        format!(
+                            "no texture named `{}`; {known}",
+                            crate::input::quote::clip(name, crate::input::quote::MAX_QUOTED_CHARS)
+                        ),
+                    ))
+                }
+            },
+            Value::Table(props) => {
+                let Some(i) = props.iter().position(|p| p.name == "type") else {
+                    return Err(Invalid::at(
+                        &v.origin,
+                        "missing field `type` (the texture's plugin)",
+                    ));
+                };
+                let ty = &props[i].value;
+                let plugin = crate::description::props::string(ty)?;
+                let rest: Vec<Prop> = props
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, p)| p.clone())
+                    .collect();
+                self.build(plugin, &ty.origin, &rest, &v.origin).map(Some)
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// A colour parameter: 3 numbers (finite, none negative), a texture's
+    /// table or a texture's name; `default` when it is not there.
+    pub fn colour(&self, p: &Props, name: &str, default: Rgb) -> Result<Texture, Invalid> {
+        let Some(prop) = p.get(name) else {
+            return Ok(Texture::Constant(default));
+        };
+        if let Some(t) = self.texture_of(&prop.value)? {
+            return Ok(t);
+        }
+        let xs = crate::description::props::numbers(&prop.value, 3)?;
+        let c = Rgb::new(xs[0], xs[1], xs[2]);
+        if !c.is_finite() {
+            return Err(p.error(name, format!("expected finite numbers, got {xs:?}")));
+        }
+        if c.min_element() < 0.0 {
+            return Err(p.error(name, format!("must not be negative, got {xs:?}")));
+        }
+        Ok(Texture::Constant(c))
+    }
+
+    /// A number parameter: a number, a texture's table or a texture's name
+    /// (read as one value); `None` when it is not there. A number is
+    /// returned as it is, for the model's range check.
+    pub fn number(&self, p: &Props, name: &str) -> Result<Option<NumberOr>, Invalid> {
+        let Some(prop) = p.get(name) else {
+            return Ok(None);
+        };
+        if let Some(t) = self.texture_of(&prop.value)? {
+            return Ok(Some(NumberOr::Texture(t)));
+        }
+        crate::description::props::number(&prop.value).map(|x| Some(NumberOr::Number(x)))
+    }
+}
+
+/// A number parameter as written: a plain number or a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NumberOr {
+    Number(f32),
+    Texture(Texture),
+}
+
+/// A colour of a texture's parameters: 3 numbers, finite, none negative.
+pub(crate) fn read_colour(p: &Props, name: &str, default: Rgb) -> Result<Rgb, Invalid> {
+    let Some(xs) = p.numbers::<3>(name)? else {
+        return Ok(default);
+    };
+    let c = Rgb::from_array(xs);
+    if !c.is_finite() || c.min_element() < 0.0 {
+        return Err(p.error(name, format!("must be finite and not negative, got {xs:?}")));
+    }
+    Ok(c)
+}
+
+#[cfg(test)]
+mod tests;

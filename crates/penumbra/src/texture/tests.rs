@@ -1,0 +1,143 @@
+//! Reading textures from a scene: the three ways of writing one, `to_uv`,
+//! named textures and their errors.
+
+use std::path::Path;
+
+use super::*;
+use crate::description::{from_toml, SceneError};
+
+/// The scene's textures and its first material's node.
+fn scene(text: &str) -> Result<(Textures, Node), SceneError> {
+    let root = from_toml(text, Path::new("t.toml"))?;
+    crate::scene::schemas::check(&root)?;
+    let textures = Textures::of_scene(&root, Path::new("."))?;
+    let node = root.child(Kind::Bsdf).cloned().expect("a material");
+    Ok((textures, node))
+}
+
+fn colour(text: &str) -> Result<Texture, SceneError> {
+    let (t, node) = scene(text)?;
+    Ok(t.colour(&Props::new(&node), "reflectance", Rgb::splat(0.5))?)
+}
+
+fn err(text: &str) -> String {
+    colour(text).unwrap_err().to_string()
+}
+
+#[test]
+fn a_parameter_is_a_colour_a_table_or_a_name() {
+    let m = "[materials.m]\ntype = \"diffuse\"\n";
+    assert_eq!(
+        colour(&format!("{m}reflectance = [0.1, 0.2, 0.3]")).unwrap(),
+        Texture::Constant(Rgb::new(0.1, 0.2, 0.3))
+    );
+    assert_eq!(colour(m).unwrap(), Texture::Constant(Rgb::splat(0.5)));
+    let inline = colour(&format!(
+        "{m}reflectance = {{ type = \"checkerboard\", color0 = [1, 1, 1] }}"
+    ))
+    .unwrap();
+    let want = Texture::Checkerboard(Checkerboard {
+        color0: Rgb::ONE,
+        color1: Rgb::splat(0.2),
+        to_uv: UvTransform::IDENTITY,
+    });
+    assert_eq!(inline, want);
+    let named = colour(&format!(
+        "[textures.board]\ntype = \"checkerboard\"\ncolor0 = [1, 1, 1]\n{m}reflectance = \"board\""
+    ))
+    .unwrap();
+    assert_eq!(named, want);
+}
+
+#[test]
+fn to_uv_is_scale_then_rotation_then_translation() {
+    let m = "[materials.m]\ntype = \"diffuse\"\n";
+    let board = |to_uv: &str| match colour(&format!(
+        "{m}reflectance = {{ type = \"checkerboard\", to_uv = {to_uv} }}"
+    ))
+    .unwrap()
+    {
+        Texture::Checkerboard(c) => c.to_uv,
+        t => panic!("{t:?}"),
+    };
+    let t = board("{ scale = [2, 3], rotate_degrees = 90, translate = [0.5, -1] }");
+    // (1, 0) ↦ (2, 0) ↦ (0, 2) ↦ (0.5, 1); (0, 1) ↦ (0, 3) ↦ (−3, 0) ↦ (−2.5, −1).
+    let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-5;
+    assert!(close(t.apply(Vec2::new(1.0, 0.0)), Vec2::new(0.5, 1.0)));
+    assert!(close(t.apply(Vec2::new(0.0, 1.0)), Vec2::new(-2.5, -1.0)));
+    assert_eq!(
+        board("{ scale = 2 }").apply(Vec2::new(1.0, 1.0)),
+        Vec2::new(2.0, 2.0)
+    );
+    let m3 = board("{ matrix = [[1, 2, 3], [4, 5, 6], [0, 0, 1]] }");
+    assert_eq!(m3.apply(Vec2::new(1.0, 1.0)), Vec2::new(6.0, 15.0));
+    assert_eq!(board("{}"), UvTransform::IDENTITY);
+}
+
+#[test]
+fn bad_textures_are_refused_at_their_place() {
+    let m = "[materials.m]\ntype = \"diffuse\"\n";
+    for (keys, want) in [
+        (
+            "reflectance = { type = \"checkerboard\", to_uv = { matrix = [[1, 0, 0], [0, 1, 0], [1, 0, 1]] } }",
+            "t.toml:3:59: materials.m.reflectance.to_uv.matrix: must be affine",
+        ),
+        (
+            "reflectance = { type = \"checkerboard\", to_uv = { scale = [1, 2, 3] } }",
+            "t.toml:3:58: materials.m.reflectance.to_uv.scale: expected 2 numbers, got 3",
+        ),
+        (
+            "reflectance = { type = \"checkerboard\", to_uv = { scale = 2, matrix = [[1, 0, 0], [0, 1, 0], [0, 0, 1]] } }",
+            "materials.m.reflectance.to_uv.matrix: give either `matrix` or the other keys",
+        ),
+        (
+            "reflectance = { type = \"checkerboard\", to_uv = { translate = [nan, 0] } }",
+            "t.toml:3:48: materials.m.reflectance.to_uv: expected finite numbers",
+        ),
+        (
+            "reflectance = true",
+            "t.toml:3:15: materials.m.reflectance: invalid type: boolean `true`, expected 3 numbers, a texture table or a texture's name",
+        ),
+        (
+            "reflectance = [1, 1]",
+            "t.toml:3:15: materials.m.reflectance: expected 3 numbers, got 2",
+        ),
+    ] {
+        let e = err(&format!("{m}{keys}"));
+        assert!(e.contains(want), "{keys}:\n{e}\n{want}");
+    }
+    // A named texture's errors are at its table; a name no texture has
+    // lists the scene's.
+    let e = err(&format!(
+        "[textures.a]\ntype = \"checkerboard\"\ncolor1 = 3\n{m}reflectance = \"a\""
+    ));
+    assert!(
+        e.starts_with("t.toml:3:10: textures.a.color1: invalid type: integer `3`, expected an array of 3 numbers"),
+        "{e}"
+    );
+    let e = err("[textures.a]\ncolor1 = [1, 1, 1]\n");
+    assert!(
+        e.starts_with("t.toml:1:1: textures.a: missing field `type`"),
+        "{e}"
+    );
+    let e = err(&format!(
+        "[textures.b]\ntype = \"checkerboard\"\n[textures.a]\ntype = \"checkerboard\"\n{m}reflectance = \"c\""
+    ));
+    assert!(
+        e.starts_with("t.toml:7:15: materials.m.reflectance: no texture named `c`; the scene's textures are: a, b"),
+        "{e}"
+    );
+    let e = err("[textures.a]\ntype = \"bricks\"\n");
+    assert!(
+        e.starts_with("t.toml:2:8: textures.a.type: unknown texture `bricks`; valid choices are: checkerboard, bitmap"),
+        "{e}"
+    );
+}
+
+#[test]
+fn one_value_of_a_colour_is_its_grey_or_its_luminance() {
+    assert_eq!(one(Rgb::splat(0.3)), 0.3);
+    let c = Rgb::new(1.0, 0.0, 0.0);
+    assert!((one(c) - c.luminance()).abs() < 1e-7);
+    assert_eq!(Texture::Constant(Rgb::splat(0.7)).bounds_1(), (0.7, 0.7));
+}
