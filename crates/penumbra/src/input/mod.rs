@@ -1,8 +1,8 @@
 //! Input files, read as hostile: every file the renderer reads (scenes,
-//! meshes, and later textures and environment maps) comes through
-//! [`read_file`] or, for a reader that judges a file by its first bytes
-//! before reading the rest, [`InputFile`]; every piece of one quoted in a
-//! message goes through [`quote`].
+//! meshes, image files) comes through [`read_file`] or, for a reader that
+//! judges a file by its first bytes before reading the rest, [`InputFile`];
+//! every piece of one quoted in a message goes through [`quote`]. Image
+//! files become linear pixels through [`image`].
 //!
 //! Both open without blocking (a named pipe with no writer would
 //! otherwise wait for ever), judge the opened handle (symbolic links are
@@ -12,6 +12,7 @@
 //! bound). The readers on top check every count in a file against the bytes
 //! actually present before they allocate.
 
+pub mod image;
 pub mod quote;
 
 use std::fmt;
