@@ -9,6 +9,7 @@ pub mod distribution;
 pub mod filter;
 pub mod halton;
 mod order;
+pub mod piecewise2d;
 pub mod pmj02;
 pub mod pmj02bn;
 pub mod points;
@@ -25,6 +26,7 @@ pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
 };
 pub use filter::Filter;
+pub use piecewise2d::Piecewise2D;
 pub use points::{EffectSpec, SetPoint, MAX_RAYS};
 pub use rng::{index_bits, mix64, BranchKey, Place, Rng};
 pub use sampler::{Dimension, PixelSampler, Sampler};
