@@ -66,8 +66,11 @@ fn out_of_range_values_point_at_the_value() {
 fn closed_sets_list_valid_choices() {
     let e = err("[[objects]]\ntype = \"cube\"\n");
     assert!(e.contains("sphere, quad, mesh"), "{e}");
-    let e = err("[[lights]]\ntype = \"spot\"\nposition = [0.0, 1.0, 0.0]\n");
-    assert!(e.contains("point, rect, sphere, disk"), "{e}");
+    let e = err("[[lights]]\ntype = \"projector\"\nposition = [0.0, 1.0, 0.0]\n");
+    assert!(
+        e.contains("point, rect, sphere, disk, constant, spot, directional, envmap"),
+        "{e}"
+    );
     let e = err("[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\nmodel = \"exact\"\n");
     assert!(
         e.starts_with("test.toml:7:9:") && e.contains("surface, thesis"),
