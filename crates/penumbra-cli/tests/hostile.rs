@@ -32,7 +32,7 @@ enum Expect {
     SceneLine,
     /// Status 2, naming this file (no line: the file itself is refused).
     File(&'static str),
-    /// Status 2, at a line of the scene, naming this mesh file.
+    /// Status 2, at a line of the scene, naming this mesh or image file.
     Mesh(&'static str),
     /// Status 0 and a 32×24 PNG.
     Valid,
@@ -720,6 +720,7 @@ fn corpus() -> Vec<Case> {
     texture_cases(&mut cases);
     let object = "[[objects]]\ntype = \"mesh\"\npath = \"grid.obj\"\n";
     xml_cases(&mut cases);
+    envmap_cases(&mut cases);
     cases.push(Case {
         name: "mesh named 5000 times".into(),
         entries: vec![
@@ -850,6 +851,103 @@ fn texture_cases(cases: &mut Vec<Case>) {
         Some(good),
         SceneLine,
     );
+}
+
+/// Environment maps: image files that lie about their size, end early, are
+/// not images or not files.
+fn envmap_cases(cases: &mut Vec<Case>) {
+    let scene = |file: &str| {
+        format!(
+            "[render]\nintegrator = \"path\"\n\n\
+             [[objects]]\ntype = \"sphere\"\ncenter = [0, 0, -3]\nradius = 1\n\n\
+             [[lights]]\ntype = \"envmap\"\nfilename = \"{file}\"\n"
+        )
+        .into_bytes()
+    };
+    let hdr = |w: u32, h: u32, body: &[u8]| {
+        let mut b = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
+        b.extend_from_slice(body);
+        b
+    };
+    // Flat RGBE pixels of radiance about 1.
+    let pixels = |n: usize| [128u8, 128, 128, 129].repeat(n);
+    let mut png = Vec::new();
+    image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(64, 32, |x, y| {
+        image::Rgb([(x * 4) as u8, (y * 8) as u8, (x ^ y) as u8])
+    }))
+    .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+    .unwrap();
+    let half = png[..png.len() / 2].to_vec();
+    let files: Vec<(&str, &'static str, Entry, Expect)> = vec![
+        (
+            "envmap valid",
+            "sky.hdr",
+            Entry::Bytes(hdr(8, 4, &pixels(32))),
+            Expect::Valid,
+        ),
+        (
+            "envmap header claiming 65535x65535",
+            "sky.hdr",
+            Entry::Bytes(hdr(65535, 65535, &pixels(16))),
+            Expect::Mesh("sky.hdr"),
+        ),
+        (
+            "envmap header claiming more rows than it has",
+            "sky.hdr",
+            Entry::Bytes(hdr(64, 2048, &pixels(100))),
+            Expect::Mesh("sky.hdr"),
+        ),
+        (
+            "envmap truncated PNG",
+            "sky.png",
+            Entry::Bytes(half),
+            Expect::Mesh("sky.png"),
+        ),
+        (
+            "envmap not an image",
+            "sky.exr",
+            Entry::Bytes(b"v 0 0 0\nf 1 1 1\n".to_vec()),
+            Expect::Mesh("sky.exr"),
+        ),
+        (
+            "envmap empty file",
+            "sky.hdr",
+            Entry::Bytes(Vec::new()),
+            Expect::Mesh("sky.hdr"),
+        ),
+        (
+            "envmap a directory",
+            "sky.hdr",
+            Entry::Dir,
+            Expect::Mesh("sky.hdr"),
+        ),
+        (
+            "envmap a FIFO",
+            "sky.hdr",
+            Entry::Fifo,
+            Expect::Mesh("sky.hdr"),
+        ),
+        (
+            "envmap missing",
+            "none.hdr",
+            Entry::Dir,
+            Expect::Mesh("none.hdr"),
+        ),
+    ];
+    for (name, file, entry, expect) in files {
+        let on_disk = if name == "envmap missing" {
+            "other"
+        } else {
+            file
+        };
+        cases.push(Case {
+            name: name.into(),
+            entries: vec![("scene.toml", Entry::Bytes(scene(file))), (on_disk, entry)],
+            expect,
+            bare: false,
+            limit: 20,
+        });
+    }
 }
 
 /// Mitsuba XML scenes (`scene.xml`), rendered with their own integrator

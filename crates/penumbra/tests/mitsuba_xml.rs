@@ -1201,8 +1201,18 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
              cylinder, obj, ply, shapegroup, instance",
         ),
         (
-            r#"<emitter type="envmap"/>"#,
-            "emitter `envmap` is not supported; supported: point, constant, area",
+            r#"<emitter type="projector"/>"#,
+            "emitter `projector` is not supported; supported: point, constant, area, spot, \
+             directional, envmap",
+        ),
+        (r#"<emitter type="envmap"/>"#, "envmap: missing `filename`"),
+        (
+            r#"<emitter type="spot"><rgb name="texture" value="1"/></emitter>"#,
+            "texture",
+        ),
+        (
+            r#"<emitter type="directional"><vector name="direction" value="0, 0, 1"/><transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
+            "`direction` or `to_world`, not both",
         ),
         (
             r#"<integrator type="volpath"/>"#,
@@ -1759,4 +1769,75 @@ fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
         "{e}"
     );
     assert!(e.contains("nowhere.png"), "{e}");
+}
+
+/// `spot`, `directional` and `envmap` become `[[lights]]` of the same
+/// names: `to_world` as the spot's position and the point one unit along
+/// its +z, as the directional light's direction, as the map's matrix; the
+/// map's file relative to the scene; and the scene builds and renders.
+#[test]
+fn spot_directional_and_envmap_emitters_are_lights() {
+    let d = with_sensor(
+        r#"<emitter type="spot">
+            <rgb name="intensity" value="2, 3, 4"/>
+            <float name="cutoff_angle" value="40"/>
+            <float name="beam_width" value="10"/>
+            <transform name="to_world"><lookat origin="1, 2, 3" target="1, 0, 3" up="0, 0, 1"/></transform>
+        </emitter>
+        <emitter type="directional">
+            <transform name="to_world"><rotate x="1" angle="90"/></transform>
+            <rgb name="irradiance" value="5"/>
+        </emitter>
+        <emitter type="envmap">
+            <string name="filename" value="sky.hdr"/>
+            <float name="scale" value="0.5"/>
+            <transform name="to_world"><rotate y="1" angle="90"/></transform>
+        </emitter>
+        <shape type="sphere"><bsdf type="diffuse"/></shape>"#,
+    );
+    let sky = image::Rgb32FImage::from_pixel(8, 4, image::Rgb([2.0, 2.0, 2.0]));
+    image::DynamicImage::ImageRgb32F(sky)
+        .save_with_format(d.path("sky.hdr"), image::ImageFormat::Hdr)
+        .unwrap();
+    let root = d.tree("scene.xml");
+    let lights: Vec<&Node> = root.children_of(Kind::Emitter).collect();
+    let find = |name: &str| *lights.iter().find(|e| e.plugin == name).unwrap();
+    let spot = find("spot");
+    assert_eq!(numbers(prop(spot, "intensity")), [2.0, 3.0, 4.0]);
+    assert_eq!(numbers(prop(spot, "cutoff_angle")), [40.0]);
+    assert_eq!(numbers(prop(spot, "beam_width")), [10.0]);
+    assert!(close(
+        &numbers(prop(spot, "position")),
+        &[1.0, 2.0, 3.0],
+        1e-9
+    ));
+    assert!(close(
+        &numbers(prop(spot, "look_at")),
+        &[1.0, 1.0, 3.0],
+        1e-9
+    ));
+    let sun = find("directional");
+    // +z turned 90° about x is −y.
+    assert!(close(
+        &numbers(prop(sun, "direction")),
+        &[0.0, -1.0, 0.0],
+        1e-9
+    ));
+    assert_eq!(numbers(prop(sun, "irradiance")), [5.0; 3]);
+    let map = find("envmap");
+    assert_eq!(prop(map, "filename"), &Value::String("sky.hdr".into()));
+    assert_eq!(numbers(prop(map, "scale")), [0.5]);
+    assert!(close(
+        &numbers(prop(map, "to_world")),
+        &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+        1e-9
+    ));
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.emitters.len(), 3);
+    let env = scene.emitters.iter().find(|e| e.is_infinite()).unwrap();
+    assert_eq!(
+        env.eval_miss(penumbra::math::Vec3::Y).r,
+        1.0,
+        "scale 0.5 on 2"
+    );
 }

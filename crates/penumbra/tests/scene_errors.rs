@@ -69,8 +69,11 @@ fn closed_sets_list_valid_choices() {
         e.contains("sphere, quad, mesh, rectangle, disk, cube, cylinder, instance, shapegroup"),
         "{e}"
     );
-    let e = err("[[lights]]\ntype = \"spot\"\nposition = [0.0, 1.0, 0.0]\n");
-    assert!(e.contains("point, rect, sphere, disk"), "{e}");
+    let e = err("[[lights]]\ntype = \"projector\"\nposition = [0.0, 1.0, 0.0]\n");
+    assert!(
+        e.contains("point, rect, sphere, disk, constant, spot, directional, envmap"),
+        "{e}"
+    );
     let e = err("[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\nmodel = \"exact\"\n");
     assert!(
         e.starts_with("test.toml:7:9:") && e.contains("surface, thesis"),

@@ -13,21 +13,30 @@
 //! | emitter | where | what |
 //! |---|---|---|
 //! | [`point`] | at a position | intensity in every direction; no surface |
+//! | [`spot`] | at a position | intensity in a cone, falling off toward its edge; no surface |
+//! | [`directional`] | at infinity, one direction | irradiance along one direction (a sun); not seen by rays |
 //! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | uniform radiance from the surface; two penumbra models |
 //! | [`constant`] | at infinity | the background: radiance from every direction |
+//! | [`envmap`] | at infinity | radiance from every direction, read from an equirectangular image; importance-sampled |
 //!
 //! A closed enum with one dispatch point (this file): one match per
 //! question, inlined into the shading loops.
 
 pub mod area;
 pub mod constant;
+pub mod directional;
+pub mod envmap;
 pub mod point;
 mod sample;
+pub mod spot;
 
 pub use area::{Area, AreaShape, MeshLight, PenumbraModel};
 pub use constant::Constant;
+pub use directional::Directional;
+pub use envmap::Envmap;
 pub use point::Point;
 pub use sample::LightSample;
+pub use spot::Spot;
 
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec};
@@ -38,6 +47,9 @@ pub enum Emitter {
     Point(Point),
     Area(Area),
     Constant(Constant),
+    Spot(Spot),
+    Directional(Directional),
+    Envmap(Envmap),
 }
 
 /// The shadow sets of a point light: one ray (every ray would be the same).
@@ -52,20 +64,38 @@ impl Emitter {
     pub fn shadow(&self) -> EffectSpec {
         match self {
             Emitter::Area(a) => a.shadow,
-            Emitter::Point(_) | Emitter::Constant(_) => ONE_RAY,
+            Emitter::Point(_)
+            | Emitter::Constant(_)
+            | Emitter::Spot(_)
+            | Emitter::Directional(_)
+            | Emitter::Envmap(_) => ONE_RAY,
         }
     }
 
-    /// A point light has no extent: every shadow ray toward it would be the same.
+    /// A point, spot or directional light has no extent: every shadow ray
+    /// toward it would be the same.
     #[inline]
     pub fn is_delta(&self) -> bool {
-        matches!(self, Emitter::Point(_))
+        matches!(
+            self,
+            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Directional(_)
+        )
     }
 
-    /// True for an emitter at infinity, which rays that hit nothing see.
+    /// True for an emitter at infinity that rays that hit nothing see
+    /// (`constant`, `envmap`; a directional light is at infinity but seen
+    /// by no ray, sampled as a delta light).
     #[inline]
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Emitter::Constant(_))
+        matches!(self, Emitter::Constant(_) | Emitter::Envmap(_))
+    }
+
+    /// Fits the emitter to the scene's bounding sphere: a directional
+    /// light's shadow rays leave it.
+    pub fn fit(&mut self, center: Vec3, radius: f32) {
+        if let Emitter::Directional(d) = self {
+            d.fit(center, radius);
+        }
     }
 
     /// Shadow rays actually traced per shading point.
@@ -84,17 +114,24 @@ impl Emitter {
     pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
         match self {
             Emitter::Area(a) => a.emitted(n, dir),
-            Emitter::Point(_) | Emitter::Constant(_) => Rgb::ZERO,
+            Emitter::Point(_)
+            | Emitter::Constant(_)
+            | Emitter::Spot(_)
+            | Emitter::Directional(_)
+            | Emitter::Envmap(_) => Rgb::ZERO,
         }
     }
 
     /// Radiance arriving along `dir` from infinity (what a ray that hits
     /// nothing sees of this emitter).
     #[inline]
-    pub fn eval_miss(&self, _dir: Vec3) -> Rgb {
+    pub fn eval_miss(&self, dir: Vec3) -> Rgb {
         match self {
             Emitter::Constant(c) => c.radiance,
-            Emitter::Point(_) | Emitter::Area(_) => Rgb::ZERO,
+            Emitter::Envmap(e) => e.eval(dir),
+            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
+                Rgb::ZERO
+            }
         }
     }
 
@@ -118,7 +155,9 @@ impl Emitter {
         match self {
             Emitter::Area(a) => a.sample(at, points, d, out),
             Emitter::Point(p) => out.extend((0..points.len()).map(|k| p.sample(at(k)))),
-            Emitter::Constant(_) => out.extend(points.iter().map(|_| None)),
+            Emitter::Spot(s) => out.extend((0..points.len()).map(|k| s.sample(at(k)))),
+            Emitter::Directional(d) => out.extend((0..points.len()).map(|k| d.sample(at(k)))),
+            Emitter::Constant(_) | Emitter::Envmap(_) => out.extend(points.iter().map(|_| None)),
         }
     }
 
@@ -127,7 +166,9 @@ impl Emitter {
         match self {
             Emitter::Area(a) => a.sample_one(p, point, d),
             Emitter::Point(l) => l.sample(p),
-            Emitter::Constant(_) => None,
+            Emitter::Spot(s) => s.sample(p),
+            Emitter::Directional(d) => d.sample(p),
+            Emitter::Constant(_) | Emitter::Envmap(_) => None,
         }
     }
 
@@ -141,28 +182,38 @@ impl Emitter {
                 let (dir, pdf) = c.sample(u);
                 Some((dir, c.radiance, pdf))
             }
-            Emitter::Point(_) | Emitter::Area(_) => None,
+            Emitter::Envmap(e) => e.sample(u),
+            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
+                None
+            }
         }
     }
 
     /// The solid-angle density with which
     /// [`sample_direction`](Self::sample_direction) draws `dir`; 0 for
     /// emitters not at infinity.
-    pub fn pdf_direction(&self, _dir: Vec3) -> f32 {
+    pub fn pdf_direction(&self, dir: Vec3) -> f32 {
         match self {
             Emitter::Constant(c) => c.pdf(),
-            Emitter::Point(_) | Emitter::Area(_) => 0.0,
+            Emitter::Envmap(e) => e.pdf(dir),
+            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
+                0.0
+            }
         }
     }
 
     /// The solid-angle density with which [`sample`](Self::sample) draws
     /// `target` (a point of the emitter with outward normal `n`) from `p`;
-    /// 0 for a point light and for the thesis model, whose rays are not
+    /// 0 for a delta light and for the thesis model, whose rays are not
     /// drawn from the light's surface.
     pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
         match self {
             Emitter::Area(a) => a.pdf(p, target, n),
-            Emitter::Point(_) | Emitter::Constant(_) => 0.0,
+            Emitter::Point(_)
+            | Emitter::Constant(_)
+            | Emitter::Spot(_)
+            | Emitter::Directional(_)
+            | Emitter::Envmap(_) => 0.0,
         }
     }
 }

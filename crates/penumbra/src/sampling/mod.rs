@@ -10,6 +10,7 @@ pub mod filter;
 pub mod halton;
 mod order;
 pub mod path_sampler;
+pub mod piecewise2d;
 pub mod pmj02;
 pub mod pmj02bn;
 pub mod points;
@@ -27,6 +28,7 @@ pub use distribution::{
 };
 pub use filter::{Filter, FilterParams, PixelFilter};
 pub use path_sampler::{BounceNumbers, PathSampler};
+pub use piecewise2d::Piecewise2D;
 pub use points::{EffectSpec, SetPoint, MAX_RAYS};
 pub use rng::{index_bits, mix64, BranchKey, Place, Rng};
 pub use sampler::{Dimension, PixelSampler, Sampler};

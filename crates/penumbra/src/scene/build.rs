@@ -97,7 +97,7 @@ pub fn build(
     let mut far = Vec::new();
     for node in root.children_of(Kind::Emitter) {
         let p = Props::new(node);
-        let (emitter, shape) = lights::light(&node.plugin, &p, &sets)?;
+        let (emitter, shape) = lights::light(&node.plugin, &p, &sets, &ctx.base_dir)?;
         p.finish(schemas::schema(node)?.what)?;
         if emitter.is_infinite() {
             far.push(emitter);
@@ -142,6 +142,14 @@ pub fn build(
         }
         world
     });
+    // A directional light's shadow rays leave the world's bounding sphere.
+    let b = world.bounds();
+    let (center, radius) = (0.5 * (b.min + b.max), 0.5 * (b.max - b.min).length());
+    if center.is_finite() && radius.is_finite() {
+        for e in &mut emitters {
+            e.fit(center, radius);
+        }
+    }
     Ok(Scene {
         camera,
         bsdfs,

@@ -1,13 +1,15 @@
-//! The lights of a scene (`[[lights]]` of a scene file): a point light is
-//! an emitter of its own; a rectangle, sphere or disk light is a shape
+//! The lights of a scene (`[[lights]]` of a scene file): a point, spot or
+//! directional light or an environment map is an emitter of its own; a rectangle, sphere or disk light is a shape
 //! carrying an `area` emitter, visible to rays but casting no shadow (so
 //! that it never blocks its own light, as the thesis's lights do not).
+
+use std::path::Path;
 
 use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::emitter::{area, Area, AreaShape, Constant, Emitter, Point};
+use crate::emitter::{area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Spot};
 use crate::geometry::Shape;
 use crate::math::Frame;
 
@@ -65,18 +67,32 @@ pub const DISK: Schema = Schema {
 };
 
 /// Every emitter a scene file names: its lights, and the background's.
-pub const SCHEMAS: [&Schema; 5] = [&Point::SCHEMA, &RECT, &SPHERE, &DISK, &Constant::SCHEMA];
+pub const SCHEMAS: [&Schema; 8] = [
+    &Point::SCHEMA,
+    &RECT,
+    &SPHERE,
+    &DISK,
+    &Constant::SCHEMA,
+    &Spot::SCHEMA,
+    &Directional::SCHEMA,
+    &Envmap::SCHEMA,
+];
 
 /// The light `plugin` of the parameters `p`: its emitter and, for an area
-/// light, the shape that carries it. `sets` gives the render's shadow set.
+/// light, the shape that carries it. `sets` gives the render's shadow set;
+/// `base_dir` anchors an environment map's file.
 pub(super) fn light(
     plugin: &str,
     p: &Props,
     sets: &Sets,
+    base_dir: &Path,
 ) -> Result<(Emitter, Option<Shape>), Invalid> {
     let (shape, surface) = match plugin {
         "point" => return Ok((Emitter::Point(Point::build(p)?), None)),
         "constant" => return Ok((Emitter::Constant(Constant::build(p)?), None)),
+        "spot" => return Ok((Emitter::Spot(Spot::build(p)?), None)),
+        "directional" => return Ok((Emitter::Directional(Directional::build(p)?), None)),
+        "envmap" => return Ok((Emitter::Envmap(Envmap::build(p, base_dir)?), None)),
         "rect" => {
             let q = quad(p, "rect light")?;
             (AreaShape::Rect(q), Shape::Quad(q))

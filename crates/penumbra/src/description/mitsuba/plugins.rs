@@ -123,7 +123,7 @@ enum BsdfParam {
     /// A boolean.
     Flag,
 }
-pub const EMITTERS: &[&str] = &["point", "constant", "area"];
+pub const EMITTERS: &[&str] = &["point", "constant", "area", "spot", "directional", "envmap"];
 pub const TEXTURES: &[&str] = &["checkerboard", "bitmap"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
@@ -940,8 +940,97 @@ impl Out<'_> {
                     "an `area` emitter lights a shape: put it inside a <shape>",
                 ))
             }
+            "spot" | "directional" | "envmap" => self.light(obj)?,
             _ => return Err(unsupported(obj, "emitter", EMITTERS)),
         }
+        Ok(())
+    }
+
+    /// A `spot`, `directional` or `envmap` emitter as a `[[lights]]` entry
+    /// of the same name: `to_world` becomes the spot's `position` and
+    /// `look_at` (its origin and the image of +z), the directional light's
+    /// `direction` (the image of +z), the map's `to_world` matrix.
+    fn light(&mut self, obj: &Object) -> Result<(), SceneError> {
+        let names: &[&str] = match obj.plugin.as_str() {
+            "spot" => &["intensity", "cutoff_angle", "beam_width", "to_world"],
+            "directional" => &["irradiance", "direction", "to_world"],
+            _ => &["filename", "scale", "to_world"],
+        };
+        self.no_props(obj, names)?;
+        self.no_children(obj)?;
+        let base = KeyPath::root().key("lights").index(self.lights.len());
+        let mut node = Node::new(
+            Kind::Emitter,
+            &obj.plugin,
+            Origin::new(base.clone(), Some(obj.at.clone())),
+        );
+        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let to_world = get_transform(obj, "to_world")?;
+        let colour = |name: &str, node: &mut Node| -> Result<(), SceneError> {
+            if let Some((c, at)) = get_color(obj, name, Use::Emission)? {
+                set(node, &base, name, at, |p, at| vec3(c, p, at));
+            }
+            Ok(())
+        };
+        let number = |name: &str, node: &mut Node| -> Result<(), SceneError> {
+            if let Some((x, at)) = get_float(obj, name)? {
+                set(node, &base, name, at, |p, at| float(x, p, at));
+            }
+            Ok(())
+        };
+        match obj.plugin.as_str() {
+            "spot" => {
+                colour("intensity", &mut node)?;
+                number("cutoff_angle", &mut node)?;
+                number("beam_width", &mut node)?;
+                if let Some((m, at)) = to_world {
+                    let position = transform::point(&m, [0.0; 3]);
+                    let look_at = transform::point(&m, [0.0, 0.0, 1.0]);
+                    set(&mut node, &base, "position", at, |p, at| {
+                        vec3(position, p, at)
+                    });
+                    set(&mut node, &base, "look_at", at, |p, at| {
+                        vec3(look_at, p, at)
+                    });
+                }
+            }
+            "directional" => {
+                colour("irradiance", &mut node)?;
+                let direction = match (get_vector(obj, "direction")?, to_world) {
+                    (Some(_), Some((_, at))) => {
+                        return Err(error_at(
+                            at,
+                            "give the directional light `direction` or `to_world`, not both",
+                        ))
+                    }
+                    (Some((d, at)), None) => Some((d, at)),
+                    (None, Some((m, at))) => Some((transform::vector(&m, [0.0, 0.0, 1.0]), at)),
+                    (None, None) => None,
+                };
+                if let Some((d, at)) = direction {
+                    set(&mut node, &base, "direction", at, |p, at| vec3(d, p, at));
+                }
+            }
+            _ => {
+                let Some((file, at)) = get_string(obj, "filename")? else {
+                    return Err(error_at(&obj.at, "envmap: missing `filename`"));
+                };
+                let path = self.reader.resolve(&file_dir(obj), file);
+                let text = self
+                    .reader
+                    .scene_relative(&path)
+                    .to_string_lossy()
+                    .into_owned();
+                set(&mut node, &base, "filename", at, |p, at| {
+                    located(Value::String(text), p, at)
+                });
+                number("scale", &mut node)?;
+                if let Some((m, at)) = to_world {
+                    set(&mut node, &base, "to_world", at, |p, at| matrix(&m, p, at));
+                }
+            }
+        }
+        self.lights.push(node);
         Ok(())
     }
 

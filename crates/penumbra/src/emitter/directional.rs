@@ -1,0 +1,118 @@
+//! `directional`: light arriving from infinitely far along one direction
+//! (Mitsuba 3's `directional`, the sun as a point at infinity). Every
+//! point of the scene receives `irradiance` on a surface facing the light;
+//! its one shadow ray goes from the shading point against `direction` to
+//! beyond the scene's bounding sphere. Rays that hit nothing do not see it.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `direction` | vector ≠ 0 | [0, 0, 1] | the direction the light travels |
+//! | `irradiance` | colour ≥ 0 | [1, 1, 1] | irradiance (W/m² per channel) on a surface facing the light |
+//!
+//! Mitsuba's `to_world` turns `+z` into the direction: the XML reader gives
+//! it as `direction`.
+
+use super::sample::LightSample;
+use crate::description::check::{nonneg3, nonzero3};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::math::{Rgb, Vec3};
+
+#[derive(Clone, Copy, Debug)]
+pub struct Directional {
+    /// Unit direction the light travels.
+    pub direction: Vec3,
+    pub irradiance: Rgb,
+    /// The sphere around the scene that shadow rays leave (see
+    /// [`fit`](Self::fit)).
+    center: Vec3,
+    radius: f32,
+}
+
+impl Directional {
+    pub const SCHEMA: Schema = Schema {
+        kind: Kind::Emitter,
+        plugin: "directional",
+        what: "directional light",
+        params: &[
+            Param::new(
+                "direction",
+                Type::Vector,
+                "[0, 0, 1]",
+                "the direction the light travels, ≠ 0",
+            ),
+            Param::new(
+                "irradiance",
+                Type::Colour,
+                "[1, 1, 1]",
+                "irradiance (W/m² per channel) on a surface facing the light, ≥ 0",
+            ),
+        ],
+    };
+
+    /// The light of a scene's parameters.
+    pub fn build(p: &Props) -> Result<Directional, Invalid> {
+        let direction = nonzero3(p, "direction", [0.0, 0.0, 1.0])?;
+        let irradiance = nonneg3(p, "irradiance", [1.0; 3])?;
+        Ok(Directional::new(direction, irradiance))
+    }
+
+    /// A light travelling along `direction` (any length > 0), not yet fitted
+    /// to a scene.
+    pub fn new(direction: Vec3, irradiance: Rgb) -> Directional {
+        Directional {
+            direction: direction.normalize(),
+            irradiance,
+            center: Vec3::ZERO,
+            radius: 0.0,
+        }
+    }
+
+    /// Makes shadow rays leave the sphere of `center` and `radius` that
+    /// holds the scene.
+    pub fn fit(&mut self, center: Vec3, radius: f32) {
+        self.center = center;
+        self.radius = radius;
+    }
+
+    /// The shadow ray toward the light, with a target beyond the scene's
+    /// sphere and the irradiance as weight.
+    #[inline]
+    pub(super) fn sample(&self, p: Vec3) -> Option<LightSample> {
+        let dir = -self.direction;
+        let far = 2.0 * self.radius.max((p - self.center).length()) + 1.0;
+        Some(LightSample {
+            target: p + dir * far,
+            dir,
+            weight: self.irradiance,
+            pdf: 0.0,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The irradiance on a plane tilted by θ from the light is `E cos θ`
+    /// (weight · cos at the receiver), and the shadow ray leaves the
+    /// scene's sphere from any point inside or outside it.
+    #[test]
+    fn irradiance_on_a_plane_is_e_cos_theta() {
+        let mut d = Directional::new(Vec3::new(1.0, -2.0, 0.5), Rgb::new(1.0, 2.0, 3.0));
+        d.fit(Vec3::new(1.0, 1.0, 1.0), 3.0);
+        for k in 0..=18 {
+            let theta = (k as f32 * 5.0).to_radians();
+            // A plane whose normal is θ away from the direction toward the light.
+            let toward = -d.direction;
+            let side = toward.cross(Vec3::X).normalize();
+            let n = toward * theta.cos() + side * theta.sin();
+            for p in [Vec3::ZERO, Vec3::new(10.0, -4.0, 2.0)] {
+                let s = d.sample(p).unwrap();
+                let e = s.weight.g * n.dot(s.dir).max(0.0);
+                assert!((e - 2.0 * theta.cos()).abs() < 1e-5, "{e}");
+                assert!((s.target - d.center).length() > d.radius);
+                assert!((s.target - p).normalize().dot(toward) > 0.99999);
+            }
+        }
+    }
+}
