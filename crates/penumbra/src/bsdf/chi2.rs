@@ -15,7 +15,11 @@
 
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use super::model::{BsdfModel, Defaults};
+use super::Bsdf;
 use crate::description::{from_toml, Invalid, Kind, Props};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -191,6 +195,14 @@ pub fn p_value(observed: &[f64], expected: &[f64]) -> Result<f64, String> {
 
 /// The model `M` of the parameters `text` (TOML keys of a material).
 pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
+    build_in(text, &HashMap::new())
+}
+
+/// [`build`] among the named `materials` (which a model may hold).
+pub fn build_in<M: BsdfModel>(
+    text: &str,
+    materials: &HashMap<String, Arc<Bsdf>>,
+) -> Result<M, Invalid> {
     let root = from_toml(
         &format!("[materials.m]\n{text}\n"),
         std::path::Path::new("t.toml"),
@@ -204,6 +216,7 @@ pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
     let d = Defaults {
         reflection: set,
         refraction: set,
+        materials,
     };
     M::build(&Props::new(node), &d)
 }
@@ -223,9 +236,53 @@ pub fn model_p_value<M: BsdfModel>(
     )
 }
 
+/// [`model_p_value`] of a model with delta lobes too: their samples count
+/// as draws that give no direction (the density of the smooth lobes
+/// integrates to their probability).
+pub fn smooth_p_value<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    seed: u64,
+) -> Result<f64, String> {
+    Chi2::default().run(
+        seed,
+        |u| {
+            m.sample(si, wo, None, SetPoint::uniform(u))
+                .filter(|s| !s.flags.is_delta())
+                .map(|s| s.wi)
+        },
+        |v| f64::from(m.pdf(si, wo, v)),
+    )
+}
+
+/// The albedo of `m` seen from `wo` by sampling: the mean weight of `n`
+/// samples (no lobe asked for; a point giving none counts 0), delta lobes
+/// included, and its standard error (of the largest channel).
+pub fn sampled_albedo<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    n: usize,
+) -> (Rgb, f32) {
+    let mut rng = Rng::new(93);
+    let (mut sum, mut sq) = (Rgb::ZERO, 0.0f64);
+    for _ in 0..n {
+        let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+        if let Some(s) = m.sample(si, wo, None, u) {
+            sum += s.weight;
+            sq += f64::from(s.weight.max_element()).powi(2);
+        }
+    }
+    let mean = sum / n as f32;
+    let var = (sq / n as f64 - f64::from(mean.max_element()).powi(2)).max(0.0);
+    (mean, (var / n as f64).sqrt() as f32)
+}
+
 /// For `n` samples of `m` (no lobe asked for) seen from `wo`: each
-/// weight is `eval · |cos| / pdf` and each pdf the one `pdf` gives (both
-/// to a relative 1e-3); returns the largest weight channel seen.
+/// weight of a smooth lobe is `eval · |cos| / pdf` and each pdf the one
+/// `pdf` gives (both to a relative 1e-3; delta samples are not checked);
+/// returns the largest weight channel seen.
 pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> f32 {
     let mut rng = Rng::new(77);
     let mut most = 0.0f32;
@@ -234,6 +291,10 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
         let Some(s) = m.sample(si, wo, None, u) else {
             continue;
         };
+        most = most.max(s.weight.max_element());
+        if s.flags.is_delta() {
+            continue;
+        }
         let pdf = m.pdf(si, wo, s.wi);
         assert!(
             (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1e-3),
@@ -249,7 +310,6 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
             s.weight,
             s.wi
         );
-        most = most.max(s.weight.max_element());
     }
     most
 }

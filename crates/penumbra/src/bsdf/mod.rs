@@ -38,6 +38,7 @@ pub mod fresnel;
 pub mod ior;
 pub mod microfacet;
 mod model;
+pub mod nested;
 pub mod sample;
 
 pub use model::{BsdfModel, Defaults};
@@ -58,7 +59,7 @@ macro_rules! models {
     };
     (@enum $($variant:ident($model:ty),)*) => {
         /// A scattering model: one of the models of this layer.
-        #[derive(Clone, Copy, Debug)]
+        #[derive(Clone, Debug)]
         pub enum Bsdf {
             $($variant($model),)*
         }
@@ -151,4 +152,5 @@ models! {
     dielectric::Dielectric,
     roughdielectric::RoughDielectric,
     thindielectric::ThinDielectric,
+    plastic::Plastic,
 }
