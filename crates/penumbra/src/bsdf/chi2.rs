@@ -265,18 +265,29 @@ pub fn sampled_albedo<M: BsdfModel>(
     wo: Vec3,
     n: usize,
 ) -> (Rgb, f32) {
+    albedo_of(|u| m.sample(si, wo, None, u), n)
+}
+
+/// [`sampled_albedo`] of a sampler (a held [`Bsdf`]'s, say).
+pub fn albedo_of(sample: impl Fn(SetPoint) -> Option<super::BsdfSample>, n: usize) -> (Rgb, f32) {
     let mut rng = Rng::new(93);
-    let (mut sum, mut sq) = (Rgb::ZERO, 0.0f64);
+    let (mut sum, mut sq) = ([0.0f64; 3], 0.0f64);
     for _ in 0..n {
         let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
-        if let Some(s) = m.sample(si, wo, None, u) {
-            sum += s.weight;
+        if let Some(s) = sample(u) {
+            for (a, w) in sum.iter_mut().zip([s.weight.r, s.weight.g, s.weight.b]) {
+                *a += f64::from(w);
+            }
             sq += f64::from(s.weight.max_element()).powi(2);
         }
     }
-    let mean = sum / n as f32;
-    let var = (sq / n as f64 - f64::from(mean.max_element()).powi(2)).max(0.0);
-    (mean, (var / n as f64).sqrt() as f32)
+    let mean = sum.map(|a| a / n as f64);
+    let top = mean[0].max(mean[1]).max(mean[2]);
+    let var = (sq / n as f64 - top * top).max(0.0);
+    (
+        Rgb::new(mean[0] as f32, mean[1] as f32, mean[2] as f32),
+        (var / n as f64).sqrt() as f32,
+    )
 }
 
 /// For `n` samples of `m` (no lobe asked for) seen from `wo`: each
@@ -319,7 +330,7 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
 pub fn albedo<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> (Rgb, f32) {
     let side = (n as f64).sqrt() as usize;
     let mut rng = Rng::new(91);
-    let (mut sum, mut sq) = (Rgb::ZERO, 0.0f64);
+    let (mut sum, mut sq) = ([0.0f64; 3], 0.0f64);
     let frame = si.shading_frame();
     for i in 0..side {
         for j in 0..side {
@@ -329,12 +340,18 @@ pub fn albedo<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) 
             );
             let wi = frame.to_world(square_to_uniform_sphere(u));
             let f = m.eval(si, wo, wi) * (wi.dot(si.n).abs() * 4.0 * std::f32::consts::PI);
-            sum += f;
+            for (a, w) in sum.iter_mut().zip([f.r, f.g, f.b]) {
+                *a += f64::from(w);
+            }
             sq += f64::from(f.max_element()).powi(2);
         }
     }
     let k = (side * side) as f64;
-    let mean = sum / k as f32;
+    let mean = Rgb::new(
+        (sum[0] / k) as f32,
+        (sum[1] / k) as f32,
+        (sum[2] / k) as f32,
+    );
     let var = (sq / k - f64::from(mean.max_element()).powi(2)).max(0.0);
     (mean, (var / k).sqrt() as f32)
 }

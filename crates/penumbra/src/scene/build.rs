@@ -213,10 +213,16 @@ fn materials(root: &Node, sets: &Sets) -> Result<Materials, Invalid> {
     Ok((bsdfs, emission, names))
 }
 
+/// The deepest chain of materials holding materials (a material holding
+/// none is 1 deep): shading recurses through it.
+pub const MAX_HOLDING_DEPTH: usize = 16;
+
 /// The order to build the materials `nodes` in: each after the materials
 /// it holds by name ([`bsdf::nested`]). A material holding itself,
 /// directly or through others, is an error at the name that closes the
-/// loop; a name no material has is left to the model to report.
+/// loop, and a chain deeper than [`MAX_HOLDING_DEPTH`] at the material
+/// that passes it; a name no material has is left to the model to
+/// report.
 fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
     let by_name: HashMap<&str, usize> = nodes
         .iter()
@@ -238,6 +244,7 @@ fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
     };
     // 0: not visited, 1: being visited, 2: done.
     let mut state = vec![0u8; nodes.len()];
+    let mut depth = vec![0usize; nodes.len()];
     let mut order = Vec::with_capacity(nodes.len());
     for start in 0..nodes.len() {
         if state[start] != 0 {
@@ -266,6 +273,13 @@ fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
                     _ => {}
                 }
             } else {
+                depth[i] = 1 + children.iter().map(|c| depth[c.0]).max().unwrap_or(0);
+                if depth[i] > MAX_HOLDING_DEPTH {
+                    return Err(Invalid::at(
+                        &nodes[i].origin,
+                        format!("materials hold each other more than {MAX_HOLDING_DEPTH} deep"),
+                    ));
+                }
                 state[i] = 2;
                 order.push(i);
                 stack.pop();
