@@ -396,7 +396,10 @@ mod tests {
 
     /// A nearly smooth coating is the smooth plastic: its transmittance is
     /// `1 − F`, its internal reflectance the diffuse Fresnel reflectance,
-    /// and its albedo the plastic's, with a black base and a white one.
+    /// and its albedo the plastic's: to 1% with a black base, to 3% with a
+    /// white one (the internal reflectance is a mean over 64 cosines, as
+    /// Mitsuba's, about 1% off the plastic's fit, and a white base's light
+    /// is divided by `1 − R ≈ 0.4`).
     #[test]
     fn a_smooth_coating_is_the_plastic() {
         let m = build::<RoughPlastic>("alpha = 0.005").unwrap();
@@ -408,14 +411,14 @@ mod tests {
         let fdr = fresnel::diffuse_reflectance(1.0 / m.eta);
         assert!((m.internal_reflectance - fdr).abs() < 0.01 * fdr + 0.005, "{} vs {fdr}", m.internal_reflectance);
         let si = interaction(Vec3::Z);
-        for base in ["[0, 0, 0]", "[1, 1, 1]"] {
+        for (base, tolerance) in [("[0, 0, 0]", 0.01), ("[1, 1, 1]", 0.03)] {
             let text = format!("alpha = 0.005\ndiffuse_reflectance = {base}");
             let rough = build::<RoughPlastic>(&text).unwrap();
             let smooth = build::<Plastic>(&format!("diffuse_reflectance = {base}")).unwrap();
             for wo in views() {
                 let (a, ea) = sampled_albedo(&rough, &si, wo, 200_000);
                 let (b, eb) = sampled_albedo(&smooth, &si, wo, 200_000);
-                assert!((a - b).abs().max_element() <= 4.0 * (ea + eb) + 0.01, "{base} {wo:?}: {a:?} vs {b:?}");
+                assert!((a - b).abs().max_element() <= 4.0 * (ea + eb) + tolerance, "{base} {wo:?}: {a:?} vs {b:?}");
             }
         }
     }
