@@ -136,7 +136,7 @@ impl BsdfModel for BlendBsdf {
             return Some(s);
         }
         let pdf = self.pdf(si, wo, s.wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         s.weight = self.eval(si, wo, s.wi) * (s.wi.dot(si.n).abs() / pdf);

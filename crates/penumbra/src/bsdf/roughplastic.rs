@@ -34,6 +34,7 @@
 //! either way the weight is `eval · cos / pdf` with `pdf` the mixture's.
 
 use std::f32::consts::FRAC_1_PI;
+use std::sync::Arc;
 
 use super::dielectric::refract;
 use super::fresnel;
@@ -55,7 +56,7 @@ pub const TABLE: usize = 64;
 const QUADRATURE: usize = 48;
 
 /// The rough plastic (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct RoughPlastic {
     pub distribution: Microfacet,
     pub diffuse_reflectance: Rgb,
@@ -65,7 +66,7 @@ pub struct RoughPlastic {
     pub nonlinear: bool,
     pub specular_sampling_weight: f32,
     /// The rough interface's transmittance from outside at cos θ = `i / (TABLE − 1)`.
-    pub transmittance: [f32; TABLE],
+    pub transmittance: Arc<[f32; TABLE]>,
     /// The rough interface's diffuse reflectance from inside.
     pub internal_reflectance: f32,
 }
@@ -155,7 +156,7 @@ impl RoughPlastic {
             eta,
             nonlinear,
             specular_sampling_weight: specular_sampling_weight(diffuse, specular),
-            transmittance,
+            transmittance: Arc::new(transmittance),
             internal_reflectance: 2.0 * internal / TABLE as f32,
         }
     }
@@ -284,7 +285,7 @@ impl BsdfModel for RoughPlastic {
             0 => {
                 let (m, _) = self.distribution.sample(o, u.square());
                 let om = o.dot(m);
-                if !(om > 0.0) {
+                if om.is_nan() || om <= 0.0 {
                     return None;
                 }
                 2.0 * om * m - o
@@ -302,7 +303,7 @@ impl BsdfModel for RoughPlastic {
             Some(_) => (d, pd),
             None => (g + d, p * pg + (1.0 - p) * pd),
         };
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(BsdfSample {
@@ -361,7 +362,7 @@ mod tests {
         let si = interaction(Vec3::Z);
         let cases: Vec<_> = models()
             .into_iter()
-            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m, wo)))
+            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m.clone(), wo)))
             .collect();
         let level = chi2::sidak(cases.len());
         for (k, (text, m, wo)) in cases.iter().enumerate() {

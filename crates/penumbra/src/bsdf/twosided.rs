@@ -69,7 +69,7 @@ impl TwoSided {
         if c > 0.0 {
             return Some((&self.front, *si, 0));
         }
-        if !(c < 0.0) {
+        if c >= 0.0 || c.is_nan() {
             return None;
         }
         let mut turned = *si;
