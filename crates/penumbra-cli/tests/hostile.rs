@@ -817,7 +817,7 @@ fn xml_cases(cases: &mut Vec<Case>) {
         one(r#"<shape type="ply"><string name="filename" value="gone.ply"/></shape>"#),
         Mesh("gone.ply"),
     );
-    case("unknown bsdf", one(r#"<bsdf type="plastic"/>"#), SceneLine);
+    case("unknown bsdf", one(r#"<bsdf type="principled"/>"#), SceneLine);
 }
 
 /// Makes a case's files; `false` if this platform cannot (no FIFOs).
