@@ -258,6 +258,25 @@ fn corpus() -> Vec<Case> {
         Valid,
     );
     scene(
+        "materials holding each other in a loop",
+        s("[materials.a]\ntype = \"mask\"\nbsdf = \"b\"\n\n[materials.b]\ntype = \"blendbsdf\"\nbsdf_0 = \"a\"\nbsdf_1 = \"a\"\n"),
+        SceneLine,
+    );
+    scene(
+        "50,000 materials each holding the next",
+        (0..50_000)
+            .map(|i| {
+                format!(
+                    "[materials.m{i}]\ntype = \"twosided\"\nbsdf = \"m{}\"\n",
+                    i + 1
+                )
+            })
+            .chain(["[materials.m50000]\ntype = \"diffuse\"\n".to_string()])
+            .collect::<String>()
+            .into_bytes(),
+        SceneLine,
+    );
+    scene(
         "60,000 spheres",
         "[[objects]]\ntype = \"sphere\"\nradius = 0.1\n"
             .repeat(60_000)
@@ -1070,7 +1089,11 @@ fn xml_cases(cases: &mut Vec<Case>) {
         one(r#"<shape type="ply"><string name="filename" value="gone.ply"/></shape>"#),
         Mesh("gone.ply"),
     );
-    case("unknown bsdf", one(r#"<bsdf type="plastic"/>"#), SceneLine);
+    case(
+        "unknown bsdf",
+        one(r#"<bsdf type="principled"/>"#),
+        SceneLine,
+    );
     let serialized = |bytes: Vec<u8>| {
         let mut entries = one(
             r#"<shape type="serialized"><string name="filename" value="m.serialized"/></shape>"#,

@@ -1175,25 +1175,30 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
 fn unsupported_plugins_are_refused_naming_what_is_supported() {
     for (body, message) in [
         (
-            r#"<bsdf type="plastic"/>"#,
-            "bsdf `plastic` is not supported; supported: diffuse, twosided (around a diffuse), \
-             conductor, roughconductor, dielectric, roughdielectric, thindielectric",
-        ),
-        (
-            r#"<bsdf type="twosided"><bsdf type="conductor"/></bsdf>"#,
-            "bsdf inside `twosided` `conductor` is not supported; supported: diffuse",
+            r#"<bsdf type="principled"/>"#,
+            "bsdf `principled` is not supported; supported: diffuse, twosided, \
+             conductor, roughconductor, dielectric, roughdielectric, thindielectric, \
+             plastic, roughplastic, mask, blendbsdf",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
             "`alpha` is not a parameter of the bsdf `conductor`",
         ),
         (
-            r#"<bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#,
-            "a `twosided` of two materials is not supported",
+            r#"<bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#,
+            "a `twosided` holds 1 or 2 <bsdf>s, not 3",
         ),
         (
-            r#"<bsdf type="twosided"><bsdf type="plastic"/></bsdf>"#,
-            "bsdf inside `twosided` `plastic` is not supported; supported: diffuse",
+            r#"<bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf>"#,
+            "a `blendbsdf` holds 2 <bsdf>s, not 1",
+        ),
+        (
+            r#"<bsdf type="mask"><texture type="bitmap" name="opacity"/><bsdf type="diffuse"/></bsdf>"#,
+            "a <texture> inside the bsdf `mask` is not supported",
+        ),
+        (
+            r#"<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/></bsdf>"#,
+            "`alpha_u` is not a parameter of the bsdf `roughplastic`",
         ),
         (
             r#"<shape type="serialized"/>"#,
@@ -1319,6 +1324,72 @@ fn conductors_and_dielectrics_keep_their_names_and_parameters() {
         assert!(names.contains(&m), "{names:?}");
     }
     common::render_scene(&scene, 2);
+}
+
+#[test]
+fn plastics_and_materials_holding_materials_map_onto_their_own() {
+    let d = with_sensor(
+        r#"<bsdf type="roughplastic" id="paint">
+            <rgb name="diffuse_reflectance" value="0.7, 0.1, 0.1"/>
+            <string name="distribution" value="ggx"/><float name="alpha" value="0.3"/>
+            <boolean name="nonlinear" value="true"/>
+        </bsdf>
+        <bsdf type="blendbsdf" id="worn">
+            <float name="weight" value="0.25"/>
+            <ref id="paint"/>
+            <bsdf type="roughconductor"><string name="material" value="Au"/></bsdf>
+        </bsdf>
+        <bsdf type="mask" id="leaf"><float name="opacity" value="0.8"/><ref id="worn"/></bsdf>
+        <bsdf type="twosided" id="card">
+            <bsdf type="plastic"><float name="int_ior" value="1.6"/></bsdf>
+            <bsdf type="conductor"/>
+        </bsdf>
+        <shape type="sphere"><ref id="leaf"/></shape>
+        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="card"/></shape>
+        <shape type="sphere"><point name="center" x="-2" y="0" z="0"/>
+            <bsdf type="twosided"><bsdf type="roughconductor"/></bsdf></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let bsdf = |id: &str| {
+        root.children_of(Kind::Bsdf)
+            .find(|b| b.id.as_deref() == Some(id))
+            .unwrap_or_else(|| panic!("{id}"))
+    };
+    let paint = bsdf("paint");
+    assert_eq!(paint.plugin, "roughplastic");
+    assert_eq!(numbers(prop(paint, "diffuse_reflectance")), [0.7, 0.1, 0.1]);
+    assert_eq!(prop(paint, "nonlinear"), &Value::Bool(true));
+    let worn = bsdf("worn");
+    assert_eq!(prop(worn, "weight"), &Value::Float(0.25));
+    assert_eq!(prop(worn, "bsdf_0"), &Value::String("paint".into()));
+    let Value::String(gold) = prop(worn, "bsdf_1") else {
+        panic!()
+    };
+    assert_eq!(bsdf(gold).plugin, "roughconductor");
+    assert_eq!(prop(bsdf("leaf"), "bsdf"), &Value::String("worn".into()));
+    let card = bsdf("card");
+    assert_eq!(card.plugin, "twosided");
+    let Value::String(front) = prop(card, "bsdf") else {
+        panic!()
+    };
+    let Value::String(back) = prop(card, "back") else {
+        panic!()
+    };
+    assert_eq!(
+        (bsdf(front).plugin.as_str(), bsdf(back).plugin.as_str()),
+        ("plastic", "conductor")
+    );
+    assert_eq!(prop(bsdf(front), "int_ior"), &Value::Float(1.6));
+    let s = shapes(&root);
+    let Value::String(third) = prop(s[2], "material") else {
+        panic!()
+    };
+    assert_eq!(bsdf(third).plugin, "twosided");
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = scene.bsdfs.iter().map(|b| b.name()).collect();
+    for m in ["roughplastic", "plastic", "blendbsdf", "mask", "twosided"] {
+        assert!(names.contains(&m), "{names:?}");
+    }
 }
 
 #[test]

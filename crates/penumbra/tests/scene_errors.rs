@@ -425,3 +425,57 @@ fn bad_filter_parameters_point_at_the_value() {
         assert!(e.contains(message), "{toml}: {e}");
     }
 }
+
+/// Materials holding materials name them; a loop, an unknown name and a
+/// held material that does not fit are refused at the name.
+#[test]
+fn held_materials_are_named_and_loops_refused() {
+    let ok =
+        "[materials.a]\ntype = \"diffuse\"\n\n[materials.b]\ntype = \"mask\"\nbsdf = \"c\"\n\n\
+              [materials.c]\ntype = \"blendbsdf\"\nbsdf_0 = \"a\"\nbsdf_1 = \"d\"\n\n\
+              [materials.d]\ntype = \"twosided\"\nbsdf = \"a\"\n\n\
+              [[objects]]\ntype = \"sphere\"\nmaterial = \"b\"\n";
+    let scene = try_scene(ok).unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = scene.bsdfs.iter().map(|b| b.name()).collect();
+    assert_eq!(names[1..5], ["diffuse", "mask", "blendbsdf", "twosided"]);
+    let e = err("[materials.a]\ntype = \"mask\"\nbsdf = \"b\"\n\n[materials.b]\ntype = \"twosided\"\nbsdf = \"a\"\n");
+    assert!(e.contains("holds itself"), "{e}");
+    assert!(
+        e.starts_with("test.toml:3:8:") || e.starts_with("test.toml:7:8:"),
+        "{e}"
+    );
+    let e = err("[materials.a]\ntype = \"mask\"\nbsdf = \"a\"\n");
+    assert!(
+        e.starts_with("test.toml:3:8:") && e.contains("holds itself"),
+        "{e}"
+    );
+    let e = err("[materials.a]\ntype = \"blendbsdf\"\nbsdf_0 = \"x\"\nbsdf_1 = \"x\"\n");
+    assert!(
+        e.starts_with("test.toml:3:10:") && e.contains("no material named `x`"),
+        "{e}"
+    );
+    let e = err("[materials.g]\ntype = \"dielectric\"\n\n[materials.t]\ntype = \"twosided\"\nbsdf = \"g\"\n");
+    assert!(
+        e.starts_with("test.toml:4:1:") && e.contains("transmits light"),
+        "{e}"
+    );
+    let chain = |n: usize| -> String {
+        (1..n)
+            .map(|i| {
+                format!(
+                    "[materials.m{i}]\ntype = \"twosided\"\nbsdf = \"m{}\"\n",
+                    i + 1
+                )
+            })
+            .chain([format!("[materials.m{n}]\ntype = \"diffuse\"\n")])
+            .collect()
+    };
+    assert!(try_scene(&chain(16)).is_ok());
+    let e = err(&chain(17));
+    assert!(e.contains("more than 16 deep"), "{e}");
+    let e = err("[materials.a]\ntype = \"roughplastic\"\nalpha_u = 0.1\n");
+    assert!(
+        e.starts_with("test.toml:3:") && e.contains("does not apply"),
+        "{e}"
+    );
+}

@@ -15,7 +15,11 @@
 
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use super::model::{BsdfModel, Defaults};
+use super::Bsdf;
 use crate::description::{from_toml, Invalid, Kind, Props};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -191,6 +195,14 @@ pub fn p_value(observed: &[f64], expected: &[f64]) -> Result<f64, String> {
 
 /// The model `M` of the parameters `text` (TOML keys of a material).
 pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
+    build_in(text, &HashMap::new())
+}
+
+/// [`build`] among the named `materials` (which a model may hold).
+pub fn build_in<M: BsdfModel>(
+    text: &str,
+    materials: &HashMap<String, Arc<Bsdf>>,
+) -> Result<M, Invalid> {
     let root = from_toml(
         &format!("[materials.m]\n{text}\n"),
         std::path::Path::new("t.toml"),
@@ -206,6 +218,7 @@ pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
         reflection: set,
         refraction: set,
         textures: &textures,
+        materials,
     };
     M::build(&Props::new(node), &d)
 }
@@ -225,9 +238,64 @@ pub fn model_p_value<M: BsdfModel>(
     )
 }
 
+/// [`model_p_value`] of a model with delta lobes too: their samples count
+/// as draws that give no direction (the density of the smooth lobes
+/// integrates to their probability).
+pub fn smooth_p_value<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    seed: u64,
+) -> Result<f64, String> {
+    Chi2::default().run(
+        seed,
+        |u| {
+            m.sample(si, wo, None, SetPoint::uniform(u))
+                .filter(|s| !s.flags.is_delta())
+                .map(|s| s.wi)
+        },
+        |v| f64::from(m.pdf(si, wo, v)),
+    )
+}
+
+/// The albedo of `m` seen from `wo` by sampling: the mean weight of `n`
+/// samples (no lobe asked for; a point giving none counts 0), delta lobes
+/// included, and its standard error (of the largest channel).
+pub fn sampled_albedo<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    n: usize,
+) -> (Rgb, f32) {
+    albedo_of(|u| m.sample(si, wo, None, u), n)
+}
+
+/// [`sampled_albedo`] of a sampler (a held [`Bsdf`]'s, say).
+pub fn albedo_of(sample: impl Fn(SetPoint) -> Option<super::BsdfSample>, n: usize) -> (Rgb, f32) {
+    let mut rng = Rng::new(93);
+    let (mut sum, mut sq) = ([0.0f64; 3], 0.0f64);
+    for _ in 0..n {
+        let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
+        if let Some(s) = sample(u) {
+            for (a, w) in sum.iter_mut().zip([s.weight.r, s.weight.g, s.weight.b]) {
+                *a += f64::from(w);
+            }
+            sq += f64::from(s.weight.max_element()).powi(2);
+        }
+    }
+    let mean = sum.map(|a| a / n as f64);
+    let top = mean[0].max(mean[1]).max(mean[2]);
+    let var = (sq / n as f64 - top * top).max(0.0);
+    (
+        Rgb::new(mean[0] as f32, mean[1] as f32, mean[2] as f32),
+        (var / n as f64).sqrt() as f32,
+    )
+}
+
 /// For `n` samples of `m` (no lobe asked for) seen from `wo`: each
-/// weight is `eval · |cos| / pdf` and each pdf the one `pdf` gives (both
-/// to a relative 1e-3); returns the largest weight channel seen.
+/// weight of a smooth lobe is `eval · |cos| / pdf` and each pdf the one
+/// `pdf` gives (both to a relative 1e-3; delta samples are not checked);
+/// returns the largest weight channel seen.
 pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> f32 {
     let mut rng = Rng::new(77);
     let mut most = 0.0f32;
@@ -236,6 +304,10 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
         let Some(s) = m.sample(si, wo, None, u) else {
             continue;
         };
+        most = most.max(s.weight.max_element());
+        if s.flags.is_delta() {
+            continue;
+        }
         let pdf = m.pdf(si, wo, s.wi);
         assert!(
             (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1e-3),
@@ -251,7 +323,6 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
             s.weight,
             s.wi
         );
-        most = most.max(s.weight.max_element());
     }
     most
 }
@@ -261,7 +332,7 @@ pub fn check_weights<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: 
 pub fn albedo<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) -> (Rgb, f32) {
     let side = (n as f64).sqrt() as usize;
     let mut rng = Rng::new(91);
-    let (mut sum, mut sq) = (Rgb::ZERO, 0.0f64);
+    let (mut sum, mut sq) = ([0.0f64; 3], 0.0f64);
     let frame = si.shading_frame();
     for i in 0..side {
         for j in 0..side {
@@ -271,12 +342,18 @@ pub fn albedo<M: BsdfModel>(m: &M, si: &SurfaceInteraction, wo: Vec3, n: usize) 
             );
             let wi = frame.to_world(square_to_uniform_sphere(u));
             let f = m.eval(si, wo, wi) * (wi.dot(si.n).abs() * 4.0 * std::f32::consts::PI);
-            sum += f;
+            for (a, w) in sum.iter_mut().zip([f.r, f.g, f.b]) {
+                *a += f64::from(w);
+            }
             sq += f64::from(f.max_element()).powi(2);
         }
     }
     let k = (side * side) as f64;
-    let mean = sum / k as f32;
+    let mean = Rgb::new(
+        (sum[0] / k) as f32,
+        (sum[1] / k) as f32,
+        (sum[2] / k) as f32,
+    );
     let var = (sq / k - f64::from(mean.max_element()).powi(2)).max(0.0);
     (mean, (var / k).sqrt() as f32)
 }

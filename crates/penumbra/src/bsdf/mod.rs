@@ -25,12 +25,19 @@
 //! | [`dielectric`](dielectric::Dielectric) | a smooth dielectric interface: Fresnel-weighted delta reflection and refraction (Mitsuba 3's `dielectric`) |
 //! | [`roughdielectric`](roughdielectric::RoughDielectric) | a rough dielectric interface: microfacet reflection and transmission (Mitsuba 3's `roughdielectric`) |
 //! | [`thindielectric`](thindielectric::ThinDielectric) | a thin dielectric sheet: reflection and straight transmission (Mitsuba 3's `thindielectric`) |
+//! | [`plastic`](plastic::Plastic) | a smooth dielectric coating over a diffuse base, with the internal scattering (Mitsuba 3's `plastic`) |
+//! | [`roughplastic`](roughplastic::RoughPlastic) | a rough coating over a diffuse base (Mitsuba 3's `roughplastic`) |
+//! | [`twosided`](twosided::TwoSided) | one or two reflecting materials, one on each side (Mitsuba 3's `twosided`) |
+//! | [`mask`](mask::Mask) | a material seen by a share `opacity` of the light, the rest passing through (Mitsuba 3's `mask`) |
+//! | [`blendbsdf`](blendbsdf::BlendBsdf) | a linear blend of two materials (Mitsuba 3's `blendbsdf`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
-//! reflectance) and [`ior`] (indices of refraction and conductor presets
-//! by name). The models' tests hold every sampler to its density by a χ²
-//! test (`chi2.rs`, Mitsuba 3's method).
+//! reflectance), [`ior`] (indices of refraction and conductor presets
+//! by name) and [`nested`] (what the models holding other models share:
+//! a held model is a material of the scene named by a parameter). The
+//! models' tests hold every sampler to its density by a χ² test
+//! (`chi2.rs`, Mitsuba 3's method).
 
 #[cfg(test)]
 mod chi2;
@@ -38,6 +45,7 @@ pub mod fresnel;
 pub mod ior;
 pub mod microfacet;
 mod model;
+pub mod nested;
 pub mod sample;
 #[cfg(test)]
 mod textured;
@@ -153,4 +161,9 @@ models! {
     dielectric::Dielectric,
     roughdielectric::RoughDielectric,
     thindielectric::ThinDielectric,
+    plastic::Plastic,
+    roughplastic::RoughPlastic,
+    twosided::TwoSided,
+    mask::Mask,
+    blendbsdf::BlendBsdf,
 }

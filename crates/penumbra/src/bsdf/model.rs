@@ -1,6 +1,10 @@
 //! The interface every scattering model implements.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use super::sample::{BsdfSample, Lobes};
+use super::Bsdf;
 use crate::description::{Invalid, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
@@ -8,13 +12,17 @@ use crate::sampling::{EffectSpec, SetPoint};
 use crate::texture::Textures;
 
 /// What a model's parameters default to that the scene sets: the render's
-/// sets of reflection and refraction rays; and the scene's named textures
-/// and folder, which its texture-typed parameters are read with.
+/// sets of reflection and refraction rays; the scene's named textures and
+/// folder, which its texture-typed parameters are read with; and the
+/// scene's materials a model may hold by name.
 #[derive(Clone, Copy, Debug)]
 pub struct Defaults<'a> {
     pub reflection: EffectSpec,
     pub refraction: EffectSpec,
     pub textures: &'a Textures,
+    /// The materials built before this one, by name: the ones a model
+    /// holding others (`twosided`, `mask`, `blendbsdf`) names, built first.
+    pub materials: &'a HashMap<String, Arc<Bsdf>>,
 }
 
 /// What every scattering model answers (see the [module docs](crate::bsdf)).

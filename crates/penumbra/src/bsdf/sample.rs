@@ -82,7 +82,7 @@ pub struct BsdfSample {
 }
 
 /// The most lobes a model has.
-pub const MAX_LOBES: usize = 4;
+pub const MAX_LOBES: usize = 8;
 
 /// A model's lobes, by slot: the kind of each and, where the model sets
 /// one, how many rays a set of it traces and from which distribution (the
@@ -103,6 +103,27 @@ impl Lobes {
         l.flags[0] = kind | BsdfFlags::REFLECTION;
         l.flags[1] = kind | BsdfFlags::TRANSMISSION;
         l
+    }
+
+    /// The slots up to the last present lobe: where lobes placed after
+    /// these may start.
+    pub fn slots(&self) -> usize {
+        (0..MAX_LOBES)
+            .rev()
+            .find(|&k| !self.flags[k].is_empty())
+            .map_or(0, |k| k + 1)
+    }
+
+    /// These lobes copied into `into` from slot `at` on (slot `k` to
+    /// `at + k`); false, and nothing copied, if they do not fit.
+    pub fn place(&self, into: &mut Lobes, at: usize) -> bool {
+        let n = self.slots();
+        if at + n > MAX_LOBES {
+            return false;
+        }
+        into.flags[at..at + n].copy_from_slice(&self.flags[..n]);
+        into.sets[at..at + n].copy_from_slice(&self.sets[..n]);
+        true
     }
 
     /// The present lobes: (slot, flags, set).

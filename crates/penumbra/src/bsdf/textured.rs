@@ -26,6 +26,7 @@ fn model(plugin: &str, keys: &str) -> Bsdf {
         reflection: set,
         refraction: set,
         textures: &textures,
+        materials: &Default::default(),
     };
     let p = Props::new(node);
     let m = Bsdf::build(plugin, &p, &d)
@@ -215,6 +216,7 @@ fn textures_out_of_range_are_refused() {
             reflection: set,
             refraction: set,
             textures: &textures,
+            materials: &Default::default(),
         };
         let e = Bsdf::build(plugin, &Props::new(node), &d)
             .unwrap()

@@ -168,20 +168,21 @@ pub fn build(
 type Materials = (Vec<Bsdf>, Vec<(Rgb, Origin)>, HashMap<String, u32>);
 
 fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials, Invalid> {
-    let defaults = bsdf::Defaults {
-        reflection: sets.reflection,
-        refraction: sets.refraction,
-        textures,
-    };
     let none = Origin::unlocated(Default::default());
     let default = empty(Kind::Bsdf, "thesis");
-    let mut bsdfs = vec![Bsdf::from(<Thesis as BsdfModel>::build(
-        &Props::new(&default),
-        &defaults,
-    )?)];
-    let mut emission = vec![(Rgb::ZERO, none)];
-    let mut names = HashMap::new();
-    for node in root.children_of(Kind::Bsdf) {
+    let nodes: Vec<&Node> = root.children_of(Kind::Bsdf).collect();
+    // Materials held by others (by name) are built before them.
+    let order = holding_order(&nodes)?;
+    let mut named: HashMap<String, Arc<Bsdf>> = HashMap::new();
+    let mut built: Vec<Option<(Bsdf, (Rgb, Origin))>> = vec![None; nodes.len()];
+    for i in order {
+        let node = nodes[i];
+        let defaults = bsdf::Defaults {
+            reflection: sets.reflection,
+            refraction: sets.refraction,
+            textures,
+            materials: &named,
+        };
         let p = Props::new(node);
         let model = match Bsdf::build(&node.plugin, &p, &defaults) {
             Some(model) => model?,
@@ -202,12 +203,107 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
             .unwrap_or_else(|| node.origin.clone());
         p.finish(schemas::schema(node)?.what)?;
         if let Some(id) = &node.id {
+            named.insert(id.clone(), Arc::new(model.clone()));
+        }
+        built[i] = Some((model, (emits, at)));
+    }
+    let defaults = bsdf::Defaults {
+        reflection: sets.reflection,
+        refraction: sets.refraction,
+        textures,
+        materials: &named,
+    };
+    let mut bsdfs = vec![Bsdf::from(<Thesis as BsdfModel>::build(
+        &Props::new(&default),
+        &defaults,
+    )?)];
+    let mut emission = vec![(Rgb::ZERO, none)];
+    let mut names = HashMap::new();
+    for (node, b) in nodes.iter().zip(built) {
+        let (model, emits) = b.expect("every material built");
+        if let Some(id) = &node.id {
             names.insert(id.clone(), bsdfs.len() as u32);
         }
         bsdfs.push(model);
-        emission.push((emits, at));
+        emission.push(emits);
     }
     Ok((bsdfs, emission, names))
+}
+
+/// The deepest chain of materials holding materials (a material holding
+/// none is 1 deep): shading recurses through it.
+pub const MAX_HOLDING_DEPTH: usize = 16;
+
+/// The order to build the materials `nodes` in: each after the materials
+/// it holds by name ([`bsdf::nested`]). A material holding itself,
+/// directly or through others, is an error at the name that closes the
+/// loop, and a chain deeper than [`MAX_HOLDING_DEPTH`] at the material
+/// that passes it; a name no material has is left to the model to
+/// report.
+fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
+    let by_name: HashMap<&str, usize> = nodes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, n)| n.id.as_deref().map(|id| (id, i)))
+        .collect();
+    let held = |i: usize| -> Vec<(usize, &Origin, &str)> {
+        let node = nodes[i];
+        bsdf::nested::parameters(&node.plugin)
+            .iter()
+            .filter_map(|name| node.prop(name))
+            .filter_map(|p| match &p.value.value {
+                Value::String(s) => by_name
+                    .get(s.as_str())
+                    .map(|&j| (j, &p.value.origin, s.as_str())),
+                _ => None,
+            })
+            .collect()
+    };
+    // 0: not visited, 1: being visited, 2: done.
+    let mut state = vec![0u8; nodes.len()];
+    let mut depth = vec![0usize; nodes.len()];
+    let mut order = Vec::with_capacity(nodes.len());
+    for start in 0..nodes.len() {
+        if state[start] != 0 {
+            continue;
+        }
+        // A depth-first walk with an explicit stack: (node, next held index).
+        let mut stack = vec![(start, 0usize)];
+        state[start] = 1;
+        while let Some(&mut (i, ref mut next)) = stack.last_mut() {
+            let children = held(i);
+            if let Some(&(j, at, name)) = children.get(*next) {
+                *next += 1;
+                match state[j] {
+                    0 => {
+                        state[j] = 1;
+                        stack.push((j, 0));
+                    }
+                    1 => {
+                        return Err(Invalid::at(
+                            at,
+                            format!(
+                                "material `{name}` holds itself (through the materials it holds)"
+                            ),
+                        ))
+                    }
+                    _ => {}
+                }
+            } else {
+                depth[i] = 1 + children.iter().map(|c| depth[c.0]).max().unwrap_or(0);
+                if depth[i] > MAX_HOLDING_DEPTH {
+                    return Err(Invalid::at(
+                        &nodes[i].origin,
+                        format!("materials hold each other more than {MAX_HOLDING_DEPTH} deep"),
+                    ));
+                }
+                state[i] = 2;
+                order.push(i);
+                stack.pop();
+            }
+        }
+    }
+    Ok(order)
 }
 
 /// The surface material of light shapes: black, since their emission is the light's.

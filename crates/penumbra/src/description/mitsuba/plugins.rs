@@ -28,12 +28,16 @@ pub const SHAPES: &[&str] = &[
 ];
 pub const BSDFS: &[&str] = &[
     "diffuse",
-    "twosided (around a diffuse)",
+    "twosided",
     "conductor",
     "roughconductor",
     "dielectric",
     "roughdielectric",
     "thindielectric",
+    "plastic",
+    "roughplastic",
+    "mask",
+    "blendbsdf",
 ];
 
 /// The parameters of the BSDFs Penumbra has under Mitsuba's own names and
@@ -103,8 +107,46 @@ const MITSUBA_BSDFS: &[(&str, &[(&str, BsdfParam)])] = {
                 ("specular_transmittance", Reflectance),
             ],
         ),
+        (
+            "plastic",
+            &[
+                ("diffuse_reflectance", Reflectance),
+                ("specular_reflectance", Reflectance),
+                ("int_ior", Ior),
+                ("ext_ior", Ior),
+                ("nonlinear", Flag),
+            ],
+        ),
+        (
+            "roughplastic",
+            &[
+                ("diffuse_reflectance", Reflectance),
+                ("specular_reflectance", Reflectance),
+                ("int_ior", Ior),
+                ("ext_ior", Ior),
+                ("nonlinear", Flag),
+                MICROFACET[0],
+                MICROFACET[1],
+                MICROFACET[4],
+            ],
+        ),
+        ("twosided", &[]),
+        ("mask", &[("opacity", Number)]),
+        ("blendbsdf", &[("weight", Number)]),
     ]
 };
+
+/// The materials a BSDF holding others takes from its nested `<bsdf>`s (or
+/// `<ref>`s), in order: the parameter each is named by, and whether it is
+/// required.
+fn held_bsdfs(plugin: &str) -> &'static [(&'static str, bool)] {
+    match plugin {
+        "twosided" => &[("bsdf", true), ("back", false)],
+        "mask" => &[("bsdf", true)],
+        "blendbsdf" => &[("bsdf_0", true), ("bsdf_1", true)],
+        _ => &[],
+    }
+}
 
 /// How a parameter of [`MITSUBA_BSDFS`] is read.
 #[derive(Clone, Copy)]
@@ -1036,23 +1078,16 @@ impl Out<'_> {
 
     /// The Penumbra material of a bsdf (made once per name): its name.
     fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
-        // `twosided` around one diffuse: the diffuse, reflecting on both sides.
-        let (inner, two_sided) = if obj.plugin == "twosided" {
-            self.no_props(obj, &[])?;
-            let inner = children(self.ids, obj)?;
-            match inner.as_slice() {
-                [one] if one.tag == "bsdf" => (*one, true),
-                [_, second] => {
-                    return Err(error_at(
-                        &second.at,
-                        "a `twosided` of two materials is not supported: Penumbra's two-sided \
-                         diffuse reflects alike on both sides",
-                    ))
-                }
-                _ => return Err(error_at(&obj.at, "a `twosided` holds one <bsdf>")),
-            }
+        // `twosided` around one diffuse: the diffuse, reflecting on both
+        // sides; around anything else, the `twosided` material.
+        let held = if obj.plugin == "twosided" && obj.props.is_empty() {
+            children(self.ids, obj)?
         } else {
-            (obj, false)
+            Vec::new()
+        };
+        let (inner, two_sided) = match held.as_slice() {
+            [one] if one.tag == "bsdf" && one.plugin == "diffuse" => (*one, true),
+            _ => (obj, false),
         };
         if let (Some((_, params)), false) = (
             MITSUBA_BSDFS.iter().find(|(n, _)| *n == inner.plugin),
@@ -1061,13 +1096,7 @@ impl Out<'_> {
             return self.mitsuba_bsdf(inner, params);
         }
         if inner.plugin != "diffuse" {
-            let supported: &[&str] = if two_sided { &["diffuse"] } else { BSDFS };
-            let what = if two_sided {
-                "bsdf inside `twosided`"
-            } else {
-                "bsdf"
-            };
-            return Err(unsupported(inner, what, supported));
+            return Err(unsupported(inner, "bsdf", BSDFS));
         }
         self.no_props(inner, &["reflectance"])?;
         let name = match obj.id.as_ref().or(inner.id.as_ref().filter(|_| !two_sided)) {
@@ -1113,6 +1142,7 @@ impl Out<'_> {
             .filter(|(n, kind)| matches!(kind, BsdfParam::Reflectance) || n.starts_with("alpha"))
             .map(|(n, _)| *n)
             .collect();
+        let slots = held_bsdfs(&obj.plugin);
         let name = match obj.id.as_ref() {
             Some(id) => id.clone(),
             None => self.fresh_name(),
@@ -1154,7 +1184,43 @@ impl Out<'_> {
                 set(&mut node, &base, key, at, |p, at| located(v, p, at));
             }
         }
-        self.texture_children(obj, &texturable, &mut node, &base)?;
+        if slots.is_empty() {
+            self.texture_children(obj, &texturable, &mut node, &base)?;
+        } else {
+            let held = children(self.ids, obj)?;
+            if let Some(other) = held.iter().find(|c| c.tag != "bsdf") {
+                return Err(error_at(
+                    &other.at,
+                    format!(
+                        "a <{}> inside the bsdf `{}` is not supported: it holds <bsdf>s",
+                        other.tag, obj.plugin
+                    ),
+                ));
+            }
+            let required = slots.iter().filter(|(_, r)| *r).count();
+            if held.len() < required || held.len() > slots.len() {
+                let at = held.get(slots.len()).map_or(&obj.at, |c| &c.at);
+                let count = if required == slots.len() {
+                    format!("{required}")
+                } else {
+                    format!("{required} or {}", slots.len())
+                };
+                return Err(error_at(
+                    at,
+                    format!(
+                        "a `{}` holds {count} <bsdf>s, not {}",
+                        obj.plugin,
+                        held.len()
+                    ),
+                ));
+            }
+            for (&(key, _), child) in slots.iter().zip(held) {
+                let inner = self.material(child)?;
+                set(&mut node, &base, key, &child.at, |p, at| {
+                    located(Value::String(inner), p, at)
+                });
+            }
+        }
         self.bsdfs.push(node);
         Ok(name)
     }
