@@ -19,7 +19,7 @@
 
 use std::sync::Arc;
 
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;

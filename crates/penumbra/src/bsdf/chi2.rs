@@ -18,8 +18,8 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use super::model::{BsdfModel, Defaults};
 use super::Bsdf;
+use super::{BsdfModel, Defaults};
 use crate::description::{from_toml, Invalid, Kind, Props};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};

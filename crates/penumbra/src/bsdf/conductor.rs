@@ -15,7 +15,7 @@
 //! one ray of it, the mirror direction about the shading normal.
 
 use super::ior::{self, Conductor as Index};
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::fresnel;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};

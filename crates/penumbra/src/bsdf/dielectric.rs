@@ -33,7 +33,7 @@
 use super::conductor::{factor, SPECULAR_REFLECTANCE};
 use super::fresnel;
 use super::ior;
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;

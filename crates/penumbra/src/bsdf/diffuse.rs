@@ -10,7 +10,7 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::conductor::reflectance_texture;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};

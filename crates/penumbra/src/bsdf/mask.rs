@@ -21,7 +21,7 @@
 
 use std::sync::Arc;
 
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;

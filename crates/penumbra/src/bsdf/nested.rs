@@ -11,8 +11,8 @@
 
 use std::sync::Arc;
 
-use super::model::Defaults;
 use super::Bsdf;
+use super::Defaults;
 use crate::description::{Invalid, Param, Props, Type};
 use crate::math::Vec2;
 use crate::sampling::SetPoint;

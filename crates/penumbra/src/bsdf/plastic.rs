@@ -36,7 +36,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use super::fresnel;
 use super::ior;
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::nested::choose;
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::check::nonneg3;

@@ -24,7 +24,7 @@
 use super::conductor::{factor, read_index, reflectance, INDEX_PARAMS, SPECULAR_REFLECTANCE};
 use super::ior::Conductor as Index;
 use super::microfacet::{Microfacet, Roughness, PARAMS};
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;

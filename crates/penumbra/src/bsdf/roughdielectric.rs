@@ -39,7 +39,7 @@ use super::conductor::{factor, SPECULAR_REFLECTANCE};
 use super::dielectric::{read_eta, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
 use super::fresnel;
 use super::microfacet::{Microfacet, Roughness, PARAMS};
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;

@@ -39,11 +39,11 @@ use std::sync::Arc;
 use super::dielectric::refract;
 use super::fresnel;
 use super::microfacet::{Microfacet, PARAMS as MICROFACET};
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::nested::choose;
 use super::plastic::{internal_scattering, read_common, specular_sampling_weight, PARAMS};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use crate::description::{Invalid, Kind, Props, Schema};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -228,7 +228,14 @@ impl BsdfModel for RoughPlastic {
         what: "rough plastic material",
         params: &[
             MICROFACET[0],
-            MICROFACET[1],
+            // A number, as Mitsuba's: the coating's tables are integrated
+            // once for it when the material is built.
+            Param::new(
+                "alpha",
+                Type::Number,
+                "0.1",
+                "roughness ≥ 0 (RMS slope for Beckmann), along both tangents",
+            ),
             MICROFACET[4],
             PARAMS[0],
             PARAMS[1],

@@ -29,7 +29,7 @@
 use super::conductor::SPECULAR_REFLECTANCE;
 use super::dielectric::{read_interface, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
 use super::fresnel;
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::geometry::SurfaceInteraction;

@@ -18,7 +18,7 @@
 
 use std::sync::Arc;
 
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::nested;
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;

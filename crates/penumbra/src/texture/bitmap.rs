@@ -27,7 +27,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{one, UvTransform, TO_UV};
+use super::common::{one, UvTransform, TO_UV};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::input::image::{read_image, Encoding, Image};
 use crate::math::{Rgb, Vec2};

@@ -14,7 +14,7 @@
 //! | `color1` | colour ≥ 0 | `[0.2, 0.2, 0.2]` | the colour of the other squares |
 //! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
 
-use super::{one, read_colour, UvTransform, TO_UV};
+use super::common::{one, read_colour, UvTransform, TO_UV};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::math::{Rgb, Vec2};
 

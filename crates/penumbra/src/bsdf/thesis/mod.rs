@@ -45,7 +45,7 @@ pub use dielectric::{fresnel_dielectric, Dielectric, Split};
 pub use mirror::Mirror;
 pub use phong::Phong;
 
-use super::model::{BsdfModel, Defaults};
+use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::check::{int, nonneg3, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
