@@ -1201,9 +1201,9 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "`alpha_u` is not a parameter of the bsdf `roughplastic`",
         ),
         (
-            r#"<shape type="serialized"/>"#,
-            "shape `serialized` is not supported; supported: sphere, rectangle, disk, cube, \
-             cylinder, obj, ply, shapegroup, instance",
+            r#"<shape type="heightfield"/>"#,
+            "shape `heightfield` is not supported; supported: sphere, rectangle, disk, cube, \
+             cylinder, obj, ply, serialized, shapegroup, instance",
         ),
         (
             r#"<emitter type="projector"/>"#,

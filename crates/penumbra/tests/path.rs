@@ -205,37 +205,49 @@ fn split_paths_are_the_same_on_any_threads_and_passes() {
     assert_eq!(one.pixels, two.pixels);
 }
 
+/// The built-in scene `name` at `width × height` and `spp`, which must be
+/// path traced, rendered.
+fn path_traced_builtin(
+    name: &str,
+    bunny: Option<std::path::PathBuf>,
+    (width, height, spp): (u32, u32, u32),
+) -> Image {
+    let mut src = builtin(name, bunny);
+    set(
+        &mut src,
+        penumbra::scene::Overrides {
+            width: Some(width),
+            height: Some(height),
+            spp: Some(spp),
+            ..Default::default()
+        },
+    );
+    let s = src.build().unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert_eq!(
+        s.settings.integrator,
+        penumbra::scene::IntegratorChoice::Path
+    );
+    render_scene(&s, 2).0
+}
+
+/// The sum of the 6×6 pixels from (x0, y0).
+fn patch(img: &Image, x0: u32, y0: u32) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    for y in y0..y0 + 6 {
+        for x in x0..x0 + 6 {
+            sum += img.get(x, y);
+        }
+    }
+    sum
+}
+
 /// The built-in Cornell box is path traced, and shows what only indirect
 /// light gives: the white ceiling is redder beside the red wall (image
 /// left) than beside the green one.
 #[test]
 fn the_cornell_box_bleeds_colour() {
-    let mut src = builtin("cornell-box", None);
-    set(
-        &mut src,
-        penumbra::scene::Overrides {
-            width: Some(48),
-            height: Some(48),
-            spp: Some(32),
-            ..Default::default()
-        },
-    );
-    let s = src.build().expect("the Cornell box builds");
-    assert_eq!(
-        s.settings.integrator,
-        penumbra::scene::IntegratorChoice::Path
-    );
-    let (img, _) = render_scene(&s, 2);
-    let patch = |x0: u32| {
-        let mut sum = Rgb::ZERO;
-        for y in 2..8 {
-            for x in x0..x0 + 6 {
-                sum += img.get(x, y);
-            }
-        }
-        sum
-    };
-    let (left, right) = (patch(6), patch(36));
+    let img = path_traced_builtin("cornell-box", None, (48, 48, 32));
+    let (left, right) = (patch(&img, 6, 2), patch(&img, 36, 2));
     assert!(
         left.r / left.g > 1.2 * right.r / right.g,
         "{left:?} {right:?}"
@@ -252,32 +264,8 @@ fn the_cornell_box_bleeds_colour() {
 #[test]
 fn the_bunny_in_its_corner_bleeds_colour() {
     let Some(bunny) = common::bunny() else { return };
-    let mut src = builtin("bunny-gi", Some(bunny));
-    set(
-        &mut src,
-        penumbra::scene::Overrides {
-            width: Some(64),
-            height: Some(48),
-            spp: Some(16),
-            ..Default::default()
-        },
-    );
-    let s = src.build().expect("bunny-gi builds");
-    assert_eq!(
-        s.settings.integrator,
-        penumbra::scene::IntegratorChoice::Path
-    );
-    let (img, _) = render_scene(&s, 2);
-    let patch = |x0: u32| {
-        let mut sum = Rgb::ZERO;
-        for y in 40..46 {
-            for x in x0..x0 + 6 {
-                sum += img.get(x, y);
-            }
-        }
-        sum
-    };
-    let (left, right) = (patch(2), patch(56));
+    let img = path_traced_builtin("bunny-gi", Some(bunny), (64, 48, 16));
+    let (left, right) = (patch(&img, 2, 40), patch(&img, 56, 40));
     assert!(
         left.r / left.b > 1.2 * right.r / right.b,
         "{left:?} {right:?}"

@@ -238,6 +238,26 @@ pub fn model_p_value<M: BsdfModel>(
     )
 }
 
+/// Asserts that the sampler of every model follows its density from every
+/// view at the surface `si`: one χ² test per (model, view), at the
+/// family's significance (Šidák). `p_value` is [`model_p_value`] or
+/// [`smooth_p_value`]; a model's text names it in a failure.
+pub fn assert_samplers_pass<M: BsdfModel, T: std::fmt::Display>(
+    models: Vec<(T, M)>,
+    views: &[Vec3],
+    si: &SurfaceInteraction,
+    p_value: fn(&M, &SurfaceInteraction, Vec3, u64) -> Result<f64, String>,
+) {
+    let level = sidak(models.len() * views.len());
+    let cases = models
+        .iter()
+        .flat_map(|(text, m)| views.iter().map(move |&wo| (text, m, wo)));
+    for (k, (text, m, wo)) in cases.enumerate() {
+        let p = p_value(m, si, wo, k as u64).unwrap_or_else(|e| panic!("{text} {wo:?}: {e}"));
+        assert!(p > level, "{text} {wo:?}: p = {p:e}");
+    }
+}
+
 /// [`model_p_value`] of a model with delta lobes too: their samples count
 /// as draws that give no direction (the density of the smooth lobes
 /// integrates to their probability).

@@ -183,15 +183,7 @@ mod tests {
     #[test]
     fn sampling_passes_chi2() {
         let si = interaction(Vec3::Z);
-        let cases: Vec<_> = models()
-            .into_iter()
-            .flat_map(|(t, m)| views().map(move |wo| (t.clone(), m.clone(), wo)))
-            .collect();
-        let level = chi2::sidak(cases.len());
-        for (k, (text, m, wo)) in cases.iter().enumerate() {
-            let p = model_p_value(m, &si, *wo, k as u64).unwrap_or_else(|e| panic!("{text} {wo:?}: {e}"));
-            assert!(p > level, "{text} {wo:?}: p = {p:e}");
-        }
+        chi2::assert_samplers_pass(models(), &views(), &si, model_p_value);
     }
 
     /// Weights are eval·cos/pdf; eval is reciprocal; the albedo is at most
