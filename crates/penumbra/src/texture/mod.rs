@@ -2,8 +2,8 @@
 //! coordinates `(u, v)` of a [`SurfaceInteraction`] (Mitsuba 3's textures).
 //!
 //! Every parameter of a model that Mitsuba lets take a texture takes one
-//! here (its schema type is [`Type::ColourTexture`] or
-//! [`Type::NumberTexture`]): a colour, the texture of a model's colours; a
+//! here (its schema type is [`Type::ColourTexture`](crate::description::Type::ColourTexture) or
+//! [`Type::NumberTexture`](crate::description::Type::NumberTexture)): a colour, the texture of a model's colours; a
 //! number, a roughness. In a scene such a parameter is written as
 //!
 //! * a plain value, 3 numbers or a number: a [`Texture::Constant`], which
