@@ -100,10 +100,12 @@ def med(xs):
 
 def llvm_library():
     """A libLLVM that Dr.Jit accepts (it needs LLVM 15 or later)."""
-    cands = sorted(Path("/usr/lib/x86_64-linux-gnu").glob("libLLVM-*.so.1")) + sorted(
+    # Debian names them libLLVM-15.so.1 up to 18 and libLLVM.so.19.1 from 19
+    # on (libLLVM-19.so beside it).
+    cands = sorted(Path("/usr/lib/x86_64-linux-gnu").glob("libLLVM*.so*")) + sorted(
         Path("/usr/lib").glob("llvm-*/lib/libLLVM*.so*"))
     def major(p):
-        m = re.search(r"LLVM-(\d+)", p.name)
+        m = re.search(r"LLVM(?:-|\.so\.)(\d+)", p.name)
         return int(m.group(1)) if m else 0
     good = [p for p in cands if major(p) >= 15]
     return str(max(good, key=major)) if good else None
