@@ -1081,11 +1081,14 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
     let f = cam.child(Kind::Film).unwrap();
     assert_eq!(prop(f, "filter"), &Value::String("tent".into()));
 
-    for (sampler, dist) in [
-        ("independent", "random"),
-        ("stratified", "jitter"),
-        ("multijitter", "jitter"),
-        ("orthogonal", "pmj02"),
+    // The camera sample's distribution, and the path sampler of the
+    // bounces (none: independent numbers).
+    for (sampler, dist, path) in [
+        ("independent", "random", None),
+        ("stratified", "jitter", Some("pmj02")),
+        ("multijitter", "jitter", Some("pmj02")),
+        ("orthogonal", "pmj02", Some("pmj02")),
+        ("ldsampler", "sobol", Some("sobol")),
     ] {
         let d = one(&format!(
             r#"<sensor type="perspective"><sampler type="{sampler}"/></sensor>"#
@@ -1095,6 +1098,12 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
         assert_eq!(
             prop(s, "distribution"),
             &Value::String(dist.into()),
+            "{sampler}"
+        );
+        let i = root.child(Kind::Integrator).unwrap();
+        assert_eq!(
+            i.prop("path_sampler").map(|p| &p.value.value),
+            path.map(|p| Value::String(p.into())).as_ref(),
             "{sampler}"
         );
     }

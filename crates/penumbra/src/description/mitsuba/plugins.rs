@@ -207,6 +207,7 @@ pub fn scene(
         warnings,
         integrator: None,
         sensor: None,
+        path_sampler: None,
         background: None,
         bsdfs: Vec::new(),
         textures: Vec::new(),
@@ -260,13 +261,18 @@ pub fn scene(
         "scene",
         Origin::new(KeyPath::root(), root_at.clone()),
     );
-    let integrator = out.integrator.take().unwrap_or_else(|| {
+    let mut integrator = out.integrator.take().unwrap_or_else(|| {
         Node::new(
             Kind::Integrator,
             "path",
             Origin::new(render(), root_at.clone()),
         )
     });
+    if let Some((name, at)) = out.path_sampler.take() {
+        set(&mut integrator, &render(), "path_sampler", &at, |p, at| {
+            located(Value::String(name.into()), p, at)
+        });
+    }
     let Some(sensor) = out.sensor.take() else {
         return Err(error_at(
             &root.at,
@@ -301,6 +307,8 @@ struct Out<'a> {
     warnings: &'a mut Vec<String>,
     integrator: Option<Node>,
     sensor: Option<Node>,
+    /// The integrator's `path_sampler` for the sampler read, and where.
+    path_sampler: Option<(&'static str, Location)>,
     background: Option<Node>,
     bsdfs: Vec<Node>,
     /// The scene's textures (`textures.ID`), and the ids of those declared
@@ -889,14 +897,20 @@ impl Out<'_> {
                 ("ldsampler", _) => "sobol",
                 _ => "pmj02",
             };
-            if matches!(
-                s.plugin.as_str(),
-                "multijitter" | "ldsampler" | "orthogonal"
-            ) {
+            // The bounces' numbers: a sampler stratifying every dimension
+            // becomes the nearest sequence of the path samplers.
+            let path_sampler = match s.plugin.as_str() {
+                "independent" => None,
+                "ldsampler" => Some("sobol"),
+                _ => Some("pmj02"),
+            };
+            self.path_sampler = path_sampler.map(|p| (p, s.plugin_at.clone()));
+            if s.plugin != "independent" {
                 self.warnings.push(format!(
-                    "the `{}` sampler is rendered with Penumbra's `{distribution}` distribution, \
-                     its nearest",
-                    s.plugin
+                    "the `{}` sampler is rendered with Penumbra's `{distribution}` distribution \
+                     for the camera sample and the `{}` path sampler for the bounces, its nearest",
+                    s.plugin,
+                    path_sampler.unwrap_or("independent")
                 ));
             }
             if let Some((n, n_at)) = get_int(s, "sample_count")? {
