@@ -246,7 +246,8 @@ def merge_stats(
 
     ``parts`` holds ``(tile_stats, (worker_address, worker_threads))``.
     Ray counts (``rays``, ``saved``) and ``bad_samples`` are summed, so they
-    equal a local render's exactly. ``time.render_s`` is the sum of the
+    equal a local render's exactly; the stages' ``batches`` add their calls
+    and items, and their means follow. ``time.render_s`` is the sum of the
     tiles' render times (CPU-ish time: compare it with a local render's
     render_s times its threads), ``time.wall_s`` the client's wall clock from
     scatter to the last tile, ``time.build_s`` the longest build of any task
@@ -263,6 +264,15 @@ def merge_stats(
         if isinstance(out.get(section), dict):
             out[section] = {
                 k: sum(int(p[section][k]) for p, _ in parts) for k in out[section]
+            }
+    if isinstance(out.get("batches"), dict):
+        for stage in out["batches"]:
+            calls = sum(int(p["batches"][stage]["calls"]) for p, _ in parts)
+            items = sum(int(p["batches"][stage]["items"]) for p, _ in parts)
+            out["batches"][stage] = {
+                "calls": calls,
+                "items": items,
+                "mean": items / calls if calls else 0.0,
             }
     out["bad_samples"] = sum(int(p.get("bad_samples", 0)) for p, _ in parts)
     render_s = sum(float(p["time"]["render_s"]) for p, _ in parts)

@@ -36,6 +36,16 @@ pub fn print_summary(output: &Path, j: &Value) {
         n("refraction"),
         n("total")
     );
+    let b = &j["batches"];
+    let mean = |k: &str| b[k]["mean"].as_f64().unwrap_or(0.0);
+    if b["closest_hit"]["calls"].as_u64().unwrap_or(0) > 0 {
+        println!(
+            "mean batch: {:.0} rays per closest-hit call, {:.0} per occlusion call, {:.0} vertices per shading call",
+            mean("closest_hit"),
+            mean("occlusion"),
+            mean("shading")
+        );
+    }
     println!(
         "time: build {:.3} s, render {:.3} s on {} threads, {:.2} Mrays/s",
         j["time"]["build_s"].as_f64().unwrap_or(0.0),

@@ -549,3 +549,28 @@ fn sequenced_paths_are_the_same_on_any_threads_and_passes() {
     let err = error(&closed_box(0.5, "path_sampler = \"jitter\""));
     assert!(err.contains("independent, sobol"), "{err}");
 }
+
+/// The wavefront's stages, as the statistics count them: every ray a path
+/// follows is traced by a closest-hit call and its vertex shaded (misses
+/// included), every shadow ray by an occlusion call; a 16×16 image at 32
+/// samples fills a wave of 8,192 camera rays, and the closed box's one
+/// material is shaded in one call per bounce.
+#[test]
+fn the_stages_take_whole_waves() {
+    use penumbra::render::{render, RenderOptions};
+    let s = scene(&closed_box(0.5, "spp = 32\nmax_depth = 4"));
+    let opts = RenderOptions {
+        threads: Some(2),
+        region: None,
+    };
+    let (_, stats) = render(&s, &opts, &|_, _| {}, None).expect("render");
+    let (r, b) = (stats.rays, stats.batches);
+    assert_eq!(b.closest_hit.items, r.primary + r.reflection + r.refraction);
+    assert_eq!(b.shading.items, b.closest_hit.items);
+    assert_eq!(b.occlusion.items, r.shadow);
+    // One wave, four bounces: every path lives to the depth limit.
+    assert_eq!(b.closest_hit.calls, 4);
+    assert_eq!(b.closest_hit.mean(), 8192.0);
+    assert_eq!(b.shading.calls, 4);
+    assert_eq!(b.occlusion.calls, 3);
+}

@@ -525,6 +525,25 @@ impl World {
         (!blocked).then_some(seg.trans)
     }
 
+    /// [`transmittance`](Self::transmittance) of every ray of a batch over
+    /// the same fraction `(tmin, tmax)` of its direction, into `out` (one
+    /// entry per ray, the same bits as ray by ray): the occlusion stage of a
+    /// wavefront in one call, the place where wider kernels take the rays
+    /// several at a time.
+    pub fn transmittance_all(
+        &self,
+        rays: &[Ray],
+        (tmin, tmax): (f32, f32),
+        transparency: &[f32],
+        out: &mut Vec<Option<f32>>,
+    ) {
+        out.clear();
+        out.extend(
+            rays.iter()
+                .map(|ray| self.transmittance(ray, (tmin, tmax), transparency, None)),
+        );
+    }
+
     /// How often the ray crosses the object within (tmin, tmax): a closed
     /// shape (a sphere) can be crossed twice (in and out).
     fn count_crossings(&self, object: u32, ray: &Ray, tmin: f32, tmax: f32) -> i32 {

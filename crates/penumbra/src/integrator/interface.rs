@@ -7,7 +7,7 @@ use std::ops::Range;
 use serde::Serialize;
 
 use super::film::FilmTile;
-use super::stats::RayStats;
+use super::stats::{RayStats, StageBatches};
 use super::stopping::PixelSamples;
 use crate::scene::Scene;
 
@@ -84,6 +84,12 @@ pub trait PixelWorker {
 
     /// The rays traced so far, by kind.
     fn stats(&self) -> &RayStats;
+
+    /// The batches its stages took so far; none for an integrator that
+    /// traces ray by ray.
+    fn batches(&self) -> StageBatches {
+        StageBatches::default()
+    }
 }
 
 /// A tile of the frame's grid to render: pixels `xs × ys`, the range of

@@ -59,5 +59,5 @@ pub use film::FilmTile;
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use path::{Path, PathWorker, WAVE};
-pub use stats::{RayCounts, RayStats};
+pub use stats::{Batches, RayCounts, RayStats, StageBatches};
 pub use whitted::{Tracer, Whitted, WhittedWorker};

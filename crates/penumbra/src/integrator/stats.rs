@@ -56,3 +56,55 @@ impl AddAssign for RayStats {
         self.saved += o.saved;
     }
 }
+
+/// Calls of one stage of the wavefront and the items they took.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Batches {
+    pub calls: u64,
+    pub items: u64,
+}
+
+impl Batches {
+    /// Counts one call over `items` items.
+    #[inline]
+    pub fn add(&mut self, items: usize) {
+        self.calls += 1;
+        self.items += items as u64;
+    }
+
+    /// The mean items per call (0 without calls).
+    pub fn mean(&self) -> f64 {
+        if self.calls == 0 {
+            0.0
+        } else {
+            self.items as f64 / self.calls as f64
+        }
+    }
+}
+
+impl AddAssign for Batches {
+    fn add_assign(&mut self, o: Batches) {
+        self.calls += o.calls;
+        self.items += o.items;
+    }
+}
+
+/// The batches of the wavefront's stages: closest-hit calls and their
+/// rays, occlusion calls and their shadow rays, shading calls (one per
+/// material a bounce meets) and their vertices. They depend on the tiles
+/// and passes a frame is cut into, unlike the ray counts; all zero for an
+/// integrator that traces ray by ray (`whitted`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct StageBatches {
+    pub closest_hit: Batches,
+    pub occlusion: Batches,
+    pub shading: Batches,
+}
+
+impl AddAssign for StageBatches {
+    fn add_assign(&mut self, o: StageBatches) {
+        self.closest_hit += o.closest_hit;
+        self.occlusion += o.occlusion;
+        self.shading += o.shading;
+    }
+}

@@ -2,7 +2,7 @@ use std::ops::Range;
 
 use super::region::Region;
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{BadSample, FilmTile, Integrator, PixelWorker, RayStats};
+use crate::integrator::{BadSample, FilmTile, Integrator, PixelWorker, RayStats, StageBatches};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -38,6 +38,7 @@ pub(super) struct Tile {
     pub region: Region,
     pub pixels: Vec<Rgb>,
     pub rays: RayStats,
+    pub batches: StageBatches,
     pub bad: Vec<BadSample>,
     /// How each pixel ended under adaptive sampling, row by row; empty
     /// without it.
@@ -74,6 +75,7 @@ pub(super) struct TileSlot<S> {
     pub film: FilmTile,
     pub state: S,
     pub rays: RayStats,
+    pub batches: StageBatches,
     pub bad: Vec<BadSample>,
 }
 
@@ -87,6 +89,7 @@ impl<S: Default> TileSlot<S> {
             block,
             state: S::default(),
             rays: RayStats::default(),
+            batches: StageBatches::default(),
             bad: Vec::new(),
         }
     }
@@ -125,6 +128,7 @@ pub(super) fn render_pass<I: Integrator>(
     bad.retain(|b| (region.x0..region.x1).contains(&b.x) && (region.y0..region.y1).contains(&b.y));
     slot.bad.extend(bad);
     slot.rays += *worker.stats();
+    slot.batches += worker.batches();
     if last {
         slot.samples = worker.pixel_samples(&slot.state);
     }
@@ -143,6 +147,7 @@ pub(super) fn finish<S>(slot: TileSlot<S>) -> Tile {
         region,
         pixels: slot.film.values(region.x0..region.x1, region.y0..region.y1),
         rays: slot.rays,
+        batches: slot.batches,
         bad: slot.bad,
         samples,
     }

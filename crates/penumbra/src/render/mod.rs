@@ -18,7 +18,9 @@ pub use region::{Region, TILE};
 pub use report::stats_document;
 
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{pass_samples, BadSample, Integrator, Path, RayStats, Whitted};
+use crate::integrator::{
+    pass_samples, BadSample, Integrator, Path, RayStats, StageBatches, Whitted,
+};
 use crate::math::Rgb;
 use crate::scene::{IntegratorChoice, Scene};
 
@@ -35,6 +37,8 @@ pub struct RenderOptions {
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct RenderStats {
     pub rays: RayStats,
+    /// The mean batches of the wavefront's stages (see [`StageBatches`]).
+    pub batches: StageBatches,
     pub render_time: Duration,
     pub threads: usize,
     /// Number of non-finite samples discarded, and the first few of them.
@@ -132,7 +136,13 @@ pub fn render_with<I: Integrator>(
     let slots: Vec<Mutex<Option<TileSlot<I::TileState>>>> =
         tiles.iter().map(|_| Mutex::new(None)).collect();
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    type Counted = (RayStats, Vec<BadSample>, Region, Vec<PixelSamples>);
+    type Counted = (
+        RayStats,
+        StageBatches,
+        Vec<BadSample>,
+        Region,
+        Vec<PixelSamples>,
+    );
     let mut results: Vec<Option<Counted>> = Vec::new();
     for pass in 0..passes {
         let samples = pass_samples(pass, passes, integrator.samples());
@@ -168,7 +178,13 @@ pub fn render_with<I: Integrator>(
                     let rows = &bands[band];
                     let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
                     tile.copy_into(&mut rows, region);
-                    Some(Some((tile.rays, tile.bad, tile.region, tile.samples)))
+                    Some(Some((
+                        tile.rays,
+                        tile.batches,
+                        tile.bad,
+                        tile.region,
+                        tile.samples,
+                    )))
                 })
                 .collect()
         });
@@ -190,11 +206,12 @@ pub fn render_with<I: Integrator>(
         stats.pixel_samples = vec![PixelSamples::default(); pixels];
     }
     for tile in results {
-        let (rays, bad, at, samples) = tile.ok_or(RenderError::Cancelled)?;
+        let (rays, batches, bad, at, samples) = tile.ok_or(RenderError::Cancelled)?;
         if adaptive {
             place(&mut stats.pixel_samples, region, at, &samples);
         }
         stats.rays += rays;
+        stats.batches += batches;
         stats.bad_samples += bad.len() as u64;
         let room = 16usize.saturating_sub(stats.first_bad_samples.len());
         stats.first_bad_samples.extend(bad.into_iter().take(room));

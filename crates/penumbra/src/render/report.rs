@@ -1,6 +1,7 @@
 use serde_json::{json, Value};
 
 use super::RenderStats;
+use crate::integrator::Batches;
 use crate::scene::Scene;
 
 /// The statistics document written by `--stats` and returned by the Python
@@ -39,6 +40,11 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
             "refraction": r.saved.refraction,
             "total": r.saved.total(),
         },
+        "batches": {
+            "closest_hit": batches(&stats.batches.closest_hit),
+            "occlusion": batches(&stats.batches.occlusion),
+            "shading": batches(&stats.batches.shading),
+        },
         "metric": s.metric.map(|m| json!({
             "reflections": m.reflections,
             "shadows": m.shadows,
@@ -54,4 +60,9 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "mrays_per_s": mrays,
         "bad_samples": stats.bad_samples,
     })
+}
+
+/// A stage's calls, the items they took and their mean.
+fn batches(b: &Batches) -> Value {
+    json!({ "calls": b.calls, "items": b.items, "mean": b.mean() })
 }

@@ -84,7 +84,7 @@ mod wavefront;
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
-use super::stats::RayStats;
+use super::stats::{RayStats, StageBatches};
 use crate::scene::{PathSettings, Scene};
 
 use wavefront::Wavefront;
@@ -155,5 +155,9 @@ impl PixelWorker for PathWorker<'_> {
 
     fn stats(&self) -> &RayStats {
         &self.wave.stats
+    }
+
+    fn batches(&self) -> StageBatches {
+        self.wave.batches
     }
 }

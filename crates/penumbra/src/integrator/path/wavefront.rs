@@ -9,7 +9,7 @@ use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
 use crate::emitter::{Emitter, LightSample};
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
-use crate::integrator::stats::RayStats;
+use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{offset_origin, reach, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::points::unit_square;
@@ -110,6 +110,8 @@ pub(super) struct Wavefront<'s> {
     scene: &'s Scene,
     settings: PathSettings,
     pub(super) stats: RayStats,
+    /// The calls of each stage and the items they took.
+    pub(super) batches: StageBatches,
     /// Per material, what its vertices need of its lobes (found once).
     materials: Vec<Material>,
     /// The emitters at infinity, which rays that hit nothing see.
@@ -122,7 +124,14 @@ pub(super) struct Wavefront<'s> {
     next: Paths,
     hits: Vec<Option<Hit>>,
     packet: PacketScratch,
+    /// The paths of a bounce grouped for shading: those that met nothing,
+    /// then those on each material in turn (see [`group_by_material`]).
+    order: Vec<u32>,
+    /// Where each group of `order` starts, and its end.
+    groups: Vec<u32>,
     shadows: Shadows,
+    /// What each shadow ray of the bounce lets through (`None`: blocked).
+    passed: Vec<Option<f32>>,
     /// Per sample of the wave, the radiance its path gathered.
     radiance: Vec<Rgb>,
     /// Per sample of the wave, its pixel-filter weight.
@@ -150,6 +159,7 @@ impl<'s> Wavefront<'s> {
             scene,
             settings,
             stats: RayStats::default(),
+            batches: StageBatches::default(),
             materials,
             far,
             escape,
@@ -158,7 +168,10 @@ impl<'s> Wavefront<'s> {
             next: Paths::default(),
             hits: Vec::new(),
             packet: PacketScratch::default(),
+            order: Vec::new(),
+            groups: Vec::new(),
             shadows: Shadows::default(),
+            passed: Vec::new(),
             radiance: Vec::new(),
             weights: Vec::new(),
             points: Vec::new(),
@@ -237,6 +250,7 @@ impl<'s> Wavefront<'s> {
         let mut depth = 0;
         while self.paths.len() > 0 && depth < max_depth {
             let scene = self.scene;
+            self.batches.closest_hit.add(self.paths.len());
             scene
                 .world
                 .intersect_all(&self.paths.ray, 0.0, &mut self.packet, &mut self.hits);
@@ -261,9 +275,12 @@ impl<'s> Wavefront<'s> {
             paths,
             next,
             hits,
+            order,
+            groups,
             shadows,
             radiance,
             points,
+            batches,
             ..
         } = self;
         next.clear();
@@ -275,7 +292,13 @@ impl<'s> Wavefront<'s> {
         // Next-event estimation chooses among every emitter.
         let lights = scene.emitters.len();
         let counts = (lights, scene.settings.shadow);
-        for (i, hit) in hits.iter().enumerate() {
+        group_by_material(hits, scene.bsdfs.len(), order, groups);
+        for g in groups.windows(2).filter(|g| g[1] > g[0]) {
+            batches.shading.add((g[1] - g[0]) as usize);
+        }
+        for &i in order.iter() {
+            let i = i as usize;
+            let hit = &hits[i];
             let (ray, slot, beta) = (&paths.ray[i], paths.slot[i], paths.beta[i]);
             let acc = &mut radiance[slot as usize];
             let prev = paths.mis[i];
@@ -396,15 +419,49 @@ impl<'s> Wavefront<'s> {
     fn occlude(&mut self) {
         let world = &self.scene.world;
         let s = &self.shadows;
+        if s.ray.is_empty() {
+            return;
+        }
         self.stats.shadow += s.ray.len() as u64;
-        for ((ray, &slot), &value) in s.ray.iter().zip(&s.slot).zip(&s.value) {
-            if world
-                .transmittance(ray, (0.0, SHADOW_END), &self.opaque, None)
-                .is_some()
-            {
+        self.batches.occlusion.add(s.ray.len());
+        let passed = &mut self.passed;
+        world.transmittance_all(&s.ray, (0.0, SHADOW_END), &self.opaque, passed);
+        for ((&slot, &value), pass) in s.slot.iter().zip(&s.value).zip(passed.iter()) {
+            if pass.is_some() {
                 self.radiance[slot as usize] += value;
             }
         }
+    }
+}
+
+/// Groups the paths of a bounce for shading, keeping their order within a
+/// group: `order` lists first those whose ray met nothing, then those on
+/// material 0, 1, … of the `materials`; group `g` is
+/// `order[groups[g]..groups[g + 1]]`. A path's contributions to its sample
+/// keep their order whatever else shares the wave, so pixels do not depend
+/// on how a frame is cut into tiles and waves.
+fn group_by_material(
+    hits: &[Option<Hit>],
+    materials: usize,
+    order: &mut Vec<u32>,
+    groups: &mut Vec<u32>,
+) {
+    let key = |h: &Option<Hit>| h.as_ref().map_or(0, |h| h.material as usize + 1);
+    groups.clear();
+    groups.resize(materials + 2, 0);
+    for h in hits {
+        groups[key(h) + 1] += 1;
+    }
+    for g in 1..groups.len() {
+        groups[g] += groups[g - 1];
+    }
+    order.clear();
+    order.resize(hits.len(), 0);
+    let mut next: Vec<u32> = groups[..materials + 1].to_vec();
+    for (i, h) in hits.iter().enumerate() {
+        let k = key(h);
+        order[next[k] as usize] = i as u32;
+        next[k] += 1;
     }
 }
 
