@@ -574,3 +574,37 @@ fn the_stages_take_whole_waves() {
     assert_eq!(b.shading.calls, 4);
     assert_eq!(b.occlusion.calls, 3);
 }
+
+/// The thesis's shadow metric on `distributed`'s sets: in the closed box
+/// every shadow ray reaches its wall, so each set stops after its first
+/// `k` members and the box keeps its radiance; the members left are
+/// counted as saved. With a sphere casting shadows inside, the sets across
+/// its shadows go on, so fewer are saved, and the pixels stay the same on
+/// any number of threads.
+#[test]
+fn the_shadow_metric_stops_distributed_shadow_sets() {
+    let render = |metric: &str| {
+        let r = format!(
+            "integrator = \"distributed\"\nspp = 16\nmax_depth = 2\n\
+             shadow_rays = 8\nreflection_rays = 2\ndistribution = \"jitter\"\n{metric}"
+        );
+        closed_box(0.5, &r).replace("integrator = \"path\"\n", "")
+    };
+    let on = "metric = true\nshadow_metric_rays = 2";
+    let (img, rays) = render_toml(&render(on));
+    let (_, all) = render_toml(&render(""));
+    assert_near(mean(&img), 1.5, 0.01, "shadow metric");
+    assert_eq!(rays.shadow * 4, all.shadow, "{rays:?} {all:?}");
+    assert_eq!(rays.shadow + rays.saved.shadow, all.shadow);
+    let sphere = "\n[materials.ball]\nalbedo = [0.5, 0.5, 0.5]\n\n\
+                  [[objects]]\ntype = \"sphere\"\nmaterial = \"ball\"\ncenter = [0.3, -0.4, -0.3]\nradius = 0.35\n";
+    let s = scene(&(render(on) + sphere));
+    let (one, shadowed) = render_scene(&s, 1);
+    let (three, shadowed3) = render_scene(&s, 3);
+    assert_eq!(one.pixels, three.pixels);
+    assert_eq!(shadowed, shadowed3);
+    let (_, whole) = render_toml(&(render("") + sphere));
+    assert!(shadowed.shadow > whole.shadow / 4, "{shadowed:?} {whole:?}");
+    assert!(shadowed.shadow < whole.shadow, "{shadowed:?} {whole:?}");
+    assert!(shadowed.saved.shadow > 0);
+}

@@ -327,8 +327,10 @@ pub const PATH: Schema = Schema {
 /// The type of `path_sampler`.
 const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
 
-/// The distributed path tracer's parameters: the path tracer's and the
-/// depth its sets reach.
+/// The distributed path tracer's parameters: the path tracer's, the depth
+/// its sets reach, and the thesis's shadow metric on its shadow sets (its
+/// BSDF sets go on as paths, whose values are known only at their ends: no
+/// reflection metric judges them).
 pub const DISTRIBUTED: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "distributed",
@@ -340,6 +342,9 @@ pub const DISTRIBUTED: Schema = Schema {
         param("sets_depth", Type::Int),
         param("path_sampler", PATH_SAMPLER),
         param("passes", Type::Int),
+        param("metric", Type::Bool),
+        param("shadow_metric", Type::Bool),
+        param("shadow_metric_rays", Type::Int),
     ],
 };
 
@@ -430,7 +435,17 @@ pub fn read(
         refraction: sets.refraction,
         points: Arc::new(PointTable::NONE),
         filter,
-        metric: metric(i)?,
+        metric: match choice {
+            // Only the shadow metric judges the distributed tracer's sets.
+            IntegratorChoice::Distributed => metric(i)?
+                .map(|m| Metric {
+                    reflections: false,
+                    pixels: false,
+                    ..m
+                })
+                .filter(|m| m.shadows),
+            _ => metric(i)?,
+        },
         stopping: stopping(i)?,
     })
 }

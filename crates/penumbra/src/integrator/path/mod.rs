@@ -25,7 +25,10 @@
 //! so the estimator converges to `path`'s image; a distribution that is not
 //! uniform (`fast-random`) biases it as it biases the thesis's sets.
 //! Light and BSDF samples are weighed by the power heuristic on density
-//! times count. The thesis's metrics do not stop these sets.
+//! times count. The thesis's shadow metric may stop a shadow set after its
+//! first `k` members (all reached the emitter, or all were blocked: their
+//! mean is the set's value); the BSDF sets go on as paths, whose values are
+//! known only at their ends, so no reflection metric judges them.
 //! `direct` is this estimator with two vertices and no roulette: at the
 //! first, `emitter_samples` emitter samples and `bsdf_samples` BSDF samples
 //! (each going on as its own path, its throughput divided by the count),

@@ -96,13 +96,70 @@ impl Paths {
     }
 }
 
-/// Shadow rays of a bounce, each with the sample it lights and what it
-/// brings if nothing blocks it.
+/// Shadow rays, each with the sample it lights, what it brings if nothing
+/// blocks it, and the shadow set whose metric judges it ([`NO_SET`]: none).
 #[derive(Default)]
-struct Shadows {
+struct ShadowRays {
     ray: Vec<Ray>,
     slot: Vec<u32>,
     value: Vec<Rgb>,
+    set: Vec<u32>,
+}
+
+impl ShadowRays {
+    fn clear(&mut self) {
+        self.ray.clear();
+        self.slot.clear();
+        self.value.clear();
+        self.set.clear();
+    }
+
+    fn push(&mut self, ray: Ray, slot: u32, value: Rgb, set: u32) {
+        self.ray.push(ray);
+        self.slot.push(slot);
+        self.value.push(value);
+        self.set.push(set);
+    }
+}
+
+/// A shadow set the thesis's shadow metric judges: `n` members, of which
+/// the first `k` are traced first; `reached` and `blocked` count how those
+/// of them that are rays ended.
+#[derive(Clone, Copy, Debug)]
+struct ShadowTally {
+    n: u32,
+    k: u32,
+    reached: u32,
+    blocked: u32,
+}
+
+impl ShadowTally {
+    /// The metric's verdict after the first `k` members: stop if they all
+    /// reached the emitter or were all blocked (and one was a ray).
+    fn stops(&self) -> bool {
+        (self.reached == 0 || self.blocked == 0) && self.reached + self.blocked > 0
+    }
+}
+
+/// No shadow set: a ray no metric judges.
+const NO_SET: u32 = u32::MAX;
+
+/// The shadow rays of a bounce: `now`, traced first, and `later`, the
+/// members past the first `k` of the sets the shadow metric judges, traced
+/// only for the sets it does not stop (see [`Wavefront::occlude`]).
+#[derive(Default)]
+struct Shadows {
+    now: ShadowRays,
+    later: ShadowRays,
+    sets: Vec<ShadowTally>,
+}
+
+impl Shadows {
+    fn clear(&mut self) {
+        self.now.clear();
+        self.later.clear();
+        self.sets.clear();
+    }
 }
 
 /// A worker's wavefront: its buffers, kept from wave to wave.
@@ -284,9 +341,7 @@ impl<'s> Wavefront<'s> {
             ..
         } = self;
         next.clear();
-        shadows.ray.clear();
-        shadows.slot.clear();
-        shadows.value.clear();
+        shadows.clear();
         let seen = !(settings.hide_emitters && depth == 0);
         let go_on = depth.saturating_add(1) < max_depth;
         // Next-event estimation chooses among every emitter.
@@ -414,19 +469,62 @@ impl<'s> Wavefront<'s> {
         }
     }
 
-    /// The occlusion stage: every shadow ray of the bounce tested, and what
-    /// the unblocked ones bring added to their samples.
+    /// The occlusion stage: every shadow ray of the bounce tested in one
+    /// call, and what the unblocked ones bring added to their samples. A
+    /// set the shadow metric judges whose first `k` members all reached
+    /// the emitter, or were all blocked, stops there: their mean is its
+    /// value (each of its rays counts `n / k` times) and the rest are never
+    /// traced; the rest of the other sets go in a second call.
     fn occlude(&mut self) {
         let world = &self.scene.world;
-        let s = &self.shadows;
-        if s.ray.is_empty() {
+        let Shadows { now, later, sets } = &mut self.shadows;
+        let passed = &mut self.passed;
+        if !now.ray.is_empty() {
+            self.stats.shadow += now.ray.len() as u64;
+            self.batches.occlusion.add(now.ray.len());
+            world.transmittance_all(&now.ray, (0.0, SHADOW_END), &self.opaque, passed);
+            for (&set, pass) in now.set.iter().zip(passed.iter()) {
+                if let Some(t) = sets.get_mut(set as usize) {
+                    if pass.is_some() {
+                        t.reached += 1;
+                    } else {
+                        t.blocked += 1;
+                    }
+                }
+            }
+            let rays = now.slot.iter().zip(&now.value).zip(&now.set);
+            for (((&slot, &value), &set), pass) in rays.zip(passed.iter()) {
+                if pass.is_none() {
+                    continue;
+                }
+                let scale = match sets.get(set as usize) {
+                    Some(t) if t.stops() => t.n as f32 / t.k as f32,
+                    _ => 1.0,
+                };
+                self.radiance[slot as usize] += value * scale;
+            }
+        }
+        for t in sets.iter().filter(|t| t.stops()) {
+            self.stats.saved.shadow += u64::from(t.n - t.k);
+        }
+        // The rest of the sets the metric did not stop.
+        let mut keep = 0;
+        for i in 0..later.ray.len() {
+            if !sets[later.set[i] as usize].stops() {
+                later.ray[keep] = later.ray[i];
+                later.slot[keep] = later.slot[i];
+                later.value[keep] = later.value[i];
+                keep += 1;
+            }
+        }
+        if keep == 0 {
             return;
         }
-        self.stats.shadow += s.ray.len() as u64;
-        self.batches.occlusion.add(s.ray.len());
-        let passed = &mut self.passed;
-        world.transmittance_all(&s.ray, (0.0, SHADOW_END), &self.opaque, passed);
-        for ((&slot, &value), pass) in s.slot.iter().zip(&s.value).zip(passed.iter()) {
+        let rays = &later.ray[..keep];
+        self.stats.shadow += keep as u64;
+        self.batches.occlusion.add(keep);
+        world.transmittance_all(rays, (0.0, SHADOW_END), &self.opaque, passed);
+        for ((&slot, &value), pass) in later.slot.iter().zip(&later.value).zip(passed.iter()) {
             if pass.is_some() {
                 self.radiance[slot as usize] += value;
             }
@@ -534,18 +632,38 @@ fn thesis_sets(
     let set = material.set;
     let nb = set.rays as f32;
     if material.smooth {
+        // The shadow metric's k, for the sets it judges.
+        let metric = scene.settings.metric.filter(|m| m.shadows);
         for (j, emitter) in scene.emitters.iter().enumerate() {
             let set = shadow_set(emitter, scene.settings.shadow);
             let (n, d) = (set.rays, set.distribution);
+            let k = metric.map(|m| m.shadow_rays).filter(|&k| k < n);
+            let id = match k {
+                Some(k) => {
+                    let tally = ShadowTally {
+                        n,
+                        k,
+                        reached: 0,
+                        blocked: 0,
+                    };
+                    out.shadows.sets.push(tally);
+                    out.shadows.sets.len() as u32 - 1
+                }
+                None => NO_SET,
+            };
             let mut rng = path.derive(SHADOW_SETS + j as u64);
             d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
-            for &point in out.points.iter() {
+            for (m, &point) in out.points.iter().enumerate() {
                 let Some(ls) = sample_emitter(emitter, v.hit.p, (point, d), out.escape) else {
                     continue;
                 };
                 let ns = n as f32;
                 let weigh = |pdf_b: f32| power_heuristic(ns * ls.pdf, nb * pdf_b);
-                shadow_ray(v, bsdf, &ls, weigh, ns, out.shadows);
+                let rays = match k {
+                    Some(k) if m as u32 >= k => &mut out.shadows.later,
+                    _ => &mut out.shadows.now,
+                };
+                shadow_ray(v, bsdf, &ls, weigh, ns, (rays, id));
             }
         }
     }
@@ -635,7 +753,7 @@ fn light_sample(
         return;
     };
     let weigh = |pdf_b: f32| power_heuristic(e * ls.pdf / lights, b * pdf_b);
-    shadow_ray(v, bsdf, &ls, weigh, e / lights, shadows);
+    shadow_ray(v, bsdf, &ls, weigh, e / lights, (&mut shadows.now, NO_SET));
 }
 
 /// What a vertex needs of its material's lobes.
@@ -706,14 +824,15 @@ fn sample_emitter(
 /// sample's share: divided by `n`), and what it brings if unblocked:
 /// `f · weight · cos / n`, times `weigh` of the BSDF's density toward it
 /// where the sample has a density (1 where it has none: a point light, the
-/// thesis's penumbra model). Pushed to `shadows` unless it brings nothing.
+/// thesis's penumbra model). Pushed to `rays`, judged with shadow set `set`,
+/// unless it brings nothing.
 fn shadow_ray(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
     ls: &LightSample,
     weigh: impl Fn(f32) -> f32,
     n: f32,
-    shadows: &mut Shadows,
+    (rays, set): (&mut ShadowRays, u32),
 ) {
     let wi = ls.dir;
     let f = bsdf.eval(v.hit, v.wo, wi);
@@ -727,11 +846,8 @@ fn shadow_ray(
         1.0
     };
     let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, wi);
-    shadows
-        .ray
-        .push(Ray::new(origin, ls.target - origin, v.time));
-    shadows.slot.push(v.slot);
-    shadows.value.push(v.beta * f * ls.weight * (cos * w / n));
+    let ray = Ray::new(origin, ls.target - origin, v.time);
+    rays.push(ray, v.slot, v.beta * f * ls.weight * (cos * w / n), set);
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a`
