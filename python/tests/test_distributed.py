@@ -56,6 +56,12 @@ def test_path_traced_tiles_on_two_workers_give_exactly_the_local_image(client, i
     assert local.mean() > 0.01
     assert np.array_equal(image, local)
     assert stats["rays"] == local_stats["rays"]
+    # The stages take the same rays in more, smaller calls.
+    for stage in ("closest_hit", "occlusion", "shading"):
+        merged, alone = stats["batches"][stage], local_stats["batches"][stage]
+        assert merged["items"] == alone["items"] > 0, stage
+        assert merged["calls"] > alone["calls"], stage
+        assert merged["mean"] == pytest.approx(merged["items"] / merged["calls"])
 
 
 def test_progress_counts_tiles(client, small):
