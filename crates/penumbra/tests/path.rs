@@ -590,7 +590,7 @@ fn the_shadow_metric_stops_distributed_shadow_sets() {
         );
         closed_box(0.5, &r).replace("integrator = \"path\"\n", "")
     };
-    let on = "metric = true\nshadow_metric_rays = 2";
+    let on = "metric = true\nreflection_metric = false\nshadow_metric_rays = 2";
     let (img, rays) = render_toml(&render(on));
     let (_, all) = render_toml(&render(""));
     assert_near(mean(&img), 1.5, 0.01, "shadow metric");
@@ -607,4 +607,49 @@ fn the_shadow_metric_stops_distributed_shadow_sets() {
     assert!(shadowed.shadow > whole.shadow / 4, "{shadowed:?} {whole:?}");
     assert!(shadowed.shadow < whole.shadow, "{shadowed:?} {whole:?}");
     assert!(shadowed.saved.shadow > 0);
+}
+
+/// The reflection metric on `distributed`'s sets of BSDF samples at the
+/// first vertex: each member's path is followed to its end before the set
+/// is judged. In the closed box members bring similar light, so most sets
+/// stop early and the box keeps its radiance, the members left counted as
+/// saved; at threshold 0 no set stops, and the
+/// rays are those of the render without the metric. Pixels do not depend
+/// on the threads or the passes.
+#[test]
+fn the_reflection_metric_judges_whole_paths() {
+    let render = |metric: &str| {
+        let r = format!(
+            "integrator = \"distributed\"\nspp = 16\nmax_depth = 3\n\
+             shadow_rays = 2\nreflection_rays = 12\ndistribution = \"jitter\"\n{metric}"
+        );
+        closed_box(0.5, &r).replace("integrator = \"path\"\n", "")
+    };
+    let on = "metric = true\nshadow_metric = false\nmetric_min_rays = 3\nmetric_threshold = 0.2";
+    let (img, rays) = render_toml(&render(on));
+    let (_, all) = render_toml(&render(""));
+    assert_near(mean(&img), 1.75, 0.01, "reflection metric");
+    assert!(rays.saved.reflection > 0, "{rays:?}");
+    assert!(rays.reflection < all.reflection, "{rays:?} {all:?}");
+    // Every member traced goes on for one more bounce (no roulette before
+    // depth 5): half the reflection rays are members, and with the members
+    // saved they make the sets whole.
+    assert_eq!(rays.reflection % 2, 0);
+    assert_eq!(
+        rays.reflection / 2 + rays.saved.reflection,
+        12 * rays.primary
+    );
+    assert_eq!(all.reflection, 2 * 12 * all.primary);
+    let never = "metric = true\nshadow_metric = false\nmetric_threshold = 0";
+    let (img0, rays0) = render_toml(&render(never));
+    assert_eq!(rays0, all);
+    assert_near(mean(&img0), 1.75, 0.01, "threshold 0");
+    let s = scene(&render(on));
+    let (one, r1) = render_scene(&s, 1);
+    let (three, r3) = render_scene(&s, 3);
+    assert_eq!(one.pixels, three.pixels);
+    assert_eq!(r1, r3);
+    let (five, r5) = render_toml(&render(&format!("{on}\npasses = 5")));
+    assert_eq!(one.pixels, five.pixels);
+    assert_eq!(r1, r5);
 }

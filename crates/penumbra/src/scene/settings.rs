@@ -328,9 +328,8 @@ pub const PATH: Schema = Schema {
 const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
 
 /// The distributed path tracer's parameters: the path tracer's, the depth
-/// its sets reach, and the thesis's shadow metric on its shadow sets (its
-/// BSDF sets go on as paths, whose values are known only at their ends: no
-/// reflection metric judges them).
+/// its sets reach, and the thesis's metrics on its sets (not on a pixel's
+/// camera rays).
 pub const DISTRIBUTED: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "distributed",
@@ -343,7 +342,10 @@ pub const DISTRIBUTED: Schema = Schema {
         param("path_sampler", PATH_SAMPLER),
         param("passes", Type::Int),
         param("metric", Type::Bool),
+        param("reflection_metric", Type::Bool),
         param("shadow_metric", Type::Bool),
+        param("metric_threshold", Type::Number),
+        param("metric_min_rays", Type::Int),
         param("shadow_metric_rays", Type::Int),
     ],
 };
@@ -435,17 +437,7 @@ pub fn read(
         refraction: sets.refraction,
         points: Arc::new(PointTable::NONE),
         filter,
-        metric: match choice {
-            // Only the shadow metric judges the distributed tracer's sets.
-            IntegratorChoice::Distributed => metric(i)?
-                .map(|m| Metric {
-                    reflections: false,
-                    pixels: false,
-                    ..m
-                })
-                .filter(|m| m.shadows),
-            _ => metric(i)?,
-        },
+        metric: metric(i)?,
         stopping: stopping(i)?,
     })
 }

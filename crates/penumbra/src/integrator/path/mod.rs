@@ -27,8 +27,10 @@
 //! Light and BSDF samples are weighed by the power heuristic on density
 //! times count. The thesis's shadow metric may stop a shadow set after its
 //! first `k` members (all reached the emitter, or all were blocked: their
-//! mean is the set's value); the BSDF sets go on as paths, whose values are
-//! known only at their ends, so no reflection metric judges them.
+//! mean is the set's value). Its reflection metric judges the first
+//! vertex's BSDF set on its members' whole paths: α members are followed to
+//! their ends, then one more of each set not yet converged, in rounds of the
+//! wave from the second vertex, until every set is judged.
 //! `direct` is this estimator with two vertices and no roulette: at the
 //! first, `emitter_samples` emitter samples and `bsdf_samples` BSDF samples
 //! (each going on as its own path, its throughput divided by the count),

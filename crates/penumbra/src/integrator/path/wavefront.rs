@@ -9,6 +9,7 @@ use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
 use crate::emitter::{Emitter, LightSample};
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
+use crate::integrator::metric::RunningMean;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{offset_origin, reach, Ray, Rgb, Vec2, Vec3};
@@ -195,6 +196,8 @@ pub(super) struct Wavefront<'s> {
     weights: Vec<f32>,
     /// The points of a set being drawn.
     points: Vec<Vec3>,
+    /// The sets the reflection metric judges, of the wave's first vertices.
+    pending: Vec<PendingSet>,
 }
 
 impl<'s> Wavefront<'s> {
@@ -232,6 +235,7 @@ impl<'s> Wavefront<'s> {
             radiance: Vec::new(),
             weights: Vec::new(),
             points: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
@@ -303,19 +307,90 @@ impl<'s> Wavefront<'s> {
         self.radiance.clear();
         self.radiance.resize(n, Rgb::ZERO);
         self.stats.primary += n as u64;
+        self.pending.clear();
         let max_depth = self.settings.max_depth.unwrap_or(u32::MAX);
         let mut depth = 0;
-        while self.paths.len() > 0 && depth < max_depth {
-            let scene = self.scene;
-            self.batches.closest_hit.add(self.paths.len());
-            scene
-                .world
-                .intersect_all(&self.paths.ray, 0.0, &mut self.packet, &mut self.hits);
-            self.shade(depth, max_depth);
-            self.occlude();
-            std::mem::swap(&mut self.paths, &mut self.next);
-            depth += 1;
+        loop {
+            while self.paths.len() > 0 && depth < max_depth {
+                let scene = self.scene;
+                self.batches.closest_hit.add(self.paths.len());
+                scene
+                    .world
+                    .intersect_all(&self.paths.ray, 0.0, &mut self.packet, &mut self.hits);
+                self.shade(depth, max_depth);
+                self.occlude();
+                std::mem::swap(&mut self.paths, &mut self.next);
+                depth += 1;
+            }
+            // The judged sets' next members, from the second vertex on.
+            if !self.judge_sets() {
+                break;
+            }
+            depth = 1;
         }
+        self.radiance.truncate(n);
+    }
+
+    /// Judges the sets of BSDF samples pending at the wave's first
+    /// vertices by the reflection metric (thesis §3.4), their latest
+    /// members traced to their ends: a set whose running mean changed by
+    /// less than the threshold, or that has traced all its members, adds
+    /// its mean to its sample and counts the members left as saved; every
+    /// other set starts the path of its next member. True if any did.
+    fn judge_sets(&mut self) -> bool {
+        let Some(metric) = self.scene.settings.metric else {
+            return false;
+        };
+        let scene = self.scene;
+        self.paths.clear();
+        let mut going = 0;
+        for p in &mut self.pending {
+            if p.batch == 0 {
+                continue;
+            }
+            let n = p.set.rays;
+            let mut stop = false;
+            for a in p.acc..p.acc + p.batch {
+                stop = p.mean.push(self.radiance[a as usize], Some(&metric), n);
+            }
+            let traced = p.mean.count();
+            let v = p.vertex();
+            let bsdf = &scene.bsdfs[p.material as usize];
+            let table = &scene.settings.points;
+            let mut rng = p.path.derive(BSDF_SET);
+            (p.set.distribution).generate_in(table, n as usize, 1.0, &mut rng, &mut self.points);
+            if stop || traced == n {
+                self.radiance[p.slot as usize] += p.mean.mean();
+                for &point in &self.points[traced as usize..] {
+                    let u = SetPoint::new(point, p.set.distribution);
+                    if let Some(s) = bsdf.sample(v.hit, v.wo, None, u) {
+                        count_saved(&mut self.stats, s.flags);
+                    }
+                }
+                p.batch = 0;
+                continue;
+            }
+            let acc = self.radiance.len() as u32;
+            self.radiance.push(Rgb::ZERO);
+            let member = Member {
+                k: traced,
+                point: self.points[traced as usize],
+                set: p.set,
+                slot: acc,
+                share: 1.0,
+            };
+            set_member(
+                &v,
+                bsdf,
+                (p.path, p.rr),
+                member,
+                &mut self.paths,
+                &mut self.stats,
+            );
+            (p.acc, p.batch) = (acc, 1);
+            going += 1;
+        }
+        going > 0
     }
 
     /// The shading stage of the paths at vertex `depth`: adds the emission
@@ -338,6 +413,7 @@ impl<'s> Wavefront<'s> {
             radiance,
             points,
             batches,
+            pending,
             ..
         } = self;
         next.clear();
@@ -397,12 +473,19 @@ impl<'s> Wavefront<'s> {
                 (1, 1)
             };
             if depth < settings.sets_depth {
+                let judge = scene
+                    .settings
+                    .metric
+                    .filter(|m| m.reflections && depth == 0);
                 let mut out = Out {
                     shadows,
                     next,
                     stats,
                     points: &mut *points,
                     escape: *escape,
+                    judge: judge.map(|m| m.min_rays.max(2)),
+                    radiance: &mut *radiance,
+                    pending: &mut *pending,
                 };
                 let rr = depth + 1 >= settings.rr_depth;
                 let m = &materials[hit.material as usize];
@@ -610,6 +693,13 @@ struct Out<'a> {
     stats: &'a mut RayStats,
     points: &'a mut Vec<Vec3>,
     escape: Escape,
+    /// With the reflection metric on, at a first vertex: the members its
+    /// sets always trace (α, at least 2).
+    judge: Option<u32>,
+    /// The samples of the wave, which judged sets' members add to.
+    radiance: &'a mut Vec<Rgb>,
+    /// The sets the reflection metric judges.
+    pending: &'a mut Vec<PendingSet>,
 }
 
 /// A vertex that draws the thesis's sets (`distributed`): a set of shadow
@@ -670,26 +760,131 @@ fn thesis_sets(
     let mut rng = path.derive(BSDF_SET);
     set.distribution
         .generate_in(table, set.rays as usize, 1.0, &mut rng, out.points);
+    let first = out.judge.filter(|&a| set.rays > a);
+    if let Some(alpha) = first {
+        // The reflection metric judges the set: its first α members, each
+        // adding to a sample of its own, and the rest one at a time
+        // (see [`Wavefront::judge_sets`]).
+        let acc = out.radiance.len() as u32;
+        out.radiance
+            .resize(out.radiance.len() + alpha as usize, Rgb::ZERO);
+        for k in 0..alpha {
+            let member = Member {
+                k,
+                point: out.points[k as usize],
+                set,
+                slot: acc + k,
+                share: 1.0,
+            };
+            set_member(v, bsdf, (path, rr), member, out.next, out.stats);
+        }
+        out.pending.push(PendingSet {
+            hit: *v.hit,
+            wo: v.wo,
+            reach: v.reach,
+            time: v.time,
+            beta: v.beta,
+            eta2: v.eta2,
+            slot: v.slot,
+            path,
+            rr,
+            material: v.hit.material,
+            set,
+            acc,
+            batch: alpha,
+            mean: RunningMean::default(),
+        });
+        return;
+    }
     for (k, &point) in out.points.iter().enumerate() {
-        let u = SetPoint::new(point, set.distribution);
-        let Some(s) = bsdf.sample(v.hit, v.wo, None, u) else {
-            continue;
+        let member = Member {
+            k: k as u32,
+            point,
+            set,
+            slot: v.slot,
+            share: nb,
         };
-        let stream = path.child(k, set.rays as usize);
-        let roulette = rr.then(|| stream.derive(ROULETTE).next_f32());
-        let Some(through) = go_through(v, &s, nb, roulette) else {
-            continue;
-        };
-        let delta = s.flags.is_delta();
-        let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, s.wi);
-        let mis = if delta {
-            (0.0, Nee::None)
-        } else {
-            (nb * s.pdf, Nee::Sets)
-        };
-        let ray = Ray::new(origin, s.wi, v.time);
-        out.next.push(ray, v.slot, through, stream, (v.hit.p, mis));
-        count_bounce(out.stats, s.flags);
+        set_member(v, bsdf, (path, rr), member, out.next, out.stats);
+    }
+}
+
+/// A member of a vertex's set of BSDF samples: the `k`th of `set`, at
+/// `point`, adding to sample `slot` with `1 / share` of the throughput.
+#[derive(Clone, Copy)]
+struct Member {
+    k: u32,
+    point: Vec3,
+    set: EffectSpec,
+    slot: u32,
+    share: f32,
+}
+
+/// Starts the path of member `m` of the BSDF set at `v` (whose stream is
+/// `path`; `rr`: the path faces Russian roulette), unless its sample has
+/// no density, carries nothing or roulette ends it.
+fn set_member(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    (path, rr): (Rng, bool),
+    m: Member,
+    next: &mut Paths,
+    stats: &mut RayStats,
+) {
+    let n = m.set.rays;
+    let u = SetPoint::new(m.point, m.set.distribution);
+    let Some(s) = bsdf.sample(v.hit, v.wo, None, u) else {
+        return;
+    };
+    let stream = path.child(m.k as usize, n as usize);
+    let roulette = rr.then(|| stream.derive(ROULETTE).next_f32());
+    let Some(through) = go_through(v, &s, m.share, roulette) else {
+        return;
+    };
+    let delta = s.flags.is_delta();
+    let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, s.wi);
+    // The emission met is weighed against the whole set's density.
+    let mis = if delta {
+        (0.0, Nee::None)
+    } else {
+        (n as f32 * s.pdf, Nee::Sets)
+    };
+    let ray = Ray::new(origin, s.wi, v.time);
+    next.push(ray, m.slot, through, stream, (v.hit.p, mis));
+    count_bounce(stats, s.flags);
+}
+
+/// A set of BSDF samples the reflection metric judges, at a first vertex:
+/// the vertex, its set, the samples `acc..acc + batch` its latest members
+/// add to, and the running mean of the members traced so far.
+struct PendingSet {
+    hit: Hit,
+    wo: Vec3,
+    reach: f32,
+    time: f32,
+    beta: Rgb,
+    eta2: f32,
+    /// The sample the set's value goes to.
+    slot: u32,
+    path: Rng,
+    rr: bool,
+    material: u32,
+    set: EffectSpec,
+    acc: u32,
+    batch: u32,
+    mean: RunningMean,
+}
+
+impl PendingSet {
+    fn vertex(&self) -> Vertex<'_> {
+        Vertex {
+            hit: &self.hit,
+            wo: self.wo,
+            reach: self.reach,
+            time: self.time,
+            beta: self.beta,
+            eta2: self.eta2,
+            slot: self.slot,
+        }
     }
 }
 
@@ -722,6 +917,16 @@ fn count_bounce(stats: &mut RayStats, flags: BsdfFlags) {
         stats.refraction += 1;
     } else {
         stats.reflection += 1;
+    }
+}
+
+/// Counts a BSDF sample's ray, left untraced by the metric, as a saved
+/// reflection or refraction ray.
+fn count_saved(stats: &mut RayStats, flags: BsdfFlags) {
+    if flags.contains(BsdfFlags::TRANSMISSION) {
+        stats.saved.refraction += 1;
+    } else {
+        stats.saved.reflection += 1;
     }
 }
 
