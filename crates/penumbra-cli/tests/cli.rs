@@ -234,6 +234,7 @@ fn scenes_lists_every_built_in() {
         "bunny-gi",
         "bunny-motion",
         "cornell-box",
+        "materials",
     ] {
         assert!(out.contains(name), "{name} missing from:\n{out}");
     }

@@ -126,3 +126,48 @@ fn a_constant_envmap_renders_like_constant() {
     let (m, c) = (mean(&map), mean(&constant));
     assert!(((m - c) / c).abs().max_element() < 0.01, "{m:?} vs {c:?}");
 }
+
+/// A `sky` of one radiance everywhere and no sun is a `constant`
+/// background: a diffuse sphere in it renders the same image within noise.
+#[test]
+fn a_uniform_sky_renders_like_constant() {
+    let scene = |sky: &str| {
+        format!(
+            "[render]\nwidth = 24\nheight = 24\nintegrator = \"path\"\nspp = 256\n{sky}\n\
+             [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+             [materials.m]\ntype = \"diffuse\"\nreflectance = [0.3, 0.5, 0.7]\n\n\
+             [[objects]]\ntype = \"sphere\"\nmaterial = \"m\"\nradius = 1\n"
+        )
+    };
+    let sky = "\n[[lights]]\ntype = \"sky\"\nzenith = [1, 1, 1]\nhorizon = [1, 1, 1]\n\
+               ground = [1, 1, 1]\nsun_irradiance = [0, 0, 0]\nresolution = 64\n";
+    let (map, _) = render_toml(&(scene("") + sky));
+    let (constant, _) = render_toml(&scene("background = [1, 1, 1]"));
+    let rho = Rgb::new(0.3, 0.5, 0.7);
+    for (x, y) in [(12, 12), (8, 14), (15, 9)] {
+        let c = map.get(x, y);
+        assert!(((c - rho) / rho).abs().max_element() < 0.02, "{c:?}");
+    }
+    assert_eq!(map.get(0, 0), Rgb::ONE);
+    let (m, c) = (mean(&map), mean(&constant));
+    assert!(((m - c) / c).abs().max_element() < 0.01, "{m:?} vs {c:?}");
+}
+
+/// A sky that is only a sun, 60° from the zenith, gives a floor the
+/// irradiance `E cos 60°` as a directional light would (a uniform disc
+/// wholly above a surface's horizon gives it its irradiance facing it
+/// times the cosine of its centre): the floor's radiance is
+/// ρ E cos 60° / π within 2%, the map's pixels and the noise.
+#[test]
+fn a_skys_sun_lights_a_floor_as_its_irradiance_says() {
+    let light = "type = \"sky\"\nzenith = [0, 0, 0]\nhorizon = [0, 0, 0]\nground = [0, 0, 0]\n\
+                 sun_direction = [0, 1, -1.7320508]\nsun_radius = 3\nsun_irradiance = [2, 2, 2]";
+    let want = Rgb::new(0.5, 0.4, 0.3) * (2.0 * 0.5 / std::f32::consts::PI);
+    for integrator in ["direct", "path"] {
+        let toml = floor(light, integrator).replace("spp = 4", "spp = 64");
+        let (img, _) = render_toml(&toml);
+        let c = mean(&img);
+        let err = ((c - want) / want).abs().max_element();
+        assert!(err < 0.02, "{integrator}: {c:?} vs {want:?}");
+    }
+}

@@ -272,6 +272,63 @@ fn the_bunny_in_its_corner_bleeds_colour() {
     );
 }
 
+/// The built-in `materials` scene needs no file and is path traced, and
+/// every sphere shows: at 64 × 32 pixels and 4 spp, the camera ray through
+/// each pixel's centre finds the material it sees first; 15 are seen (the
+/// floor's and one per sphere), and the pixels of each are finite and not
+/// black on average.
+#[test]
+fn every_sphere_of_the_materials_scene_shows() {
+    use penumbra::camera::CameraSample;
+    use penumbra::math::Vec2;
+    let (w, h) = (64, 32);
+    let mut src = builtin("materials", None);
+    set(
+        &mut src,
+        penumbra::scene::Overrides {
+            width: Some(w),
+            height: Some(h),
+            spp: Some(4),
+            ..Default::default()
+        },
+    );
+    let s = src.build().unwrap();
+    assert_eq!(
+        s.settings.integrator,
+        penumbra::scene::IntegratorChoice::Path
+    );
+    let img = render_scene(&s, 2).0;
+    let mut regions = std::collections::BTreeMap::<u32, (Rgb, u32)>::new();
+    let mut rays = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let c = img.get(x, y);
+            assert!(c.is_finite(), "pixel ({x}, {y}): {c:?}");
+            rays.clear();
+            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let sample = CameraSample {
+                film,
+                lens: Vec2::ZERO,
+                time: 0.0,
+            };
+            s.camera.generate(&[sample], &mut rays);
+            if let Some(hit) = s.world.intersect(&rays[0], 0.0, f32::INFINITY) {
+                let r = regions.entry(hit.material).or_insert((Rgb::ZERO, 0));
+                r.0 += c;
+                r.1 += 1;
+            }
+        }
+    }
+    assert_eq!(regions.len(), 15, "materials seen: {regions:?}");
+    for (material, (sum, n)) in regions {
+        let m = sum / n as f32;
+        assert!(
+            m.luminance() > 0.02,
+            "material {material}: mean {m:?} over {n} pixels"
+        );
+    }
+}
+
 /// `distributed`: the thesis's sets at the first vertices, each BSDF ray
 /// going on as a path, converge to what `path` converges to, for square
 /// and low-discrepancy distributions and sets reaching one or two

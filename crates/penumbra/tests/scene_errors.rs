@@ -60,6 +60,16 @@ fn out_of_range_values_point_at_the_value() {
     assert!(e.starts_with("test.toml:3:10:"), "{e}");
     let e = err("[render]\nbackground = [0.0, nan, 0.0]\n");
     assert!(e.starts_with("test.toml:2:14:"), "{e}");
+    let e = err("[[lights]]\ntype = \"sky\"\nresolution = 15\n");
+    assert!(
+        e.starts_with("test.toml:3:14:") && e.contains("even"),
+        "{e}"
+    );
+    let e = err("[[lights]]\ntype = \"sky\"\nsun_radius = 0\n");
+    assert!(
+        e.starts_with("test.toml:3:14:") && e.contains("sun_radius"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -71,7 +81,7 @@ fn closed_sets_list_valid_choices() {
     );
     let e = err("[[lights]]\ntype = \"projector\"\nposition = [0.0, 1.0, 0.0]\n");
     assert!(
-        e.contains("point, rect, sphere, disk, constant, spot, directional, envmap"),
+        e.contains("point, rect, sphere, disk, constant, spot, directional, envmap, sky"),
         "{e}"
     );
     let e = err("[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\nmodel = \"exact\"\n");

@@ -145,6 +145,15 @@ impl Envmap {
         }
     }
 
+    /// The direction in the map's own frame of the point `(u, v)` of the
+    /// image (u right, v down, each in [0, 1]).
+    #[inline]
+    pub fn map_direction(u: f32, v: f32) -> Vec3 {
+        let (sin_t, cos_t) = (PI * v).sin_cos();
+        let (sin_p, cos_p) = (2.0 * PI * u).sin_cos();
+        Vec3::new(sin_p * sin_t, cos_t, -cos_p * sin_t)
+    }
+
     /// The point of the image (u right, v down, each in [0, 1]) a world
     /// direction looks at, and sin θ there.
     #[inline]
@@ -176,13 +185,11 @@ impl Envmap {
     /// with; `None` at the poles, where the density is not finite.
     pub fn sample(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
         let (uv, pdf_uv) = self.map.distribution.sample(u);
-        let (theta, phi) = (PI * uv.y, 2.0 * PI * uv.x);
-        let (sin_t, cos_t) = theta.sin_cos();
-        let (sin_p, cos_p) = phi.sin_cos();
+        let sin_t = (PI * uv.y).sin();
         if !(sin_t > 0.0 && pdf_uv > 0.0) {
             return None;
         }
-        let local = Vec3::new(sin_p * sin_t, cos_t, -cos_p * sin_t);
+        let local = Envmap::map_direction(uv.x, uv.y);
         let dir = (self.to_world * local).normalize();
         let pdf = pdf_uv / (2.0 * PI * PI * sin_t);
         Some((dir, self.pixel(uv), pdf))
@@ -200,7 +207,7 @@ impl Envmap {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sampling::warp::square_to_uniform_sphere;
     use crate::sampling::Rng;
@@ -255,20 +262,15 @@ mod tests {
         assert_eq!(t.eval(below(Vec3::X)), px(4, 2));
     }
 
-    /// χ² of 4 · 10⁶ sampled directions, binned by 3 × 3 sub-cells of the map's
-    /// pixels (found back from the world direction), against the density
-    /// integrated over each sub-cell (the pixel's probability over 9, the
-    /// density being uniform over a pixel in the map's coordinates); every
-    /// sample's density is what `pdf` gives for its direction, radiance
-    /// what `eval` gives, on a turned map.
-    #[test]
-    fn samples_follow_the_pdf() {
-        let (w, h) = (12, 6);
-        let e = Envmap::new(w, h, sky(w, h), turned(35.0));
-        let (sw, sh) = (3 * w, 3 * h);
+    /// The counts of `n` directions sampled from `e` (stream `seed`),
+    /// binned by `sub` × `sub` sub-cells of the map's pixels (found back
+    /// from the world direction), row by row; every sample's density must
+    /// be what `pdf` gives for its direction and its radiance what `eval`
+    /// gives (but for rounding: at most 100 differ).
+    pub(crate) fn sampled_counts(e: &Envmap, n: usize, sub: usize, seed: u64) -> Vec<u32> {
+        let (sw, sh) = (sub * e.map.width, sub * e.map.height);
         let mut counts = vec![0u32; sw * sh];
-        let mut rng = Rng::new(9);
-        let n = 4_000_000;
+        let mut rng = Rng::new(seed);
         let mut differ = 0;
         for _ in 0..n {
             let u = Vec2::new(rng.next_f32(), rng.next_f32());
@@ -288,45 +290,93 @@ mod tests {
             counts[y * sw + x] += 1;
         }
         assert!(differ < 100, "{differ} samples unlike pdf or eval");
-        let chi2 = |off_pixel: Option<usize>| {
-            let mut probs: Vec<f64> = (0..sw * sh)
-                .map(|i| {
-                    let (x, y) = (i % sw / 3, i / sw / 3);
-                    f64::from(e.map.distribution.cell_pdf(x, y)) / (w * h * 9) as f64
-                })
-                .collect();
-            if let Some(px) = off_pixel {
-                for (i, p) in probs.iter_mut().enumerate() {
-                    if (i / sw / 3) * w + i % sw / 3 == px {
-                        *p *= 1.05;
-                    }
+        counts
+    }
+
+    /// Pearson's χ² of `counts` ([`sampled_counts`] of `n` samples, `sub`
+    /// × `sub` sub-cells a pixel) against the density integrated over each
+    /// sub-cell (the pixel's probability over `sub`², the density being
+    /// uniform over a pixel in the map's coordinates), with the pixel
+    /// `off` (if any) given 5% more; cells expecting fewer than 5 samples
+    /// are pooled into one (too few to count: then they may hold no more
+    /// than 10). The statistic and its 0.999 quantile.
+    pub(crate) fn sampling_chi2(
+        e: &Envmap,
+        counts: &[u32],
+        n: usize,
+        sub: usize,
+        off: Option<usize>,
+    ) -> (f64, f64) {
+        use statrs::distribution::{ChiSquared, ContinuousCDF};
+        let (w, h) = (e.map.width, e.map.height);
+        let sw = sub * w;
+        let mut probs: Vec<f64> = (0..counts.len())
+            .map(|i| {
+                let (x, y) = (i % sw / sub, i / sw / sub);
+                let p = f64::from(e.map.distribution.cell_pdf(x, y)) / (w * h * sub * sub) as f64;
+                if off == Some(y * w + x) {
+                    1.05 * p
+                } else {
+                    p
                 }
+            })
+            .collect();
+        let total: f64 = probs.iter().sum();
+        probs.iter_mut().for_each(|p| *p *= n as f64 / total);
+        let (mut stat, mut cells, mut pool_e, mut pool_o) = (0.0, 0usize, 0.0, 0.0);
+        for (&c, &expect) in counts.iter().zip(&probs) {
+            if expect < 5.0 {
+                pool_e += expect;
+                pool_o += f64::from(c);
+            } else {
+                stat += (f64::from(c) - expect).powi(2) / expect;
+                cells += 1;
             }
-            let total: f64 = probs.iter().sum();
-            counts
-                .iter()
-                .zip(&probs)
-                .map(|(&c, &p)| {
-                    let e = n as f64 * p / total;
-                    (f64::from(c) - e).powi(2) / e
-                })
-                .sum::<f64>()
-        };
-        // 647 degrees of freedom: the 0.999 quantile is about 767.
-        let good = chi2(None);
-        assert!(good < 767.0, "χ² {good}");
-        // The brightest pixel's density 5% off is found.
-        let bright = (0..w * h)
+        }
+        if pool_e >= 5.0 {
+            stat += (pool_o - pool_e).powi(2) / pool_e;
+            cells += 1;
+        } else {
+            assert!(
+                pool_o <= 10.0,
+                "{pool_o} samples where {pool_e} were expected"
+            );
+        }
+        let q = ChiSquared::new((cells - 1) as f64)
+            .expect("degrees of freedom")
+            .inverse_cdf(0.999);
+        (stat, q)
+    }
+
+    /// The pixel `sampling_chi2` puts 5% off: the most likely one.
+    pub(crate) fn likeliest_pixel(e: &Envmap) -> usize {
+        let (w, h) = (e.map.width, e.map.height);
+        (0..w * h)
             .max_by(|&a, &b| {
                 let p = |i: usize| e.map.distribution.cell_pdf(i % w, i / w);
                 p(a).total_cmp(&p(b))
             })
-            .expect("pixels");
-        let bad = chi2(Some(bright));
+            .expect("pixels")
+    }
+
+    /// χ² of 4 · 10⁶ sampled directions, binned by 3 × 3 sub-cells of the
+    /// map's pixels, against the density integrated over each sub-cell
+    /// ([`sampling_chi2`]), on a turned map; and with the likeliest
+    /// pixel's density 5% off, the test fails.
+    #[test]
+    fn samples_follow_the_pdf() {
+        let (w, h) = (12, 6);
+        let e = Envmap::new(w, h, sky(w, h), turned(35.0));
+        let n = 4_000_000;
+        let counts = sampled_counts(&e, n, 3, 9);
+        // 647 degrees of freedom: the 0.999 quantile is about 767.
+        let (good, q) = sampling_chi2(&e, &counts, n, 3, None);
+        assert!(good < q, "χ² {good} (0.999 quantile {q})");
+        let (bad, _) = sampling_chi2(&e, &counts, n, 3, Some(likeliest_pixel(&e)));
         eprintln!(
-            "envmap χ²: {good:.1} as drawn, {bad:.1} with a pixel 5% off (0.999 quantile 767)"
+            "envmap χ²: {good:.1} as drawn, {bad:.1} with a pixel 5% off (0.999 quantile {q:.0})"
         );
-        assert!(bad > 767.0, "χ² {bad} with a 5% error");
+        assert!(bad > q, "χ² {bad} with a 5% error");
     }
 
     /// The density integrates to 1 over the sphere (uniform directions:

@@ -18,6 +18,7 @@
 //! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | uniform radiance from the surface; two penumbra models |
 //! | [`constant`] | at infinity | the background: radiance from every direction |
 //! | [`envmap`] | at infinity | radiance from every direction, read from an equirectangular image; importance-sampled |
+//! | [`sky`] | at infinity | a gradient sky and a sun disc, computed into an `envmap` when the scene is built |
 //!
 //! A closed enum with one dispatch point (this file): one match per
 //! question, inlined into the shading loops.
@@ -28,6 +29,7 @@ pub mod directional;
 pub mod envmap;
 pub mod point;
 mod sample;
+pub mod sky;
 pub mod spot;
 
 pub use area::{Area, AreaShape, MeshLight, PenumbraModel};
@@ -36,6 +38,7 @@ pub use directional::Directional;
 pub use envmap::Envmap;
 pub use point::Point;
 pub use sample::LightSample;
+pub use sky::Sky;
 pub use spot::Spot;
 
 use crate::math::{Rgb, Vec2, Vec3};

@@ -34,6 +34,11 @@ pub const SCENES: &[Builtin] = &[
         "the Cornell box, rendered by the path tracer"
     ),
     builtin!(
+        "materials",
+        false,
+        "every scattering model on a sphere, under a procedural sky, path traced"
+    ),
+    builtin!(
         "bunny",
         true,
         "the thesis's setting: Stanford bunny on a ground quad under a rectangle light"

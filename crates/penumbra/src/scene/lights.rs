@@ -1,7 +1,8 @@
 //! The lights of a scene (`[[lights]]` of a scene file): a point, spot or
-//! directional light or an environment map is an emitter of its own; a rectangle, sphere or disk light is a shape
-//! carrying an `area` emitter, visible to rays but casting no shadow (so
-//! that it never blocks its own light, as the thesis's lights do not).
+//! directional light, an environment map or a sky is an emitter of its
+//! own; a rectangle, sphere or disk light is a shape carrying an `area`
+//! emitter, visible to rays but casting no shadow (so that it never blocks
+//! its own light, as the thesis's lights do not).
 
 use std::path::Path;
 
@@ -9,7 +10,9 @@ use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::emitter::{area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Spot};
+use crate::emitter::{
+    area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Sky, Spot,
+};
 use crate::geometry::Shape;
 use crate::math::Frame;
 
@@ -67,7 +70,7 @@ pub const DISK: Schema = Schema {
 };
 
 /// Every emitter a scene file names: its lights, and the background's.
-pub const SCHEMAS: [&Schema; 8] = [
+pub const SCHEMAS: [&Schema; 9] = [
     &Point::SCHEMA,
     &RECT,
     &SPHERE,
@@ -76,6 +79,7 @@ pub const SCHEMAS: [&Schema; 8] = [
     &Spot::SCHEMA,
     &Directional::SCHEMA,
     &Envmap::SCHEMA,
+    &Sky::SCHEMA,
 ];
 
 /// The light `plugin` of the parameters `p`: its emitter and, for an area
@@ -93,6 +97,7 @@ pub(super) fn light(
         "spot" => return Ok((Emitter::Spot(Spot::build(p)?), None)),
         "directional" => return Ok((Emitter::Directional(Directional::build(p)?), None)),
         "envmap" => return Ok((Emitter::Envmap(Envmap::build(p, base_dir)?), None)),
+        "sky" => return Ok((Emitter::Envmap(Sky::build(p)?.envmap()), None)),
         "rect" => {
             let q = quad(p, "rect light")?;
             (AreaShape::Rect(q), Shape::Quad(q))
