@@ -31,6 +31,9 @@ Sections (--only and --skip take their names):
            reference (Mitsuba llvm_ad_rgb, rendered once into bench/.work)
   instances 10,000 instances of the bunny (one group, one tree): read and
            build time, memory beyond one instance, closest-hit rate
+  xmlread  the million-triangle scene read and built from Mitsuba XML and
+           from TOML (scenebench's read_and_build_s, from opening the file
+           to the built scene), pairs in alternating order, at least 5
   before   with --baseline REV: git revision REV against the working tree
            on three bunny scenes (one thread, CPU time)
 
@@ -75,7 +78,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
 SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path", "instances",
-            "before"]
+            "xmlread", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -652,6 +655,49 @@ def section_million(args, bins, data):
     return out
 
 
+# sphere1m.toml as a Mitsuba 3 scene: the same camera, ground, mesh file,
+# placement and flat facets; its light an emitting rectangle.
+SPHERE1M_XML = """<scene version="3.0.0">
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <string name="fov_axis" value="y"/>
+        <transform name="to_world"><lookat origin="0, 1.3, 4.2" target="0, 0.8, 0" up="0, 1, 0"/></transform>
+    </sensor>
+    <shape type="rectangle">
+        <transform name="to_world"><matrix value="0 5 0 0  0 0 1 0  5 0 0 0  0 0 0 1"/></transform>
+    </shape>
+    <shape type="ply">
+        <string name="filename" value="sphere1m.ply"/>
+        <boolean name="face_normals" value="true"/>
+        <transform name="to_world"><scale value="0.8"/><translate y="0.8"/></transform>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world"><matrix value="0.5 0 0 0  0 0 -0.5 4  0 0.5 0 0  0 0 0 1"/></transform>
+        <emitter type="area"><rgb name="radiance" value="40"/></emitter>
+    </shape>
+</scene>
+"""
+
+
+def section_xmlread(args, bins, data):
+    """Reading and building the million-triangle scene from XML against
+    from TOML, each round both in one process each, the one going first
+    alternating: the medians and the median of the per-round ratios."""
+    w = HERE / ".work"
+    (w / "sphere1m.xml").write_text(SPHERE1M_XML)
+    scenes = {"toml": w / "sphere1m.toml", "xml": w / "sphere1m.xml"}
+    times = {"toml": [], "xml": []}
+    for k in range(max(args.rounds, 5)):
+        order = ["toml", "xml"] if k % 2 == 0 else ["xml", "toml"]
+        for name in order:
+            r = scenebench(bins, data["bunny"], scenes[name], "--width", 8, "--height", 8, "--spp", 1,
+                           "--threads", 1, repeat=1)
+            times[name].append(r["read_and_build_s"])
+    ratios = [x / t for x, t in zip(times["xml"], times["toml"])]
+    return {"toml_s": med(times["toml"]), "xml_s": med(times["xml"]), "ratio": med(ratios),
+            "pairs": len(ratios)}
+
+
 CORNELL = HERE / "scenes" / "mitsuba" / "cornell.xml"
 CORNELL_SET = ["spp=64", "res=256", "max_depth=8"]
 CORNELL_REF_SPP = 2048
@@ -876,6 +922,10 @@ def report(res):
             "—", f(x["extra_peak_mb"], 1), "—", "< 50", x["extra_peak_mb"] < 50)
         row(f"{x['instances']:,} bunny instances: closest hits into the field, Mrays/s, 1 thread (CPU)", "—",
             f(x["mrays"]), "—", "—", True)
+    if "xmlread" in res:
+        x = res["xmlread"]
+        row(f"1,000,000-triangle scene read + built from Mitsuba XML against from TOML, s ({x['pairs']} pairs)",
+            f"TOML {f(x['toml_s'])}", f(x["xml_s"]), f"{f(x['ratio'], 3)}×", "≤ 1.10×", x["ratio"] <= 1.10)
     if "million" in res:
         mm = res["million"]
         row(f"1,000,000-triangle mesh: load + build s / render s / memory MB", "—",
@@ -1021,7 +1071,7 @@ def main():
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
            "path": section_path, "instances": section_instances,
-           "before": section_before}
+           "xmlread": section_xmlread, "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

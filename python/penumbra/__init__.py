@@ -1,7 +1,8 @@
 """Penumbra: a CPU stochastic (distributed) ray tracer, from Python.
 
 The API mirrors the ``penumbra`` command line: the same scenes (TOML files,
-built-in names, or dicts of the same shape), the same render options, the
+Mitsuba 3 XML files, built-in names, dicts of the TOML shape or of Mitsuba's
+``load_dict`` form), the same render options, the
 same pixels and the same statistics document::
 
     import penumbra
@@ -23,6 +24,7 @@ from ._penumbra import (
     SceneError,
     TriangleMesh,
     __version__,
+    load_dict,
     load_image,
     load_scene,
     render,
@@ -40,6 +42,7 @@ __all__ = [
     "SceneError",
     "TriangleMesh",
     "__version__",
+    "load_dict",
     "load_image",
     "load_scene",
     "render",

@@ -1,7 +1,7 @@
 """Type stubs of the Rust extension ``penumbra._penumbra`` (re-exported by ``penumbra``)."""
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, Literal, TypedDict, final
 
 import numpy as np
@@ -96,21 +96,25 @@ class Settings(TypedDict):
 
 @final
 class Scene:
-    """A scene description from a TOML file, a built-in scene or a dict.
+    """A scene description from a TOML file, a Mitsuba 3 XML file, a built-in
+    scene or a dict (shaped like a TOML file, or in Mitsuba's ``load_dict`` form).
 
-    Holds the source text, not a built scene: it pickles small and rebuilds
-    where it is rendered (meshes and BVH once per geometry, cached).
+    Holds the source text (for an XML file: its path and parameters, read
+    again where it is rendered), not a built scene: it pickles small and
+    rebuilds where it is rendered (meshes and BVH once per geometry, cached).
     """
 
     @property
     def name(self) -> str:
         """What the stats call the scene (the path or built-in name, or the dict's name)."""
     @property
-    def format(self) -> Literal["toml", "json"]:
-        """``"toml"`` for a file or built-in scene, ``"json"`` for a dict."""
+    def format(self) -> Literal["toml", "json", "xml", "mitsuba_dict"]:
+        """``"toml"`` for a TOML file or built-in scene, ``"json"`` for a dict shaped
+        like one, ``"xml"`` for a Mitsuba XML file, ``"mitsuba_dict"`` for ``load_dict``."""
     @property
     def text(self) -> str:
-        """The source text (TOML, or the JSON of the dict)."""
+        """The source text (TOML, or the JSON of the dict); for an XML file, the TOML
+        it converts to (``penumbra convert``'s)."""
     @property
     def base_dir(self) -> str:
         """The directory relative mesh paths are resolved against."""
@@ -118,7 +122,8 @@ class Scene:
     def bunny(self) -> str | None:
         """The Stanford bunny PLY used for ``path = "@bunny"``, if any."""
     def to_dict(self) -> dict[str, Any]:
-        """The description as a dict that ``scene_from_dict`` turns back into the same scene."""
+        """The description as a dict that ``scene_from_dict`` turns back into the same scene
+        (for a Mitsuba scene, the dict of the TOML file it converts to)."""
     def derive(self, d: dict[str, Any], *, name: str | None = None) -> Scene:
         """A scene from a dict (e.g. a changed ``to_dict()``) with this scene's base_dir,
         bunny and name, sharing its built meshes and BVH where the geometry matches."""
@@ -206,8 +211,33 @@ class TriangleMesh:
         tmax: float | npt.ArrayLike | None = None,
     ) -> npt.NDArray[np.bool_]: ...
 
-def load_scene(path_or_builtin_name: StrPath, *, bunny: StrPath | None = None) -> Scene:
-    """Reads a scene file, or a built-in scene by name. Raises SceneError (file:line:col)."""
+def load_scene(
+    path_or_builtin_name: StrPath,
+    *,
+    params: Mapping[str, str | int | float | bool] | None = None,
+    bunny: StrPath | None = None,
+) -> Scene:
+    """Reads a scene file (TOML or Mitsuba 3 XML), or a built-in scene by name.
+
+    ``params`` sets an XML scene's ``$name`` parameters over its ``<default>``s,
+    as ``-D name=value`` does (bools as ``true``/``false``); on any other scene
+    it is an error. Raises SceneError (file:line:col, in an included file too).
+    """
+
+def load_dict(
+    d: Mapping[str, Any],
+    *,
+    base_dir: StrPath = ".",
+    bunny: StrPath | None = None,
+    name: str | None = None,
+) -> Scene:
+    """A scene from a dict in Mitsuba 3's ``load_dict`` form (``{"type": "scene", ...}``),
+    lowered by the mapping Mitsuba XML files take. Nested dicts with a ``type`` are
+    objects, ``{"type": "rgb"|"spectrum", "value": ...}`` colours, ``{"type": "ref",
+    "id": ...}`` references; a sequence of 3 numbers is a point or vector, a 4×4
+    array-like (nested lists, a numpy array, a Mitsuba ``ScalarTransform4f``) a
+    transform. Raises SceneError naming the key path (``ball.bsdf.reflectance``).
+    """
 
 def scene_from_dict(
     d: dict[str, Any],

@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde_json::{Map, Number, Value};
 
+use penumbra::description::mitsuba::dict::DictValue;
 use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::render::Image;
 
@@ -104,11 +105,14 @@ pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Va
         if let Ok(u) = v.extract::<u64>() {
             return Ok(Value::from(u));
         }
-        return Err(PyValueError::new_err(bounded(&format!(
-            "{}: integer {} is out of range",
-            show(path),
-            clip(&v.repr()?.to_string(), MAX_QUOTED_CHARS)
-        )).into_owned()));
+        return Err(PyValueError::new_err(
+            bounded(&format!(
+                "{}: integer {} is out of range",
+                show(path),
+                clip(&v.repr()?.to_string(), MAX_QUOTED_CHARS)
+            ))
+            .into_owned(),
+        ));
     }
     if v.is_instance_of::<PyFloat>() {
         let f: f64 = v.extract()?;
@@ -167,6 +171,103 @@ pub fn py_to_json(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Va
         ))
         .into_owned(),
     ))
+}
+
+/// A dict in Mitsuba's form (`load_dict`'s) as a [`DictValue`], entries in
+/// order. Lists, tuples and anything numpy converts (`__array__`: numpy
+/// arrays, Mitsuba's points and vectors) are lists; a Mitsuba transform
+/// (`ScalarTransform4f`) is its 4×4 `matrix`, a Mitsuba colour
+/// (`ScalarColor3f`) an `rgb` dict. A value that cannot be in a scene is a
+/// ValueError naming its key path.
+pub fn py_to_dict_value(v: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<DictValue> {
+    let fail = |message: String| {
+        PyValueError::new_err(bounded(&format!("{}: {message}", show(path))).into_owned())
+    };
+    if depth > MAX_DEPTH {
+        return Err(fail(format!("nested more than {MAX_DEPTH} levels deep")));
+    }
+    if let Ok(b) = v.cast::<PyBool>() {
+        return Ok(DictValue::Bool(b.is_true()));
+    }
+    if v.is_instance_of::<PyInt>() {
+        let repr = v.repr()?.to_string();
+        return v.extract::<i64>().map(DictValue::Int).map_err(|_| {
+            fail(format!(
+                "integer {} is out of range",
+                clip(&repr, MAX_QUOTED_CHARS)
+            ))
+        });
+    }
+    if v.is_instance_of::<PyFloat>() {
+        let f: f64 = v.extract()?;
+        if !f.is_finite() {
+            return Err(fail(format!("must be a finite number, got {f}")));
+        }
+        return Ok(DictValue::Float(f));
+    }
+    if let Ok(s) = v.cast::<PyString>() {
+        return Ok(DictValue::String(s.to_str()?.to_owned()));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut entries = Vec::with_capacity(d.len());
+        for (k, x) in d.iter() {
+            let Ok(k) = k.extract::<String>() else {
+                return Err(fail(format!(
+                    "keys must be strings, got {}",
+                    k.repr().map_or_else(
+                        |_| "?".into(),
+                        |r| clip(&r.to_string(), MAX_QUOTED_CHARS).into_owned()
+                    )
+                )));
+            };
+            let sub = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            let value = py_to_dict_value(&x, &sub, depth + 1)?;
+            entries.push((k, value));
+        }
+        return Ok(DictValue::Dict(entries));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let mut out = Vec::new();
+        for (i, x) in v.try_iter()?.enumerate() {
+            out.push(py_to_dict_value(&x?, &format!("{path}[{i}]"), depth + 1)?);
+        }
+        return Ok(DictValue::List(out));
+    }
+    let ty = v
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    let numpy = || v.py().import("numpy");
+    if !v.hasattr("__array__")? && v.hasattr("matrix")? {
+        return py_to_dict_value(&v.getattr("matrix")?, path, depth + 1);
+    }
+    if v.hasattr("__array__")? || v.hasattr("tolist")? {
+        let plain = match v.hasattr("tolist")? {
+            true => v.call_method0("tolist")?,
+            false => numpy()?
+                .call_method1("asarray", (v,))?
+                .call_method0("tolist")?,
+        };
+        let value = py_to_dict_value(&plain, path, depth + 1)?;
+        if ty.contains("Color3f") {
+            return Ok(DictValue::Dict(vec![
+                ("type".into(), DictValue::String("rgb".into())),
+                ("value".into(), value),
+            ]));
+        }
+        return Ok(value);
+    }
+    if v.is_none() {
+        return Err(fail("None is not a value of a scene".into()));
+    }
+    Err(fail(format!(
+        "cannot use a {ty} in a scene (use dict, list, str, int, float, bool, a numpy array \
+         or a Mitsuba transform)"
+    )))
 }
 
 fn show(path: &str) -> &str {

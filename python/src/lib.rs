@@ -234,6 +234,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mesh::TriangleMesh>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_dict, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(render_region, m)?)?;
     m.add_function(wrap_pyfunction!(samples, m)?)?;

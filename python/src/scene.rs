@@ -1,7 +1,8 @@
 //! `penumbra.Scene`: a scene description and where it came from.
 //!
-//! A `Scene` holds the description's *text* (the TOML file, or the JSON of a
-//! dict), its base directory and the bunny path, never a built scene: that is
+//! A `Scene` holds the description's *text* (the TOML file, the JSON of a
+//! dict, of either shape) or a Mitsuba XML file's path and parameters, its
+//! base directory and the bunny path, never a built scene: that is
 //! what travels to Dask workers (pickled) and what `render` rebuilds from,
 //! with the same error positions every time. Each render validates the
 //! description after overrides; the expensive part of a build, loading the
@@ -14,20 +15,20 @@ use std::sync::{Arc, Mutex};
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple, PyType};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple, PyType};
 use serde_json::Value;
 
+use penumbra::description::mitsuba::dict::DictValue;
 use penumbra::description::toml_to_json;
 use penumbra::scene::{
-    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError,
-    SceneSource,
+    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError, SceneSource,
     WorldCache,
 };
 
-use crate::convert::{json_to_py, json_to_py_with, py_to_json, ToPy};
+use crate::convert::{json_to_py, json_to_py_with, py_to_dict_value, py_to_json, ToPy};
+use crate::error::SceneError;
 use crate::options::{parse_options, Options};
 use crate::points::function_table;
-use crate::error::SceneError;
 
 /// The text a scene was read from.
 #[derive(Clone, Debug)]
@@ -36,6 +37,16 @@ enum Text {
     Toml { text: String, file: PathBuf },
     /// The JSON of a dict given to `scene_from_dict`.
     Json { text: String },
+    /// A Mitsuba 3 XML file and its parameters (`<default>` overrides),
+    /// read again with its includes for every build, so that every error
+    /// names the file, line and column that hold it.
+    Xml {
+        file: PathBuf,
+        params: Vec<(String, String)>,
+    },
+    /// The JSON of a dict in Mitsuba's form given to `load_dict`, its
+    /// entries in the dict's order.
+    MitsubaDict { text: String },
 }
 
 /// A scene description (from a TOML file, a built-in scene or a dict),
@@ -80,7 +91,7 @@ impl Scene {
 
     /// The parsed source, as the CLI has it before applying overrides.
     fn source(&self) -> Result<SceneSource, LibSceneError> {
-        let opts = LoadOptions {
+        let mut opts = LoadOptions {
             bunny: self.bunny.clone(),
             ..Default::default()
         };
@@ -90,6 +101,15 @@ impl Scene {
                 let value: Value = serde_json::from_str(text)
                     .map_err(|e| LibSceneError::new(format!("corrupt scene JSON: {e}")))?;
                 SceneSource::from_json(&value, &self.base_dir, &opts)
+            }
+            Text::Xml { file, params } => {
+                opts.defines = params.clone();
+                SceneSource::from_xml(file, &self.base_dir, &opts)
+            }
+            Text::MitsubaDict { text } => {
+                let d = DictValue::from_json(text)
+                    .map_err(|e| LibSceneError::new(format!("corrupt scene JSON: {e}")))?;
+                SceneSource::from_mitsuba_dict(&d, &self.base_dir, &opts)
             }
         }
     }
@@ -114,10 +134,19 @@ impl Scene {
         Ok(built)
     }
 
+    /// The TOML scene file the description converts to (`penumbra
+    /// convert`'s text, file names relative to the base directory).
+    fn converted(&self) -> PyResult<String> {
+        let source = self.source().map_err(scene_error)?;
+        penumbra::scene::convert::to_toml(&source, &self.base_dir).map_err(scene_error)
+    }
+
     fn format(&self) -> &'static str {
         match self.text {
             Text::Toml { .. } => "toml",
             Text::Json { .. } => "json",
+            Text::Xml { .. } => "xml",
+            Text::MitsubaDict { .. } => "mitsuba_dict",
         }
     }
 
@@ -141,7 +170,9 @@ impl Scene {
         };
         let (text, file) = match &self.text {
             Text::Toml { text, file } => (text.clone(), Some(file.to_string_lossy().into_owned())),
-            Text::Json { text } => (text.clone(), None),
+            Text::Json { text } | Text::MitsubaDict { text } => (text.clone(), None),
+            // The parameters as a JSON list of [name, value] pairs.
+            Text::Xml { file, params } => (serde_json::json!(params).to_string(), Some(abs(file))),
         };
         (
             self.name.clone(),
@@ -163,17 +194,24 @@ impl Scene {
         &self.name
     }
 
-    /// `"toml"` (a file or built-in scene) or `"json"` (made from a dict).
+    /// `"toml"` (a file or built-in scene), `"json"` (made from a dict
+    /// shaped like a scene file), `"xml"` (a Mitsuba XML file) or
+    /// `"mitsuba_dict"` (made by `load_dict`).
     #[getter(format)]
     fn py_format(&self) -> &'static str {
         self.format()
     }
 
-    /// The source text: the TOML file, or the JSON of the dict.
+    /// The source text: the TOML file, the JSON of the dict (either
+    /// shape), or for a Mitsuba XML file the TOML it converts to
+    /// (`penumbra convert`'s), with its parameters.
     #[getter]
-    fn text(&self) -> &str {
+    fn text(&self) -> PyResult<String> {
         match &self.text {
-            Text::Toml { text, .. } | Text::Json { text } => text,
+            Text::Toml { text, .. } | Text::Json { text } | Text::MitsubaDict { text } => {
+                Ok(text.clone())
+            }
+            Text::Xml { .. } => self.converted(),
         }
     }
 
@@ -192,7 +230,8 @@ impl Scene {
     }
 
     /// The description as a dict, shaped like the scene file: the keys the
-    /// file (or dict) gives, defaults left out.
+    /// file (or dict) gives, defaults left out; for a Mitsuba scene (XML or
+    /// `load_dict`), the keys of the TOML it converts to.
     /// `scene_from_dict(scene.to_dict(), base_dir=scene.base_dir)` renders
     /// exactly like `scene`: this is how animation frames change a camera
     /// or an object.
@@ -201,6 +240,10 @@ impl Scene {
             Text::Toml { text, file } => toml_to_json(text, file).map_err(scene_error)?,
             Text::Json { text } => serde_json::from_str(text)
                 .map_err(|e| PyValueError::new_err(format!("cannot convert the scene: {e}")))?,
+            Text::Xml { .. } | Text::MitsubaDict { .. } => {
+                toml_to_json(&self.converted()?, Path::new("<converted scene>"))
+                    .map_err(scene_error)?
+            }
         };
         json_to_py_with(
             py,
@@ -280,13 +323,19 @@ impl Scene {
         ),
     ) -> PyResult<Scene> {
         let (name, format, text, file, base_dir, bunny) = state;
+        let corrupt = || PyValueError::new_err("corrupt pickled penumbra.Scene");
         let text = match (format.as_str(), file) {
             ("toml", Some(file)) => Text::Toml {
                 text,
                 file: PathBuf::from(file),
             },
             ("json", None) => Text::Json { text },
-            _ => return Err(PyValueError::new_err("corrupt pickled penumbra.Scene")),
+            ("xml", Some(file)) => Text::Xml {
+                file: PathBuf::from(file),
+                params: serde_json::from_str(&text).map_err(|_| corrupt())?,
+            },
+            ("mitsuba_dict", None) => Text::MitsubaDict { text },
+            _ => return Err(corrupt()),
         };
         let scene = Scene::new(
             name,
@@ -321,21 +370,67 @@ impl Scene {
     }
 }
 
-/// Reads a scene file, or a built-in scene by name (`penumbra.scenes()`).
+/// Reads a scene file (TOML or Mitsuba 3 XML), or a built-in scene by name
+/// (`penumbra.scenes()`).
 ///
 /// Parses the file (syntax, types and unknown keys are checked here, with
 /// `file:line:column` in the SceneError); values are validated when the
 /// scene is rendered, after the render options are applied, as the command
-/// line does (`Scene.settings()` validates early). `bunny` is the Stanford
-/// bunny PLY for `path = "@bunny"` (default: `$PENUMBRA_BUNNY`).
+/// line does (`Scene.settings()` validates early). `params` sets a Mitsuba
+/// XML scene's parameters (`$name`), over its `<default>`s, as `-D
+/// name=value` does: each value a str, int, float or bool. `bunny` is the
+/// Stanford bunny PLY for `path = "@bunny"` (default: `$PENUMBRA_BUNNY`).
 #[pyfunction]
-#[pyo3(signature = (path_or_builtin_name, *, bunny = None))]
-pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyResult<Scene> {
+#[pyo3(signature = (path_or_builtin_name, *, params = None, bunny = None))]
+pub fn load_scene(
+    path_or_builtin_name: PathBuf,
+    params: Option<&Bound<'_, PyDict>>,
+    bunny: Option<PathBuf>,
+) -> PyResult<Scene> {
     let name = path_or_builtin_name
         .to_str()
         .ok_or_else(|| PyValueError::new_err("the scene path is not valid UTF-8"))?
         .to_owned();
     let bunny = bunny.or_else(default_bunny_path);
+    let path = Path::new(&name);
+    let is_xml = path.exists()
+        && path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
+    let params = match params {
+        Some(p) if !p.is_empty() => {
+            if !is_xml {
+                return Err(SceneError::new_err(format!(
+                    "{name}: `params` sets the parameters of Mitsuba XML scenes (.xml); this is \
+                     not one"
+                )));
+            }
+            define_values(p)?
+        }
+        _ => Vec::new(),
+    };
+    // As the library resolves it: a file if one exists, else a built-in scene.
+    let base = if path.exists() {
+        path.parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+    } else {
+        PathBuf::from(".")
+    };
+    if is_xml {
+        let scene = Scene::new(
+            name.clone(),
+            Text::Xml {
+                file: path.to_path_buf(),
+                params,
+            },
+            base,
+            bunny,
+        );
+        // Read now, so that a bad file fails here, not at the first render.
+        scene.source().map_err(scene_error)?;
+        return Ok(scene);
+    }
     let opts = LoadOptions {
         bunny: bunny.clone(),
         ..Default::default()
@@ -345,20 +440,7 @@ pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyRe
     let source = SceneSource::open(&name, &opts).map_err(scene_error)?;
     let (file, text) = source
         .text()
-        .ok_or_else(|| {
-            SceneError::new_err(format!(
-                "{name}: a Mitsuba XML scene; Python loads TOML scenes (render XML with the command line)"
-            ))
-        })?;
-    let path = Path::new(&name);
-    // As the library resolves it: a file if one exists, else a built-in scene.
-    let base = if path.exists() {
-        path.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
-    } else {
-        PathBuf::from(".")
-    };
+        .ok_or_else(|| SceneError::new_err(format!("{name}: the scene has no text")))?;
     let scene = Scene::new(
         name.clone(),
         Text::Toml {
@@ -368,6 +450,94 @@ pub fn load_scene(path_or_builtin_name: PathBuf, bunny: Option<PathBuf>) -> PyRe
         base,
         bunny,
     );
+    Ok(scene)
+}
+
+/// `params` as `-D name=value` pairs: a bool as `true`/`false`, a number
+/// as its shortest decimal, a str as it is.
+fn define_values(params: &Bound<'_, PyDict>) -> PyResult<Vec<(String, String)>> {
+    let mut out = Vec::with_capacity(params.len());
+    for (k, v) in params.iter() {
+        let key: String = k.extract().map_err(|_| {
+            PyTypeError::new_err(format!("params: keys must be str, got {}", type_name(&k)))
+        })?;
+        let value = if let Ok(b) = v.cast::<PyBool>() {
+            (if b.is_true() { "true" } else { "false" }).to_string()
+        } else if v.is_instance_of::<PyInt>() {
+            v.extract::<i64>()
+                .map_err(|_| {
+                    SceneError::new_err(format!("params[{key:?}]: the integer is out of range"))
+                })?
+                .to_string()
+        } else if v.is_instance_of::<PyFloat>() {
+            let x: f64 = v.extract()?;
+            if !x.is_finite() {
+                return Err(SceneError::new_err(format!(
+                    "params[{key:?}]: must be a finite number, got {x}"
+                )));
+            }
+            format!("{x}")
+        } else if let Ok(s) = v.cast::<PyString>() {
+            s.to_str()?.to_owned()
+        } else {
+            return Err(PyTypeError::new_err(format!(
+                "params[{key:?}]: must be a str, int, float or bool, got {}",
+                type_name(&v)
+            )));
+        };
+        out.push((key, value));
+    }
+    Ok(out)
+}
+
+fn type_name(v: &Bound<'_, PyAny>) -> String {
+    v.get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string())
+}
+
+/// A scene from a dict in Mitsuba 3's form (`mi.load_dict`'s): `{"type":
+/// "scene", "sensor": {"type": "perspective", ...}, "ball": {"type":
+/// "sphere", ...}, ...}`, lowered by the same mapping as a Mitsuba XML
+/// file. Nested dicts are objects (their `type` the plugin), `{"type":
+/// "rgb", "value": ...}` and `{"type": "spectrum", "value": ...}` colours,
+/// `{"type": "ref", "id": ...}` references; a list of 3 numbers is a point
+/// or vector and a 4×4 array-like (nested lists, a numpy array) a
+/// transform such as `to_world`. Errors raise SceneError naming the key
+/// path (`ball.bsdf.reflectance`). Relative file names are resolved
+/// against `base_dir`.
+#[pyfunction]
+#[pyo3(signature = (d, *, base_dir = PathBuf::from("."), bunny = None, name = None))]
+pub fn load_dict(
+    d: &Bound<'_, PyAny>,
+    base_dir: PathBuf,
+    bunny: Option<PathBuf>,
+    name: Option<String>,
+) -> PyResult<Scene> {
+    if !d.is_instance_of::<PyDict>() {
+        return Err(PyTypeError::new_err(format!(
+            "load_dict expects a dict in Mitsuba's form ({{\"type\": \"scene\", ...}}), got {}",
+            type_name(d)
+        )));
+    }
+    let value = py_to_dict_value(d, "", 0).map_err(|e| {
+        let py = d.py();
+        if e.is_instance_of::<PyValueError>(py) {
+            SceneError::new_err(e.value(py).to_string())
+        } else {
+            e
+        }
+    })?;
+    let base_dir = std::path::absolute(&base_dir).unwrap_or(base_dir);
+    let scene = Scene::new(
+        name.unwrap_or_else(|| "<dict>".to_string()),
+        Text::MitsubaDict {
+            text: value.to_json(),
+        },
+        base_dir,
+        bunny.or_else(default_bunny_path),
+    );
+    scene.source().map_err(scene_error)?;
     Ok(scene)
 }
 

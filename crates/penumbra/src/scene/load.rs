@@ -102,6 +102,26 @@ impl SceneSource {
         })?;
         let loaded =
             description::mitsuba::from_xml_file_with(file, &opts.defines, limit, opts.lenient)?;
+        SceneSource::from_mitsuba(loaded, base_dir, opts)
+    }
+
+    /// Reads a scene in Mitsuba 3's dict form (`mi.load_dict`'s, see
+    /// [`description::mitsuba::dict`]): `base_dir` anchors its file names;
+    /// errors name the dict's key paths.
+    pub fn from_mitsuba_dict(
+        d: &description::mitsuba::dict::DictValue,
+        base_dir: &Path,
+        opts: &LoadOptions,
+    ) -> Result<SceneSource, SceneError> {
+        let loaded = description::mitsuba::from_dict(d, base_dir, opts.lenient)?;
+        SceneSource::from_mitsuba(loaded, base_dir, opts)
+    }
+
+    fn from_mitsuba(
+        loaded: description::mitsuba::Loaded,
+        base_dir: &Path,
+        opts: &LoadOptions,
+    ) -> Result<SceneSource, SceneError> {
         // The integrator is checked when the scene is built: Mitsuba's
         // (`path`) may yet be replaced by `--integrator`.
         let mut checked = loaded.root.clone();

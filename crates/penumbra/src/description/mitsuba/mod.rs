@@ -39,7 +39,12 @@
 //!
 //! Anything else is an error at its tag naming what is supported. Every
 //! error is a [`SceneError`] naming the file, line and column.
+//!
+//! Mitsuba's dict form (`mi.load_dict`, [`from_dict`]) is read by [`dict`]
+//! into the same objects as step 3 makes, then mapped by step 4; its errors
+//! name the dict's key path (`sphere.bsdf.reflectance`) instead.
 
+pub mod dict;
 pub mod number;
 pub mod objects;
 pub mod parse;
@@ -98,6 +103,22 @@ pub fn from_xml_file_with(
     }
     let mut ids = objects::Ids::default();
     let scene = objects::read_scene(&root, &reader, &mut ids)?;
+    let root = plugins::scene(&scene, &ids, &reader, lenient, &mut warnings)?;
+    Ok(Loaded { root, warnings })
+}
+
+/// Reads a scene in Mitsuba's dict form (see [`dict`]), relative file
+/// names read from `base_dir`; `lenient` as for
+/// [`from_xml_file_with`].
+pub fn from_dict(
+    d: &dict::DictValue,
+    base_dir: &Path,
+    lenient: bool,
+) -> Result<Loaded, SceneError> {
+    let reader = parse::Reader::new(base_dir, &[], 0);
+    let mut ids = objects::Ids::default();
+    let scene = dict::read_scene(d, &mut ids)?;
+    let mut warnings = Vec::new();
     let root = plugins::scene(&scene, &ids, &reader, lenient, &mut warnings)?;
     Ok(Loaded { root, warnings })
 }

@@ -4,9 +4,9 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use super::parse::{check_attrs, clip, error_at, Element, Reader};
+use super::parse::{self, check_attrs, clip, Element, Reader};
 use super::values::{self, PropValue};
-use crate::description::error::{Location, SceneError};
+use crate::description::error::{KeyPath, Location, Origin, SceneError};
 
 /// The tags of objects, which Mitsuba calls plugin interfaces.
 pub const OBJECT_TAGS: &[&str] = &[
@@ -25,13 +25,61 @@ pub const OBJECT_TAGS: &[&str] = &[
     "volume",
 ];
 
+/// Where an object or a property was written: a tag of an XML file, or a
+/// key of a dict (`sphere.bsdf.reflectance`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Place {
+    File(Location),
+    Key(KeyPath),
+}
+
+impl Place {
+    /// The origin of a tree value made from what is written here, at the
+    /// tree's key path `path`: a file's place is kept; a dict has none.
+    pub fn origin(&self, path: KeyPath) -> Origin {
+        match self {
+            Place::File(at) => Origin::new(path, Some(at.clone())),
+            Place::Key(_) => Origin::unlocated(path),
+        }
+    }
+
+    /// The folder relative file names written here are read from: that of
+    /// the XML file, or `base` for a dict.
+    pub fn dir(&self, base: &std::path::Path) -> std::path::PathBuf {
+        match self {
+            Place::File(at) => at
+                .file
+                .parent()
+                .map(|p| p.to_path_buf())
+                .unwrap_or_default(),
+            Place::Key(_) => base.to_path_buf(),
+        }
+    }
+}
+
+impl From<Location> for Place {
+    fn from(at: Location) -> Self {
+        Place::File(at)
+    }
+}
+
+/// A problem at a place: `file:line:column: message`, or `key.path:
+/// message` for a dict.
+pub fn error_at(at: &Place, message: impl Into<String>) -> SceneError {
+    match at {
+        Place::File(at) => parse::error_at(at, message),
+        Place::Key(path) if path.is_root() => SceneError::new(message),
+        Place::Key(path) => SceneError::new(format!("{path}: {}", message.into())),
+    }
+}
+
 /// A property: its name, value and places.
 #[derive(Clone, Debug)]
 pub struct Property {
     pub name: String,
     pub value: PropValue,
     /// The property's tag.
-    pub at: Location,
+    pub at: Place,
 }
 
 /// A nested object or a reference to one.
@@ -41,7 +89,7 @@ pub enum Child {
     Object(Rc<Object>),
     Ref {
         id: String,
-        at: Location,
+        at: Place,
     },
 }
 
@@ -55,9 +103,9 @@ pub struct Object {
     pub id: Option<String>,
     pub props: Vec<Property>,
     pub children: Vec<(Option<String>, Child)>,
-    pub at: Location,
+    pub at: Place,
     /// Where `type` is written.
-    pub plugin_at: Location,
+    pub plugin_at: Place,
 }
 
 impl Object {
@@ -73,7 +121,7 @@ pub struct Ids {
 }
 
 impl Ids {
-    pub fn get(&self, id: &str, at: &Location) -> Result<&Object, SceneError> {
+    pub fn get(&self, id: &str, at: &Place) -> Result<&Object, SceneError> {
         self.map
             .get(id)
             .map(Rc::as_ref)
@@ -88,7 +136,7 @@ pub fn read_scene(
     ids: &mut Ids,
 ) -> Result<Rc<Object>, SceneError> {
     if root.tag != "scene" {
-        return Err(error_at(
+        return Err(parse::error_at(
             &root.at,
             format!(
                 "the root element is <{}>; a scene file's is <scene>",
@@ -107,8 +155,8 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
         check_attrs(e, &["type", "id", "name"], &["type"])?;
     }
     let (plugin, plugin_at) = match e.attr("type") {
-        Some(a) => (a.value.clone(), a.at.clone()),
-        None => ("scene".to_string(), e.at.clone()),
+        Some(a) => (a.value.clone(), Place::from(a.at.clone())),
+        None => ("scene".to_string(), Place::from(e.at.clone())),
     };
     let mut obj = Object {
         tag: e.tag.clone(),
@@ -116,7 +164,7 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
         id: e.get("id").map(str::to_string),
         props: Vec::new(),
         children: Vec::new(),
-        at: e.at.clone(),
+        at: e.at.clone().into(),
         plugin_at,
     };
     let mut aliases = Vec::new();
@@ -134,7 +182,7 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
                     name,
                     Child::Ref {
                         id,
-                        at: c.at.clone(),
+                        at: c.at.clone().into(),
                     },
                 ));
             }
@@ -147,17 +195,20 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
                 let value = values::read(c, reader)?;
                 let name = name.expect("checked by the value's reader");
                 if obj.props.iter().any(|p| p.name == name) {
-                    return Err(error_at(&c.at, format!("`{}` is given twice", clip(&name))));
+                    return Err(parse::error_at(
+                        &c.at,
+                        format!("`{}` is given twice", clip(&name)),
+                    ));
                 }
                 obj.props.push(Property {
                     name,
                     value,
-                    at: c.at.clone(),
+                    at: c.at.clone().into(),
                 });
             }
-            "scene" => return Err(error_at(&c.at, "<scene> inside a scene")),
+            "scene" => return Err(parse::error_at(&c.at, "<scene> inside a scene")),
             other => {
-                return Err(error_at(
+                return Err(parse::error_at(
                     &c.at,
                     format!("<{}> is not a tag of Mitsuba scenes", clip(other)),
                 ))
@@ -167,12 +218,12 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
         for a in aliases.drain(..) {
             let (src, dst) = (a.get("id").unwrap_or(""), a.get("as").unwrap_or(""));
             if ids.map.contains_key(dst) {
-                return Err(error_at(
+                return Err(parse::error_at(
                     &a.at,
                     format!("<alias>: the id `{}` is taken", clip(dst)),
                 ));
             }
-            ids.get(src, &a.at)?;
+            ids.get(src, &a.at.clone().into())?;
             let target = Rc::clone(&ids.map[src]);
             ids.map.insert(dst.to_string(), target);
         }
@@ -180,7 +231,7 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
     if let Some(id) = obj.id.clone() {
         if ids.map.contains_key(&id) {
             let at = &e.attr("id").expect("an id").at;
-            return Err(error_at(
+            return Err(parse::error_at(
                 at,
                 format!("the id `{}` is given twice", clip(&id)),
             ));

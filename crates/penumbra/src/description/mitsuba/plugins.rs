@@ -4,12 +4,12 @@
 
 use std::collections::HashSet;
 
-use super::objects::{Child, Ids, Object, Property};
-use super::parse::{clip, error_at, Reader};
+use super::objects::{error_at, Child, Ids, Object, Place, Property};
+use super::parse::{clip, Reader};
 use super::spectrum::{self, Use};
 use super::transform::{self, Mat4};
 use super::values::PropValue;
-use crate::description::error::{KeyPath, Location, Origin, SceneError};
+use crate::description::error::{KeyPath, SceneError};
 use crate::description::tree::{Kind, Located, Node, Prop, Value};
 use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
@@ -255,19 +255,12 @@ pub fn scene(
             }
         }
     }
-    let root_at = Some(root.at.clone());
-    let mut node = Node::new(
-        Kind::Scene,
-        "scene",
-        Origin::new(KeyPath::root(), root_at.clone()),
-    );
-    let mut integrator = out.integrator.take().unwrap_or_else(|| {
-        Node::new(
-            Kind::Integrator,
-            "path",
-            Origin::new(render(), root_at.clone()),
-        )
-    });
+    let root_at = &root.at;
+    let mut node = Node::new(Kind::Scene, "scene", root_at.origin(KeyPath::root()));
+    let mut integrator = out
+        .integrator
+        .take()
+        .unwrap_or_else(|| Node::new(Kind::Integrator, "path", root_at.origin(render())));
     if let Some((name, at)) = out.path_sampler.take() {
         set(&mut integrator, &render(), "path_sampler", &at, |p, at| {
             located(Value::String(name.into()), p, at)
@@ -293,7 +286,7 @@ pub fn scene(
 
 /// The film's keys of a filter's parameters, their values and where the
 /// XML gives them.
-type FilterKeys = Vec<(&'static str, Value, Location)>;
+type FilterKeys = Vec<(&'static str, Value, Place)>;
 
 fn render() -> KeyPath {
     KeyPath::root().key("render")
@@ -308,7 +301,7 @@ struct Out<'a> {
     integrator: Option<Node>,
     sensor: Option<Node>,
     /// The integrator's `path_sampler` for the sampler read, and where.
-    path_sampler: Option<(&'static str, Location)>,
+    path_sampler: Option<(&'static str, Place)>,
     background: Option<Node>,
     bsdfs: Vec<Node>,
     /// The scene's textures (`textures.ID`), and the ids of those declared
@@ -333,21 +326,21 @@ fn unsupported(obj: &Object, what: &str, supported: &[&str]) -> SceneError {
     )
 }
 
-fn located(value: Value, path: KeyPath, at: &Location) -> Located<Value> {
-    Located::new(value, Origin::new(path, Some(at.clone())))
+fn located(value: Value, path: KeyPath, at: &Place) -> Located<Value> {
+    Located::new(value, at.origin(path))
 }
 
 /// A float without a negative zero (which a file never means).
-fn float(x: f64, path: KeyPath, at: &Location) -> Located<Value> {
+fn float(x: f64, path: KeyPath, at: &Place) -> Located<Value> {
     located(Value::Float(x + 0.0), path, at)
 }
 
-fn vec3(v: [f64; 3], path: KeyPath, at: &Location) -> Located<Value> {
+fn vec3(v: [f64; 3], path: KeyPath, at: &Place) -> Located<Value> {
     let items = (0..3).map(|i| float(v[i], path.index(i), at)).collect();
     located(Value::Array(items), path, at)
 }
 
-fn matrix(m: &Mat4, path: KeyPath, at: &Location) -> Located<Value> {
+fn matrix(m: &Mat4, path: KeyPath, at: &Place) -> Located<Value> {
     let rows = (0..4)
         .map(|r| {
             let row = path.index(r);
@@ -363,11 +356,11 @@ fn set(
     node: &mut Node,
     base: &KeyPath,
     name: &str,
-    at: &Location,
-    make: impl FnOnce(KeyPath, &Location) -> Located<Value>,
+    at: &Place,
+    make: impl FnOnce(KeyPath, &Place) -> Located<Value>,
 ) {
     let path = base.key(name);
-    let key = Origin::new(path.clone(), Some(at.clone()));
+    let key = at.origin(path.clone());
     node.props.push(Prop::new(name, key, make(path, at)));
 }
 
@@ -389,7 +382,7 @@ fn get<'o, T>(
     name: &str,
     expected: &str,
     read: impl Fn(&'o PropValue) -> Option<T>,
-) -> Result<Option<(T, &'o Location)>, SceneError> {
+) -> Result<Option<(T, &'o Place)>, SceneError> {
     match obj.prop(name) {
         None => Ok(None),
         Some(p) => match read(&p.value) {
@@ -399,7 +392,7 @@ fn get<'o, T>(
     }
 }
 
-fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Location)>, SceneError> {
+fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Place)>, SceneError> {
     get(obj, name, "a float", |v| match v {
         PropValue::Float(x) => Some(*x),
         PropValue::Int(i) => Some(*i as f64),
@@ -407,24 +400,21 @@ fn get_float<'o>(obj: &'o Object, name: &str) -> Result<Option<(f64, &'o Locatio
     })
 }
 
-fn get_int<'o>(obj: &'o Object, name: &str) -> Result<Option<(i64, &'o Location)>, SceneError> {
+fn get_int<'o>(obj: &'o Object, name: &str) -> Result<Option<(i64, &'o Place)>, SceneError> {
     get(obj, name, "an integer", |v| match v {
         PropValue::Int(i) => Some(*i),
         _ => None,
     })
 }
 
-fn get_bool<'o>(obj: &'o Object, name: &str) -> Result<Option<(bool, &'o Location)>, SceneError> {
+fn get_bool<'o>(obj: &'o Object, name: &str) -> Result<Option<(bool, &'o Place)>, SceneError> {
     get(obj, name, "a boolean", |v| match v {
         PropValue::Bool(b) => Some(*b),
         _ => None,
     })
 }
 
-fn get_string<'o>(
-    obj: &'o Object,
-    name: &str,
-) -> Result<Option<(&'o str, &'o Location)>, SceneError> {
+fn get_string<'o>(obj: &'o Object, name: &str) -> Result<Option<(&'o str, &'o Place)>, SceneError> {
     get(obj, name, "a string", |v| match v {
         PropValue::String(s) => Some(s.as_str()),
         _ => None,
@@ -434,17 +424,14 @@ fn get_string<'o>(
 fn get_vector<'o>(
     obj: &'o Object,
     name: &str,
-) -> Result<Option<([f64; 3], &'o Location)>, SceneError> {
+) -> Result<Option<([f64; 3], &'o Place)>, SceneError> {
     get(obj, name, "a point or vector", |v| match v {
         PropValue::Vector(v) => Some(*v),
         _ => None,
     })
 }
 
-fn get_transform<'o>(
-    obj: &'o Object,
-    name: &str,
-) -> Result<Option<(Mat4, &'o Location)>, SceneError> {
+fn get_transform<'o>(obj: &'o Object, name: &str) -> Result<Option<(Mat4, &'o Place)>, SceneError> {
     get(obj, name, "a transform", |v| match v {
         PropValue::Transform(m) => Some(*m),
         _ => None,
@@ -457,7 +444,7 @@ fn get_color<'o>(
     obj: &'o Object,
     name: &str,
     usage: Use,
-) -> Result<Option<([f64; 3], &'o Location)>, SceneError> {
+) -> Result<Option<([f64; 3], &'o Place)>, SceneError> {
     let Some(p) = obj.prop(name) else {
         return Ok(None);
     };
@@ -540,9 +527,9 @@ impl Out<'_> {
         let mut node = Node::new(
             Kind::Integrator,
             obj.plugin.clone(),
-            Origin::new(render(), Some(obj.at.clone())),
+            obj.at.origin(render()),
         );
-        node.plugin_origin = Origin::new(render().key("integrator"), Some(obj.plugin_at.clone()));
+        node.plugin_origin = obj.plugin_at.origin(render().key("integrator"));
         for p in obj
             .props
             .iter()
@@ -600,12 +587,8 @@ impl Out<'_> {
             }
         }
         let camera = KeyPath::root().key("camera");
-        let mut node = Node::new(
-            Kind::Sensor,
-            "perspective",
-            Origin::new(camera.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(camera.clone(), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Sensor, "perspective", obj.at.origin(camera.clone()));
+        node.plugin_origin = obj.plugin_at.origin(camera.clone());
         let (film_node, (width, height)) = self.film(film, obj)?;
         let sampler_node = self.sampler(sampler, obj)?;
         node.children = vec![film_node, sampler_node];
@@ -662,7 +645,7 @@ impl Out<'_> {
 
     /// Mitsuba's field of view (`fov` along `fov_axis`, or `focal_length`)
     /// as Penumbra's vertical one, for a film of aspect `aspect`.
-    fn vertical_fov(&self, obj: &Object, aspect: f64) -> Result<(f64, Location), SceneError> {
+    fn vertical_fov(&self, obj: &Object, aspect: f64) -> Result<(f64, Place), SceneError> {
         let half_tan = |deg: f64| (deg.to_radians() / 2.0).tan();
         let from_half_tan = |t: f64| 2.0 * t.atan().to_degrees();
         let (fov, axis, at) = match (get_float(obj, "fov")?, get_string(obj, "focal_length")?) {
@@ -736,11 +719,7 @@ impl Out<'_> {
         sensor: &Object,
     ) -> Result<(Node, (i64, i64)), SceneError> {
         let at = film.map_or(&sensor.at, |f| &f.at).clone();
-        let mut node = Node::new(
-            Kind::Film,
-            "hdrfilm",
-            Origin::new(render(), Some(at.clone())),
-        );
+        let mut node = Node::new(Kind::Film, "hdrfilm", at.origin(render()));
         let mut size = (DEFAULT_WIDTH, DEFAULT_HEIGHT);
         let mut filter = (Filter::Gaussian, Vec::new(), at.clone());
         if let Some(f) = film {
@@ -873,11 +852,7 @@ impl Out<'_> {
 
     fn sampler(&mut self, sampler: Option<&Object>, sensor: &Object) -> Result<Node, SceneError> {
         let at = sampler.map_or(&sensor.at, |s| &s.at).clone();
-        let mut node = Node::new(
-            Kind::Sampler,
-            "sets",
-            Origin::new(render(), Some(at.clone())),
-        );
+        let mut node = Node::new(Kind::Sampler, "sets", at.origin(render()));
         let mut count = (DEFAULT_SAMPLE_COUNT, at.clone());
         let mut distribution = "random";
         if let Some(s) = sampler {
@@ -938,12 +913,8 @@ impl Out<'_> {
                 self.no_children(obj)?;
                 let i = self.lights.len();
                 let base = KeyPath::root().key("lights").index(i);
-                let mut node = Node::new(
-                    Kind::Emitter,
-                    "point",
-                    Origin::new(base.clone(), Some(obj.at.clone())),
-                );
-                node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+                let mut node = Node::new(Kind::Emitter, "point", obj.at.origin(base.clone()));
+                node.plugin_origin = obj.plugin_at.origin(base.key("type"));
                 let position = match (
                     get_vector(obj, "position")?,
                     get_transform(obj, "to_world")?,
@@ -980,12 +951,8 @@ impl Out<'_> {
                 let path = render().key("background");
                 let (radiance, at) = get_color(obj, "radiance", Use::Emission)?
                     .map_or(([1.0; 3], obj.at.clone()), |(c, at)| (c, at.clone()));
-                let mut node = Node::new(
-                    Kind::Emitter,
-                    "constant",
-                    Origin::new(path.clone(), Some(at.clone())),
-                );
-                let key = Origin::new(path.clone(), Some(at.clone()));
+                let mut node = Node::new(Kind::Emitter, "constant", at.origin(path.clone()));
+                let key = at.origin(path.clone());
                 node.props
                     .push(Prop::new("radiance", key, vec3(radiance, path, &at)));
                 self.background = Some(node);
@@ -1015,12 +982,8 @@ impl Out<'_> {
         self.no_props(obj, names)?;
         self.no_children(obj)?;
         let base = KeyPath::root().key("lights").index(self.lights.len());
-        let mut node = Node::new(
-            Kind::Emitter,
-            &obj.plugin,
-            Origin::new(base.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Emitter, &obj.plugin, obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         let to_world = get_transform(obj, "to_world")?;
         let colour = |name: &str, node: &mut Node| -> Result<(), SceneError> {
             if let Some((c, at)) = get_color(obj, name, Use::Emission)? {
@@ -1071,7 +1034,9 @@ impl Out<'_> {
                 let Some((file, at)) = get_string(obj, "filename")? else {
                     return Err(error_at(&obj.at, "envmap: missing `filename`"));
                 };
-                let path = self.reader.resolve(&file_dir(obj), file);
+                let path = self
+                    .reader
+                    .resolve(&file_dir(obj, self.reader.scene_dir), file);
                 let text = self
                     .reader
                     .scene_relative(&path)
@@ -1121,12 +1086,8 @@ impl Out<'_> {
             return Ok(name);
         }
         let base = KeyPath::root().key("materials").key(&name);
-        let mut node = Node::new(
-            Kind::Bsdf,
-            "diffuse",
-            Origin::new(base.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Bsdf, "diffuse", obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         node.id = Some(name.clone());
         if let Some((c, at)) = get_color(inner, "reflectance", Use::Reflectance)? {
             set(&mut node, &base, "reflectance", at, |p, at| vec3(c, p, at));
@@ -1165,12 +1126,8 @@ impl Out<'_> {
             return Ok(name);
         }
         let base = KeyPath::root().key("materials").key(&name);
-        let mut node = Node::new(
-            Kind::Bsdf,
-            obj.plugin.clone(),
-            Origin::new(base.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Bsdf, obj.plugin.clone(), obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         node.id = Some(name.clone());
         for &(key, kind) in params {
             let value = match kind {
@@ -1281,9 +1238,9 @@ impl Out<'_> {
                 Child::Ref { id, .. } if self.texture_ids.contains(id) => {
                     located(Value::String(id.clone()), base.key(param), at)
                 }
-                _ => texture_table(target, base.key(param), at)?,
+                _ => texture_table(target, base.key(param), at, self.reader.scene_dir)?,
             };
-            let key = Origin::new(base.key(param), Some(at.clone()));
+            let key = at.origin(base.key(param));
             node.props.push(Prop::new(param, key, value));
         }
         Ok(())
@@ -1299,16 +1256,14 @@ impl Out<'_> {
                 .expect("a free name"),
         };
         let base = KeyPath::root().key("textures").key(&id);
-        let Value::Table(mut props) = texture_table(obj, base.clone(), &obj.at)?.value else {
+        let Value::Table(mut props) =
+            texture_table(obj, base.clone(), &obj.at, self.reader.scene_dir)?.value
+        else {
             unreachable!("a texture is a table")
         };
         let i = props.iter().position(|p| p.name == "type").expect("a type");
         let ty = props.remove(i);
-        let mut node = Node::new(
-            Kind::Texture,
-            obj.plugin.clone(),
-            Origin::new(base, Some(obj.at.clone())),
-        );
+        let mut node = Node::new(Kind::Texture, obj.plugin.clone(), obj.at.origin(base));
         node.plugin_origin = ty.value.origin;
         node.id = Some(id.clone());
         node.props = props;
@@ -1327,7 +1282,7 @@ impl Out<'_> {
 
     /// Mitsuba's default material of a shape, made once each: a diffuse of
     /// reflectance 0.5, or a black one for a shape that emits (`black`).
-    fn default_material(&mut self, at: &Location, black: bool) -> String {
+    fn default_material(&mut self, at: &Place, black: bool) -> String {
         let slot = usize::from(black);
         if let Some(name) = &self.default_material[slot] {
             return name.clone();
@@ -1335,11 +1290,7 @@ impl Out<'_> {
         let name = self.fresh_name();
         self.names.insert(name.clone());
         let base = KeyPath::root().key("materials").key(&name);
-        let mut node = Node::new(
-            Kind::Bsdf,
-            "diffuse",
-            Origin::new(base.clone(), Some(at.clone())),
-        );
+        let mut node = Node::new(Kind::Bsdf, "diffuse", at.origin(base.clone()));
         node.id = Some(name.clone());
         if black {
             set(&mut node, &base, "reflectance", at, |p, at| {
@@ -1373,12 +1324,8 @@ impl Out<'_> {
             ));
         };
         let path = KeyPath::root().key("groups").key(&id);
-        let mut node = Node::new(
-            Kind::Shape,
-            "shapegroup",
-            Origin::new(path.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(path.clone(), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Shape, "shapegroup", obj.at.origin(path.clone()));
+        node.plugin_origin = obj.plugin_at.origin(path.clone());
         node.id = Some(id);
         for c in children(self.ids, obj)? {
             if c.tag != "shape" {
@@ -1391,12 +1338,8 @@ impl Out<'_> {
             let child = match c.plugin.as_str() {
                 // Refused by the builder: groups do not nest.
                 "shapegroup" | "instance" => {
-                    let mut n = Node::new(
-                        Kind::Shape,
-                        c.plugin.clone(),
-                        Origin::new(base.clone(), Some(c.at.clone())),
-                    );
-                    n.plugin_origin = Origin::new(base.key("type"), Some(c.plugin_at.clone()));
+                    let mut n = Node::new(Kind::Shape, c.plugin.clone(), c.at.origin(base.clone()));
+                    n.plugin_origin = c.plugin_at.origin(base.key("type"));
                     n
                 }
                 _ => self.shape_node(c, base)?,
@@ -1409,12 +1352,8 @@ impl Out<'_> {
     /// An `instance`: the shapegroup it refers to and its `to_world`.
     fn instance(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
         self.no_props(obj, &["to_world"])?;
-        let mut node = Node::new(
-            Kind::Shape,
-            "instance",
-            Origin::new(base.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Shape, "instance", obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         let mut group = None;
         for (_, c) in &obj.children {
             let (id, at) = match c {
@@ -1490,12 +1429,8 @@ impl Out<'_> {
             "cylinder" => "cylinder",
             _ => "mesh",
         };
-        let mut node = Node::new(
-            Kind::Shape,
-            plugin,
-            Origin::new(base.clone(), Some(obj.at.clone())),
-        );
-        node.plugin_origin = Origin::new(base.key("type"), Some(obj.plugin_at.clone()));
+        let mut node = Node::new(Kind::Shape, plugin, obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         let to_world = get_transform(obj, "to_world")?.map(|(m, at)| (m, at.clone()));
         if let Some((flip, at)) = get_bool(obj, "flip_normals")? {
             set(&mut node, &base, "flip_normals", at, |p, at| {
@@ -1547,7 +1482,9 @@ impl Out<'_> {
                         format!("{}: missing `filename`", obj.plugin),
                     ));
                 };
-                let path = self.reader.resolve(&file_dir(obj), file);
+                let path = self
+                    .reader
+                    .resolve(&file_dir(obj, self.reader.scene_dir), file);
                 let text = self
                     .reader
                     .scene_relative(&path)
@@ -1581,7 +1518,7 @@ impl Out<'_> {
                     self.no_props(c, &["radiance"])?;
                     self.no_children(c)?;
                     let path = base.key("emitter");
-                    let mut e = Node::new(Kind::Emitter, "area", Origin::new(path.clone(), Some(c.at.clone())));
+                    let mut e = Node::new(Kind::Emitter, "area", c.at.origin(path.clone()));
                     let (radiance, at) = get_color(c, "radiance", Use::Emission)?
                         .map_or(([1.0; 3], c.at.clone()), |(v, at)| (v, at.clone()));
                     set(&mut e, &path, "radiance", &at, |p, at| vec3(radiance, p, at));
@@ -1609,7 +1546,7 @@ impl Out<'_> {
     }
 
     /// `to_world` as the shape's `transform = { matrix = ... }`.
-    fn placement(&self, node: &mut Node, base: &KeyPath, to_world: &Option<(Mat4, Location)>) {
+    fn placement(&self, node: &mut Node, base: &KeyPath, to_world: &Option<(Mat4, Place)>) {
         let Some((m, at)) = to_world else {
             return;
         };
@@ -1617,7 +1554,7 @@ impl Out<'_> {
         let inner = path.key("matrix");
         let table = vec![Prop::new(
             "matrix",
-            Origin::new(inner.clone(), Some(at.clone())),
+            at.origin(inner.clone()),
             matrix(m, inner, at),
         )];
         set(node, base, "transform", at, |p, at| {
@@ -1629,7 +1566,12 @@ impl Out<'_> {
 /// A `<texture>` as the table of a texture-typed parameter at `path`: its
 /// `type` and parameters under Penumbra's (and Mitsuba's) names, `to_uv`
 /// as its matrix, a `filename` relative to the file that names it.
-fn texture_table(obj: &Object, path: KeyPath, at: &Location) -> Result<Located<Value>, SceneError> {
+fn texture_table(
+    obj: &Object,
+    path: KeyPath,
+    at: &Place,
+    base: &std::path::Path,
+) -> Result<Located<Value>, SceneError> {
     let known: &[&str] = match obj.plugin.as_str() {
         "checkerboard" => &["color0", "color1", "to_uv"],
         "bitmap" => &["filename", "raw", "filter_type", "wrap_mode", "to_uv"],
@@ -1661,11 +1603,7 @@ fn texture_table(obj: &Object, path: KeyPath, at: &Location) -> Result<Located<V
             ),
         ));
     }
-    let mut table = Node::new(
-        Kind::Texture,
-        "",
-        Origin::new(path.clone(), Some(at.clone())),
-    );
+    let mut table = Node::new(Kind::Texture, "", at.origin(path.clone()));
     set(&mut table, &path, "type", &obj.plugin_at, |p, at| {
         located(Value::String(obj.plugin.clone()), p, at)
     });
@@ -1675,7 +1613,7 @@ fn texture_table(obj: &Object, path: KeyPath, at: &Location) -> Result<Located<V
         }
     }
     if let Some((name, at)) = get_string(obj, "filename")? {
-        let file = file_dir(obj).join(name);
+        let file = file_dir(obj, base).join(name);
         set(&mut table, &path, "filename", at, |p, at| {
             located(Value::String(file.to_string_lossy().into_owned()), p, at)
         });
@@ -1709,7 +1647,7 @@ fn texture_table(obj: &Object, path: KeyPath, at: &Location) -> Result<Located<V
             .collect();
         let matrix = Prop::new(
             "matrix",
-            Origin::new(inner.key("matrix"), Some(at.clone())),
+            at.origin(inner.key("matrix")),
             located(Value::Array(rows), inner.key("matrix"), at),
         );
         set(&mut table, &path, "to_uv", at, |p, at| {
@@ -1734,11 +1672,8 @@ fn obj_has(obj: &Object, name: &str) -> bool {
     obj.prop(name).is_some()
 }
 
-/// The folder of the file `obj`'s `filename` is written in.
-fn file_dir(obj: &Object) -> std::path::PathBuf {
-    let at = obj.prop("filename").map_or(&obj.at, |p| &p.at);
-    at.file
-        .parent()
-        .map(|p| p.to_path_buf())
-        .unwrap_or_default()
+/// The folder of the file `obj`'s `filename` is written in (`base` for a
+/// dict).
+fn file_dir(obj: &Object, base: &std::path::Path) -> std::path::PathBuf {
+    obj.prop("filename").map_or(&obj.at, |p| &p.at).dir(base)
 }

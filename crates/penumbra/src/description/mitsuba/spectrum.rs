@@ -157,7 +157,7 @@ pub fn parse_file(text: &str) -> Result<Spectrum, String> {
     samples_checked(samples)
 }
 
-fn samples_checked(samples: Vec<(f64, f64)>) -> Result<Spectrum, String> {
+pub fn samples_checked(samples: Vec<(f64, f64)>) -> Result<Spectrum, String> {
     if samples.len() < 2 {
         return Err("a spectrum needs at least two wavelength:value pairs".into());
     }
