@@ -551,3 +551,42 @@ fn converts_a_mitsuba_scene_to_toml() {
         ["bad.xml", "scene.toml", "scene.xml", "toml.png", "xml.png"]
     );
 }
+
+/// A Mitsuba scene in a folder below the working one finds its bitmap
+/// beside it, as it finds its meshes, named by a relative path or from
+/// inside its folder; the two renders are the same pixels.
+#[test]
+fn a_mitsuba_scene_in_a_folder_finds_its_textures() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("scenes");
+    std::fs::create_dir(&sub).unwrap();
+    image::RgbImage::from_pixel(4, 4, image::Rgb([200, 40, 40]))
+        .save(sub.join("red.png"))
+        .unwrap();
+    let scene = r#"<scene version="3.0.0">
+    <integrator type="path"/>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+    </sensor>
+    <emitter type="constant"/>
+    <shape type="sphere">
+        <bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="red.png"/></texture></bsdf>
+    </shape>
+</scene>
+"#;
+    std::fs::write(sub.join("scene.xml"), scene).unwrap();
+    let o = penumbra(
+        &["render", "scenes/scene.xml", "-o", "a.exr", "--quiet"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = penumbra(&["render", "scene.xml", "-o", "b.exr", "--quiet"], &sub);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = image::open(dir.path().join("a.exr")).unwrap().into_rgb32f();
+    let b = image::open(sub.join("b.exr")).unwrap().into_rgb32f();
+    assert_eq!(a.as_raw(), b.as_raw());
+    // The sphere's centre is red.
+    let c = a.get_pixel(8, 8);
+    assert!(c[0] > 2.0 * c[1], "{c:?}");
+}

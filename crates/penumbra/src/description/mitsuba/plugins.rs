@@ -1238,7 +1238,7 @@ impl Out<'_> {
                 Child::Ref { id, .. } if self.texture_ids.contains(id) => {
                     located(Value::String(id.clone()), base.key(param), at)
                 }
-                _ => texture_table(target, base.key(param), at, self.reader.scene_dir)?,
+                _ => texture_table(target, base.key(param), at, self.reader)?,
             };
             let key = at.origin(base.key(param));
             node.props.push(Prop::new(param, key, value));
@@ -1256,8 +1256,7 @@ impl Out<'_> {
                 .expect("a free name"),
         };
         let base = KeyPath::root().key("textures").key(&id);
-        let Value::Table(mut props) =
-            texture_table(obj, base.clone(), &obj.at, self.reader.scene_dir)?.value
+        let Value::Table(mut props) = texture_table(obj, base.clone(), &obj.at, self.reader)?.value
         else {
             unreachable!("a texture is a table")
         };
@@ -1565,12 +1564,14 @@ impl Out<'_> {
 
 /// A `<texture>` as the table of a texture-typed parameter at `path`: its
 /// `type` and parameters under Penumbra's (and Mitsuba's) names, `to_uv`
-/// as its matrix, a `filename` relative to the file that names it.
+/// as its matrix, a `filename` found as a mesh's is (relative to the file
+/// that names it, else along the `<path>` folders) and written as the
+/// scene's own files name theirs.
 fn texture_table(
     obj: &Object,
     path: KeyPath,
     at: &Place,
-    base: &std::path::Path,
+    reader: &Reader,
 ) -> Result<Located<Value>, SceneError> {
     let known: &[&str] = match obj.plugin.as_str() {
         "checkerboard" => &["color0", "color1", "to_uv"],
@@ -1613,7 +1614,8 @@ fn texture_table(
         }
     }
     if let Some((name, at)) = get_string(obj, "filename")? {
-        let file = file_dir(obj, base).join(name);
+        let file = reader.resolve(&file_dir(obj, reader.scene_dir), name);
+        let file = reader.scene_relative(&file);
         set(&mut table, &path, "filename", at, |p, at| {
             located(Value::String(file.to_string_lossy().into_owned()), p, at)
         });
