@@ -81,7 +81,8 @@ impl LightBounds {
 
     /// The bounds of two groups together: the box around both, the
     /// smallest cone around both cones (pbrt-v4's `DirectionCone` union,
-    /// widened by [`SLACK`]), the wider emission angle, the power summed.
+    /// widened by a ten-thousandth of a radian), the wider emission angle,
+    /// the power summed.
     pub fn union(&self, o: &LightBounds) -> LightBounds {
         let (axis, cos_theta_o) =
             cone_union((self.axis, self.cos_theta_o), (o.axis, o.cos_theta_o));
