@@ -275,18 +275,18 @@ pub(crate) mod tests {
                 }
             }
         }
-        let round: Vec<Emitter> = many_emitters(true)
+        let everywhere: Vec<Emitter> = many_emitters(true)
             .into_iter()
             .filter(|e| match e {
                 Emitter::Area(a) => matches!(a.shape, AreaShape::Sphere { .. }),
                 other => matches!(other, Emitter::Point(_) | Emitter::Constant(_)),
             })
             .collect();
-        assert!(round.len() > 8);
-        let bvh = LightSampler::new(LightChoice::Bvh, &round, 6.0);
+        assert!(everywhere.len() > 8);
+        let bvh = LightSampler::new(LightChoice::Bvh, &everywhere, 6.0);
         for _ in 0..500 {
             let (p, _) = point(&mut rng);
-            let sum: f32 = (0..round.len() as u32)
+            let sum: f32 = (0..everywhere.len() as u32)
                 .map(|e| bvh.pmf(p, Vec3::ZERO, e))
                 .sum();
             assert!((sum - 1.0).abs() < 1e-5, "Σ pmf = {sum}");
