@@ -78,7 +78,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
 SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path", "instances",
-            "xmlread", "before"]
+            "xmlread", "lights", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -137,7 +137,9 @@ def features(args):
 def build(args):
     import common
 
-    bins = common.build_current(BINARIES, features(args), run=run)
+    # lightsbench is this tree's only: a baseline is built from BINARIES.
+    current = BINARIES | {"penumbra-bench": BINARIES["penumbra-bench"] + ["lightsbench"]}
+    bins = common.build_current(current, features(args), run=run)
     # The Python module, into the harness's venv: the ray section times
     # Penumbra's batch call through Python, as it times embreex's.
     env = dict(os.environ, VIRTUAL_ENV=str(HERE / ".venv"))
@@ -790,6 +792,17 @@ def section_path(args, bins, data):
     return out
 
 
+def section_lights(args, bins, data):
+    """Many lights: `path` on a floor under 1,000 small area lights
+    (lightsbench), with each light sampler at 16 spp on two threads: the
+    render time, the relative MSE against a 2048-spp reference and their
+    product (lower is better). Timed in one process, samplers in turn, each
+    the median of three renders of its frame."""
+    p = run([bins["lightsbench"], "--width", "160", "--height", "100", "--spp", "16", "--reference-spp", "2048",
+             "--threads", "2", "--repeat", "3", "--write-scene", HERE / ".work" / "lights.toml"], cwd=ROOT)
+    return json.loads(p.stdout)
+
+
 # ---------------------------------------------------------------------------
 # Report
 # ---------------------------------------------------------------------------
@@ -926,6 +939,16 @@ def report(res):
         x = res["xmlread"]
         row(f"1,000,000-triangle scene read + built from Mitsuba XML against from TOML, s ({x['pairs']} pairs)",
             f"TOML {f(x['toml_s'])}", f(x["xml_s"]), f"{f(x['ratio'], 3)}×", "≤ 1.10×", x["ratio"] <= 1.10)
+    if "lights" in res:
+        g = res["lights"]
+        L.append("")
+        L.append(f"| many lights: path, {g['lights']:,} area lights, {g['width']}×{g['height']}, {g['spp']} spp, "
+                 f"2 threads | s (wall) | relative MSE (against {g['reference_spp']} spp) | relMSE × s | "
+                 "relMSE × s / uniform's |")
+        L.append("|---|---|---|---|---|")
+        for x in g["samplers"]:
+            L.append(f"| `{x['sampler']}` | {f(x['render_s'], 3)} | {x['relmse']:.3g} | {x['relmse_x_s']:.3g} | "
+                     f"{f(x['work_vs_uniform'], 3)} |")
     if "million" in res:
         mm = res["million"]
         row(f"1,000,000-triangle mesh: load + build s / render s / memory MB", "—",
@@ -1070,7 +1093,7 @@ def main():
     fns = {"rays": section_rays, "a": section_a, "b": section_b, "whitted": section_whitted,
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
-           "path": section_path, "instances": section_instances,
+           "path": section_path, "instances": section_instances, "lights": section_lights,
            "xmlread": section_xmlread, "before": section_before}
     for s in sections:
         log(f"== {s}")

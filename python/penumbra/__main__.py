@@ -198,6 +198,9 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
         elif o["kind"] == "path_sampler":
             choices = ("independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2")
             r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)
+        elif o["kind"] == "light_sampler":
+            choices = ("uniform", "power", "bvh")
+            r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)
         elif o["kind"] == "path":
             r.add_argument(o["flag"], dest=name, metavar=o["metavar"], help=help)
         else:

@@ -40,6 +40,7 @@ FilterName = Literal["box", "tent", "gaussian", "mitchell", "catmullrom", "lancz
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
 IntegratorName = Literal["whitted", "path", "direct", "distributed"]
 PathSamplerName = Literal["independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"]
+LightSamplerName = Literal["uniform", "power", "bvh"]
 StrPath = str | os.PathLike[str]
 #: The custom distribution's point sets: a JSON or .npy file, an array of shape (N, 2) or
 #: (S, N, 2) in [0, 1), or a function of the set size returning such an array.
@@ -159,6 +160,7 @@ class Scene:
         hide_emitters: bool | None = None,
         sets_depth: int | None = None,
         path_sampler: PathSamplerName | None = None,
+        light_sampler: LightSamplerName | None = None,
         emitter_samples: int | None = None,
         bsdf_samples: int | None = None,
         seed: int | None = None,
@@ -280,6 +282,7 @@ def render(
     hide_emitters: bool | None = None,
     sets_depth: int | None = None,
     path_sampler: PathSamplerName | None = None,
+    light_sampler: LightSamplerName | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,
@@ -337,6 +340,7 @@ def render_region(
     hide_emitters: bool | None = None,
     sets_depth: int | None = None,
     path_sampler: PathSamplerName | None = None,
+    light_sampler: LightSamplerName | None = None,
     emitter_samples: int | None = None,
     bsdf_samples: int | None = None,
     seed: int | None = None,

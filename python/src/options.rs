@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
+use penumbra::emitter::choice::LightChoice;
 use penumbra::sampling::{Distribution, Filter, PathSampler, PointTable};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
@@ -123,6 +124,7 @@ pub fn flag_table(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
             Kind::StopRule => "stop_rule",
             Kind::Integrator => "integrator",
             Kind::PathSampler => "path_sampler",
+            Kind::LightSampler => "light_sampler",
             Kind::Switch => "bool",
             Kind::Distribution => "distribution",
             Kind::Filter => "filter",
@@ -156,6 +158,7 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
         Kind::StopRule => Value::StopRule(parse_stop_rule(name, v)?),
         Kind::Integrator => Value::Integrator(parse_integrator(name, v)?),
         Kind::PathSampler => Value::PathSampler(parse_path_sampler(name, v)?),
+        Kind::LightSampler => Value::LightSampler(parse_light_sampler(name, v)?),
         Kind::Between(lo, hi) => Value::Number(between_f32(name, v, lo, hi)?),
         Kind::Colour => {
             return Err(PyTypeError::new_err(format!(
@@ -281,6 +284,12 @@ pub fn parse_integrator(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Integrator
 pub fn parse_path_sampler(name: &str, v: &Bound<'_, PyAny>) -> PyResult<PathSampler> {
     let from = PathSampler::from_name;
     by_name(name, "path sampler", v, from, &PathSampler::ALL, PathSampler::name)
+}
+
+/// A light sampler by name, with the CLI's message for an unknown one.
+pub fn parse_light_sampler(name: &str, v: &Bound<'_, PyAny>) -> PyResult<LightChoice> {
+    let from = LightChoice::from_name;
+    by_name(name, "light sampler", v, from, &LightChoice::ALL, LightChoice::name)
 }
 
 /// A pixel filter by name, with the CLI's message for an unknown one.

@@ -28,6 +28,7 @@ ANNOTATIONS = {
     "stop_rule": "StopRuleName | None",
     "integrator": "IntegratorName | None",
     "path_sampler": "PathSamplerName | None",
+    "light_sampler": "LightSamplerName | None",
     "path": "PointSets | None",
 }
 VALID = {
@@ -39,6 +40,7 @@ VALID = {
     "stop_rule": "cycles",
     "integrator": "whitted",
     "path_sampler": "sobol",
+    "light_sampler": "power",
     "path": "points.json",
 }
 

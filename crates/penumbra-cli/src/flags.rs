@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
+use penumbra::emitter::choice::LightChoice;
 use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Flag, Kind, Value};
@@ -75,6 +76,7 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
         Kind::StopRule => vec![with_value(arg.value_parser(parse_stop_rule))],
         Kind::Integrator => vec![with_value(arg.value_parser(parse_integrator))],
         Kind::PathSampler => vec![with_value(arg.value_parser(parse_path_sampler))],
+        Kind::LightSampler => vec![with_value(arg.value_parser(parse_light_sampler))],
         Kind::Between(lo, hi) => vec![with_value(
             arg.value_parser(move |s: &str| parse_between(s, lo, hi)),
         )],
@@ -101,6 +103,10 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
             .get_one::<PathSampler>(o.name)
             .copied()
             .map(Value::PathSampler),
+        Kind::LightSampler => m
+            .get_one::<LightChoice>(o.name)
+            .copied()
+            .map(Value::LightSampler),
         Kind::Distribution => m
             .get_one::<Distribution>(o.name)
             .copied()
@@ -177,6 +183,16 @@ pub fn parse_path_sampler(s: &str) -> Result<PathSampler, String> {
         PathSampler::from_name(s),
         &PathSampler::ALL,
         PathSampler::name,
+    )
+}
+
+pub fn parse_light_sampler(s: &str) -> Result<LightChoice, String> {
+    by_name(
+        "light sampler",
+        s,
+        LightChoice::from_name(s),
+        &LightChoice::ALL,
+        LightChoice::name,
     )
 }
 
@@ -287,6 +303,7 @@ mod tests {
                     "halton".into(),
                     Value::PathSampler(PathSampler::Sequence(Distribution::Halton)),
                 ),
+                Kind::LightSampler => ("power".into(), Value::LightSampler(LightChoice::Power)),
                 Kind::Between(lo, _) => (lo.to_string(), Value::Number(lo)),
                 Kind::Switch | Kind::Colour | Kind::File => continue,
             };
@@ -337,6 +354,10 @@ mod tests {
                 Kind::PathSampler => (
                     PathSampler::NAMES.iter().map(|n| n.to_string()).collect(),
                     vec!["jitter".into(), "stratified".into()],
+                ),
+                Kind::LightSampler => (
+                    LightChoice::NAMES.iter().map(|n| n.to_string()).collect(),
+                    vec!["spatial".into(), "Power".into()],
                 ),
                 Kind::Between(lo, hi) => (
                     vec![lo.to_string(), hi.to_string()],

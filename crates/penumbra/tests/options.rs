@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use penumbra::description::{Kind as NodeKind, Node, Value as Prop, RENDER_KEYS};
+use penumbra::emitter::choice::LightChoice;
 use penumbra::sampling::filter::FILTER_KEYS;
 use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{replace_section, table, View};
@@ -92,6 +93,7 @@ fn value_toml(v: Value) -> String {
         Value::StopRule(r) => format!("\"{}\"", r.name()),
         Value::Integrator(i) => format!("\"{}\"", i.name()),
         Value::PathSampler(p) => format!("\"{}\"", p.name()),
+        Value::LightSampler(c) => format!("\"{}\"", c.name()),
         Value::Colour(c) => format!("{c:?}"),
     }
 }
@@ -198,6 +200,13 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .collect(),
             vec!["\"jitter\"".into()],
         ),
+        Kind::LightSampler => (
+            LightChoice::NAMES
+                .iter()
+                .map(|n| format!("\"{n}\""))
+                .collect(),
+            vec!["\"spatial\"".into()],
+        ),
         Kind::Between(lo, hi) => (
             vec![format!("{lo:?}"), format!("{hi:?}")],
             vec![format!("{:?}", lo - 0.01), format!("{:?}", hi + 0.01)],
@@ -261,6 +270,7 @@ fn prop_of(v: Value) -> Prop {
         Value::Filter(f) => Prop::String(f.name().into()),
         Value::StopRule(r) => Prop::String(r.name().into()),
         Value::PathSampler(p) => Prop::String(p.name().into()),
+        Value::LightSampler(c) => Prop::String(c.name().into()),
         Value::Integrator(_) | Value::Colour(_) => unreachable!("not a property"),
     }
 }
@@ -281,6 +291,7 @@ fn front_end_values_replace_the_key_of_the_same_name() {
             Kind::StopRule => Value::StopRule(StopRule::Dammertz),
             Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
             Kind::PathSampler => Value::PathSampler(PathSampler::Sequence(Distribution::Halton)),
+            Kind::LightSampler => Value::LightSampler(LightChoice::Uniform),
             Kind::Switch => Value::Switch(!matches!(
                 o.default,
                 DefaultValue::Fixed(Value::Switch(true))

@@ -23,6 +23,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("bsdf_samples", Kind::Integrator),
     ("sets_depth", Kind::Integrator),
     ("path_sampler", Kind::Integrator),
+    ("light_sampler", Kind::Integrator),
     ("seed", Kind::Sampler),
     ("background", Kind::Emitter),
     ("spp", Kind::Sampler),

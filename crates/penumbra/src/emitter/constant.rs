@@ -51,6 +51,15 @@ impl Constant {
         (dir, square_to_uniform_sphere_pdf(dir))
     }
 
+    /// The power it brings into a scene of bounding radius `radius`: the
+    /// radiance of the whole sphere of directions through the disk of that
+    /// radius, `4π · π r² L` (mean over the colour channels), as pbrt-v4
+    /// counts a light at infinity.
+    pub fn power(&self, radius: f32) -> f32 {
+        let pi = std::f32::consts::PI;
+        4.0 * pi * pi * radius * radius * super::bounds::mean(self.radiance)
+    }
+
     /// The density of [`sample`](Self::sample) for any direction.
     pub fn pdf(&self) -> f32 {
         square_to_uniform_sphere_pdf(Vec3::Z)

@@ -74,6 +74,13 @@ impl Directional {
         self.radius = radius;
     }
 
+    /// The power it brings into a scene of bounding radius `radius`: its
+    /// irradiance over the disk of that radius, `π r² E` (mean over the
+    /// colour channels), as pbrt-v4 counts a light at infinity.
+    pub fn power(&self, radius: f32) -> f32 {
+        std::f32::consts::PI * radius * radius * super::bounds::mean(self.irradiance)
+    }
+
     /// The shadow ray toward the light, with a target beyond the scene's
     /// sphere and the irradiance as weight.
     #[inline]

@@ -195,6 +195,21 @@ impl Envmap {
         Some((dir, self.pixel(uv), pdf))
     }
 
+    /// The power it brings into a scene of bounding radius `radius`:
+    /// `π r² ∫ L dω`, the integral summed over the pixels, each of solid
+    /// angle `sin θ · (2π / width) · (π / height)` (mean over the colour
+    /// channels), as pbrt-v4 counts a light at infinity.
+    pub fn power(&self, radius: f32) -> f32 {
+        let m = &self.map;
+        let cell = (2.0 * PI / m.width as f32) * (PI / m.height as f32);
+        let mut sum = 0.0f64;
+        for (i, l) in m.radiance.iter().enumerate() {
+            let theta = PI * ((i / m.width) as f32 + 0.5) / m.height as f32;
+            sum += f64::from(super::bounds::mean(*l) * theta.sin());
+        }
+        PI * radius * radius * (sum as f32) * cell
+    }
+
     /// The solid-angle density with which [`sample`](Self::sample) draws
     /// the world direction `dir`.
     pub fn pdf(&self, dir: Vec3) -> f32 {

@@ -24,6 +24,8 @@
 //! question, inlined into the shading loops.
 
 pub mod area;
+pub mod bounds;
+pub mod choice;
 pub mod constant;
 pub mod directional;
 pub mod envmap;
@@ -98,6 +100,32 @@ impl Emitter {
     pub fn fit(&mut self, center: Vec3, radius: f32) {
         if let Emitter::Directional(d) = self {
             d.fit(center, radius);
+        }
+    }
+
+    /// The power it emits (W, mean over the colour channels); for an
+    /// emitter at infinity (`constant`, `envmap`, `directional`) the power
+    /// it brings into the scene's bounding sphere of radius `radius`, as
+    /// pbrt-v4 counts it.
+    pub fn power(&self, radius: f32) -> f32 {
+        match self {
+            Emitter::Point(p) => p.power(),
+            Emitter::Area(a) => a.power(),
+            Emitter::Spot(s) => s.power(),
+            Emitter::Constant(c) => c.power(radius),
+            Emitter::Directional(d) => d.power(radius),
+            Emitter::Envmap(e) => e.power(radius),
+        }
+    }
+
+    /// Its bounds for a light BVH; `None` for an emitter at infinity
+    /// (`constant`, `envmap`, `directional`), which has none.
+    pub fn bounds(&self) -> Option<bounds::LightBounds> {
+        match self {
+            Emitter::Point(p) => Some(p.bounds()),
+            Emitter::Area(a) => Some(a.bounds()),
+            Emitter::Spot(s) => Some(s.bounds()),
+            Emitter::Constant(_) | Emitter::Directional(_) | Emitter::Envmap(_) => None,
         }
     }
 

@@ -7,10 +7,11 @@
 //! | `position` | vector | **required** | where it is |
 //! | `intensity` | colour ≥ 0 | **required** | radiant intensity |
 
+use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::math::{Rgb, Vec3};
+use crate::math::{Aabb, Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
 pub struct Point {
@@ -52,6 +53,17 @@ impl Point {
     }
 
     /// The shadow ray's target and the irradiance weight `I / r²` at `p`.
+    /// The power it emits, `4π · I` (mean over the colour channels).
+    pub fn power(&self) -> f32 {
+        4.0 * std::f32::consts::PI * mean(self.intensity)
+    }
+
+    /// What a light BVH knows of it: a point emitting in every direction.
+    pub fn bounds(&self) -> LightBounds {
+        let at = Aabb::new(self.position, self.position);
+        LightBounds::new(at, Vec3::Z, self.power(), -1.0, 0.0)
+    }
+
     #[inline]
     pub(super) fn sample(&self, p: Vec3) -> Option<LightSample> {
         let to = self.position - p;

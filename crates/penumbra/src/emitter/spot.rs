@@ -18,10 +18,11 @@
 //! Mitsuba's `to_world` places the light at its origin shining along its
 //! `+z`: the XML reader gives it as `position` and `look_at`.
 
+use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::math::{Rgb, Vec3};
+use crate::math::{Aabb, Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
 pub struct Spot {
@@ -120,6 +121,31 @@ impl Spot {
 
     /// The shadow ray's target and the irradiance weight `I(θ) / r²` at
     /// `p`; `None` outside the cone.
+    /// The power it emits, `2π ∫ I · falloff(θ) sin θ dθ` (mean over the
+    /// colour channels): full intensity out to the beam angle β, then
+    /// falling linearly in angle to the cutoff c, which integrates to
+    /// `2π I (1 − (sin c − sin β) / (c − β))` (`2π I (1 − cos c)` when
+    /// β = c).
+    pub fn power(&self) -> f32 {
+        let beam = self.cos_beam.clamp(-1.0, 1.0).acos();
+        let c = self.cutoff;
+        let solid = if c - beam > 1e-6 {
+            1.0 - (c.sin() - beam.sin()) / (c - beam)
+        } else {
+            1.0 - c.cos()
+        };
+        2.0 * std::f32::consts::PI * solid * mean(self.intensity)
+    }
+
+    /// What a light BVH knows of it: a point whose cone of full intensity
+    /// (the beam angle) is widened by the falloff out to the cutoff.
+    pub fn bounds(&self) -> LightBounds {
+        let at = Aabb::new(self.position, self.position);
+        let beam = self.cos_beam.clamp(-1.0, 1.0).acos();
+        let cos_e = (self.cutoff - beam).max(0.0).cos();
+        LightBounds::new(at, self.axis, self.power(), self.cos_beam, cos_e)
+    }
+
     #[inline]
     pub(super) fn sample(&self, p: Vec3) -> Option<LightSample> {
         let to = self.position - p;
@@ -219,6 +245,11 @@ mod tests {
             power += f64::from(3.0 * s.falloff(d)) * t.sin() * std::f64::consts::PI / steps as f64;
         }
         power *= 2.0 * std::f64::consts::PI;
+        assert!(
+            (f64::from(s.power()) / power - 1.0).abs() < 1e-3,
+            "power {} against {power}",
+            s.power()
+        );
         assert!(
             (on_plane / power - 1.0).abs() < 2e-3,
             "{on_plane} on the plane, {power} emitted"

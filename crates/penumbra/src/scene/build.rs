@@ -25,6 +25,7 @@ use crate::bsdf::{self, Bsdf, BsdfModel};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
+use crate::emitter::choice::LightSampler;
 use crate::emitter::{area, Area, AreaShape, Emitter, MeshLight, PenumbraModel};
 use crate::geometry::instance::Placement;
 use crate::geometry::quad::Quad;
@@ -150,10 +151,18 @@ pub fn build(
             e.fit(center, radius);
         }
     }
+    // Emitters at infinity are measured through the same sphere.
+    let sphere = if radius.is_finite() && radius > 0.0 {
+        radius
+    } else {
+        1.0
+    };
+    let lights = LightSampler::new(settings.path.light_sampler, &emitters, sphere);
     Ok(Scene {
         camera,
         bsdfs,
         emitters,
+        lights,
         world,
         settings,
         transparency,

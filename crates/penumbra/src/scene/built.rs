@@ -8,6 +8,7 @@ use super::settings::Settings;
 use crate::accel::World;
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
+use crate::emitter::choice::LightSampler;
 use crate::emitter::Emitter;
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
@@ -18,6 +19,9 @@ pub struct Scene {
     /// The emitters: the lights in the order of the scene, then the
     /// emitting objects', then those at infinity.
     pub emitters: Vec<Emitter>,
+    /// How next-event estimation chooses among `emitters` (the path
+    /// tracers' `light_sampler`), built once.
+    pub lights: LightSampler,
     /// The geometry and its BVH; shared with other scenes built from the
     /// same geometry through a [`WorldCache`](super::WorldCache).
     pub world: Arc<World>,

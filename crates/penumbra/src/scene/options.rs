@@ -30,6 +30,7 @@ use std::path::PathBuf;
 use super::overrides::Overrides;
 use super::points::Points;
 use super::settings::{IntegratorChoice, StopRule};
+use crate::emitter::choice::LightChoice;
 use crate::sampling::{Distribution, Filter, PathSampler};
 
 pub mod markdown;
@@ -80,6 +81,8 @@ pub enum Kind {
     Integrator,
     /// A path sampler, by name ([`PathSampler::name`]).
     PathSampler,
+    /// A light sampler, by name ([`LightChoice::name`]).
+    LightSampler,
     /// A number in `[lo, hi]`.
     Between(f32, f32),
     /// A linear RGB colour with no negative channel (scene file only).
@@ -101,6 +104,7 @@ pub enum Value {
     StopRule(StopRule),
     Integrator(IntegratorChoice),
     PathSampler(PathSampler),
+    LightSampler(LightChoice),
     Colour([f32; 3]),
 }
 
@@ -157,6 +161,13 @@ impl Value {
     pub fn path_sampler(self) -> Option<PathSampler> {
         match self {
             Value::PathSampler(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    pub fn light_sampler(self) -> Option<LightChoice> {
+        match self {
+            Value::LightSampler(c) => Some(c),
             _ => None,
         }
     }
@@ -599,6 +610,18 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.path_sampler = v.path_sampler()),
     },
     RenderOption {
+        name: "light_sampler",
+        kind: Kind::LightSampler,
+        default: DefaultValue::Fixed(Value::LightSampler(LightChoice::Bvh)),
+        doc: "path, direct and distributed: how next-event estimation chooses its emitter: \
+              uniform, in proportion to power, or down a light BVH by how much each emitter may \
+              light the point (as pbrt-v4)",
+        table: Some(Table::Render),
+        flag: Flag::metavar("SAMPLER"),
+        python: true,
+        set: Some(|c, v| c.overrides.light_sampler = v.light_sampler()),
+    },
+    RenderOption {
         name: "emitter_samples",
         kind: Kind::Int {
             min: 0,
@@ -870,6 +893,7 @@ mod tests {
             Kind::StopRule => Value::StopRule(StopRule::Cycles),
             Kind::Integrator => Value::Integrator(IntegratorChoice::Whitted),
             Kind::PathSampler => Value::PathSampler(PathSampler::Sequence(Distribution::Sobol)),
+            Kind::LightSampler => Value::LightSampler(LightChoice::Power),
             Kind::Colour => Value::Colour([0.5; 3]),
             Kind::File => unreachable!("a file option has no setter"),
         }

@@ -5,6 +5,7 @@ use super::load::SceneSource;
 use super::points::Points;
 use super::settings::{IntegratorChoice, StopRule};
 use crate::description::{KeyPath, Kind, Located, Node, Origin, Value, RENDER_KEYS};
+use crate::emitter::choice::LightChoice;
 use crate::sampling::filter::FILTER_KEYS;
 use crate::sampling::{Distribution, Filter, PathSampler};
 
@@ -27,6 +28,8 @@ pub struct Overrides {
     pub sets_depth: Option<u32>,
     /// The path tracers' source of per-bounce numbers.
     pub path_sampler: Option<PathSampler>,
+    /// How the path tracers' next-event estimation chooses its emitter.
+    pub light_sampler: Option<LightChoice>,
     pub seed: Option<u32>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
@@ -119,6 +122,11 @@ impl Overrides {
             root,
             "path_sampler",
             name(self.path_sampler.map(PathSampler::name)),
+        );
+        set(
+            root,
+            "light_sampler",
+            name(self.light_sampler.map(LightChoice::name)),
         );
         set(root, "seed", int(self.seed));
         set(root, "spp", int(self.spp));

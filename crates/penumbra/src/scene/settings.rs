@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use crate::description::check::{int, range};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::emitter::choice::LightChoice;
 use crate::sampling::filter::FILTER_KEYS;
 use crate::sampling::{
     Distribution, EffectSpec, Filter, FilterParams, PathSampler, PixelFilter, PointTable, MAX_RAYS,
@@ -82,6 +83,8 @@ pub struct PathSettings {
     pub sets_depth: u32,
     /// Where the numbers of each bounce come from.
     pub sampler: PathSampler,
+    /// How next-event estimation chooses its emitter.
+    pub light_sampler: LightChoice,
 }
 
 impl Default for PathSettings {
@@ -94,6 +97,7 @@ impl Default for PathSettings {
             bsdf_samples: 1,
             sets_depth: 0,
             sampler: PathSampler::Independent,
+            light_sampler: LightChoice::Bvh,
         }
     }
 }
@@ -320,12 +324,16 @@ pub const PATH: Schema = Schema {
         param("rr_depth", Type::Int),
         param("hide_emitters", Type::Bool),
         param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
         param("passes", Type::Int),
     ],
 };
 
 /// The type of `path_sampler`.
 const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
+
+/// The type of `light_sampler`.
+const LIGHT_SAMPLER: Type = Type::Choice("light sampler", &LightChoice::NAMES);
 
 /// The distributed path tracer's parameters: the path tracer's, the depth
 /// its sets reach, and the thesis's metrics on its sets (not on a pixel's
@@ -340,6 +348,7 @@ pub const DISTRIBUTED: Schema = Schema {
         param("hide_emitters", Type::Bool),
         param("sets_depth", Type::Int),
         param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
         param("passes", Type::Int),
         param("metric", Type::Bool),
         param("reflection_metric", Type::Bool),
@@ -361,6 +370,7 @@ pub const DIRECT: Schema = Schema {
         param("shading_samples", Type::Int),
         param("hide_emitters", Type::Bool),
         param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
         param("passes", Type::Int),
     ],
 };
@@ -418,6 +428,10 @@ pub fn read(
         path.sampler = i
             .choice("path_sampler", "path sampler", &PathSampler::NAMES)?
             .and_then(PathSampler::from_name)
+            .unwrap_or_default();
+        path.light_sampler = i
+            .choice("light_sampler", "light sampler", &LightChoice::NAMES)?
+            .and_then(LightChoice::from_name)
             .unwrap_or_default();
     }
     Ok(Settings {
@@ -518,6 +532,7 @@ fn direct_settings(i: &Props) -> Result<PathSettings, Invalid> {
         bsdf_samples,
         sets_depth: 0,
         sampler: PathSampler::Independent,
+        light_sampler: LightChoice::Bvh,
     })
 }
 

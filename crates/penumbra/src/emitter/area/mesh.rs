@@ -3,7 +3,7 @@
 //! the triangles' areas built once.
 
 use crate::emitter::sample::{area_pdf, area_sample, LightSample};
-use crate::math::{Rgb, Vec2, Vec3};
+use crate::math::{Aabb, Rgb, Vec2, Vec3};
 use crate::sampling::points::unit_square;
 use crate::sampling::warp::square_to_triangle;
 use crate::sampling::{Discrete, Distribution};
@@ -39,6 +39,33 @@ impl MeshLight {
 
     pub fn area(&self) -> f32 {
         self.area
+    }
+
+    /// The box around the triangles.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.triangles.iter().flatten().copied())
+    }
+
+    /// A cone holding every triangle's normal: its axis (the area-weighted
+    /// mean normal) and the cosine of its half-angle (the smallest cosine
+    /// between the axis and a normal); the whole sphere (−1) when the
+    /// normals cancel out.
+    pub fn normal_cone(&self) -> (Vec3, f32) {
+        let sum: Vec3 = (0..self.triangles.len())
+            .map(|i| self.table.pmf(i) * self.normals[i])
+            .sum();
+        if sum.length() < 1e-3 {
+            return (Vec3::Z, -1.0);
+        }
+        let axis = sum.normalize();
+        let cos = self
+            .normals
+            .iter()
+            .filter(|n| **n != Vec3::ZERO)
+            .map(|n| n.dot(axis))
+            .fold(1.0f32, f32::min);
+        // A little wider than the smallest cosine, against rounding.
+        (axis, if cos > -0.999 { cos - 1e-4 } else { -1.0 })
     }
 
     /// The area-weighted centroid.

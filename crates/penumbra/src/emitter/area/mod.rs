@@ -35,10 +35,11 @@ pub use mesh::MeshLight;
 
 use crate::description::check::{int, nonneg3, required};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::sample::{area_pdf, LightSample};
 use crate::geometry::quad::Quad;
 use crate::geometry::Cylinder;
-use crate::math::{Frame, Rgb, Vec3};
+use crate::math::{Aabb, Frame, Rgb, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
 
@@ -182,6 +183,62 @@ impl Area {
             AreaShape::Cylinder { cylinder: c, .. } => 0.5 * c.area().sqrt(),
             AreaShape::Mesh(m) => 0.5 * m.area().sqrt(),
         }
+    }
+
+    /// The area of the emitting surface.
+    pub fn area(&self) -> f32 {
+        match &self.shape {
+            AreaShape::Rect(q) => q.area(),
+            AreaShape::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
+            AreaShape::Disk { radius, .. } => disk::area(*radius),
+            AreaShape::Cylinder { cylinder: c, .. } => c.area(),
+            AreaShape::Mesh(m) => m.area(),
+        }
+    }
+
+    /// The power it emits, `π · A · L` (one-sided: a sphere outward), the
+    /// mean over the colour channels: the same under either penumbra model.
+    pub fn power(&self) -> f32 {
+        std::f32::consts::PI * self.area() * mean(self.radiance)
+    }
+
+    /// What a light BVH knows of it: the box around the shape, the cone
+    /// of its normals (one normal for a rectangle or disk; every direction
+    /// for a sphere; the directions across the axis for a tube; a cone
+    /// around a mesh's triangles' normals), emitting into the hemisphere
+    /// of each normal, and its [`power`](Self::power).
+    pub fn bounds(&self) -> LightBounds {
+        let (bounds, axis, cos_theta_o) = match &self.shape {
+            AreaShape::Rect(q) => {
+                let corners = [
+                    q.origin,
+                    q.origin + q.edge_u,
+                    q.origin + q.edge_v,
+                    q.origin + q.edge_u + q.edge_v,
+                ];
+                (Aabb::from_points(corners), q.normal, 1.0)
+            }
+            AreaShape::Disk {
+                center,
+                frame,
+                radius,
+            } => {
+                let n = frame.n;
+                let e = (Vec3::ONE - n * n).max(Vec3::ZERO);
+                let r = *radius * Vec3::new(e.x.sqrt(), e.y.sqrt(), e.z.sqrt());
+                (Aabb::new(*center - r, *center + r), n, 1.0)
+            }
+            AreaShape::Sphere { center, radius } => {
+                let r = Vec3::splat(*radius);
+                (Aabb::new(*center - r, *center + r), Vec3::Z, -1.0)
+            }
+            AreaShape::Cylinder { cylinder: c, .. } => (c.bounds(), c.frame.n, 0.0),
+            AreaShape::Mesh(m) => {
+                let (axis, cos) = m.normal_cone();
+                (m.bounds(), axis, cos)
+            }
+        };
+        LightBounds::new(bounds, axis, self.power(), cos_theta_o, 0.0)
     }
 
     /// Radiance leaving the light's surface toward `-dir` at a point with

@@ -14,6 +14,7 @@
 //! | `sets_depth` | integer 1–64 | `1` | `distributed`: the vertices from the camera that draw sets |
 //! | `hide_emitters` | bool | `false` | emitters seen directly by camera rays are black |
 //! | `path_sampler` | name | `independent` | where each bounce's numbers come from ([`PathSampler`](crate::sampling::PathSampler)) |
+//! | `light_sampler` | name | `bvh` | how next-event estimation chooses its emitter: `uniform`, `power` or `bvh` ([`LightSampler`](crate::emitter::choice::LightSampler)) |
 //!
 //! `distributed` carries the thesis into global illumination: a vertex
 //! below `sets_depth` traces a shadow set toward every emitter (its
@@ -42,11 +43,14 @@
 //! A camera ray is followed from vertex to vertex. At each vertex the
 //! radiance the surface emits toward the previous one is added; then, while
 //! the next vertex would still be within `max_depth`, one emitter (chosen
-//! uniformly among those that can be sampled) is sampled for a shadow ray
+//! by the scene's light sampler for the point and its shading normal) is
+//! sampled for a shadow ray
 //! (next-event estimation) on the BSDF's smooth lobes, and the BSDF is
 //! sampled for the path's next direction. Emission reached by a BSDF
 //! sample and an emitter sample of the same light are combined by the power
-//! heuristic; after a delta lobe (a mirror, clear glass, a lobe the thesis
+//! heuristic, the emitter sample's density being the light sampler's
+//! probability of that emitter at the vertex the path left times the
+//! emitter's own density; after a delta lobe (a mirror, clear glass, a lobe the thesis
 //! blurs) the emission met counts whole. From `rr_depth` on, a path
 //! survives with probability `min(max(throughput) · η², 0.95)` (η the
 //! product of the relative indices crossed) and is divided by it.

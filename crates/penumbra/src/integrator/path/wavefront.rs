@@ -42,8 +42,10 @@ struct Paths {
     eta2: Vec<f32>,
     /// The path's stream (its primary sample's).
     rng: Vec<Rng>,
-    /// The vertex the ray left from.
-    from: Vec<Vec3>,
+    /// The vertex the ray left from, and its shading normal (zero for the
+    /// camera): where the light sampler's probability of the emitter met is
+    /// asked.
+    from: Vec<(Vec3, Vec3)>,
     /// What the emission the ray meets is weighed by: the BSDF's
     /// solid-angle density times its samples at the vertex the ray left
     /// (0 after a delta lobe or from the camera: the emission then counts
@@ -57,7 +59,7 @@ struct Paths {
 enum Nee {
     /// None: the emission met counts whole.
     None,
-    /// This many, each toward an emitter chosen uniformly.
+    /// This many, each toward an emitter chosen by the light sampler.
     Choice(f32),
     /// A set toward every emitter, of the emitter's shadow rays (the
     /// thesis's shadow sets).
@@ -85,7 +87,7 @@ impl Paths {
         slot: u32,
         (beta, eta2): (Rgb, f32),
         rng: Rng,
-        (from, mis): (Vec3, (f32, Nee)),
+        (from, mis): ((Vec3, Vec3), (f32, Nee)),
     ) {
         self.ray.push(ray);
         self.slot.push(slot);
@@ -302,7 +304,9 @@ impl<'s> Wavefront<'s> {
         paths.slot.extend(0..n as u32);
         paths.beta.resize(n, Rgb::ONE);
         paths.eta2.resize(n, 1.0);
-        paths.from.extend(paths.ray.iter().map(|r| r.origin));
+        paths
+            .from
+            .extend(paths.ray.iter().map(|r| (r.origin, Vec3::ZERO)));
         paths.mis.resize(n, (0.0, Nee::None));
         self.radiance.clear();
         self.radiance.resize(n, Rgb::ZERO);
@@ -422,7 +426,7 @@ impl<'s> Wavefront<'s> {
         let go_on = depth.saturating_add(1) < max_depth;
         // Next-event estimation chooses among every emitter.
         let lights = scene.emitters.len();
-        let counts = (lights, scene.settings.shadow);
+        let shadow = scene.settings.shadow;
         group_by_material(hits, scene.bsdfs.len(), order, groups);
         for g in groups.windows(2).filter(|g| g[1] > g[0]) {
             batches.shading.add((g[1] - g[0]) as usize);
@@ -437,7 +441,9 @@ impl<'s> Wavefront<'s> {
                 if seen {
                     for &e in far.iter() {
                         let emitter = &scene.emitters[e as usize];
-                        let w = emission_weight(emitter, counts, prev, || {
+                        let (from, from_n) = paths.from[i];
+                        let choice = || scene.lights.pmf(from, from_n, e);
+                        let w = emission_weight(emitter, shadow, prev, choice, || {
                             emitter.pdf_direction(ray.dir)
                         });
                         *acc += beta * emitter.eval_miss(ray.dir) * w;
@@ -447,8 +453,10 @@ impl<'s> Wavefront<'s> {
             };
             if let (Some(e), true) = (hit.emitter, seen) {
                 let emitter = &scene.emitters[e as usize];
-                let from = paths.from[i];
-                let w = emission_weight(emitter, counts, prev, || emitter.pdf(from, hit.p, hit.ng));
+                let (from, from_n) = paths.from[i];
+                let choice = || scene.lights.pmf(from, from_n, e);
+                let density = || emitter.pdf(from, hit.p, hit.ng);
+                let w = emission_weight(emitter, shadow, prev, choice, density);
                 if w > 0.0 {
                     let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);
                     *acc += beta * le * w;
@@ -504,9 +512,11 @@ impl<'s> Wavefront<'s> {
                 let choice = u.value(2 * j);
                 let point = u.point(2 * j + 1);
                 if nee {
-                    let k = ((choice * lights as f32) as usize).min(lights - 1);
-                    let emitter = &scene.emitters[k];
-                    let n = (e as f32, b as f32, lights as f32);
+                    let Some((k, pmf)) = scene.lights.sample(hit.p, hit.n, choice) else {
+                        continue;
+                    };
+                    let emitter = &scene.emitters[k as usize];
+                    let n = (e as f32, b as f32, pmf);
                     light_sample(&v, bsdf, (emitter, *escape), point, n, shadows);
                 }
             }
@@ -545,7 +555,7 @@ impl<'s> Wavefront<'s> {
                     slot,
                     through,
                     stream,
-                    (hit.p, mis),
+                    ((hit.p, hit.n), mis),
                 );
                 count_bounce(stats, s.flags);
             }
@@ -651,14 +661,17 @@ fn group_by_material(
 /// there (0: from the camera or a delta lobe, which next-event estimation
 /// could not have drawn) beside the emitter samples `nee`: the power
 /// heuristic against the emitter samples' density (`density()` of one
-/// sample toward where the path met it, times their count: `lights` share
-/// them under a uniform choice; a set has its emitter's size, `shadow` for
-/// one at infinity); 0 for an emitter sampled without a density (the
+/// sample toward where the path met it, times their count and, under a
+/// choice among emitters, the probability `choice()` that the light
+/// sampler chose this one from that vertex; a set has its emitter's size,
+/// `shadow` for one at infinity); 1 if the light sampler could not have
+/// chosen it there; 0 for an emitter sampled without a density (the
 /// thesis's penumbra model), whose light its shadow rays alone bring.
 fn emission_weight(
     emitter: &Emitter,
-    (lights, shadow): (usize, EffectSpec),
+    shadow: EffectSpec,
     (pdf, nee): (f32, Nee),
+    choice: impl FnOnce() -> f32,
     density: impl FnOnce() -> f32,
 ) -> f32 {
     if pdf == 0.0 {
@@ -666,7 +679,13 @@ fn emission_weight(
     }
     let pdf_light = match nee {
         Nee::None => return 1.0,
-        Nee::Choice(samples) => samples * density() / lights as f32,
+        Nee::Choice(samples) => {
+            let pmf = choice();
+            if pmf <= 0.0 {
+                return 1.0;
+            }
+            samples * pmf * density()
+        }
         Nee::Sets => shadow_set(emitter, shadow).rays as f32 * density(),
     };
     if pdf_light > 0.0 {
@@ -849,7 +868,7 @@ fn set_member(
         (n as f32 * s.pdf, Nee::Sets)
     };
     let ray = Ray::new(origin, s.wi, v.time);
-    next.push(ray, m.slot, through, stream, (v.hit.p, mis));
+    next.push(ray, m.slot, through, stream, ((v.hit.p, v.hit.n), mis));
     count_bounce(stats, s.flags);
 }
 
@@ -941,24 +960,25 @@ struct Vertex<'h> {
     slot: u32,
 }
 
-/// One of `e` emitter samples at `v` toward `emitter` (chosen among
-/// `lights`) with the point `point`, beside `b` BSDF samples (`counts`):
-/// its shadow ray and what it brings, `f · L · cos / (pdf · e)` weighed by
-/// the power heuristic, pushed to `shadows` unless it brings nothing.
+/// One of `e` emitter samples at `v` toward `emitter` (chosen with
+/// probability `pmf`) with the point `point`, beside `b` BSDF samples
+/// (`counts`): its shadow ray and what it brings,
+/// `f · L · cos / (pdf · pmf · e)` weighed by the power heuristic, pushed
+/// to `shadows` unless it brings nothing.
 fn light_sample(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
     (emitter, escape): (&Emitter, Escape),
     point: Vec2,
-    (e, b, lights): (f32, f32, f32),
+    (e, b, pmf): (f32, f32, f32),
     shadows: &mut Shadows,
 ) {
     let p = SetPoint::uniform(point).native();
     let Some(ls) = sample_emitter(emitter, v.hit.p, (p, Distribution::Jitter), escape) else {
         return;
     };
-    let weigh = |pdf_b: f32| power_heuristic(e * ls.pdf / lights, b * pdf_b);
-    shadow_ray(v, bsdf, &ls, weigh, e / lights, (&mut shadows.now, NO_SET));
+    let weigh = |pdf_b: f32| power_heuristic(e * pmf * ls.pdf, b * pdf_b);
+    shadow_ray(v, bsdf, &ls, weigh, e * pmf, (&mut shadows.now, NO_SET));
 }
 
 /// What a vertex needs of its material's lobes.

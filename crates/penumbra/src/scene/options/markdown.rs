@@ -5,6 +5,7 @@
 //! [`replace_section`] puts a fresh table there.
 
 use super::{DefaultValue, Kind, RenderOption, Table, Value, OPTIONS};
+use crate::emitter::choice::LightChoice;
 use crate::sampling::PathSampler;
 use crate::scene::IntegratorChoice;
 
@@ -103,6 +104,7 @@ fn value_type(kind: Kind) -> String {
         Kind::StopRule => "calibrated, cycles, povray or dammertz".into(),
         Kind::Integrator => IntegratorChoice::NAMES.join(", "),
         Kind::PathSampler => PathSampler::NAMES.join(", "),
+        Kind::LightSampler => LightChoice::NAMES.join(", "),
         Kind::Between(lo, hi) => format!("number {lo}–{hi}"),
         Kind::Colour => "colour ≥ 0".into(),
         Kind::File => "file".into(),
@@ -151,6 +153,8 @@ pub fn value_text(v: Value, view: View) -> String {
         Value::Integrator(i) => format!("\"{}\"", i.name()),
         Value::PathSampler(p) if view == View::CommandLine => p.name().into(),
         Value::PathSampler(p) => format!("\"{}\"", p.name()),
+        Value::LightSampler(c) if view == View::CommandLine => c.name().into(),
+        Value::LightSampler(c) => format!("\"{}\"", c.name()),
         Value::Colour(c) => format!("[{}, {}, {}]", c[0], c[1], c[2]),
     }
 }
