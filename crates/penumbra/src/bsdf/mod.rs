@@ -110,10 +110,17 @@ pub trait BsdfModel: Sized {
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32;
 
     /// The fraction of light a shadow ray keeps when it crosses the
-    /// surface without bending (the thesis's transparent shadows); 0 for an
-    /// opaque surface.
-    fn shadow_transmittance(&self) -> f32 {
+    /// surface at `si` without bending (the thesis's transparent shadows);
+    /// 0 for an opaque surface.
+    fn shadow_transmittance(&self, _si: &SurfaceInteraction) -> f32 {
         0.0
+    }
+
+    /// [`shadow_transmittance`](Self::shadow_transmittance) where it is the
+    /// same all over the surface; `None` where a texture makes it vary, so
+    /// that a shadow ray must read it at each point it crosses.
+    fn uniform_shadow_transmittance(&self) -> Option<f32> {
+        Some(0.0)
     }
 }
 
@@ -202,9 +209,18 @@ macro_rules! models {
             }
 
             #[inline]
-            pub fn shadow_transmittance(&self) -> f32 {
+            pub fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
                 match self {
-                    $(Bsdf::$variant(m) => m.shadow_transmittance(),)*
+                    $(Bsdf::$variant(m) => m.shadow_transmittance(si),)*
+                }
+            }
+
+            /// The shadow transmittance where it is the same all over the
+            /// surface; `None` where it varies.
+            #[inline]
+            pub fn uniform_shadow_transmittance(&self) -> Option<f32> {
+                match self {
+                    $(Bsdf::$variant(m) => m.uniform_shadow_transmittance(),)*
                 }
             }
         }

@@ -14,8 +14,9 @@ use std::sync::Arc;
 use super::Bsdf;
 use super::Defaults;
 use crate::description::{Invalid, Param, Props, Type};
-use crate::math::Vec2;
+use crate::math::{Rgb, Vec2};
 use crate::sampling::SetPoint;
+use crate::texture::{NumberOr, Texture, Textures};
 
 /// The schema type of a parameter naming a material.
 pub const MATERIAL: Type = Type::String;
@@ -55,6 +56,34 @@ pub fn read_optional(p: &Props, name: &str, d: &Defaults) -> Result<Option<Arc<B
         Some(m) => Ok(Some(Arc::clone(m))),
         None => Err(p.error(name, format!("no material named `{id}`"))),
     }
+}
+
+/// A share in [0, 1] (`mask`'s opacity, `blendbsdf`'s weight): a number,
+/// a texture's table or a texture's name (read as one value, Mitsuba's
+/// `eval_1`); `default` when it is not there. A number is a constant grey
+/// texture.
+pub fn share(p: &Props, textures: &Textures, name: &str, default: f32) -> Result<Texture, Invalid> {
+    let v = textures
+        .number(p, name)?
+        .unwrap_or(NumberOr::Number(default));
+    let (lo, hi) = match &v {
+        NumberOr::Number(x) => (*x, *x),
+        NumberOr::Texture(t) => t.bounds_1(),
+    };
+    if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi <= 1.0) {
+        return Err(p.error(
+            name,
+            if lo == hi {
+                format!("must be between 0 and 1, got {lo}")
+            } else {
+                format!("must be between 0 and 1; the texture's values span {lo} to {hi}")
+            },
+        ));
+    }
+    Ok(match v {
+        NumberOr::Number(x) => Texture::Constant(Rgb::splat(x)),
+        NumberOr::Texture(t) => t,
+    })
 }
 
 /// Chooses the first of two options with probability `p` by the first
