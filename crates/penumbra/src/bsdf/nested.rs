@@ -1,5 +1,6 @@
-//! What the models holding other models (`twosided`, `mask`, `blendbsdf`)
-//! share: reading a held model by its material name, choosing between
+//! What the models holding other models (`twosided`, `mask`, `blendbsdf`,
+//! `normalmap`, `bumpmap`) share: reading a held model by its material
+//! name, reading a share in [0, 1] that may be a texture, choosing between
 //! models with one random point, and the names of the parameters that hold
 //! models (which the scene builder reads to build the held materials
 //! first).
@@ -27,6 +28,7 @@ pub fn parameters(plugin: &str) -> &'static [&'static str] {
         "twosided" => &["bsdf", "back"],
         "mask" => &["bsdf"],
         "blendbsdf" => &["bsdf_0", "bsdf_1"],
+        "normalmap" | "bumpmap" => &["bsdf"],
         _ => &[],
     }
 }

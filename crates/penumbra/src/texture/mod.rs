@@ -100,6 +100,21 @@ impl Texture {
         }
     }
 
+    /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` at the
+    /// interaction's `(u, v)` (Mitsuba's `eval_1_grad`): 0 for a constant
+    /// and a checkerboard (constant within its squares).
+    pub fn eval_1_grad(&self, si: &SurfaceInteraction) -> Vec2 {
+        self.eval_1_grad_uv(si.uv)
+    }
+
+    /// [`eval_1_grad`](Self::eval_1_grad) at surface coordinates `uv`.
+    pub fn eval_1_grad_uv(&self, uv: Vec2) -> Vec2 {
+        match self {
+            Texture::Constant(_) | Texture::Checkerboard(_) => Vec2::ZERO,
+            Texture::Bitmap(t) => t.eval_1_grad(uv),
+        }
+    }
+
     /// The constant's colour; `None` for a texture that varies.
     pub fn constant(&self) -> Option<Rgb> {
         match self {
