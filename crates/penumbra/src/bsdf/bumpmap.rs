@@ -214,7 +214,7 @@ mod tests {
     fn the_normal_is_the_displaced_surface_s() {
         let h = heights();
         let mut r = Rng::new(5);
-        let mut checked = 0;
+        let (mut checked, mut tilted) = (0, 0);
         for _ in 0..300 {
             let uv = Vec2::new(r.range(0.0, 1.0), r.range(0.0, 1.0));
             // Away from the kinks of the bilinear interpolation.
@@ -236,10 +236,11 @@ mod tests {
             };
             let got = m.normal(&si);
             assert!((got - want).length() < 2e-3, "{uv}: {got:?} vs {want:?}");
-            assert!(got.dot(si.n) < 0.999, "{uv}: not perturbed");
+            tilted += usize::from(got.dot(si.n) < 0.99);
             checked += 1;
         }
-        assert!(checked > 150, "{checked}");
+        // Not vacuous: most normals are tilted by more than 8°.
+        assert!(checked > 150 && tilted > checked / 2, "{tilted} of {checked}");
     }
 
     /// A constant height field is the held material: the same values,
