@@ -1218,7 +1218,7 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             r#"<bsdf type="principled"/>"#,
             "bsdf `principled` is not supported; supported: diffuse, twosided, \
              conductor, roughconductor, dielectric, roughdielectric, thindielectric, \
-             plastic, roughplastic, mask, blendbsdf",
+             plastic, roughplastic, mask, blendbsdf, normalmap, bumpmap",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
@@ -1233,8 +1233,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a `blendbsdf` holds 2 <bsdf>s, not 1",
         ),
         (
-            r#"<bsdf type="mask"><texture type="bitmap" name="opacity"/><bsdf type="diffuse"/></bsdf>"#,
-            "a <texture> inside the bsdf `mask` is not supported",
+            r#"<bsdf type="mask"><texture type="bitmap" name="weight"/><bsdf type="diffuse"/></bsdf>"#,
+            "a texture as `weight` of the bsdf `mask` is not supported (textures go to: opacity)",
         ),
         (
             r#"<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/></bsdf>"#,
