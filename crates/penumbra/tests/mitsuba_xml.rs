@@ -953,14 +953,23 @@ fn obj_texture_coordinates_are_flipped_as_mitsuba_flips_them() {
     assert_eq!(prop(s[1], "flip_tex_coords"), &Value::Bool(false));
     let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
     let uv = |x: f32| {
-        let ray = penumbra::math::Ray::new([x + 0.3, 0.2, 5.0].into(), [0.0, 0.0, -1.0].into(), 0.0);
+        let ray =
+            penumbra::math::Ray::new([x + 0.3, 0.2, 5.0].into(), [0.0, 0.0, -1.0].into(), 0.0);
         scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap().uv
     };
     let (a, b) = (uv(0.0), uv(3.0));
-    assert!((a.x - 0.3).abs() < 1e-5 && (a.y - 0.8).abs() < 1e-5, "{a:?}");
-    assert!((b.x - 0.3).abs() < 1e-5 && (b.y - 0.2).abs() < 1e-5, "{b:?}");
+    assert!(
+        (a.x - 0.3).abs() < 1e-5 && (a.y - 0.8).abs() < 1e-5,
+        "{a:?}"
+    );
+    assert!(
+        (b.x - 0.3).abs() < 1e-5 && (b.y - 0.2).abs() < 1e-5,
+        "{b:?}"
+    );
     let d = with_sensor(r#"<shape type="ply"><string name="filename" value="m.ply"/></shape>"#);
-    assert!(shapes(&d.tree("scene.xml"))[0].prop("flip_tex_coords").is_none());
+    assert!(shapes(&d.tree("scene.xml"))[0]
+        .prop("flip_tex_coords")
+        .is_none());
 }
 
 /// `shapegroup` and `instance` are `[groups.ID]` and objects of type
@@ -1829,7 +1838,10 @@ fn materials_holding_others_take_nested_textures() {
             .find(|b| b.id.as_deref() == Some(id))
             .unwrap_or_else(|| panic!("{id}"))
     };
-    assert_eq!(prop(bsdf("paint"), "diffuse_reflectance"), &Value::String("board".into()));
+    assert_eq!(
+        prop(bsdf("paint"), "diffuse_reflectance"),
+        &Value::String("board".into())
+    );
     assert!(matches!(prop(bsdf("leaf"), "opacity"), Value::Table(_)));
     assert_eq!(prop(bsdf("leaf"), "bsdf"), &Value::String("paint".into()));
     assert_eq!(prop(bsdf("worn"), "weight"), &Value::String("board".into()));

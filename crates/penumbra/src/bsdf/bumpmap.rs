@@ -10,7 +10,7 @@
 //! the geometric normal's side. As Mitsuba's, it leaves out the change of
 //! the normal itself over the surface (pbrt's `dn/du` terms), so a constant
 //! offset of the heights changes nothing. The held material is then asked
-//! through `n'` (see [`perturbed`](super::perturbed)).
+//! through `n'` (see [`super::perturbed`]).
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|

@@ -3,7 +3,7 @@
 //! point is a normal in the shading frame (tangent `dp/du`, bitangent,
 //! normal), each channel mapped from [0, 1] to [−1, 1]: `n' = normalize(2c
 //! − 1)`, so `(0.5, 0.5, 1)` is the unperturbed normal. The held material
-//! is then asked through `n'` (see [`perturbed`](super::perturbed)).
+//! is then asked through `n'` (see [`super::perturbed`]).
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|

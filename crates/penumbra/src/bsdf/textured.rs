@@ -141,7 +141,10 @@ fn every_texture_typed_parameter_follows_a_checkerboard() {
                     Type::ColourTexture => rgb(board.eval(uv)),
                     _ => board.eval_1(uv).to_string(),
                 };
-                model(plugin, &format!("{name} = {value}\n{}", partner(plugin, name)))
+                model(
+                    plugin,
+                    &format!("{name} = {value}\n{}", partner(plugin, name)),
+                )
             };
             let (a, b) = (Vec2::new(0.25, 0.25), Vec2::new(0.75, 0.25));
             let (ra, rb) = (response(&textured, a), response(&textured, b));

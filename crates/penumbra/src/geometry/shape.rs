@@ -368,7 +368,9 @@ mod tests {
                 );
                 let p = match s {
                     Shape::Sphere { .. } => c + r * dir.normalize(),
-                    Shape::Cylinder(t) => project(s, t.base + t.frame.n * (0.75 + 0.7 * dir.z) + dir),
+                    Shape::Cylinder(t) => {
+                        project(s, t.base + t.frame.n * (0.75 + 0.7 * dir.z) + dir)
+                    }
                     _ => project(s, c + 0.9 * r * dir.clamp_length_max(1.0)),
                 };
                 let g = s.geometry(&[], &ShapeHit::default(), p);

@@ -636,15 +636,25 @@ mod tests {
                  transform = {{ translate = [{x}, 0, 0] }}\n"
             )
         };
-        let text = object(-2.0, "flip_tex_coords = true") + &object(2.0, "") + &object(5.0, "flip_tex_coords = false");
-        let src = SceneSource::from_toml(&text, std::path::Path::new("t.toml"), dir.path(), &LoadOptions::default()).unwrap();
+        let text = object(-2.0, "flip_tex_coords = true")
+            + &object(2.0, "")
+            + &object(5.0, "flip_tex_coords = false");
+        let src = SceneSource::from_toml(
+            &text,
+            std::path::Path::new("t.toml"),
+            dir.path(),
+            &LoadOptions::default(),
+        )
+        .unwrap();
         let scene = src.build().unwrap();
         let (u, v) = (0.3, 0.2);
         let uv_at = |x: f32| {
             let ray = Ray::new(Vec3::new(x + u, v, 5.0), -Vec3::Z, 0.0);
             scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap().uv
         };
-        let close = |a: crate::math::Vec2, b: (f32, f32)| (a.x - b.0).abs() < 1e-5 && (a.y - b.1).abs() < 1e-5;
+        let close = |a: crate::math::Vec2, b: (f32, f32)| {
+            (a.x - b.0).abs() < 1e-5 && (a.y - b.1).abs() < 1e-5
+        };
         assert!(close(uv_at(-2.0), (u, 1.0 - v)), "{}", uv_at(-2.0));
         assert!(close(uv_at(2.0), (u, v)), "{}", uv_at(2.0));
         assert!(close(uv_at(5.0), (u, v)), "{}", uv_at(5.0));

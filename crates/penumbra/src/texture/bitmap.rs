@@ -374,19 +374,34 @@ mod tests {
                         continue;
                     }
                     let g = b.eval_1_grad(uv);
-                    let du = (b.eval_1(uv + Vec2::new(h, 0.0)) - b.eval_1(uv - Vec2::new(h, 0.0))) / (2.0 * h);
-                    let dv = (b.eval_1(uv + Vec2::new(0.0, h)) - b.eval_1(uv - Vec2::new(0.0, h))) / (2.0 * h);
+                    let du = (b.eval_1(uv + Vec2::new(h, 0.0)) - b.eval_1(uv - Vec2::new(h, 0.0)))
+                        / (2.0 * h);
+                    let dv = (b.eval_1(uv + Vec2::new(0.0, h)) - b.eval_1(uv - Vec2::new(0.0, h)))
+                        / (2.0 * h);
                     let tol = 2e-2 * (1.0 + du.abs().max(dv.abs()));
-                    assert!((g.x - du).abs() < tol && (g.y - dv).abs() < tol, "{wrap:?} {uv}: {g} vs ({du}, {dv})");
+                    assert!(
+                        (g.x - du).abs() < tol && (g.y - dv).abs() < tol,
+                        "{wrap:?} {uv}: {g} vs ({du}, {dv})"
+                    );
                     checked += 1;
                 }
                 assert!(checked > 200, "{checked}");
             }
         }
-        let n = Bitmap::new(image(), Filter::Nearest, Wrap::Repeat, UvTransform::IDENTITY);
+        let n = Bitmap::new(
+            image(),
+            Filter::Nearest,
+            Wrap::Repeat,
+            UvTransform::IDENTITY,
+        );
         assert_eq!(n.eval_1_grad(Vec2::new(0.3, 0.4)), Vec2::ZERO);
         // Along a row of 0, 1, 2 (clamped), one texel is 1/3 in u: slope 3.
-        let c = Bitmap::new(image(), Filter::Bilinear, Wrap::Clamp, UvTransform::IDENTITY);
+        let c = Bitmap::new(
+            image(),
+            Filter::Bilinear,
+            Wrap::Clamp,
+            UvTransform::IDENTITY,
+        );
         assert!((c.eval_1_grad(Vec2::new(0.3, 0.1)).x - 3.0).abs() < 1e-4);
     }
 
