@@ -1812,6 +1812,7 @@ fn materials_holding_others_take_nested_textures() {
             <bsdf type="roughconductor"/>
         </bsdf>
         <bsdf type="normalmap" id="tiles">
+            <boolean name="use_shadowing_function" value="false"/>
             <texture type="bitmap" name="normalmap">
                 <string name="filename" value="n.png"/><boolean name="raw" value="true"/>
             </texture>
@@ -1847,6 +1848,10 @@ fn materials_holding_others_take_nested_textures() {
     assert_eq!(prop(bsdf("worn"), "weight"), &Value::String("board".into()));
     assert_eq!(prop(bsdf("worn"), "bsdf_0"), &Value::String("paint".into()));
     assert!(matches!(prop(bsdf("tiles"), "normalmap"), Value::Table(_)));
+    assert_eq!(
+        prop(bsdf("tiles"), "use_shadowing_function"),
+        &Value::Bool(false)
+    );
     let bumpy = bsdf("bumpy");
     assert!(matches!(prop(bumpy, "texture"), Value::Table(_)));
     assert_eq!(prop(bumpy, "scale"), &Value::Float(0.5));

@@ -17,6 +17,8 @@
 //! | `texture` | number or texture | required | the height field (a `bitmap`, usually with `raw = true`), read as one value |
 //! | `scale` | number | `1` | a factor on the heights' gradient |
 //! | `bsdf` | material name | required | the material seen through the normal |
+//! | `flip_invalid_normals` | bool | `true` | mirror a normal facing away from the view about the shading normal |
+//! | `use_shadowing_function` | bool | `true` | darken light grazing a tilted normal |
 //!
 //! Its lobes are the held material's. The gradient is the texture's own
 //! ([`Texture::eval_1_grad`]): a bilinear bitmap's is its interpolation's;
@@ -36,7 +38,7 @@
 use std::sync::Arc;
 
 use super::nested;
-use super::perturbed;
+use super::perturbed::{self, Normal, Options};
 use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;
 use super::{BsdfModel, Defaults};
@@ -52,6 +54,7 @@ pub struct BumpMap {
     pub texture: Texture,
     pub scale: f32,
     pub bsdf: Arc<Bsdf>,
+    pub options: Options,
 }
 
 /// The normal of the surface displaced along `si`'s shading normal by a
@@ -67,13 +70,23 @@ pub fn bumped_normal(si: &SurfaceInteraction, grad: Vec2) -> Vec3 {
     let dv = si.dpdv + n * (grad.y - n.dot(si.dpdv));
     let b = du.cross(dv).normalize_or_zero();
     let b = if b.dot(si.ng) < 0.0 { -b } else { b };
-    perturbed::or_unperturbed(si, b)
+    if b.is_finite() && b != Vec3::ZERO {
+        b
+    } else {
+        si.n
+    }
 }
 
 impl BumpMap {
-    /// The perturbed shading normal at the point (world space, unit).
-    pub fn normal(&self, si: &SurfaceInteraction) -> Vec3 {
-        bumped_normal(si, self.texture.eval_1_grad(si) * self.scale)
+    /// The perturbed shading normal at the point, seen from `wo`.
+    pub fn normal(&self, si: &SurfaceInteraction, wo: Vec3) -> Normal {
+        let grad = self.texture.eval_1_grad(si) * self.scale;
+        let p = if grad == Vec2::ZERO {
+            Vec3::Z
+        } else {
+            si.shading_frame().to_local(bumped_normal(si, grad))
+        };
+        perturbed::normal(si, wo, p, self.options)
     }
 }
 
@@ -93,6 +106,8 @@ impl BsdfModel for BumpMap {
             ),
             Param::new("scale", Type::Number, "1", "a factor on the heights' gradient"),
             nested::param("bsdf", "required", "the name of the material seen through the normal"),
+            perturbed::PARAMS[0],
+            perturbed::PARAMS[1],
         ],
     };
 
@@ -112,10 +127,12 @@ impl BsdfModel for BumpMap {
             return Err(p.error("scale", format!("must be a finite number, got {scale}")));
         }
         let bsdf = nested::read(p, "bsdf", d)?;
+        let options = Options::read(p)?;
         Ok(BumpMap {
             texture,
             scale,
             bsdf,
+            options,
         })
     }
 
@@ -124,7 +141,8 @@ impl BsdfModel for BumpMap {
     }
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
-        perturbed::eval(&self.bsdf, si, self.normal(si), wo, wi)
+        let n = self.normal(si, wo);
+        perturbed::eval(&self.bsdf, si, &n, self.options, wo, wi)
     }
 
     fn sample(
@@ -134,11 +152,12 @@ impl BsdfModel for BumpMap {
         lobe: Option<usize>,
         u: SetPoint,
     ) -> Option<BsdfSample> {
-        perturbed::sample(&self.bsdf, si, self.normal(si), wo, lobe, u)
+        let n = self.normal(si, wo);
+        perturbed::sample(&self.bsdf, si, &n, self.options, wo, lobe, u)
     }
 
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
-        perturbed::pdf(&self.bsdf, si, self.normal(si), wo, wi)
+        perturbed::pdf(&self.bsdf, si, &self.normal(si, wo), wo, wi)
     }
 
     fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
@@ -233,8 +252,11 @@ mod tests {
                 texture: h.clone(),
                 scale,
                 bsdf: inners().remove(0).1,
+                options: Options::DEFAULT,
             };
-            let got = m.normal(&si);
+            let got = bumped_normal(&si, h.eval_1_grad_uv(uv) * scale);
+            let seen = m.normal(&si, si.n);
+            assert!((seen.world - got).length() < 1e-5 && (si.shading_frame().to_world(seen.local) - got).length() < 1e-5);
             assert!((got - want).length() < 2e-3, "{uv}: {got:?} vs {want:?}");
             tilted += usize::from(got.dot(si.n) < 0.99);
             checked += 1;
@@ -254,6 +276,7 @@ mod tests {
                     texture,
                     scale,
                     bsdf: Arc::clone(&inner),
+                    options: Options::DEFAULT,
                 };
                 let si = skewed(Vec2::new(0.3, 0.6));
                 for _ in 0..1000 {
@@ -281,6 +304,7 @@ mod tests {
                     texture: heights(),
                     scale: 0.5,
                     bsdf: Arc::clone(&inner),
+                    options: Options::DEFAULT,
                 };
                 cases.push((name, m, skewed(uv)));
             }
@@ -288,7 +312,7 @@ mod tests {
         let views = [Vec3::Z, Vec3::new(0.5, -0.3, 0.8).normalize()];
         let level = chi2::sidak(cases.len() * views.len());
         for (k, (name, m, si)) in cases.iter().enumerate() {
-            assert!(m.normal(si).dot(si.n) < 0.99, "{name}: not perturbed");
+            assert!(m.normal(si, si.n).world.dot(si.n) < 0.99, "{name}: not perturbed");
             for (j, &wo) in views.iter().enumerate() {
                 let p = chi2::model_p_value(m, si, wo, (10 * k + j) as u64).unwrap();
                 assert!(p > level, "{name} {:?} {wo:?}: p = {p:e}", si.uv);
@@ -305,6 +329,7 @@ mod tests {
         named.insert("paint".to_string(), inners().remove(0).1);
         let m = build_in::<BumpMap>("bsdf = \"paint\"\ntexture = 0.5", &named).unwrap();
         assert_eq!((m.scale, m.texture.constant()), (1.0, Some(Rgb::splat(0.5))));
+        assert_eq!(m.options, Options::DEFAULT);
         for (text, want) in [
             ("bsdf = \"paint\"", "missing field `texture`"),
             ("texture = 0.5", "missing field `bsdf`"),

@@ -9,6 +9,8 @@
 //! |---|---|---|---|
 //! | `normalmap` | colour or texture | required | the tangent-space normal: a `bitmap` with `raw = true` (its 8-bit values linear), or a constant colour for a uniform tilt |
 //! | `bsdf` | material name | required | the material seen through the normal |
+//! | `flip_invalid_normals` | bool | `true` | mirror a normal facing away from the view about the shading normal |
+//! | `use_shadowing_function` | bool | `true` | darken light grazing a tilted normal |
 //!
 //! Its lobes are the held material's. A map whose colour at a point gives
 //! no direction (`(0.5, 0.5, 0.5)`) leaves the normal there unperturbed.
@@ -25,7 +27,7 @@
 use std::sync::Arc;
 
 use super::nested;
-use super::perturbed;
+use super::perturbed::{self, Normal, Options};
 use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;
 use super::{BsdfModel, Defaults};
@@ -40,15 +42,15 @@ use crate::texture::Texture;
 pub struct NormalMap {
     pub normalmap: Texture,
     pub bsdf: Arc<Bsdf>,
+    pub options: Options,
 }
 
 impl NormalMap {
-    /// The perturbed shading normal at the point (world space, unit).
-    pub fn normal(&self, si: &SurfaceInteraction) -> Vec3 {
+    /// The perturbed shading normal at the point, seen from `wo`.
+    pub fn normal(&self, si: &SurfaceInteraction, wo: Vec3) -> Normal {
         let c = self.normalmap.eval(si);
-        let local = Vec3::new(2.0 * c.r - 1.0, 2.0 * c.g - 1.0, 2.0 * c.b - 1.0);
-        let n = si.shading_frame().to_world(local.normalize_or_zero());
-        perturbed::or_unperturbed(si, n)
+        let p = Vec3::new(2.0 * c.r - 1.0, 2.0 * c.g - 1.0, 2.0 * c.b - 1.0);
+        perturbed::normal(si, wo, p, self.options)
     }
 }
 
@@ -67,6 +69,8 @@ impl BsdfModel for NormalMap {
                 "the normal in the shading frame, each channel in [0, 1] mapped to [−1, 1] (a `bitmap` with `raw = true`)",
             ),
             nested::param("bsdf", "required", "the name of the material seen through the normal"),
+            perturbed::PARAMS[0],
+            perturbed::PARAMS[1],
         ],
     };
 
@@ -76,7 +80,12 @@ impl BsdfModel for NormalMap {
         }
         let normalmap = d.textures.colour(p, "normalmap", Rgb::ZERO)?;
         let bsdf = nested::read(p, "bsdf", d)?;
-        Ok(NormalMap { normalmap, bsdf })
+        let options = Options::read(p)?;
+        Ok(NormalMap {
+            normalmap,
+            bsdf,
+            options,
+        })
     }
 
     fn lobes(&self) -> Lobes {
@@ -84,7 +93,8 @@ impl BsdfModel for NormalMap {
     }
 
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
-        perturbed::eval(&self.bsdf, si, self.normal(si), wo, wi)
+        let n = self.normal(si, wo);
+        perturbed::eval(&self.bsdf, si, &n, self.options, wo, wi)
     }
 
     fn sample(
@@ -94,11 +104,12 @@ impl BsdfModel for NormalMap {
         lobe: Option<usize>,
         u: SetPoint,
     ) -> Option<BsdfSample> {
-        perturbed::sample(&self.bsdf, si, self.normal(si), wo, lobe, u)
+        let n = self.normal(si, wo);
+        perturbed::sample(&self.bsdf, si, &n, self.options, wo, lobe, u)
     }
 
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
-        perturbed::pdf(&self.bsdf, si, self.normal(si), wo, wi)
+        perturbed::pdf(&self.bsdf, si, &self.normal(si, wo), wo, wi)
     }
 
     fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
@@ -141,6 +152,18 @@ mod tests {
         NormalMap {
             normalmap: Texture::Constant(c),
             bsdf: Arc::clone(bsdf),
+            options: Options::DEFAULT,
+        }
+    }
+
+    /// [`map`] without the shadowing term.
+    fn bare(c: Rgb, bsdf: &Arc<Bsdf>) -> NormalMap {
+        NormalMap {
+            options: Options {
+                flip_invalid_normals: true,
+                use_shadowing_function: false,
+            },
+            ..map(c, bsdf)
         }
     }
 
@@ -160,8 +183,8 @@ mod tests {
         let mut rng = Rng::new(12);
         for (name, inner) in inners() {
             let m = map(Rgb::new(0.5, 0.5, 1.0), &inner);
-            assert_eq!(m.normal(&si), si.n, "{name}");
             for wo in views().map(|v| si.shading_frame().to_world(v)) {
+                assert_eq!(m.normal(&si, wo).world, si.n, "{name}");
                 for _ in 0..500 {
                     let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
                     let (a, b) = (m.sample(&si, wo, None, u), inner.sample(&si, wo, None, u));
@@ -178,7 +201,9 @@ mod tests {
     /// A tilted map tilts the lobe as predicted: a mirror reflects about
     /// the mapped normal `frame · normalize(2c − 1)`, and a Lambertian
     /// surface's value times the cosine to the shading normal is `ρ/π`
-    /// times the cosine to the mapped normal.
+    /// times the cosine to the mapped normal, times the shadowing term
+    /// when it is on. Seen from behind the mapped normal, the normal is
+    /// mirrored about the shading normal (`flip_invalid_normals`).
     #[test]
     fn a_tilted_map_tilts_the_lobe() {
         let si = interaction(Vec3::new(0.1, 0.2, 0.97).normalize());
@@ -187,12 +212,15 @@ mod tests {
         let want = frame.to_world(Vec3::new(0.4, -0.2, 0.8).normalize());
         let all = inners();
         let mirror = map(c, &all[3].1);
-        assert!((mirror.normal(&si) - want).length() < 1e-6);
         let wo = frame.to_world(Vec3::new(0.3, 0.3, 0.9).normalize());
+        assert!((mirror.normal(&si, wo).world - want).length() < 1e-6);
+        let behind = frame.to_world(Vec3::new(-0.9, 0.2, 0.2).normalize());
+        let mirrored = frame.to_world(Vec3::new(-0.4, 0.2, 0.8).normalize());
+        assert!((mirror.normal(&si, behind).world - mirrored).length() < 1e-6);
         let s = mirror.sample(&si, wo, None, SetPoint::uniform(Vec2::splat(0.5))).unwrap();
         let reflected = 2.0 * wo.dot(want) * want - wo;
         assert!((s.wi - reflected).length() < 1e-5, "{:?} vs {reflected:?}", s.wi);
-        let lambert = map(c, &all[0].1);
+        let (lambert, shadowed) = (bare(c, &all[0].1), map(c, &all[0].1));
         let mut seen = 0;
         for v in [Vec3::new(0.5, -0.3, 0.8), Vec3::new(-0.2, 0.1, 0.95), Vec3::new(0.9, 0.1, 0.3)] {
             let wi = frame.to_world(v.normalize());
@@ -201,6 +229,13 @@ mod tests {
             let expect = if wi.dot(want) > 0.0 { rho * (wi.dot(want) / std::f32::consts::PI) } else { Rgb::ZERO };
             assert!((f - expect).abs().max_element() < 1e-5, "{wi:?}: {f:?} vs {expect:?}");
             seen += usize::from(expect.max_element() > 0.0);
+            // The shadowing term: α² = tan²θ'/8 of the mapped normal, θi of wi.
+            let tan2 = |c: f32| (1.0 - c * c) / (c * c);
+            let a2 = (tan2(want.dot(si.n)) / 8.0).min(1.0);
+            let g = 2.0 / (1.0 + (1.0 + a2 * tan2(wi.dot(si.n))).sqrt());
+            let s = shadowed.eval(&si, wo, wi) * wi.dot(si.n);
+            assert!((s - expect * g).abs().max_element() < 1e-5, "{wi:?}: {s:?} vs {:?}", expect * g);
+            assert!(g < 1.0 || expect == Rgb::ZERO);
         }
         assert!(seen >= 2);
         // A direction above the shading normal but below the mapped one is dark.
@@ -222,6 +257,7 @@ mod tests {
             for c in [Rgb::new(0.7, 0.4, 0.9), Rgb::new(0.3, 0.6, 0.8)] {
                 models.push((format!("{name} {c:?}"), map(c, &inner)));
             }
+            models.push((format!("{name} unshadowed"), bare(Rgb::new(0.7, 0.4, 0.9), &inner)));
         }
         chi2::assert_samplers_pass(
             models.iter().map(|(t, m)| (t.clone(), m.clone())).collect(),
@@ -247,6 +283,10 @@ mod tests {
         named.insert("paint".to_string(), inners().remove(0).1);
         let m = build_in::<NormalMap>("bsdf = \"paint\"\nnormalmap = [0.5, 0.5, 1]", &named).unwrap();
         assert_eq!(m.normalmap.constant(), Some(Rgb::new(0.5, 0.5, 1.0)));
+        assert_eq!(m.options, Options::DEFAULT);
+        let text = "bsdf = \"paint\"\nnormalmap = [0.5, 0.5, 1]\nflip_invalid_normals = false\nuse_shadowing_function = false";
+        let o = build_in::<NormalMap>(text, &named).unwrap().options;
+        assert!(!o.flip_invalid_normals && !o.use_shadowing_function);
         assert_eq!(m.lobes(), m.bsdf.lobes());
         for (text, want) in [
             ("bsdf = \"paint\"", "missing field `normalmap`"),

@@ -135,8 +135,21 @@ const MITSUBA_BSDFS: &[(&str, &[(&str, BsdfParam)])] = {
         ("twosided", &[]),
         ("mask", &[("opacity", Number)]),
         ("blendbsdf", &[("weight", Number)]),
-        ("normalmap", &[]),
-        ("bumpmap", &[("scale", Number)]),
+        (
+            "normalmap",
+            &[
+                ("flip_invalid_normals", Flag),
+                ("use_shadowing_function", Flag),
+            ],
+        ),
+        (
+            "bumpmap",
+            &[
+                ("scale", Number),
+                ("flip_invalid_normals", Flag),
+                ("use_shadowing_function", Flag),
+            ],
+        ),
     ]
 };
 
