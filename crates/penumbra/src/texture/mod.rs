@@ -4,7 +4,9 @@
 //! Every parameter of a model that Mitsuba lets take a texture takes one
 //! here (its schema type is [`Type::ColourTexture`](crate::description::Type::ColourTexture) or
 //! [`Type::NumberTexture`](crate::description::Type::NumberTexture)): a colour, the texture of a model's colours; a
-//! number, a roughness. In a scene such a parameter is written as
+//! number, a roughness, an opacity, a blend weight or a bump map's heights
+//! (read through their gradient, [`Texture::eval_1_grad`]). In a scene such
+//! a parameter is written as
 //!
 //! * a plain value, 3 numbers or a number: a [`Texture::Constant`], which
 //!   costs what a plain colour costs;
