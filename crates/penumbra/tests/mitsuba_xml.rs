@@ -932,6 +932,46 @@ fn cubes_cylinders_disks_and_flipped_normals_map_by_name() {
     assert!((h.t - 5.0).abs() < 1e-5 && h.ng.z > 0.999, "{h:?}");
 }
 
+/// An OBJ's texture coordinates are flipped (`v → 1 − v`) as Mitsuba's
+/// reader flips them, unless `flip_tex_coords` is false; a PLY's are kept.
+/// Built, a point of the square carries the flipped coordinates.
+#[test]
+fn obj_texture_coordinates_are_flipped_as_mitsuba_flips_them() {
+    let d = with_sensor(
+        r#"<shape type="obj"><string name="filename" value="s.obj"/></shape>
+        <shape type="obj"><string name="filename" value="s.obj"/><boolean name="flip_tex_coords" value="false"/>
+            <transform name="to_world"><translate x="3"/></transform></shape>"#,
+    );
+    std::fs::write(
+        d.path("s.obj"),
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+    )
+    .unwrap();
+    let root = d.tree("scene.xml");
+    let s = shapes(&root);
+    assert_eq!(prop(s[0], "flip_tex_coords"), &Value::Bool(true));
+    assert_eq!(prop(s[1], "flip_tex_coords"), &Value::Bool(false));
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let uv = |x: f32| {
+        let ray =
+            penumbra::math::Ray::new([x + 0.3, 0.2, 5.0].into(), [0.0, 0.0, -1.0].into(), 0.0);
+        scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap().uv
+    };
+    let (a, b) = (uv(0.0), uv(3.0));
+    assert!(
+        (a.x - 0.3).abs() < 1e-5 && (a.y - 0.8).abs() < 1e-5,
+        "{a:?}"
+    );
+    assert!(
+        (b.x - 0.3).abs() < 1e-5 && (b.y - 0.2).abs() < 1e-5,
+        "{b:?}"
+    );
+    let d = with_sensor(r#"<shape type="ply"><string name="filename" value="m.ply"/></shape>"#);
+    assert!(shapes(&d.tree("scene.xml"))[0]
+        .prop("flip_tex_coords")
+        .is_none());
+}
+
 /// `shapegroup` and `instance` are `[groups.ID]` and objects of type
 /// `instance` naming it, `to_world` as the transform; the instances are
 /// hit where they are placed. An emitter in a group, a reference to
@@ -1187,7 +1227,7 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             r#"<bsdf type="principled"/>"#,
             "bsdf `principled` is not supported; supported: diffuse, twosided, \
              conductor, roughconductor, dielectric, roughdielectric, thindielectric, \
-             plastic, roughplastic, mask, blendbsdf",
+             plastic, roughplastic, mask, blendbsdf, normalmap, bumpmap",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
@@ -1202,8 +1242,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a `blendbsdf` holds 2 <bsdf>s, not 1",
         ),
         (
-            r#"<bsdf type="mask"><texture type="bitmap" name="opacity"/><bsdf type="diffuse"/></bsdf>"#,
-            "a <texture> inside the bsdf `mask` is not supported",
+            r#"<bsdf type="mask"><texture type="bitmap" name="weight"/><bsdf type="diffuse"/></bsdf>"#,
+            "a texture as `weight` of the bsdf `mask` is not supported (textures go to: opacity)",
         ),
         (
             r#"<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/></bsdf>"#,
@@ -1748,6 +1788,101 @@ fn rfilters_carry_their_parameters() {
             PixelFilter::new(f, &expect).unwrap(),
             "{name}"
         );
+    }
+}
+
+/// Textures nested in the materials holding others: `mask`'s opacity,
+/// `blendbsdf`'s weight, `normalmap`'s map (its `<texture name="normalmap">`)
+/// and `bumpmap`'s heights (its one texture, whatever its name), beside
+/// their `<bsdf>`s; plastics' colours as textures. The scene builds, and a
+/// texture a model does not take is refused at its tag.
+#[test]
+fn materials_holding_others_take_nested_textures() {
+    let d = with_sensor(
+        r#"
+        <texture type="checkerboard" id="board"/>
+        <bsdf type="plastic" id="paint"><ref name="diffuse_reflectance" id="board"/></bsdf>
+        <bsdf type="mask" id="leaf">
+            <texture type="checkerboard" name="opacity"><float name="color0" value="0.2"/></texture>
+            <ref id="paint"/>
+        </bsdf>
+        <bsdf type="blendbsdf" id="worn">
+            <ref name="weight" id="board"/>
+            <ref id="paint"/>
+            <bsdf type="roughconductor"/>
+        </bsdf>
+        <bsdf type="normalmap" id="tiles">
+            <boolean name="use_shadowing_function" value="false"/>
+            <texture type="bitmap" name="normalmap">
+                <string name="filename" value="n.png"/><boolean name="raw" value="true"/>
+            </texture>
+            <bsdf type="roughplastic"/>
+        </bsdf>
+        <bsdf type="bumpmap" id="bumpy">
+            <bsdf type="diffuse"/>
+            <texture type="bitmap" name="arbitrary">
+                <string name="filename" value="n.png"/><boolean name="raw" value="true"/>
+            </texture>
+            <float name="scale" value="0.5"/>
+        </bsdf>
+        <shape type="sphere"><ref id="leaf"/></shape>
+        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="worn"/></shape>
+        <shape type="sphere"><point name="center" x="-2" y="0" z="0"/><ref id="tiles"/></shape>
+        <shape type="sphere"><point name="center" x="0" y="2" z="0"/><ref id="bumpy"/></shape>"#,
+    );
+    image::RgbImage::from_fn(2, 2, |x, _| image::Rgb([128 + 60 * x as u8, 128, 255]))
+        .save(d.path("n.png"))
+        .unwrap();
+    let root = d.tree("scene.xml");
+    let bsdf = |id: &str| {
+        root.children_of(Kind::Bsdf)
+            .find(|b| b.id.as_deref() == Some(id))
+            .unwrap_or_else(|| panic!("{id}"))
+    };
+    assert_eq!(
+        prop(bsdf("paint"), "diffuse_reflectance"),
+        &Value::String("board".into())
+    );
+    assert!(matches!(prop(bsdf("leaf"), "opacity"), Value::Table(_)));
+    assert_eq!(prop(bsdf("leaf"), "bsdf"), &Value::String("paint".into()));
+    assert_eq!(prop(bsdf("worn"), "weight"), &Value::String("board".into()));
+    assert_eq!(prop(bsdf("worn"), "bsdf_0"), &Value::String("paint".into()));
+    assert!(matches!(prop(bsdf("tiles"), "normalmap"), Value::Table(_)));
+    assert_eq!(
+        prop(bsdf("tiles"), "use_shadowing_function"),
+        &Value::Bool(false)
+    );
+    let bumpy = bsdf("bumpy");
+    assert!(matches!(prop(bumpy, "texture"), Value::Table(_)));
+    assert_eq!(prop(bumpy, "scale"), &Value::Float(0.5));
+    let Value::String(inner) = prop(bumpy, "bsdf") else {
+        panic!()
+    };
+    assert_eq!(bsdf(inner).plugin, "diffuse");
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = scene.bsdfs.iter().map(|b| b.name()).collect();
+    for m in ["plastic", "mask", "blendbsdf", "normalmap", "bumpmap"] {
+        assert!(names.contains(&m), "{names:?}");
+    }
+    common::render_scene(&scene, 2);
+
+    for (body, want) in [
+        (
+            r#"<bsdf type="mask" id="m"><texture type="checkerboard" name="alpha"/><bsdf type="diffuse"/></bsdf>"#,
+            "a texture as `alpha` of the bsdf `mask` is not supported (textures go to: opacity)",
+        ),
+        (
+            r#"<bsdf type="bumpmap" id="m"><texture type="checkerboard" name="a"/><texture type="checkerboard" name="b"/><bsdf type="diffuse"/></bsdf>"#,
+            "`texture` is given twice",
+        ),
+        (
+            r#"<bsdf type="normalmap" id="m"><texture type="checkerboard" name="normalmap"/></bsdf>"#,
+            "holds 1 <bsdf>s, not 0",
+        ),
+    ] {
+        let e = with_sensor(body).err("scene.xml");
+        assert!(e.contains(want), "{e}\n{want}");
+        assert!(e.contains("scene.xml:"), "{e}");
     }
 }
 

@@ -573,3 +573,44 @@ fn material_keys_are_checked_at_their_place() {
         assert!(e.contains(want), "{material}: {e}");
     }
 }
+
+/// A shadow ray crossing a mask of textured opacity keeps `1 − opacity` of
+/// the light where it crosses: a point light straight above the floor's
+/// centre, a mask quad between them whose checkerboard opacity is 0.2 on
+/// one square and 0.7 on the other; moving the quad so that the ray crosses
+/// the other square dims the floor by the other factor.
+#[test]
+fn a_textured_mask_lets_through_one_minus_its_opacity_where_crossed() {
+    let (h, i) = (2.0, 10.0);
+    let light = format!(
+        "[[lights]]\ntype = \"point\"\nposition = [0.0, {h}, 0.0]\nintensity = [{i}, {i}, {i}]\n"
+    );
+    let mask = |x0: f32| {
+        format!(
+            r#"{light}
+[materials.paint]
+type = "diffuse"
+
+[materials.leaf]
+type = "mask"
+opacity = {{ type = "checkerboard", color0 = [0.2, 0.2, 0.2], color1 = [0.7, 0.7, 0.7] }}
+bsdf = "paint"
+
+[[objects]]
+type = "quad"
+material = "leaf"
+origin = [{x0}, 1.0, -0.25]
+edge_u = [2.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, 2.0]
+"#
+        )
+    };
+    let open = centre(&looking_down(&light));
+    let want = Rgb::new(0.5, 0.25, 0.1) * (i / (PI * h * h));
+    assert_close(open, want, 1e-3);
+    // Crossed at (u, v) = (0.125, 0.125), then at (0.625, 0.125). Read as
+    // one value, a checkerboard has color1 in the first square and color0
+    // in the second (Mitsuba's `eval_1`, squares swapped).
+    assert_close(centre(&looking_down(&mask(-0.25))), want * 0.3, 1e-3);
+    assert_close(centre(&looking_down(&mask(-1.25))), want * 0.8, 1e-3);
+}

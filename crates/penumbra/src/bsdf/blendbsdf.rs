@@ -4,7 +4,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `weight` | number in [0, 1] | `0.5` | the share of `bsdf_1` |
+//! | `weight` | number in [0, 1] or texture | `0.5` | the share of `bsdf_1` (a texture read as one value, its luminance, at the point) |
 //! | `bsdf_0` | material name | required | the first material |
 //! | `bsdf_1` | material name | required | the second material |
 //!
@@ -23,16 +23,16 @@ use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;
-use crate::description::check::range;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// The blend (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct BlendBsdf {
-    pub weight: f32,
+    pub weight: Texture,
     pub bsdf_0: Arc<Bsdf>,
     pub bsdf_1: Arc<Bsdf>,
 }
@@ -40,7 +40,7 @@ pub struct BlendBsdf {
 impl BlendBsdf {
     /// The blend of `bsdf_0` and `bsdf_1`; `Err` if their lobes together do
     /// not fit the slots.
-    pub fn new(weight: f32, bsdf_0: Arc<Bsdf>, bsdf_1: Arc<Bsdf>) -> Result<BlendBsdf, String> {
+    pub fn new(weight: Texture, bsdf_0: Arc<Bsdf>, bsdf_1: Arc<Bsdf>) -> Result<BlendBsdf, String> {
         let b = BlendBsdf {
             weight,
             bsdf_0,
@@ -56,8 +56,8 @@ impl BlendBsdf {
     }
 
     /// The share of `bsdf_1` at the point (the one place it is read).
-    fn weight(&self, _si: &SurfaceInteraction) -> f32 {
-        self.weight
+    fn weight(&self, si: &SurfaceInteraction) -> f32 {
+        self.weight.eval_1(si)
     }
 
     /// The slot `bsdf_1`'s lobes start at.
@@ -76,7 +76,7 @@ impl BsdfModel for BlendBsdf {
         params: &[
             Param::new(
                 "weight",
-                Type::Number,
+                Type::NumberTexture,
                 "0.5",
                 "the share of `bsdf_1`, in [0, 1] (0: `bsdf_0` alone, 1: `bsdf_1` alone)",
             ),
@@ -86,7 +86,7 @@ impl BsdfModel for BlendBsdf {
     };
 
     fn build(p: &Props, d: &Defaults) -> Result<BlendBsdf, Invalid> {
-        let weight = range(p, "weight", 0.5, 0.0, 1.0)?;
+        let weight = nested::share(p, d.textures, "weight", 0.5)?;
         let b0 = nested::read(p, "bsdf_0", d)?;
         let b1 = nested::read(p, "bsdf_1", d)?;
         BlendBsdf::new(weight, b0, b1).map_err(|e| p.node_error(e))
@@ -149,9 +149,22 @@ impl BsdfModel for BlendBsdf {
         self.bsdf_0.pdf(si, wo, wi) * (1.0 - w) + self.bsdf_1.pdf(si, wo, wi) * w
     }
 
-    fn shadow_transmittance(&self) -> f32 {
-        let w = self.weight;
-        self.bsdf_0.shadow_transmittance() * (1.0 - w) + self.bsdf_1.shadow_transmittance() * w
+    fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
+        let w = self.weight(si);
+        self.bsdf_0.shadow_transmittance(si) * (1.0 - w) + self.bsdf_1.shadow_transmittance(si) * w
+    }
+
+    fn uniform_shadow_transmittance(&self) -> Option<f32> {
+        let (t0, t1) = (
+            self.bsdf_0.uniform_shadow_transmittance()?,
+            self.bsdf_1.uniform_shadow_transmittance()?,
+        );
+        if t0 == t1 {
+            // The same either way, whatever the weight.
+            return Some(t0);
+        }
+        let w = crate::texture::one(self.weight.constant()?);
+        Some(t0 * (1.0 - w) + t1 * w)
     }
 }
 
@@ -167,6 +180,10 @@ mod tests {
     use crate::bsdf::roughconductor::RoughConductor;
     use crate::math::Vec2;
     use crate::sampling::Rng;
+
+    fn grey(w: f32) -> Texture {
+        Texture::Constant(Rgb::splat(w))
+    }
 
     fn arc(b: impl Into<Bsdf>) -> Arc<Bsdf> {
         Arc::new(b.into())
@@ -197,25 +214,26 @@ mod tests {
         for (a, b) in pairs() {
             for w in [0.0, 0.25, 0.9] {
                 for wo in views() {
-                    cases.push((BlendBsdf::new(w, a.clone(), b.clone()).unwrap(), wo));
+                    cases.push((BlendBsdf::new(grey(w), a.clone(), b.clone()).unwrap(), wo));
                 }
             }
         }
         let level = chi2::sidak(cases.len());
         for (k, (m, wo)) in cases.iter().enumerate() {
             let wo = *wo;
+            let weight = m.weight(&si);
             // A blend of a mirror alone has no smooth directions to count.
-            let smooth = (m.weight < 1.0 && m.bsdf_0.lobes().any_smooth())
-                || (m.weight > 0.0 && m.bsdf_1.lobes().any_smooth());
+            let smooth = (weight < 1.0 && m.bsdf_0.lobes().any_smooth())
+                || (weight > 0.0 && m.bsdf_1.lobes().any_smooth());
             if smooth {
                 let p = smooth_p_value(m, &si, wo, k as u64).unwrap();
-                assert!(p > level, "{} {} {wo:?}: p = {p:e}", m.bsdf_0.name(), m.weight);
+                assert!(p > level, "{} {weight} {wo:?}: p = {p:e}", m.bsdf_0.name());
             }
             check_weights(m, &si, wo, 10_000);
             let (a, err) = sampled_albedo(m, &si, wo, 100_000);
             let (a0, e0) = chi2::albedo_of(|u| m.bsdf_0.sample(&si, wo, None, u), 100_000);
             let (a1, e1) = chi2::albedo_of(|u| m.bsdf_1.sample(&si, wo, None, u), 100_000);
-            let want = a0 * (1.0 - m.weight) + a1 * m.weight;
+            let want = a0 * (1.0 - weight) + a1 * weight;
             assert!((a - want).abs().max_element() <= 4.0 * (err + e0 + e1) + 3e-3, "{a:?} vs {want:?}");
             assert!(a.max_element() <= 1.0 + 4.0 * err + 2e-3);
             for wi in views() {
@@ -232,7 +250,7 @@ mod tests {
     fn a_blend_of_one_model_is_the_model() {
         let si = interaction(Vec3::new(0.2, 0.1, 0.97).normalize());
         for (m, _) in pairs() {
-            let b = BlendBsdf::new(0.3, m.clone(), m.clone()).unwrap();
+            let b = BlendBsdf::new(grey(0.3), m.clone(), m.clone()).unwrap();
             let mut rng = Rng::new(6);
             for wo in views() {
                 for _ in 0..2000 {
@@ -259,7 +277,7 @@ mod tests {
     #[test]
     fn lobes_follow_each_other() {
         let (gold, paint) = pairs().remove(0);
-        let b = BlendBsdf::new(0.25, gold.clone(), paint.clone()).unwrap();
+        let b = BlendBsdf::new(grey(0.25), gold.clone(), paint.clone()).unwrap();
         let l = b.lobes();
         assert_eq!(l.slots(), 2);
         assert_eq!((l.flags[0], l.flags[1]), (gold.lobes().flags[0], paint.lobes().flags[0]));
@@ -279,7 +297,7 @@ mod tests {
         named.insert("a".to_string(), a);
         named.insert("b".to_string(), b);
         let m = build_in::<BlendBsdf>("bsdf_0 = \"a\"\nbsdf_1 = \"b\"", &named).unwrap();
-        assert_eq!(m.weight, 0.5);
+        assert_eq!(m.weight.constant(), Some(Rgb::splat(0.5)));
         assert_eq!(m.lobes().slots(), 3);
         for (text, want) in [
             ("bsdf_0 = \"a\"\nbsdf_1 = \"b\"\nweight = 2", "must be between 0 and 1"),

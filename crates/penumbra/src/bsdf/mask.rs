@@ -5,7 +5,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `opacity` | number in [0, 1] | `0.5` | the share of light the held material sees |
+//! | `opacity` | number in [0, 1] or texture | `0.5` | the share of light the held material sees |
 //! | `bsdf` | material name | required | the material of the opaque share |
 //!
 //! Its lobes are the held material's, in its slots, then the pass-through
@@ -16,8 +16,11 @@
 //! shadow ray crossing it keeps `1 − opacity` plus `opacity` times what the
 //! held material lets through
 //! ([`shadow_transmittance`](BsdfModel::shadow_transmittance)), which the
-//! Whitted integrator reads; the path tracer's shadow rays stop at it and
-//! light behind it arrives through the pass-through lobe (as in Mitsuba).
+//! Whitted integrator reads (a textured opacity at the point the shadow ray
+//! crosses); the path tracer's shadow rays stop at it and light behind it
+//! arrives through the pass-through lobe (as in Mitsuba). A textured
+//! opacity is read as one value (a colour's luminance), at the point's
+//! `(u, v)`.
 
 use std::sync::Arc;
 
@@ -25,16 +28,16 @@ use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;
-use crate::description::check::range;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// The masked material (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct Mask {
-    pub opacity: f32,
+    pub opacity: Texture,
     pub bsdf: Arc<Bsdf>,
 }
 
@@ -44,7 +47,7 @@ pub const NULL: BsdfFlags = BsdfFlags::DELTA.union(BsdfFlags::TRANSMISSION);
 impl Mask {
     /// The mask of `opacity` around `bsdf`; `Err` if the held material's
     /// lobes leave no slot for the pass-through.
-    pub fn new(opacity: f32, bsdf: Arc<Bsdf>) -> Result<Mask, String> {
+    pub fn new(opacity: Texture, bsdf: Arc<Bsdf>) -> Result<Mask, String> {
         if bsdf.lobes().slots() >= super::MAX_LOBES {
             return Err(format!(
                 "the held material has {} lobes: no slot is left for the pass-through",
@@ -55,8 +58,8 @@ impl Mask {
     }
 
     /// The opacity at the point (the one place it is read).
-    fn opacity(&self, _si: &SurfaceInteraction) -> f32 {
-        self.opacity
+    fn opacity(&self, si: &SurfaceInteraction) -> f32 {
+        self.opacity.eval_1(si)
     }
 
     /// The pass-through lobe's slot.
@@ -75,7 +78,7 @@ impl BsdfModel for Mask {
         params: &[
             Param::new(
                 "opacity",
-                Type::Number,
+                Type::NumberTexture,
                 "0.5",
                 "the share of light the held material sees, in [0, 1]; the rest passes straight through",
             ),
@@ -84,7 +87,7 @@ impl BsdfModel for Mask {
     };
 
     fn build(p: &Props, d: &Defaults) -> Result<Mask, Invalid> {
-        let opacity = range(p, "opacity", 0.5, 0.0, 1.0)?;
+        let opacity = nested::share(p, d.textures, "opacity", 0.5)?;
         let bsdf = nested::read(p, "bsdf", d)?;
         Mask::new(opacity, bsdf).map_err(|e| p.error("bsdf", e))
     }
@@ -141,8 +144,14 @@ impl BsdfModel for Mask {
         self.bsdf.pdf(si, wo, wi) * self.opacity(si)
     }
 
-    fn shadow_transmittance(&self) -> f32 {
-        (1.0 - self.opacity) + self.opacity * self.bsdf.shadow_transmittance()
+    fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
+        let a = self.opacity(si);
+        (1.0 - a) + a * self.bsdf.shadow_transmittance(si)
+    }
+
+    fn uniform_shadow_transmittance(&self) -> Option<f32> {
+        let a = crate::texture::one(self.opacity.constant()?);
+        Some((1.0 - a) + a * self.bsdf.uniform_shadow_transmittance()?)
     }
 }
 
@@ -156,6 +165,10 @@ mod tests {
     use crate::bsdf::roughconductor::RoughConductor;
     use crate::math::Vec2;
     use crate::sampling::Rng;
+
+    fn grey(a: f32) -> Texture {
+        Texture::Constant(Rgb::splat(a))
+    }
 
     fn inners() -> Vec<Arc<Bsdf>> {
         vec![
@@ -181,14 +194,15 @@ mod tests {
         for inner in inners() {
             for a in [0.0, 0.3, 0.8] {
                 for wo in views() {
-                    cases.push((Mask::new(a, Arc::clone(&inner)).unwrap(), wo));
+                    cases.push((Mask::new(grey(a), Arc::clone(&inner)).unwrap(), wo));
                 }
             }
         }
         let level = chi2::sidak(cases.len());
         for (k, (m, wo)) in cases.iter().enumerate() {
             let wo = *wo;
-            if m.opacity > 0.0 {
+            let opacity = m.opacity(&si);
+            if opacity > 0.0 {
                 let p = smooth_p_value(m, &si, wo, 100 + k as u64).unwrap();
                 assert!(p > level, "{m:?} {wo:?}: p = {p:e}");
             }
@@ -196,7 +210,7 @@ mod tests {
             let (a, err) = sampled_albedo(m, &si, wo, 100_000);
             let (inner, _) = chi2::albedo_of(|u| m.bsdf.sample(&si, wo, None, u), 100_000);
             // What passes is 1 − opacity of the light, the rest is the held model's.
-            let want = inner * m.opacity + Rgb::splat(1.0 - m.opacity);
+            let want = inner * opacity + Rgb::splat(1.0 - opacity);
             assert!((a - want).abs().max_element() <= 4.0 * err + 5e-3, "{a:?} vs {want:?}");
             for wi in views() {
                 let wi = Vec3::new(-wi.y, wi.x, wi.z);
@@ -208,11 +222,12 @@ mod tests {
             let u = SetPoint::uniform(Vec2::splat(0.5));
             match m.sample(&si, wo, Some(null), u) {
                 Some(s) => {
-                    assert_eq!((s.wi, s.weight, s.pdf), (-wo, Rgb::splat(1.0 - m.opacity), 1.0));
+                    assert_eq!((s.wi, s.weight, s.pdf), (-wo, Rgb::splat(1.0 - opacity), 1.0));
                 }
-                None => assert_eq!(m.opacity, 1.0),
+                None => assert_eq!(opacity, 1.0),
             }
-            assert!((m.shadow_transmittance() - (1.0 - m.opacity)).abs() < 1e-7);
+            assert!((m.shadow_transmittance(&si) - (1.0 - opacity)).abs() < 1e-7);
+            assert_eq!(m.uniform_shadow_transmittance(), Some(m.shadow_transmittance(&si)));
         }
     }
 
@@ -222,7 +237,7 @@ mod tests {
     fn opaque_it_is_the_held_model() {
         let si = interaction(Vec3::new(0.2, 0.1, 0.97).normalize());
         for inner in inners() {
-            let m = Mask::new(1.0, Arc::clone(&inner)).unwrap();
+            let m = Mask::new(grey(1.0), Arc::clone(&inner)).unwrap();
             let mut rng = Rng::new(4);
             for wo in views() {
                 for _ in 0..2000 {
@@ -236,7 +251,7 @@ mod tests {
                     }
                 }
             }
-            assert_eq!(m.shadow_transmittance(), 0.0);
+            assert_eq!(m.shadow_transmittance(&si), 0.0);
         }
     }
 
@@ -246,7 +261,7 @@ mod tests {
         let mut named = HashMap::new();
         named.insert("leaf".to_string(), inners().remove(1));
         let m = build_in::<Mask>("bsdf = \"leaf\"", &named).unwrap();
-        assert_eq!(m.opacity, 0.5);
+        assert_eq!(m.opacity.constant(), Some(Rgb::splat(0.5)));
         assert_eq!(m.lobes().slots(), 3);
         for (text, want) in [
             ("bsdf = \"leaf\"\nopacity = 1.5", "must be between 0 and 1"),

@@ -30,12 +30,15 @@
 //! | [`twosided`](twosided::TwoSided) | one or two reflecting materials, one on each side (Mitsuba 3's `twosided`) |
 //! | [`mask`](mask::Mask) | a material seen by a share `opacity` of the light, the rest passing through (Mitsuba 3's `mask`) |
 //! | [`blendbsdf`](blendbsdf::BlendBsdf) | a linear blend of two materials (Mitsuba 3's `blendbsdf`) |
+//! | [`normalmap`](normalmap::NormalMap) | a material seen through a normal read from a texture (Mitsuba 3's `normalmap`) |
+//! | [`bumpmap`](bumpmap::BumpMap) | a material seen through the normal of a height field (Mitsuba 3's `bumpmap`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
 //! reflectance), [`ior`] (indices of refraction and conductor presets
-//! by name) and [`nested`] (what the models holding other models share:
-//! a held model is a material of the scene named by a parameter). The
+//! by name), [`nested`] (what the models holding other models share:
+//! a held model is a material of the scene named by a parameter) and
+//! [`perturbed`] (a held model seen through a perturbed shading normal). The
 //! models' tests hold every sampler to its density by a χ² test
 //! (`chi2.rs`, Mitsuba 3's method).
 
@@ -45,6 +48,7 @@ pub mod fresnel;
 pub mod ior;
 pub mod microfacet;
 pub mod nested;
+pub mod perturbed;
 pub mod sample;
 #[cfg(test)]
 mod textured;
@@ -70,7 +74,8 @@ pub struct Defaults<'a> {
     pub refraction: EffectSpec,
     pub textures: &'a Textures,
     /// The materials built before this one, by name: the ones a model
-    /// holding others (`twosided`, `mask`, `blendbsdf`) names, built first.
+    /// holding others (`twosided`, `mask`, `blendbsdf`, `normalmap`,
+    /// `bumpmap`) names, built first.
     pub materials: &'a HashMap<String, Arc<Bsdf>>,
 }
 
@@ -110,10 +115,17 @@ pub trait BsdfModel: Sized {
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32;
 
     /// The fraction of light a shadow ray keeps when it crosses the
-    /// surface without bending (the thesis's transparent shadows); 0 for an
-    /// opaque surface.
-    fn shadow_transmittance(&self) -> f32 {
+    /// surface at `si` without bending (the thesis's transparent shadows);
+    /// 0 for an opaque surface.
+    fn shadow_transmittance(&self, _si: &SurfaceInteraction) -> f32 {
         0.0
+    }
+
+    /// [`shadow_transmittance`](Self::shadow_transmittance) where it is the
+    /// same all over the surface; `None` where a texture makes it vary, so
+    /// that a shadow ray must read it at each point it crosses.
+    fn uniform_shadow_transmittance(&self) -> Option<f32> {
+        Some(0.0)
     }
 }
 
@@ -202,9 +214,18 @@ macro_rules! models {
             }
 
             #[inline]
-            pub fn shadow_transmittance(&self) -> f32 {
+            pub fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
                 match self {
-                    $(Bsdf::$variant(m) => m.shadow_transmittance(),)*
+                    $(Bsdf::$variant(m) => m.shadow_transmittance(si),)*
+                }
+            }
+
+            /// The shadow transmittance where it is the same all over the
+            /// surface; `None` where it varies.
+            #[inline]
+            pub fn uniform_shadow_transmittance(&self) -> Option<f32> {
+                match self {
+                    $(Bsdf::$variant(m) => m.uniform_shadow_transmittance(),)*
                 }
             }
         }
@@ -225,4 +246,6 @@ models! {
     twosided::TwoSided,
     mask::Mask,
     blendbsdf::BlendBsdf,
+    normalmap::NormalMap,
+    bumpmap::BumpMap,
 }

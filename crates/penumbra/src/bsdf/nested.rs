@@ -1,5 +1,6 @@
-//! What the models holding other models (`twosided`, `mask`, `blendbsdf`)
-//! share: reading a held model by its material name, choosing between
+//! What the models holding other models (`twosided`, `mask`, `blendbsdf`,
+//! `normalmap`, `bumpmap`) share: reading a held model by its material
+//! name, reading a share in [0, 1] that may be a texture, choosing between
 //! models with one random point, and the names of the parameters that hold
 //! models (which the scene builder reads to build the held materials
 //! first).
@@ -14,8 +15,9 @@ use std::sync::Arc;
 use super::Bsdf;
 use super::Defaults;
 use crate::description::{Invalid, Param, Props, Type};
-use crate::math::Vec2;
+use crate::math::{Rgb, Vec2};
 use crate::sampling::SetPoint;
+use crate::texture::{NumberOr, Texture, Textures};
 
 /// The schema type of a parameter naming a material.
 pub const MATERIAL: Type = Type::String;
@@ -26,6 +28,7 @@ pub fn parameters(plugin: &str) -> &'static [&'static str] {
         "twosided" => &["bsdf", "back"],
         "mask" => &["bsdf"],
         "blendbsdf" => &["bsdf_0", "bsdf_1"],
+        "normalmap" | "bumpmap" => &["bsdf"],
         _ => &[],
     }
 }
@@ -55,6 +58,34 @@ pub fn read_optional(p: &Props, name: &str, d: &Defaults) -> Result<Option<Arc<B
         Some(m) => Ok(Some(Arc::clone(m))),
         None => Err(p.error(name, format!("no material named `{id}`"))),
     }
+}
+
+/// A share in [0, 1] (`mask`'s opacity, `blendbsdf`'s weight): a number,
+/// a texture's table or a texture's name (read as one value, Mitsuba's
+/// `eval_1`); `default` when it is not there. A number is a constant grey
+/// texture.
+pub fn share(p: &Props, textures: &Textures, name: &str, default: f32) -> Result<Texture, Invalid> {
+    let v = textures
+        .number(p, name)?
+        .unwrap_or(NumberOr::Number(default));
+    let (lo, hi) = match &v {
+        NumberOr::Number(x) => (*x, *x),
+        NumberOr::Texture(t) => t.bounds_1(),
+    };
+    if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi <= 1.0) {
+        return Err(p.error(
+            name,
+            if lo == hi {
+                format!("must be between 0 and 1, got {lo}")
+            } else {
+                format!("must be between 0 and 1; the texture's values span {lo} to {hi}")
+            },
+        ));
+    }
+    Ok(match v {
+        NumberOr::Number(x) => Texture::Constant(Rgb::splat(x)),
+        NumberOr::Texture(t) => t,
+    })
 }
 
 /// Chooses the first of two options with probability `p` by the first

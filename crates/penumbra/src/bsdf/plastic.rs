@@ -17,8 +17,8 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `diffuse_reflectance` | colour in [0, 1] | `[0.5, 0.5, 0.5]` | the base's albedo |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the coating's reflection (1 for realism) |
+//! | `diffuse_reflectance` | colour in [0, 1] or texture | `[0.5, 0.5, 0.5]` | the base's albedo |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the coating's reflection (1 for realism) |
 //! | `int_ior` | number > 0 or a name | `polypropylene` (1.49) | index of the coating |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside |
 //! | `nonlinear` | bool | `false` | the base's colour in every internal bounce |
@@ -28,9 +28,11 @@
 //! `f · cos / pdf` of a cosine-weighted direction). With no lobe asked for,
 //! `sample` takes the specular lobe with probability `F · s / (F · s +
 //! (1 − F)(1 − s))`, where `s`, the specular sampling weight, is the mean
-//! of `specular_reflectance` over the sum of the means of both colours (as
-//! Mitsuba), and the diffuse lobe otherwise; `pdf` is the diffuse lobe's
-//! density times its probability.
+//! of `specular_reflectance` over the sum of the means of both colours, and
+//! the diffuse lobe otherwise; `pdf` is the diffuse lobe's density times
+//! its probability. The means are of the colours at the point: Mitsuba
+//! takes the means of whole textures instead, which is the same for plain
+//! colours and only moves noise between the lobes for textured ones.
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -39,38 +41,37 @@ use super::ior;
 use super::{BsdfModel, Defaults};
 use super::nested::choose;
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use crate::description::check::nonneg3;
+use super::conductor::reflectance_texture;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use crate::sampling::SetPoint;
+use crate::texture::{Texture, Textures};
 
 /// The smooth plastic (see the [module docs](self)).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Plastic {
-    pub diffuse_reflectance: Rgb,
-    pub specular_reflectance: Rgb,
+    pub diffuse_reflectance: Texture,
+    pub specular_reflectance: Texture,
     /// `int_ior / ext_ior`.
     pub eta: f32,
     pub nonlinear: bool,
     /// The diffuse Fresnel reflectance of the inside of the coating.
     pub fdr_int: f32,
-    /// The share of samples the specular lobe is steered.
-    pub specular_sampling_weight: f32,
 }
 
 /// The schema entries the plastics share.
 pub const PARAMS: [Param; 5] = [
     Param::new(
         "diffuse_reflectance",
-        Type::Colour,
+        Type::ColourTexture,
         "[0.5, 0.5, 0.5]",
         "the albedo of the diffuse base, each channel in [0, 1]",
     ),
     Param::new(
         "specular_reflectance",
-        Type::Colour,
+        Type::ColourTexture,
         "[1, 1, 1]",
         "a factor on the coating's reflection, each channel in [0, 1] (1 for realism)",
     ),
@@ -94,28 +95,30 @@ pub const PARAMS: [Param; 5] = [
     ),
 ];
 
-/// What the plastics read alike: the diffuse and specular colours, the
-/// relative index and `nonlinear`.
-pub fn read_common(p: &Props) -> Result<(Rgb, Rgb, f32, bool), Invalid> {
-    let diffuse = reflectance(p, "diffuse_reflectance", 0.5)?;
-    let specular = reflectance(p, "specular_reflectance", 1.0)?;
+/// What the plastics read alike: the diffuse and specular colours (plain or
+/// textures), the relative index and `nonlinear`.
+pub fn read_common(p: &Props, textures: &Textures) -> Result<Common, Invalid> {
+    let diffuse = reflectance_texture(p, textures, "diffuse_reflectance", Rgb::splat(0.5))?;
+    let specular = reflectance_texture(p, textures, "specular_reflectance", Rgb::ONE)?;
     let int = ior::read_dielectric(p, "int_ior", "polypropylene")?;
     let ext = ior::read_dielectric(p, "ext_ior", "air")?;
     let nonlinear = p.bool("nonlinear")?.unwrap_or(false);
-    Ok((diffuse, specular, int / ext, nonlinear))
+    Ok(Common {
+        diffuse,
+        specular,
+        eta: int / ext,
+        nonlinear,
+    })
 }
 
-/// The colour `name`, each channel in [0, 1], `default` in each when not
-/// given.
-fn reflectance(p: &Props, name: &str, default: f32) -> Result<Rgb, Invalid> {
-    let v = nonneg3(p, name, [default; 3])?;
-    if v.max_element() > 1.0 {
-        return Err(p.error(
-            name,
-            "must not exceed 1 in any channel (the surface would create light)",
-        ));
-    }
-    Ok(v)
+/// The parameters the plastics share, as read by [`read_common`].
+#[derive(Clone, Debug)]
+pub struct Common {
+    pub diffuse: Texture,
+    pub specular: Texture,
+    /// `int_ior / ext_ior`.
+    pub eta: f32,
+    pub nonlinear: bool,
 }
 
 /// The share of samples steered to the specular lobe: the specular
@@ -152,32 +155,37 @@ const DIFFUSE: BsdfFlags = BsdfFlags::DIFFUSE.union(BsdfFlags::REFLECTION);
 
 impl Plastic {
     /// The plastic of these parameters (`eta` = `int_ior / ext_ior`).
-    pub fn new(diffuse: Rgb, specular: Rgb, eta: f32, nonlinear: bool) -> Plastic {
+    pub fn new(c: Common) -> Plastic {
         Plastic {
-            diffuse_reflectance: diffuse,
-            specular_reflectance: specular,
-            eta,
-            nonlinear,
-            fdr_int: fresnel::diffuse_reflectance(1.0 / eta),
-            specular_sampling_weight: specular_sampling_weight(diffuse, specular),
+            diffuse_reflectance: c.diffuse,
+            specular_reflectance: c.specular,
+            eta: c.eta,
+            nonlinear: c.nonlinear,
+            fdr_int: fresnel::diffuse_reflectance(1.0 / c.eta),
         }
     }
 
     /// The base's albedo at the point (the one place it is read).
-    fn diffuse(&self, _si: &SurfaceInteraction) -> Rgb {
-        self.diffuse_reflectance
+    fn diffuse(&self, si: &SurfaceInteraction) -> Rgb {
+        self.diffuse_reflectance.eval(si)
     }
 
     /// The factor on the coating's reflection at the point.
-    fn specular(&self, _si: &SurfaceInteraction) -> Rgb {
-        self.specular_reflectance
+    fn specular(&self, si: &SurfaceInteraction) -> Rgb {
+        self.specular_reflectance.eval(si)
+    }
+
+    /// The share of samples steered to the specular lobe at the point.
+    pub fn specular_sampling_weight(&self, si: &SurfaceInteraction) -> f32 {
+        specular_sampling_weight(self.diffuse(si), self.specular(si))
     }
 
     /// The probability of sampling the specular lobe where the coating
-    /// reflects `f_i`.
-    fn prob_specular(&self, f_i: f32) -> f32 {
-        let s = f_i * self.specular_sampling_weight;
-        let d = (1.0 - f_i) * (1.0 - self.specular_sampling_weight);
+    /// reflects `f_i`, at the point.
+    fn prob_specular(&self, si: &SurfaceInteraction, f_i: f32) -> f32 {
+        let w = self.specular_sampling_weight(si);
+        let s = f_i * w;
+        let d = (1.0 - f_i) * (1.0 - w);
         if s + d > 0.0 {
             s / (s + d)
         } else {
@@ -206,9 +214,8 @@ impl BsdfModel for Plastic {
         params: &PARAMS,
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<Plastic, Invalid> {
-        let (diffuse, specular, eta, nonlinear) = read_common(p)?;
-        Ok(Plastic::new(diffuse, specular, eta, nonlinear))
+    fn build(p: &Props, d: &Defaults) -> Result<Plastic, Invalid> {
+        Ok(Plastic::new(read_common(p, d.textures)?))
     }
 
     fn lobes(&self) -> Lobes {
@@ -241,7 +248,7 @@ impl BsdfModel for Plastic {
         let (k, choice, u) = match lobe {
             Some(k) => (k, 1.0, u),
             None => {
-                let p = self.prob_specular(f_o);
+                let p = self.prob_specular(si, f_o);
                 match choose(u, p) {
                     (true, u) => (0, p, u),
                     (false, u) => (1, 1.0 - p, u),
@@ -286,7 +293,7 @@ impl BsdfModel for Plastic {
         if co <= 0.0 || ci <= 0.0 {
             return 0.0;
         }
-        let p = 1.0 - self.prob_specular(fresnel::dielectric(co, self.eta).r);
+        let p = 1.0 - self.prob_specular(si, fresnel::dielectric(co, self.eta).r);
         p * ci * FRAC_1_PI
     }
 }
@@ -384,8 +391,11 @@ mod tests {
     fn parameters() {
         let m = build::<Plastic>("").unwrap();
         assert!((m.eta - 1.49 / 1.000277).abs() < 1e-6);
-        assert_eq!((m.diffuse_reflectance, m.specular_reflectance, m.nonlinear), (Rgb::splat(0.5), Rgb::ONE, false));
-        assert!((m.specular_sampling_weight - 1.0 / 1.5).abs() < 1e-6);
+        assert_eq!(
+            (m.diffuse_reflectance.constant(), m.specular_reflectance.constant(), m.nonlinear),
+            (Some(Rgb::splat(0.5)), Some(Rgb::ONE), false)
+        );
+        assert!((m.specular_sampling_weight(&interaction(Vec3::Z)) - 1.0 / 1.5).abs() < 1e-6);
         for (text, want) in [
             ("diffuse_reflectance = [1.2, 0, 0]", "must not exceed 1"),
             ("int_ior = -1", "must be a positive number"),

@@ -20,8 +20,8 @@
 //! | `distribution` | `beckmann`, `ggx` | `beckmann` | the microfacet distribution |
 //! | `alpha` | number ≥ 0 | `0.1` | roughness of the coating |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
-//! | `diffuse_reflectance` | colour in [0, 1] | `[0.5, 0.5, 0.5]` | the base's albedo |
-//! | `specular_reflectance` | colour in [0, 1] | `[1, 1, 1]` | a factor on the coating's reflection |
+//! | `diffuse_reflectance` | colour in [0, 1] or texture | `[0.5, 0.5, 0.5]` | the base's albedo |
+//! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the coating's reflection |
 //! | `int_ior` | number > 0 or a name | `polypropylene` (1.49) | index of the coating |
 //! | `ext_ior` | number > 0 or a name | `air` (1.000277) | index of the outside |
 //! | `nonlinear` | bool | `false` | the base's colour in every internal bounce |
@@ -41,13 +41,14 @@ use super::fresnel;
 use super::microfacet::{Microfacet, PARAMS as MICROFACET};
 use super::{BsdfModel, Defaults};
 use super::nested::choose;
-use super::plastic::{internal_scattering, read_common, specular_sampling_weight, PARAMS};
+use super::plastic::{internal_scattering, read_common, specular_sampling_weight, Common, PARAMS};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use crate::sampling::SetPoint;
+use crate::texture::Texture;
 
 /// Angles of the transmittance table (uniform in cos θ over [0, 1]).
 pub const TABLE: usize = 64;
@@ -59,12 +60,11 @@ const QUADRATURE: usize = 48;
 #[derive(Clone, Debug)]
 pub struct RoughPlastic {
     pub distribution: Microfacet,
-    pub diffuse_reflectance: Rgb,
-    pub specular_reflectance: Rgb,
+    pub diffuse_reflectance: Texture,
+    pub specular_reflectance: Texture,
     /// `int_ior / ext_ior`.
     pub eta: f32,
     pub nonlinear: bool,
-    pub specular_sampling_weight: f32,
     /// The rough interface's transmittance from outside at cos θ = `i / (TABLE − 1)`.
     pub transmittance: Arc<[f32; TABLE]>,
     /// The rough interface's diffuse reflectance from inside.
@@ -129,13 +129,8 @@ pub fn rough_reflectance(d: &Microfacet, wi: Vec3, eta: f32) -> f32 {
 impl RoughPlastic {
     /// The rough plastic of these parameters; the coating's tables are
     /// integrated here.
-    pub fn new(
-        distribution: Microfacet,
-        diffuse: Rgb,
-        specular: Rgb,
-        eta: f32,
-        nonlinear: bool,
-    ) -> RoughPlastic {
+    pub fn new(distribution: Microfacet, c: Common) -> RoughPlastic {
+        let eta = c.eta;
         // The tables are of the distribution itself, whatever the sampler.
         let d = Microfacet {
             sample_visible: true,
@@ -151,24 +146,23 @@ impl RoughPlastic {
         }
         RoughPlastic {
             distribution,
-            diffuse_reflectance: diffuse,
-            specular_reflectance: specular,
+            diffuse_reflectance: c.diffuse,
+            specular_reflectance: c.specular,
             eta,
-            nonlinear,
-            specular_sampling_weight: specular_sampling_weight(diffuse, specular),
+            nonlinear: c.nonlinear,
             transmittance: Arc::new(transmittance),
             internal_reflectance: 2.0 * internal / TABLE as f32,
         }
     }
 
     /// The base's albedo at the point (the one place it is read).
-    fn diffuse(&self, _si: &SurfaceInteraction) -> Rgb {
-        self.diffuse_reflectance
+    fn diffuse(&self, si: &SurfaceInteraction) -> Rgb {
+        self.diffuse_reflectance.eval(si)
     }
 
     /// The factor on the coating's reflection at the point.
-    fn specular(&self, _si: &SurfaceInteraction) -> Rgb {
-        self.specular_reflectance
+    fn specular(&self, si: &SurfaceInteraction) -> Rgb {
+        self.specular_reflectance.eval(si)
     }
 
     /// The coating's transmittance at the cosine `c` (interpolated).
@@ -179,9 +173,13 @@ impl RoughPlastic {
         self.transmittance[i] * (1.0 - t) + self.transmittance[i + 1] * t
     }
 
-    fn prob_specular(&self, t_o: f32) -> f32 {
-        let s = (1.0 - t_o) * self.specular_sampling_weight;
-        let d = t_o * (1.0 - self.specular_sampling_weight);
+    /// The probability of sampling the glossy lobe where the coating
+    /// transmits `t_o` toward the view, at the point (the specular sampling
+    /// weight of the colours there, as for [`plastic`](super::plastic)).
+    fn prob_specular(&self, si: &SurfaceInteraction, t_o: f32) -> f32 {
+        let w = specular_sampling_weight(self.diffuse(si), self.specular(si));
+        let s = (1.0 - t_o) * w;
+        let d = t_o * (1.0 - w);
         if s + d > 0.0 {
             s / (s + d)
         } else {
@@ -245,10 +243,9 @@ impl BsdfModel for RoughPlastic {
         ],
     };
 
-    fn build(p: &Props, _: &Defaults) -> Result<RoughPlastic, Invalid> {
+    fn build(p: &Props, d: &Defaults) -> Result<RoughPlastic, Invalid> {
         let distribution = Microfacet::read(p)?;
-        let (diffuse, specular, eta, nonlinear) = read_common(p)?;
-        Ok(RoughPlastic::new(distribution, diffuse, specular, eta, nonlinear))
+        Ok(RoughPlastic::new(distribution, read_common(p, d.textures)?))
     }
 
     fn lobes(&self) -> Lobes {
@@ -280,7 +277,7 @@ impl BsdfModel for RoughPlastic {
         if o.z <= 0.0 {
             return None;
         }
-        let p = self.prob_specular(self.transmittance_at(o.z));
+        let p = self.prob_specular(si, self.transmittance_at(o.z));
         let (k, u) = match lobe {
             Some(k) => (k, u),
             None => match choose(u, p) {
@@ -329,7 +326,7 @@ impl BsdfModel for RoughPlastic {
         if o.z <= 0.0 || i.z <= 0.0 {
             return 0.0;
         }
-        let p = self.prob_specular(self.transmittance_at(o.z));
+        let p = self.prob_specular(si, self.transmittance_at(o.z));
         let (pg, pd) = self.densities(o, i);
         p * pg + (1.0 - p) * pd
     }
@@ -432,7 +429,7 @@ mod tests {
             Microfacet::new(super::super::microfacet::Kind::Beckmann, 0.1, 0.1, true)
         );
         assert!((m.eta - 1.49 / 1.000277).abs() < 1e-6);
-        assert_eq!(m.diffuse_reflectance, Rgb::splat(0.5));
+        assert_eq!(m.diffuse_reflectance.constant(), Some(Rgb::splat(0.5)));
         for (text, want) in [
             ("alpha = -1", "must be between 0 and 100"),
             ("distribution = \"phong\"", "unknown microfacet distribution"),

@@ -328,12 +328,14 @@ mod tests {
 
     /// The surface coordinates' derivatives are tangent and agree with the
     /// coordinates: a small step along `dp/du` (or `dp/dv`), put back on
-    /// the surface, changes `(u, v)` by that step in `u` (or `v`) alone.
+    /// the surface, changes `(u, v)` by that step in `u` (or `v`) alone
+    /// (a finite difference), on a sphere, a disk and a cylinder.
     #[test]
     fn derivatives_agree_with_the_coordinates() {
         use crate::sampling::Rng;
         let frame = Frame::from_normal(Vec3::new(0.3, 1.0, -0.4).normalize());
         let (c, r) = (Vec3::new(0.5, -0.2, 0.1), 0.8);
+        let tube = super::super::cylinder::Cylinder::new(c, c + 1.5 * frame.n, r).unwrap();
         let shapes = [
             Shape::Sphere {
                 center: c,
@@ -344,10 +346,15 @@ mod tests {
                 frame,
                 radius: r,
             },
+            Shape::Cylinder(tube),
         ];
         // The point of the surface nearest to `p`, and its coordinates.
         let project = |s: &Shape, p: Vec3| match s {
             Shape::Sphere { .. } => c + r * (p - c).normalize(),
+            Shape::Cylinder(t) => {
+                let along = t.frame.n * (p - t.base).dot(t.frame.n);
+                t.base + along + r * (p - t.base - along).normalize()
+            }
             _ => p - frame.n * (p - c).dot(frame.n),
         };
         let mut rng = Rng::new(3);
@@ -361,6 +368,9 @@ mod tests {
                 );
                 let p = match s {
                     Shape::Sphere { .. } => c + r * dir.normalize(),
+                    Shape::Cylinder(t) => {
+                        project(s, t.base + t.frame.n * (0.75 + 0.7 * dir.z) + dir)
+                    }
                     _ => project(s, c + 0.9 * r * dir.clamp_length_max(1.0)),
                 };
                 let g = s.geometry(&[], &ShapeHit::default(), p);
@@ -382,7 +392,7 @@ mod tests {
                 checked += 1;
             }
         }
-        assert!(checked > 400, "{checked} points checked");
+        assert!(checked > 600, "{checked} points checked");
         // A quad's coordinates are the hit's (s, t), its derivatives its edges.
         let q = Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Z);
         let hit = ShapeHit {

@@ -135,7 +135,11 @@ pub fn build(
     sp.get("points");
     sp.finish("sampler")?;
     let warnings = square_warnings(&settings, &bsdfs, &emitters);
-    let transparency = bsdfs.iter().map(Bsdf::shadow_transmittance).collect();
+    // NaN: read at each point a shadow ray crosses (a textured opacity).
+    let transparency = bsdfs
+        .iter()
+        .map(|b| b.uniform_shadow_transmittance().unwrap_or(f32::NAN))
+        .collect();
     let world = reused.unwrap_or_else(|| {
         let world = Arc::new(World::new(objects, meshes));
         if let (Some(k), Some(w)) = (key, worlds) {

@@ -26,7 +26,9 @@ pub struct Scene {
     /// same geometry through a [`WorldCache`](super::WorldCache).
     pub world: Arc<World>,
     pub settings: Settings,
-    /// Per-material fraction of light a shadow ray keeps crossing it.
+    /// Per-material fraction of light a shadow ray keeps crossing it; NaN
+    /// where it varies over the surface (read from the material at each
+    /// crossing, [`World::transmittance_varying`](crate::accel::World::transmittance_varying)).
     pub transparency: Vec<f32>,
     /// Things worth telling the user once (non-square ray counts).
     pub warnings: Vec<String>,

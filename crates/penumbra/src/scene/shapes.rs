@@ -108,6 +108,7 @@ pub const MESH: Schema = Schema {
         Param::new("path", Type::Path, "required", "a `.ply`, `.obj` or `.serialized` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
         Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
         Param::new("shape_index", Type::Int, "0", "which mesh of a `.serialized` file, which may hold several (0: the first); other files hold one"),
+        Param::new("flip_tex_coords", Type::Bool, "false", "take the file's texture coordinates `(u, v)` as `(u, 1 − v)` (what Mitsuba's OBJ reader does by default; scenes read from Mitsuba XML set it for OBJ files)"),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -235,10 +236,12 @@ pub const SCHEMAS: [&Schema; 9] = [
 /// using them add up to.
 #[derive(Default)]
 pub(super) struct MeshFiles {
-    /// Meshes by file, mesh in the file and kind of normals: a file named by several paths
-    /// (`m.ply`, `./m.ply`, a link to it) is read once, and counted once
-    /// in `read`; objects that use it flat and smooth get a mesh each.
-    cache: HashMap<(FileKey, u32, bool), usize>,
+    /// Meshes by file, mesh in the file and how it is read (normals,
+    /// texture coordinates): a file named by several paths (`m.ply`,
+    /// `./m.ply`, a link to it) is read once, and counted once in `read`;
+    /// objects that use it flat and smooth, or flipped and not, get a mesh
+    /// each.
+    cache: HashMap<(FileKey, u32, MeshRead), usize>,
     /// Triangles in the files read.
     read: u64,
     /// Files read.
@@ -383,8 +386,11 @@ pub(super) fn object(
         }
         _ => {
             let file = required(p, p.string("path")?, "path", "mesh")?;
-            let smooth = p.bool("smooth")?.unwrap_or(false);
-            let m = load_mesh(p, file, ctx, files, meshes, smooth)?;
+            let read = MeshRead {
+                smooth: p.bool("smooth")?.unwrap_or(false),
+                flip_tex_coords: p.bool("flip_tex_coords")?.unwrap_or(false),
+            };
+            let m = load_mesh(p, file, ctx, files, meshes, read)?;
             files.use_mesh(p, meshes[m].triangles.len())?;
             let mesh = if motion.is_some() {
                 m
@@ -488,13 +494,21 @@ fn transform_quad(q: &Quad, m: &Mat4) -> Quad {
     )
 }
 
+/// How a mesh is made of its file's data: with its vertex normals (else
+/// flat facets), with `v` of its texture coordinates flipped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct MeshRead {
+    smooth: bool,
+    flip_tex_coords: bool,
+}
+
 fn load_mesh(
     p: &Props,
     file: &str,
     ctx: &BuildContext,
     files: &mut MeshFiles,
     meshes: &mut Vec<Mesh>,
-    smooth: bool,
+    read: MeshRead,
 ) -> Result<usize, BuildError> {
     let path = resolve_mesh_path(p, file, ctx)?;
     let index = match p.int("shape_index")?.unwrap_or(0) {
@@ -506,7 +520,7 @@ fn load_mesh(
         }
     };
     let key = (FileKey::of(&path), index);
-    if let Some(&i) = files.cache.get(&(key.0.clone(), index, smooth)) {
+    if let Some(&i) = files.cache.get(&(key.0.clone(), index, read)) {
         return Ok(i);
     }
     if !files.files.contains_key(&key) {
@@ -537,19 +551,20 @@ fn load_mesh(
                 .map(|&n| Vec3::from_array(n).normalize_or_zero())
                 .collect()
         }),
-        uvs: data
-            .uvs
-            .as_ref()
-            .map(|uvs| uvs.iter().map(|&t| Vec2::from_array(t)).collect()),
+        uvs: data.uvs.as_ref().map(|uvs| {
+            uvs.iter()
+                .map(|&[u, v]| Vec2::new(u, if read.flip_tex_coords { 1.0 - v } else { v }))
+                .collect()
+        }),
         triangles: data.triangles.clone(),
     };
-    if !smooth {
+    if !read.smooth {
         mesh.normals = None;
     } else if mesh.normals.is_none() {
         mesh.compute_vertex_normals();
     }
     meshes.push(mesh);
-    files.cache.insert((key.0, index, smooth), meshes.len() - 1);
+    files.cache.insert((key.0, index, read), meshes.len() - 1);
     Ok(meshes.len() - 1)
 }
 
@@ -604,5 +619,44 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `flip_tex_coords` takes `v` of the file's texture coordinates as
+    /// `1 − v`, `u` kept; two objects of one file, flipped and not, each
+    /// get their own (hit at the same point of the square).
+    #[test]
+    fn flip_tex_coords_flips_v() {
+        let dir = tempfile::tempdir().unwrap();
+        let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+            vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+        std::fs::write(dir.path().join("s.obj"), square).unwrap();
+        let object = |x: f32, flip: &str| {
+            format!(
+                "[[objects]]\ntype = \"mesh\"\npath = \"s.obj\"\n{flip}\n\
+                 transform = {{ translate = [{x}, 0, 0] }}\n"
+            )
+        };
+        let text = object(-2.0, "flip_tex_coords = true")
+            + &object(2.0, "")
+            + &object(5.0, "flip_tex_coords = false");
+        let src = SceneSource::from_toml(
+            &text,
+            std::path::Path::new("t.toml"),
+            dir.path(),
+            &LoadOptions::default(),
+        )
+        .unwrap();
+        let scene = src.build().unwrap();
+        let (u, v) = (0.3, 0.2);
+        let uv_at = |x: f32| {
+            let ray = Ray::new(Vec3::new(x + u, v, 5.0), -Vec3::Z, 0.0);
+            scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap().uv
+        };
+        let close = |a: crate::math::Vec2, b: (f32, f32)| {
+            (a.x - b.0).abs() < 1e-5 && (a.y - b.1).abs() < 1e-5
+        };
+        assert!(close(uv_at(-2.0), (u, 1.0 - v)), "{}", uv_at(-2.0));
+        assert!(close(uv_at(2.0), (u, v)), "{}", uv_at(2.0));
+        assert!(close(uv_at(5.0), (u, v)), "{}", uv_at(5.0));
     }
 }

@@ -204,6 +204,31 @@ impl Bitmap {
         one(self.eval(uv))
     }
 
+    /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` (Mitsuba's
+    /// `eval_1_grad`, what a bump map reads): the bilinear interpolation's,
+    /// through `to_uv`; 0 for `nearest`, which is constant within a texel.
+    /// On a line through texel centres, where the interpolation has a kink,
+    /// the derivative of the side above.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        if self.filter == Filter::Nearest {
+            return Vec2::ZERO;
+        }
+        let t = self.to_uv.apply(uv);
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        let (px, py) = (t.x * w - 0.5, t.y * h - 0.5);
+        let (fx, fy) = (px.floor(), py.floor());
+        let (ax, ay) = (px - fx, py - fy);
+        let (x, y) = (fx as i64, fy as i64);
+        let (t00, t10) = (self.texel(x, y), self.texel(x + 1, y));
+        let (t01, t11) = (self.texel(x, y + 1), self.texel(x + 1, y + 1));
+        // In texels, then in the coordinates after `to_uv`.
+        let dx = (t10 - t00) * (1.0 - ay) + (t11 - t01) * ay;
+        let dy = (t01 * (1.0 - ax) + t11 * ax) - (t00 * (1.0 - ax) + t10 * ax);
+        let (gx, gy) = (one(dx) * w, one(dy) * h);
+        let [[a, b, _], [d, e, _]] = self.to_uv.rows;
+        Vec2::new(gx * a + gy * d, gx * b + gy * e)
+    }
+
     pub fn bounds(&self) -> (Rgb, Rgb) {
         self.bounds
     }
@@ -320,6 +345,64 @@ mod tests {
         // Nearest differs from bilinear between centres.
         let n = Bitmap::new(image(), Filter::Nearest, Wrap::Clamp, UvTransform::IDENTITY);
         assert_eq!(grey(&n, 2.0 / 6.0, 0.375), 1.0);
+    }
+
+    /// The gradient is the bilinear interpolation's: against central
+    /// differences of `eval_1` away from the kinks at texel centres, for
+    /// each wrap mode and through a rotating, scaling `to_uv`; 0 for nearest.
+    #[test]
+    fn gradient_matches_finite_differences() {
+        let rotated = UvTransform {
+            rows: [[1.5, -0.8, 0.1], [0.6, 2.0, -0.3]],
+        };
+        let mut r = crate::sampling::Rng::new(8);
+        for wrap in [Wrap::Repeat, Wrap::Mirror, Wrap::Clamp] {
+            for to_uv in [UvTransform::IDENTITY, rotated] {
+                let b = Bitmap::new(image(), Filter::Bilinear, wrap, to_uv);
+                let mut checked = 0;
+                for _ in 0..400 {
+                    let uv = Vec2::new(r.range(-1.0, 2.0), r.range(-1.0, 2.0));
+                    let h = 1e-3;
+                    // Skip points within a step of a kink (a texel centre line).
+                    let near_kink = |uv: Vec2| {
+                        let t = to_uv.apply(uv);
+                        let (px, py) = (t.x * 3.0 - 0.5, t.y * 2.0 - 0.5);
+                        let d = |x: f32| (x - x.round()).abs();
+                        d(px) < 0.02 || d(py) < 0.02
+                    };
+                    if near_kink(uv) {
+                        continue;
+                    }
+                    let g = b.eval_1_grad(uv);
+                    let du = (b.eval_1(uv + Vec2::new(h, 0.0)) - b.eval_1(uv - Vec2::new(h, 0.0)))
+                        / (2.0 * h);
+                    let dv = (b.eval_1(uv + Vec2::new(0.0, h)) - b.eval_1(uv - Vec2::new(0.0, h)))
+                        / (2.0 * h);
+                    let tol = 2e-2 * (1.0 + du.abs().max(dv.abs()));
+                    assert!(
+                        (g.x - du).abs() < tol && (g.y - dv).abs() < tol,
+                        "{wrap:?} {uv}: {g} vs ({du}, {dv})"
+                    );
+                    checked += 1;
+                }
+                assert!(checked > 200, "{checked}");
+            }
+        }
+        let n = Bitmap::new(
+            image(),
+            Filter::Nearest,
+            Wrap::Repeat,
+            UvTransform::IDENTITY,
+        );
+        assert_eq!(n.eval_1_grad(Vec2::new(0.3, 0.4)), Vec2::ZERO);
+        // Along a row of 0, 1, 2 (clamped), one texel is 1/3 in u: slope 3.
+        let c = Bitmap::new(
+            image(),
+            Filter::Bilinear,
+            Wrap::Clamp,
+            UvTransform::IDENTITY,
+        );
+        assert!((c.eval_1_grad(Vec2::new(0.3, 0.1)).x - 3.0).abs() < 1e-4);
     }
 
     #[test]

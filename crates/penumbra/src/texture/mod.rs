@@ -4,7 +4,9 @@
 //! Every parameter of a model that Mitsuba lets take a texture takes one
 //! here (its schema type is [`Type::ColourTexture`](crate::description::Type::ColourTexture) or
 //! [`Type::NumberTexture`](crate::description::Type::NumberTexture)): a colour, the texture of a model's colours; a
-//! number, a roughness. In a scene such a parameter is written as
+//! number, a roughness, an opacity, a blend weight or a bump map's heights
+//! (read through their gradient, [`Texture::eval_1_grad`]). In a scene such
+//! a parameter is written as
 //!
 //! * a plain value, 3 numbers or a number: a [`Texture::Constant`], which
 //!   costs what a plain colour costs;
@@ -97,6 +99,21 @@ impl Texture {
             Texture::Constant(c) => one(*c),
             Texture::Checkerboard(t) => t.eval_1(uv),
             Texture::Bitmap(t) => t.eval_1(uv),
+        }
+    }
+
+    /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` at the
+    /// interaction's `(u, v)` (Mitsuba's `eval_1_grad`): 0 for a constant
+    /// and a checkerboard (constant within its squares).
+    pub fn eval_1_grad(&self, si: &SurfaceInteraction) -> Vec2 {
+        self.eval_1_grad_uv(si.uv)
+    }
+
+    /// [`eval_1_grad`](Self::eval_1_grad) at surface coordinates `uv`.
+    pub fn eval_1_grad_uv(&self, uv: Vec2) -> Vec2 {
+        match self {
+            Texture::Constant(_) | Texture::Checkerboard(_) => Vec2::ZERO,
+            Texture::Bitmap(t) => t.eval_1_grad(uv),
         }
     }
 

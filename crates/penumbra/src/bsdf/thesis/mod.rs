@@ -307,8 +307,12 @@ impl BsdfModel for Thesis {
         }
     }
 
-    fn shadow_transmittance(&self) -> f32 {
+    fn shadow_transmittance(&self, _si: &SurfaceInteraction) -> f32 {
         self.dielectric.map_or(0.0, |d| d.transparency)
+    }
+
+    fn uniform_shadow_transmittance(&self) -> Option<f32> {
+        Some(self.dielectric.map_or(0.0, |d| d.transparency))
     }
 }
 
@@ -450,7 +454,7 @@ pub(crate) mod tests {
         let black = Thesis::new(&glass);
         assert_eq!(black.eval(&si, Vec3::Z, wi), Rgb::ZERO);
         assert_eq!(black.pdf(&si, Vec3::Z, wi), 0.0);
-        assert_eq!(Thesis::new(&glass).shadow_transmittance(), 1.0);
+        assert_eq!(Thesis::new(&glass).uniform_shadow_transmittance(), Some(1.0));
     }
 
     /// A smooth direction drawn with no lobe asked has the density `pdf`

@@ -38,6 +38,8 @@ pub const BSDFS: &[&str] = &[
     "roughplastic",
     "mask",
     "blendbsdf",
+    "normalmap",
+    "bumpmap",
 ];
 
 /// The parameters of the BSDFs Penumbra has under Mitsuba's own names and
@@ -133,6 +135,21 @@ const MITSUBA_BSDFS: &[(&str, &[(&str, BsdfParam)])] = {
         ("twosided", &[]),
         ("mask", &[("opacity", Number)]),
         ("blendbsdf", &[("weight", Number)]),
+        (
+            "normalmap",
+            &[
+                ("flip_invalid_normals", Flag),
+                ("use_shadowing_function", Flag),
+            ],
+        ),
+        (
+            "bumpmap",
+            &[
+                ("scale", Number),
+                ("flip_invalid_normals", Flag),
+                ("use_shadowing_function", Flag),
+            ],
+        ),
     ]
 };
 
@@ -144,7 +161,21 @@ fn held_bsdfs(plugin: &str) -> &'static [(&'static str, bool)] {
         "twosided" => &[("bsdf", true), ("back", false)],
         "mask" => &[("bsdf", true)],
         "blendbsdf" => &[("bsdf_0", true), ("bsdf_1", true)],
+        "normalmap" | "bumpmap" => &[("bsdf", true)],
         _ => &[],
+    }
+}
+
+/// The textures a BSDF holding others takes beside them: its nested
+/// `<texture>`s (or `<ref>`s to textures) named as the parameter each
+/// sets, or, for `bumpmap`, its one texture whatever its name, as Mitsuba.
+fn held_textures(plugin: &str) -> (&'static [&'static str], Option<&'static str>) {
+    match plugin {
+        "mask" => (&["opacity"], None),
+        "blendbsdf" => (&["weight"], None),
+        "normalmap" => (&["normalmap"], None),
+        "bumpmap" => (&[], Some("texture")),
+        _ => (&[], None),
     }
 }
 
@@ -1158,7 +1189,11 @@ impl Out<'_> {
         if slots.is_empty() {
             self.texture_children(obj, &texturable, &mut node, &base)?;
         } else {
-            let held = children(self.ids, obj)?;
+            self.held_texture_children(obj, &mut node, &base)?;
+            let held: Vec<&Object> = children(self.ids, obj)?
+                .into_iter()
+                .filter(|c| c.tag != "texture")
+                .collect();
             if let Some(other) = held.iter().find(|c| c.tag != "bsdf") {
                 return Err(error_at(
                     &other.at,
@@ -1241,6 +1276,55 @@ impl Out<'_> {
                 _ => texture_table(target, base.key(param), at, self.reader)?,
             };
             let key = at.origin(base.key(param));
+            node.props.push(Prop::new(param, key, value));
+        }
+        Ok(())
+    }
+
+    /// The textures a BSDF holding others (`obj`) takes beside them
+    /// ([`held_textures`]) set on `node`, at `base`; a texture it does not
+    /// take is refused.
+    fn held_texture_children(
+        &self,
+        obj: &Object,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        let (names, any) = held_textures(&obj.plugin);
+        for (name, child) in &obj.children {
+            let (target, at) = match child {
+                Child::Object(o) => (o.as_ref(), &o.at),
+                Child::Ref { id, at } => (self.ids.get(id, at)?, at),
+            };
+            if target.tag != "texture" {
+                continue;
+            }
+            let named = name.as_deref().filter(|n| names.contains(n));
+            let Some(param) = any.or(named) else {
+                let takes = match (names, any) {
+                    (_, Some(a)) => a.to_string(),
+                    ([], None) => "none".to_string(),
+                    _ => names.join(", "),
+                };
+                return Err(error_at(
+                    at,
+                    format!(
+                        "a texture as `{}` of the bsdf `{}` is not supported (textures go to: {takes})",
+                        clip(name.as_deref().unwrap_or("")),
+                        clip(&obj.plugin),
+                    ),
+                ));
+            };
+            if obj_has(obj, param) || node.prop(param).is_some() {
+                return Err(error_at(at, format!("`{}` is given twice", clip(param))));
+            }
+            let value = match child {
+                Child::Ref { id, .. } if self.texture_ids.contains(id) => {
+                    located(Value::String(id.clone()), base.key(param), at)
+                }
+                _ => texture_table(target, base.key(param), at)?,
+            };
+            let key = Origin::new(base.key(param), Some(at.clone()));
             node.props.push(Prop::new(param, key, value));
         }
         Ok(())
@@ -1497,6 +1581,14 @@ impl Out<'_> {
                 set(&mut node, &base, "smooth", &f_at, |p, at| {
                     located(Value::Bool(!faces), p, at)
                 });
+                // Mitsuba's OBJ reader flips `v` unless told not to.
+                if obj.plugin == "obj" {
+                    let (flip, at) = get_bool(obj, "flip_tex_coords")?
+                        .map_or((true, obj.at.clone()), |(b, at)| (b, at.clone()));
+                    set(&mut node, &base, "flip_tex_coords", &at, |p, at| {
+                        located(Value::Bool(flip), p, at)
+                    });
+                }
                 if let Some((index, at)) = get_int(obj, "shape_index")? {
                     set(&mut node, &base, "shape_index", at, |p, at| {
                         located(Value::Int(index), p, at)

@@ -545,7 +545,10 @@ impl<'a> Tracer<'a> {
         } else {
             let (world, transparency) = (&self.scene.world, &self.scene.transparency);
             let within = shaft.then_some(&self.shaft);
-            world.transmittance(&r.ray, (0.0, SHADOW_END), transparency, within)?
+            // A material whose transparency varies is read where it is crossed.
+            let bsdfs = &self.scene.bsdfs;
+            let at = |h: &Hit| bsdfs[h.material as usize].shadow_transmittance(h);
+            world.transmittance_varying(&r.ray, (0.0, SHADOW_END), transparency, within, &at)?
         };
         Some(bsdf.eval(si, s.wo, r.wi) * r.weight * (r.cos * t))
     }
