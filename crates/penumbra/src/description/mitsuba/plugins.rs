@@ -1322,9 +1322,9 @@ impl Out<'_> {
                 Child::Ref { id, .. } if self.texture_ids.contains(id) => {
                     located(Value::String(id.clone()), base.key(param), at)
                 }
-                _ => texture_table(target, base.key(param), at)?,
+                _ => texture_table(target, base.key(param), at, self.reader)?,
             };
-            let key = Origin::new(base.key(param), Some(at.clone()));
+            let key = at.origin(base.key(param));
             node.props.push(Prop::new(param, key, value));
         }
         Ok(())
