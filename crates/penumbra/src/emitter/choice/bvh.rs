@@ -31,7 +31,10 @@
 //! per emitter) and multiplies the same ratios, in the same order, that
 //! [`LightBvh::sample`] multiplied. Where both children of a node have
 //! importance 0 at the point, nothing below can light it and the sample
-//! gives no emitter.
+//! gives no emitter. A tree of one emitter is a leaf at the root, chosen
+//! at every point: pbrt-v4 asks a lone root's importance first, which can
+//! only tell that the sample will bring nothing, at the cost of computing
+//! it at every vertex of a scene with one light.
 
 use crate::emitter::bounds::LightBounds;
 use crate::emitter::Emitter;
@@ -168,8 +171,7 @@ impl LightBvh {
         loop {
             let node = &self.nodes[i];
             if node.leaf {
-                let lit = i > 0 || node.bounds.importance(p, n) > 0.0;
-                return lit.then_some((node.index, pmf));
+                return Some((node.index, pmf));
             }
             let (a, b) = (i + 1, node.index as usize);
             let (ca, cb) = self.children(a, b, p, n)?;
@@ -203,8 +205,7 @@ impl LightBvh {
         loop {
             let node = &self.nodes[i];
             if node.leaf {
-                let lit = i > 0 || node.bounds.importance(p, n) > 0.0;
-                return if lit { pmf } else { 0.0 };
+                return pmf;
             }
             let (a, b) = (i + 1, node.index as usize);
             let Some((ca, cb)) = self.children(a, b, p, n) else {
