@@ -33,7 +33,9 @@ Then Penumbra's `distributed` integrator (a quarter of the camera samples,
 depth) is held against Penumbra's `path` render by the same limits, and
 the rays each traced, by kind, are printed from `penumbra render --stats`.
 
-`--check` exits 1 when a row fails. The generated images (the environment
+`--check` exits 1 when a row fails. Mitsuba's first render of each is kept
+as NAME-INTEGRATOR-mitsuba.exr beside Penumbra's NAME-INTEGRATOR.exr. The
+generated images (the environment
 map of envmap.xml and the bitmap of textured.xml, made here with numpy,
 deterministically) and the renders go to bench/.work/mitsuba-compare. No
 download happens here: run bench/setup.sh first for Mitsuba.
@@ -158,6 +160,7 @@ def main():
             kw = {} if integrator == "path" else {"integrator": mi.load_dict({"type": integrator})}
             first = np.array(mi.render(scene, seed=1, **kw), dtype=np.float64)[..., :3]
             second = np.array(mi.render(scene, seed=2, **kw), dtype=np.float64)[..., :3]
+            mi.Bitmap(first.astype(np.float32)).write(str(WORK / f"{name}-{integrator}-mitsuba.exr"))
             out = WORK / f"{name}-{integrator}.exr"
             extra = () if integrator == "path" else ("--integrator", integrator)
             stats = penumbra(a.penumbra, path, out, spp, params, a.threads, extra)
