@@ -14,7 +14,8 @@ name="spp">` parameter.
 
 For each scene and integrator (`path`, `direct`), Mitsuba 3 (`scalar_rgb`)
 renders it twice with two seeds, Penumbra (`penumbra render SCENE -D spp=N
-[--integrator direct]`, its own reading of the same file) once. For the
+[--integrator direct]`, its own reading of the same file, choosing the
+emitter of next-event estimation uniformly as Mitsuba does) once. For the
 whole image and each region the script prints:
 
   noise    relMSE of Mitsuba's second render against its first: Mitsuba's
@@ -111,7 +112,7 @@ def texture(np):
 def penumbra(binary, path, out, spp, defines, threads, extra=()):
     stats = out.with_suffix(".json")
     cmd = [str(binary), "render", str(path), "-D", f"spp={spp}", "-o", str(out), "--quiet",
-           "--threads", str(threads), "--stats", str(stats), *extra]
+           "--threads", str(threads), "--stats", str(stats), "--light-sampler", "uniform", *extra]
     for k, v in defines.items():
         cmd += ["-D", f"{k}={v}"]
     subprocess.run(cmd, check=True)
