@@ -28,13 +28,11 @@ use std::sync::Arc;
 
 use super::nested;
 use super::perturbed::{self, Normal, Options};
-use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;
 use super::{BsdfModel, Defaults};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
-use crate::sampling::SetPoint;
 use crate::texture::Texture;
 
 /// The normal-mapped material (see the [module docs](self)).
@@ -88,37 +86,7 @@ impl BsdfModel for NormalMap {
         })
     }
 
-    fn lobes(&self) -> Lobes {
-        self.bsdf.lobes()
-    }
-
-    fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
-        let n = self.normal(si, wo);
-        perturbed::eval(&self.bsdf, si, &n, self.options, wo, wi)
-    }
-
-    fn sample(
-        &self,
-        si: &SurfaceInteraction,
-        wo: Vec3,
-        lobe: Option<usize>,
-        u: SetPoint,
-    ) -> Option<BsdfSample> {
-        let n = self.normal(si, wo);
-        perturbed::sample(&self.bsdf, si, &n, self.options, wo, lobe, u)
-    }
-
-    fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32 {
-        perturbed::pdf(&self.bsdf, si, &self.normal(si, wo), wo, wi)
-    }
-
-    fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
-        self.bsdf.shadow_transmittance(si)
-    }
-
-    fn uniform_shadow_transmittance(&self) -> Option<f32> {
-        self.bsdf.uniform_shadow_transmittance()
-    }
+    perturbed::through_perturbed_normal!();
 }
 
 #[cfg(test)]
@@ -132,7 +100,7 @@ mod tests {
     use crate::bsdf::roughconductor::RoughConductor;
     use crate::bsdf::roughplastic::RoughPlastic;
     use crate::math::Vec2;
-    use crate::sampling::Rng;
+    use crate::sampling::{Rng, SetPoint};
 
     fn arc(b: impl Into<Bsdf>) -> Arc<Bsdf> {
         Arc::new(b.into())

@@ -177,3 +177,55 @@ pub fn sample(
     }
     Some(s)
 }
+
+/// The [`BsdfModel`](super::BsdfModel) methods of a model that holds a
+/// model `bsdf` (an `Arc<Bsdf>`) seen through the normal its
+/// `self.normal(si, wo)` gives, with its `options`: its lobes, value,
+/// density and samples are the held model's through that normal, and
+/// shadow rays pass it as they pass the held model.
+macro_rules! through_perturbed_normal {
+    () => {
+        fn lobes(&self) -> $crate::bsdf::Lobes {
+            self.bsdf.lobes()
+        }
+
+        fn eval(
+            &self,
+            si: &$crate::geometry::SurfaceInteraction,
+            wo: $crate::math::Vec3,
+            wi: $crate::math::Vec3,
+        ) -> $crate::math::Rgb {
+            let n = self.normal(si, wo);
+            $crate::bsdf::perturbed::eval(&self.bsdf, si, &n, self.options, wo, wi)
+        }
+
+        fn sample(
+            &self,
+            si: &$crate::geometry::SurfaceInteraction,
+            wo: $crate::math::Vec3,
+            lobe: Option<usize>,
+            u: $crate::sampling::SetPoint,
+        ) -> Option<$crate::bsdf::BsdfSample> {
+            let n = self.normal(si, wo);
+            $crate::bsdf::perturbed::sample(&self.bsdf, si, &n, self.options, wo, lobe, u)
+        }
+
+        fn pdf(
+            &self,
+            si: &$crate::geometry::SurfaceInteraction,
+            wo: $crate::math::Vec3,
+            wi: $crate::math::Vec3,
+        ) -> f32 {
+            $crate::bsdf::perturbed::pdf(&self.bsdf, si, &self.normal(si, wo), wo, wi)
+        }
+
+        fn shadow_transmittance(&self, si: &$crate::geometry::SurfaceInteraction) -> f32 {
+            self.bsdf.shadow_transmittance(si)
+        }
+
+        fn uniform_shadow_transmittance(&self) -> Option<f32> {
+            self.bsdf.uniform_shadow_transmittance()
+        }
+    };
+}
+pub(super) use through_perturbed_normal;
