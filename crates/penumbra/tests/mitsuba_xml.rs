@@ -195,6 +195,7 @@ filter = "box"
 spp = 4
 seed = 7
 distribution = "random"
+pixel_distribution = "fast-random"
 background = [0.1, 0.1, 0.1]
 
 [camera]
@@ -1140,6 +1141,14 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
             &Value::String(dist.into()),
             "{sampler}"
         );
+        // Film positions over the pixel's square, not random's disk.
+        assert_eq!(
+            s.prop("pixel_distribution").map(|p| &p.value.value),
+            (dist == "random")
+                .then(|| Value::String("fast-random".into()))
+                .as_ref(),
+            "{sampler}"
+        );
         let i = root.child(Kind::Integrator).unwrap();
         assert_eq!(
             i.prop("path_sampler").map(|p| &p.value.value),
@@ -1218,6 +1227,60 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
         e.contains("scene.xml:3:") && e.contains("render.width"),
         "{e}"
     );
+}
+
+/// Mitsuba's `independent` sampler draws film positions uniformly over the
+/// pixel's square, and so must its reading: an emitter whose edges cover a
+/// tenth of a row and of two columns of pixels (seen directly, box filter)
+/// gives those pixels a tenth of its radiance, a corner pixel a hundredth.
+/// Points drawn over the disk inscribed in the pixel give about half as
+/// much on the edges and none in the corner.
+#[test]
+fn independent_film_positions_cover_the_whole_pixel() {
+    // 32 × 32 pixels over a 90° field of view: the plane z = -1 holds 16
+    // pixels per unit, film y = 16 (1 - y) and film x = 16 (1 + x). The
+    // emitter spans film y < 20.1 and 5.9 < film x < 26.1.
+    let (y_edge, x_edge) = (1.0 - 20.1 / 16.0, 1.0 - 5.9 / 16.0);
+    let body = format!(
+        r#"<integrator type="path"><integer name="max_depth" value="1"/></integrator>
+        <sensor type="perspective">
+            <float name="fov" value="90"/>
+            <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, -1" up="0, 1, 0"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="4096"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film>
+        </sensor>
+        <shape type="rectangle">
+            <transform name="to_world"><scale x="{x_edge}" y="{sy}"/><translate y="{ty}" z="-1"/></transform>
+            <emitter type="area"><rgb name="radiance" value="1, 1, 1"/></emitter>
+        </shape>"#,
+        sy = (2.0 - y_edge) / 2.0,
+        ty = (2.0 + y_edge) / 2.0,
+    );
+    let d = one(&body);
+    let scene = SceneSource::open(
+        d.path("scene.xml").to_str().unwrap(),
+        &LoadOptions::default(),
+    )
+    .unwrap()
+    .build()
+    .unwrap();
+    let (img, _) = common::render_scene(&scene, 2);
+    let at = |x: usize, y: usize| f64::from(img.pixels[y * 32 + x].g);
+    let mean =
+        |p: Vec<(usize, usize)>| p.iter().map(|&(x, y)| at(x, y)).sum::<f64>() / p.len() as f64;
+    // 19 and 17 pixels of 4096 samples each: the standard deviation of a
+    // covered fraction of 0.1 is at most 0.0011.
+    let row = mean((7..26).map(|x| (x, 20)).collect());
+    let columns = mean((2..19).flat_map(|y| [(5, y), (26, y)]).collect());
+    assert!((row - 0.1).abs() < 0.006, "bottom edge row: {row}");
+    assert!(
+        (columns - 0.1).abs() < 0.006,
+        "side edge columns: {columns}"
+    );
+    let corners = (at(5, 20) + at(26, 20)) / 2.0;
+    assert!((corners - 0.01).abs() < 0.006, "corners: {corners}");
+    assert_eq!(at(15, 10), 1.0);
+    assert_eq!(at(15, 21), 0.0);
 }
 
 #[test]

@@ -30,7 +30,7 @@
 //! | `<integrator>` `path`, `direct` (default `path`) | integrator of that name | `render` |
 //! | `<sensor>` `perspective`, `thinlens` | sensor `perspective` (position, look_at, up, vertical fov; aperture, focal_distance) | `camera` |
 //! | `<film>` `hdrfilm`, its `<rfilter>` | film (width, height, filter) | `render` |
-//! | `<sampler>` | sampler `sets` (spp, seed, distribution) | `render` |
+//! | `<sampler>` | sampler `sets` (spp, seed, distribution, pixel distribution) | `render` |
 //! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
 //! | `<bsdf type="diffuse">` | bsdf `diffuse` with its id or `bsdf_N` | `materials.NAME` |
 //! | `<bsdf type="twosided">` around a diffuse | the same with `two_sided = true` | `materials.NAME` |

@@ -934,6 +934,17 @@ impl Out<'_> {
         set(&mut node, &render(), "distribution", &at, |p, at| {
             located(Value::String(distribution.into()), p, at)
         });
+        if distribution == "random" {
+            // Mitsuba's independent film positions are uniform over the
+            // pixel's square, and the box filter counts the whole square;
+            // `random` fills the disk inscribed in it, which misses the
+            // corners and puts an edge crossing a pixel in the wrong
+            // proportion. `fast-random` read by its x and y is independent
+            // and uniform over the square.
+            set(&mut node, &render(), "pixel_distribution", &at, |p, at| {
+                located(Value::String("fast-random".into()), p, at)
+            });
+        }
         Ok(node)
     }
 
