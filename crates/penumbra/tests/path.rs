@@ -611,7 +611,8 @@ fn sequenced_paths_are_the_same_on_any_threads_and_passes() {
 /// follows is traced by a closest-hit call and its vertex shaded (misses
 /// included), every shadow ray by an occlusion call; a 16×16 image at 32
 /// samples fills a wave of 8,192 camera rays, and the closed box's one
-/// material is shaded in one call per bounce.
+/// material is shaded in one call per bounce; at one sample, a tile's
+/// 4,096.
 #[test]
 fn the_stages_take_whole_waves() {
     use penumbra::render::{render, RenderOptions};
@@ -630,6 +631,12 @@ fn the_stages_take_whole_waves() {
     assert_eq!(b.closest_hit.mean(), 8192.0);
     assert_eq!(b.shading.calls, 4);
     assert_eq!(b.occlusion.calls, 3);
+    // At one sample, a 64 × 64 tile's camera rays are one wave of 4,096.
+    let one = closed_box(0.5, "spp = 1\nmax_depth = 1")
+        .replace("width = 16\nheight = 16", "width = 128\nheight = 64");
+    let (_, stats) = render(&scene(&one), &opts, &|_, _| {}, None).expect("render");
+    assert_eq!(stats.batches.closest_hit.calls, 2);
+    assert_eq!(stats.batches.closest_hit.mean(), 4096.0);
 }
 
 /// The thesis's shadow metric on `distributed`'s sets: in the closed box

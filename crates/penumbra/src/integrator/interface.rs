@@ -53,6 +53,11 @@ pub trait Integrator: Sync {
     /// neighbours (adaptive sampling): the driver renders the tile of the
     /// frame's grid that holds a region's part.
     fn whole_tiles(&self) -> bool;
+
+    /// The side of the square tiles of the frame's grid, each a worker's
+    /// job. Fixed per integrator, so that the work split never depends on
+    /// the thread count (the pixels would not anyway).
+    fn tile(&self) -> u32;
 }
 
 /// One worker of an [`Integrator`].

@@ -14,7 +14,7 @@ use serde::Serialize;
 
 pub use film::Image;
 use film::TileSlot;
-pub use region::{Region, TILE};
+pub use region::Region;
 pub use report::stats_document;
 
 use crate::integrator::stopping::PixelSamples;
@@ -114,14 +114,15 @@ pub fn render_with<I: Integrator>(
         .unwrap_or_else(rayon::current_num_threads)
         .max(1);
     let pool = pool(threads)?;
-    let tiles = tiles(region);
+    let tile = integrator.tile();
+    let tiles = tiles(region, tile);
     let done = AtomicUsize::new(0);
     let start = Instant::now();
     let mut image = Image::new(region.width(), region.height());
     // Each finished tile is copied into its band of rows (a band per row of
     // tiles) while the other workers go on: copying the whole image after
     // the last tile would take a few percent of a Whitted frame on two threads.
-    let cuts = cuts(region.y0, region.y1);
+    let cuts = cuts(region.y0, region.y1, tile);
     let mut bands: Vec<Mutex<&mut [Rgb]>> = Vec::new();
     let mut rest = &mut image.pixels[..];
     for rows in cuts.windows(2) {
@@ -154,7 +155,7 @@ pub fn render_with<I: Integrator>(
                 .map(|(t, slot)| {
                     let mut slot = slot.lock().unwrap_or_else(|e| e.into_inner());
                     let block = if whole {
-                        aligned(*t, s.width, s.height)
+                        aligned(*t, (s.width, s.height), tile)
                     } else {
                         *t
                     };
@@ -255,9 +256,9 @@ fn pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, RenderError> {
 }
 
 /// The region cut into tiles, row by row: its parts in each tile of the
-/// frame's grid of `TILE × TILE` tiles.
-fn tiles(r: Region) -> Vec<Region> {
-    let (xs, ys) = (cuts(r.x0, r.x1), cuts(r.y0, r.y1));
+/// frame's grid of `tile × tile` tiles.
+fn tiles(r: Region, tile: u32) -> Vec<Region> {
+    let (xs, ys) = (cuts(r.x0, r.x1, tile), cuts(r.y0, r.y1, tile));
     let mut out = Vec::new();
     for y in ys.windows(2) {
         for x in xs.windows(2) {
@@ -272,21 +273,22 @@ fn tiles(r: Region) -> Vec<Region> {
     out
 }
 
-/// `lo`, the multiples of `TILE` between, and `hi`: where `[lo, hi)` is cut.
-fn cuts(lo: u32, hi: u32) -> Vec<u32> {
+/// `lo`, the multiples of `tile` between, and `hi`: where `[lo, hi)` is cut.
+fn cuts(lo: u32, hi: u32, tile: u32) -> Vec<u32> {
     let mut at = vec![lo];
-    at.extend((lo / TILE + 1..).map(|k| k * TILE).take_while(|&c| c < hi));
+    at.extend((lo / tile + 1..).map(|k| k * tile).take_while(|&c| c < hi));
     at.push(hi);
     at
 }
 
-/// The tile of the frame's grid (a `width × height` frame) that holds `t`.
-fn aligned(t: Region, width: u32, height: u32) -> Region {
-    let (x0, y0) = (t.x0 / TILE * TILE, t.y0 / TILE * TILE);
+/// The tile of the frame's grid (a `width × height` frame cut into tiles
+/// of side `tile`) that holds `t`.
+fn aligned(t: Region, (width, height): (u32, u32), tile: u32) -> Region {
+    let (x0, y0) = (t.x0 / tile * tile, t.y0 / tile * tile);
     Region {
         x0,
         y0,
-        x1: (x0 + TILE).min(width),
-        y1: (y0 + TILE).min(height),
+        x1: (x0 + tile).min(width),
+        y1: (y0 + tile).min(height),
     }
 }

@@ -2,10 +2,6 @@
 
 use serde::Serialize;
 
-/// Side of the square tiles the image is cut into. Fixed, so that the work
-/// split never depends on the thread count (the pixels would not anyway).
-pub const TILE: u32 = 32;
-
 /// A rectangle of pixels `[x0, x1) × [y0, y1)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Region {

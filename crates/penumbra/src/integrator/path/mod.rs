@@ -80,8 +80,9 @@
 //!
 //! # The wavefront
 //!
-//! A worker keeps the paths of whole rows of its tile (at least one row, up
-//! to [`WAVE`] paths) in structure-of-arrays buffers and advances them
+//! A worker keeps the paths of whole rows of its 64 × 64 tile (at least one
+//! row, up to [`WAVE`] paths: a whole tile's 4,096 at one sample) in
+//! structure-of-arrays buffers, and advances them
 //! together, one stage at a time: one closest-hit call for all live paths
 //! ([`World::intersect_all`](crate::accel::World::intersect_all)), one
 //! shading pass that adds emission, prepares every shadow ray and samples
@@ -141,6 +142,12 @@ impl Integrator for Path {
 
     fn whole_tiles(&self) -> bool {
         false
+    }
+
+    /// 64 pixels: a tile's 4,096 camera rays at one sample fill the first
+    /// bounce's batches of a wave (see [`WAVE`]).
+    fn tile(&self) -> u32 {
+        64
     }
 }
 

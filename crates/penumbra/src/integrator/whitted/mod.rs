@@ -50,6 +50,12 @@ impl Integrator for Whitted {
     fn whole_tiles(&self) -> bool {
         self.stopping.is_some()
     }
+
+    /// 32 pixels: an adaptive sampling rule judges a pixel by the others
+    /// of its tile.
+    fn tile(&self) -> u32 {
+        32
+    }
 }
 
 /// A [`Whitted`] worker: a tracer with its buffers and ray counts.
