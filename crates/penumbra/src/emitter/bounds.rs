@@ -209,11 +209,12 @@ fn cone_union((wa, cos_a): (Vec3, f32), (wb, cos_b): (Vec3, f32)) -> (Vec3, f32)
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sampling::Rng;
 
-    fn unit(rng: &mut Rng) -> Vec3 {
+    /// A direction uniform over the sphere (by rejection).
+    pub(crate) fn random_unit(rng: &mut Rng) -> Vec3 {
         loop {
             let v = Vec3::new(
                 rng.range(-1.0, 1.0),
@@ -232,12 +233,12 @@ mod tests {
     fn cone_union_holds_both_cones() {
         let mut rng = Rng::new(3);
         for _ in 0..2000 {
-            let (wa, wb) = (unit(&mut rng), unit(&mut rng));
+            let (wa, wb) = (random_unit(&mut rng), random_unit(&mut rng));
             let (ca, cb) = (rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
             let (w, c) = cone_union((wa, ca), (wb, cb));
             for (axis, cos) in [(wa, ca), (wb, cb)] {
                 for _ in 0..20 {
-                    let d = unit(&mut rng);
+                    let d = random_unit(&mut rng);
                     if d.dot(axis) >= cos {
                         assert!(d.dot(w) >= c - 1e-5, "{d:?} outside {w:?} {c}");
                     }

@@ -1277,18 +1277,34 @@ impl Out<'_> {
                     };
                 return Err(error_at(at, what));
             };
-            if obj_has(obj, param) || node.prop(param).is_some() {
-                return Err(error_at(at, format!("`{}` is given twice", clip(param))));
-            }
-            let value = match child {
-                Child::Ref { id, .. } if self.texture_ids.contains(id) => {
-                    located(Value::String(id.clone()), base.key(param), at)
-                }
-                _ => texture_table(target, base.key(param), at, self.reader)?,
-            };
-            let key = at.origin(base.key(param));
-            node.props.push(Prop::new(param, key, value));
+            self.texture_prop(obj, (child, target, at), param, node, base)?;
         }
+        Ok(())
+    }
+
+    /// Sets `param` of `node` (at `base`) to the texture `child` of `obj`
+    /// (the object `target`, at `at`): a reference to a texture declared in
+    /// the scene by its id, else the texture's own table; refused if `obj`
+    /// or `node` has the parameter already.
+    fn texture_prop(
+        &self,
+        obj: &Object,
+        (child, target, at): (&Child, &Object, &Place),
+        param: &str,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        if obj_has(obj, param) || node.prop(param).is_some() {
+            return Err(error_at(at, format!("`{}` is given twice", clip(param))));
+        }
+        let value = match child {
+            Child::Ref { id, .. } if self.texture_ids.contains(id) => {
+                located(Value::String(id.clone()), base.key(param), at)
+            }
+            _ => texture_table(target, base.key(param), at, self.reader)?,
+        };
+        let key = at.origin(base.key(param));
+        node.props.push(Prop::new(param, key, value));
         Ok(())
     }
 
@@ -1326,17 +1342,7 @@ impl Out<'_> {
                     ),
                 ));
             };
-            if obj_has(obj, param) || node.prop(param).is_some() {
-                return Err(error_at(at, format!("`{}` is given twice", clip(param))));
-            }
-            let value = match child {
-                Child::Ref { id, .. } if self.texture_ids.contains(id) => {
-                    located(Value::String(id.clone()), base.key(param), at)
-                }
-                _ => texture_table(target, base.key(param), at, self.reader)?,
-            };
-            let key = at.origin(base.key(param));
-            node.props.push(Prop::new(param, key, value));
+            self.texture_prop(obj, (child, target, at), param, node, base)?;
         }
         Ok(())
     }

@@ -317,7 +317,8 @@ fn split(items: &mut [(u32, LightBounds)], depth: u32) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::emitter::choice::tests::{area, many_emitters, random_unit};
+    use crate::emitter::bounds::tests::random_unit;
+    use crate::emitter::choice::tests::{area, many_emitters};
     use crate::emitter::AreaShape;
     use crate::geometry::quad::Quad;
     use crate::math::Frame;

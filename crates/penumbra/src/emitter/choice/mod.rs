@@ -102,6 +102,7 @@ impl LightSampler {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::emitter::bounds::tests::random_unit;
     use crate::emitter::{
         Area, AreaShape, Constant, Directional, MeshLight, PenumbraModel, Point, Spot,
     };
@@ -119,19 +120,6 @@ pub(crate) mod tests {
                 distribution: Distribution::Random,
             },
         })
-    }
-
-    pub(crate) fn random_unit(rng: &mut Rng) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-            );
-            if (0.01..1.0).contains(&v.length_squared()) {
-                return v.normalize();
-            }
-        }
     }
 
     /// Emitters of every kind, of powers over four orders of magnitude,
