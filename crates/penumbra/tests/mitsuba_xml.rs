@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use penumbra::description::mitsuba::{self, spectrum, transform, Loaded};
 use penumbra::description::{from_toml, Kind, Node, Value};
 use penumbra::scene::convert;
+use penumbra::scene::schemas::plugins;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Overrides, SceneError, SceneSource};
 
 const LIMIT: u64 = 4 << 20;
@@ -40,7 +41,7 @@ impl Dir {
             .iter()
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect();
-        mitsuba::from_xml_file(&self.path(name), &defines, LIMIT)
+        mitsuba::from_xml_file(&self.path(name), &defines, LIMIT, plugins)
     }
 
     fn tree(&self, name: &str) -> Node {
@@ -579,12 +580,12 @@ fn the_size_limit_covers_each_file_and_all_includes_together() {
         ("b.xml", &scene(&pad)),
     ]);
     assert!(
-        mitsuba::from_xml_file(&d.path("scene.xml"), &[], 10_000).is_err_and(|e| {
+        mitsuba::from_xml_file(&d.path("scene.xml"), &[], 10_000, plugins).is_err_and(|e| {
             let e = e.to_string();
             e.contains("sensor")
         })
     );
-    let e = mitsuba::from_xml_file(&d.path("scene.xml"), &[], 5_000)
+    let e = mitsuba::from_xml_file(&d.path("scene.xml"), &[], 5_000, plugins)
         .unwrap_err()
         .to_string();
     assert!(
@@ -1288,9 +1289,9 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
     for (body, message) in [
         (
             r#"<bsdf type="principled"/>"#,
-            "bsdf `principled` is not supported; supported: diffuse, twosided, \
-             conductor, roughconductor, dielectric, roughdielectric, thindielectric, \
-             plastic, roughplastic, mask, blendbsdf, normalmap, bumpmap",
+            "bsdf `principled` is not supported; supported: diffuse, conductor, \
+             roughconductor, dielectric, roughdielectric, thindielectric, plastic, \
+             roughplastic, twosided, mask, blendbsdf, normalmap, bumpmap",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
@@ -1687,7 +1688,7 @@ fn deep_nesting_is_refused_without_overflowing_the_stack() {
     let e = std::thread::Builder::new()
         .stack_size(256 << 10)
         .spawn(move || {
-            mitsuba::from_xml_file(&path, &[], LIMIT)
+            mitsuba::from_xml_file(&path, &[], LIMIT, plugins)
                 .unwrap_err()
                 .to_string()
         })
@@ -1752,11 +1753,11 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
         <shape type="sphere"><float name="radius" value="2"/><string name="glow" value="yes"/></shape>"#,
     );
     let path = d.path("scene.xml");
-    let strict = mitsuba::from_xml_file(&path, &[], LIMIT)
+    let strict = mitsuba::from_xml_file(&path, &[], LIMIT, plugins)
         .unwrap_err()
         .to_string();
     assert!(strict.contains("`foo` is not a parameter"), "{strict}");
-    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true).unwrap();
+    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true, plugins).unwrap();
     assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
     assert!(loaded.warnings[1].contains("scene.xml:5:") && loaded.warnings[1].contains("`glow`"));
     assert!(loaded.warnings[1].ends_with("ignored (--lenient)"));
@@ -1774,7 +1775,7 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
         .build()
         .unwrap();
     let d = with_sensor(r#"<shape type="torus"/>"#);
-    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true)
+    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true, plugins)
         .unwrap_err()
         .to_string();
     assert!(e.contains("shape `torus` is not supported"), "{e}");

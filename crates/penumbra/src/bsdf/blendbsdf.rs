@@ -23,7 +23,7 @@ use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfSample, Lobes};
 use super::Bsdf;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -73,13 +73,15 @@ impl BsdfModel for BlendBsdf {
         kind: Kind::Bsdf,
         plugin: "blendbsdf",
         what: "blended material",
+        doc: "a linear blend of two materials",
+        mitsuba: &["blendbsdf"],
         params: &[
             Param::new(
                 "weight",
                 Type::NumberTexture,
                 "0.5",
                 "the share of `bsdf_1`, in [0, 1] (0: `bsdf_0` alone, 1: `bsdf_1` alone)",
-            ),
+            ).range(Range::Unit),
             nested::param("bsdf_0", "required", "the name of the first material"),
             nested::param("bsdf_1", "required", "the name of the second material"),
         ],

@@ -95,13 +95,15 @@ impl BsdfModel for BumpMap {
         kind: Kind::Bsdf,
         plugin: "bumpmap",
         what: "bump-mapped material",
+        doc: "a material seen through the normal of a height field",
+        mitsuba: &["bumpmap"],
         params: &[
             Param::new(
                 "texture",
                 Type::NumberTexture,
                 "required",
                 "the height field, read as one value (a `bitmap`, usually with `raw = true`)",
-            ),
+            ).any_mitsuba_name(),
             Param::new("scale", Type::Number, "1", "a factor on the heights' gradient"),
             nested::param("bsdf", "required", "the name of the material seen through the normal"),
             perturbed::PARAMS[0],

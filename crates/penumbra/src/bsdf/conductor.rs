@@ -18,7 +18,7 @@ use super::ior::{self, Conductor as Index};
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::fresnel;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{reflect, Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -36,8 +36,8 @@ pub struct Conductor {
 /// `roughconductor`.
 pub const INDEX_PARAMS: [Param; 3] = [
     Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror), `Au`, `Ag`, `Al`, `Cu`, `Cr`"),
-    Param::new("eta", Type::Colour, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`"),
-    Param::new("k", Type::Colour, "the material's", "imaginary part of the complex index (absorption), ≥ 0"),
+    Param::new("eta", Type::Colour, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`").range(Range::NonNegative),
+    Param::new("k", Type::Colour, "the material's", "imaginary part of the complex index (absorption), ≥ 0").range(Range::NonNegative),
 ];
 
 /// The schema entry of `specular_reflectance`.
@@ -46,7 +46,7 @@ pub const SPECULAR_REFLECTANCE: Param = Param::new(
     Type::ColourTexture,
     "[1, 1, 1]",
     "a factor on the reflection, each channel in [0, 1] (1 for realism)",
-);
+).range(Range::Unit);
 
 /// A reflectance-like factor `name`, a colour or a texture (each channel
 /// in [0, 1]), default 1.
@@ -101,6 +101,8 @@ impl BsdfModel for Conductor {
         kind: Kind::Bsdf,
         plugin: "conductor",
         what: "conductor material",
+        doc: "a smooth metal: delta reflection weighted by the conductor Fresnel reflectance",
+        mitsuba: &["conductor"],
         params: &[INDEX_PARAMS[0], INDEX_PARAMS[1], INDEX_PARAMS[2], SPECULAR_REFLECTANCE],
     };
 

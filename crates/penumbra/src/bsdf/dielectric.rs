@@ -35,7 +35,7 @@ use super::fresnel;
 use super::ior;
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -52,8 +52,8 @@ pub struct Dielectric {
 
 /// The schema entries of the two indices, shared by the dielectrics.
 pub const IOR_PARAMS: [Param; 2] = [
-    Param::new("int_ior", Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES), "bk7 (1.5046)", "index of refraction of the inside (the side the normal points away from): a number > 0 or a name (`water`, `diamond`, …)"),
-    Param::new("ext_ior", Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES), "air (1.000277)", "index of refraction of the outside: a number > 0 or a name"),
+    Param::new("int_ior", Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES), "bk7 (1.5046)", "index of refraction of the inside (the side the normal points away from): a number > 0 or a name (`water`, `diamond`, …)").range(Range::Positive),
+    Param::new("ext_ior", Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES), "air (1.000277)", "index of refraction of the outside: a number > 0 or a name").range(Range::Positive),
 ];
 
 /// The schema entry of `specular_transmittance`.
@@ -62,7 +62,7 @@ pub const SPECULAR_TRANSMITTANCE: Param = Param::new(
     Type::ColourTexture,
     "[1, 1, 1]",
     "a factor on the transmission, each channel in [0, 1] (1 for realism)",
-);
+).range(Range::Unit);
 
 /// What a smooth interface reads: the relative index and the factors on
 /// reflection and transmission.
@@ -117,6 +117,8 @@ impl BsdfModel for Dielectric {
         kind: Kind::Bsdf,
         plugin: "dielectric",
         what: "dielectric material",
+        doc: "a smooth dielectric interface: Fresnel-weighted delta reflection and refraction",
+        mitsuba: &["dielectric"],
         params: &[IOR_PARAMS[0], IOR_PARAMS[1], SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE],
     };
 

@@ -13,7 +13,7 @@ use std::f32::consts::FRAC_1_PI;
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::conductor::reflectance_texture;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -48,19 +48,21 @@ impl BsdfModel for Diffuse {
         kind: Kind::Bsdf,
         plugin: "diffuse",
         what: "diffuse material",
+        doc: "an ideal Lambertian reflector",
+        mitsuba: &["diffuse"],
         params: &[
             Param::new(
                 "reflectance",
                 Type::ColourTexture,
                 "[0.5, 0.5, 0.5]",
                 "the albedo, each channel in [0, 1]",
-            ),
+            ).range(Range::Unit),
             Param::new(
                 "two_sided",
                 Type::Bool,
                 "false",
                 "reflect on both sides alike (otherwise only on the side the normal points to)",
-            ),
+            ).penumbra_only(),
         ],
     };
 

@@ -28,7 +28,7 @@ use super::{BsdfModel, Defaults};
 use super::nested::{self, choose};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -75,13 +75,15 @@ impl BsdfModel for Mask {
         kind: Kind::Bsdf,
         plugin: "mask",
         what: "mask material",
+        doc: "a material seen by a share `opacity` of the light, the rest passing through",
+        mitsuba: &["mask"],
         params: &[
             Param::new(
                 "opacity",
                 Type::NumberTexture,
                 "0.5",
                 "the share of light the held material sees, in [0, 1]; the rest passes straight through",
-            ),
+            ).range(Range::Unit),
             nested::param("bsdf", "required", "the name of the material of the opaque share"),
         ],
     };

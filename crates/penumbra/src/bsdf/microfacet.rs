@@ -34,7 +34,7 @@ use std::f64::consts::PI as PI64;
 
 use statrs::function::erf::{erf, erf_inv};
 
-use crate::description::{Invalid, Param, Props, Type};
+use crate::description::{Invalid, Param, Props, Range, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Vec2, Vec3};
 use crate::texture::{NumberOr, Texture, Textures};
@@ -73,19 +73,22 @@ pub const PARAMS: [Param; 5] = [
         Type::NumberTexture,
         "0.1",
         "roughness ≥ 0 (RMS slope for Beckmann), along both tangents",
-    ),
+    )
+    .range(Range::Between(0.0, 100.0)),
     Param::new(
         "alpha_u",
         Type::NumberTexture,
         "alpha",
         "roughness ≥ 0 along the tangent `dp/du`; with `alpha_v`, not with `alpha`",
-    ),
+    )
+    .range(Range::Between(0.0, 100.0)),
     Param::new(
         "alpha_v",
         Type::NumberTexture,
         "alpha",
         "roughness ≥ 0 along the bitangent; with `alpha_u`, not with `alpha`",
-    ),
+    )
+    .range(Range::Between(0.0, 100.0)),
     Param::new(
         "sample_visible",
         Type::Bool,

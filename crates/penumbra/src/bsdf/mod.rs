@@ -58,6 +58,7 @@ pub use sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
@@ -87,6 +88,10 @@ pub trait BsdfModel: Sized {
     /// Its parameters, their types and defaults (checked when a scene is
     /// loaded, listed in the scene-format reference).
     const SCHEMA: Schema;
+
+    /// How Mitsuba's plugin of its name maps onto it: through the schema
+    /// alone unless the model says otherwise.
+    const MITSUBA: Mitsuba = Mitsuba::SAME;
 
     /// The model of a scene's parameters: read through `p` (type errors
     /// are the reader's), checked for range, defaulted.
@@ -156,6 +161,12 @@ macro_rules! models {
 
             /// The models' parameters.
             pub const SCHEMAS: &'static [&'static Schema] = &[$(&<$model as BsdfModel>::SCHEMA,)*];
+
+            /// The models as the readers see them.
+            pub const PLUGINS: &'static [Plugin] = &[$(Plugin {
+                schema: &<$model as BsdfModel>::SCHEMA,
+                mitsuba: <$model as BsdfModel>::MITSUBA,
+            },)*];
 
             /// The model `name` of the parameters `p`; `None` for a name
             /// that is not a model's.

@@ -1,9 +1,9 @@
 //! What the models holding other models (`twosided`, `mask`, `blendbsdf`,
 //! `normalmap`, `bumpmap`) share: reading a held model by its material
 //! name, reading a share in [0, 1] that may be a texture, choosing between
-//! models with one random point, and the names of the parameters that hold
-//! models (which the scene builder reads to build the held materials
-//! first).
+//! models with one random point, and the schema type of the parameters
+//! that hold models ([`Type::Material`], which the scene builder reads to
+//! build the held materials first).
 //!
 //! A held model is a material of the scene named by a string parameter
 //! (`bsdf = "paint"`); Mitsuba XML's nested `<bsdf>`s and `<ref>`s become
@@ -20,18 +20,7 @@ use crate::sampling::SetPoint;
 use crate::texture::{NumberOr, Texture, Textures};
 
 /// The schema type of a parameter naming a material.
-pub const MATERIAL: Type = Type::String;
-
-/// The parameters of the model `plugin` that name materials it holds.
-pub fn parameters(plugin: &str) -> &'static [&'static str] {
-    match plugin {
-        "twosided" => &["bsdf", "back"],
-        "mask" => &["bsdf"],
-        "blendbsdf" => &["bsdf_0", "bsdf_1"],
-        "normalmap" | "bumpmap" => &["bsdf"],
-        _ => &[],
-    }
-}
+pub const MATERIAL: Type = Type::Material;
 
 /// A schema entry of a parameter naming a held material.
 pub const fn param(name: &'static str, default: &'static str, doc: &'static str) -> Param {

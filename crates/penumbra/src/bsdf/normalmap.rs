@@ -30,7 +30,7 @@ use super::nested;
 use super::perturbed::{self, Normal, Options};
 use super::Bsdf;
 use super::{BsdfModel, Defaults};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::texture::Texture;
@@ -59,13 +59,15 @@ impl BsdfModel for NormalMap {
         kind: Kind::Bsdf,
         plugin: "normalmap",
         what: "normal-mapped material",
+        doc: "a material seen through a normal read from a texture",
+        mitsuba: &["normalmap"],
         params: &[
             Param::new(
                 "normalmap",
                 Type::ColourTexture,
                 "required",
                 "the normal in the shading frame, each channel in [0, 1] mapped to [−1, 1] (a `bitmap` with `raw = true`)",
-            ),
+            ).range(Range::Unit),
             nested::param("bsdf", "required", "the name of the material seen through the normal"),
             perturbed::PARAMS[0],
             perturbed::PARAMS[1],

@@ -42,7 +42,7 @@ use super::{BsdfModel, Defaults};
 use super::nested::choose;
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::conductor::reflectance_texture;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -68,25 +68,25 @@ pub const PARAMS: [Param; 5] = [
         Type::ColourTexture,
         "[0.5, 0.5, 0.5]",
         "the albedo of the diffuse base, each channel in [0, 1]",
-    ),
+    ).range(Range::Unit),
     Param::new(
         "specular_reflectance",
         Type::ColourTexture,
         "[1, 1, 1]",
         "a factor on the coating's reflection, each channel in [0, 1] (1 for realism)",
-    ),
+    ).range(Range::Unit),
     Param::new(
         "int_ior",
         Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES),
         "polypropylene (1.49)",
         "index of refraction of the coating: a number > 0 or a name",
-    ),
+    ).range(Range::Positive),
     Param::new(
         "ext_ior",
         Type::NumberOrChoice("index of refraction", &ior::DIELECTRIC_NAMES),
         "air (1.000277)",
         "index of refraction of the outside: a number > 0 or a name",
-    ),
+    ).range(Range::Positive),
     Param::new(
         "nonlinear",
         Type::Bool,
@@ -211,6 +211,8 @@ impl BsdfModel for Plastic {
         kind: Kind::Bsdf,
         plugin: "plastic",
         what: "plastic material",
+        doc: "a smooth dielectric coating over a diffuse base, with the internal scattering",
+        mitsuba: &["plastic"],
         params: &PARAMS,
     };
 

@@ -50,6 +50,8 @@ impl BsdfModel for RoughConductor {
         kind: Kind::Bsdf,
         plugin: "roughconductor",
         what: "rough conductor material",
+        doc: "a rough metal: Beckmann or GGX microfacet reflection",
+        mitsuba: &["roughconductor"],
         params: &[
             PARAMS[0],
             PARAMS[1],

@@ -184,6 +184,8 @@ impl BsdfModel for RoughDielectric {
         kind: Kind::Bsdf,
         plugin: "roughdielectric",
         what: "rough dielectric material",
+        doc: "a rough dielectric interface: microfacet reflection and transmission",
+        mitsuba: &["roughdielectric"],
         params: &[
             IOR_PARAMS[0],
             IOR_PARAMS[1],

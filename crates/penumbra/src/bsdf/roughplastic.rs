@@ -43,7 +43,7 @@ use super::{BsdfModel, Defaults};
 use super::nested::choose;
 use super::plastic::{internal_scattering, read_common, specular_sampling_weight, Common, PARAMS};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -224,6 +224,8 @@ impl BsdfModel for RoughPlastic {
         kind: Kind::Bsdf,
         plugin: "roughplastic",
         what: "rough plastic material",
+        doc: "a rough dielectric coating over a diffuse base",
+        mitsuba: &["roughplastic"],
         params: &[
             MICROFACET[0],
             // A number, as Mitsuba's: the coating's tables are integrated
@@ -233,7 +235,7 @@ impl BsdfModel for RoughPlastic {
                 Type::Number,
                 "0.1",
                 "roughness ≥ 0 (RMS slope for Beckmann), along both tangents",
-            ),
+            ).range(Range::Between(0.0, 100.0)),
             MICROFACET[4],
             PARAMS[0],
             PARAMS[1],

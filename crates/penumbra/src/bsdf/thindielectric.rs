@@ -64,6 +64,8 @@ impl BsdfModel for ThinDielectric {
         kind: Kind::Bsdf,
         plugin: "thindielectric",
         what: "thin dielectric material",
+        doc: "a thin dielectric sheet: reflection and straight transmission",
+        mitsuba: &["thindielectric"],
         params: &[IOR_PARAMS[0], IOR_PARAMS[1], SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE],
     };
 

@@ -22,7 +22,10 @@ use super::{BsdfModel, Defaults};
 use super::nested;
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;
-use crate::description::{Invalid, Kind, Props, Schema};
+use crate::description::mitsuba::objects::Object;
+use crate::description::mitsuba::registry::Mapper;
+use crate::description::mitsuba::Mitsuba;
+use crate::description::{Invalid, Kind, Props, SceneError, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -82,6 +85,24 @@ impl TwoSided {
     }
 }
 
+/// Mitsuba's `twosided` around one `diffuse` (and nothing else) as the
+/// diffuse material reflecting on both sides, named as the `twosided`.
+fn around_diffuse(m: &mut dyn Mapper, obj: &Object) -> Option<Result<String, SceneError>> {
+    if !obj.props.is_empty() {
+        return None;
+    }
+    let held = match m.held(obj) {
+        Ok(held) => held,
+        Err(e) => return Some(Err(e)),
+    };
+    match held.as_slice() {
+        [one] if one.tag == "bsdf" && one.plugin == "diffuse" => {
+            Some(m.bsdf_as(one, obj, "two_sided"))
+        }
+        _ => None,
+    }
+}
+
 impl BsdfModel for TwoSided {
     const NAME: &'static str = "twosided";
 
@@ -89,6 +110,8 @@ impl BsdfModel for TwoSided {
         kind: Kind::Bsdf,
         plugin: "twosided",
         what: "two-sided material",
+        doc: "one or two reflecting materials, one on each side",
+        mitsuba: &["twosided"],
         params: &[
             nested::param(
                 "bsdf",
@@ -97,6 +120,11 @@ impl BsdfModel for TwoSided {
             ),
             nested::param("back", "`bsdf`", "the name of the material of the back"),
         ],
+    };
+
+    const MITSUBA: Mitsuba = Mitsuba {
+        differences: "around one `diffuse`, the `diffuse` with `two_sided = true`",
+        adapt: Some(around_diffuse),
     };
 
     fn build(p: &Props, d: &Defaults) -> Result<TwoSided, Invalid> {

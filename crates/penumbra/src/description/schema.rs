@@ -19,10 +19,15 @@ pub struct Param {
     /// The default as the docs show it (`"[0, 1, 5]"`, `"distance to look_at"`).
     pub default: &'static str,
     pub doc: &'static str,
+    /// The values the builder accepts (each channel of a colour).
+    pub range: Range,
+    /// What Mitsuba 3 calls the parameter.
+    pub mitsuba: MitsubaKey,
 }
 
 impl Param {
-    /// A parameter and its docs.
+    /// A parameter and its docs, of any value its type holds, under the
+    /// same name in Mitsuba's plugin.
     pub const fn new(
         name: &'static str,
         ty: Type,
@@ -34,8 +39,109 @@ impl Param {
             ty,
             default,
             doc,
+            range: Range::Any,
+            mitsuba: MitsubaKey::Same,
         }
     }
+
+    /// The parameter with the values the builder accepts.
+    pub const fn range(self, range: Range) -> Param {
+        Param { range, ..self }
+    }
+
+    /// The parameter under another name in Mitsuba's plugin.
+    pub const fn mitsuba(self, name: &'static str) -> Param {
+        Param {
+            mitsuba: MitsubaKey::Named(name),
+            ..self
+        }
+    }
+
+    /// A texture Mitsuba's plugin holds whatever its name.
+    pub const fn any_mitsuba_name(self) -> Param {
+        Param {
+            mitsuba: MitsubaKey::Any,
+            ..self
+        }
+    }
+
+    /// A parameter Mitsuba's plugin does not have.
+    pub const fn penumbra_only(self) -> Param {
+        Param {
+            mitsuba: MitsubaKey::None,
+            ..self
+        }
+    }
+
+    /// Mitsuba's name for the parameter; `None` for one of Penumbra's own.
+    pub const fn mitsuba_name(&self) -> Option<&'static str> {
+        match self.mitsuba {
+            MitsubaKey::Same => Some(self.name),
+            MitsubaKey::Named(n) => Some(n),
+            MitsubaKey::None | MitsubaKey::Any => None,
+        }
+    }
+
+    /// True if the parameter takes a texture.
+    pub const fn texturable(&self) -> bool {
+        matches!(self.ty, Type::ColourTexture | Type::NumberTexture)
+    }
+}
+
+/// The values of a parameter its builder accepts beyond its type (each
+/// channel of a colour); every builder refuses the others, which the
+/// plugins' tests check against the schemas.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Range {
+    /// Whatever the type holds (finite where it is a number).
+    Any,
+    /// In [0, 1].
+    Unit,
+    /// ≥ 0.
+    NonNegative,
+    /// > 0.
+    Positive,
+    /// From the first to the second, both included.
+    Between(f64, f64),
+}
+
+impl Range {
+    /// The range as the docs write it after the type (`"in [0, 1]"`);
+    /// empty for [`Range::Any`].
+    pub fn markdown(&self) -> String {
+        match self {
+            Range::Any => String::new(),
+            Range::Unit => "in [0, 1]".into(),
+            Range::NonNegative => "≥ 0".into(),
+            Range::Positive => "> 0".into(),
+            Range::Between(lo, hi) => format!("{lo}–{hi}"),
+        }
+    }
+
+    /// True if `x` lies in the range.
+    pub fn contains(&self, x: f64) -> bool {
+        match *self {
+            Range::Any => x.is_finite(),
+            Range::Unit => (0.0..=1.0).contains(&x),
+            Range::NonNegative => x >= 0.0 && x.is_finite(),
+            Range::Positive => x > 0.0 && x.is_finite(),
+            Range::Between(lo, hi) => (lo..=hi).contains(&x),
+        }
+    }
+}
+
+/// What Mitsuba 3 calls a parameter of a plugin it has too.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MitsubaKey {
+    /// The same name.
+    Same,
+    /// Another name.
+    Named(&'static str),
+    /// Mitsuba's plugin has no such parameter.
+    None,
+    /// A texture's parameter Mitsuba sets from the one texture its plugin
+    /// holds, whatever its name (a bump map's height field).
+    Any,
 }
 
 /// The type of a parameter: what [`check`] requires of its value, and the
@@ -73,6 +179,8 @@ pub enum Type {
     NumberOrChoice(&'static str, &'static [&'static str]),
     /// A table with these keys (a transform).
     Table(&'static [Param]),
+    /// The name of a material of the scene (one a material holds).
+    Material,
     /// A colour (3 numbers), a texture's table (its `type` and parameters)
     /// or the name of a texture of the scene; the texture's own keys are
     /// its builder's to check.
@@ -102,6 +210,7 @@ impl Type {
             Type::Choice(_, choices) => choices.join(", "),
             Type::NumberOrChoice(what, _) => format!("number or {what} name"),
             Type::Table(_) => "table".into(),
+            Type::Material => "material name".into(),
             Type::ColourTexture => "colour or texture".into(),
             Type::NumberTexture => "number or texture".into(),
         }
@@ -115,6 +224,11 @@ pub struct Schema {
     pub plugin: &'static str,
     /// What messages call one (`"sphere"`, `"rect light"`, `"material"`).
     pub what: &'static str,
+    /// One line on what the plugin is, for the reference.
+    pub doc: &'static str,
+    /// The names of Mitsuba 3's plugins read as this one (empty for a
+    /// plugin of Penumbra's own).
+    pub mitsuba: &'static [&'static str],
     pub params: &'static [Param],
 }
 
@@ -190,7 +304,7 @@ fn check_value(v: &Located<Value>, ty: &Type) -> Result<(), Invalid> {
                 .map(drop)
                 .map_err(|_| v.type_error("a number, a texture table or a texture's name")),
         },
-        Type::String | Type::Path => props::string(v).map(drop),
+        Type::String | Type::Path | Type::Material => props::string(v).map(drop),
         Type::Distribution => props::distribution(v).map(drop),
         Type::Choice(what, choices) => props::choice(v, what, choices).map(drop),
         Type::NumberOrChoice(what, choices) => props::number_or_choice(v, what, choices).map(drop),
@@ -224,18 +338,15 @@ mod tests {
     ];
 
     const fn param(name: &'static str, ty: Type) -> Param {
-        Param {
-            name,
-            ty,
-            default: "",
-            doc: "",
-        }
+        Param::new(name, ty, "", "")
     }
 
     const SPHERE: Schema = Schema {
         kind: Kind::Shape,
         plugin: "sphere",
         what: "sphere",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("center", Type::Vector),
             param("radius", Type::Number),
@@ -249,6 +360,8 @@ mod tests {
         kind: Kind::Shape,
         plugin: "quad",
         what: "quad",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("origin", Type::Vector),
             param("edge_u", Type::Vector),
@@ -263,6 +376,8 @@ mod tests {
         kind: Kind::Shape,
         plugin: "mesh",
         what: "mesh",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("path", Type::Path),
             param("smooth", Type::Bool),
@@ -280,6 +395,8 @@ mod tests {
         kind: Kind::Emitter,
         plugin: "point",
         what: "point light",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("position", Type::Vector),
             param("intensity", Type::Colour),
@@ -290,6 +407,8 @@ mod tests {
         kind: Kind::Emitter,
         plugin: "rect",
         what: "rect light",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("origin", Type::Vector),
             param("edge_u", Type::Vector),
@@ -307,6 +426,8 @@ mod tests {
         kind: Kind::Sensor,
         plugin: "perspective",
         what: "camera",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("position", Type::Vector),
             param("look_at", Type::Vector),
@@ -324,6 +445,8 @@ mod tests {
         kind: Kind::Bsdf,
         plugin: "thesis",
         what: "material",
+        doc: "",
+        mitsuba: &[],
         params: &[
             param("albedo", Type::Colour),
             param("ior", Type::Number),

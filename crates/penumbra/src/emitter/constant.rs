@@ -9,7 +9,7 @@
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
 use crate::description::check::{nonneg3, required};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_uniform_sphere, square_to_uniform_sphere_pdf};
 
@@ -23,12 +23,15 @@ impl Constant {
         kind: Kind::Emitter,
         plugin: "constant",
         what: "constant emitter",
-        params: &[Param {
-            name: "radiance",
-            ty: Type::Colour,
-            default: "required",
-            doc: "the radiance of every direction, ≥ 0",
-        }],
+        doc: "the background: the same radiance from every direction, at infinity",
+        mitsuba: &["constant"],
+        params: &[Param::new(
+            "radiance",
+            Type::Colour,
+            "required",
+            "the radiance of every direction, ≥ 0",
+        )
+        .range(Range::NonNegative)],
     };
 
     /// The emitter of a scene's parameters.

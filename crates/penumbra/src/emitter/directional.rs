@@ -14,7 +14,7 @@
 
 use super::sample::LightSample;
 use crate::description::check::{nonneg3, nonzero3};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +33,8 @@ impl Directional {
         kind: Kind::Emitter,
         plugin: "directional",
         what: "directional light",
+        doc: "irradiance along one direction from infinity (a sun), seen by no ray",
+        mitsuba: &["directional"],
         params: &[
             Param::new(
                 "direction",
@@ -45,7 +47,8 @@ impl Directional {
                 Type::Colour,
                 "[1, 1, 1]",
                 "irradiance (W/m² per channel) on a surface facing the light, ≥ 0",
-            ),
+            )
+            .range(Range::NonNegative),
         ],
     };
 

@@ -23,7 +23,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::description::check::range;
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::input::image::{read_image, Encoding};
 use crate::math::{Mat3, Rgb, Vec2, Vec3};
 use crate::sampling::piecewise2d::Piecewise2D;
@@ -52,6 +52,8 @@ impl Envmap {
         kind: Kind::Emitter,
         plugin: "envmap",
         what: "environment map",
+        doc: "radiance from every direction read from an equirectangular image, importance-sampled",
+        mitsuba: &["envmap"],
         params: &[
             Param::new(
                 "filename",
@@ -59,7 +61,8 @@ impl Envmap {
                 "required",
                 "the equirectangular image (EXR, HDR, PNG, JPEG), relative to the scene file",
             ),
-            Param::new("scale", Type::Number, "1", "factor on the radiance, ≥ 0"),
+            Param::new("scale", Type::Number, "1", "factor on the radiance, ≥ 0")
+                .range(Range::NonNegative),
             Param::new(
                 "to_world",
                 Type::Matrix4,

@@ -10,7 +10,7 @@
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3_value, nonneg3, required};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -24,19 +24,17 @@ impl Point {
         kind: Kind::Emitter,
         plugin: "point",
         what: "point light",
+        doc: "a point emitting the same intensity in every direction",
+        mitsuba: &["point"],
         params: &[
-            Param {
-                name: "position",
-                ty: Type::Vector,
-                default: "required",
-                doc: "where it is",
-            },
-            Param {
-                name: "intensity",
-                ty: Type::Colour,
-                default: "required",
-                doc: "radiant intensity (W/sr per channel), ≥ 0",
-            },
+            Param::new("position", Type::Vector, "required", "where it is"),
+            Param::new(
+                "intensity",
+                Type::Colour,
+                "required",
+                "radiant intensity (W/sr per channel), ≥ 0",
+            )
+            .range(Range::NonNegative),
         ],
     };
 

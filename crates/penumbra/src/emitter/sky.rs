@@ -37,7 +37,7 @@ use std::f32::consts::PI;
 
 use super::envmap::Envmap;
 use crate::description::check::{int, nonneg3, nonzero3, range};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Mat3, Rgb, Vec3};
 
 /// Points per pixel side measuring the sun's share of a pixel.
@@ -77,25 +77,27 @@ impl Sky {
         kind: Kind::Emitter,
         plugin: "sky",
         what: "sky",
+        doc: "a gradient sky and a sun disc, computed into an environment map when the scene is built",
+        mitsuba: &[],
         params: &[
             Param::new(
                 "zenith",
                 Type::Colour,
                 "[0.12, 0.25, 0.6]",
                 "radiance straight up (+y), ≥ 0",
-            ),
+            ).range(Range::NonNegative),
             Param::new(
                 "horizon",
                 Type::Colour,
                 "[0.6, 0.7, 0.85]",
                 "radiance just above the horizon, ≥ 0",
-            ),
+            ).range(Range::NonNegative),
             Param::new(
                 "ground",
                 Type::Colour,
                 "[0.2, 0.18, 0.16]",
                 "radiance below the horizon, ≥ 0",
-            ),
+            ).range(Range::NonNegative),
             Param::new(
                 "sun_direction",
                 Type::Vector,
@@ -107,13 +109,13 @@ impl Sky {
                 Type::Number,
                 "1",
                 "the sun's angular radius in degrees, 0.01–90",
-            ),
+            ).range(Range::Between(0.01, 90.0)),
             Param::new(
                 "sun_irradiance",
                 Type::Colour,
                 "[3, 2.85, 2.6]",
                 "irradiance of the sun on a surface facing it, ≥ 0",
-            ),
+            ).range(Range::NonNegative),
             Param::new(
                 "resolution",
                 Type::Int,

@@ -21,7 +21,7 @@
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3, nonneg3, range};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -42,6 +42,8 @@ impl Spot {
         kind: Kind::Emitter,
         plugin: "spot",
         what: "spot light",
+        doc: "a point emitting in a cone, falling off linearly in angle toward its edge",
+        mitsuba: &["spot"],
         params: &[
             Param::new("position", Type::Vector, "[0, 0, 0]", "where it is"),
             Param::new(
@@ -55,7 +57,8 @@ impl Spot {
                 Type::Colour,
                 "[1, 1, 1]",
                 "radiant intensity (W/sr per channel) along the axis, ≥ 0",
-            ),
+            )
+            .range(Range::NonNegative),
             Param::new(
                 "cutoff_angle",
                 Type::Number,

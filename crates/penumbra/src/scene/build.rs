@@ -261,9 +261,12 @@ fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
         .collect();
     let held = |i: usize| -> Vec<(usize, &Origin, &str)> {
         let node = nodes[i];
-        bsdf::nested::parameters(&node.plugin)
-            .iter()
-            .filter_map(|name| node.prop(name))
+        let schema = Bsdf::SCHEMAS.iter().find(|s| s.plugin == node.plugin);
+        schema
+            .into_iter()
+            .flat_map(|s| s.params)
+            .filter(|param| param.ty == crate::description::Type::Material)
+            .filter_map(|param| node.prop(param.name))
             .filter_map(|p| match &p.value.value {
                 Value::String(s) => by_name
                     .get(s.as_str())

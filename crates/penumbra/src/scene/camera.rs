@@ -4,13 +4,15 @@
 use super::settings::Settings;
 use crate::camera::{Camera, CameraSpec};
 use crate::description::check::{finite3, nonzero3, positive, range};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 
 /// The parameters of the `perspective` sensor.
 pub const PERSPECTIVE: Schema = Schema {
     kind: Kind::Sensor,
     plugin: "perspective",
     what: "camera",
+    doc: "a pinhole or thin-lens camera, with depth of field and a moving position",
+    mitsuba: &["perspective", "thinlens"],
     params: &[
         Param::new(
             "position",
@@ -30,19 +32,22 @@ pub const PERSPECTIVE: Schema = Schema {
             "[0, 1, 0]",
             "up direction; must not be parallel to the view",
         ),
-        Param::new("fov", Type::Number, "40", "vertical field of view, degrees"),
+        Param::new("fov", Type::Number, "40", "vertical field of view, degrees")
+            .range(Range::Between(0.01, 179.0)),
         Param::new(
             "aperture",
             Type::Number,
             "0",
             "lens radius in scene units; 0 is a pinhole (everything sharp)",
-        ),
+        )
+        .range(Range::NonNegative),
         Param::new(
             "focal_distance",
             Type::Number,
             "distance to `look_at`",
             "distance of the plane in focus (measured along the view axis)",
-        ),
+        )
+        .range(Range::Positive),
         Param::new(
             "shutter",
             Type::Numbers(2),

@@ -9,7 +9,7 @@ use std::path::Path;
 use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::{
     area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Sky, Spot,
 };
@@ -25,6 +25,8 @@ pub const RECT: Schema = Schema {
     kind: Kind::Emitter,
     plugin: "rect",
     what: "rect light",
+    doc: "a parallelogram emitting uniform radiance along `edge_u × edge_v`, casting no shadow",
+    mitsuba: &[],
     params: &[
         param("origin", Type::Vector, "one corner"),
         param("edge_u", Type::Vector, "first edge"),
@@ -44,9 +46,11 @@ pub const SPHERE: Schema = Schema {
     kind: Kind::Emitter,
     plugin: "sphere",
     what: "sphere light",
+    doc: "a sphere emitting uniform radiance outward, casting no shadow",
+    mitsuba: &[],
     params: &[
         param("center", Type::Vector, "its centre"),
-        param("radius", Type::Number, "its radius > 0"),
+        param("radius", Type::Number, "its radius > 0").range(Range::Positive),
         area::PARAMS[0],
         area::PARAMS[1],
         area::PARAMS[2],
@@ -58,10 +62,12 @@ pub const DISK: Schema = Schema {
     kind: Kind::Emitter,
     plugin: "disk",
     what: "disk light",
+    doc: "a disk emitting uniform radiance along its normal, casting no shadow",
+    mitsuba: &[],
     params: &[
         param("center", Type::Vector, "its centre"),
         param("normal", Type::Vector, "the direction it emits along"),
-        param("radius", Type::Number, "its radius > 0"),
+        param("radius", Type::Number, "its radius > 0").range(Range::Positive),
         area::PARAMS[0],
         area::PARAMS[1],
         area::PARAMS[2],

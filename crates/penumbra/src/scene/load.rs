@@ -100,8 +100,13 @@ impl SceneSource {
             position: None,
             message: e.to_string(),
         })?;
-        let loaded =
-            description::mitsuba::from_xml_file_with(file, &opts.defines, limit, opts.lenient)?;
+        let loaded = description::mitsuba::from_xml_file_with(
+            file,
+            &opts.defines,
+            limit,
+            opts.lenient,
+            super::schemas::plugins,
+        )?;
         SceneSource::from_mitsuba(loaded, base_dir, opts)
     }
 
@@ -113,7 +118,8 @@ impl SceneSource {
         base_dir: &Path,
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
-        let loaded = description::mitsuba::from_dict(d, base_dir, opts.lenient)?;
+        let loaded =
+            description::mitsuba::from_dict(d, base_dir, opts.lenient, super::schemas::plugins)?;
         SceneSource::from_mitsuba(loaded, base_dir, opts)
     }
 

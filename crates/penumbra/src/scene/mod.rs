@@ -17,6 +17,7 @@ pub mod options;
 mod overrides;
 pub mod points;
 mod ray_sets;
+pub mod reference;
 mod reuse;
 pub mod schemas;
 mod settings;

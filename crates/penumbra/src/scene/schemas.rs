@@ -5,6 +5,7 @@
 
 use super::{camera, lights, settings, shapes};
 use crate::bsdf::Bsdf;
+use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Schema};
 use crate::emitter::area;
 use crate::texture::Texture;
@@ -26,6 +27,21 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Bsdf => Bsdf::SCHEMAS,
         Kind::Shape => &shapes::SCHEMAS,
         Kind::Emitter => &lights::SCHEMAS,
+    }
+}
+
+/// The `area` emitter a shape carries.
+pub fn area_schema() -> &'static Schema {
+    &area::SCHEMA
+}
+
+/// The plugins of a kind as the Mitsuba reader sees them: the kinds it maps
+/// through their schemas (the others it maps by hand).
+pub fn plugins(kind: Kind) -> &'static [Plugin] {
+    match kind {
+        Kind::Bsdf => Bsdf::PLUGINS,
+        Kind::Texture => Texture::PLUGINS,
+        _ => &[],
     }
 }
 

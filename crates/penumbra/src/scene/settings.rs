@@ -251,6 +251,8 @@ pub const FILM: Schema = Schema {
     kind: Kind::Film,
     plugin: "hdrfilm",
     what: "film",
+    doc: "the image: its size and reconstruction filter",
+    mitsuba: &["hdrfilm"],
     params: &[
         param("width", Type::Int),
         param("height", Type::Int),
@@ -268,6 +270,14 @@ pub const SAMPLER: Schema = Schema {
     kind: Kind::Sampler,
     plugin: "sets",
     what: "sampler",
+    doc: "the samples: per-pixel counts, seeds and the distribution of each effect",
+    mitsuba: &[
+        "independent",
+        "stratified",
+        "multijitter",
+        "ldsampler",
+        "orthogonal",
+    ],
     params: &[
         param("seed", Type::Int),
         param("spp", Type::Int),
@@ -290,6 +300,8 @@ pub const WHITTED: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "whitted",
     what: "whitted integrator",
+    doc: "the thesis's distributed Whitted ray tracer",
+    mitsuba: &[],
     params: &[
         param("max_depth", Type::Int),
         param("passes", Type::Int),
@@ -319,6 +331,8 @@ pub const PATH: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "path",
     what: "path integrator",
+    doc: "a path tracer with next-event estimation and multiple importance sampling",
+    mitsuba: &["path"],
     params: &[
         param("max_depth", Type::Int),
         param("rr_depth", Type::Int),
@@ -342,6 +356,8 @@ pub const DISTRIBUTED: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "distributed",
     what: "distributed integrator",
+    doc: "the path tracer drawing the thesis's sets at its first vertices",
+    mitsuba: &[],
     params: &[
         param("max_depth", Type::Int),
         param("rr_depth", Type::Int),
@@ -364,6 +380,8 @@ pub const DIRECT: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "direct",
     what: "direct integrator",
+    doc: "direct light by emitter and BSDF samples",
+    mitsuba: &["direct"],
     params: &[
         param("emitter_samples", Type::Int),
         param("bsdf_samples", Type::Int),

@@ -10,7 +10,7 @@ use super::error::BuildError;
 use super::transform;
 use crate::accel::world::{mesh_bvh, Object};
 use crate::description::check::{finite3, finite3_value, nonzero3_value, positive, required};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::cube::cube;
 use crate::geometry::mesh_file::read_mesh_part;
 use crate::geometry::quad::Quad;
@@ -60,6 +60,8 @@ pub const SPHERE: Schema = Schema {
     kind: Kind::Shape,
     plugin: "sphere",
     what: "sphere",
+    doc: "a sphere",
+    mitsuba: &["sphere"],
     params: &[
         Param::new(
             "center",
@@ -72,7 +74,8 @@ pub const SPHERE: Schema = Schema {
             Type::Number,
             "1",
             "radius > 0 before the transform (a static sphere may only be scaled uniformly)",
-        ),
+        )
+        .range(Range::Positive),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -84,6 +87,8 @@ pub const QUAD: Schema = Schema {
     kind: Kind::Shape,
     plugin: "quad",
     what: "quad",
+    doc: "a parallelogram of a corner and two edges",
+    mitsuba: &["rectangle"],
     params: &[
         Param::new("origin", Type::Vector, "required", "one corner"),
         Param::new("edge_u", Type::Vector, "required", "first edge"),
@@ -104,10 +109,12 @@ pub const MESH: Schema = Schema {
     kind: Kind::Shape,
     plugin: "mesh",
     what: "mesh",
+    doc: "a triangle mesh read from a PLY, OBJ or Mitsuba `.serialized` file",
+    mitsuba: &["obj", "ply", "serialized"],
     params: &[
-        Param::new("path", Type::Path, "required", "a `.ply`, `.obj` or `.serialized` file, relative to the scene file; `\"@bunny\"` means the Stanford bunny"),
+        Param::new("path", Type::Path, "required", "a `.ply` (ASCII, binary little/big endian; triangles and polygons), `.obj` or `.serialized` (Mitsuba's compressed meshes, versions 3 and 4) file, relative to the scene file; `\"@bunny\"` means the Stanford bunny (from `--bunny`, `bunny=` in Python or `$PENUMBRA_BUNNY`)"),
         Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
-        Param::new("shape_index", Type::Int, "0", "which mesh of a `.serialized` file, which may hold several (0: the first); other files hold one"),
+        Param::new("shape_index", Type::Int, "0", "which mesh of a `.serialized` file, which may hold several (0: the first); other files hold one").range(Range::NonNegative),
         Param::new("flip_tex_coords", Type::Bool, "false", "take the file's texture coordinates `(u, v)` as `(u, 1 − v)` (what Mitsuba's OBJ reader does by default; scenes read from Mitsuba XML set it for OBJ files)"),
         COMMON[0],
         COMMON[1],
@@ -120,6 +127,8 @@ pub const RECTANGLE: Schema = Schema {
     kind: Kind::Shape,
     plugin: "rectangle",
     what: "rectangle",
+    doc: "Mitsuba's rectangle: the square [−1, 1]² at z = 0 placed by the transform, facing +z",
+    mitsuba: &[],
     params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
 };
 
@@ -127,6 +136,8 @@ pub const DISK: Schema = Schema {
     kind: Kind::Shape,
     plugin: "disk",
     what: "disk",
+    doc: "a flat disk",
+    mitsuba: &["disk"],
     params: &[
         Param::new(
             "center",
@@ -145,7 +156,8 @@ pub const DISK: Schema = Schema {
             Type::Number,
             "1",
             "radius > 0 before the transform (a static disk may only be scaled uniformly)",
-        ),
+        )
+        .range(Range::Positive),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -157,6 +169,8 @@ pub const CUBE: Schema = Schema {
     kind: Kind::Shape,
     plugin: "cube",
     what: "cube",
+    doc: "Mitsuba's cube: the 24-vertex mesh of [−1, 1]³ placed by the transform",
+    mitsuba: &["cube"],
     params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
 };
 
@@ -164,6 +178,8 @@ pub const CYLINDER: Schema = Schema {
     kind: Kind::Shape,
     plugin: "cylinder",
     what: "cylinder",
+    doc: "an open tube between two end points",
+    mitsuba: &["cylinder"],
     params: &[
         Param::new(
             "p0",
@@ -182,7 +198,8 @@ pub const CYLINDER: Schema = Schema {
             Type::Number,
             "1",
             "radius > 0 before the transform (a static cylinder may only be scaled uniformly)",
-        ),
+        )
+        .range(Range::Positive),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -194,6 +211,8 @@ pub const INSTANCE: Schema = Schema {
     kind: Kind::Shape,
     plugin: "instance",
     what: "instance",
+    doc: "a group of shapes placed by an affine map",
+    mitsuba: &["instance"],
     params: &[
         Param::new(
             "group",
@@ -216,6 +235,8 @@ pub const SHAPEGROUP: Schema = Schema {
     kind: Kind::Shape,
     plugin: "shapegroup",
     what: "group",
+    doc: "shapes that instances place, not rendered by themselves",
+    mitsuba: &["shapegroup"],
     params: &[],
 };
 

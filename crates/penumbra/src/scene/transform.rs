@@ -9,36 +9,11 @@ use crate::math::{Mat4, Quat, Vec3};
 
 /// The keys of a transform table.
 pub const PARAMS: [Param; 5] = [
-    Param {
-        name: "scale",
-        ty: Type::Scale,
-        default: "1",
-        doc: "uniform or per-axis scale, non-zero",
-    },
-    Param {
-        name: "rotate_axis",
-        ty: Type::Vector,
-        default: "[0, 1, 0]",
-        doc: "rotation axis ≠ 0 (needs `rotate_degrees`)",
-    },
-    Param {
-        name: "rotate_degrees",
-        ty: Type::Number,
-        default: "0",
-        doc: "rotation angle, right-handed about the axis",
-    },
-    Param {
-        name: "translate",
-        ty: Type::Vector,
-        default: "[0, 0, 0]",
-        doc: "translation",
-    },
-    Param {
-        name: "matrix",
-        ty: Type::Matrix4,
-        default: "—",
-        doc: "instead of the keys above: a row-major affine matrix acting on column vectors (last row `[0, 0, 0, 1]`)",
-    },
+    Param::new("scale", Type::Scale, "1", "uniform or per-axis scale, non-zero"),
+    Param::new("rotate_axis", Type::Vector, "[0, 1, 0]", "rotation axis ≠ 0 (needs `rotate_degrees`)"),
+    Param::new("rotate_degrees", Type::Number, "0", "rotation angle, right-handed about the axis"),
+    Param::new("translate", Type::Vector, "[0, 0, 0]", "translation"),
+    Param::new("matrix", Type::Matrix4, "—", "instead of the keys above: a row-major affine matrix acting on column vectors (last row `[0, 0, 0, 1]`)"),
 ];
 
 /// The placement `name` of an object (`transform`, `transform_end`): the

@@ -28,6 +28,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::common::{one, UvTransform, TO_UV};
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::input::image::{read_image, Encoding, Image};
 use crate::math::{Rgb, Vec2};
@@ -38,11 +39,16 @@ pub const NAME: &str = "bitmap";
 const FILTERS: &[&str] = &["bilinear", "nearest"];
 const WRAPS: &[&str] = &["repeat", "mirror", "clamp"];
 
+/// How Mitsuba's `bitmap` maps onto it.
+pub const MITSUBA: Mitsuba = Mitsuba::differs("`format` and `accel` are refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it)");
+
 /// Its parameters.
 pub const SCHEMA: Schema = Schema {
     kind: Kind::Texture,
     plugin: NAME,
     what: "bitmap texture",
+    doc: "an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped",
+    mitsuba: &["bitmap"],
     params: &[
         Param::new(
             "filename",

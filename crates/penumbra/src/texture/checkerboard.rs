@@ -15,30 +15,36 @@
 //! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
 
 use super::common::{one, read_colour, UvTransform, TO_UV};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::mitsuba::Mitsuba;
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec2};
 
 /// The name scenes select the texture by.
 pub const NAME: &str = "checkerboard";
+
+/// How Mitsuba's `checkerboard` maps onto it.
+pub const MITSUBA: Mitsuba = Mitsuba::differs("the colours are plain values, not textures");
 
 /// Its parameters.
 pub const SCHEMA: Schema = Schema {
     kind: Kind::Texture,
     plugin: NAME,
     what: "checkerboard texture",
+    doc: "two colours alternating in squares of side ½ in (u, v)",
+    mitsuba: &["checkerboard"],
     params: &[
         Param::new(
             "color0",
             Type::Colour,
             "[0.4, 0.4, 0.4]",
             "the colour of the squares where u and v both have fractional parts above ½ or both not, each channel ≥ 0",
-        ),
+        ).range(Range::NonNegative),
         Param::new(
             "color1",
             Type::Colour,
             "[0.2, 0.2, 0.2]",
             "the colour of the other squares, each channel ≥ 0",
-        ),
+        ).range(Range::NonNegative),
         TO_UV,
     ],
 };

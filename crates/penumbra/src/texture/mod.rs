@@ -42,6 +42,7 @@ mod common;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use crate::description::mitsuba::Plugin;
 use crate::description::{check, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2};
@@ -65,6 +66,18 @@ impl Texture {
 
     /// The textures' parameters.
     pub const SCHEMAS: &'static [&'static Schema] = &[&checkerboard::SCHEMA, &bitmap::SCHEMA];
+
+    /// The textures as the readers see them.
+    pub const PLUGINS: &'static [Plugin] = &[
+        Plugin {
+            schema: &checkerboard::SCHEMA,
+            mitsuba: checkerboard::MITSUBA,
+        },
+        Plugin {
+            schema: &bitmap::SCHEMA,
+            mitsuba: bitmap::MITSUBA,
+        },
+    ];
 
     /// The colour at the interaction's `(u, v)`.
     #[inline]

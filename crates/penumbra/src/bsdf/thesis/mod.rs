@@ -48,7 +48,7 @@ pub use phong::Phong;
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use crate::description::check::{int, nonneg3, range};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::{EffectSpec, SetPoint, MAX_RAYS};
@@ -194,18 +194,20 @@ impl BsdfModel for Thesis {
         kind: Kind::Bsdf,
         plugin: "thesis",
         what: "material",
+        doc: "the thesis's layered material: Lambert and Phong, a mirror and a Fresnel dielectric, the last two blurred by distributed sets",
+        mitsuba: &[],
         params: &[
-            Param::new("albedo", Type::Colour, "[0.8, 0.8, 0.8]", "diffuse reflectance (Lambertian BRDF albedo/π), each channel in [0, 1]"),
-            Param::new("specular", Type::Number, "0", "weight in [0, 1] of an energy-normalised Phong highlight from lights; `albedo + specular ≤ 1` per channel"),
-            Param::new("shininess", Type::Number, "32", "Phong exponent, ≥ 0"),
-            Param::new("reflectivity", Type::Number, "0", "fraction of light mirrored, in [0, 1]"),
-            Param::new("transparency", Type::Number, "0", "fraction of light passing the dielectric interface (Fresnel-weighted reflection and refraction), in [0, 1]; `reflectivity + transparency ≤ 1`"),
-            Param::new("ior", Type::Number, "1.5", "index of refraction, 1–10"),
-            Param::new("emission", Type::Colour, "[0, 0, 0]", "emitted radiance (front side), ≥ 0: the objects of the material are area lights, sampled like a light's surface with `render.shadow_rays` (and, unlike a light's surface, they cast shadows)"),
-            Param::new("glossiness", Type::Number, "(1 − reflectivity) · 0.2", "radius ≥ 0 of the reflection distribution (thesis §3.3); 0 is a perfect mirror"),
-            Param::new("translucency", Type::Number, "(1 − transparency) · 0.2", "radius ≥ 0 of the refraction distribution; 0 is clear glass"),
-            Param::new("reflection_rays", Type::Int, "render.reflection_rays", "rays per blurry reflection on this material, 1–65536"),
-            Param::new("refraction_rays", Type::Int, "render.refraction_rays", "rays per blurry refraction on this material, 1–65536"),
+            Param::new("albedo", Type::Colour, "[0.8, 0.8, 0.8]", "diffuse reflectance (Lambertian BRDF albedo/π), each channel in [0, 1]").range(Range::Unit),
+            Param::new("specular", Type::Number, "0", "weight in [0, 1] of an energy-normalised Phong highlight from lights; `albedo + specular ≤ 1` per channel").range(Range::Unit),
+            Param::new("shininess", Type::Number, "32", "Phong exponent, ≥ 0").range(Range::NonNegative),
+            Param::new("reflectivity", Type::Number, "0", "fraction of light mirrored, in [0, 1]").range(Range::Unit),
+            Param::new("transparency", Type::Number, "0", "fraction of light passing the dielectric interface (Fresnel-weighted reflection and refraction), in [0, 1]; `reflectivity + transparency ≤ 1`").range(Range::Unit),
+            Param::new("ior", Type::Number, "1.5", "index of refraction, 1–10").range(Range::Between(1.0, 10.0)),
+            Param::new("emission", Type::Colour, "[0, 0, 0]", "emitted radiance (front side), ≥ 0: the objects of the material are area lights, sampled like a light's surface with `render.shadow_rays` (and, unlike a light's surface, they cast shadows)").range(Range::NonNegative),
+            Param::new("glossiness", Type::Number, "(1 − reflectivity) · 0.2", "radius ≥ 0 of the reflection distribution (thesis §3.3); 0 is a perfect mirror").range(Range::NonNegative),
+            Param::new("translucency", Type::Number, "(1 − transparency) · 0.2", "radius ≥ 0 of the refraction distribution; 0 is clear glass").range(Range::NonNegative),
+            Param::new("reflection_rays", Type::Int, "render.reflection_rays", "rays per blurry reflection on this material, 1–65536").range(Range::Between(1.0, 65536.0)),
+            Param::new("refraction_rays", Type::Int, "render.refraction_rays", "rays per blurry refraction on this material, 1–65536").range(Range::Between(1.0, 65536.0)),
             Param::new("reflection_distribution", Type::Distribution, "render.reflection_distribution", ""),
             Param::new("refraction_distribution", Type::Distribution, "render.refraction_distribution", ""),
         ],

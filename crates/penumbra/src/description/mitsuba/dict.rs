@@ -28,13 +28,16 @@ use std::rc::Rc;
 
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
+use super::materials::mitsuba_names;
 use super::objects::{error_at, Child, Ids, Object, Place, Property, OBJECT_TAGS};
 use super::parse::clip;
 use super::plugins;
+use super::registry::Registry;
 use super::spectrum::{self, Spectrum};
 use super::transform::{self, Mat4};
 use super::values::PropValue;
 use crate::description::error::{KeyPath, SceneError};
+use crate::description::tree::Kind;
 
 /// How deep dicts and lists nest in a scene dict (real scenes: five).
 pub const MAX_DEPTH: usize = 32;
@@ -179,31 +182,36 @@ impl<'de> Visitor<'de> for DictVisitor {
 }
 
 /// Every plugin the mapping reads, by tag, in the order messages list them.
-fn plugin_tags() -> [(&'static str, &'static [&'static str]); 9] {
+fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
+    let of = |kind| mitsuba_names(registry(kind));
     [
-        ("integrator", plugins::INTEGRATORS),
-        ("sensor", plugins::SENSORS),
-        ("film", plugins::FILMS),
-        ("rfilter", plugins::RFILTERS),
-        ("sampler", plugins::SAMPLERS),
-        ("shape", plugins::SHAPES),
-        ("bsdf", plugins::BSDFS),
-        ("emitter", plugins::EMITTERS),
-        ("texture", plugins::TEXTURES),
+        ("integrator", plugins::INTEGRATORS.to_vec()),
+        ("sensor", plugins::SENSORS.to_vec()),
+        ("film", plugins::FILMS.to_vec()),
+        ("rfilter", plugins::RFILTERS.to_vec()),
+        ("sampler", plugins::SAMPLERS.to_vec()),
+        ("shape", plugins::SHAPES.to_vec()),
+        ("bsdf", of(Kind::Bsdf)),
+        ("emitter", plugins::EMITTERS.to_vec()),
+        ("texture", of(Kind::Texture)),
     ]
 }
 
 /// The tag of a plugin (`sphere`: `shape`), as Mitsuba finds it from the
 /// plugin's class.
-fn tag_of(plugin: &str) -> Option<&'static str> {
-    plugin_tags()
+fn tag_of(plugin: &str, registry: Registry) -> Option<&'static str> {
+    plugin_tags(registry)
         .into_iter()
         .find(|(_, names)| names.contains(&plugin))
         .map(|(tag, _)| tag)
 }
 
 /// The scene's dict into its object, registering every id.
-pub fn read_scene(d: &DictValue, ids: &mut Ids) -> Result<Rc<Object>, SceneError> {
+pub fn read_scene(
+    d: &DictValue,
+    ids: &mut Ids,
+    registry: Registry,
+) -> Result<Rc<Object>, SceneError> {
     let root = KeyPath::root();
     let DictValue::Dict(entries) = d else {
         return Err(error_at(
@@ -211,7 +219,11 @@ pub fn read_scene(d: &DictValue, ids: &mut Ids) -> Result<Rc<Object>, SceneError
             format!("a scene is a dict, not {}", d.type_name()),
         ));
     };
-    let mut reader = DictReader { ids, depth: 0 };
+    let mut reader = DictReader {
+        ids,
+        depth: 0,
+        registry,
+    };
     let plugin = reader.plugin(entries, &root)?;
     if plugin != "scene" {
         return Err(error_at(
@@ -228,6 +240,7 @@ pub fn read_scene(d: &DictValue, ids: &mut Ids) -> Result<Rc<Object>, SceneError
 struct DictReader<'a> {
     ids: &'a mut Ids,
     depth: usize,
+    registry: Registry,
 }
 
 impl DictReader<'_> {
@@ -332,8 +345,8 @@ impl DictReader<'_> {
                         }
                         "scene" => return Err(error_at(&place, "a scene inside a scene")),
                         _ => {
-                            let Some(child_tag) = tag_of(&kind) else {
-                                return Err(unknown_plugin(&kind, &at));
+                            let Some(child_tag) = tag_of(&kind, self.registry) else {
+                                return Err(unknown_plugin(&kind, &at, self.registry));
                             };
                             let id = is_scene.then_some(key.as_str());
                             let child = self.object(inner, child_tag, kind, id, &at)?;
@@ -369,8 +382,8 @@ impl DictReader<'_> {
 }
 
 /// A plugin no tag has: the error naming what is read.
-fn unknown_plugin(plugin: &str, path: &KeyPath) -> SceneError {
-    let kinds: Vec<String> = plugin_tags()
+fn unknown_plugin(plugin: &str, path: &KeyPath, registry: Registry) -> SceneError {
+    let kinds: Vec<String> = plugin_tags(registry)
         .iter()
         .map(|(tag, names)| format!("{tag}: {}", names.join(", ")))
         .collect();
@@ -557,7 +570,7 @@ mod tests {
     fn read(json: &str) -> Result<(Rc<Object>, Ids), String> {
         let d = DictValue::from_json(json).expect("valid JSON");
         let mut ids = Ids::default();
-        read_scene(&d, &mut ids)
+        read_scene(&d, &mut ids, super::super::registry::tests::registry)
             .map(|o| (o, ids))
             .map_err(|e| e.to_string())
     }

@@ -45,10 +45,13 @@
 //! name the dict's key path (`sphere.bsdf.reflectance`) instead.
 
 pub mod dict;
+mod mapper;
+mod materials;
 pub mod number;
 pub mod objects;
 pub mod parse;
 pub mod plugins;
+pub mod registry;
 pub mod spectrum;
 pub mod transform;
 pub mod upgrade;
@@ -59,6 +62,7 @@ use std::path::Path;
 use super::error::SceneError;
 use super::tree::Node;
 pub use parse::{Defines, MAX_DEPTH, MAX_INCLUDES};
+pub use registry::{Mitsuba, Plugin, Registry};
 
 /// A scene read from XML.
 #[derive(Debug)]
@@ -71,8 +75,13 @@ pub struct Loaded {
 
 /// Reads the XML scene at `path` (named so in errors), `defines` overriding
 /// its defaults, each file and all of them together at most `limit` bytes.
-pub fn from_xml_file(path: &Path, defines: &Defines, limit: u64) -> Result<Loaded, SceneError> {
-    from_xml_file_with(path, defines, limit, false)
+pub fn from_xml_file(
+    path: &Path,
+    defines: &Defines,
+    limit: u64,
+    registry: Registry,
+) -> Result<Loaded, SceneError> {
+    from_xml_file_with(path, defines, limit, false, registry)
 }
 
 /// [`from_xml_file`], with `lenient` turning parameters Penumbra does not
@@ -82,6 +91,7 @@ pub fn from_xml_file_with(
     defines: &Defines,
     limit: u64,
     lenient: bool,
+    registry: Registry,
 ) -> Result<Loaded, SceneError> {
     let scene_dir = path.parent().unwrap_or(Path::new(""));
     let mut reader = parse::Reader::new(scene_dir, defines, limit);
@@ -103,7 +113,7 @@ pub fn from_xml_file_with(
     }
     let mut ids = objects::Ids::default();
     let scene = objects::read_scene(&root, &reader, &mut ids)?;
-    let root = plugins::scene(&scene, &ids, &reader, lenient, &mut warnings)?;
+    let root = plugins::scene(&scene, &ids, &reader, registry, lenient, &mut warnings)?;
     Ok(Loaded { root, warnings })
 }
 
@@ -114,11 +124,12 @@ pub fn from_dict(
     d: &dict::DictValue,
     base_dir: &Path,
     lenient: bool,
+    registry: Registry,
 ) -> Result<Loaded, SceneError> {
     let reader = parse::Reader::new(base_dir, &[], 0);
     let mut ids = objects::Ids::default();
-    let scene = dict::read_scene(d, &mut ids)?;
+    let scene = dict::read_scene(d, &mut ids, registry)?;
     let mut warnings = Vec::new();
-    let root = plugins::scene(&scene, &ids, &reader, lenient, &mut warnings)?;
+    let root = plugins::scene(&scene, &ids, &reader, registry, lenient, &mut warnings)?;
     Ok(Loaded { root, warnings })
 }

@@ -34,7 +34,7 @@ mod sphere;
 pub use mesh::MeshLight;
 
 use crate::description::check::{int, nonneg3, required};
-use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::sample::{area_pdf, LightSample};
 use crate::geometry::quad::Quad;
@@ -66,30 +66,10 @@ impl PenumbraModel {
 /// The parameters of an area emitter (and of the lights that are shapes
 /// carrying one).
 pub const PARAMS: [Param; 4] = [
-    Param {
-        name: "radiance",
-        ty: Type::Colour,
-        default: "required",
-        doc: "emitted radiance, ≥ 0",
-    },
-    Param {
-        name: "model",
-        ty: Type::Choice("penumbra model", &PenumbraModel::NAMES),
-        default: "\"surface\"",
-        doc: "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there",
-    },
-    Param {
-        name: "shadow_rays",
-        ty: Type::Int,
-        default: "render.shadow_rays",
-        doc: "shadow rays per shading point, 1–65536",
-    },
-    Param {
-        name: "shadow_distribution",
-        ty: Type::Distribution,
-        default: "render.shadow_distribution",
-        doc: "",
-    },
+    Param::new("radiance", Type::Colour, "required", "emitted radiance, ≥ 0").range(Range::NonNegative),
+    Param::new("model", Type::Choice("penumbra model", &PenumbraModel::NAMES), "\"surface\"", "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there"),
+    Param::new("shadow_rays", Type::Int, "render.shadow_rays", "shadow rays per shading point, 1–65536").range(Range::Between(1.0, 65536.0)),
+    Param::new("shadow_distribution", Type::Distribution, "render.shadow_distribution", ""),
 ];
 
 /// An `area` emitter, the child of the shape that carries it.
@@ -97,6 +77,8 @@ pub const SCHEMA: Schema = Schema {
     kind: Kind::Emitter,
     plugin: "area",
     what: "area emitter",
+    doc: "uniform radiance from the surface of the shape that carries it, sampled by one of two penumbra models",
+    mitsuba: &["area"],
     params: &PARAMS,
 };
 

@@ -1,0 +1,500 @@
+//! Mitsuba's BSDFs and textures onto Penumbra's, through their schemas
+//! (see [`registry`](super::registry)): a `<bsdf>` becomes a
+//! `[materials.NAME]` node of the plugin that reads its Mitsuba name, a
+//! `<texture>` a texture's table (or `[textures.ID]` in `<scene>`).
+//!
+//! Each parameter is read under Mitsuba's name for it and converted as its
+//! type says: a colour from `<rgb>`, `<spectrum>` or a number (a colour in
+//! [0, 1] and a texture's colours as a reflectance, any other colour — an
+//! emission, a conductor's index — as an unbounded spectrum), a number, an
+//! integer, a boolean, a string (a file name found as a mesh's is and
+//! written relative to the scene's folder), a transform (`to_uv`: its
+//! upper-left 2 × 2 and translation). A nested `<texture name="x">` (or
+//! `<ref name="x">` to one) sets the texturable parameter Mitsuba calls
+//! `x`; nested `<bsdf>`s (or `<ref>`s) the parameters naming materials, in
+//! the schema's order. Anything else is an error at its tag.
+
+use std::rc::Rc;
+
+use super::mapper::{
+    file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
+    get_vector, located, matrix, obj_has, set, type_error, unsupported, vec3, Out,
+};
+use super::objects::{error_at, Child, Object, Place};
+use super::parse::clip;
+use super::registry::{Mapper, Plugin};
+use super::spectrum::Use;
+use super::values::PropValue;
+use crate::description::error::{KeyPath, SceneError};
+use crate::description::schema::{MitsubaKey, Param, Range, Schema, Type};
+use crate::description::tree::{Kind, Located, Node, Prop, Value};
+
+/// The Mitsuba names of a kind's plugins, in the registry's order.
+pub(super) fn mitsuba_names(plugins: &[Plugin]) -> Vec<&'static str> {
+    plugins
+        .iter()
+        .flat_map(|p| p.schema.mitsuba.iter().copied())
+        .collect()
+}
+
+/// The plugin of `kind` that reads `obj`, or the error naming those there
+/// are (`what`: the tag in the message).
+pub(super) fn plugin_of(
+    plugins: &'static [Plugin],
+    obj: &Object,
+    what: &str,
+) -> Result<&'static Plugin, SceneError> {
+    plugins
+        .iter()
+        .find(|p| p.reads(&obj.plugin))
+        .ok_or_else(|| unsupported(obj, what, &mitsuba_names(plugins)))
+}
+
+/// The Mitsuba properties a schema reads: every parameter's Mitsuba name
+/// but those set by nested objects.
+fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
+    schema
+        .params
+        .iter()
+        .filter(|p| p.ty != Type::Material && p.mitsuba != MitsubaKey::Any)
+        .filter_map(|p| p.mitsuba_name())
+        .collect()
+}
+
+impl Out<'_> {
+    /// The Penumbra material of a bsdf (made once per name): its name.
+    pub(super) fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
+        let plugin = plugin_of((self.registry)(Kind::Bsdf), obj, "bsdf")?;
+        if let Some(adapt) = plugin.mitsuba.adapt {
+            if let Some(made) = adapt(self, obj) {
+                return made;
+            }
+        }
+        self.bsdf(obj, obj, plugin.schema, None)
+    }
+
+    /// The material of `inner` read through `schema` under the name and
+    /// at the place of `outer` (the same object but where a plugin maps a
+    /// Mitsuba object onto the one it holds), `flag` set true at `outer`'s
+    /// type: its name.
+    fn bsdf(
+        &mut self,
+        inner: &Object,
+        outer: &Object,
+        schema: &'static Schema,
+        flag: Option<&'static str>,
+    ) -> Result<String, SceneError> {
+        self.no_props(inner, &mitsuba_keys(schema))?;
+        let name = match outer.id.as_ref() {
+            Some(id) => id.clone(),
+            None => self.fresh_name(),
+        };
+        if !self.names.insert(name.clone()) {
+            return Ok(name);
+        }
+        let base = KeyPath::root().key("materials").key(&name);
+        let mut node = Node::new(Kind::Bsdf, schema.plugin, outer.at.origin(base.clone()));
+        node.plugin_origin = outer.plugin_at.origin(base.key("type"));
+        node.id = Some(name.clone());
+        self.params(inner, schema, &mut node, &base)?;
+        self.texture_children(inner, schema, &mut node, &base)?;
+        self.held_materials(inner, schema, &mut node, &base)?;
+        if let Some(flag) = flag {
+            set(&mut node, &base, flag, &outer.plugin_at, |p, at| {
+                located(Value::Bool(true), p, at)
+            });
+        }
+        self.bsdfs.push(node);
+        Ok(name)
+    }
+
+    /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
+    /// gives under Mitsuba's name, in the schema's order.
+    pub(super) fn params(
+        &self,
+        obj: &Object,
+        schema: &Schema,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        for param in schema.params {
+            let Some(key) = param.mitsuba_name() else {
+                continue;
+            };
+            if let Some((value, at)) =
+                self.value(obj, key, param, schema.kind, base.key(param.name))?
+            {
+                let origin = at.origin(base.key(param.name));
+                node.props.push(Prop::new(param.name, origin, value));
+            }
+        }
+        Ok(())
+    }
+
+    /// The property `key` of `obj` as the value of `param` (of a plugin of
+    /// `kind`) at `path`, and where it is written; `None` when `obj` does
+    /// not give it.
+    fn value(
+        &self,
+        obj: &Object,
+        key: &str,
+        param: &Param,
+        kind: Kind,
+        path: KeyPath,
+    ) -> Result<Option<(Located<Value>, Place)>, SceneError> {
+        let at = |a: &Place| a.clone();
+        Ok(match param.ty {
+            Type::Colour | Type::ColourTexture => {
+                let usage = if param.range == Range::Unit || kind == Kind::Texture {
+                    Use::Reflectance
+                } else {
+                    Use::Emission
+                };
+                get_color(obj, key, usage)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+            }
+            Type::Number | Type::NumberTexture => {
+                get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
+            }
+            Type::Int => get_int(obj, key)?.map(|(i, a)| (located(Value::Int(i), path, a), at(a))),
+            Type::Bool => {
+                get_bool(obj, key)?.map(|(b, a)| (located(Value::Bool(b), path, a), at(a)))
+            }
+            Type::String | Type::Choice(..) | Type::Distribution => get_string(obj, key)?
+                .map(|(s, a)| (located(Value::String(s.to_string()), path, a), at(a))),
+            Type::Path => match get_string(obj, key)? {
+                None => None,
+                Some((name, a)) => {
+                    let file = self
+                        .reader
+                        .resolve(&file_dir(obj, self.reader.scene_dir), name);
+                    let text = self
+                        .reader
+                        .scene_relative(&file)
+                        .to_string_lossy()
+                        .into_owned();
+                    Some((located(Value::String(text), path, a), at(a)))
+                }
+            },
+            Type::NumberOrChoice(..) => match obj.prop(key) {
+                Some(p) => match &p.value {
+                    PropValue::String(s) => {
+                        Some((located(Value::String(s.clone()), path, &p.at), p.at.clone()))
+                    }
+                    _ => get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a))),
+                },
+                None => None,
+            },
+            Type::Vector => get_vector(obj, key)?.map(|(v, a)| (vec3(v, path, a), at(a))),
+            Type::Matrix4 => get_transform(obj, key)?.map(|(m, a)| (matrix(&m, path, a), at(a))),
+            Type::Table(keys) => {
+                get_transform(obj, key)?.map(|(m, a)| (transform_table(&m, keys, path, a), at(a)))
+            }
+            Type::Numbers(_) | Type::Scale | Type::Scale2 | Type::Matrix3 | Type::Material => {
+                match obj.prop(key) {
+                    None => None,
+                    Some(p) => {
+                        return Err(type_error(p, "a value Penumbra does not read from Mitsuba"))
+                    }
+                }
+            }
+        })
+    }
+
+    /// The textures `obj` holds (a nested `<texture name=...>` or a `<ref
+    /// name=... id=...>` to one) as the texturable parameters of `schema`
+    /// Mitsuba calls by their names (or the one taking any), set on `node`
+    /// at `base`; any other child but the materials a schema holds is
+    /// refused.
+    fn texture_children(
+        &self,
+        obj: &Object,
+        schema: &Schema,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        let texturable: Vec<&Param> = schema.params.iter().filter(|p| p.texturable()).collect();
+        let any = texturable.iter().find(|p| p.mitsuba == MitsubaKey::Any);
+        let holds = schema.params.iter().any(|p| p.ty == Type::Material);
+        for (name, child) in &obj.children {
+            let (target, at) = match child {
+                Child::Object(o) => (o.as_ref(), &o.at),
+                Child::Ref { id, at } => (self.ids.get(id, at)?, at),
+            };
+            if target.tag != "texture" {
+                if holds {
+                    continue;
+                }
+                return Err(error_at(
+                    at,
+                    format!(
+                        "a <{}> inside the {} `{}` is not supported",
+                        target.tag,
+                        obj.tag,
+                        clip(&obj.plugin)
+                    ),
+                ));
+            }
+            let named = texturable
+                .iter()
+                .find(|p| name.is_some() && p.mitsuba_name() == name.as_deref());
+            let Some(param) = any.or(named) else {
+                let takes = match any {
+                    Some(p) => p.name.to_string(),
+                    None if texturable.is_empty() => "none".to_string(),
+                    None => {
+                        let names: Vec<&str> =
+                            texturable.iter().filter_map(|p| p.mitsuba_name()).collect();
+                        names.join(", ")
+                    }
+                };
+                return Err(error_at(
+                    at,
+                    format!(
+                        "a texture as `{}` of the {} `{}` is not supported (textures go to: {takes})",
+                        clip(name.as_deref().unwrap_or("")),
+                        obj.tag,
+                        clip(&obj.plugin),
+                    ),
+                ));
+            };
+            self.texture_prop(obj, (child, target, at), param, node, base)?;
+        }
+        Ok(())
+    }
+
+    /// Sets `param` of `node` (at `base`) to the texture `child` of `obj`
+    /// (the object `target`, at `at`): a reference to a texture declared in
+    /// the scene by its id, else the texture's own table; refused if `obj`
+    /// or `node` has the parameter already.
+    fn texture_prop(
+        &self,
+        obj: &Object,
+        (child, target, at): (&Child, &Object, &Place),
+        param: &Param,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        let key = param.mitsuba_name().unwrap_or(param.name);
+        if obj_has(obj, key) || node.prop(param.name).is_some() {
+            return Err(error_at(at, format!("`{}` is given twice", clip(key))));
+        }
+        let path = base.key(param.name);
+        let value = match child {
+            Child::Ref { id, .. } if self.texture_ids.contains(id) => {
+                located(Value::String(id.clone()), path.clone(), at)
+            }
+            _ => self.texture_table(target, path.clone(), at)?,
+        };
+        node.props
+            .push(Prop::new(param.name, at.origin(path), value));
+        Ok(())
+    }
+
+    /// The materials a BSDF holding others takes from its nested `<bsdf>`s
+    /// (or `<ref>`s), in order: the parameters of `schema` naming
+    /// materials, those without a default required.
+    fn held_materials(
+        &mut self,
+        obj: &Object,
+        schema: &Schema,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        let slots: Vec<&Param> = schema
+            .params
+            .iter()
+            .filter(|p| p.ty == Type::Material)
+            .collect();
+        if slots.is_empty() {
+            return Ok(());
+        }
+        let held: Vec<Rc<Object>> = self
+            .held(obj)?
+            .into_iter()
+            .filter(|c| c.tag != "texture")
+            .collect();
+        if let Some(other) = held.iter().find(|c| c.tag != "bsdf") {
+            return Err(error_at(
+                &other.at,
+                format!(
+                    "a <{}> inside the bsdf `{}` is not supported: it holds <bsdf>s",
+                    other.tag, obj.plugin
+                ),
+            ));
+        }
+        let required = slots.iter().filter(|p| p.default == "required").count();
+        if held.len() < required || held.len() > slots.len() {
+            let at = held.get(slots.len()).map_or(&obj.at, |c| &c.at);
+            let count = if required == slots.len() {
+                format!("{required}")
+            } else {
+                format!("{required} or {}", slots.len())
+            };
+            return Err(error_at(
+                at,
+                format!(
+                    "a `{}` holds {count} <bsdf>s, not {}",
+                    obj.plugin,
+                    held.len()
+                ),
+            ));
+        }
+        for (param, child) in slots.iter().zip(held) {
+            let inner = self.material(&child)?;
+            set(node, base, param.name, &child.at, |p, at| {
+                located(Value::String(inner), p, at)
+            });
+        }
+        Ok(())
+    }
+
+    /// A texture declared in the scene: `textures.ID`.
+    pub(super) fn texture(&mut self, obj: &Object) -> Result<(), SceneError> {
+        let id = match &obj.id {
+            Some(id) => id.clone(),
+            None => (1..)
+                .map(|n| format!("texture_{n}"))
+                .find(|n| !self.texture_ids.contains(n) && !self.ids.map.contains_key(n))
+                .expect("a free name"),
+        };
+        let base = KeyPath::root().key("textures").key(&id);
+        let Value::Table(mut props) = self.texture_table(obj, base.clone(), &obj.at)?.value else {
+            unreachable!("a texture is a table")
+        };
+        let i = props.iter().position(|p| p.name == "type").expect("a type");
+        let ty = props.remove(i);
+        let mut node = Node::new(Kind::Texture, obj.plugin.clone(), obj.at.origin(base));
+        node.plugin_origin = ty.value.origin;
+        node.id = Some(id.clone());
+        node.props = props;
+        self.texture_ids.insert(id);
+        self.textures.push(node);
+        Ok(())
+    }
+
+    /// A `<texture>` as the table of a texture-typed parameter at `path`:
+    /// its `type` and parameters through its schema.
+    fn texture_table(
+        &self,
+        obj: &Object,
+        path: KeyPath,
+        at: &Place,
+    ) -> Result<Located<Value>, SceneError> {
+        let plugin = plugin_of((self.registry)(Kind::Texture), obj, "texture")?;
+        let schema = plugin.schema;
+        let known = mitsuba_keys(schema);
+        for p in &obj.props {
+            if !known.contains(&p.name.as_str()) {
+                return Err(error_at(
+                    &p.at,
+                    format!(
+                        "`{}` is not a parameter of the texture `{}` that Penumbra reads (it reads {})",
+                        clip(&p.name),
+                        clip(&obj.plugin),
+                        known.join(", ")
+                    ),
+                ));
+            }
+        }
+        if let Some((_, c)) = obj.children.first() {
+            let at = match c {
+                Child::Object(o) => &o.at,
+                Child::Ref { at, .. } => at,
+            };
+            return Err(error_at(
+                at,
+                format!(
+                    "an object inside the texture `{}` is not supported (its colours are plain values)",
+                    clip(&obj.plugin)
+                ),
+            ));
+        }
+        let mut table = Node::new(Kind::Texture, "", at.origin(path.clone()));
+        set(&mut table, &path, "type", &obj.plugin_at, |p, at| {
+            located(Value::String(schema.plugin.to_string()), p, at)
+        });
+        self.params(obj, schema, &mut table, &path)?;
+        Ok(located(Value::Table(table.props), path, at))
+    }
+
+    /// Mitsuba's default material of a shape, made once each: a diffuse of
+    /// reflectance 0.5, or a black one for a shape that emits (`black`).
+    pub(super) fn default_material(&mut self, at: &Place, black: bool) -> String {
+        let slot = usize::from(black);
+        if let Some(name) = &self.default_material[slot] {
+            return name.clone();
+        }
+        let name = self.fresh_name();
+        self.names.insert(name.clone());
+        let base = KeyPath::root().key("materials").key(&name);
+        let mut node = Node::new(Kind::Bsdf, "diffuse", at.origin(base.clone()));
+        node.id = Some(name.clone());
+        if black {
+            set(&mut node, &base, "reflectance", at, |p, at| {
+                vec3([0.0; 3], p, at)
+            });
+        }
+        self.bsdfs.push(node);
+        self.default_material[slot] = Some(name.clone());
+        name
+    }
+}
+
+/// A Mitsuba transform as a table of `keys` at `path`: a 3 × 3 `matrix`
+/// (of `(u, v)`: the upper-left 2 × 2 and the translation of the 4 × 4, as
+/// Mitsuba takes `to_uv`) where the table takes one, else the 4 × 4.
+fn transform_table(
+    m: &super::transform::Mat4,
+    keys: &[Param],
+    path: KeyPath,
+    at: &Place,
+) -> Located<Value> {
+    let inner = path.key("matrix");
+    let value = if keys
+        .iter()
+        .any(|k| k.name == "matrix" && k.ty == Type::Matrix3)
+    {
+        let uv = [
+            [m[0][0], m[0][1], m[0][3]],
+            [m[1][0], m[1][1], m[1][3]],
+            [0.0, 0.0, 1.0],
+        ];
+        let rows = (0..3)
+            .map(|r| {
+                let row = inner.index(r);
+                let items = (0..3).map(|c| float(uv[r][c], row.index(c), at)).collect();
+                located(Value::Array(items), row, at)
+            })
+            .collect();
+        located(Value::Array(rows), inner.clone(), at)
+    } else {
+        matrix(m, inner.clone(), at)
+    };
+    let table = vec![Prop::new("matrix", at.origin(inner), value)];
+    located(Value::Table(table), path, at)
+}
+
+impl Mapper for Out<'_> {
+    fn held(&self, obj: &Object) -> Result<Vec<Rc<Object>>, SceneError> {
+        obj.children
+            .iter()
+            .map(|(_, c)| match c {
+                Child::Object(o) => Ok(Rc::clone(o)),
+                Child::Ref { id, at } => {
+                    self.ids.get(id, at)?;
+                    Ok(Rc::clone(&self.ids.map[id]))
+                }
+            })
+            .collect()
+    }
+
+    fn bsdf_as(
+        &mut self,
+        inner: &Object,
+        outer: &Object,
+        flag: &'static str,
+    ) -> Result<String, SceneError> {
+        let plugin = plugin_of((self.registry)(Kind::Bsdf), inner, "bsdf")?;
+        self.bsdf(inner, outer, plugin.schema, Some(flag))
+    }
+}

@@ -1,0 +1,112 @@
+//! What the Mitsuba reader knows of Penumbra's plugins: for each kind, every
+//! plugin's [`Schema`] and how Mitsuba's plugin of that name maps onto it.
+//!
+//! The reader sits below the layers that define the plugins, so the scene
+//! layer hands it a [`Registry`] (`scene::schemas::plugins`). A plugin
+//! whose Mitsuba counterpart means the same thing maps through its schema
+//! alone: each parameter under Mitsuba's name for it
+//! ([`Param::mitsuba_name`](crate::description::Param::mitsuba_name)), read
+//! as its type says, a nested `<texture>` as the texturable parameter of
+//! its name, nested `<bsdf>`s as the parameters naming materials, in
+//! order. What Mitsuba means otherwise is said in the plugin's own file: a
+//! line for the reference ([`Mitsuba::differences`]) and, where the
+//! mapping is not the schema's, an [`Adapt`] that does it.
+
+use std::rc::Rc;
+
+use super::objects::Object;
+use crate::description::error::SceneError;
+use crate::description::schema::Schema;
+use crate::description::tree::Kind;
+
+/// How Mitsuba's plugins of a Penumbra plugin's names map onto it.
+#[derive(Clone, Copy, Debug)]
+pub struct Mitsuba {
+    /// What differs from Mitsuba's plugin, for the reference (empty where
+    /// nothing does).
+    pub differences: &'static str,
+    /// The mapping where it is not the schema's alone.
+    pub adapt: Option<Adapt>,
+}
+
+impl Mitsuba {
+    /// Mapped through the schema alone, the same as Mitsuba's.
+    pub const SAME: Mitsuba = Mitsuba {
+        differences: "",
+        adapt: None,
+    };
+
+    /// Mapped through the schema alone; `differences` for the reference.
+    pub const fn differs(differences: &'static str) -> Mitsuba {
+        Mitsuba {
+            differences,
+            adapt: None,
+        }
+    }
+}
+
+/// A plugin's own mapping of a Mitsuba object: `Some` with the name of
+/// what it made where it maps the object itself, `None` where the object
+/// maps through the schema after all.
+pub type Adapt = fn(&mut dyn Mapper, &Object) -> Option<Result<String, SceneError>>;
+
+/// One plugin of a kind, as the reader sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct Plugin {
+    pub schema: &'static Schema,
+    pub mitsuba: Mitsuba,
+}
+
+impl Plugin {
+    /// True if Mitsuba's plugin `name` maps onto this one.
+    pub fn reads(&self, name: &str) -> bool {
+        self.schema.mitsuba.contains(&name)
+    }
+}
+
+/// Every plugin of a kind (none for a kind the reader maps by hand).
+pub type Registry = fn(Kind) -> &'static [Plugin];
+
+/// What an [`Adapt`] may ask of the reader.
+pub trait Mapper {
+    /// The objects `obj` holds, references resolved.
+    fn held(&self, obj: &Object) -> Result<Vec<Rc<Object>>, SceneError>;
+
+    /// Maps `inner`, a BSDF, through its schema as the material of `outer`
+    /// (its id, name and place), with the Penumbra flag `flag` set true
+    /// at `outer`'s type: the material's name.
+    fn bsdf_as(
+        &mut self,
+        inner: &Object,
+        outer: &Object,
+        flag: &'static str,
+    ) -> Result<String, SceneError>;
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::description::schema::{Param, Range, Type};
+
+    const DIFFUSE: Schema = Schema {
+        kind: Kind::Bsdf,
+        plugin: "diffuse",
+        what: "diffuse material",
+        doc: "",
+        mitsuba: &["diffuse"],
+        params: &[Param::new("reflectance", Type::ColourTexture, "", "").range(Range::Unit)],
+    };
+
+    const BSDFS: &[Plugin] = &[Plugin {
+        schema: &DIFFUSE,
+        mitsuba: Mitsuba::SAME,
+    }];
+
+    /// A registry of one plugin, `diffuse`, for the reader's own tests.
+    pub(crate) fn registry(kind: Kind) -> &'static [Plugin] {
+        match kind {
+            Kind::Bsdf => BSDFS,
+            _ => &[],
+        }
+    }
+}

@@ -1,0 +1,245 @@
+//! The plugin reference of the docs, written from the schemas: one table of
+//! keys per plugin in `docs/scene-format.md` and the table of Mitsuba's
+//! plugins in `docs/mitsuba.md`, each between markers that name it
+//! (`<!-- plugin:bsdf/diffuse begin … -->` … `<!-- plugin:bsdf/diffuse end
+//! -->`, `<!-- mitsuba:bsdf begin … -->`). The `reference` test fails when
+//! the docs differ from what this writes, and rewrites them with
+//! `PENUMBRA_UPDATE_DOCS=1`.
+
+use super::schemas;
+use crate::description::mitsuba::Plugin;
+use crate::description::{Kind, MitsubaKey, Param, Range, Schema, Type};
+
+/// The kinds whose plugins the scene-format reference documents one by one
+/// (the integrators, the film and the sampler are the `[render]` table's).
+pub const DOCUMENTED: [Kind; 5] = [
+    Kind::Sensor,
+    Kind::Bsdf,
+    Kind::Texture,
+    Kind::Shape,
+    Kind::Emitter,
+];
+
+/// Every plugin documented, as (kind, schema): the scene's plugins of each
+/// kind of [`DOCUMENTED`] and the `area` emitter shapes carry.
+pub fn documented() -> Vec<(Kind, &'static Schema)> {
+    let mut all: Vec<(Kind, &'static Schema)> = DOCUMENTED
+        .iter()
+        .flat_map(|&k| schemas::of(k).iter().map(move |&s| (k, s)))
+        .collect();
+    all.push((Kind::Emitter, schemas::area_schema()));
+    all
+}
+
+/// The marker's name of a plugin: `bsdf/diffuse`.
+pub fn block_id(kind: Kind, schema: &Schema) -> String {
+    format!("{}/{}", kind.name(), schema.plugin)
+}
+
+/// A markdown table cell: pipes escaped.
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
+/// A parameter's type as the reference writes it, with its range.
+pub fn type_text(p: &Param) -> String {
+    let range = match p.range {
+        Range::Any => String::new(),
+        r => format!(" {}", r.markdown()),
+    };
+    match p.ty {
+        Type::Colour => format!("colour{range}"),
+        Type::ColourTexture => format!("colour{range} or texture"),
+        Type::Number => format!("number{range}"),
+        Type::NumberTexture => format!("number{range} or texture"),
+        Type::Int => format!("integer{range}"),
+        Type::NumberOrChoice(what, _) => format!("number{range} or {what} name"),
+        ref ty => format!("{}{range}", ty.markdown_name()),
+    }
+}
+
+/// A parameter's default as the reference writes it: a value as code,
+/// prose as it is.
+fn default_text(p: &Param) -> String {
+    match p.default {
+        "required" => "**required**".into(),
+        "" => "—".into(),
+        d if d.contains('`') || (d.contains(' ') && !d.starts_with('[')) => cell(d),
+        d => format!("`{}`", cell(d)),
+    }
+}
+
+/// The table of a plugin's keys.
+pub fn table(schema: &Schema) -> String {
+    if schema.params.is_empty() {
+        return "No keys.\n".into();
+    }
+    let mut out = String::from("| key | type | default | meaning |\n|---|---|---|---|\n");
+    for p in schema.params {
+        out += &format!(
+            "| `{}` | {} | {} | {} |\n",
+            p.name,
+            cell(&type_text(p)),
+            default_text(p),
+            cell(p.doc)
+        );
+    }
+    out
+}
+
+/// What the reference says of Mitsuba beside a plugin's table: the Mitsuba
+/// plugins read as it, the keys under other names or Penumbra's own, and
+/// what differs. Only for the kinds the Mitsuba reader maps through their
+/// schemas.
+fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
+    let plugin = schemas::plugins(kind)
+        .iter()
+        .find(|p| std::ptr::eq(p.schema, schema))?;
+    if schema.mitsuba.is_empty() {
+        return Some("Penumbra's own: no Mitsuba 3 plugin reads as it.\n".into());
+    }
+    let names: Vec<String> = schema.mitsuba.iter().map(|n| format!("`{n}`")).collect();
+    let mut note = format!("Mitsuba 3: the {} {} ", kind.name(), names.join(", "));
+    let mut parts = Vec::new();
+    let renamed: Vec<String> = schema
+        .params
+        .iter()
+        .filter_map(|p| match p.mitsuba {
+            MitsubaKey::Named(n) => Some(format!("`{}` as `{n}`", p.name)),
+            MitsubaKey::Any => Some(format!("`{}` as its one texture", p.name)),
+            _ => None,
+        })
+        .collect();
+    if !renamed.is_empty() {
+        parts.push(format!("names {}", renamed.join(", ")));
+    }
+    let own: Vec<String> = schema
+        .params
+        .iter()
+        .filter(|p| p.mitsuba == MitsubaKey::None)
+        .map(|p| format!("`{}`", p.name))
+        .collect();
+    if !own.is_empty() {
+        parts.push(format!("has no {}", own.join(", ")));
+    }
+    if parts.is_empty() {
+        note += "takes these keys under the same names";
+    } else {
+        note += &format!("takes these keys but {}", parts.join("; "));
+    }
+    note += ".";
+    if !plugin.mitsuba.differences.is_empty() {
+        note += &format!(" Differences: {}.", plugin.mitsuba.differences);
+    }
+    Some(note + "\n")
+}
+
+/// The generated block of a plugin.
+pub fn block(kind: Kind, schema: &Schema) -> String {
+    let mut out = table(schema);
+    if let Some(note) = mitsuba_note(kind, schema) {
+        out += "\n";
+        out += &note;
+    }
+    out
+}
+
+/// `text` with the body between the markers `<!-- ID begin…-->` and
+/// `<!-- ID end -->` replaced by `body`; `None` without the markers.
+pub fn replace_block(text: &str, id: &str, body: &str) -> Option<String> {
+    let begin = format!("<!-- {id} begin");
+    let end = format!("<!-- {id} end -->");
+    let start = text.find(&begin)?;
+    let inner = start + text[start..].find('\n')? + 1;
+    let stop = inner + text[inner..].find(&end)?;
+    Some(format!("{}{}{}", &text[..inner], body, &text[stop..]))
+}
+
+/// The scene-format reference `text` with every plugin's block written
+/// afresh, and the blocks it lacks (by marker name).
+pub fn scene_format(text: &str) -> (String, Vec<String>) {
+    let mut out = text.to_string();
+    let mut missing = Vec::new();
+    for (kind, schema) in documented() {
+        let id = format!("plugin:{}", block_id(kind, schema));
+        match replace_block(&out, &id, &block(kind, schema)) {
+            Some(t) => out = t,
+            None => missing.push(id),
+        }
+    }
+    (out, missing)
+}
+
+/// The table of the Mitsuba plugins of `kind` that the reader maps
+/// through their schemas.
+pub fn mitsuba_table(kind: Kind) -> String {
+    let mut out =
+        String::from("| Mitsuba | parameters read | Penumbra | differences |\n|---|---|---|---|\n");
+    for Plugin { schema, mitsuba } in schemas::plugins(kind) {
+        if schema.mitsuba.is_empty() {
+            continue;
+        }
+        let tags: Vec<String> = schema
+            .mitsuba
+            .iter()
+            .map(|n| format!("`<{} type=\"{n}\">`", kind.name()))
+            .collect();
+        let read: Vec<String> = schema
+            .params
+            .iter()
+            .filter_map(|p| {
+                let name = match p.mitsuba {
+                    MitsubaKey::Any => "any nested texture".to_string(),
+                    _ => format!("`{}`", p.mitsuba_name()?),
+                };
+                let default = match p.default {
+                    "required" => " (required)".to_string(),
+                    _ => String::new(),
+                };
+                let texture = if p.texturable() { ", texture" } else { "" };
+                let material = if p.ty == Type::Material {
+                    ", nested"
+                } else {
+                    ""
+                };
+                Some(format!("{name}{default}{texture}{material}"))
+            })
+            .collect();
+        let read = if read.is_empty() {
+            "none".to_string()
+        } else {
+            read.join("; ")
+        };
+        let differences = if mitsuba.differences.is_empty() {
+            "—"
+        } else {
+            mitsuba.differences
+        };
+        out += &format!(
+            "| {} | {} | `{}` | {} |\n",
+            tags.join(", "),
+            cell(&read),
+            schema.plugin,
+            cell(differences)
+        );
+    }
+    out
+}
+
+/// The Mitsuba reference `text` with the table of every kind mapped
+/// through the schemas written afresh, and the tables it lacks.
+pub fn mitsuba(text: &str) -> (String, Vec<String>) {
+    let mut out = text.to_string();
+    let mut missing = Vec::new();
+    for kind in Kind::ALL {
+        if schemas::plugins(kind).is_empty() {
+            continue;
+        }
+        let id = format!("mitsuba:{}", kind.name());
+        match replace_block(&out, &id, &mitsuba_table(kind)) {
+            Some(t) => out = t,
+            None => missing.push(id),
+        }
+    }
+    (out, missing)
+}
