@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use penumbra::description::{Kind, Range, Type};
 use penumbra::scene::reference;
 use penumbra::scene::schemas;
+use penumbra::scene::{LoadOptions, SceneSource};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -91,4 +92,120 @@ fn mitsuba_names_map_to_one_plugin() {
             }
         }
     }
+}
+
+/// A value of `p`'s type just outside its range, as a scene file writes it.
+fn outside(p: &penumbra::description::Param) -> Option<String> {
+    let x = match p.range {
+        Range::Any => return None,
+        Range::Unit => 1.5,
+        Range::NonNegative => -1.0,
+        Range::Positive => 0.0,
+        Range::Between(lo, _) if lo > 0.0 => lo / 2.0 - 1.0,
+        Range::Between(_, hi) => hi + 1.0,
+    };
+    Some(match p.ty {
+        Type::Colour | Type::ColourTexture => format!("[{x:?}, {x:?}, {x:?}]"),
+        Type::Int => format!("{}", x.floor() as i64),
+        _ => format!("{x:?}"),
+    })
+}
+
+/// What a required parameter is set to where another is tested; `None`
+/// for a plugin that needs a file.
+fn filler(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "origin" | "center" => "[0, 0, 0]",
+        "edge_u" => "[1, 0, 0]",
+        "edge_v" => "[0, 0, 1]",
+        "normal" | "position" => "[0, 1, 0]",
+        "radius" => "1",
+        "radiance" | "intensity" => "[1, 1, 1]",
+        "bsdf" | "bsdf_0" | "bsdf_1" => "\"d\"",
+        "normalmap" => "[0.5, 0.5, 1]",
+        "texture" => "0.5",
+        _ => return None,
+    })
+}
+
+/// Every builder refuses a value just outside the range its schema
+/// states, naming the key: the ranges the reference shows are the ones
+/// the scenes are held to.
+#[test]
+fn builders_refuse_what_the_schemas_ranges_exclude() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut checked = 0;
+    for (kind, schema) in reference::documented() {
+        let required: Vec<&str> = schema
+            .params
+            .iter()
+            .filter(|p| p.default == "required")
+            .map(|p| p.name)
+            .collect();
+        if required.iter().any(|n| filler(n).is_none()) {
+            continue;
+        }
+        for p in schema.params {
+            let Some(value) = outside(p) else { continue };
+            let mut keys = String::new();
+            for r in required.iter().filter(|r| **r != p.name) {
+                keys += &format!("{r} = {}\n", filler(r).unwrap());
+            }
+            // The keys that go together.
+            match p.name {
+                "alpha_u" => keys += "alpha_v = 0.1\n",
+                "alpha_v" => keys += "alpha_u = 0.1\n",
+                _ => {}
+            }
+            keys += &format!("{} = {value}\n", p.name);
+            let ty = schema.plugin;
+            let (text, path) = match kind {
+                Kind::Bsdf => (
+                    format!(
+                        "[materials.d]\ntype = \"diffuse\"\n[materials.m]\ntype = \"{ty}\"\n{keys}"
+                    ),
+                    format!("materials.m.{}", p.name),
+                ),
+                Kind::Texture => (
+                    format!("[textures.t]\ntype = \"{ty}\"\n{keys}"),
+                    format!("textures.t.{}", p.name),
+                ),
+                Kind::Sensor => (format!("[camera]\n{keys}"), format!("camera.{}", p.name)),
+                Kind::Shape => (
+                    format!("[[objects]]\ntype = \"{ty}\"\n{keys}"),
+                    format!("objects[0].{}", p.name),
+                ),
+                Kind::Emitter if ty == "area" => (
+                    format!("[[objects]]\ntype = \"sphere\"\n[objects.emitter]\n{keys}"),
+                    format!("objects[0].emitter.{}", p.name),
+                ),
+                Kind::Emitter => (
+                    format!("[[lights]]\ntype = \"{ty}\"\n{keys}"),
+                    format!("lights[0].{}", p.name),
+                ),
+                _ => continue,
+            };
+            let built = SceneSource::from_toml(
+                &text,
+                Path::new("t.toml"),
+                dir.path(),
+                &LoadOptions::default(),
+            )
+            .and_then(|s| s.build().map(drop));
+            let e = match built {
+                Ok(()) => panic!(
+                    "{kind:?} `{ty}`: `{}` = {value} is accepted\n{text}",
+                    p.name
+                ),
+                Err(e) => e.to_string(),
+            };
+            assert!(
+                e.contains(&path),
+                "{kind:?} `{ty}`: `{}` = {value} is refused elsewhere: {e}",
+                p.name
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 40, "{checked} ranges checked");
 }

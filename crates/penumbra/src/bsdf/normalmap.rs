@@ -30,7 +30,7 @@ use super::nested;
 use super::perturbed::{self, Normal, Options};
 use super::Bsdf;
 use super::{BsdfModel, Defaults};
-use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
 use crate::texture::Texture;
@@ -67,7 +67,7 @@ impl BsdfModel for NormalMap {
                 Type::ColourTexture,
                 "required",
                 "the normal in the shading frame, each channel in [0, 1] mapped to [−1, 1] (a `bitmap` with `raw = true`)",
-            ).range(Range::Unit),
+            ),
             nested::param("bsdf", "required", "the name of the material seen through the normal"),
             perturbed::PARAMS[0],
             perturbed::PARAMS[1],
