@@ -14,6 +14,7 @@ use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec, SetPoint};
 use crate::texture::checkerboard::Checkerboard;
+use crate::texture::TextureModel;
 use crate::texture::{Textures, UvTransform};
 
 /// The model `plugin` of the TOML keys `keys`.

@@ -28,24 +28,19 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::common::{one, UvTransform, TO_UV};
+use super::TextureModel;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::input::image::{read_image, Encoding, Image};
 use crate::math::{Rgb, Vec2};
 
-/// The name scenes select the texture by.
-pub const NAME: &str = "bitmap";
-
 const FILTERS: &[&str] = &["bilinear", "nearest"];
 const WRAPS: &[&str] = &["repeat", "mirror", "clamp"];
 
-/// How Mitsuba's `bitmap` maps onto it.
-pub const MITSUBA: Mitsuba = Mitsuba::differs("`format` and `accel` are refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it)");
-
 /// Its parameters.
-pub const SCHEMA: Schema = Schema {
+const SCHEMA: Schema = Schema {
     kind: Kind::Texture,
-    plugin: NAME,
+    plugin: "bitmap",
     what: "bitmap texture",
     doc: "an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped",
     mitsuba: &["bitmap"],
@@ -152,8 +147,23 @@ impl Bitmap {
         }
     }
 
+    /// The texel at column `x`, row `y` (any integers; wrapped).
+    #[inline]
+    fn texel(&self, x: i64, y: i64) -> Rgb {
+        let (w, h) = (self.image.width, self.image.height);
+        Rgb::from_array(self.image.rgb(self.wrap.index(x, w), self.wrap.index(y, h)))
+    }
+}
+
+impl TextureModel for Bitmap {
+    const NAME: &'static str = "bitmap";
+    const SCHEMA: Schema = SCHEMA;
+    const MITSUBA: Mitsuba = Mitsuba::differs(
+        "`format` and `accel` are refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it)",
+    );
+
     /// The texture of a scene's parameters, its file relative to `base_dir`.
-    pub fn build(p: &Props, base_dir: &Path) -> Result<Bitmap, Invalid> {
+    fn build(p: &Props, base_dir: &Path) -> Result<Bitmap, Invalid> {
         let Some(file) = p.string("filename")? else {
             return Err(p.node_error("missing field `filename` (the image file)"));
         };
@@ -181,14 +191,7 @@ impl Bitmap {
         Ok(b)
     }
 
-    /// The texel at column `x`, row `y` (any integers; wrapped).
-    #[inline]
-    fn texel(&self, x: i64, y: i64) -> Rgb {
-        let (w, h) = (self.image.width, self.image.height);
-        Rgb::from_array(self.image.rgb(self.wrap.index(x, w), self.wrap.index(y, h)))
-    }
-
-    pub fn eval(&self, uv: Vec2) -> Rgb {
+    fn eval(&self, uv: Vec2) -> Rgb {
         let t = self.to_uv.apply(uv);
         let (w, h) = (self.image.width as f32, self.image.height as f32);
         match self.filter {
@@ -206,7 +209,7 @@ impl Bitmap {
     }
 
     /// One value: the grey, or the luminance of the colour.
-    pub fn eval_1(&self, uv: Vec2) -> f32 {
+    fn eval_1(&self, uv: Vec2) -> f32 {
         one(self.eval(uv))
     }
 
@@ -215,7 +218,7 @@ impl Bitmap {
     /// through `to_uv`; 0 for `nearest`, which is constant within a texel.
     /// On a line through texel centres, where the interpolation has a kink,
     /// the derivative of the side above.
-    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+    fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
         if self.filter == Filter::Nearest {
             return Vec2::ZERO;
         }
@@ -235,11 +238,11 @@ impl Bitmap {
         Vec2::new(gx * a + gy * d, gx * b + gy * e)
     }
 
-    pub fn bounds(&self) -> (Rgb, Rgb) {
+    fn bounds(&self) -> (Rgb, Rgb) {
         self.bounds
     }
 
-    pub fn bounds_1(&self) -> (f32, f32) {
+    fn bounds_1(&self) -> (f32, f32) {
         self.bounds_1
     }
 }

@@ -14,21 +14,18 @@
 //! | `color1` | colour ≥ 0 | `[0.2, 0.2, 0.2]` | the colour of the other squares |
 //! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
 
+use std::path::Path;
+
 use super::common::{one, read_colour, UvTransform, TO_UV};
+use super::TextureModel;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec2};
 
-/// The name scenes select the texture by.
-pub const NAME: &str = "checkerboard";
-
-/// How Mitsuba's `checkerboard` maps onto it.
-pub const MITSUBA: Mitsuba = Mitsuba::differs("the colours are plain values, not textures");
-
 /// Its parameters.
-pub const SCHEMA: Schema = Schema {
+const SCHEMA: Schema = Schema {
     kind: Kind::Texture,
-    plugin: NAME,
+    plugin: "checkerboard",
     what: "checkerboard texture",
     doc: "two colours alternating in squares of side ½ in (u, v)",
     mitsuba: &["checkerboard"],
@@ -58,14 +55,6 @@ pub struct Checkerboard {
 }
 
 impl Checkerboard {
-    pub fn build(p: &Props) -> Result<Checkerboard, Invalid> {
-        Ok(Checkerboard {
-            color0: read_colour(p, "color0", Rgb::splat(0.4))?,
-            color1: read_colour(p, "color1", Rgb::splat(0.2))?,
-            to_uv: UvTransform::read(p)?,
-        })
-    }
-
     /// Whether `(u, v)` (before `to_uv`) lies in a square of `color0`.
     #[inline]
     fn first(&self, uv: Vec2) -> bool {
@@ -73,9 +62,23 @@ impl Checkerboard {
         let high = |x: f32| x - x.floor() > 0.5;
         high(t.x) == high(t.y)
     }
+}
+
+impl TextureModel for Checkerboard {
+    const NAME: &'static str = "checkerboard";
+    const SCHEMA: Schema = SCHEMA;
+    const MITSUBA: Mitsuba = Mitsuba::differs("the colours are plain values, not textures");
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Checkerboard, Invalid> {
+        Ok(Checkerboard {
+            color0: read_colour(p, "color0", Rgb::splat(0.4))?,
+            color1: read_colour(p, "color1", Rgb::splat(0.2))?,
+            to_uv: UvTransform::read(p)?,
+        })
+    }
 
     #[inline]
-    pub fn eval(&self, uv: Vec2) -> Rgb {
+    fn eval(&self, uv: Vec2) -> Rgb {
         if self.first(uv) {
             self.color0
         } else {
@@ -85,7 +88,7 @@ impl Checkerboard {
 
     /// One value: Mitsuba's `eval_1`, with the squares swapped.
     #[inline]
-    pub fn eval_1(&self, uv: Vec2) -> f32 {
+    fn eval_1(&self, uv: Vec2) -> f32 {
         one(if self.first(uv) {
             self.color1
         } else {
@@ -93,11 +96,11 @@ impl Checkerboard {
         })
     }
 
-    pub fn bounds(&self) -> (Rgb, Rgb) {
+    fn bounds(&self) -> (Rgb, Rgb) {
         (self.color0.min(self.color1), self.color0.max(self.color1))
     }
 
-    pub fn bounds_1(&self) -> (f32, f32) {
+    fn bounds_1(&self) -> (f32, f32) {
         let (a, b) = (one(self.color0), one(self.color1));
         (a.min(b), a.max(b))
     }

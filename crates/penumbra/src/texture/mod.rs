@@ -35,50 +35,149 @@
 //! | `translate` | array of 2 numbers | `[0, 0]` | offset added to `(u, v)` |
 //! | `matrix` | 3×3 array of rows | — | instead of the keys above: the affine matrix acting on `(u, v, 1)` (last row `[0, 0, 1]`) |
 
-pub mod bitmap;
-pub mod checkerboard;
 mod common;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use crate::description::mitsuba::Plugin;
+use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{check, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2};
 
-use bitmap::Bitmap;
-use checkerboard::Checkerboard;
 pub use common::{one, UvTransform, TO_UV, TO_UV_KEYS};
 
-/// A texture: a constant or one of the texture models.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Texture {
-    /// The same colour everywhere: a plain value.
-    Constant(Rgb),
-    Checkerboard(Checkerboard),
-    Bitmap(Bitmap),
+/// What every texture model answers: its names and schema, its builder,
+/// and its values at surface coordinates `(u, v)`.
+pub trait TextureModel: Sized {
+    /// The name scenes select the texture by.
+    const NAME: &'static str;
+
+    /// Its parameters.
+    const SCHEMA: Schema;
+
+    /// How Mitsuba's plugin of its name maps onto it.
+    const MITSUBA: Mitsuba = Mitsuba::SAME;
+
+    /// The texture of a scene's parameters, its files relative to
+    /// `base_dir`.
+    fn build(p: &Props, base_dir: &Path) -> Result<Self, Invalid>;
+
+    /// The colour at `uv`.
+    fn eval(&self, uv: Vec2) -> Rgb;
+
+    /// One value at `uv` (Mitsuba's `eval_1`).
+    fn eval_1(&self, uv: Vec2) -> f32;
+
+    /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` (0 for
+    /// a texture constant where it is differentiable).
+    fn eval_1_grad(&self, _uv: Vec2) -> Vec2 {
+        Vec2::ZERO
+    }
+
+    /// The smallest and the largest value of each channel anywhere.
+    fn bounds(&self) -> (Rgb, Rgb);
+
+    /// The smallest and largest value [`eval_1`](Self::eval_1) gives.
+    fn bounds_1(&self) -> (f32, f32);
+}
+
+/// Declares the textures' modules, and makes [`Texture`], a constant or
+/// one of the textures listed (each `module::Model`, its variant named as
+/// the model), and its dispatch.
+macro_rules! textures {
+    ($($module:ident::$variant:ident,)*) => {
+        $(pub mod $module;)*
+
+        /// A texture: a constant or one of the texture models.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Texture {
+            /// The same colour everywhere: a plain value.
+            Constant(Rgb),
+            $($variant($module::$variant),)*
+        }
+
+        impl Texture {
+            /// The names of the textures, as scenes select them.
+            pub const NAMES: &'static [&'static str] =
+                &[$(<$module::$variant as TextureModel>::NAME,)*];
+
+            /// The textures' parameters.
+            pub const SCHEMAS: &'static [&'static Schema] =
+                &[$(&<$module::$variant as TextureModel>::SCHEMA,)*];
+
+            /// The textures as the readers see them.
+            pub const PLUGINS: &'static [Plugin] = &[$(Plugin {
+                schema: &<$module::$variant as TextureModel>::SCHEMA,
+                mitsuba: <$module::$variant as TextureModel>::MITSUBA,
+            },)*];
+
+            /// The texture `plugin` of the parameters `p`; `None` for a
+            /// name that is not a texture's.
+            fn build_model(
+                plugin: &str,
+                p: &Props,
+                base_dir: &Path,
+            ) -> Option<Result<Texture, Invalid>> {
+                match plugin {
+                    $(<$module::$variant as TextureModel>::NAME => {
+                        Some(<$module::$variant>::build(p, base_dir).map(Texture::$variant))
+                    })*
+                    _ => None,
+                }
+            }
+
+            /// The colour at surface coordinates `uv`.
+            pub fn eval_uv(&self, uv: Vec2) -> Rgb {
+                match self {
+                    Texture::Constant(c) => *c,
+                    $(Texture::$variant(t) => t.eval(uv),)*
+                }
+            }
+
+            /// One value at surface coordinates `uv`.
+            pub fn eval_1_uv(&self, uv: Vec2) -> f32 {
+                match self {
+                    Texture::Constant(c) => one(*c),
+                    $(Texture::$variant(t) => t.eval_1(uv),)*
+                }
+            }
+
+            /// [`eval_1_grad`](Self::eval_1_grad) at surface coordinates `uv`.
+            pub fn eval_1_grad_uv(&self, uv: Vec2) -> Vec2 {
+                match self {
+                    Texture::Constant(_) => Vec2::ZERO,
+                    $(Texture::$variant(t) => t.eval_1_grad(uv),)*
+                }
+            }
+
+            /// The smallest and the largest value of each channel anywhere on the
+            /// texture (for range checks).
+            pub fn bounds(&self) -> (Rgb, Rgb) {
+                match self {
+                    Texture::Constant(c) => (*c, *c),
+                    $(Texture::$variant(t) => t.bounds(),)*
+                }
+            }
+
+            /// The smallest and largest value [`eval_1`](Self::eval_1) gives.
+            pub fn bounds_1(&self) -> (f32, f32) {
+                match self {
+                    Texture::Constant(c) => (one(*c), one(*c)),
+                    $(Texture::$variant(t) => t.bounds_1(),)*
+                }
+            }
+        }
+    };
+}
+
+// The textures: one line each.
+textures! {
+    checkerboard::Checkerboard,
+    bitmap::Bitmap,
 }
 
 impl Texture {
-    /// The names of the textures, as scenes select them.
-    pub const NAMES: &'static [&'static str] = &[checkerboard::NAME, bitmap::NAME];
-
-    /// The textures' parameters.
-    pub const SCHEMAS: &'static [&'static Schema] = &[&checkerboard::SCHEMA, &bitmap::SCHEMA];
-
-    /// The textures as the readers see them.
-    pub const PLUGINS: &'static [Plugin] = &[
-        Plugin {
-            schema: &checkerboard::SCHEMA,
-            mitsuba: checkerboard::MITSUBA,
-        },
-        Plugin {
-            schema: &bitmap::SCHEMA,
-            mitsuba: bitmap::MITSUBA,
-        },
-    ];
-
     /// The colour at the interaction's `(u, v)`.
     #[inline]
     pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
@@ -97,24 +196,6 @@ impl Texture {
         }
     }
 
-    /// The colour at surface coordinates `uv`.
-    pub fn eval_uv(&self, uv: Vec2) -> Rgb {
-        match self {
-            Texture::Constant(c) => *c,
-            Texture::Checkerboard(t) => t.eval(uv),
-            Texture::Bitmap(t) => t.eval(uv),
-        }
-    }
-
-    /// One value at surface coordinates `uv`.
-    pub fn eval_1_uv(&self, uv: Vec2) -> f32 {
-        match self {
-            Texture::Constant(c) => one(*c),
-            Texture::Checkerboard(t) => t.eval_1(uv),
-            Texture::Bitmap(t) => t.eval_1(uv),
-        }
-    }
-
     /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` at the
     /// interaction's `(u, v)` (Mitsuba's `eval_1_grad`): 0 for a constant
     /// and a checkerboard (constant within its squares).
@@ -122,38 +203,11 @@ impl Texture {
         self.eval_1_grad_uv(si.uv)
     }
 
-    /// [`eval_1_grad`](Self::eval_1_grad) at surface coordinates `uv`.
-    pub fn eval_1_grad_uv(&self, uv: Vec2) -> Vec2 {
-        match self {
-            Texture::Constant(_) | Texture::Checkerboard(_) => Vec2::ZERO,
-            Texture::Bitmap(t) => t.eval_1_grad(uv),
-        }
-    }
-
     /// The constant's colour; `None` for a texture that varies.
     pub fn constant(&self) -> Option<Rgb> {
         match self {
             Texture::Constant(c) => Some(*c),
             _ => None,
-        }
-    }
-
-    /// The smallest and the largest value of each channel anywhere on the
-    /// texture (for range checks).
-    pub fn bounds(&self) -> (Rgb, Rgb) {
-        match self {
-            Texture::Constant(c) => (*c, *c),
-            Texture::Checkerboard(t) => t.bounds(),
-            Texture::Bitmap(t) => t.bounds(),
-        }
-    }
-
-    /// The smallest and largest value [`eval_1`](Self::eval_1) gives.
-    pub fn bounds_1(&self) -> (f32, f32) {
-        match self {
-            Texture::Constant(c) => (one(*c), one(*c)),
-            Texture::Checkerboard(t) => t.bounds_1(),
-            Texture::Bitmap(t) => t.bounds_1(),
         }
     }
 }
@@ -224,11 +278,8 @@ impl Textures {
             .collect();
         check(&node, schema, &others)?;
         let p = Props::new(&node);
-        let texture = match plugin {
-            checkerboard::NAME => Texture::Checkerboard(Checkerboard::build(&p)?),
-            bitmap::NAME => Texture::Bitmap(Bitmap::build(&p, &self.base_dir)?),
-            _ => unreachable!("every schema has a builder"),
-        };
+        let texture = Texture::build_model(plugin, &p, &self.base_dir)
+            .expect("every schema has a builder")?;
         p.finish(schema.what)?;
         Ok(texture)
     }

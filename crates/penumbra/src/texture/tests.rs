@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::checkerboard::Checkerboard;
 use super::*;
 use crate::description::{from_toml, SceneError};
 
