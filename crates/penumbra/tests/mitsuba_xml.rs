@@ -1315,8 +1315,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
         ),
         (
             r#"<shape type="heightfield"/>"#,
-            "shape `heightfield` is not supported; supported: sphere, rectangle, disk, cube, \
-             cylinder, obj, ply, serialized, shapegroup, instance",
+            "shape `heightfield` is not supported; supported: sphere, rectangle, obj, ply, \
+             serialized, disk, cube, cylinder, instance, shapegroup",
         ),
         (
             r#"<emitter type="projector"/>"#,

@@ -24,6 +24,7 @@ use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::Bsdf;
 use crate::description::mitsuba::objects::Object;
 use crate::description::mitsuba::registry::Mapper;
+use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Props, SceneError, Schema};
 use crate::geometry::SurfaceInteraction;
@@ -124,7 +125,8 @@ impl BsdfModel for TwoSided {
 
     const MITSUBA: Mitsuba = Mitsuba {
         differences: "around one `diffuse`, the `diffuse` with `two_sided = true`",
-        adapt: Some(around_diffuse),
+        reads: &[],
+        adapt: Some(Adapt::Object(around_diffuse)),
     };
 
     fn build(p: &Props, d: &Defaults) -> Result<TwoSided, Invalid> {

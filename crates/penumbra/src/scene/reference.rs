@@ -184,7 +184,7 @@ pub fn mitsuba_table(kind: Kind) -> String {
             .iter()
             .map(|n| format!("`<{} type=\"{n}\">`", kind.name()))
             .collect();
-        let read: Vec<String> = schema
+        let mut read: Vec<String> = schema
             .params
             .iter()
             .filter_map(|p| {
@@ -205,6 +205,7 @@ pub fn mitsuba_table(kind: Kind) -> String {
                 Some(format!("{name}{default}{texture}{material}"))
             })
             .collect();
+        read.extend(mitsuba.reads.iter().map(|n| format!("`{n}`")));
         let read = if read.is_empty() {
             "none".to_string()
         } else {

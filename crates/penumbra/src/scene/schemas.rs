@@ -41,6 +41,7 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
     match kind {
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
+        Kind::Shape => &shapes::PLUGINS,
         _ => &[],
     }
 }

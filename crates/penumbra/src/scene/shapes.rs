@@ -10,6 +10,8 @@ use super::error::BuildError;
 use super::transform;
 use crate::accel::world::{mesh_bvh, Object};
 use crate::description::check::{finite3, finite3_value, nonzero3_value, positive, required};
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::{adapt, Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::cube::cube;
 use crate::geometry::mesh_file::read_mesh_part;
@@ -35,19 +37,22 @@ const COMMON: [Param; 4] = [
         Type::String,
         "the default material",
         "name of a `[materials.NAME]` table",
-    ),
+    )
+    .penumbra_only(),
     Param::new(
         "transform",
         Type::Table(&transform::PARAMS),
         "identity",
         "placement (at frame time 0)",
-    ),
+    )
+    .mitsuba("to_world"),
     Param::new(
         "transform_end",
         Type::Table(&transform::PARAMS),
         "none",
         "placement at frame time 1: the object moves during the exposure",
-    ),
+    )
+    .penumbra_only(),
     Param::new(
         "flip_normals",
         Type::Bool,
@@ -90,16 +95,17 @@ pub const QUAD: Schema = Schema {
     doc: "a parallelogram of a corner and two edges",
     mitsuba: &["rectangle"],
     params: &[
-        Param::new("origin", Type::Vector, "required", "one corner"),
-        Param::new("edge_u", Type::Vector, "required", "first edge"),
+        Param::new("origin", Type::Vector, "required", "one corner").penumbra_only(),
+        Param::new("edge_u", Type::Vector, "required", "first edge").penumbra_only(),
         Param::new(
             "edge_v",
             Type::Vector,
             "required",
             "second edge, not parallel to `edge_u`",
-        ),
+        )
+        .penumbra_only(),
         COMMON[0],
-        COMMON[1],
+        COMMON[1].penumbra_only(),
         COMMON[2],
         COMMON[3],
     ],
@@ -112,8 +118,8 @@ pub const MESH: Schema = Schema {
     doc: "a triangle mesh read from a PLY, OBJ or Mitsuba `.serialized` file",
     mitsuba: &["obj", "ply", "serialized"],
     params: &[
-        Param::new("path", Type::Path, "required", "a `.ply` (ASCII, binary little/big endian; triangles and polygons), `.obj` or `.serialized` (Mitsuba's compressed meshes, versions 3 and 4) file, relative to the scene file; `\"@bunny\"` means the Stanford bunny (from `--bunny`, `bunny=` in Python or `$PENUMBRA_BUNNY`)"),
-        Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets"),
+        Param::new("path", Type::Path, "required", "a `.ply` (ASCII, binary little/big endian; triangles and polygons), `.obj` or `.serialized` (Mitsuba's compressed meshes, versions 3 and 4) file, relative to the scene file; `\"@bunny\"` means the Stanford bunny (from `--bunny`, `bunny=` in Python or `$PENUMBRA_BUNNY`)").mitsuba("filename"),
+        Param::new("smooth", Type::Bool, "false", "interpolate vertex normals (from the file, else computed, area-weighted); otherwise flat facets").penumbra_only(),
         Param::new("shape_index", Type::Int, "0", "which mesh of a `.serialized` file, which may hold several (0: the first); other files hold one").range(Range::NonNegative),
         Param::new("flip_tex_coords", Type::Bool, "false", "take the file's texture coordinates `(u, v)` as `(u, 1 − v)` (what Mitsuba's OBJ reader does by default; scenes read from Mitsuba XML set it for OBJ files)"),
         COMMON[0],
@@ -144,20 +150,23 @@ pub const DISK: Schema = Schema {
             Type::Vector,
             "[0, 0, 0]",
             "centre before the transform",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "normal",
             Type::Vector,
             "[0, 0, 1]",
             "the side it faces before the transform (non-zero)",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "radius",
             Type::Number,
             "1",
             "radius > 0 before the transform (a static disk may only be scaled uniformly)",
         )
-        .range(Range::Positive),
+        .range(Range::Positive)
+        .penumbra_only(),
         COMMON[0],
         COMMON[1],
         COMMON[2],
@@ -219,13 +228,15 @@ pub const INSTANCE: Schema = Schema {
             Type::String,
             "required",
             "name of a `[groups.NAME]` table: the shapes placed",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "transform",
             Type::Table(&transform::PARAMS),
             "identity",
             "placement of the group: any invertible affine map (shear and non-uniform scale included)",
-        ),
+        )
+        .mitsuba("to_world"),
     ],
 };
 
@@ -239,6 +250,59 @@ pub const SHAPEGROUP: Schema = Schema {
     mitsuba: &["shapegroup"],
     params: &[],
 };
+
+/// How Mitsuba's shapes map onto them.
+const MESH_MITSUBA: Mitsuba = Mitsuba {
+    differences: "`face_normals` (default false) as `smooth = !face_normals`; an OBJ's `flip_tex_coords` is true unless given (as Mitsuba's OBJ reader), a PLY's and a `.serialized` file's is read and not applied",
+    reads: &["face_normals"],
+    adapt: Some(Adapt::Node(adapt::mesh)),
+};
+
+/// The shapes as the readers see them.
+pub const PLUGINS: [Plugin; 9] = [
+    Plugin {
+        schema: &SPHERE,
+        mitsuba: Mitsuba::differs("only uniform scale outside a group"),
+    },
+    Plugin {
+        schema: &QUAD,
+        mitsuba: Mitsuba {
+            differences: "the square [−1, 1]² at z = 0 through `to_world` as `origin`, `edge_u`, `edge_v`, ordered so that `edge_u × edge_v` is Mitsuba's normal",
+            reads: &["to_world"],
+            adapt: Some(Adapt::Node(adapt::rectangle)),
+        },
+    },
+    Plugin {
+        schema: &MESH,
+        mitsuba: MESH_MITSUBA,
+    },
+    Plugin {
+        schema: &RECTANGLE,
+        mitsuba: Mitsuba::SAME,
+    },
+    Plugin {
+        schema: &DISK,
+        mitsuba: Mitsuba::differs("only uniform scale outside a group"),
+    },
+    Plugin {
+        schema: &CUBE,
+        mitsuba: Mitsuba::SAME,
+    },
+    Plugin {
+        schema: &CYLINDER,
+        mitsuba: Mitsuba::differs(
+            "only uniform scale outside a group (Mitsuba also takes an elliptic tube)",
+        ),
+    },
+    Plugin {
+        schema: &INSTANCE,
+        mitsuba: Mitsuba::differs("`<ref id=\"g\"/>` to a shapegroup as `group = \"g\"`"),
+    },
+    Plugin {
+        schema: &SHAPEGROUP,
+        mitsuba: Mitsuba::differs("`[groups.ID]`; a shape in it carrying an `area` emitter is refused, as Mitsuba refuses it"),
+    },
+];
 
 /// Every shape of a scene file.
 pub const SCHEMAS: [&Schema; 9] = [

@@ -190,7 +190,7 @@ fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
         ("film", plugins::FILMS.to_vec()),
         ("rfilter", plugins::RFILTERS.to_vec()),
         ("sampler", plugins::SAMPLERS.to_vec()),
-        ("shape", plugins::SHAPES.to_vec()),
+        ("shape", of(Kind::Shape)),
         ("bsdf", of(Kind::Bsdf)),
         ("emitter", plugins::EMITTERS.to_vec()),
         ("texture", of(Kind::Texture)),

@@ -22,7 +22,7 @@ use super::mapper::{
 };
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
-use super::registry::{Mapper, Plugin};
+use super::registry::{Adapt, Mapper, Plugin};
 use super::spectrum::Use;
 use super::values::PropValue;
 use crate::description::error::{KeyPath, SceneError};
@@ -52,7 +52,7 @@ pub(super) fn plugin_of(
 
 /// The Mitsuba properties a schema reads: every parameter's Mitsuba name
 /// but those set by nested objects.
-fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
+pub(super) fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
     schema
         .params
         .iter()
@@ -65,7 +65,7 @@ impl Out<'_> {
     /// The Penumbra material of a bsdf (made once per name): its name.
     pub(super) fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
         let plugin = plugin_of((self.registry)(Kind::Bsdf), obj, "bsdf")?;
-        if let Some(adapt) = plugin.mitsuba.adapt {
+        if let Some(Adapt::Object(adapt)) = plugin.mitsuba.adapt {
             if let Some(made) = adapt(self, obj) {
                 return made;
             }

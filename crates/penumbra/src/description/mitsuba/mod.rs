@@ -44,6 +44,7 @@
 //! into the same objects as step 3 makes, then mapped by step 4; its errors
 //! name the dict's key path (`sphere.bsdf.reflectance`) instead.
 
+pub mod adapt;
 pub mod dict;
 mod mapper;
 mod materials;

@@ -8,9 +8,10 @@ use super::mapper::{
     children, file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
     get_vector, located, matrix, obj_has, render, set, type_error, unsupported, vec3, Out,
 };
+use super::materials::{mitsuba_keys, plugin_of};
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
-use super::registry::Registry;
+use super::registry::{Adapt, Registry};
 use super::spectrum::Use;
 use super::transform::{self, Mat4};
 use super::values::PropValue;
@@ -18,19 +19,7 @@ use crate::description::error::{KeyPath, SceneError};
 use crate::description::tree::{Kind, Node, Prop, Value};
 use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
-/// The plugins read, by tag, in the order messages list them.
-pub const SHAPES: &[&str] = &[
-    "sphere",
-    "rectangle",
-    "disk",
-    "cube",
-    "cylinder",
-    "obj",
-    "ply",
-    "serialized",
-    "shapegroup",
-    "instance",
-];
+/// The plugins read by hand, by tag, in the order messages list them.
 pub const EMITTERS: &[&str] = &["point", "constant", "area", "spot", "directional", "envmap"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
@@ -809,122 +798,19 @@ impl Out<'_> {
         Ok(node)
     }
 
-    /// The node of a shape other than a group or an instance, at `base`.
+    /// The node of a shape other than a group or an instance, at `base`:
+    /// through the schema of the shape that reads its plugin.
     fn shape_node(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
-        let known: &[&str] = match obj.plugin.as_str() {
-            "sphere" => &["center", "radius", "to_world", "flip_normals"],
-            "rectangle" | "disk" | "cube" => &["to_world", "flip_normals"],
-            "cylinder" => &["p0", "p1", "radius", "to_world", "flip_normals"],
-            "obj" | "ply" => &[
-                "filename",
-                "face_normals",
-                "to_world",
-                "flip_normals",
-                "flip_tex_coords",
-            ],
-            "serialized" => &[
-                "filename",
-                "shape_index",
-                "face_normals",
-                "to_world",
-                "flip_normals",
-            ],
-            _ => return Err(unsupported(obj, "shape", SHAPES)),
-        };
-        self.no_props(obj, known)?;
-        get_bool(obj, "flip_tex_coords")?;
-        let plugin = match obj.plugin.as_str() {
-            "sphere" => "sphere",
-            "rectangle" => "quad",
-            "disk" => "disk",
-            "cube" => "cube",
-            "cylinder" => "cylinder",
-            _ => "mesh",
-        };
-        let mut node = Node::new(Kind::Shape, plugin, obj.at.origin(base.clone()));
+        let plugin = plugin_of((self.registry)(Kind::Shape), obj, "shape")?;
+        let schema = plugin.schema;
+        let mut known = mitsuba_keys(schema);
+        known.extend(plugin.mitsuba.reads);
+        self.no_props(obj, &known)?;
+        let mut node = Node::new(Kind::Shape, schema.plugin, obj.at.origin(base.clone()));
         node.plugin_origin = obj.plugin_at.origin(base.key("type"));
-        let to_world = get_transform(obj, "to_world")?.map(|(m, at)| (m, at.clone()));
-        if let Some((flip, at)) = get_bool(obj, "flip_normals")? {
-            set(&mut node, &base, "flip_normals", at, |p, at| {
-                located(Value::Bool(flip), p, at)
-            });
-        }
-        match obj.plugin.as_str() {
-            "disk" | "cube" => self.placement(&mut node, &base, &to_world),
-            "cylinder" => {
-                for name in ["p0", "p1"] {
-                    if let Some((v, at)) = get_vector(obj, name)? {
-                        set(&mut node, &base, name, at, |p, at| vec3(v, p, at));
-                    }
-                }
-                if let Some((r, at)) = get_float(obj, "radius")? {
-                    set(&mut node, &base, "radius", at, |p, at| float(r, p, at));
-                }
-                self.placement(&mut node, &base, &to_world);
-            }
-            "sphere" => {
-                if let Some((c, at)) = get_vector(obj, "center")? {
-                    set(&mut node, &base, "center", at, |p, at| vec3(c, p, at));
-                }
-                if let Some((r, at)) = get_float(obj, "radius")? {
-                    set(&mut node, &base, "radius", at, |p, at| float(r, p, at));
-                }
-                self.placement(&mut node, &base, &to_world);
-            }
-            "rectangle" => {
-                let (m, at) = to_world
-                    .clone()
-                    .unwrap_or((transform::IDENTITY, obj.at.clone()));
-                let origin = transform::point(&m, [-1.0, -1.0, 0.0]);
-                let mut u = transform::vector(&m, [2.0, 0.0, 0.0]);
-                let mut v = transform::vector(&m, [0.0, 2.0, 0.0]);
-                // Mitsuba's normal is the transformed +z; a mirroring
-                // transform would turn u × v the other way.
-                if transform::det3(&m) < 0.0 {
-                    std::mem::swap(&mut u, &mut v);
-                }
-                set(&mut node, &base, "origin", &at, |p, at| vec3(origin, p, at));
-                set(&mut node, &base, "edge_u", &at, |p, at| vec3(u, p, at));
-                set(&mut node, &base, "edge_v", &at, |p, at| vec3(v, p, at));
-            }
-            _ => {
-                let Some((file, at)) = get_string(obj, "filename")? else {
-                    return Err(error_at(
-                        &obj.at,
-                        format!("{}: missing `filename`", obj.plugin),
-                    ));
-                };
-                let path = self
-                    .reader
-                    .resolve(&file_dir(obj, self.reader.scene_dir), file);
-                let text = self
-                    .reader
-                    .scene_relative(&path)
-                    .to_string_lossy()
-                    .into_owned();
-                set(&mut node, &base, "path", at, |p, at| {
-                    located(Value::String(text), p, at)
-                });
-                let (faces, f_at) = get_bool(obj, "face_normals")?
-                    .map_or((false, obj.at.clone()), |(b, at)| (b, at.clone()));
-                set(&mut node, &base, "smooth", &f_at, |p, at| {
-                    located(Value::Bool(!faces), p, at)
-                });
-                // Mitsuba's OBJ reader flips `v` unless told not to.
-                if obj.plugin == "obj" {
-                    let (flip, at) = get_bool(obj, "flip_tex_coords")?
-                        .map_or((true, obj.at.clone()), |(b, at)| (b, at.clone()));
-                    set(&mut node, &base, "flip_tex_coords", &at, |p, at| {
-                        located(Value::Bool(flip), p, at)
-                    });
-                }
-                if let Some((index, at)) = get_int(obj, "shape_index")? {
-                    set(&mut node, &base, "shape_index", at, |p, at| {
-                        located(Value::Int(index), p, at)
-                    });
-                }
-                self.placement(&mut node, &base, &to_world);
-            }
+        self.params(obj, schema, &mut node, &base)?;
+        if let Some(Adapt::Node(adapt)) = plugin.mitsuba.adapt {
+            adapt(obj, &mut node, &base)?;
         }
         let mut material = None;
         let mut emitter = None;

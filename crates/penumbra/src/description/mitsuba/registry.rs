@@ -15,9 +15,9 @@
 use std::rc::Rc;
 
 use super::objects::Object;
-use crate::description::error::SceneError;
+use crate::description::error::{KeyPath, SceneError};
 use crate::description::schema::Schema;
-use crate::description::tree::Kind;
+use crate::description::tree::{Kind, Node};
 
 /// How Mitsuba's plugins of a Penumbra plugin's names map onto it.
 #[derive(Clone, Copy, Debug)]
@@ -25,6 +25,9 @@ pub struct Mitsuba {
     /// What differs from Mitsuba's plugin, for the reference (empty where
     /// nothing does).
     pub differences: &'static str,
+    /// The Mitsuba parameters [`adapt`](Self::adapt) reads beside the
+    /// schema's.
+    pub reads: &'static [&'static str],
     /// The mapping where it is not the schema's alone.
     pub adapt: Option<Adapt>,
 }
@@ -33,6 +36,7 @@ impl Mitsuba {
     /// Mapped through the schema alone, the same as Mitsuba's.
     pub const SAME: Mitsuba = Mitsuba {
         differences: "",
+        reads: &[],
         adapt: None,
     };
 
@@ -40,15 +44,22 @@ impl Mitsuba {
     pub const fn differs(differences: &'static str) -> Mitsuba {
         Mitsuba {
             differences,
+            reads: &[],
             adapt: None,
         }
     }
 }
 
-/// A plugin's own mapping of a Mitsuba object: `Some` with the name of
-/// what it made where it maps the object itself, `None` where the object
-/// maps through the schema after all.
-pub type Adapt = fn(&mut dyn Mapper, &Object) -> Option<Result<String, SceneError>>;
+/// A plugin's own part of the mapping.
+#[derive(Clone, Copy, Debug)]
+pub enum Adapt {
+    /// Maps a Mitsuba object itself: `Some` with the name of what it made,
+    /// `None` where the object maps through the schema after all.
+    Object(fn(&mut dyn Mapper, &Object) -> Option<Result<String, SceneError>>),
+    /// Completes the node the schema made of a Mitsuba object (at the key
+    /// path `base`): the parameters whose meaning differs.
+    Node(fn(&Object, &mut Node, &KeyPath) -> Result<(), SceneError>),
+}
 
 /// One plugin of a kind, as the reader sees it.
 #[derive(Clone, Copy, Debug)]
