@@ -9,6 +9,7 @@
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
 use crate::description::check::{nonneg3, required};
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::warp::{square_to_uniform_sphere, square_to_uniform_sphere_pdf};
@@ -33,6 +34,10 @@ impl Constant {
         )
         .range(Range::NonNegative)],
     };
+
+    /// How Mitsuba's `constant` maps onto it.
+    pub const MITSUBA: Mitsuba =
+        Mitsuba::differs("`render.background`: one per scene; `whitted` does not light by it");
 
     /// The emitter of a scene's parameters.
     pub fn build(p: &Props) -> Result<Constant, Invalid> {

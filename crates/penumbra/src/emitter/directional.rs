@@ -14,6 +14,9 @@
 
 use super::sample::LightSample;
 use crate::description::check::{nonneg3, nonzero3};
+use crate::description::mitsuba::adapt;
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
 
@@ -50,6 +53,13 @@ impl Directional {
             )
             .range(Range::NonNegative),
         ],
+    };
+
+    /// How Mitsuba's `directional` maps onto it.
+    pub const MITSUBA: Mitsuba = Mitsuba {
+        differences: "",
+        reads: &["to_world"],
+        adapt: Some(Adapt::Node(adapt::directional)),
     };
 
     /// The light of a scene's parameters.

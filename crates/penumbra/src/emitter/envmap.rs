@@ -23,6 +23,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::description::check::range;
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::input::image::{read_image, Encoding};
 use crate::math::{Mat3, Rgb, Vec2, Vec3};
@@ -71,6 +72,11 @@ impl Envmap {
             ),
         ],
     };
+
+    /// How Mitsuba's `envmap` maps onto it.
+    pub const MITSUBA: Mitsuba = Mitsuba::differs(
+        "looked up by the nearest pixel where Mitsuba interpolates bilinearly; `to_world` must be a rotation or reflection; the `bitmap` and `mis_compensation` parameters are refused",
+    );
 
     /// The emitter of a scene's parameters; `base_dir` anchors a relative
     /// `filename`.

@@ -10,6 +10,9 @@
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3_value, nonneg3, required};
+use crate::description::mitsuba::adapt;
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
 
@@ -36,6 +39,13 @@ impl Point {
             )
             .range(Range::NonNegative),
         ],
+    };
+
+    /// How Mitsuba's `point` maps onto it.
+    pub const MITSUBA: Mitsuba = Mitsuba {
+        differences: "`position` is the origin and `intensity` 1 when not given, as in Mitsuba",
+        reads: &["to_world"],
+        adapt: Some(Adapt::Node(adapt::point)),
     };
 
     /// The light of a scene's parameters.

@@ -21,6 +21,9 @@
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
 use crate::description::check::{finite3, nonneg3, range};
+use crate::description::mitsuba::adapt;
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
 
@@ -45,13 +48,14 @@ impl Spot {
         doc: "a point emitting in a cone, falling off linearly in angle toward its edge",
         mitsuba: &["spot"],
         params: &[
-            Param::new("position", Type::Vector, "[0, 0, 0]", "where it is"),
+            Param::new("position", Type::Vector, "[0, 0, 0]", "where it is").penumbra_only(),
             Param::new(
                 "look_at",
                 Type::Vector,
                 "`position` + [0, 0, 1]",
                 "a point on its axis, which it shines toward",
-            ),
+            )
+            .penumbra_only(),
             Param::new(
                 "intensity",
                 Type::Colour,
@@ -72,6 +76,13 @@ impl Spot {
                 "degrees from the axis of full intensity, in [0, `cutoff_angle`]",
             ),
         ],
+    };
+
+    /// How Mitsuba's `spot` maps onto it.
+    pub const MITSUBA: Mitsuba = Mitsuba {
+        differences: "`texture` is refused",
+        reads: &["to_world"],
+        adapt: Some(Adapt::Node(adapt::spot)),
     };
 
     /// The light of a scene's parameters.

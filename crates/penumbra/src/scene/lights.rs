@@ -9,6 +9,7 @@ use std::path::Path;
 use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
+use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::{
     area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Sky, Spot,
@@ -74,6 +75,51 @@ pub const DISK: Schema = Schema {
         area::PARAMS[3],
     ],
 };
+
+/// The emitters as the readers see them: Mitsuba's first, in the order
+/// messages list them.
+pub const PLUGINS: [Plugin; 10] = [
+    Plugin {
+        schema: &Point::SCHEMA,
+        mitsuba: Point::MITSUBA,
+    },
+    Plugin {
+        schema: &Constant::SCHEMA,
+        mitsuba: Constant::MITSUBA,
+    },
+    Plugin {
+        schema: &area::SCHEMA,
+        mitsuba: area::MITSUBA,
+    },
+    Plugin {
+        schema: &Spot::SCHEMA,
+        mitsuba: Spot::MITSUBA,
+    },
+    Plugin {
+        schema: &Directional::SCHEMA,
+        mitsuba: Directional::MITSUBA,
+    },
+    Plugin {
+        schema: &Envmap::SCHEMA,
+        mitsuba: Envmap::MITSUBA,
+    },
+    Plugin {
+        schema: &RECT,
+        mitsuba: Mitsuba::SAME,
+    },
+    Plugin {
+        schema: &SPHERE,
+        mitsuba: Mitsuba::SAME,
+    },
+    Plugin {
+        schema: &DISK,
+        mitsuba: Mitsuba::SAME,
+    },
+    Plugin {
+        schema: &Sky::SCHEMA,
+        mitsuba: Mitsuba::SAME,
+    },
+];
 
 /// Every emitter a scene file names: its lights, and the background's.
 pub const SCHEMAS: [&Schema; 9] = [

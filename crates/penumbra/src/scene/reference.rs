@@ -192,8 +192,10 @@ pub fn mitsuba_table(kind: Kind) -> String {
                     MitsubaKey::Any => "any nested texture".to_string(),
                     _ => format!("`{}`", p.mitsuba_name()?),
                 };
+                // Required in Penumbra, and in Mitsuba unless the
+                // plugin's adapter supplies Mitsuba's default.
                 let default = match p.default {
-                    "required" => " (required)".to_string(),
+                    "required" if mitsuba.adapt.is_none() => " (required)".to_string(),
                     _ => String::new(),
                 };
                 let texture = if p.texturable() { ", texture" } else { "" };

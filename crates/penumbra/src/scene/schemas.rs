@@ -42,6 +42,7 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
         Kind::Shape => &shapes::PLUGINS,
+        Kind::Emitter => &lights::PLUGINS,
         _ => &[],
     }
 }

@@ -253,7 +253,7 @@ pub const SHAPEGROUP: Schema = Schema {
 
 /// How Mitsuba's shapes map onto them.
 const MESH_MITSUBA: Mitsuba = Mitsuba {
-    differences: "`face_normals` (default false) as `smooth = !face_normals`; an OBJ's `flip_tex_coords` is true unless given (as Mitsuba's OBJ reader), a PLY's and a `.serialized` file's is read and not applied",
+    differences: "`filename` is required; `face_normals` (default false) as `smooth = !face_normals`; an OBJ's `flip_tex_coords` is true unless given (as Mitsuba's OBJ reader), a PLY's and a `.serialized` file's is read and not applied",
     reads: &["face_normals"],
     adapt: Some(Adapt::Node(adapt::mesh)),
 };

@@ -30,18 +30,11 @@ pub fn rectangle(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), Sc
     Ok(())
 }
 
-/// Mitsuba's `obj`, `ply` and `serialized`: a `filename` is required;
-/// `face_normals` (default false) is the opposite of `smooth`; an OBJ's
+/// Mitsuba's `obj`, `ply` and `serialized`: `face_normals` (default false) is the opposite of `smooth`; an OBJ's
 /// texture coordinates are flipped unless `flip_tex_coords` is false (what
 /// Mitsuba's OBJ reader does), another file's `flip_tex_coords` is read
 /// and not applied.
 pub fn mesh(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
-    if node.prop("path").is_none() {
-        return Err(error_at(
-            &obj.at,
-            format!("{}: missing `filename`", obj.plugin),
-        ));
-    }
     let (faces, at) =
         get_bool(obj, "face_normals")?.map_or((false, obj.at.clone()), |(b, at)| (b, at.clone()));
     set(node, base, "smooth", &at, |p, at| {
@@ -56,5 +49,84 @@ pub fn mesh(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneEr
     } else {
         node.props.retain(|p| p.name != "flip_tex_coords");
     }
+    Ok(())
+}
+
+/// A colour `name` of 1 in every channel where Mitsuba's emitter is not
+/// given one (Penumbra's requires it).
+fn unit_colour(obj: &Object, node: &mut Node, base: &KeyPath, name: &str) {
+    if node.prop(name).is_none() {
+        set(node, base, name, &obj.at, |p, at| vec3([1.0; 3], p, at));
+    }
+}
+
+/// A direction or position `name` that `to_world` may give instead, as
+/// `from_world` makes it of the matrix; both is an error (`what` names
+/// the emitter); `default` where neither is given (`None`: left out).
+fn placed(
+    obj: &Object,
+    node: &mut Node,
+    base: &KeyPath,
+    (name, what): (&str, &str),
+    from_world: fn(&transform::Mat4) -> [f64; 3],
+    default: Option<[f64; 3]>,
+) -> Result<(), SceneError> {
+    match (node.prop(name).is_some(), get_transform(obj, "to_world")?) {
+        (true, Some((_, at))) => Err(error_at(
+            at,
+            format!("give the {what} `{name}` or `to_world`, not both"),
+        )),
+        (false, Some((m, at))) => {
+            let v = from_world(&m);
+            set(node, base, name, at, |p, at| vec3(v, p, at));
+            Ok(())
+        }
+        (false, None) => {
+            if let Some(v) = default {
+                set(node, base, name, &obj.at, |p, at| vec3(v, p, at));
+            }
+            Ok(())
+        }
+        (true, None) => Ok(()),
+    }
+}
+
+/// Mitsuba's `point`: its `position` or `to_world`'s image of the origin
+/// (the origin without either), `intensity` 1 unless given.
+pub fn point(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
+    let origin = |m: &transform::Mat4| transform::point(m, [0.0; 3]);
+    placed(
+        obj,
+        node,
+        base,
+        ("position", "point light"),
+        origin,
+        Some([0.0; 3]),
+    )?;
+    unit_colour(obj, node, base, "intensity");
+    Ok(())
+}
+
+/// Mitsuba's `spot`: `to_world`'s images of the origin and of +z as its
+/// `position` and `look_at`.
+pub fn spot(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
+    if let Some((m, at)) = get_transform(obj, "to_world")? {
+        let position = transform::point(&m, [0.0; 3]);
+        let look_at = transform::point(&m, [0.0, 0.0, 1.0]);
+        set(node, base, "position", at, |p, at| vec3(position, p, at));
+        set(node, base, "look_at", at, |p, at| vec3(look_at, p, at));
+    }
+    Ok(())
+}
+
+/// Mitsuba's `directional`: its `direction` or `to_world`'s image of +z.
+pub fn directional(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
+    let z = |m: &transform::Mat4| transform::vector(m, [0.0, 0.0, 1.0]);
+    placed(obj, node, base, ("direction", "directional light"), z, None)
+}
+
+/// Mitsuba's `area`: `radiance` 1 unless given.
+pub fn area(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
+    unit_colour(obj, node, base, "radiance");
     Ok(())
 }

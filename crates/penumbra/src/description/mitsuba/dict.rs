@@ -192,7 +192,7 @@ fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
         ("sampler", plugins::SAMPLERS.to_vec()),
         ("shape", of(Kind::Shape)),
         ("bsdf", of(Kind::Bsdf)),
-        ("emitter", plugins::EMITTERS.to_vec()),
+        ("emitter", of(Kind::Emitter)),
         ("texture", of(Kind::Texture)),
     ]
 }

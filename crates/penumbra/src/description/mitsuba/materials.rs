@@ -61,6 +61,28 @@ pub(super) fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
         .collect()
 }
 
+/// Refuses `node`, made of `obj` through `schema`, without a parameter the
+/// schema requires (but the materials a schema holds, counted apart):
+/// `plugin: missing `key``, at the object, under Mitsuba's name.
+pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(), SceneError> {
+    let missing = schema
+        .params
+        .iter()
+        .filter(|p| p.default == "required" && p.ty != Type::Material)
+        .find(|p| node.prop(p.name).is_none());
+    match missing {
+        None => Ok(()),
+        Some(p) => Err(error_at(
+            &obj.at,
+            format!(
+                "{}: missing `{}`",
+                clip(&obj.plugin),
+                p.mitsuba_name().unwrap_or(p.name)
+            ),
+        )),
+    }
+}
+
 impl Out<'_> {
     /// The Penumbra material of a bsdf (made once per name): its name.
     pub(super) fn material(&mut self, obj: &Object) -> Result<String, SceneError> {
@@ -99,6 +121,7 @@ impl Out<'_> {
         self.params(inner, schema, &mut node, &base)?;
         self.texture_children(inner, schema, &mut node, &base)?;
         self.held_materials(inner, schema, &mut node, &base)?;
+        required(inner, schema, &node)?;
         if let Some(flag) = flag {
             set(&mut node, &base, flag, &outer.plugin_at, |p, at| {
                 located(Value::Bool(true), p, at)
@@ -414,6 +437,7 @@ impl Out<'_> {
             located(Value::String(schema.plugin.to_string()), p, at)
         });
         self.params(obj, schema, &mut table, &path)?;
+        required(obj, schema, &table)?;
         Ok(located(Value::Table(table.props), path, at))
     }
 

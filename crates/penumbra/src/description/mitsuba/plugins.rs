@@ -5,10 +5,10 @@
 use std::collections::HashSet;
 
 use super::mapper::{
-    children, file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
-    get_vector, located, matrix, obj_has, render, set, type_error, unsupported, vec3, Out,
+    children, float, get_bool, get_color, get_float, get_int, get_string, get_transform, located,
+    matrix, obj_has, render, set, type_error, unsupported, vec3, Out,
 };
-use super::materials::{mitsuba_keys, plugin_of};
+use super::materials::{mitsuba_keys, plugin_of, required};
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
 use super::registry::{Adapt, Registry};
@@ -20,7 +20,6 @@ use crate::description::tree::{Kind, Node, Prop, Value};
 use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
 /// The plugins read by hand, by tag, in the order messages list them.
-pub const EMITTERS: &[&str] = &["point", "constant", "area", "spot", "directional", "envmap"];
 pub const SENSORS: &[&str] = &["perspective", "thinlens"];
 pub const FILMS: &[&str] = &["hdrfilm"];
 pub const RFILTERS: &[&str] = &[
@@ -556,37 +555,6 @@ impl Out<'_> {
 
     fn emitter(&mut self, obj: &Object) -> Result<(), SceneError> {
         match obj.plugin.as_str() {
-            "point" => {
-                self.no_props(obj, &["position", "to_world", "intensity"])?;
-                self.no_children(obj)?;
-                let i = self.lights.len();
-                let base = KeyPath::root().key("lights").index(i);
-                let mut node = Node::new(Kind::Emitter, "point", obj.at.origin(base.clone()));
-                node.plugin_origin = obj.plugin_at.origin(base.key("type"));
-                let position = match (
-                    get_vector(obj, "position")?,
-                    get_transform(obj, "to_world")?,
-                ) {
-                    (Some(_), Some((_, at))) => {
-                        return Err(error_at(
-                            at,
-                            "give the point light `position` or `to_world`, not both",
-                        ))
-                    }
-                    (Some((p, at)), None) => (p, at.clone()),
-                    (None, Some((m, at))) => (transform::point(&m, [0.0; 3]), at.clone()),
-                    (None, None) => ([0.0; 3], obj.at.clone()),
-                };
-                set(&mut node, &base, "position", &position.1, |p, at| {
-                    vec3(position.0, p, at)
-                });
-                let (intensity, at) = get_color(obj, "intensity", Use::Emission)?
-                    .map_or(([1.0; 3], obj.at.clone()), |(c, at)| (c, at.clone()));
-                set(&mut node, &base, "intensity", &at, |p, at| {
-                    vec3(intensity, p, at)
-                });
-                self.lights.push(node);
-            }
             "constant" => {
                 self.no_props(obj, &["radiance"])?;
                 self.no_children(obj)?;
@@ -611,95 +579,13 @@ impl Out<'_> {
                     "an `area` emitter lights a shape: put it inside a <shape>",
                 ))
             }
-            "spot" | "directional" | "envmap" => self.light(obj)?,
-            _ => return Err(unsupported(obj, "emitter", EMITTERS)),
-        }
-        Ok(())
-    }
-
-    /// A `spot`, `directional` or `envmap` emitter as a `[[lights]]` entry
-    /// of the same name: `to_world` becomes the spot's `position` and
-    /// `look_at` (its origin and the image of +z), the directional light's
-    /// `direction` (the image of +z), the map's `to_world` matrix.
-    fn light(&mut self, obj: &Object) -> Result<(), SceneError> {
-        let names: &[&str] = match obj.plugin.as_str() {
-            "spot" => &["intensity", "cutoff_angle", "beam_width", "to_world"],
-            "directional" => &["irradiance", "direction", "to_world"],
-            _ => &["filename", "scale", "to_world"],
-        };
-        self.no_props(obj, names)?;
-        self.no_children(obj)?;
-        let base = KeyPath::root().key("lights").index(self.lights.len());
-        let mut node = Node::new(Kind::Emitter, &obj.plugin, obj.at.origin(base.clone()));
-        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
-        let to_world = get_transform(obj, "to_world")?;
-        let colour = |name: &str, node: &mut Node| -> Result<(), SceneError> {
-            if let Some((c, at)) = get_color(obj, name, Use::Emission)? {
-                set(node, &base, name, at, |p, at| vec3(c, p, at));
-            }
-            Ok(())
-        };
-        let number = |name: &str, node: &mut Node| -> Result<(), SceneError> {
-            if let Some((x, at)) = get_float(obj, name)? {
-                set(node, &base, name, at, |p, at| float(x, p, at));
-            }
-            Ok(())
-        };
-        match obj.plugin.as_str() {
-            "spot" => {
-                colour("intensity", &mut node)?;
-                number("cutoff_angle", &mut node)?;
-                number("beam_width", &mut node)?;
-                if let Some((m, at)) = to_world {
-                    let position = transform::point(&m, [0.0; 3]);
-                    let look_at = transform::point(&m, [0.0, 0.0, 1.0]);
-                    set(&mut node, &base, "position", at, |p, at| {
-                        vec3(position, p, at)
-                    });
-                    set(&mut node, &base, "look_at", at, |p, at| {
-                        vec3(look_at, p, at)
-                    });
-                }
-            }
-            "directional" => {
-                colour("irradiance", &mut node)?;
-                let direction = match (get_vector(obj, "direction")?, to_world) {
-                    (Some(_), Some((_, at))) => {
-                        return Err(error_at(
-                            at,
-                            "give the directional light `direction` or `to_world`, not both",
-                        ))
-                    }
-                    (Some((d, at)), None) => Some((d, at)),
-                    (None, Some((m, at))) => Some((transform::vector(&m, [0.0, 0.0, 1.0]), at)),
-                    (None, None) => None,
-                };
-                if let Some((d, at)) = direction {
-                    set(&mut node, &base, "direction", at, |p, at| vec3(d, p, at));
-                }
-            }
             _ => {
-                let Some((file, at)) = get_string(obj, "filename")? else {
-                    return Err(error_at(&obj.at, "envmap: missing `filename`"));
-                };
-                let path = self
-                    .reader
-                    .resolve(&file_dir(obj, self.reader.scene_dir), file);
-                let text = self
-                    .reader
-                    .scene_relative(&path)
-                    .to_string_lossy()
-                    .into_owned();
-                set(&mut node, &base, "filename", at, |p, at| {
-                    located(Value::String(text), p, at)
-                });
-                number("scale", &mut node)?;
-                if let Some((m, at)) = to_world {
-                    set(&mut node, &base, "to_world", at, |p, at| matrix(&m, p, at));
-                }
+                self.no_children(obj)?;
+                let base = KeyPath::root().key("lights").index(self.lights.len());
+                let node = self.mapped(Kind::Emitter, obj, base)?;
+                self.lights.push(node);
             }
         }
-        self.lights.push(node);
         Ok(())
     }
 
@@ -798,20 +684,29 @@ impl Out<'_> {
         Ok(node)
     }
 
-    /// The node of a shape other than a group or an instance, at `base`:
-    /// through the schema of the shape that reads its plugin.
-    fn shape_node(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
-        let plugin = plugin_of((self.registry)(Kind::Shape), obj, "shape")?;
+    /// The node of an object of `kind` at `base`, through the schema of
+    /// the plugin of that kind that reads its plugin and the plugin's own
+    /// adapter.
+    fn mapped(&mut self, kind: Kind, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
+        let plugin = plugin_of((self.registry)(kind), obj, kind.name())?;
         let schema = plugin.schema;
         let mut known = mitsuba_keys(schema);
         known.extend(plugin.mitsuba.reads);
         self.no_props(obj, &known)?;
-        let mut node = Node::new(Kind::Shape, schema.plugin, obj.at.origin(base.clone()));
+        let mut node = Node::new(kind, schema.plugin, obj.at.origin(base.clone()));
         node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         self.params(obj, schema, &mut node, &base)?;
         if let Some(Adapt::Node(adapt)) = plugin.mitsuba.adapt {
             adapt(obj, &mut node, &base)?;
         }
+        required(obj, schema, &node)?;
+        Ok(node)
+    }
+
+    /// The node of a shape other than a group or an instance, at `base`,
+    /// with its material and the area emitter it carries.
+    fn shape_node(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
+        let mut node = self.mapped(Kind::Shape, obj, base.clone())?;
         let mut material = None;
         let mut emitter = None;
         for c in children(self.ids, obj)? {
@@ -821,13 +716,9 @@ impl Out<'_> {
                     if c.plugin != "area" {
                         return Err(error_at(&c.plugin_at, format!("a shape carries an `area` emitter, not `{}`", clip(&c.plugin))));
                     }
-                    self.no_props(c, &["radiance"])?;
                     self.no_children(c)?;
-                    let path = base.key("emitter");
-                    let mut e = Node::new(Kind::Emitter, "area", c.at.origin(path.clone()));
-                    let (radiance, at) = get_color(c, "radiance", Use::Emission)?
-                        .map_or(([1.0; 3], c.at.clone()), |(v, at)| (v, at.clone()));
-                    set(&mut e, &path, "radiance", &at, |p, at| vec3(radiance, p, at));
+                    let mut e = self.mapped(Kind::Emitter, c, base.key("emitter"))?;
+                    e.plugin_origin = e.origin.clone();
                     emitter = Some(e);
                 }
                 "bsdf" | "emitter" => {

@@ -34,6 +34,9 @@ mod sphere;
 pub use mesh::MeshLight;
 
 use crate::description::check::{int, nonneg3, required};
+use crate::description::mitsuba::adapt;
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::sample::{area_pdf, LightSample};
@@ -67,9 +70,9 @@ impl PenumbraModel {
 /// carrying one).
 pub const PARAMS: [Param; 4] = [
     Param::new("radiance", Type::Colour, "required", "emitted radiance, ≥ 0").range(Range::NonNegative),
-    Param::new("model", Type::Choice("penumbra model", &PenumbraModel::NAMES), "\"surface\"", "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there"),
-    Param::new("shadow_rays", Type::Int, "render.shadow_rays", "shadow rays per shading point, 1–65536").range(Range::Between(1.0, 65536.0)),
-    Param::new("shadow_distribution", Type::Distribution, "render.shadow_distribution", ""),
+    Param::new("model", Type::Choice("penumbra model", &PenumbraModel::NAMES), "\"surface\"", "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there").penumbra_only(),
+    Param::new("shadow_rays", Type::Int, "render.shadow_rays", "shadow rays per shading point, 1–65536").penumbra_only().range(Range::Between(1.0, 65536.0)),
+    Param::new("shadow_distribution", Type::Distribution, "render.shadow_distribution", "").penumbra_only(),
 ];
 
 /// An `area` emitter, the child of the shape that carries it.
@@ -80,6 +83,13 @@ pub const SCHEMA: Schema = Schema {
     doc: "uniform radiance from the surface of the shape that carries it, sampled by one of two penumbra models",
     mitsuba: &["area"],
     params: &PARAMS,
+};
+
+/// How Mitsuba's `area` maps onto it.
+pub const MITSUBA: Mitsuba = Mitsuba {
+    differences: "`radiance` is 1 when not given, as in Mitsuba",
+    reads: &[],
+    adapt: Some(Adapt::Node(adapt::area)),
 };
 
 /// What an area emitter's parameters say, read and checked; `what` names
