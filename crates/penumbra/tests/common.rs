@@ -80,3 +80,30 @@ pub fn assert_region_is_the_frames(s: &Scene, full: &Image, region: Region, what
         }
     }
 }
+
+/// What a docs file's text becomes with its generated parts written afresh
+/// (`Err`: the markers it lacks).
+pub type Fresh<'a> = &'a dyn Fn(&str) -> Result<String, String>;
+
+/// Checks generated parts of the docs: each file (relative to the
+/// repository) against what `fresh` makes of its text (`Err`: markers it
+/// lacks). With `PENUMBRA_UPDATE_DOCS` set, stale files are rewritten;
+/// otherwise the stale ones are returned.
+pub fn stale_docs(files: &[(&str, Fresh)]) -> Vec<String> {
+    let update = std::env::var_os("PENUMBRA_UPDATE_DOCS").is_some();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut stale = Vec::new();
+    for (file, fresh) in files {
+        let path = repo.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let fresh = fresh(&text).unwrap_or_else(|e| panic!("{file}: {e}"));
+        if fresh != text {
+            if update {
+                std::fs::write(&path, fresh).unwrap();
+            } else {
+                stale.push(file.to_string());
+            }
+        }
+    }
+    stale
+}

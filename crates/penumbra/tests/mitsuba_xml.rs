@@ -332,7 +332,15 @@ fn an_xml_scene_converted_to_toml_reads_back_to_its_tree_and_pixels() {
          <boolean name=\"face_normals\" value=\"true\"/></shape>\n    <emitter type=\"point\">",
     );
     d.write("mesh.xml", with_mesh.as_bytes());
-    for name in ["scene.xml", "mesh.xml"] {
+    let with_group = XML_SCENE.replace(
+        "    <emitter type=\"point\">",
+        "    <shape type=\"shapegroup\" id=\"g\"><shape type=\"obj\">\
+         <string name=\"filename\" value=\"meshes/tri.obj\"/></shape></shape>\
+         <shape type=\"instance\"><ref id=\"g\"/><transform name=\"to_world\">\
+         <translate x=\"0.5\"/></transform></shape>\n    <emitter type=\"point\">",
+    );
+    d.write("group.xml", with_group.as_bytes());
+    for name in ["scene.xml", "mesh.xml", "group.xml"] {
         let xml = SceneSource::open(d.path(name).to_str().unwrap(), &opts).unwrap();
         let text = convert::to_toml(&xml, d.0.path()).unwrap_or_else(|e| panic!("{e}"));
         d.write("scene.toml", text.as_bytes());

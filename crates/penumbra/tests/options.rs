@@ -5,7 +5,9 @@
 //! `PENUMBRA_UPDATE_DOCS=1 cargo test --release -p penumbra --test options`
 //! rewrites the docs' options tables from the definition.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use penumbra::description::{Kind as NodeKind, Node, Value as Prop, RENDER_KEYS};
 use penumbra::emitter::choice::LightChoice;
@@ -16,36 +18,24 @@ use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table,
 use penumbra::scene::schemas;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Scene, SceneSource, StopRule, OPTIONS};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
 #[test]
 fn the_docs_tables_are_the_definitions() {
-    let update = std::env::var_os("PENUMBRA_UPDATE_DOCS").is_some();
-    let docs = [
-        ("README.md", View::CommandLine),
-        ("docs/scene-format.md", View::SceneFile(Table::Render)),
-        ("docs/python.md", View::Python),
-    ];
-    let mut stale = Vec::new();
-    for (file, view) in docs {
-        let path = repo().join(file);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let fresh = replace_section(&text, view).unwrap_or_else(|| {
-            panic!(
-                "{file}: no `<!-- options:{} begin/end -->` markers",
-                view.id()
-            )
-        });
-        if fresh != text {
-            if update {
-                std::fs::write(&path, fresh).unwrap();
-            } else {
-                stale.push(file);
-            }
+    let view = |view: View| {
+        move |text: &str| {
+            replace_section(text, view)
+                .ok_or_else(|| format!("no `<!-- options:{} begin/end -->` markers", view.id()))
         }
-    }
+    };
+    let (cli, file, python) = (
+        view(View::CommandLine),
+        view(View::SceneFile(Table::Render)),
+        view(View::Python),
+    );
+    let stale = common::stale_docs(&[
+        ("README.md", &cli),
+        ("docs/scene-format.md", &file),
+        ("docs/python.md", &python),
+    ]);
     assert!(
         stale.is_empty(),
         "the options tables of {stale:?} differ from crates/penumbra/src/scene/options.rs; \

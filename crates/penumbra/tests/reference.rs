@@ -6,43 +6,31 @@
 //! `PENUMBRA_UPDATE_DOCS=1 cargo test --release -p penumbra --test reference`
 //! rewrites the tables from the schemas.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use penumbra::description::{Kind, Range, Type};
 use penumbra::scene::reference;
 use penumbra::scene::schemas;
 use penumbra::scene::{LoadOptions, SceneSource};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
 #[test]
 fn the_docs_tables_are_the_schemas() {
-    let update = std::env::var_os("PENUMBRA_UPDATE_DOCS").is_some();
-    type Rewrite = fn(&str) -> (String, Vec<String>);
-    let docs: [(&str, Rewrite); 2] = [
-        ("docs/scene-format.md", reference::scene_format),
-        ("docs/mitsuba.md", reference::mitsuba),
-    ];
-    let mut stale = Vec::new();
-    for (file, rewrite) in docs {
-        let path = repo().join(file);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let (fresh, missing) = rewrite(&text);
-        assert!(
-            missing.is_empty(),
-            "{file} has no block for {missing:?}: add `<!-- ID begin -->` and `<!-- ID end -->` \
-             lines where each belongs"
-        );
-        if fresh != text {
-            if update {
-                std::fs::write(&path, fresh).unwrap();
-            } else {
-                stale.push(file);
-            }
+    let fresh = |rewrite: fn(&str) -> (String, Vec<String>)| {
+        move |text: &str| match rewrite(text) {
+            (text, missing) if missing.is_empty() => Ok(text),
+            (_, missing) => Err(format!(
+                "no block for {missing:?}: add `<!-- ID begin -->` and `<!-- ID end -->` \
+                 lines where each belongs"
+            )),
         }
-    }
+    };
+    let (format, mitsuba) = (fresh(reference::scene_format), fresh(reference::mitsuba));
+    let stale = common::stale_docs(&[
+        ("docs/scene-format.md", &format),
+        ("docs/mitsuba.md", &mitsuba),
+    ]);
     assert!(
         stale.is_empty(),
         "the plugin tables of {stale:?} differ from the schemas; rerun with \

@@ -80,6 +80,8 @@ pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
 /// The emitter `render.background` becomes; its one property is `radiance`.
 pub const BACKGROUND_EMITTER: &str = "constant";
+/// The plugin of a `[groups.NAME]` table's node.
+pub const GROUP_SHAPE: &str = "shapegroup";
 /// The emitter an object's `emitter` table is when it names no `type`.
 pub const CARRIED_EMITTER: &str = "area";
 
@@ -163,7 +165,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
         let mut nodes = Vec::new();
         for g in table(groups)?.1 {
             let (origin, props) = table(g.value)?;
-            let mut node = Node::new(Kind::Shape, "shapegroup", origin.clone());
+            let mut node = Node::new(Kind::Shape, GROUP_SHAPE, origin.clone());
             node.id = Some(g.name);
             for p in props {
                 if p.name != "objects" {

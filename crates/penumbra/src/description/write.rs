@@ -11,6 +11,7 @@
 //! | integrator | `render.integrator` |
 //! | sensor, film, sampler | not written: it must be the one lowering makes (`perspective`, `hdrfilm`, `sets`) |
 //! | emitter at `render.background` | not written: it must be `constant` |
+//! | shape group at `groups.NAME` | not written: its table is the group |
 //! | any other node at path `P` (`materials.NAME`, `objects[i]`, `lights[i]`, a child such as `objects[i].emitter`) | `P.type` |
 //!
 //! A tree lowering cannot make (a sensor of another plugin, a datetime, a
@@ -20,7 +21,9 @@
 //! check that.
 
 use super::error::{Invalid, KeyPath, KeySeg, Origin};
-use super::lower::{BACKGROUND_EMITTER, DEFAULT_FILM, DEFAULT_SAMPLER, DEFAULT_SENSOR, ROOT_KEYS};
+use super::lower::{
+    BACKGROUND_EMITTER, DEFAULT_FILM, DEFAULT_SAMPLER, DEFAULT_SENSOR, GROUP_SHAPE, ROOT_KEYS,
+};
 use super::tree::{Kind, Node, Prop, Value};
 
 /// The TOML text of a scene's tree.
@@ -113,6 +116,8 @@ fn write_node(doc: &mut toml::Table, node: &Node) -> Result<(), Invalid> {
         Kind::Film => implied(DEFAULT_FILM)?,
         Kind::Sampler => implied(DEFAULT_SAMPLER)?,
         Kind::Emitter if node.origin.path == background => implied(BACKGROUND_EMITTER)?,
+        // A group's table is its node: `[groups.NAME]` holds its shapes.
+        Kind::Shape if node.plugin == GROUP_SHAPE => {}
         _ => {
             let path = node.origin.path.key("type");
             insert(doc, &path, toml::Value::String(node.plugin.clone()), node)?;

@@ -23,7 +23,10 @@
 //!    ([`values`]: [`number`]s finite, [`transform`]s composed `M = op · M`,
 //!    [`spectrum`]s), ids and aliases registered (each id once), references
 //!    kept by id.
-//! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved:
+//! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved.
+//!    Shapes, emitters, BSDFs and textures map through the schemas of the
+//!    [`Registry`] the caller hands in (`materials.rs` holds the mapping,
+//!    [`adapt`] what some plugins mean otherwise); the rest by hand:
 //!
 //! | Mitsuba | Penumbra node | key path |
 //! |---|---|---|
@@ -32,10 +35,12 @@
 //! | `<film>` `hdrfilm`, its `<rfilter>` | film (width, height, filter) | `render` |
 //! | `<sampler>` | sampler `sets` (spp, seed, distribution, pixel distribution) | `render` |
 //! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
-//! | `<bsdf type="diffuse">` | bsdf `diffuse` with its id or `bsdf_N` | `materials.NAME` |
-//! | `<bsdf type="twosided">` around a diffuse | the same with `two_sided = true` | `materials.NAME` |
-//! | `<shape>` `sphere`, `rectangle`, `obj`, `ply`, `serialized` | shape `sphere`, `quad`, `mesh`; `material`; an `area` emitter child | `objects[i]` |
-//! | `<emitter type="point">` | emitter `point` | `lights[i]` |
+//! | `<emitter>` of another type | the emitter of the registry that reads it | `lights[i]` |
+//! | `<bsdf>` | the model that reads it, with its id or `bsdf_N` | `materials.NAME` |
+//! | `<texture>` in `<scene>` | the texture that reads it | `textures.ID` |
+//! | `<shape type="shapegroup">` | a group of shapes | `groups.ID` |
+//! | `<shape type="instance">` | an `instance` of a group | `objects[i]` |
+//! | `<shape>` of another type | the shape that reads it; `material`; an `area` emitter child | `objects[i]` |
 //!
 //! Anything else is an error at its tag naming what is supported. Every
 //! error is a [`SceneError`] naming the file, line and column.

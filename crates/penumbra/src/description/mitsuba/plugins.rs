@@ -1,6 +1,10 @@
 //! Mitsuba's plugins onto Penumbra's: the objects of a scene into the tree
 //! a TOML scene lowers to, under the same plugin names, property names and
-//! key paths (`objects[2].radius`), every value at its XML tag.
+//! key paths (`objects[2].radius`), every value at its XML tag. The scene's
+//! structure (groups, instances, the background, a shape's material and
+//! emitter) and the integrator, sensor, film, filter and sampler are mapped
+//! here; every other object through its plugin's schema
+//! (`materials.rs`).
 
 use std::collections::HashSet;
 
@@ -134,7 +138,13 @@ pub fn scene(
     node.children.append(&mut out.textures);
     out.bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
     node.children.append(&mut out.bsdfs);
-    node.children.append(&mut out.shapes);
+    // The groups (`groups.ID`, in name order) before the objects, where a
+    // scene file's lowering puts them.
+    let (mut groups, mut objects): (Vec<Node>, Vec<Node>) =
+        out.shapes.drain(..).partition(|n| n.id.is_some());
+    groups.sort_by(|a, b| a.id.cmp(&b.id));
+    node.children.append(&mut groups);
+    node.children.append(&mut objects);
     node.children.append(&mut out.lights);
     Ok(node)
 }
@@ -590,7 +600,9 @@ impl Out<'_> {
     }
 
     fn shape(&mut self, obj: &Object) -> Result<(), SceneError> {
-        let base = KeyPath::root().key("objects").index(self.shapes.len());
+        // Groups are `groups.ID`, not objects.
+        let objects = self.shapes.iter().filter(|n| n.id.is_none()).count();
+        let base = KeyPath::root().key("objects").index(objects);
         let node = match obj.plugin.as_str() {
             "shapegroup" => self.shapegroup(obj)?,
             "instance" => self.instance(obj, base)?,

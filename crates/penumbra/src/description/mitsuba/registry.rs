@@ -108,15 +108,41 @@ pub(crate) mod tests {
         params: &[Param::new("reflectance", Type::ColourTexture, "", "").range(Range::Unit)],
     };
 
+    /// A plugin read by name only.
+    const fn named(kind: Kind, names: &'static [&'static str]) -> Schema {
+        Schema {
+            kind,
+            plugin: names[0],
+            what: "",
+            doc: "",
+            mitsuba: names,
+            params: &[],
+        }
+    }
+
+    const SHAPES: Schema = named(Kind::Shape, &["sphere", "rectangle", "disk"]);
+    const POINT: Schema = named(Kind::Emitter, &["point"]);
+
     const BSDFS: &[Plugin] = &[Plugin {
         schema: &DIFFUSE,
         mitsuba: Mitsuba::SAME,
     }];
+    const SHAPE_PLUGINS: &[Plugin] = &[Plugin {
+        schema: &SHAPES,
+        mitsuba: Mitsuba::SAME,
+    }];
+    const EMITTERS: &[Plugin] = &[Plugin {
+        schema: &POINT,
+        mitsuba: Mitsuba::SAME,
+    }];
 
-    /// A registry of one plugin, `diffuse`, for the reader's own tests.
+    /// A registry of a few plugins (`diffuse`, shapes and a point light
+    /// known by name), for the reader's own tests.
     pub(crate) fn registry(kind: Kind) -> &'static [Plugin] {
         match kind {
             Kind::Bsdf => BSDFS,
+            Kind::Shape => SHAPE_PLUGINS,
+            Kind::Emitter => EMITTERS,
             _ => &[],
         }
     }
