@@ -123,11 +123,23 @@ impl SceneSource {
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
         // The integrator is checked when the scene is built: Mitsuba's
-        // (`path`) may yet be replaced by `--integrator`.
-        let mut checked = loaded.root.clone();
-        checked.children.retain(|c| c.kind != Kind::Integrator);
-        schemas::check(&checked)?;
-        let mut source = SceneSource::from_tree(loaded.root, base_dir, opts);
+        // (`path`) may yet be replaced by `--integrator`. It is set aside
+        // while the rest is checked, and put back where it was.
+        let mut root = loaded.root;
+        let mut integrators = Vec::new();
+        for (i, child) in std::mem::take(&mut root.children).into_iter().enumerate() {
+            if child.kind == Kind::Integrator {
+                integrators.push((i, child));
+            } else {
+                root.children.push(child);
+            }
+        }
+        let checked = schemas::check(&root);
+        for (i, child) in integrators {
+            root.children.insert(i, child);
+        }
+        checked?;
+        let mut source = SceneSource::from_tree(root, base_dir, opts);
         source.warnings = loaded.warnings;
         Ok(source)
     }
