@@ -10,7 +10,7 @@
 use std::ops::Range;
 use std::path::PathBuf;
 
-use toml::de::{DeTable, DeValue};
+use toml::de::{DeFloat, DeInteger, DeTable, DeValue};
 use toml::Spanned;
 
 use super::error::{Invalid, KeyPath, Location, Origin, SceneError};
@@ -67,17 +67,16 @@ pub(crate) fn toml_located(
     let origin = Origin::new(path, Some(source.location(value.span().start)));
     let value = match value.into_inner() {
         DeValue::String(s) => Value::String(s.into_owned()),
-        DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
+        DeValue::Integer(i) => match toml_int(&i) {
             Ok(n) => Value::Int(n),
-            Err(_) => return Err(big_int(&origin, &i.to_string())),
+            Err(text) => return Err(big_int(&origin, &text)),
         },
-        DeValue::Float(f) => match f.as_str().parse::<f64>() {
-            // `inf` and `nan` are written so; any other infinity overflowed.
-            Ok(x) if x.is_finite() || f.as_str().contains(['i', 'n']) => Value::Float(x),
-            _ => {
+        DeValue::Float(f) => match toml_float(&f) {
+            Ok(x) => Value::Float(x),
+            Err(text) => {
                 return Err(Invalid::at(
                     &origin,
-                    format!("number `{}` is out of range of a 64-bit float", f.as_str()),
+                    format!("number `{text}` is out of range of a 64-bit float"),
                 ))
             }
         },
@@ -123,14 +122,8 @@ fn toml_json_value(value: DeValue<'_>, source: &Source<'_>) -> serde_json::Value
     let number = |x: f64| serde_json::Number::from_f64(x).map_or(J::Null, J::Number);
     match value {
         DeValue::String(s) => J::String(s.into_owned()),
-        DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
-            Ok(n) => J::from(n),
-            Err(_) => J::String(i.to_string()),
-        },
-        DeValue::Float(f) => match f.as_str().parse::<f64>() {
-            Ok(x) if x.is_finite() || f.as_str().contains(['i', 'n']) => number(x),
-            _ => J::String(f.as_str().to_string()),
-        },
+        DeValue::Integer(i) => toml_int(&i).map_or_else(J::String, J::from),
+        DeValue::Float(f) => toml_float(&f).map_or_else(J::String, number),
         DeValue::Boolean(b) => J::Bool(b),
         DeValue::Datetime(d) => J::String(d.to_string()),
         DeValue::Array(items) => J::Array(
@@ -140,6 +133,20 @@ fn toml_json_value(value: DeValue<'_>, source: &Source<'_>) -> serde_json::Value
                 .collect(),
         ),
         DeValue::Table(t) => toml_json(t, source),
+    }
+}
+
+/// A TOML integer, or its text when it does not fit in 64 bits.
+fn toml_int(i: &DeInteger<'_>) -> Result<i64, String> {
+    i64::from_str_radix(i.as_str(), i.radix()).map_err(|_| i.to_string())
+}
+
+/// A TOML float, or its text when it is beyond the range of `f64` (`inf`
+/// and `nan` are written so; any other infinity overflowed).
+fn toml_float(f: &DeFloat<'_>) -> Result<f64, String> {
+    match f.as_str().parse::<f64>() {
+        Ok(x) if x.is_finite() || f.as_str().contains(['i', 'n']) => Ok(x),
+        _ => Err(f.as_str().to_string()),
     }
 }
 
