@@ -20,7 +20,10 @@ Sections (--only and --skip take their names):
            scene (a) at 400x300 and of the Whitted frame (--pairs, default
            25), order alternating
   linear   render time against pixels, primary rays and shadow rays
-  memory   maximum resident memory of `penumbra render bunny`
+  memory   maximum resident memory of `penumbra render bunny`; peak memory
+           of reading and building 10,000 instances of the bunny from
+           Mitsuba XML, beyond one bunny's; peak memory of the largest
+           hostile TOML (a 4 MB array of 2 million numbers, refused)
   million  a procedural 1,000,000-triangle mesh: build, render, memory
   points   the cost of a point of each low-discrepancy distribution (sets of
            256) and of a set of one
@@ -613,13 +616,60 @@ def section_linear(args, bins, data):
     return {"rows": rows} | ({"vs": vs} if vs else {})
 
 
-def max_rss(cmd, cwd):
-    p = run(["/usr/bin/time", "-v", *cmd], cwd=cwd)
+def max_rss(cmd, cwd, codes=(0,)):
+    """The maximum resident set size of a command, MB (MiB), and its run;
+    an exit status outside `codes` stops the harness."""
+    p = run(["/usr/bin/time", "-v", *cmd], cwd=cwd, check=False)
+    if p.returncode not in codes:
+        sys.stderr.write(p.stdout + p.stderr)
+        raise SystemExit(f"command failed ({p.returncode}): {cmd[0]}")
     kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr).group(1))
     return kb / 1024, p
 
 
+# Instances of the bunny in the memory section's Mitsuba XML scene.
+MEMORY_INSTANCES = 10_000
+
+
+def instances_xml(bunny, n):
+    """A Mitsuba 3 scene of one shapegroup holding the bunny's PLY and `n`
+    instances of it on a square grid of spacing 0.25 (the bunny is about
+    0.15 across), each turned, scaled and lifted at random, each with its
+    own `to_world`: the scene of instancebench, as XML."""
+    import math
+    import random
+
+    side = max(1, math.ceil(math.sqrt(n)))
+    r = random.Random(1)
+    lines = ['<scene version="3.0.0">',
+             '    <sensor type="perspective">',
+             '        <transform name="to_world"><lookat origin="12, 8, 30" target="12, 0, 12" up="0, 1, 0"/></transform>',
+             '    </sensor>',
+             '    <shape type="shapegroup" id="bunny">',
+             f'        <shape type="ply"><string name="filename" value="{bunny}"/></shape>',
+             '    </shape>']
+    for i in range(n):
+        x, z = (i % side) * 0.25, (i // side) * 0.25
+        lines.append(f'    <shape type="instance"><ref id="bunny"/><transform name="to_world">'
+                     f'<scale value="{r.uniform(0.6, 1.2):.4f}"/><rotate y="1" angle="{r.uniform(0, 360):.3f}"/>'
+                     f'<translate x="{x:g}" y="{r.uniform(0, 0.1):.4f}" z="{z:g}"/></transform></shape>')
+    lines += ['    <emitter type="constant"/>', '</scene>']
+    return "\n".join(lines) + "\n"
+
+
+# The largest scene of the hostile corpus (crates/penumbra-cli/tests/hostile.rs,
+# "array of 2 million numbers"): 4 MB, refused with status 2 at its line.
+HOSTILE_TOML = "[render]\nbackground = [" + "1," * 2_000_000 + "]\n"
+
+
 def section_memory(args, bins, data):
+    """Maximum resident memory of whole `penumbra render` processes: the
+    bunny scene at 800x600; reading and building (a 1x1 render at 1 spp)
+    10,000 instances of the bunny from Mitsuba XML and the same scene with
+    one, and their difference; the largest hostile TOML, which the reader
+    refuses. The scenes are written to a temporary folder."""
+    import tempfile
+
     out, vs = {}, []
     stats = HERE / ".work" / "memory.json"
     for name, extra in (("bunny", []), ("bunny, 64 shadow rays", ["--shadow-rays", "64"])):
@@ -630,7 +680,38 @@ def section_memory(args, bins, data):
         out[name], base = both(bins, data["base"], 0, rss)
         if base is not None:
             vs.append(versus(f"max resident memory, `penumbra render` {name}, MB", [out[name]], [base]))
-    return {"rss_mb": out} | ({"vs": vs} if vs else {})
+    tiny = ["--width", "1", "--height", "1", "--spp", "1", "--quiet"]
+    with tempfile.TemporaryDirectory(prefix="penumbra-memory-") as tmp:
+        tmp = Path(tmp)
+        bunny = Path(data["bunny"]).resolve()
+        scenes = {"one": tmp / "one.xml", "many": tmp / "many.xml"}
+        scenes["one"].write_text(instances_xml(bunny, 1))
+        scenes["many"].write_text(instances_xml(bunny, MEMORY_INSTANCES))
+        hostile = tmp / "hostile.toml"
+        hostile.write_text(HOSTILE_TOML)
+
+        def instances(b):
+            mb = {k: max_rss([b["penumbra"], "render", path, "-o", tmp / "out.png", *tiny], tmp)[0]
+                  for k, path in scenes.items()}
+            return mb | {"beyond": mb["many"] - mb["one"]}
+
+        def refused(b):
+            mb, p = max_rss([b["penumbra"], "render", hostile, "-o", tmp / "out.png", *tiny], tmp, codes=(2,))
+            if f"{hostile.name}:2:" not in p.stderr:
+                raise SystemExit(f"the hostile TOML was not refused at its line: {p.stderr.strip()[:300]}")
+            return mb
+
+        inst, inst_base = both(bins, data["base"], 0, instances)
+        big, big_base = both(bins, data["base"], 0, refused)
+    result = {"rss_mb": out,
+              "instances": {"instances": MEMORY_INSTANCES, "one_mb": inst["one"], "many_mb": inst["many"],
+                            "beyond_mb": inst["beyond"]},
+              "hostile_toml_mb": big}
+    if data["base"] is not None:
+        vs.append(versus(f"{MEMORY_INSTANCES:,} bunny instances from XML: peak memory beyond one bunny, MB",
+                         [inst["beyond"]], [inst_base["beyond"]]))
+        vs.append(versus("largest hostile TOML (4 MB): peak memory, MB", [big], [big_base]))
+    return result | ({"vs": vs} if vs else {})
 
 
 def section_million(args, bins, data):
@@ -923,8 +1004,15 @@ def report(res):
                 f"(quartiles {100 * sc['q1']:.0f}–{100 * sc['q3']:.0f}%)", "—", f"{100 * sc['efficiency']:.0f}%",
                 "—", "≥ 90%", sc["efficiency"] >= 0.9)
     if "memory" in res:
-        for k, v in res["memory"]["rss_mb"].items():
+        m = res["memory"]
+        for k, v in m["rss_mb"].items():
             row(f"max resident memory, `penumbra render` {k}, MB", "—", f(v, 0), "—", "< 100", v < 100)
+        x = m["instances"]
+        row(f"{x['instances']:,} bunny instances from Mitsuba XML, read and built: peak memory beyond one bunny "
+            f"({f(x['many_mb'], 0)} against {f(x['one_mb'], 0)}), MB", "—", f(x["beyond_mb"], 1), "—", "< 50",
+            x["beyond_mb"] < 50)
+        row("largest hostile TOML (a 4 MB array of 2 million numbers, refused): peak memory, MB", "—",
+            f(m["hostile_toml_mb"], 0), "—", "< 400", m["hostile_toml_mb"] < 400)
     if "instances" in res:
         x = res["instances"]
         row(f"{x['instances']:,} bunny instances: read + build, s (wall)", "—", f(x["load_build_s"]), "—", "< 2",

@@ -21,32 +21,119 @@ pub enum KeySeg {
 }
 
 /// The path of a value inside the scene description, as the user wrote it.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
-pub struct KeyPath(pub Vec<KeySeg>);
+///
+/// Paths share their beginnings: a path is the path before its last key
+/// (shared, by reference count, with every other path that starts so) and
+/// up to two array indices after it, kept inline. A table's keys cost one
+/// small allocation each; the elements of an array, and of an array of
+/// arrays (a matrix), none. Two paths are equal when their steps are.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct KeyPath {
+    /// The steps up to the inline indices; `None` at the root.
+    head: Option<Arc<Step>>,
+    /// Up to two indices after `head`, in order, [`NO_INDEX`] where there
+    /// is none (the second only with the first).
+    tail: [u32; 2],
+}
+
+/// The last step of a path beyond its parent's.
+#[derive(PartialEq, Eq, Hash)]
+struct Step {
+    parent: KeyPath,
+    seg: KeySeg,
+}
+
+/// An inline index slot that holds none. Larger indices are steps.
+const NO_INDEX: u32 = u32::MAX;
 
 impl KeyPath {
     pub fn root() -> Self {
-        KeyPath(Vec::new())
+        KeyPath {
+            head: None,
+            tail: [NO_INDEX; 2],
+        }
     }
 
     /// This path extended by a key.
     pub fn key(&self, k: &str) -> Self {
-        let mut p = KeyPath(Vec::with_capacity(self.0.len() + 1));
-        p.0.extend_from_slice(&self.0);
-        p.0.push(KeySeg::Key(k.to_string()));
-        p
+        self.step(KeySeg::Key(k.to_string()))
     }
 
     /// This path extended by an array index.
     pub fn index(&self, i: usize) -> Self {
-        let mut p = KeyPath(Vec::with_capacity(self.0.len() + 1));
-        p.0.extend_from_slice(&self.0);
-        p.0.push(KeySeg::Index(i));
-        p
+        let Some(small) = u32::try_from(i).ok().filter(|&i| i != NO_INDEX) else {
+            return self.step(KeySeg::Index(i));
+        };
+        match self.tail {
+            [NO_INDEX, _] => KeyPath {
+                head: self.head.clone(),
+                tail: [small, NO_INDEX],
+            },
+            [first, NO_INDEX] => KeyPath {
+                head: self.head.clone(),
+                tail: [first, small],
+            },
+            // Both slots taken: the first index becomes a step of the head.
+            [first, second] => {
+                let before = KeyPath {
+                    head: self.head.clone(),
+                    tail: [NO_INDEX; 2],
+                };
+                KeyPath {
+                    head: before.step(KeySeg::Index(first as usize)).head,
+                    tail: [second, small],
+                }
+            }
+        }
+    }
+
+    /// This path and one step more, held by the head.
+    fn step(&self, seg: KeySeg) -> Self {
+        KeyPath {
+            head: Some(Arc::new(Step {
+                parent: self.clone(),
+                seg,
+            })),
+            tail: [NO_INDEX; 2],
+        }
     }
 
     pub fn is_root(&self) -> bool {
-        self.0.is_empty()
+        self.head.is_none() && self.tail[0] == NO_INDEX
+    }
+
+    /// The steps of the path from the root.
+    pub fn segments(&self) -> Vec<KeySeg> {
+        let mut reversed = Vec::new();
+        let mut path = self;
+        loop {
+            for &i in path.tail.iter().rev() {
+                if i != NO_INDEX {
+                    reversed.push(KeySeg::Index(i as usize));
+                }
+            }
+            match &path.head {
+                Some(step) => {
+                    reversed.push(step.seg.clone());
+                    path = &step.parent;
+                }
+                None => break,
+            }
+        }
+        reversed.reverse();
+        reversed
+    }
+}
+
+impl Default for KeyPath {
+    fn default() -> Self {
+        KeyPath::root()
+    }
+}
+
+impl fmt::Debug for KeyPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_tuple("KeyPath").field(&self.segments()).finish()
     }
 }
 
@@ -54,7 +141,7 @@ impl KeyPath {
 /// cut to a few dozen characters.
 impl fmt::Display for KeyPath {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, seg) in self.0.iter().enumerate() {
+        for (i, seg) in self.segments().iter().enumerate() {
             let clip = |k: &str| quote::clip(k, quote::MAX_QUOTED_CHARS).into_owned();
             match seg {
                 KeySeg::Key(k) if i == 0 => write!(f, "{}", clip(k))?,
@@ -223,6 +310,37 @@ mod tests {
         let shown = long.to_string();
         assert!(shown.starts_with("materials.mmm") && shown.ends_with("m…"));
         assert!(shown.chars().count() < 60, "{shown}");
+    }
+
+    #[test]
+    fn paths_of_nested_indices_and_large_indices_print_and_compare_by_their_steps() {
+        let m = KeyPath::root().key("objects").index(3).key("matrix");
+        let deep = m.index(1).index(2).index(3).index(4);
+        assert_eq!(deep.to_string(), "objects[3].matrix[1][2][3][4]");
+        assert_eq!(deep, m.index(1).index(2).index(3).index(4));
+        assert_ne!(deep, m.index(1).index(2).index(3).index(5));
+        assert_ne!(m.index(1), m.index(1).index(0));
+        let big = m.index(usize::MAX).index(u32::MAX as usize).index(7);
+        assert_eq!(
+            big.to_string(),
+            format!("objects[3].matrix[{}][{}][7]", usize::MAX, u32::MAX)
+        );
+        assert_eq!(
+            big.segments().last(),
+            Some(&KeySeg::Index(7)),
+            "{:?}",
+            big.segments()
+        );
+        let hash = |p: &KeyPath| {
+            use std::hash::{BuildHasher, RandomState};
+            let s = RandomState::new();
+            (s.hash_one(p), s.hash_one(p.clone()))
+        };
+        let (a, b) = hash(&deep);
+        assert_eq!(a, b);
+        assert!(KeyPath::root().is_root() && KeyPath::default().is_root());
+        assert!(!KeyPath::root().index(0).is_root());
+        assert_eq!(KeyPath::root(), KeyPath::default());
     }
 
     #[test]

@@ -4,9 +4,11 @@
 //! described in the [module docs](super).
 
 use std::path::Path;
+use std::sync::Arc;
 
-use super::document::{self, Doc, DocEntry, DocValue, MAX_JSON_DEPTH};
-use super::error::{Invalid, KeyPath, Origin, SceneError};
+use super::document::{self, Entry};
+use super::error::{Invalid, KeyPath, Location, Origin, SceneError};
+use super::source::Source;
 use super::tree::{Kind, Located, Node, Prop, Value};
 
 /// Every key of `[render]` and the node it goes to. `integrator` names the
@@ -89,28 +91,44 @@ pub const CARRIED_EMITTER: &str = "area";
 /// nested too deeply are located as the parser reports them; everything
 /// else at the key or value it is about.
 pub fn from_toml(text: &str, file: &Path) -> Result<Node, SceneError> {
-    let doc = document::parse_toml(text, file)?;
-    lower(doc).map_err(SceneError::from)
+    let source = Source::new(text, Arc::new(file.to_path_buf()));
+    let (at, table) = document::parse_toml(&source)?;
+    let entries = document::toml_entries(table, &source);
+    lower(Some(at), entries, |value, path| {
+        document::toml_located(value, path, &source)
+    })
+    .map_err(SceneError::from)
 }
 
 /// A TOML scene as the JSON of the dict that says the same (`file` names
 /// it in syntax errors): what Python's `Scene.to_dict` gives.
 pub fn toml_to_json(text: &str, file: &Path) -> Result<serde_json::Value, SceneError> {
-    Ok(document::parse_toml(text, file)?.to_json())
+    let source = Source::new(text, Arc::new(file.to_path_buf()));
+    let (_, table) = document::parse_toml(&source)?;
+    Ok(document::toml_json(table, &source))
 }
 
 /// Reads a scene given as JSON (a Python dict's): errors name key paths.
 pub fn from_json(value: &serde_json::Value) -> Result<Node, SceneError> {
-    lower(document::from_json(value)).map_err(SceneError::from)
+    let serde_json::Value::Object(object) = value else {
+        let root = document::json_located(value, KeyPath::root(), 0)?;
+        return Err(root.type_error("a table").into());
+    };
+    lower(None, document::json_entries(object), |value, path| {
+        document::json_located(value, path, 1)
+    })
+    .map_err(SceneError::from)
 }
 
-/// The one lowering of a document into the scene's tree.
-fn lower(doc: Doc) -> Result<Node, Invalid> {
-    let root = Origin::new(KeyPath::root(), doc.at.clone());
-    let entries = match doc.value {
-        DocValue::Table(entries) => entries,
-        value => return Err(located(Doc { value, ..doc }, KeyPath::root())?.type_error("a table")),
-    };
+/// The one lowering of a document into the scene's tree: the root table
+/// at `at`, its entries in the order of the input, each value read into
+/// the tree by `read` at its key path as the lowering reaches it.
+fn lower<V>(
+    at: Option<Location>,
+    entries: Vec<Entry<V>>,
+    read: impl Fn(V, KeyPath) -> Result<Located<Value>, Invalid>,
+) -> Result<Node, Invalid> {
+    let root = Origin::new(KeyPath::root(), at);
     let mut parts: [Option<Located<Value>>; 7] = Default::default();
     for entry in entries {
         let Some(i) = ROOT_KEYS.iter().position(|k| *k == entry.key) else {
@@ -121,7 +139,7 @@ fn lower(doc: Doc) -> Result<Node, Invalid> {
                 ROOT_KEYS.iter().copied(),
             ));
         };
-        parts[i] = Some(prop(entry, &root.path)?.value);
+        parts[i] = Some(read(entry.value, root.path.key(&entry.key))?);
     }
     let [render, camera, materials, objects, lights, groups, textures] = parts;
 
@@ -269,68 +287,6 @@ fn plugin_node(
     node.plugin_origin = at;
     node.props = props;
     Ok(node)
-}
-
-/// A key and its value, read into a property at `table`'s path.
-fn prop(entry: DocEntry, table: &KeyPath) -> Result<Prop, Invalid> {
-    let path = table.key(&entry.key);
-    let key = Origin::new(path.clone(), entry.key_at);
-    let value = located(entry.value, path)?;
-    Ok(Prop {
-        name: entry.key,
-        key,
-        value,
-    })
-}
-
-/// A document value with its origin, and every value inside it with its own.
-fn located(doc: Doc, path: KeyPath) -> Result<Located<Value>, Invalid> {
-    let origin = Origin::new(path, doc.at);
-    let value = match doc.value {
-        DocValue::Bool(b) => Value::Bool(b),
-        DocValue::Int(i) => Value::Int(i),
-        DocValue::Float(f) => Value::Float(f),
-        DocValue::String(s) => Value::String(s),
-        DocValue::Datetime(d) => Value::Datetime(d),
-        DocValue::Array(items) => Value::Array(
-            items
-                .into_iter()
-                .enumerate()
-                .map(|(i, item)| located(item, origin.path.index(i)))
-                .collect::<Result<_, _>>()?,
-        ),
-        DocValue::Table(entries) => Value::Table(
-            entries
-                .into_iter()
-                .map(|e| prop(e, &origin.path))
-                .collect::<Result<_, _>>()?,
-        ),
-        DocValue::Null => {
-            return Err(Invalid::at(
-                &origin,
-                "invalid type: null, expected a value (leave the key out for its default)",
-            ))
-        }
-        DocValue::BigInt(n) => {
-            return Err(Invalid::at(
-                &origin,
-                format!("integer `{n}` is out of range of a 64-bit integer"),
-            ))
-        }
-        DocValue::BigFloat(x) => {
-            return Err(Invalid::at(
-                &origin,
-                format!("number `{x}` is out of range of a 64-bit float"),
-            ))
-        }
-        DocValue::TooDeep => {
-            return Err(Invalid::at(
-                &origin,
-                format!("arrays and tables nest more than {MAX_JSON_DEPTH} deep"),
-            ))
-        }
-    };
-    Ok(Located { value, origin })
 }
 
 /// The origin and properties of a table value.

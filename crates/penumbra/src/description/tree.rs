@@ -334,7 +334,7 @@ fn write_located(out: &mut String, v: &Located<Value>) {
 
 fn write_path(out: &mut String, path: &KeyPath) {
     out.push('@');
-    for seg in &path.0 {
+    for seg in path.segments() {
         let _ = match seg {
             KeySeg::Key(k) => write!(out, ".{k:?}"),
             KeySeg::Index(i) => write!(out, "[{i}]"),

@@ -177,7 +177,7 @@ fn insert(
             format!("`{path}` is written twice: the tree has no scene file"),
         )
     };
-    let segs = &path.0;
+    let segs = path.segments();
     let Some((KeySeg::Key(last), init)) = segs.split_last() else {
         return Err(clash());
     };

@@ -119,6 +119,8 @@ pub fn from_xml_file_with(
     }
     let mut ids = objects::Ids::default();
     let scene = objects::read_scene(&root, &reader, &mut ids)?;
+    // The elements are not needed once they are objects.
+    drop(root);
     let root = plugins::scene(&scene, &ids, &reader, registry, lenient, &mut warnings)?;
     Ok(Loaded { root, warnings })
 }

@@ -228,6 +228,9 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
             ids.map.insert(dst.to_string(), target);
         }
     }
+    // Objects live until the tree is made: no room beyond what they hold.
+    obj.props.shrink_to_fit();
+    obj.children.shrink_to_fit();
     if let Some(id) = obj.id.clone() {
         if ids.map.contains_key(&id) {
             let at = &e.attr("id").expect("an id").at;

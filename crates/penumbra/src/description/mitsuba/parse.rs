@@ -38,8 +38,8 @@ pub struct Element {
     pub children: Vec<Element>,
     pub at: Location,
     /// The folder of its file, as a path relative to the scene's folder (or
-    /// absolute).
-    pub dir: PathBuf,
+    /// absolute), shared by the elements of the file.
+    pub dir: Arc<Path>,
     /// Whether its file is older than version 2.0.
     pub old: bool,
 }
@@ -194,7 +194,7 @@ impl<'a> Reader<'a> {
             self.old_files
                 .push((rel.to_path_buf(), version.to_string()));
         }
-        let dir = rel.parent().map(Path::to_path_buf).unwrap_or_default();
+        let dir: Arc<Path> = Arc::from(rel.parent().unwrap_or(Path::new("")));
         let file = FileCtx {
             src: &src,
             dir,
@@ -231,7 +231,7 @@ impl<'a> Reader<'a> {
                 format!("<{}>: XML namespaces are not used by scenes", tag.name()),
             ));
         }
-        let mut attrs = Vec::new();
+        let mut attrs = Vec::with_capacity(node.attributes().len());
         for a in node.attributes() {
             let value_at = file.src.location(a.range_value().start);
             let value = self.substitute(a.value(), &value_at)?;
@@ -265,6 +265,7 @@ impl<'a> Reader<'a> {
         for child in node.children().filter(roxmltree::Node::is_element) {
             self.element(file, child, depth + 1, Some(&element.tag), &mut children)?;
         }
+        children.shrink_to_fit();
         element.children = children;
         out.push(element);
         Ok(())
@@ -400,7 +401,7 @@ impl<'a> Reader<'a> {
 
 struct FileCtx<'s, 't> {
     src: &'s Source<'t>,
-    dir: PathBuf,
+    dir: Arc<Path>,
     old: bool,
 }
 
