@@ -28,7 +28,7 @@ use std::rc::Rc;
 
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
-use super::materials::mitsuba_names;
+use super::mapping::mitsuba_names;
 use super::objects::{error_at, Child, Ids, Object, Place, Property, OBJECT_TAGS};
 use super::parse::clip;
 use super::plugins;

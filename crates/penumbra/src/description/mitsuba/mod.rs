@@ -25,7 +25,7 @@
 //!    kept by id.
 //! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved.
 //!    Shapes, emitters, BSDFs and textures map through the schemas of the
-//!    [`Registry`] the caller hands in (`materials.rs` holds the mapping,
+//!    [`Registry`] the caller hands in (`mapping.rs` holds the mapping,
 //!    [`adapt`] what some plugins mean otherwise); the rest by hand:
 //!
 //! | Mitsuba | Penumbra node | key path |
@@ -52,6 +52,7 @@
 pub mod adapt;
 pub mod dict;
 mod mapper;
+mod mapping;
 mod materials;
 pub mod number;
 pub mod objects;

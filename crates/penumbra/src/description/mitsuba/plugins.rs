@@ -4,7 +4,7 @@
 //! structure (groups, instances, the background, a shape's material and
 //! emitter) and the integrator, sensor, film, filter and sampler are mapped
 //! here; every other object through its plugin's schema
-//! (`materials.rs`).
+//! (`mapping.rs`, `materials.rs`).
 
 use std::collections::HashSet;
 
@@ -12,7 +12,7 @@ use super::mapper::{
     children, float, get_bool, get_color, get_float, get_int, get_string, get_transform, located,
     matrix, obj_has, render, set, type_error, unsupported, vec3, Out,
 };
-use super::materials::{mitsuba_keys, plugin_of, required};
+use super::mapping::{mitsuba_keys, plugin_of, required};
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
 use super::registry::{Adapt, Registry};

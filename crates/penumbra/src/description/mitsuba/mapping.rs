@@ -1,0 +1,205 @@
+//! The mapping of a Mitsuba object through the schema of the Penumbra
+//! plugin that reads it (see [`registry`](super::registry)): the plugin
+//! found by its Mitsuba name, each parameter read under Mitsuba's name for
+//! it and converted as its type says — a colour from `<rgb>`, `<spectrum>`
+//! or a number (a colour in [0, 1] and a texture's colours as a
+//! reflectance, any other colour — an emission, a conductor's index — as
+//! an unbounded spectrum), a number, an integer, a boolean, a string (a
+//! file name found as a mesh's is and written relative to the scene's
+//! folder), a transform (a placement's 4 × 4, or `to_uv`'s upper-left 2 ×
+//! 2 and translation) — and a parameter the schema requires checked.
+
+use super::mapper::{
+    file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
+    get_vector, located, matrix, type_error, unsupported, vec3, Out,
+};
+use super::objects::{error_at, Object, Place};
+use super::parse::clip;
+use super::registry::Plugin;
+use super::spectrum::Use;
+use super::values::PropValue;
+use crate::description::error::{KeyPath, SceneError};
+use crate::description::schema::{MitsubaKey, Param, Range, Schema, Type};
+use crate::description::tree::{Kind, Located, Node, Prop, Value};
+
+/// The Mitsuba names of a kind's plugins, in the registry's order.
+pub(super) fn mitsuba_names(plugins: &[Plugin]) -> Vec<&'static str> {
+    plugins
+        .iter()
+        .flat_map(|p| p.schema.mitsuba.iter().copied())
+        .collect()
+}
+
+/// The plugin of `kind` that reads `obj`, or the error naming those there
+/// are (`what`: the tag in the message).
+pub(super) fn plugin_of(
+    plugins: &'static [Plugin],
+    obj: &Object,
+    what: &str,
+) -> Result<&'static Plugin, SceneError> {
+    plugins
+        .iter()
+        .find(|p| p.reads(&obj.plugin))
+        .ok_or_else(|| unsupported(obj, what, &mitsuba_names(plugins)))
+}
+
+/// The Mitsuba properties a schema reads: every parameter's Mitsuba name
+/// but those set by nested objects.
+pub(super) fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
+    schema
+        .params
+        .iter()
+        .filter(|p| p.ty != Type::Material && p.mitsuba != MitsubaKey::Any)
+        .filter_map(|p| p.mitsuba_name())
+        .collect()
+}
+
+/// Refuses `node`, made of `obj` through `schema`, without a parameter the
+/// schema requires (but the materials a schema holds, counted apart):
+/// `plugin: missing `key``, at the object, under Mitsuba's name.
+pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(), SceneError> {
+    let missing = schema
+        .params
+        .iter()
+        .filter(|p| p.default == "required" && p.ty != Type::Material)
+        .find(|p| node.prop(p.name).is_none());
+    match missing {
+        None => Ok(()),
+        Some(p) => Err(error_at(
+            &obj.at,
+            format!(
+                "{}: missing `{}`",
+                clip(&obj.plugin),
+                p.mitsuba_name().unwrap_or(p.name)
+            ),
+        )),
+    }
+}
+
+impl Out<'_> {
+    /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
+    /// gives under Mitsuba's name, in the schema's order.
+    pub(super) fn params(
+        &self,
+        obj: &Object,
+        schema: &Schema,
+        node: &mut Node,
+        base: &KeyPath,
+    ) -> Result<(), SceneError> {
+        for param in schema.params {
+            let Some(key) = param.mitsuba_name() else {
+                continue;
+            };
+            if let Some((value, at)) =
+                self.value(obj, key, param, schema.kind, base.key(param.name))?
+            {
+                let origin = at.origin(base.key(param.name));
+                node.props.push(Prop::new(param.name, origin, value));
+            }
+        }
+        Ok(())
+    }
+
+    /// The property `key` of `obj` as the value of `param` (of a plugin of
+    /// `kind`) at `path`, and where it is written; `None` when `obj` does
+    /// not give it.
+    fn value(
+        &self,
+        obj: &Object,
+        key: &str,
+        param: &Param,
+        kind: Kind,
+        path: KeyPath,
+    ) -> Result<Option<(Located<Value>, Place)>, SceneError> {
+        let at = |a: &Place| a.clone();
+        Ok(match param.ty {
+            Type::Colour | Type::ColourTexture => {
+                let usage = if param.range == Range::Unit || kind == Kind::Texture {
+                    Use::Reflectance
+                } else {
+                    Use::Emission
+                };
+                get_color(obj, key, usage)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+            }
+            Type::Number | Type::NumberTexture => {
+                get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
+            }
+            Type::Int => get_int(obj, key)?.map(|(i, a)| (located(Value::Int(i), path, a), at(a))),
+            Type::Bool => {
+                get_bool(obj, key)?.map(|(b, a)| (located(Value::Bool(b), path, a), at(a)))
+            }
+            Type::String | Type::Choice(..) | Type::Distribution => get_string(obj, key)?
+                .map(|(s, a)| (located(Value::String(s.to_string()), path, a), at(a))),
+            Type::Path => match get_string(obj, key)? {
+                None => None,
+                Some((name, a)) => {
+                    let file = self
+                        .reader
+                        .resolve(&file_dir(obj, self.reader.scene_dir), name);
+                    let text = self
+                        .reader
+                        .scene_relative(&file)
+                        .to_string_lossy()
+                        .into_owned();
+                    Some((located(Value::String(text), path, a), at(a)))
+                }
+            },
+            Type::NumberOrChoice(..) => match obj.prop(key) {
+                Some(p) => match &p.value {
+                    PropValue::String(s) => {
+                        Some((located(Value::String(s.clone()), path, &p.at), p.at.clone()))
+                    }
+                    _ => get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a))),
+                },
+                None => None,
+            },
+            Type::Vector => get_vector(obj, key)?.map(|(v, a)| (vec3(v, path, a), at(a))),
+            Type::Matrix4 => get_transform(obj, key)?.map(|(m, a)| (matrix(&m, path, a), at(a))),
+            Type::Table(keys) => {
+                get_transform(obj, key)?.map(|(m, a)| (transform_table(&m, keys, path, a), at(a)))
+            }
+            Type::Numbers(_) | Type::Scale | Type::Scale2 | Type::Matrix3 | Type::Material => {
+                match obj.prop(key) {
+                    None => None,
+                    Some(p) => {
+                        return Err(type_error(p, "a value Penumbra does not read from Mitsuba"))
+                    }
+                }
+            }
+        })
+    }
+}
+
+/// A Mitsuba transform as a table of `keys` at `path`: a 3 × 3 `matrix`
+/// (of `(u, v)`: the upper-left 2 × 2 and the translation of the 4 × 4, as
+/// Mitsuba takes `to_uv`) where the table takes one, else the 4 × 4.
+fn transform_table(
+    m: &super::transform::Mat4,
+    keys: &[Param],
+    path: KeyPath,
+    at: &Place,
+) -> Located<Value> {
+    let inner = path.key("matrix");
+    let value = if keys
+        .iter()
+        .any(|k| k.name == "matrix" && k.ty == Type::Matrix3)
+    {
+        let uv = [
+            [m[0][0], m[0][1], m[0][3]],
+            [m[1][0], m[1][1], m[1][3]],
+            [0.0, 0.0, 1.0],
+        ];
+        let rows = (0..3)
+            .map(|r| {
+                let row = inner.index(r);
+                let items = (0..3).map(|c| float(uv[r][c], row.index(c), at)).collect();
+                located(Value::Array(items), row, at)
+            })
+            .collect();
+        located(Value::Array(rows), inner.clone(), at)
+    } else {
+        matrix(m, inner.clone(), at)
+    };
+    let table = vec![Prop::new("matrix", at.origin(inner), value)];
+    located(Value::Table(table), path, at)
+}
