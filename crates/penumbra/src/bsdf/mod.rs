@@ -163,10 +163,7 @@ macro_rules! models {
             pub const SCHEMAS: &'static [&'static Schema] = &[$(&<$model as BsdfModel>::SCHEMA,)*];
 
             /// The models as the readers see them.
-            pub const PLUGINS: &'static [Plugin] = &[$(Plugin {
-                schema: &<$model as BsdfModel>::SCHEMA,
-                mitsuba: <$model as BsdfModel>::MITSUBA,
-            },)*];
+            pub const PLUGINS: &'static [Plugin] = &[$(Plugin::new(&<$model as BsdfModel>::SCHEMA, <$model as BsdfModel>::MITSUBA),)*];
 
             /// The model `name` of the parameters `p`; `None` for a name
             /// that is not a model's.

@@ -79,46 +79,16 @@ pub const DISK: Schema = Schema {
 /// The emitters as the readers see them: Mitsuba's first, in the order
 /// messages list them.
 pub const PLUGINS: [Plugin; 10] = [
-    Plugin {
-        schema: &Point::SCHEMA,
-        mitsuba: Point::MITSUBA,
-    },
-    Plugin {
-        schema: &Constant::SCHEMA,
-        mitsuba: Constant::MITSUBA,
-    },
-    Plugin {
-        schema: &area::SCHEMA,
-        mitsuba: area::MITSUBA,
-    },
-    Plugin {
-        schema: &Spot::SCHEMA,
-        mitsuba: Spot::MITSUBA,
-    },
-    Plugin {
-        schema: &Directional::SCHEMA,
-        mitsuba: Directional::MITSUBA,
-    },
-    Plugin {
-        schema: &Envmap::SCHEMA,
-        mitsuba: Envmap::MITSUBA,
-    },
-    Plugin {
-        schema: &RECT,
-        mitsuba: Mitsuba::SAME,
-    },
-    Plugin {
-        schema: &SPHERE,
-        mitsuba: Mitsuba::SAME,
-    },
-    Plugin {
-        schema: &DISK,
-        mitsuba: Mitsuba::SAME,
-    },
-    Plugin {
-        schema: &Sky::SCHEMA,
-        mitsuba: Mitsuba::SAME,
-    },
+    Plugin::new(&Point::SCHEMA, Point::MITSUBA),
+    Plugin::new(&Constant::SCHEMA, Constant::MITSUBA),
+    Plugin::new(&area::SCHEMA, area::MITSUBA),
+    Plugin::new(&Spot::SCHEMA, Spot::MITSUBA),
+    Plugin::new(&Directional::SCHEMA, Directional::MITSUBA),
+    Plugin::new(&Envmap::SCHEMA, Envmap::MITSUBA),
+    Plugin::new(&RECT, Mitsuba::SAME),
+    Plugin::new(&SPHERE, Mitsuba::SAME),
+    Plugin::new(&DISK, Mitsuba::SAME),
+    Plugin::new(&Sky::SCHEMA, Mitsuba::SAME),
 ];
 
 /// Every emitter a scene file names: its lights, and the background's.

@@ -260,10 +260,7 @@ const MESH_MITSUBA: Mitsuba = Mitsuba {
 
 /// The shapes as the readers see them.
 pub const PLUGINS: [Plugin; 9] = [
-    Plugin {
-        schema: &SPHERE,
-        mitsuba: Mitsuba::differs("only uniform scale outside a group"),
-    },
+    Plugin::new(&SPHERE, Mitsuba::differs("only uniform scale outside a group")),
     Plugin {
         schema: &QUAD,
         mitsuba: Mitsuba {
@@ -272,32 +269,17 @@ pub const PLUGINS: [Plugin; 9] = [
             adapt: Some(Adapt::Node(adapt::rectangle)),
         },
     },
-    Plugin {
-        schema: &MESH,
-        mitsuba: MESH_MITSUBA,
-    },
-    Plugin {
-        schema: &RECTANGLE,
-        mitsuba: Mitsuba::SAME,
-    },
-    Plugin {
-        schema: &DISK,
-        mitsuba: Mitsuba::differs("only uniform scale outside a group"),
-    },
-    Plugin {
-        schema: &CUBE,
-        mitsuba: Mitsuba::SAME,
-    },
+    Plugin::new(&MESH, MESH_MITSUBA),
+    Plugin::new(&RECTANGLE, Mitsuba::SAME),
+    Plugin::new(&DISK, Mitsuba::differs("only uniform scale outside a group")),
+    Plugin::new(&CUBE, Mitsuba::SAME),
     Plugin {
         schema: &CYLINDER,
         mitsuba: Mitsuba::differs(
             "only uniform scale outside a group (Mitsuba also takes an elliptic tube)",
         ),
     },
-    Plugin {
-        schema: &INSTANCE,
-        mitsuba: Mitsuba::differs("`<ref id=\"g\"/>` to a shapegroup as `group = \"g\"`"),
-    },
+    Plugin::new(&INSTANCE, Mitsuba::differs("`<ref id=\"g\"/>` to a shapegroup as `group = \"g\"`")),
     Plugin {
         schema: &SHAPEGROUP,
         mitsuba: Mitsuba::differs("`[groups.ID]`; a shape in it carrying an `area` emitter is refused, as Mitsuba refuses it"),

@@ -107,10 +107,7 @@ macro_rules! textures {
                 &[$(&<$module::$variant as TextureModel>::SCHEMA,)*];
 
             /// The textures as the readers see them.
-            pub const PLUGINS: &'static [Plugin] = &[$(Plugin {
-                schema: &<$module::$variant as TextureModel>::SCHEMA,
-                mitsuba: <$module::$variant as TextureModel>::MITSUBA,
-            },)*];
+            pub const PLUGINS: &'static [Plugin] = &[$(Plugin::new(&<$module::$variant as TextureModel>::SCHEMA, <$module::$variant as TextureModel>::MITSUBA),)*];
 
             /// The texture `plugin` of the parameters `p`; `None` for a
             /// name that is not a texture's.

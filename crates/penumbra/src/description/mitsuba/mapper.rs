@@ -70,10 +70,17 @@ pub(super) fn vec3(v: [f64; 3], path: KeyPath, at: &Place) -> Located<Value> {
 }
 
 pub(super) fn matrix(m: &Mat4, path: KeyPath, at: &Place) -> Located<Value> {
-    let rows = (0..4)
-        .map(|r| {
+    rows(m, path, at)
+}
+
+/// A matrix as an array of its rows, each an array of numbers.
+pub(super) fn rows<const C: usize>(m: &[[f64; C]], path: KeyPath, at: &Place) -> Located<Value> {
+    let rows = m
+        .iter()
+        .enumerate()
+        .map(|(r, values)| {
             let row = path.index(r);
-            let items = (0..4).map(|c| float(m[r][c], row.index(c), at)).collect();
+            let items = (0..C).map(|c| float(values[c], row.index(c), at)).collect();
             located(Value::Array(items), row, at)
         })
         .collect();

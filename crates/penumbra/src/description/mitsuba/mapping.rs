@@ -11,7 +11,7 @@
 
 use super::mapper::{
     file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
-    get_vector, located, matrix, type_error, unsupported, vec3, Out,
+    get_vector, located, matrix, rows, type_error, unsupported, vec3, Out,
 };
 use super::objects::{error_at, Object, Place};
 use super::parse::clip;
@@ -189,14 +189,7 @@ fn transform_table(
             [m[1][0], m[1][1], m[1][3]],
             [0.0, 0.0, 1.0],
         ];
-        let rows = (0..3)
-            .map(|r| {
-                let row = inner.index(r);
-                let items = (0..3).map(|c| float(uv[r][c], row.index(c), at)).collect();
-                located(Value::Array(items), row, at)
-            })
-            .collect();
-        located(Value::Array(rows), inner.clone(), at)
+        rows(&uv, inner.clone(), at)
     } else {
         matrix(m, inner.clone(), at)
     };

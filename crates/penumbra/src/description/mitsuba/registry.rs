@@ -69,6 +69,11 @@ pub struct Plugin {
 }
 
 impl Plugin {
+    /// The plugin of `schema`, mapped from Mitsuba as `mitsuba` says.
+    pub const fn new(schema: &'static Schema, mitsuba: Mitsuba) -> Plugin {
+        Plugin { schema, mitsuba }
+    }
+
     /// True if Mitsuba's plugin `name` maps onto this one.
     pub fn reads(&self, name: &str) -> bool {
         self.schema.mitsuba.contains(&name)
