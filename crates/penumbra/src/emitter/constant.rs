@@ -8,6 +8,7 @@
 //!
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
+use super::EmitterModel;
 use crate::description::check::{nonneg3, required};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
@@ -71,6 +72,31 @@ impl Constant {
     /// The density of [`sample`](Self::sample) for any direction.
     pub fn pdf(&self) -> f32 {
         square_to_uniform_sphere_pdf(Vec3::Z)
+    }
+}
+
+impl EmitterModel for Constant {
+    #[inline]
+    fn is_infinite(&self) -> bool {
+        true
+    }
+
+    fn power(&self, radius: f32) -> f32 {
+        Constant::power(self, radius)
+    }
+
+    #[inline]
+    fn eval_miss(&self, _dir: Vec3) -> Rgb {
+        self.radiance
+    }
+
+    fn sample_direction(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        let (dir, pdf) = Constant::sample(self, u);
+        Some((dir, self.radiance, pdf))
+    }
+
+    fn pdf_direction(&self, _dir: Vec3) -> f32 {
+        Constant::pdf(self)
     }
 }
 

@@ -13,12 +13,14 @@
 //! it as `direction`.
 
 use super::sample::LightSample;
+use super::EmitterModel;
 use crate::description::check::{nonneg3, nonzero3};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
+use crate::sampling::Distribution;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Directional {
@@ -106,6 +108,26 @@ impl Directional {
             weight: self.irradiance,
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterModel for Directional {
+    #[inline]
+    fn is_delta(&self) -> bool {
+        true
+    }
+
+    fn fit(&mut self, center: Vec3, radius: f32) {
+        Directional::fit(self, center, radius);
+    }
+
+    fn power(&self, radius: f32) -> f32 {
+        Directional::power(self, radius)
+    }
+
+    #[inline]
+    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        Directional::sample(self, p)
     }
 }
 

@@ -29,6 +29,7 @@ use crate::input::image::{read_image, Encoding};
 use crate::math::{Mat3, Rgb, Vec2, Vec3};
 use crate::sampling::piecewise2d::Piecewise2D;
 
+use super::EmitterModel;
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug)]
@@ -227,6 +228,30 @@ impl Envmap {
             return 0.0;
         }
         self.map.distribution.pdf(uv) / (2.0 * PI * PI * sin_t)
+    }
+}
+
+impl EmitterModel for Envmap {
+    #[inline]
+    fn is_infinite(&self) -> bool {
+        true
+    }
+
+    fn power(&self, radius: f32) -> f32 {
+        Envmap::power(self, radius)
+    }
+
+    #[inline]
+    fn eval_miss(&self, dir: Vec3) -> Rgb {
+        Envmap::eval(self, dir)
+    }
+
+    fn sample_direction(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        Envmap::sample(self, u)
+    }
+
+    fn pdf_direction(&self, dir: Vec3) -> f32 {
+        Envmap::pdf(self, dir)
     }
 }
 

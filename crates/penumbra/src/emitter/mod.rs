@@ -20,8 +20,10 @@
 //! | [`envmap`] | at infinity | radiance from every direction, read from an equirectangular image; importance-sampled |
 //! | [`sky`] | at infinity | a gradient sky and a sun disc, computed into an `envmap` when the scene is built |
 //!
-//! A closed enum with one dispatch point (this file): one match per
-//! question, inlined into the shading loops.
+//! Each emitter implements [`EmitterModel`]; the closed enum [`Emitter`]
+//! and its dispatch are made by the `emitters!` list in this file, one
+//! line per emitter, one match per question, inlined into the shading
+//! loops.
 
 pub mod area;
 pub mod bounds;
@@ -46,207 +48,260 @@ pub use spot::Spot;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec};
 
-/// An emitter, ready to be sampled.
-#[derive(Clone, Debug)]
-pub enum Emitter {
-    Point(Point),
-    Area(Area),
-    Constant(Constant),
-    Spot(Spot),
-    Directional(Directional),
-    Envmap(Envmap),
-}
-
-/// The shadow sets of a point light: one ray (every ray would be the same).
-const ONE_RAY: EffectSpec = EffectSpec {
+/// The shadow sets of an emitter without extent: one ray (every ray would
+/// be the same).
+pub const ONE_RAY: EffectSpec = EffectSpec {
     rays: 1,
     distribution: Distribution::Grid,
 };
 
-impl Emitter {
+/// What every emitter answers (see the [module docs](self)); the defaults
+/// are those of an emitter without the property (no surface, not at
+/// infinity, not a delta light, sampled by one ray).
+pub trait EmitterModel {
     /// Rays per shadow set and their distribution.
     #[inline]
-    pub fn shadow(&self) -> EffectSpec {
-        match self {
-            Emitter::Area(a) => a.shadow,
-            Emitter::Point(_)
-            | Emitter::Constant(_)
-            | Emitter::Spot(_)
-            | Emitter::Directional(_)
-            | Emitter::Envmap(_) => ONE_RAY,
-        }
+    fn shadow(&self) -> EffectSpec {
+        ONE_RAY
     }
 
-    /// A point, spot or directional light has no extent: every shadow ray
-    /// toward it would be the same.
+    /// True for an emitter without extent (a point, spot or directional
+    /// light): every shadow ray toward it would be the same.
     #[inline]
-    pub fn is_delta(&self) -> bool {
-        matches!(
-            self,
-            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Directional(_)
-        )
+    fn is_delta(&self) -> bool {
+        false
     }
 
     /// True for an emitter at infinity that rays that hit nothing see
     /// (`constant`, `envmap`; a directional light is at infinity but seen
     /// by no ray, sampled as a delta light).
     #[inline]
-    pub fn is_infinite(&self) -> bool {
-        matches!(self, Emitter::Constant(_) | Emitter::Envmap(_))
+    fn is_infinite(&self) -> bool {
+        false
     }
 
-    /// Fits the emitter to the scene's bounding sphere: a directional
-    /// light's shadow rays leave it.
-    pub fn fit(&mut self, center: Vec3, radius: f32) {
-        if let Emitter::Directional(d) = self {
-            d.fit(center, radius);
-        }
-    }
+    /// Fits the emitter to the scene's bounding sphere.
+    fn fit(&mut self, _center: Vec3, _radius: f32) {}
 
     /// The power it emits (W, mean over the colour channels); for an
-    /// emitter at infinity (`constant`, `envmap`, `directional`) the power
-    /// it brings into the scene's bounding sphere of radius `radius`, as
-    /// pbrt-v4 counts it.
-    pub fn power(&self, radius: f32) -> f32 {
-        match self {
-            Emitter::Point(p) => p.power(),
-            Emitter::Area(a) => a.power(),
-            Emitter::Spot(s) => s.power(),
-            Emitter::Constant(c) => c.power(radius),
-            Emitter::Directional(d) => d.power(radius),
-            Emitter::Envmap(e) => e.power(radius),
-        }
-    }
+    /// emitter at infinity the power it brings into the scene's bounding
+    /// sphere of radius `radius`, as pbrt-v4 counts it.
+    fn power(&self, radius: f32) -> f32;
 
-    /// Its bounds for a light BVH; `None` for an emitter at infinity
-    /// (`constant`, `envmap`, `directional`), which has none.
-    pub fn bounds(&self) -> Option<bounds::LightBounds> {
-        match self {
-            Emitter::Point(p) => Some(p.bounds()),
-            Emitter::Area(a) => Some(a.bounds()),
-            Emitter::Spot(s) => Some(s.bounds()),
-            Emitter::Constant(_) | Emitter::Directional(_) | Emitter::Envmap(_) => None,
-        }
-    }
-
-    /// Shadow rays actually traced per shading point.
-    #[inline]
-    pub fn shadow_rays(&self) -> u32 {
-        if self.is_delta() {
-            1
-        } else {
-            self.shadow().rays
-        }
+    /// Its bounds for a light BVH; `None` for an emitter at infinity.
+    fn bounds(&self) -> Option<bounds::LightBounds> {
+        None
     }
 
     /// Radiance leaving the emitter's surface toward `-dir` at a point with
     /// geometric normal `n`; zero for emitters without a surface.
     #[inline]
-    pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
-        match self {
-            Emitter::Area(a) => a.emitted(n, dir),
-            Emitter::Point(_)
-            | Emitter::Constant(_)
-            | Emitter::Spot(_)
-            | Emitter::Directional(_)
-            | Emitter::Envmap(_) => Rgb::ZERO,
-        }
+    fn eval(&self, _n: Vec3, _dir: Vec3) -> Rgb {
+        Rgb::ZERO
     }
 
-    /// Radiance arriving along `dir` from infinity (what a ray that hits
-    /// nothing sees of this emitter).
+    /// Radiance arriving along `dir` from infinity.
     #[inline]
-    pub fn eval_miss(&self, dir: Vec3) -> Rgb {
-        match self {
-            Emitter::Constant(c) => c.radiance,
-            Emitter::Envmap(e) => e.eval(dir),
-            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
-                Rgb::ZERO
-            }
-        }
+    fn eval_miss(&self, _dir: Vec3) -> Rgb {
+        Rgb::ZERO
     }
 
-    /// Samples the emitter for a batch of distribution points: sample `k`
-    /// seen from the shading point `at(k)` with the point `points[k]`,
-    /// appended to `out` (`None` where the point gives no sample: on the
-    /// back of the light, say). The one way an emitter is sampled. A
-    /// rectangle sampled on its surface by a square distribution takes its
-    /// points four at a time through its kernel, which gives lane by lane
-    /// the bits of the portable form (the same operations in the same order,
-    /// with no fused ones); the rest of a batch, and every other emitter, go
-    /// point by point. An emitter at infinity gives no samples (it is seen,
-    /// not sampled, by the integrators that shade with this).
-    pub fn sample(
+    /// Samples for a batch of distribution points (see
+    /// [`Emitter::sample`]): one by one through
+    /// [`sample_one`](Self::sample_one) unless the emitter has a kernel.
+    #[inline]
+    fn sample(
         &self,
         at: impl Fn(usize) -> Vec3,
         points: &[Vec3],
         d: Distribution,
         out: &mut Vec<Option<LightSample>>,
     ) {
-        match self {
-            Emitter::Area(a) => a.sample(at, points, d, out),
-            Emitter::Point(p) => out.extend((0..points.len()).map(|k| p.sample(at(k)))),
-            Emitter::Spot(s) => out.extend((0..points.len()).map(|k| s.sample(at(k)))),
-            Emitter::Directional(d) => out.extend((0..points.len()).map(|k| d.sample(at(k)))),
-            Emitter::Constant(_) | Emitter::Envmap(_) => out.extend(points.iter().map(|_| None)),
-        }
+        out.extend((0..points.len()).map(|k| self.sample_one(at(k), points[k], d)));
     }
 
-    /// One sample of [`sample`](Self::sample), the portable form.
-    pub fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        match self {
-            Emitter::Area(a) => a.sample_one(p, point, d),
-            Emitter::Point(l) => l.sample(p),
-            Emitter::Spot(s) => s.sample(p),
-            Emitter::Directional(d) => d.sample(p),
-            Emitter::Constant(_) | Emitter::Envmap(_) => None,
-        }
+    /// One sample seen from `p` with the distribution point `point`, the
+    /// portable form; `None` for an emitter at infinity, seen rather than
+    /// sampled by the integrators that shade with this.
+    #[inline]
+    fn sample_one(&self, _p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        None
     }
 
     /// For an emitter at infinity, the direction toward it for the point
     /// `u` of the unit square, the radiance arriving from there and the
-    /// solid-angle density of the direction; `None` for the others. The
-    /// integrators that follow paths sample the background with it.
-    pub fn sample_direction(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
-        match self {
-            Emitter::Constant(c) => {
-                let (dir, pdf) = c.sample(u);
-                Some((dir, c.radiance, pdf))
-            }
-            Emitter::Envmap(e) => e.sample(u),
-            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
-                None
-            }
-        }
+    /// solid-angle density of the direction; `None` for the others.
+    fn sample_direction(&self, _u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        None
     }
 
     /// The solid-angle density with which
-    /// [`sample_direction`](Self::sample_direction) draws `dir`; 0 for
-    /// emitters not at infinity.
-    pub fn pdf_direction(&self, dir: Vec3) -> f32 {
-        match self {
-            Emitter::Constant(c) => c.pdf(),
-            Emitter::Envmap(e) => e.pdf(dir),
-            Emitter::Point(_) | Emitter::Area(_) | Emitter::Spot(_) | Emitter::Directional(_) => {
-                0.0
-            }
-        }
+    /// [`sample_direction`](Self::sample_direction) draws `dir`.
+    fn pdf_direction(&self, _dir: Vec3) -> f32 {
+        0.0
     }
 
     /// The solid-angle density with which [`sample`](Self::sample) draws
     /// `target` (a point of the emitter with outward normal `n`) from `p`;
     /// 0 for a delta light and for the thesis model, whose rays are not
     /// drawn from the light's surface.
-    pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
-        match self {
-            Emitter::Area(a) => a.pdf(p, target, n),
-            Emitter::Point(_)
-            | Emitter::Constant(_)
-            | Emitter::Spot(_)
-            | Emitter::Directional(_)
-            | Emitter::Envmap(_) => 0.0,
-        }
+    fn pdf(&self, _p: Vec3, _target: Vec3, _n: Vec3) -> f32 {
+        0.0
     }
+}
+
+/// Makes [`Emitter`], the enum of the emitters listed (each a variant
+/// named as its type), and its dispatch through [`EmitterModel`].
+macro_rules! emitters {
+    ($($variant:ident,)*) => {
+        /// An emitter, ready to be sampled.
+        #[derive(Clone, Debug)]
+        pub enum Emitter {
+            $($variant($variant),)*
+        }
+
+        impl Emitter {
+            /// Rays per shadow set and their distribution.
+            #[inline]
+            pub fn shadow(&self) -> EffectSpec {
+                match self {
+                    $(Emitter::$variant(e) => e.shadow(),)*
+                }
+            }
+
+            /// True for an emitter without extent (see [`EmitterModel::is_delta`]).
+            #[inline]
+            pub fn is_delta(&self) -> bool {
+                match self {
+                    $(Emitter::$variant(e) => e.is_delta(),)*
+                }
+            }
+
+            /// True for an emitter at infinity that rays that hit nothing
+            /// see (see [`EmitterModel::is_infinite`]).
+            #[inline]
+            pub fn is_infinite(&self) -> bool {
+                match self {
+                    $(Emitter::$variant(e) => e.is_infinite(),)*
+                }
+            }
+
+            /// Fits the emitter to the scene's bounding sphere: a
+            /// directional light's shadow rays leave it.
+            pub fn fit(&mut self, center: Vec3, radius: f32) {
+                match self {
+                    $(Emitter::$variant(e) => e.fit(center, radius),)*
+                }
+            }
+
+            /// The power it emits (see [`EmitterModel::power`]).
+            pub fn power(&self, radius: f32) -> f32 {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::power(e, radius),)*
+                }
+            }
+
+            /// Its bounds for a light BVH; `None` for an emitter at infinity.
+            pub fn bounds(&self) -> Option<bounds::LightBounds> {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::bounds(e),)*
+                }
+            }
+
+            /// Radiance leaving the emitter's surface toward `-dir` at a
+            /// point with geometric normal `n`.
+            #[inline]
+            pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::eval(e, n, dir),)*
+                }
+            }
+
+            /// Radiance arriving along `dir` from infinity (what a ray that
+            /// hits nothing sees of this emitter).
+            #[inline]
+            pub fn eval_miss(&self, dir: Vec3) -> Rgb {
+                match self {
+                    $(Emitter::$variant(e) => e.eval_miss(dir),)*
+                }
+            }
+
+            /// Samples the emitter for a batch of distribution points:
+            /// sample `k` seen from the shading point `at(k)` with the point
+            /// `points[k]`, appended to `out` (`None` where the point gives
+            /// no sample: on the back of the light, say). The one way an
+            /// emitter is sampled. A rectangle sampled on its surface by a
+            /// square distribution takes its points four at a time through
+            /// its kernel, which gives lane by lane the bits of the portable
+            /// form (the same operations in the same order, with no fused
+            /// ones); the rest of a batch, and every other emitter, go point
+            /// by point.
+            pub fn sample(
+                &self,
+                at: impl Fn(usize) -> Vec3,
+                points: &[Vec3],
+                d: Distribution,
+                out: &mut Vec<Option<LightSample>>,
+            ) {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::sample(e, at, points, d, out),)*
+                }
+            }
+
+            /// One sample of [`sample`](Self::sample), the portable form.
+            pub fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::sample_one(e, p, point, d),)*
+                }
+            }
+
+            /// For an emitter at infinity, a direction toward it (see
+            /// [`EmitterModel::sample_direction`]). The integrators that
+            /// follow paths sample the background with it.
+            pub fn sample_direction(&self, u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+                match self {
+                    $(Emitter::$variant(e) => e.sample_direction(u),)*
+                }
+            }
+
+            /// The solid-angle density with which
+            /// [`sample_direction`](Self::sample_direction) draws `dir`; 0
+            /// for emitters not at infinity.
+            pub fn pdf_direction(&self, dir: Vec3) -> f32 {
+                match self {
+                    $(Emitter::$variant(e) => e.pdf_direction(dir),)*
+                }
+            }
+
+            /// The solid-angle density with which [`sample`](Self::sample)
+            /// draws `target` (see [`EmitterModel::pdf`]).
+            pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
+                match self {
+                    $(Emitter::$variant(e) => EmitterModel::pdf(e, p, target, n),)*
+                }
+            }
+
+            /// Shadow rays actually traced per shading point.
+            #[inline]
+            pub fn shadow_rays(&self) -> u32 {
+                if self.is_delta() {
+                    1
+                } else {
+                    self.shadow().rays
+                }
+            }
+        }
+    };
+}
+
+// The emitters: one line each.
+emitters! {
+    Point,
+    Area,
+    Constant,
+    Spot,
+    Directional,
+    Envmap,
 }
 
 #[cfg(test)]

@@ -9,12 +9,14 @@
 
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
+use super::EmitterModel;
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
+use crate::sampling::Distribution;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Point {
@@ -85,5 +87,25 @@ impl Point {
             weight: self.intensity / r2,
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterModel for Point {
+    #[inline]
+    fn is_delta(&self) -> bool {
+        true
+    }
+
+    fn power(&self, _radius: f32) -> f32 {
+        Point::power(self)
+    }
+
+    fn bounds(&self) -> Option<LightBounds> {
+        Some(Point::bounds(self))
+    }
+
+    #[inline]
+    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        Point::sample(self, p)
     }
 }

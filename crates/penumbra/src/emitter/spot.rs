@@ -20,12 +20,14 @@
 
 use super::bounds::{mean, LightBounds};
 use super::sample::LightSample;
+use super::EmitterModel;
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
+use crate::sampling::Distribution;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Spot {
@@ -178,6 +180,26 @@ impl Spot {
             weight: self.intensity * (falloff / r2),
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterModel for Spot {
+    #[inline]
+    fn is_delta(&self) -> bool {
+        true
+    }
+
+    fn power(&self, _radius: f32) -> f32 {
+        Spot::power(self)
+    }
+
+    fn bounds(&self) -> Option<LightBounds> {
+        Some(Spot::bounds(self))
+    }
+
+    #[inline]
+    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        Spot::sample(self, p)
     }
 }
 

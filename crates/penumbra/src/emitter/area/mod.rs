@@ -40,6 +40,7 @@ use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::sample::{area_pdf, LightSample};
+use crate::emitter::EmitterModel;
 use crate::geometry::quad::Quad;
 use crate::geometry::Cylinder;
 use crate::math::{Aabb, Frame, Rgb, Vec3};
@@ -357,5 +358,45 @@ impl Area {
             }
             AreaShape::Mesh(m) => m.sample(power, p, point, d),
         }
+    }
+}
+
+impl EmitterModel for Area {
+    #[inline]
+    fn shadow(&self) -> EffectSpec {
+        self.shadow
+    }
+
+    fn power(&self, _radius: f32) -> f32 {
+        Area::power(self)
+    }
+
+    fn bounds(&self) -> Option<LightBounds> {
+        Some(Area::bounds(self))
+    }
+
+    #[inline]
+    fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
+        self.emitted(n, dir)
+    }
+
+    #[inline]
+    fn sample(
+        &self,
+        at: impl Fn(usize) -> Vec3,
+        points: &[Vec3],
+        d: Distribution,
+        out: &mut Vec<Option<LightSample>>,
+    ) {
+        Area::sample(self, at, points, d, out);
+    }
+
+    #[inline]
+    fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+        Area::sample_one(self, p, point, d)
+    }
+
+    fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
+        Area::pdf(self, p, target, n)
     }
 }
