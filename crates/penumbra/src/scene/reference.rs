@@ -92,9 +92,7 @@ pub fn table(schema: &Schema) -> String {
 /// what differs. Only for the kinds the Mitsuba reader maps through their
 /// schemas.
 fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
-    let plugin = schemas::plugins(kind)
-        .iter()
-        .find(|p| std::ptr::eq(p.schema, schema))?;
+    let plugin = schemas::plugins(kind).iter().find(|p| p.schema == schema)?;
     if schema.mitsuba.is_empty() {
         return Some("Penumbra's own: no Mitsuba 3 plugin reads as it.\n".into());
     }
@@ -113,10 +111,22 @@ fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
     if !renamed.is_empty() {
         parts.push(format!("names {}", renamed.join(", ")));
     }
+    let held: Vec<String> = schema
+        .params
+        .iter()
+        .filter(|p| p.ty == Type::Material)
+        .map(|p| format!("`{}`", p.name))
+        .collect();
+    if !held.is_empty() {
+        parts.push(format!(
+            "sets {} from its nested `<bsdf>`s, in order",
+            held.join(", ")
+        ));
+    }
     let own: Vec<String> = schema
         .params
         .iter()
-        .filter(|p| p.mitsuba == MitsubaKey::None)
+        .filter(|p| p.mitsuba == MitsubaKey::None && p.ty != Type::Material)
         .map(|p| format!("`{}`", p.name))
         .collect();
     if !own.is_empty() {
