@@ -34,11 +34,10 @@ pub const INSTANCING_FACTOR: u64 = 16;
 const COMMON: [Param; 4] = [
     Param::new(
         "material",
-        Type::String,
+        Type::Material,
         "the default material",
         "name of a `[materials.NAME]` table",
-    )
-    .penumbra_only(),
+    ),
     Param::new(
         "transform",
         Type::Table(&transform::PARAMS),
