@@ -200,6 +200,7 @@ pub fn mitsuba_table(kind: Kind) -> String {
             .filter_map(|p| {
                 let name = match p.mitsuba {
                     MitsubaKey::Any => "any nested texture".to_string(),
+                    _ if p.ty == Type::Material => format!("a nested `<bsdf>` as `{}`", p.name),
                     _ => format!("`{}`", p.mitsuba_name()?),
                 };
                 // Required in Penumbra, and in Mitsuba unless the
