@@ -210,12 +210,7 @@ pub fn mitsuba_table(kind: Kind) -> String {
                     _ => String::new(),
                 };
                 let texture = if p.texturable() { ", texture" } else { "" };
-                let material = if p.ty == Type::Material {
-                    ", nested"
-                } else {
-                    ""
-                };
-                Some(format!("{name}{default}{texture}{material}"))
+                Some(format!("{name}{default}{texture}"))
             })
             .collect();
         read.extend(mitsuba.reads.iter().map(|n| format!("`{n}`")));
