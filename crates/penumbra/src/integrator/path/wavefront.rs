@@ -4,18 +4,20 @@
 
 use std::ops::Range;
 
+use super::PathSettings;
 use crate::accel::{Hit, PacketScratch};
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
+use crate::emitter::choice::LightSampler;
 use crate::emitter::{Emitter, LightSample};
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
-use crate::integrator::metric::RunningMean;
+use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{offset_origin, reach, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::points::unit_square;
 use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
-use crate::scene::{PathSettings, Scene};
+use crate::scene::Scene;
 
 /// The most paths a wave holds, unless one row of a tile's samples holds
 /// more (a wave is whole rows).
@@ -169,6 +171,8 @@ impl Shadows {
 pub(super) struct Wavefront<'s> {
     scene: &'s Scene,
     settings: PathSettings,
+    /// How next-event estimation chooses its emitter.
+    lights: &'s LightSampler,
     pub(super) stats: RayStats,
     /// The calls of each stage and the items they took.
     pub(super) batches: StageBatches,
@@ -203,7 +207,11 @@ pub(super) struct Wavefront<'s> {
 }
 
 impl<'s> Wavefront<'s> {
-    pub(super) fn new(scene: &'s Scene, settings: PathSettings) -> Wavefront<'s> {
+    pub(super) fn new(
+        scene: &'s Scene,
+        settings: PathSettings,
+        lights: &'s LightSampler,
+    ) -> Wavefront<'s> {
         let far = (0..scene.emitters.len() as u32)
             .filter(|&e| scene.emitters[e as usize].is_infinite())
             .collect();
@@ -220,6 +228,7 @@ impl<'s> Wavefront<'s> {
         Wavefront {
             scene,
             settings,
+            lights,
             stats: RayStats::default(),
             batches: StageBatches::default(),
             materials,
@@ -290,9 +299,10 @@ impl<'s> Wavefront<'s> {
         let paths = &mut self.paths;
         paths.clear();
         self.weights.clear();
+        let ordered = self.settings.metric.is_some_and(|m| m.pixels);
         for y in ys {
             primary_rays(
-                self.scene,
+                (self.scene, ordered),
                 (xs.clone(), y),
                 keep.clone(),
                 &mut paths.ray,
@@ -342,7 +352,7 @@ impl<'s> Wavefront<'s> {
     /// its mean to its sample and counts the members left as saved; every
     /// other set starts the path of its next member. True if any did.
     fn judge_sets(&mut self) -> bool {
-        let Some(metric) = self.scene.settings.metric else {
+        let Some(metric) = self.settings.metric else {
             return false;
         };
         let scene = self.scene;
@@ -404,6 +414,7 @@ impl<'s> Wavefront<'s> {
         let scene = self.scene;
         let Wavefront {
             settings,
+            lights: chooser,
             stats,
             materials,
             far,
@@ -442,7 +453,7 @@ impl<'s> Wavefront<'s> {
                     for &e in far.iter() {
                         let emitter = &scene.emitters[e as usize];
                         let (from, from_n) = paths.from[i];
-                        let choice = || scene.lights.pmf(from, from_n, e);
+                        let choice = || chooser.pmf(from, from_n, e);
                         let w = emission_weight(emitter, shadow, prev, choice, || {
                             emitter.pdf_direction(ray.dir)
                         });
@@ -454,7 +465,7 @@ impl<'s> Wavefront<'s> {
             if let (Some(e), true) = (hit.emitter, seen) {
                 let emitter = &scene.emitters[e as usize];
                 let (from, from_n) = paths.from[i];
-                let choice = || scene.lights.pmf(from, from_n, e);
+                let choice = || chooser.pmf(from, from_n, e);
                 let density = || emitter.pdf(from, hit.p, hit.ng);
                 let w = emission_weight(emitter, shadow, prev, choice, density);
                 if w > 0.0 {
@@ -481,10 +492,7 @@ impl<'s> Wavefront<'s> {
                 (1, 1)
             };
             if depth < settings.sets_depth {
-                let judge = scene
-                    .settings
-                    .metric
-                    .filter(|m| m.reflections && depth == 0);
+                let judge = settings.metric.filter(|m| m.reflections && depth == 0);
                 let mut out = Out {
                     shadows,
                     next,
@@ -497,7 +505,13 @@ impl<'s> Wavefront<'s> {
                 };
                 let rr = depth + 1 >= settings.rr_depth;
                 let m = &materials[hit.material as usize];
-                thesis_sets(scene, &v, (bsdf, m), (paths.rng[i], rr), &mut out);
+                thesis_sets(
+                    (scene, settings.metric),
+                    &v,
+                    (bsdf, m),
+                    (paths.rng[i], rr),
+                    &mut out,
+                );
                 continue;
             }
             // The bounce's numbers: dimensions 2j and 2j + 1 for emitter
@@ -512,7 +526,7 @@ impl<'s> Wavefront<'s> {
                 let choice = u.value(2 * j);
                 let point = u.point(2 * j + 1);
                 if nee {
-                    let Some((k, pmf)) = scene.lights.sample(hit.p, hit.n, choice) else {
+                    let Some((k, pmf)) = chooser.sample(hit.p, hit.n, choice) else {
                         continue;
                     };
                     let emitter = &scene.emitters[k as usize];
@@ -731,7 +745,7 @@ struct Out<'a> {
 /// is the vertex's stream; `rr` says whether the paths it starts face
 /// Russian roulette.
 fn thesis_sets(
-    scene: &Scene,
+    (scene, metric): (&Scene, Option<Metric>),
     v: &Vertex<'_>,
     (bsdf, material): (&Bsdf, &Material),
     (path, rr): (Rng, bool),
@@ -742,7 +756,7 @@ fn thesis_sets(
     let nb = set.rays as f32;
     if material.smooth {
         // The shadow metric's k, for the sets it judges.
-        let metric = scene.settings.metric.filter(|m| m.shadows);
+        let metric = metric.filter(|m| m.shadows);
         for (j, emitter) in scene.emitters.iter().enumerate() {
             let set = shadow_set(emitter, scene.settings.shadow);
             let (n, d) = (set.rays, set.distribution);

@@ -134,6 +134,12 @@ impl Local {
 }
 
 impl<'a> Tracer<'a> {
+    /// True if the pixel metric is on: a pixel's film points are traced
+    /// in their shuffled order, since it may stop after any of them.
+    pub(super) fn ordered(&self) -> bool {
+        self.metric.is_some_and(|m| m.pixels)
+    }
+
     pub fn new(scene: &'a Scene, config: &Whitted) -> Self {
         let s = &scene.settings;
         Tracer {
@@ -860,7 +866,7 @@ mod tests {
                 .and_then(|s| s.build())
                 .unwrap_or_else(|e| panic!("{e}"));
             let mut r = Rng::new(k as u64);
-            let whitted = Whitted::new(&scene);
+            let whitted = Whitted::of(&scene);
             let (mut wide, mut one) =
                 (Tracer::new(&scene, &whitted), Tracer::new(&scene, &whitted));
             let mut out = Vec::new();
