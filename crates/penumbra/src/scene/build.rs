@@ -149,10 +149,14 @@ pub fn build(
             e.fit(center, radius);
         }
     }
+    let far = (0..emitters.len() as u32)
+        .filter(|&e| emitters[e as usize].is_infinite())
+        .collect();
     Ok(Scene {
         camera,
         bsdfs,
         emitters,
+        far,
         world,
         settings,
         integrator,

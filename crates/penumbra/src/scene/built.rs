@@ -19,6 +19,10 @@ pub struct Scene {
     /// The emitters: the lights in the order of the scene, then the
     /// emitting objects', then those at infinity.
     pub emitters: Vec<Emitter>,
+    /// The emitters at infinity (`constant`, `envmap`), which rays that
+    /// hit nothing see, by index into `emitters`: the one list every
+    /// integrator reads.
+    pub far: Vec<u32>,
     /// The geometry and its BVH; shared with other scenes built from the
     /// same geometry through a [`WorldCache`](super::WorldCache).
     pub world: Arc<World>,

@@ -74,7 +74,7 @@
 //! sample k (independent numbers are drawn in that order, a sequence's by
 //! dimension); a vertex's BSDF samples
 //! beyond one go on with the child streams of their index (a vertex drawing
-//! the thesis's sets takes other branches, see `wavefront`). A
+//! the thesis's sets takes other branches, see [`streams`](crate::integrator::streams)). A
 //! sample is a pure function of (seed, pixel, sample, bounce, dimension):
 //! the same on any number of threads, tiles or passes.
 //!
@@ -91,6 +91,8 @@
 //! in each pixel's sample order once the wave is done.
 
 mod config;
+mod sets;
+mod vertex;
 mod wavefront;
 
 pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH};

@@ -12,14 +12,7 @@ use super::config::Whitted;
 use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::stats::RayStats;
 use crate::integrator::stopping::sets::{SetRule, SetTally};
-
-const SHADOW: u64 = 1 << 32;
-
-/// The streams of a set of lobe `k` of a BSDF: its points from
-/// `path.derive(2k + 1)`, the paths of its rays from `path.derive(2k + 2)`.
-fn lobe_tags(k: usize) -> (u64, u64) {
-    (2 * k as u64 + 1, 2 * k as u64 + 2)
-}
+use crate::integrator::streams;
 
 /// Shadow rays stop this fraction short of their target, so that the surface
 /// they aim at (or a surface touching it) does not count as a blocker.
@@ -65,11 +58,9 @@ pub struct Tracer<'a> {
     /// The emitters direct light comes from (all but those at infinity,
     /// which rays that hit nothing see), by index in the scene.
     sampled: Vec<u32>,
-    /// The branch of emitter `j`'s shadow sets, `SHADOW + j`, hashed once,
+    /// The branch of emitter `j`'s shadow sets (`streams::shadow`), hashed once,
     /// for each of `sampled`.
     shadow_keys: Vec<BranchKey>,
-    /// The emitters at infinity, which rays that hit nothing see.
-    far: Vec<u32>,
     /// The calibrated rule on sets, if on (see [`SetRule`]).
     set_rule: Option<SetRule>,
     /// Replica sums of the sets being traced, one per nesting level.
@@ -169,10 +160,7 @@ impl<'a> Tracer<'a> {
                 .collect(),
             shadow_keys: (0..scene.emitters.len() as u64)
                 .filter(|&j| !scene.emitters[j as usize].is_infinite())
-                .map(|j| BranchKey::new(SHADOW + j))
-                .collect(),
-            far: (0..scene.emitters.len() as u32)
-                .filter(|&j| scene.emitters[j as usize].is_infinite())
+                .map(|j| BranchKey::new(streams::shadow(j)))
                 .collect(),
             set_rule: SetRule::new(config.stopping),
             tallies: Vec::new(),
@@ -381,7 +369,7 @@ impl<'a> Tracer<'a> {
     /// send along them.
     fn miss(&self, ray: &Ray) -> Rgb {
         let eval = |j: &u32| self.scene.emitters[*j as usize].eval_miss(ray.dir);
-        match self.far.split_first() {
+        match self.scene.far.split_first() {
             None => Rgb::ZERO,
             Some((first, rest)) => rest.iter().fold(eval(first), |l, j| l + eval(j)),
         }
@@ -651,7 +639,7 @@ impl<'a> Tracer<'a> {
     ) -> Rgb {
         let blurred = flags.contains(BsdfFlags::GLOSSY);
         let (n, d) = (if blurred { spec.rays } else { 1 }, spec.distribution);
-        let (set_tag, ray_tag) = lobe_tags(k);
+        let (set_tag, ray_tag) = streams::lobe(k);
         let rule = SetRule::for_set(self.set_rule, n as usize);
         let points = self.points(d, n, rule, rng.derive(set_tag));
         let transmit = flags.contains(BsdfFlags::TRANSMISSION);
