@@ -9,9 +9,10 @@ use super::vertex::{
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::streams;
-use crate::math::{offset_origin, Ray, Rgb, Vec3};
+use crate::math::{Rgb, Vec3};
 use crate::sampling::{EffectSpec, Rng, SetPoint};
 use crate::scene::Scene;
 
@@ -41,6 +42,7 @@ pub(super) struct Out<'a> {
 /// two are weighed by the power heuristic on density times count. `path`
 /// is the vertex's stream; `rr` says whether the paths it starts face
 /// Russian roulette.
+#[inline]
 pub(super) fn thesis_sets(
     (scene, metric): (&Scene, Option<Metric>),
     v: &Vertex<'_>,
@@ -110,9 +112,8 @@ pub(super) fn thesis_sets(
         }
         out.pending.push(PendingSet {
             hit: *v.hit,
+            at: v.at,
             wo: v.wo,
-            reach: v.reach,
-            time: v.time,
             beta: v.beta,
             eta2: v.eta2,
             slot: v.slot,
@@ -152,6 +153,7 @@ pub(super) struct Member {
 /// Starts the path of member `m` of the BSDF set at `v` (whose stream is
 /// `path`; `rr`: the path faces Russian roulette), unless its sample has
 /// no density, carries nothing or roulette ends it.
+#[inline]
 pub(super) fn set_member(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
@@ -171,14 +173,13 @@ pub(super) fn set_member(
         return;
     };
     let delta = s.flags.is_delta();
-    let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, s.wi);
     // The emission met is weighed against the whole set's density.
     let mis = if delta {
         (0.0, Nee::None)
     } else {
         (n as f32 * s.pdf, Nee::Sets)
     };
-    let ray = Ray::new(origin, s.wi, v.time);
+    let ray = v.at.spawn_ray(s.wi);
     next.push(ray, m.slot, through, stream, ((v.hit.p, v.hit.n), mis));
     count_bounce(stats, s.flags);
 }
@@ -188,9 +189,8 @@ pub(super) fn set_member(
 /// add to, and the running mean of the members traced so far.
 pub(super) struct PendingSet {
     pub(super) hit: Hit,
+    pub(super) at: ShadingPoint,
     pub(super) wo: Vec3,
-    pub(super) reach: f32,
-    pub(super) time: f32,
     pub(super) beta: Rgb,
     pub(super) eta2: f32,
     /// The sample the set's value goes to.
@@ -205,12 +205,12 @@ pub(super) struct PendingSet {
 }
 
 impl PendingSet {
+    #[inline]
     pub(super) fn vertex(&self) -> Vertex<'_> {
         Vertex {
             hit: &self.hit,
+            at: self.at,
             wo: self.wo,
-            reach: self.reach,
-            time: self.time,
             beta: self.beta,
             eta2: self.eta2,
             slot: self.slot,

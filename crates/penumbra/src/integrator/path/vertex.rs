@@ -5,8 +5,9 @@
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
 use crate::emitter::{Emitter, LightSample};
+use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
-use crate::math::{offset_origin, Ray, Rgb, Vec2, Vec3};
+use crate::math::{Ray, Rgb, Vec2, Vec3};
 use crate::sampling::points::unit_square;
 use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
 
@@ -52,6 +53,7 @@ pub(super) enum Nee {
 }
 
 impl Paths {
+    #[inline]
     pub(super) fn clear(&mut self) {
         self.ray.clear();
         self.slot.clear();
@@ -62,10 +64,12 @@ impl Paths {
         self.mis.clear();
     }
 
+    #[inline]
     pub(super) fn len(&self) -> usize {
         self.ray.len()
     }
 
+    #[inline]
     pub(super) fn push(
         &mut self,
         ray: Ray,
@@ -95,6 +99,7 @@ pub(super) struct ShadowRays {
 }
 
 impl ShadowRays {
+    #[inline]
     pub(super) fn clear(&mut self) {
         self.ray.clear();
         self.slot.clear();
@@ -102,6 +107,7 @@ impl ShadowRays {
         self.set.clear();
     }
 
+    #[inline]
     pub(super) fn push(&mut self, ray: Ray, slot: u32, value: Rgb, set: u32) {
         self.ray.push(ray);
         self.slot.push(slot);
@@ -124,6 +130,7 @@ pub(super) struct ShadowTally {
 impl ShadowTally {
     /// The metric's verdict after the first `k` members: stop if they all
     /// reached the emitter or were all blocked (and one was a ray).
+    #[inline]
     pub(super) fn stops(&self) -> bool {
         (self.reached == 0 || self.blocked == 0) && self.reached + self.blocked > 0
     }
@@ -143,6 +150,7 @@ pub(super) struct Shadows {
 }
 
 impl Shadows {
+    #[inline]
     pub(super) fn clear(&mut self) {
         self.now.clear();
         self.later.clear();
@@ -161,6 +169,7 @@ impl Shadows {
 /// `shadow` for one at infinity); 1 if the light sampler could not have
 /// chosen it there; 0 for an emitter sampled without a density (the
 /// thesis's penumbra model), whose light its shadow rays alone bring.
+#[inline]
 pub(super) fn emission_weight(
     emitter: &Emitter,
     shadow: EffectSpec,
@@ -196,6 +205,7 @@ pub(super) fn emission_weight(
 /// probability `min(max(throughput) · eta², 0.95)`, as Mitsuba 3 does, so
 /// that the radiance scale of a crossing into a denser medium does not
 /// end paths that will cross back out.
+#[inline]
 pub(super) fn go_through(
     v: &Vertex<'_>,
     s: &BsdfSample,
@@ -218,6 +228,7 @@ pub(super) fn go_through(
 }
 
 /// Counts a BSDF sample's ray as a reflection or a refraction ray.
+#[inline]
 pub(super) fn count_bounce(stats: &mut RayStats, flags: BsdfFlags) {
     if flags.contains(BsdfFlags::TRANSMISSION) {
         stats.refraction += 1;
@@ -228,6 +239,7 @@ pub(super) fn count_bounce(stats: &mut RayStats, flags: BsdfFlags) {
 
 /// Counts a BSDF sample's ray, left untraced by the metric, as a saved
 /// reflection or refraction ray.
+#[inline]
 pub(super) fn count_saved(stats: &mut RayStats, flags: BsdfFlags) {
     if flags.contains(BsdfFlags::TRANSMISSION) {
         stats.saved.refraction += 1;
@@ -239,9 +251,9 @@ pub(super) fn count_saved(stats: &mut RayStats, flags: BsdfFlags) {
 /// A shading point, as next-event estimation reads it.
 pub(super) struct Vertex<'h> {
     pub(super) hit: &'h Hit,
+    /// Where its rays leave from (the hit's own geometric normal).
+    pub(super) at: ShadingPoint,
     pub(super) wo: Vec3,
-    pub(super) reach: f32,
-    pub(super) time: f32,
     pub(super) beta: Rgb,
     pub(super) eta2: f32,
     pub(super) slot: u32,
@@ -252,6 +264,7 @@ pub(super) struct Vertex<'h> {
 /// (`counts`): its shadow ray and what it brings,
 /// `f · L · cos / (pdf · pmf · e)` weighed by the power heuristic, pushed
 /// to `shadows` unless it brings nothing.
+#[inline]
 pub(super) fn light_sample(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
@@ -279,6 +292,7 @@ pub(super) struct Material {
 }
 
 impl Material {
+    #[inline]
     pub(super) fn of(bsdf: &Bsdf, reflection: EffectSpec) -> Material {
         let lobes = bsdf.lobes();
         let largest = lobes.sets.iter().flatten().max_by_key(|s| s.rays);
@@ -299,6 +313,7 @@ pub(super) struct Escape {
 
 /// The shadow set of `emitter` at a vertex drawing the thesis's sets: its
 /// own, but one at infinity takes the render's shadow set (`shadow`).
+#[inline]
 pub(super) fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
     if emitter.is_infinite() {
         shadow
@@ -313,6 +328,7 @@ pub(super) fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
 /// A sample of `emitter` seen from `p` for the distribution point `point`
 /// of `d`: [`Emitter::sample_one`], or for an emitter at infinity a
 /// direction with a target beyond the world (`escape`).
+#[inline]
 pub(super) fn sample_emitter(
     emitter: &Emitter,
     p: Vec3,
@@ -338,6 +354,7 @@ pub(super) fn sample_emitter(
 /// where the sample has a density (1 where it has none: a point light, the
 /// thesis's penumbra model). Pushed to `rays`, judged with shadow set `set`,
 /// unless it brings nothing.
+#[inline]
 pub(super) fn shadow_ray(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
@@ -357,8 +374,7 @@ pub(super) fn shadow_ray(
     } else {
         1.0
     };
-    let origin = offset_origin(v.hit.p, v.reach, v.hit.ng, wi);
-    let ray = Ray::new(origin, ls.target - origin, v.time);
+    let ray = v.at.spawn_ray_to(v.at.origin(wi), ls.target);
     rays.push(ray, v.slot, v.beta * f * ls.weight * (cos * w / n), set);
 }
 

@@ -9,10 +9,11 @@ use crate::accel::{Hit, PacketScratch};
 use crate::emitter::choice::LightSampler;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
+use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
 use crate::integrator::whitted::{guard, primary_rays};
-use crate::math::{offset_origin, reach, Ray, Rgb, Vec3};
+use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
 use crate::scene::Scene;
 
@@ -335,9 +336,8 @@ impl<'s> Wavefront<'s> {
             let bsdf = &scene.bsdfs[hit.material as usize];
             let v = Vertex {
                 hit,
+                at: ShadingPoint::new(ray, hit.p, hit.ng),
                 wo: -ray.dir.normalize(),
-                reach: reach(hit.p, ray.origin),
-                time: ray.time,
                 beta,
                 eta2: paths.eta2[i],
                 slot,
@@ -408,7 +408,6 @@ impl<'s> Wavefront<'s> {
                     continue;
                 };
                 let delta = s.flags.is_delta();
-                let origin = offset_origin(hit.p, v.reach, hit.ng, s.wi);
                 // The densities emission met next is weighed by.
                 let mis = if delta {
                     (0.0, Nee::None)
@@ -421,7 +420,7 @@ impl<'s> Wavefront<'s> {
                     paths.rng[i].child(k as usize, b as usize)
                 };
                 next.push(
-                    Ray::new(origin, s.wi, ray.time),
+                    v.at.spawn_ray(s.wi),
                     slot,
                     through,
                     stream,

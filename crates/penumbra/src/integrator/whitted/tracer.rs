@@ -4,12 +4,13 @@ use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::bsdf::{Bsdf, BsdfFlags, Lobes};
 use crate::emitter::{Emitter, LightSample};
 use crate::math::Rgb;
-use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, Vec3};
 use crate::sampling::{BranchKey, Distribution, EffectSpec, PointTable, Rng, SetPoint};
 use crate::scene::Scene;
 
 use super::config::Whitted;
 use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::stopping::sets::{SetRule, SetTally};
 use crate::integrator::streams;
@@ -95,16 +96,11 @@ struct Lit {
 
 /// The local frame of a hit, oriented toward the viewer.
 struct Local {
-    p: Vec3,
-    /// The magnitude that rays leaving `p` are offset in proportion to ([`reach`]).
-    reach: f32,
+    /// Where its rays leave from, its geometric normal on the viewer's side.
+    at: ShadingPoint,
     wo: Vec3,
     /// Shading normal on the viewer's side.
     n: Vec3,
-    /// Geometric normal on the viewer's side.
-    ng: Vec3,
-    /// The path's time: every secondary ray inherits its primary ray's time.
-    time: f32,
 }
 
 impl Local {
@@ -114,12 +110,9 @@ impl Local {
         let front = hit.ng.dot(wo) >= 0.0;
         let flip = if front { 1.0 } else { -1.0 };
         Local {
-            p: hit.p,
-            reach: reach(hit.p, ray.origin),
+            at: ShadingPoint::new(ray, hit.p, hit.ng * flip),
             wo,
             n: hit.n * flip,
-            ng: hit.ng * flip,
-            time: ray.time,
         }
     }
 }
@@ -198,7 +191,7 @@ impl<'a> Tracer<'a> {
             let Some(hit) = hit else { continue };
             if self.lobes[hit.material as usize].1 {
                 let frame = Local::new(ray, hit);
-                let origin = offset_origin(frame.p, frame.reach, frame.ng, frame.ng);
+                let origin = frame.at.origin(frame.at.ng);
                 level.lit.push(Lit {
                     ray: i,
                     material: hit.material,
@@ -574,7 +567,7 @@ impl<'a> Tracer<'a> {
         }
         let samples = &mut self.light_samples;
         samples.clear();
-        light.sample(|k| lit[k / n].frame.p, &points, d, samples);
+        light.sample(|k| lit[k / n].frame.at.p, &points, d, samples);
         for (h, samples) in lit.iter().zip(samples.chunks_exact(n)) {
             let ray = |ls: &Option<LightSample>| shadow_ray(&h.frame, h.origin, ls.as_ref()?);
             set.extend(samples.iter().map(ray));
@@ -650,7 +643,7 @@ impl<'a> Tracer<'a> {
             } else {
                 perfect
             };
-            Ray::new(offset_origin(s.p, s.reach, s.ng, w), w, s.time)
+            s.at.spawn_ray(w)
         };
         let children = rng.derive(ray_tag);
         let metric = self.metric.filter(|m| m.reflections);
@@ -718,11 +711,11 @@ struct ShadowRay {
 fn shadow_ray(s: &Local, origin: Vec3, ls: &LightSample) -> Option<ShadowRay> {
     let wi = ls.dir;
     let cos = s.n.dot(wi);
-    if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+    if cos <= 0.0 || s.at.ng.dot(wi) <= 0.0 {
         return None;
     }
     Some(ShadowRay {
-        ray: Ray::new(origin, ls.target - origin, s.time),
+        ray: s.at.spawn_ray_to(origin, ls.target),
         wi,
         cos,
         weight: ls.weight,
@@ -763,7 +756,7 @@ mod tests {
                 .expect("the ground");
             below += usize::from(hit.p.y < 0.0);
             let s = Local::new(&ray, &hit);
-            let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
+            let origin = s.at.origin(s.at.ng);
             let shadow = Ray::new(origin, light - origin, 0.0);
             let t = world.transmittance(&shadow, (0.0, SHADOW_END), &scene.transparency, None);
             assert_eq!(t, Some(1.0), "from {:?} (hit at {:?})", origin, hit.p);
