@@ -294,14 +294,16 @@ impl Scene {
         let opts = parse_options("settings", options)?;
         let built = self.build(py, &opts)?;
         let s = &built.settings;
+        let config = penumbra::integrator::Config::of(&built)
+            .map_err(|e| scene_error(LibSceneError::from(e)))?;
         let doc = serde_json::json!({
             "width": s.width,
             "height": s.height,
             "seed": s.seed,
             "spp": s.spp,
-            "max_depth": s.depth(),
-            "integrator": s.integrator.name(),
-            "passes": s.passes,
+            "max_depth": config.depth(),
+            "integrator": config.choice().name(),
+            "passes": config.passes(),
             "primitives": built.world.primitive_count(),
             "build_s": built.build_time.as_secs_f64(),
             "warnings": built.warnings,

@@ -283,8 +283,9 @@ fn an_xml_scene_renders_the_pixels_of_its_toml_scene() {
     let mut xml = SceneSource::open(d.path("scene.xml").to_str().unwrap(), &opts).unwrap();
     // Its `path` integrator renders what the TOML scene's does.
     let path = xml.build().expect("the path integrator builds");
-    assert_eq!(path.settings.integrator, IntegratorChoice::Path);
-    assert_eq!(path.settings.depth(), 3);
+    let config = penumbra::integrator::Config::of(&path).unwrap();
+    assert_eq!(config.choice(), IntegratorChoice::Path);
+    assert_eq!(config.depth(), 3);
     let toml = SceneSource::from_tree(toml_tree(None), d.0.path(), &opts)
         .build()
         .unwrap();

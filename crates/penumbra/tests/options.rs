@@ -112,7 +112,7 @@ fn context(o: &RenderOption) -> String {
         let f = Filter::ALL.into_iter().find(|f| f.params().contains(param));
         return format!("filter = \"{}\"\n", f.unwrap().name());
     }
-    let integrators = schemas::of(NodeKind::Integrator);
+    let integrators = penumbra::integrator::SCHEMAS;
     if o.table != Some(Table::Render) || integrators[0].param(o.name).is_some() {
         return String::new();
     }
@@ -134,6 +134,8 @@ fn scene_file_defaults_are_the_options_defaults() {
         let plain = scene(&format!("[render]\n{extra}"));
         let given = scene(&format!("[{}]\n{} = {v}\n{extra}", t.name(), o.name));
         assert_eq!(given.settings, plain.settings, "[{}] {}", t.name(), o.name);
+        let config = |s| penumbra::integrator::Config::of(s).unwrap();
+        assert_eq!(config(&given), config(&plain), "[{}] {}", t.name(), o.name);
         assert_eq!(given.camera, plain.camera, "[{}] {}", t.name(), o.name);
         assert_eq!(background(&given), background(&plain), "{}", o.name);
     }

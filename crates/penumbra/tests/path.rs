@@ -224,7 +224,7 @@ fn path_traced_builtin(
     );
     let s = src.build().unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(
-        s.settings.integrator,
+        penumbra::integrator::Config::of(&s).unwrap().choice(),
         penumbra::scene::IntegratorChoice::Path
     );
     render_scene(&s, 2).0
@@ -294,7 +294,7 @@ fn every_sphere_of_the_materials_scene_shows() {
     );
     let s = src.build().unwrap();
     assert_eq!(
-        s.settings.integrator,
+        penumbra::integrator::Config::of(&s).unwrap().choice(),
         penumbra::scene::IntegratorChoice::Path
     );
     let img = render_scene(&s, 2).0;

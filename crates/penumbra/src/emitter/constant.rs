@@ -8,7 +8,7 @@
 //!
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
-use super::EmitterModel;
+use super::model::EmitterModel;
 use crate::description::check::{nonneg3, required};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};

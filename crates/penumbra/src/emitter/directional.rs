@@ -12,8 +12,8 @@
 //! Mitsuba's `to_world` turns `+z` into the direction: the XML reader gives
 //! it as `direction`.
 
+use super::model::EmitterModel;
 use super::sample::LightSample;
-use super::EmitterModel;
 use crate::description::check::{nonneg3, nonzero3};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;

@@ -29,7 +29,7 @@ use crate::input::image::{read_image, Encoding};
 use crate::math::{Mat3, Rgb, Vec2, Vec3};
 use crate::sampling::piecewise2d::Piecewise2D;
 
-use super::EmitterModel;
+use super::model::EmitterModel;
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug)]

@@ -8,8 +8,8 @@
 //! | `intensity` | colour ≥ 0 | **required** | radiant intensity |
 
 use super::bounds::{mean, LightBounds};
+use super::model::EmitterModel;
 use super::sample::LightSample;
-use super::EmitterModel;
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;

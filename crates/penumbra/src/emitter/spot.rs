@@ -19,8 +19,8 @@
 //! `+z`: the XML reader gives it as `position` and `look_at`.
 
 use super::bounds::{mean, LightBounds};
+use super::model::EmitterModel;
 use super::sample::LightSample;
-use super::EmitterModel;
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;

@@ -19,8 +19,43 @@
 //! measured against `DARK` instead, so that noise around black does not keep a
 //! set running forever.
 
+use crate::description::check::{int, range};
+use crate::description::{Invalid, Props};
 use crate::math::Rgb;
-pub use crate::scene::Metric;
+use crate::sampling::MAX_RAYS;
+
+/// Settings of the metrics; `None` in an integrator's configuration means
+/// they are all off (`read` never makes one with all three rules off).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metric {
+    /// Apply the α/threshold rule to reflection and refraction sets.
+    pub reflections: bool,
+    /// Apply the k rule to shadow sets.
+    pub shadows: bool,
+    /// Largest relative change of the running average that stops a set.
+    pub threshold: f32,
+    /// α: rays always traced before the reflection/refraction metric applies.
+    pub min_rays: u32,
+    /// k: shadow rays after which an all-lit or all-blocked set stops.
+    pub shadow_rays: u32,
+    /// Apply the α/threshold rule to the primary rays of a pixel too.
+    pub pixels: bool,
+}
+
+/// The metrics of an integrator's parameters `i` (`metric` and the keys
+/// of each rule); `None` when they are off.
+pub fn read(i: &Props) -> Result<Option<Metric>, Invalid> {
+    let m = Metric {
+        reflections: i.bool("reflection_metric")?.unwrap_or(true),
+        shadows: i.bool("shadow_metric")?.unwrap_or(true),
+        threshold: range(i, "metric_threshold", 0.01, 0.0, 1e6)?,
+        min_rays: int(i, "metric_min_rays", 4, 1, i64::from(MAX_RAYS))?,
+        shadow_rays: int(i, "shadow_metric_rays", 4, 1, i64::from(MAX_RAYS))?,
+        pixels: i.bool("pixel_metric")?.unwrap_or(false),
+    };
+    let any = m.reflections || m.shadows || m.pixels;
+    Ok((i.bool("metric")?.unwrap_or(false) && any).then_some(m))
+}
 
 /// Radiance below which changes are judged in absolute terms.
 pub const DARK: f32 = 1e-3;

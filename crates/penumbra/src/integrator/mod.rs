@@ -21,18 +21,21 @@
 //! The pixel's streams come from the [`Sampler`](crate::sampling::Sampler);
 //! below a primary sample's path they are fixed here and nowhere else:
 //!
-//! | stream | derived as |
-//! |---|---|
-//! | pixel `p`, its film, lens and time sets, path of primary sample `i` | see [`Sampler`](crate::sampling::Sampler) |
-//! | shadow set toward emitter `j` at a hit | `path.derive(SHADOW + j)` |
-//! | set of lobe `k` of the hit's BSDF | `path.derive(2k + 1)` |
-//! | path of the `i`-th ray of that set | `path.derive(2k + 2).child(i, n)` |
+//! | stream | integrators | derived as |
+//! |---|---|---|
+//! | pixel `p`, its film, lens and time sets, path of primary sample `i` | all | see [`Sampler`](crate::sampling::Sampler) |
+//! | shadow set toward emitter `j` at a hit | `whitted`, `distributed` | `path.derive(SHADOW + j)`, `SHADOW` = 2³² |
+//! | set of lobe `k` of the hit's BSDF | `whitted` | `path.derive(2k + 1)` |
+//! | path of the `i`-th ray of that set | `whitted` | `path.derive(2k + 2).child(i, n)` |
+//! | bounce `b` of a path (read through the path sampler) | `path`, `direct`, `distributed` | `path.derive(b)` |
+//! | the `k`-th of a first vertex's `n` BSDF samples, going on as a path | `path`, `direct`, `distributed` | `path.child(k, n)` |
+//! | set of BSDF samples at a vertex drawing the thesis's sets | `distributed` | `path.derive(SHADOW − 1)`, its `i`-th path `path.child(i, n)` |
+//! | Russian roulette of a path that set starts | `distributed` | `path.child(i, n).derive(SHADOW − 2)` |
 //!
-//! (The thesis's material keeps its lobes in slots 0 to 2 — mirror,
-//! refraction, Fresnel reflection — so its sets draw the streams 1 to 6
-//! they always drew.)
-//!
-//! so the image is identical on any number of threads, tiles or machines.
+//! The keys are the constants and functions of [`streams`]. (The
+//! thesis's material keeps its lobes in slots 0 to 2 — mirror, refraction,
+//! Fresnel reflection — so its sets draw the streams 1 to 6.) Every value
+//! is thus the same on any number of threads, tiles or machines.
 //!
 //! # Choices where the thesis is silent
 //!
@@ -51,13 +54,19 @@ mod film;
 mod interface;
 mod metric;
 mod path;
+pub mod plugins;
+mod shading;
 mod stats;
 pub mod stopping;
+pub mod streams;
 mod whitted;
 
 pub use film::FilmTile;
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
-pub use path::{Path, PathWorker, WAVE};
+pub use path::{Path, PathSettings, PathWorker, Variant, WAVE};
+pub use plugins::{Config, SCHEMAS};
+pub use shading::ShadingPoint;
 pub use stats::{Batches, RayCounts, RayStats, StageBatches};
-pub use whitted::{Tracer, Whitted, WhittedWorker};
+pub use stopping::Stopping;
+pub use whitted::{Tracer, Whitted, WhittedSettings, WhittedWorker};

@@ -186,7 +186,7 @@ mod tests {
             checks.set(checks.get() + 1);
             checks.get() > 3
         };
-        let whitted = Whitted::new(&scene);
+        let whitted = Whitted::of(&scene);
         let mut slot = TileSlot::new(region, region);
         assert!(!render_pass(
             &whitted,

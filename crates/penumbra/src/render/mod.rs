@@ -17,12 +17,13 @@ use film::TileSlot;
 pub use region::Region;
 pub use report::stats_document;
 
+use crate::description::SceneError;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
-    pass_samples, BadSample, Integrator, Path, RayStats, StageBatches, Whitted,
+    pass_samples, BadSample, Config, Integrator, Path, RayStats, StageBatches, Whitted,
 };
 use crate::math::Rgb;
-use crate::scene::{IntegratorChoice, Scene};
+use crate::scene::Scene;
 
 /// How to run a render (what to render is the scene's business).
 #[derive(Clone, Debug, Default)]
@@ -59,6 +60,10 @@ pub enum RenderError {
     Region(Region, u32, u32),
     #[error("render cancelled")]
     Cancelled,
+    /// The scene's integrator does not read (a description changed after
+    /// the scene was built).
+    #[error("{0}")]
+    Integrator(SceneError),
 }
 
 /// Progress callback: (tiles done, tiles in all).
@@ -72,13 +77,10 @@ pub fn render(
     progress: Progress<'_>,
     cancel: Option<&AtomicBool>,
 ) -> Result<(Image, RenderStats), RenderError> {
-    match scene.settings.integrator {
-        IntegratorChoice::Whitted => {
-            render_with(&Whitted::new(scene), scene, opts, progress, cancel)
-        }
-        IntegratorChoice::Path | IntegratorChoice::Direct | IntegratorChoice::Distributed => {
-            render_with(&Path::new(scene), scene, opts, progress, cancel)
-        }
+    let config = Config::of(scene).map_err(|e| RenderError::Integrator(e.into()))?;
+    match config {
+        Config::Whitted(s) => render_with(&Whitted::new(scene, s), scene, opts, progress, cancel),
+        Config::Path(_, s) => render_with(&Path::new(scene, s), scene, opts, progress, cancel),
     }
 }
 

@@ -1,13 +1,15 @@
 use serde_json::{json, Value};
 
 use super::RenderStats;
-use crate::integrator::Batches;
+use crate::integrator::{Batches, Config};
 use crate::scene::Scene;
 
 /// The statistics document written by `--stats` and returned by the Python
 /// API; its schema is documented in `docs/statistics.md`.
 pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> Value {
     let s = &scene.settings;
+    // A built scene's integrator reads (it was read when it was built).
+    let config = Config::of(scene).ok();
     let r = &stats.rays;
     let render_s = stats.render_time.as_secs_f64();
     let mrays = if render_s > 0.0 {
@@ -22,9 +24,9 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "threads": stats.threads,
         "seed": s.seed,
         "spp": s.spp,
-        "max_depth": s.depth(),
-        "integrator": s.integrator.name(),
-        "passes": s.passes,
+        "max_depth": config.map(|c| c.depth()),
+        "integrator": config.map(|c| c.choice().name()),
+        "passes": config.map(|c| c.passes()),
         "primitives": scene.world.primitive_count(),
         "rays": {
             "primary": r.primary,
@@ -45,7 +47,7 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
             "occlusion": batches(&stats.batches.occlusion),
             "shading": batches(&stats.batches.shading),
         },
-        "metric": s.metric.map(|m| json!({
+        "metric": config.and_then(|c| c.metric()).map(|m| json!({
             "reflections": m.reflections,
             "shadows": m.shadows,
             "threshold": m.threshold,

@@ -25,7 +25,6 @@ use crate::bsdf::{self, Bsdf, BsdfModel};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
-use crate::emitter::choice::LightSampler;
 use crate::emitter::{area, Area, AreaShape, Emitter, MeshLight, PenumbraModel};
 use crate::geometry::instance::Placement;
 use crate::geometry::quad::Quad;
@@ -62,12 +61,8 @@ pub fn build(
     let integrator = root.child(Kind::Integrator).cloned();
     let integrator = integrator.unwrap_or_else(|| empty(Kind::Integrator, "whitted"));
 
-    let (fp, sp, ip) = (
-        Props::new(&film),
-        Props::new(&sampler),
-        Props::new(&integrator),
-    );
-    let mut settings = settings::read(&fp, &sp, (&ip, &integrator.plugin))?;
+    let (fp, sp) = (Props::new(&film), Props::new(&sampler));
+    let mut settings = settings::read(&fp, &sp)?;
     let sets = Sets {
         shadow: settings.shadow,
         reflection: settings.reflection,
@@ -77,7 +72,6 @@ pub fn build(
     let camera = camera::build(&cp, &settings)?;
     cp.finish("camera")?;
     fp.finish("film")?;
-    ip.finish("integrator")?;
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
     let (mut bsdfs, emission, names) = materials(root, &sets, &textures)?;
@@ -155,20 +149,17 @@ pub fn build(
             e.fit(center, radius);
         }
     }
-    // Emitters at infinity are measured through the same sphere.
-    let sphere = if radius.is_finite() && radius > 0.0 {
-        radius
-    } else {
-        1.0
-    };
-    let lights = LightSampler::new(settings.path.light_sampler, &emitters, sphere);
+    let far = (0..emitters.len() as u32)
+        .filter(|&e| emitters[e as usize].is_infinite())
+        .collect();
     Ok(Scene {
         camera,
         bsdfs,
         emitters,
-        lights,
+        far,
         world,
         settings,
+        integrator,
         transparency,
         warnings,
         build_time: start.elapsed(),

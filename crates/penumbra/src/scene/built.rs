@@ -8,7 +8,7 @@ use super::settings::Settings;
 use crate::accel::World;
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
-use crate::emitter::choice::LightSampler;
+use crate::description::Node;
 use crate::emitter::Emitter;
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
@@ -19,13 +19,18 @@ pub struct Scene {
     /// The emitters: the lights in the order of the scene, then the
     /// emitting objects', then those at infinity.
     pub emitters: Vec<Emitter>,
-    /// How next-event estimation chooses among `emitters` (the path
-    /// tracers' `light_sampler`), built once.
-    pub lights: LightSampler,
+    /// The emitters at infinity (`constant`, `envmap`), which rays that
+    /// hit nothing see, by index into `emitters`: the one list every
+    /// integrator reads.
+    pub far: Vec<u32>,
     /// The geometry and its BVH; shared with other scenes built from the
     /// same geometry through a [`WorldCache`](super::WorldCache).
     pub world: Arc<World>,
+    /// The film's and the sampler's settings.
     pub settings: Settings,
+    /// The integrator's description (its plugin name and parameters, with
+    /// their places), which the integrator reads.
+    pub integrator: Node,
     /// Per-material fraction of light a shadow ray keeps crossing it; NaN
     /// where it varies over the surface (read from the material at each
     /// crossing, [`World::transmittance_varying`](crate::accel::World::transmittance_varying)).

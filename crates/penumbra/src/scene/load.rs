@@ -9,7 +9,7 @@ use super::context::BuildContext;
 use super::reuse::WorldCache;
 use super::schemas;
 use super::Scene;
-use crate::description::{self, Kind, Location, Node, SceneError, Source};
+use crate::description::{self, Location, Node, SceneError, Source};
 use crate::input::{self, InputError};
 
 /// Largest scene file read unless `--max-file-size` or
@@ -129,24 +129,10 @@ impl SceneSource {
         base_dir: &Path,
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
-        // The integrator is checked when the scene is built: Mitsuba's
-        // (`path`) may yet be replaced by `--integrator`. It is set aside
-        // while the rest is checked, and put back where it was.
-        let mut root = loaded.root;
-        let mut integrators = Vec::new();
-        for (i, child) in std::mem::take(&mut root.children).into_iter().enumerate() {
-            if child.kind == Kind::Integrator {
-                integrators.push((i, child));
-            } else {
-                root.children.push(child);
-            }
-        }
-        let checked = schemas::check(&root);
-        for (i, child) in integrators {
-            root.children.insert(i, child);
-        }
-        checked?;
-        let mut source = SceneSource::from_tree(root, base_dir, opts);
+        // The integrator is checked when the scene is built (as for every
+        // scene): Mitsuba's (`path`) may yet be replaced by `--integrator`.
+        schemas::check(&loaded.root)?;
+        let mut source = SceneSource::from_tree(loaded.root, base_dir, opts);
         source.warnings = loaded.warnings;
         Ok(source)
     }
@@ -196,21 +182,12 @@ impl SceneSource {
         }
     }
 
-    /// Validates the description and builds the scene.
-    pub fn build(&self) -> Result<Scene, SceneError> {
-        self.build_with(None)
-    }
-
-    /// [`build`](Self::build), reusing a world from `worlds` built from the
-    /// same geometry (objects, light shapes, material names, mesh files), and
-    /// keeping a newly built one there: for many renders of one scene with
-    /// other settings. The scene is the same as [`build`](Self::build) gives,
-    /// errors included.
-    pub fn build_reusing(&self, worlds: &mut WorldCache) -> Result<Scene, SceneError> {
-        self.build_with(Some(worlds))
-    }
-
-    fn build_with(&self, worlds: Option<&mut WorldCache>) -> Result<Scene, SceneError> {
+    /// Validates the description but for its integrator and builds the
+    /// scene, taking the world from `worlds` when one was built there from
+    /// the same geometry (objects, light shapes, material names, mesh
+    /// files) and keeping a newly built one there. `build` and
+    /// `build_reusing` (`integrator::plugins`) read the integrator first.
+    pub fn build_scene(&self, worlds: Option<&mut WorldCache>) -> Result<Scene, SceneError> {
         let mut scene = build(&self.root, &self.ctx, worlds).map_err(SceneError::from)?;
         scene.warnings.splice(0..0, self.warnings.iter().cloned());
         Ok(scene)

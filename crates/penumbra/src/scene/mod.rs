@@ -33,6 +33,6 @@ pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
 pub use points::{read_points, Points, PointsFileError};
 pub use reuse::WorldCache;
-pub use settings::{IntegratorChoice, Metric, PathSettings, Sets, Settings, StopRule, Stopping};
+pub use settings::{IntegratorChoice, Sets, Settings, StopRule};
 
 pub use crate::sampling::EffectSpec;

@@ -1,7 +1,9 @@
 //! Every plugin a scene may name, by kind, and the check of a scene's tree
 //! against their schemas when it is loaded: each plugin's name known, each
 //! key its plugin's, each value of its type (see
-//! [`description::check`](crate::description::check())).
+//! [`description::check`](crate::description::check())). Integrators sit
+//! above the scene and check their own node (`integrator::plugins`) when
+//! the scene is built.
 
 use super::{camera, lights, settings, shapes};
 use crate::bsdf::Bsdf;
@@ -15,12 +17,7 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
         Kind::Scene => &[],
         Kind::Texture => Texture::SCHEMAS,
-        Kind::Integrator => &[
-            &settings::WHITTED,
-            &settings::PATH,
-            &settings::DIRECT,
-            &settings::DISTRIBUTED,
-        ],
+        Kind::Integrator => &[],
         Kind::Sensor => &[&camera::PERSPECTIVE],
         Kind::Film => &[&settings::FILM],
         Kind::Sampler => &[&settings::SAMPLER],
@@ -102,9 +99,10 @@ pub(crate) fn schema_in(parent: Kind, node: &Node) -> Result<&'static Schema, In
         })
 }
 
-/// Checks every node of the tree below `root` against its plugin's schema.
+/// Checks every node of the tree below `root` against its plugin's schema,
+/// but for the integrator's.
 pub fn check(root: &Node) -> Result<(), Invalid> {
-    for node in &root.children {
+    for node in root.children.iter().filter(|c| c.kind != Kind::Integrator) {
         let s = schema_in(root.kind, node)?;
         let others: Vec<&Schema> = children(root.kind, node.kind)
             .iter()

@@ -1,16 +1,15 @@
-//! Image-wide settings after validation — the film's, the sampler's and
-//! the integrator's — with the schemas of those three plugins, and the
-//! settings of the thesis's acceleration metrics and of the adaptive
-//! sampling rules (whose rules live in the integrator).
+//! Image-wide settings after validation — the film's and the sampler's —
+//! with the schemas of those two plugins; the names of the integrators and
+//! of the adaptive sampling rules, which the render options offer. Each
+//! integrator reads its own parameters (`integrator::Config`).
 
 use std::sync::Arc;
 
-use crate::description::check::{int, range};
+use crate::description::check::int;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::emitter::choice::LightChoice;
 use crate::sampling::filter::FILTER_KEYS;
 use crate::sampling::{
-    Distribution, EffectSpec, Filter, FilterParams, PathSampler, PixelFilter, PointTable, MAX_RAYS,
+    Distribution, EffectSpec, Filter, FilterParams, PixelFilter, PointTable, MAX_RAYS,
 };
 
 /// Largest image side; keeps `width * height` and the film allocation sane.
@@ -60,64 +59,14 @@ impl IntegratorChoice {
     }
 }
 
-/// The settings of the `path` and `direct` integrators, in Mitsuba 3's
-/// terms (`direct` is a path of two vertices whose first takes its own
-/// numbers of emitter and BSDF samples, without Russian roulette).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PathSettings {
-    /// The longest path, in vertices counted from the camera (1: only
-    /// emitters seen directly, 2: direct light); `None` for no bound.
-    pub max_depth: Option<u32>,
-    /// The depth from which Russian roulette may end a path.
-    pub rr_depth: u32,
-    /// Emitters seen directly by camera rays are black.
-    pub hide_emitters: bool,
-    /// Emitter samples at the first vertex (1 at every other).
-    pub emitter_samples: u32,
-    /// BSDF samples at the first vertex, each going on as its own path (1
-    /// at every other).
-    pub bsdf_samples: u32,
-    /// Vertices below this depth draw the thesis's sets (`distributed`):
-    /// a shadow set toward every emitter and a set of BSDF samples, from
-    /// their distributions; 0 for `path` and `direct`.
-    pub sets_depth: u32,
-    /// Where the numbers of each bounce come from.
-    pub sampler: PathSampler,
-    /// How next-event estimation chooses its emitter.
-    pub light_sampler: LightChoice,
-}
-
-impl Default for PathSettings {
-    fn default() -> Self {
-        PathSettings {
-            max_depth: None,
-            rr_depth: 5,
-            hide_emitters: false,
-            emitter_samples: 1,
-            bsdf_samples: 1,
-            sets_depth: 0,
-            sampler: PathSampler::Independent,
-            light_sampler: LightChoice::Bvh,
-        }
-    }
-}
-
 /// Image-wide settings after validation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
-    /// The integrator chosen.
-    pub integrator: IntegratorChoice,
     pub width: u32,
     pub height: u32,
-    /// Levels of reflection/refraction rays (the thesis's recursion depth).
-    pub max_depth: u32,
-    /// The path tracer's settings (its defaults unless it is chosen).
-    pub path: PathSettings,
     pub seed: u64,
     /// Primary rays per pixel.
     pub spp: u32,
-    /// Passes the render is made in.
-    pub passes: u32,
     pub pixel: Distribution,
     pub lens: Distribution,
     pub time: Distribution,
@@ -132,62 +81,6 @@ pub struct Settings {
     /// The pixel filter the film points are drawn by, and the samples
     /// weighted by.
     pub filter: PixelFilter,
-    /// The acceleration metrics, if on.
-    pub metric: Option<Metric>,
-    /// Adaptive sampling: the rule that stops a pixel's camera rays before
-    /// `spp`, if on.
-    pub stopping: Option<Stopping>,
-}
-
-impl Settings {
-    /// `max_depth` as the chosen integrator counts it (−1: no bound), as
-    /// reports show it.
-    pub fn depth(&self) -> i64 {
-        match self.integrator {
-            IntegratorChoice::Whitted => i64::from(self.max_depth),
-            IntegratorChoice::Path | IntegratorChoice::Direct | IntegratorChoice::Distributed => {
-                self.path.max_depth.map_or(-1, i64::from)
-            }
-        }
-    }
-}
-
-/// Settings of the metrics; `None` in the scene settings means they are all
-/// off (the scene builder never makes one with all three rules off).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Metric {
-    /// Apply the α/threshold rule to reflection and refraction sets.
-    pub reflections: bool,
-    /// Apply the k rule to shadow sets.
-    pub shadows: bool,
-    /// Largest relative change of the running average that stops a set.
-    pub threshold: f32,
-    /// α: rays always traced before the reflection/refraction metric applies.
-    pub min_rays: u32,
-    /// k: shadow rays after which an all-lit or all-blocked set stops.
-    pub shadow_rays: u32,
-    /// Apply the α/threshold rule to the primary rays of a pixel too.
-    pub pixels: bool,
-}
-
-/// Settings of adaptive sampling: a pixel takes camera rays in passes until
-/// its rule judges its noise below `threshold`, or it reaches the budget
-/// (`spp`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stopping {
-    pub rule: StopRule,
-    /// The noise a pixel may keep, in the rule's own measure (> 0).
-    pub threshold: f32,
-    /// The confidence of the rules that bound the error by an interval
-    /// (`calibrated`, `povray`), from 0.5 to 0.999.
-    pub confidence: f32,
-    /// Independently scrambled replicas of a pixel's sets (`calibrated`), ≥ 2.
-    pub replicas: u32,
-    /// The value below which the calibrated rule's threshold is absolute:
-    /// a half-width of `threshold · max(value, floor)` is allowed (> 0).
-    pub floor: f32,
-    /// Camera rays a pixel takes before the rule may stop it; 0: the rule's own.
-    pub min_spp: u32,
 }
 
 /// An adaptive sampling rule, by the name users write.
@@ -244,8 +137,6 @@ const FILTERS: [&str; 6] = [
     "lanczos",
 ];
 
-const STOP_RULES: [&str; 4] = ["calibrated", "cycles", "povray", "dammertz"];
-
 /// The film's parameters (documented with the render options).
 pub const FILM: Schema = Schema {
     kind: Kind::Film,
@@ -295,104 +186,6 @@ pub const SAMPLER: Schema = Schema {
     ],
 };
 
-/// The `whitted` integrator's parameters (documented with the render options).
-pub const WHITTED: Schema = Schema {
-    kind: Kind::Integrator,
-    plugin: "whitted",
-    what: "whitted integrator",
-    doc: "the thesis's distributed Whitted ray tracer",
-    mitsuba: &[],
-    params: &[
-        param("max_depth", Type::Int),
-        param("passes", Type::Int),
-        param("metric", Type::Bool),
-        param("reflection_metric", Type::Bool),
-        param("shadow_metric", Type::Bool),
-        param("metric_threshold", Type::Number),
-        param("metric_min_rays", Type::Int),
-        param("shadow_metric_rays", Type::Int),
-        param("pixel_metric", Type::Bool),
-        param("noise_threshold", Type::Number),
-        param(
-            "stop_rule",
-            Type::Choice("adaptive sampling rule", &STOP_RULES),
-        ),
-        param("confidence", Type::Number),
-        param("replicas", Type::Int),
-        param("noise_floor", Type::Number),
-        param("min_spp", Type::Int),
-    ],
-};
-
-/// The path tracer's parameters (Mitsuba 3's `path`, whose names and
-/// defaults they keep). The sampler's and film's are the same for every
-/// integrator.
-pub const PATH: Schema = Schema {
-    kind: Kind::Integrator,
-    plugin: "path",
-    what: "path integrator",
-    doc: "a path tracer with next-event estimation and multiple importance sampling",
-    mitsuba: &["path"],
-    params: &[
-        param("max_depth", Type::Int),
-        param("rr_depth", Type::Int),
-        param("hide_emitters", Type::Bool),
-        param("path_sampler", PATH_SAMPLER),
-        param("light_sampler", LIGHT_SAMPLER),
-        param("passes", Type::Int),
-    ],
-};
-
-/// The type of `path_sampler`.
-const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
-
-/// The type of `light_sampler`.
-const LIGHT_SAMPLER: Type = Type::Choice("light sampler", &LightChoice::NAMES);
-
-/// The distributed path tracer's parameters: the path tracer's, the depth
-/// its sets reach, and the thesis's metrics on its sets (not on a pixel's
-/// camera rays).
-pub const DISTRIBUTED: Schema = Schema {
-    kind: Kind::Integrator,
-    plugin: "distributed",
-    what: "distributed integrator",
-    doc: "the path tracer drawing the thesis's sets at its first vertices",
-    mitsuba: &[],
-    params: &[
-        param("max_depth", Type::Int),
-        param("rr_depth", Type::Int),
-        param("hide_emitters", Type::Bool),
-        param("sets_depth", Type::Int),
-        param("path_sampler", PATH_SAMPLER),
-        param("light_sampler", LIGHT_SAMPLER),
-        param("passes", Type::Int),
-        param("metric", Type::Bool),
-        param("reflection_metric", Type::Bool),
-        param("shadow_metric", Type::Bool),
-        param("metric_threshold", Type::Number),
-        param("metric_min_rays", Type::Int),
-        param("shadow_metric_rays", Type::Int),
-    ],
-};
-
-/// The direct illumination integrator's parameters (Mitsuba 3's `direct`).
-pub const DIRECT: Schema = Schema {
-    kind: Kind::Integrator,
-    plugin: "direct",
-    what: "direct integrator",
-    doc: "direct light by emitter and BSDF samples",
-    mitsuba: &["direct"],
-    params: &[
-        param("emitter_samples", Type::Int),
-        param("bsdf_samples", Type::Int),
-        param("shading_samples", Type::Int),
-        param("hide_emitters", Type::Bool),
-        param("path_sampler", PATH_SAMPLER),
-        param("light_sampler", LIGHT_SAMPLER),
-        param("passes", Type::Int),
-    ],
-};
-
 /// The render's sets of shadow, reflection and refraction rays, which
 /// emitters and materials take unless they set their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -402,14 +195,10 @@ pub struct Sets {
     pub refraction: EffectSpec,
 }
 
-/// The settings of the film, the sampler and the integrator (named
-/// `integrator`), from their parameters. The `custom` distribution's
-/// points are left to the builder, which knows whether they are needed.
-pub fn read(
-    film: &Props,
-    sampler: &Props,
-    (integrator, name): (&Props, &str),
-) -> Result<Settings, Invalid> {
+/// The settings of the film and the sampler, from their parameters. The
+/// `custom` distribution's points are left to the builder, which knows
+/// whether they are needed.
+pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
     let width = int(film, "width", 800, 1, i64::from(MAX_SIDE))?;
     let height = int(film, "height", 600, 1, i64::from(MAX_SIDE))?;
     let pixels = u64::from(width) * u64::from(height);
@@ -430,37 +219,11 @@ pub fn read(
     let dist = |key: &str| -> Result<Distribution, Invalid> {
         Ok(sampler.distribution(key)?.unwrap_or(d))
     };
-    let choice = IntegratorChoice::from_name(name).unwrap_or(IntegratorChoice::Whitted);
-    let i = integrator;
-    let (max_depth, mut path) = match choice {
-        IntegratorChoice::Whitted => (int(i, "max_depth", 3, 0, 64)?, PathSettings::default()),
-        IntegratorChoice::Path => (0, path_settings(i)?),
-        IntegratorChoice::Direct => (0, direct_settings(i)?),
-        IntegratorChoice::Distributed => {
-            let sets_depth = int(i, "sets_depth", 1, 1, 64)?;
-            let path = path_settings(i)?;
-            (0, PathSettings { sets_depth, ..path })
-        }
-    };
-    if choice != IntegratorChoice::Whitted {
-        path.sampler = i
-            .choice("path_sampler", "path sampler", &PathSampler::NAMES)?
-            .and_then(PathSampler::from_name)
-            .unwrap_or_default();
-        path.light_sampler = i
-            .choice("light_sampler", "light sampler", &LightChoice::NAMES)?
-            .and_then(LightChoice::from_name)
-            .unwrap_or_default();
-    }
     Ok(Settings {
-        integrator: choice,
         width,
         height,
-        max_depth,
-        path,
         seed: u64::from(int(sampler, "seed", 0, 0, i64::from(u32::MAX))?),
         spp: int(sampler, "spp", 1, 1, i64::from(MAX_RAYS))?,
-        passes: int(i, "passes", 1, 1, i64::from(MAX_RAYS))?,
         pixel: dist("pixel_distribution")?,
         lens: dist("lens_distribution")?,
         time: dist("time_distribution")?,
@@ -469,13 +232,9 @@ pub fn read(
         refraction: sets.refraction,
         points: Arc::new(PointTable::NONE),
         filter,
-        metric: metric(i)?,
-        stopping: stopping(i)?,
     })
 }
 
-/// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
-/// bound), `rr_depth` (≥ 1) and `hide_emitters`.
 /// The film's pixel filter, its parameters read from the `filter_*` keys:
 /// a bad value, or a key of another filter's parameter, is an error at
 /// that key.
@@ -500,60 +259,6 @@ fn pixel_filter(film: &Props) -> Result<PixelFilter, Invalid> {
     })
 }
 
-fn path_settings(i: &Props) -> Result<PathSettings, Invalid> {
-    let d = PathSettings::default();
-    let max_depth = match i.int("max_depth")? {
-        None | Some(-1) => None,
-        Some(v) => Some(u32::try_from(v).map_err(|_| {
-            i.error(
-                "max_depth",
-                format!(
-                    "must be -1 (no bound) or an integer from 0 to {}, got {v}",
-                    u32::MAX
-                ),
-            )
-        })?),
-    };
-    Ok(PathSettings {
-        max_depth,
-        rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
-        hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
-        ..d
-    })
-}
-
-/// The `direct` integrator's settings: Mitsuba's `emitter_samples` and
-/// `bsdf_samples` (each 0 or more, not both 0), or `shading_samples` for
-/// both, and `hide_emitters`.
-fn direct_settings(i: &Props) -> Result<PathSettings, Invalid> {
-    let count = |key: &str, default: u32| int(i, key, i64::from(default), 0, i64::from(MAX_RAYS));
-    let both = count("shading_samples", 1)?;
-    let emitter_samples = count("emitter_samples", both)?;
-    let bsdf_samples = count("bsdf_samples", both)?;
-    if emitter_samples == 0 && bsdf_samples == 0 {
-        let key = if i.int("bsdf_samples")?.is_some() {
-            "bsdf_samples"
-        } else {
-            "shading_samples"
-        };
-        return Err(i.error(
-            key,
-            "a direct integrator needs an emitter or a BSDF sample: emitter_samples and \
-             bsdf_samples cannot both be 0",
-        ));
-    }
-    Ok(PathSettings {
-        max_depth: Some(2),
-        rr_depth: u32::MAX,
-        hide_emitters: i.bool("hide_emitters")?.unwrap_or(false),
-        emitter_samples,
-        bsdf_samples,
-        sets_depth: 0,
-        sampler: PathSampler::Independent,
-        light_sampler: LightChoice::Bvh,
-    })
-}
-
 /// The render's sets (see [`Sets`]).
 fn sets(sampler: &Props) -> Result<Sets, Invalid> {
     let d = sampler
@@ -570,43 +275,4 @@ fn sets(sampler: &Props) -> Result<Sets, Invalid> {
         reflection: spec("reflection_rays", "reflection_distribution")?,
         refraction: spec("refraction_rays", "refraction_distribution")?,
     })
-}
-
-/// Adaptive sampling's settings; `None` when `noise_threshold` is 0.
-fn stopping(i: &Props) -> Result<Option<Stopping>, Invalid> {
-    let threshold = range(i, "noise_threshold", 0.0, 0.0, 1e6)?;
-    let rule = match i.choice("stop_rule", "adaptive sampling rule", &STOP_RULES)? {
-        Some(r) => StopRule::from_name(r).unwrap_or_default(),
-        None => StopRule::default(),
-    };
-    let s = Stopping {
-        rule,
-        threshold,
-        confidence: range(i, "confidence", 0.9, 0.5, 0.999)?,
-        replicas: int(i, "replicas", 8, 2, i64::from(MAX_REPLICAS))?,
-        floor: range(i, "noise_floor", 1.0, 1e-6, 1e6)?,
-        min_spp: int(i, "min_spp", 0, 0, i64::from(MAX_RAYS))?,
-    };
-    let metric = i.bool("metric")?.unwrap_or(false);
-    if threshold > 0.0 && metric && i.bool("pixel_metric")?.unwrap_or(false) {
-        return Err(i.error(
-            "noise_threshold",
-            "adaptive sampling and `pixel_metric` both stop a pixel's camera rays: \
-             turn one of them off",
-        ));
-    }
-    Ok((threshold > 0.0).then_some(s))
-}
-
-fn metric(i: &Props) -> Result<Option<Metric>, Invalid> {
-    let m = Metric {
-        reflections: i.bool("reflection_metric")?.unwrap_or(true),
-        shadows: i.bool("shadow_metric")?.unwrap_or(true),
-        threshold: range(i, "metric_threshold", 0.01, 0.0, 1e6)?,
-        min_rays: int(i, "metric_min_rays", 4, 1, i64::from(MAX_RAYS))?,
-        shadow_rays: int(i, "shadow_metric_rays", 4, 1, i64::from(MAX_RAYS))?,
-        pixels: i.bool("pixel_metric")?.unwrap_or(false),
-    };
-    let any = m.reflections || m.shadows || m.pixels;
-    Ok((i.bool("metric")?.unwrap_or(false) && any).then_some(m))
 }

@@ -74,7 +74,7 @@
 //! sample k (independent numbers are drawn in that order, a sequence's by
 //! dimension); a vertex's BSDF samples
 //! beyond one go on with the child streams of their index (a vertex drawing
-//! the thesis's sets takes other branches, see `wavefront`). A
+//! the thesis's sets takes other branches, see [`streams`](crate::integrator::streams)). A
 //! sample is a pure function of (seed, pixel, sample, bounce, dimension):
 //! the same on any number of threads, tiles or passes.
 //!
@@ -90,34 +90,50 @@
 //! the paths that ended. Radiance is kept per sample and added to the film
 //! in each pixel's sample order once the wave is done.
 
+mod config;
+mod sets;
+mod vertex;
 mod wavefront;
+
+pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::{RayStats, StageBatches};
-use crate::scene::{PathSettings, Scene};
+use crate::emitter::choice::LightSampler;
+use crate::scene::Scene;
 
 use wavefront::Wavefront;
 pub use wavefront::WAVE;
 
-/// The path tracer, with its settings.
-#[derive(Clone, Debug, PartialEq)]
+/// The path tracer, with its settings, ready to render a scene.
+#[derive(Clone, Debug)]
 pub struct Path {
     pub settings: PathSettings,
     /// Camera rays per pixel.
     pub spp: u32,
-    /// Passes the samples are cut into.
-    pub passes: u32,
+    /// How next-event estimation chooses among the scene's emitters (the
+    /// settings' `light_sampler`), built once per render and shared by
+    /// every worker.
+    pub lights: LightSampler,
 }
 
 impl Path {
-    /// The integrator with the scene's settings.
-    pub fn new(scene: &Scene) -> Path {
-        let s = &scene.settings;
+    /// The integrator of `settings` for `scene`.
+    pub fn new(scene: &Scene, settings: PathSettings) -> Path {
+        // Emitters at infinity are measured through the world's bounding
+        // sphere.
+        let b = scene.world.bounds();
+        let radius = 0.5 * (b.max - b.min).length();
+        let sphere = if radius.is_finite() && radius > 0.0 {
+            radius
+        } else {
+            1.0
+        };
         Path {
-            settings: s.path,
-            spp: s.spp,
-            passes: s.passes,
+            settings,
+            spp: scene.settings.spp,
+            lights: LightSampler::new(settings.light_sampler, &scene.emitters, sphere),
         }
     }
 }
@@ -128,7 +144,7 @@ impl Integrator for Path {
 
     fn worker<'s>(&'s self, scene: &'s Scene) -> PathWorker<'s> {
         PathWorker {
-            wave: Wavefront::new(scene, self.settings),
+            wave: Wavefront::new(scene, self.settings, &self.lights),
         }
     }
 
@@ -137,7 +153,7 @@ impl Integrator for Path {
     }
 
     fn passes(&self) -> u32 {
-        self.passes
+        self.settings.passes
     }
 
     fn whole_tiles(&self) -> bool {

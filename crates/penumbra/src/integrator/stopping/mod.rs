@@ -34,9 +34,11 @@ pub mod cycles;
 pub mod dammertz;
 pub mod povray;
 pub mod sets;
+mod settings;
 mod tally;
 
-pub use crate::scene::{StopRule, Stopping};
+pub use crate::scene::StopRule;
+pub use settings::{read, Stopping, STOP_RULES};
 pub use tally::{class_a, encode, Block, Rect, Tally};
 
 use crate::math::Rgb;

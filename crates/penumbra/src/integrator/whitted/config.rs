@@ -1,8 +1,73 @@
-//! The settings of the thesis's integrator.
+//! The thesis's integrator as a plugin: its parameters and its settings.
 
-use crate::scene::{Metric, Scene, Stopping};
+use crate::description::check::int;
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::integrator::metric::{self, Metric};
+use crate::integrator::stopping::{self, Stopping, STOP_RULES};
+use crate::sampling::MAX_RAYS;
+use crate::scene::Scene;
 
-/// The thesis's distributed Whitted integrator, with its settings.
+/// A parameter documented with the render options.
+const fn param(name: &'static str, ty: Type) -> Param {
+    Param::new(name, ty, "", "")
+}
+
+/// The `whitted` integrator's parameters (documented with the render options).
+pub const SCHEMA: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "whitted",
+    what: "whitted integrator",
+    doc: "the thesis's distributed Whitted ray tracer",
+    mitsuba: &[],
+    params: &[
+        param("max_depth", Type::Int),
+        param("passes", Type::Int),
+        param("metric", Type::Bool),
+        param("reflection_metric", Type::Bool),
+        param("shadow_metric", Type::Bool),
+        param("metric_threshold", Type::Number),
+        param("metric_min_rays", Type::Int),
+        param("shadow_metric_rays", Type::Int),
+        param("pixel_metric", Type::Bool),
+        param("noise_threshold", Type::Number),
+        param(
+            "stop_rule",
+            Type::Choice("adaptive sampling rule", &STOP_RULES),
+        ),
+        param("confidence", Type::Number),
+        param("replicas", Type::Int),
+        param("noise_floor", Type::Number),
+        param("min_spp", Type::Int),
+    ],
+};
+
+/// The `whitted` integrator's settings, read from its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WhittedSettings {
+    /// Levels of reflection and refraction rays (the thesis's recursion depth).
+    pub max_depth: u32,
+    /// The acceleration metrics of thesis §3.4, if on.
+    pub metric: Option<Metric>,
+    /// Adaptive sampling, if on.
+    pub stopping: Option<Stopping>,
+    /// Passes the samples are cut into.
+    pub passes: u32,
+}
+
+impl WhittedSettings {
+    /// The settings of the parameters `p`.
+    pub fn read(p: &Props) -> Result<WhittedSettings, Invalid> {
+        Ok(WhittedSettings {
+            max_depth: int(p, "max_depth", 3, 0, 64)?,
+            passes: int(p, "passes", 1, 1, i64::from(MAX_RAYS))?,
+            metric: metric::read(p)?,
+            stopping: stopping::read(p)?,
+        })
+    }
+}
+
+/// The thesis's distributed Whitted integrator, with its settings, ready
+/// to render a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Whitted {
     /// Levels of reflection and refraction rays (the thesis's recursion depth).
@@ -20,16 +85,24 @@ pub struct Whitted {
 }
 
 impl Whitted {
-    /// The integrator with the scene's settings.
-    pub fn new(scene: &Scene) -> Whitted {
+    /// The integrator of `settings` for `scene`.
+    pub fn new(scene: &Scene, settings: WhittedSettings) -> Whitted {
         let s = &scene.settings;
         Whitted {
-            max_depth: s.max_depth,
-            metric: s.metric,
-            stopping: s.stopping,
+            max_depth: settings.max_depth,
+            metric: settings.metric,
+            stopping: settings.stopping,
             spp: s.spp,
-            passes: s.passes,
+            passes: settings.passes,
             image: s.width as usize * s.height as usize,
         }
+    }
+
+    /// The integrator of `scene`'s `whitted` description.
+    #[cfg(test)]
+    pub(crate) fn of(scene: &Scene) -> Whitted {
+        let p = Props::new(&scene.integrator);
+        let settings = WhittedSettings::read(&p).expect("whitted settings");
+        Whitted::new(scene, settings)
     }
 }

@@ -13,7 +13,7 @@ mod pixel;
 mod state;
 mod tracer;
 
-pub use config::Whitted;
+pub use config::{Whitted, WhittedSettings, SCHEMA};
 pub(super) use pixel::{guard, primary_rays};
 pub use state::TileState;
 pub use tracer::Tracer;
@@ -141,7 +141,7 @@ mod tests {
         }
         .apply(&mut src);
         let scene = src.build().expect("showcase builds");
-        let whitted = Whitted::new(&scene);
+        let whitted = Whitted::of(&scene);
         assert_eq!(whitted.spp, 1);
         let (xs, ys) = (3..3 + 16 * 2 + 5, 5..12);
         let mut worker = whitted.worker(&scene);

@@ -139,7 +139,7 @@ pub fn render_pixels(
                 }
                 continue;
             }
-            camera_rays(scene, x0..x1, y, range.clone(), buf);
+            camera_rays((scene, tracer.ordered()), x0..x1, y, range.clone(), buf);
             let Scratch {
                 rays,
                 radiance,
@@ -177,7 +177,7 @@ pub fn render_pixels(
 /// streams a Whitted render traces, for the integrators that follow paths
 /// instead, and each ray's pixel-filter weight appended to `weights`.
 pub(in crate::integrator) fn primary_rays(
-    scene: &Scene,
+    (scene, ordered): (&Scene, bool),
     (xs, y): (Range<u32>, u32),
     keep: Range<usize>,
     rays: &mut Vec<Ray>,
@@ -190,7 +190,7 @@ pub(in crate::integrator) fn primary_rays(
             let have = buf.paths.len();
             buf.paths.extend((have..n).map(PixelSampler::path_key));
         }
-        camera_rays(scene, xs, y, keep.clone(), buf);
+        camera_rays((scene, ordered), xs, y, keep.clone(), buf);
         rays.extend_from_slice(&buf.rays);
         weights.extend_from_slice(&buf.weights);
         for pixel in &buf.pixels {
@@ -215,7 +215,7 @@ fn metric_pixel(
 ) -> bool {
     let n = scene.settings.spp as usize;
     let k = film.index(x, y);
-    camera_rays(scene, x..x + 1, y, range.clone(), buf);
+    camera_rays((scene, tracer.ordered()), x..x + 1, y, range.clone(), buf);
     let Scratch {
         rays,
         paths,
@@ -285,7 +285,13 @@ pub(super) fn pixel_stream(scene: &Scene, x: u32, y: u32) -> PixelSampler {
 /// The camera rays of samples `keep` of pixels `xs` of row `y`, pixel by
 /// pixel, into `buf.rays`: one batch from the camera. The pixels' streams
 /// are left in `buf.pixels`.
-fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, keep: Range<usize>, buf: &mut Scratch) {
+fn camera_rays(
+    (scene, ordered): (&Scene, bool),
+    xs: Range<u32>,
+    y: u32,
+    keep: Range<usize>,
+    buf: &mut Scratch,
+) {
     buf.pixels.clear();
     buf.pixels
         .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
@@ -295,8 +301,7 @@ fn camera_rays(scene: &Scene, xs: Range<u32>, y: u32, keep: Range<usize>, buf: &
     // Without the pixel metric every camera ray is traced and the pixel is
     // their mean, so the order of the film points does not matter; the
     // lens and time sets are still shuffled, which keeps their pairing with
-    // the film points random.
-    let ordered = scene.settings.metric.is_some_and(|m| m.pixels);
+    // the film points random. `ordered`: the pixel metric is on.
     for (k, x) in xs.enumerate() {
         let pixel = buf.pixels[k];
         camera_samples(scene, (x, y), pixel, (n, ordered), keep.clone(), buf);
@@ -404,7 +409,7 @@ mod tests {
             .apply(&mut src);
             let scene = src.build().expect("showcase builds");
             let mut buf = Scratch::default();
-            camera_rays(&scene, 5..6, 7, 0..64, &mut buf);
+            camera_rays((&scene, false), 5..6, 7, 0..64, &mut buf);
             let (r, c) = (
                 crate::sampling::PixelFilter::of(f).radius(),
                 Vec2::new(5.5, 7.5),
@@ -461,7 +466,7 @@ mod tests {
             }
             .apply(&mut src);
             let scene = src.build().expect("showcase builds");
-            let whitted = Whitted::new(&scene);
+            let whitted = Whitted::of(&scene);
             let (mut tracer, mut bad) = (Tracer::new(&scene, &whitted), Vec::new());
             for (x, y) in [(3, 5), (40, 30), (17, 60)] {
                 let mut film = FilmTile::new(x..x + 1, y..y + 1);
@@ -475,7 +480,7 @@ mod tests {
                 }
                 let got = film.value(0);
                 let mut buf = Scratch::default();
-                camera_rays(&scene, x..x + 1, y, 0..spp as usize, &mut buf);
+                camera_rays((&scene, false), x..x + 1, y, 0..spp as usize, &mut buf);
                 let pixel = pixel_stream(&scene, x, y);
                 let (mut mean, mut l) = (RunningMean::default(), Vec::new());
                 for (i, ray) in buf.rays.iter().enumerate() {
@@ -518,7 +523,7 @@ mod tests {
         let (mut film, mut lens, mut lens_in_rows) = (Vec::new(), Vec::new(), Vec::new());
         for p in 0..400 {
             let (x, y) = (p % 20, p / 20);
-            camera_rays(&scene, x..x + 1, y, 0..16, &mut buf);
+            camera_rays((&scene, false), x..x + 1, y, 0..16, &mut buf);
             let mut expected = Vec::new();
             let mut rng = pixel_stream(&scene, x, y).stream(Dimension::Film);
             Distribution::Jitter.generate_unordered(16, 0.5, &mut rng, &mut expected);

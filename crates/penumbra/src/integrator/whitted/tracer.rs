@@ -4,22 +4,16 @@ use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::bsdf::{Bsdf, BsdfFlags, Lobes};
 use crate::emitter::{Emitter, LightSample};
 use crate::math::Rgb;
-use crate::math::{offset_origin, reach, Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, Vec3};
 use crate::sampling::{BranchKey, Distribution, EffectSpec, PointTable, Rng, SetPoint};
 use crate::scene::Scene;
 
 use super::config::Whitted;
 use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::stopping::sets::{SetRule, SetTally};
-
-const SHADOW: u64 = 1 << 32;
-
-/// The streams of a set of lobe `k` of a BSDF: its points from
-/// `path.derive(2k + 1)`, the paths of its rays from `path.derive(2k + 2)`.
-fn lobe_tags(k: usize) -> (u64, u64) {
-    (2 * k as u64 + 1, 2 * k as u64 + 2)
-}
+use crate::integrator::streams;
 
 /// Shadow rays stop this fraction short of their target, so that the surface
 /// they aim at (or a surface touching it) does not count as a blocker.
@@ -65,11 +59,9 @@ pub struct Tracer<'a> {
     /// The emitters direct light comes from (all but those at infinity,
     /// which rays that hit nothing see), by index in the scene.
     sampled: Vec<u32>,
-    /// The branch of emitter `j`'s shadow sets, `SHADOW + j`, hashed once,
+    /// The branch of emitter `j`'s shadow sets (`streams::shadow`), hashed once,
     /// for each of `sampled`.
     shadow_keys: Vec<BranchKey>,
-    /// The emitters at infinity, which rays that hit nothing see.
-    far: Vec<u32>,
     /// The calibrated rule on sets, if on (see [`SetRule`]).
     set_rule: Option<SetRule>,
     /// Replica sums of the sets being traced, one per nesting level.
@@ -104,16 +96,11 @@ struct Lit {
 
 /// The local frame of a hit, oriented toward the viewer.
 struct Local {
-    p: Vec3,
-    /// The magnitude that rays leaving `p` are offset in proportion to ([`reach`]).
-    reach: f32,
+    /// Where its rays leave from, its geometric normal on the viewer's side.
+    at: ShadingPoint,
     wo: Vec3,
     /// Shading normal on the viewer's side.
     n: Vec3,
-    /// Geometric normal on the viewer's side.
-    ng: Vec3,
-    /// The path's time: every secondary ray inherits its primary ray's time.
-    time: f32,
 }
 
 impl Local {
@@ -123,17 +110,20 @@ impl Local {
         let front = hit.ng.dot(wo) >= 0.0;
         let flip = if front { 1.0 } else { -1.0 };
         Local {
-            p: hit.p,
-            reach: reach(hit.p, ray.origin),
+            at: ShadingPoint::new(ray, hit.p, hit.ng * flip),
             wo,
             n: hit.n * flip,
-            ng: hit.ng * flip,
-            time: ray.time,
         }
     }
 }
 
 impl<'a> Tracer<'a> {
+    /// True if the pixel metric is on: a pixel's film points are traced
+    /// in their shuffled order, since it may stop after any of them.
+    pub(super) fn ordered(&self) -> bool {
+        self.metric.is_some_and(|m| m.pixels)
+    }
+
     pub fn new(scene: &'a Scene, config: &Whitted) -> Self {
         let s = &scene.settings;
         Tracer {
@@ -163,10 +153,7 @@ impl<'a> Tracer<'a> {
                 .collect(),
             shadow_keys: (0..scene.emitters.len() as u64)
                 .filter(|&j| !scene.emitters[j as usize].is_infinite())
-                .map(|j| BranchKey::new(SHADOW + j))
-                .collect(),
-            far: (0..scene.emitters.len() as u32)
-                .filter(|&j| scene.emitters[j as usize].is_infinite())
+                .map(|j| BranchKey::new(streams::shadow(j)))
                 .collect(),
             set_rule: SetRule::new(config.stopping),
             tallies: Vec::new(),
@@ -204,7 +191,7 @@ impl<'a> Tracer<'a> {
             let Some(hit) = hit else { continue };
             if self.lobes[hit.material as usize].1 {
                 let frame = Local::new(ray, hit);
-                let origin = offset_origin(frame.p, frame.reach, frame.ng, frame.ng);
+                let origin = frame.at.origin(frame.at.ng);
                 level.lit.push(Lit {
                     ray: i,
                     material: hit.material,
@@ -375,7 +362,7 @@ impl<'a> Tracer<'a> {
     /// send along them.
     fn miss(&self, ray: &Ray) -> Rgb {
         let eval = |j: &u32| self.scene.emitters[*j as usize].eval_miss(ray.dir);
-        match self.far.split_first() {
+        match self.scene.far.split_first() {
             None => Rgb::ZERO,
             Some((first, rest)) => rest.iter().fold(eval(first), |l, j| l + eval(j)),
         }
@@ -580,7 +567,7 @@ impl<'a> Tracer<'a> {
         }
         let samples = &mut self.light_samples;
         samples.clear();
-        light.sample(|k| lit[k / n].frame.p, &points, d, samples);
+        light.sample(|k| lit[k / n].frame.at.p, &points, d, samples);
         for (h, samples) in lit.iter().zip(samples.chunks_exact(n)) {
             let ray = |ls: &Option<LightSample>| shadow_ray(&h.frame, h.origin, ls.as_ref()?);
             set.extend(samples.iter().map(ray));
@@ -645,7 +632,7 @@ impl<'a> Tracer<'a> {
     ) -> Rgb {
         let blurred = flags.contains(BsdfFlags::GLOSSY);
         let (n, d) = (if blurred { spec.rays } else { 1 }, spec.distribution);
-        let (set_tag, ray_tag) = lobe_tags(k);
+        let (set_tag, ray_tag) = streams::lobe(k);
         let rule = SetRule::for_set(self.set_rule, n as usize);
         let points = self.points(d, n, rule, rng.derive(set_tag));
         let transmit = flags.contains(BsdfFlags::TRANSMISSION);
@@ -656,7 +643,7 @@ impl<'a> Tracer<'a> {
             } else {
                 perfect
             };
-            Ray::new(offset_origin(s.p, s.reach, s.ng, w), w, s.time)
+            s.at.spawn_ray(w)
         };
         let children = rng.derive(ray_tag);
         let metric = self.metric.filter(|m| m.reflections);
@@ -724,11 +711,11 @@ struct ShadowRay {
 fn shadow_ray(s: &Local, origin: Vec3, ls: &LightSample) -> Option<ShadowRay> {
     let wi = ls.dir;
     let cos = s.n.dot(wi);
-    if cos <= 0.0 || s.ng.dot(wi) <= 0.0 {
+    if cos <= 0.0 || s.at.ng.dot(wi) <= 0.0 {
         return None;
     }
     Some(ShadowRay {
-        ray: Ray::new(origin, ls.target - origin, s.time),
+        ray: s.at.spawn_ray_to(origin, ls.target),
         wi,
         cos,
         weight: ls.weight,
@@ -769,7 +756,7 @@ mod tests {
                 .expect("the ground");
             below += usize::from(hit.p.y < 0.0);
             let s = Local::new(&ray, &hit);
-            let origin = offset_origin(s.p, s.reach, s.ng, s.ng);
+            let origin = s.at.origin(s.at.ng);
             let shadow = Ray::new(origin, light - origin, 0.0);
             let t = world.transmittance(&shadow, (0.0, SHADOW_END), &scene.transparency, None);
             assert_eq!(t, Some(1.0), "from {:?} (hit at {:?})", origin, hit.p);
@@ -860,7 +847,7 @@ mod tests {
                 .and_then(|s| s.build())
                 .unwrap_or_else(|e| panic!("{e}"));
             let mut r = Rng::new(k as u64);
-            let whitted = Whitted::new(&scene);
+            let whitted = Whitted::of(&scene);
             let (mut wide, mut one) =
                 (Tracer::new(&scene, &whitted), Tracer::new(&scene, &whitted));
             let mut out = Vec::new();

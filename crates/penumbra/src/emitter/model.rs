@@ -1,0 +1,109 @@
+//! What every emitter answers: [`EmitterModel`], whose defaults are those
+//! of an emitter without the property (see the [module docs](super)).
+
+use super::bounds::LightBounds;
+use super::sample::LightSample;
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::{Distribution, EffectSpec};
+
+/// The shadow sets of an emitter without extent: one ray (every ray would
+/// be the same).
+pub const ONE_RAY: EffectSpec = EffectSpec {
+    rays: 1,
+    distribution: Distribution::Grid,
+};
+
+/// What every emitter answers (see the [module docs](crate::emitter)); the defaults
+/// are those of an emitter without the property (no surface, not at
+/// infinity, not a delta light, sampled by one ray).
+pub trait EmitterModel {
+    /// Rays per shadow set and their distribution.
+    #[inline]
+    fn shadow(&self) -> EffectSpec {
+        ONE_RAY
+    }
+
+    /// True for an emitter without extent (a point, spot or directional
+    /// light): every shadow ray toward it would be the same.
+    #[inline]
+    fn is_delta(&self) -> bool {
+        false
+    }
+
+    /// True for an emitter at infinity that rays that hit nothing see
+    /// (`constant`, `envmap`; a directional light is at infinity but seen
+    /// by no ray, sampled as a delta light).
+    #[inline]
+    fn is_infinite(&self) -> bool {
+        false
+    }
+
+    /// Fits the emitter to the scene's bounding sphere.
+    fn fit(&mut self, _center: Vec3, _radius: f32) {}
+
+    /// The power it emits (W, mean over the colour channels); for an
+    /// emitter at infinity the power it brings into the scene's bounding
+    /// sphere of radius `radius`, as pbrt-v4 counts it.
+    fn power(&self, radius: f32) -> f32;
+
+    /// Its bounds for a light BVH; `None` for an emitter at infinity.
+    fn bounds(&self) -> Option<LightBounds> {
+        None
+    }
+
+    /// Radiance leaving the emitter's surface toward `-dir` at a point with
+    /// geometric normal `n`; zero for emitters without a surface.
+    #[inline]
+    fn eval(&self, _n: Vec3, _dir: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+
+    /// Radiance arriving along `dir` from infinity.
+    #[inline]
+    fn eval_miss(&self, _dir: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+
+    /// Samples for a batch of distribution points (see
+    /// [`Emitter::sample`](super::Emitter::sample)): one by one through
+    /// [`sample_one`](Self::sample_one) unless the emitter has a kernel.
+    #[inline]
+    fn sample(
+        &self,
+        at: impl Fn(usize) -> Vec3,
+        points: &[Vec3],
+        d: Distribution,
+        out: &mut Vec<Option<LightSample>>,
+    ) {
+        out.extend((0..points.len()).map(|k| self.sample_one(at(k), points[k], d)));
+    }
+
+    /// One sample seen from `p` with the distribution point `point`, the
+    /// portable form; `None` for an emitter at infinity, seen rather than
+    /// sampled by the integrators that shade with this.
+    #[inline]
+    fn sample_one(&self, _p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        None
+    }
+
+    /// For an emitter at infinity, the direction toward it for the point
+    /// `u` of the unit square, the radiance arriving from there and the
+    /// solid-angle density of the direction; `None` for the others.
+    fn sample_direction(&self, _u: Vec2) -> Option<(Vec3, Rgb, f32)> {
+        None
+    }
+
+    /// The solid-angle density with which
+    /// [`sample_direction`](Self::sample_direction) draws `dir`.
+    fn pdf_direction(&self, _dir: Vec3) -> f32 {
+        0.0
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) draws
+    /// `target` (a point of the emitter with outward normal `n`) from `p`;
+    /// 0 for a delta light and for the thesis model, whose rays are not
+    /// drawn from the light's surface.
+    fn pdf(&self, _p: Vec3, _target: Vec3, _n: Vec3) -> f32 {
+        0.0
+    }
+}

@@ -1,0 +1,220 @@
+//! The path tracers as plugins: the parameters of `path`, `direct` and
+//! `distributed`, and the settings they are read into.
+
+use crate::description::check::int;
+use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
+use crate::emitter::choice::LightChoice;
+use crate::integrator::metric::{self, Metric};
+use crate::sampling::{PathSampler, MAX_RAYS};
+
+/// A parameter documented with the render options.
+const fn param(name: &'static str, ty: Type) -> Param {
+    Param::new(name, ty, "", "")
+}
+
+/// The type of `path_sampler`.
+const PATH_SAMPLER: Type = Type::Choice("path sampler", &PathSampler::NAMES);
+
+/// The type of `light_sampler`.
+const LIGHT_SAMPLER: Type = Type::Choice("light sampler", &LightChoice::NAMES);
+
+/// The path tracer's parameters (Mitsuba 3's `path`, whose names and
+/// defaults they keep). The sampler's and film's are the same for every
+/// integrator.
+pub const PATH: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "path",
+    what: "path integrator",
+    doc: "a path tracer with next-event estimation and multiple importance sampling",
+    mitsuba: &["path"],
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
+        param("passes", Type::Int),
+    ],
+};
+
+/// The distributed path tracer's parameters: the path tracer's, the depth
+/// its sets reach, and the thesis's metrics on its sets (not on a pixel's
+/// camera rays).
+pub const DISTRIBUTED: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "distributed",
+    what: "distributed integrator",
+    doc: "the path tracer drawing the thesis's sets at its first vertices",
+    mitsuba: &[],
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("sets_depth", Type::Int),
+        param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
+        param("passes", Type::Int),
+        param("metric", Type::Bool),
+        param("reflection_metric", Type::Bool),
+        param("shadow_metric", Type::Bool),
+        param("metric_threshold", Type::Number),
+        param("metric_min_rays", Type::Int),
+        param("shadow_metric_rays", Type::Int),
+    ],
+};
+
+/// The direct illumination integrator's parameters (Mitsuba 3's `direct`).
+pub const DIRECT: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "direct",
+    what: "direct integrator",
+    doc: "direct light by emitter and BSDF samples",
+    mitsuba: &["direct"],
+    params: &[
+        param("emitter_samples", Type::Int),
+        param("bsdf_samples", Type::Int),
+        param("shading_samples", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("path_sampler", PATH_SAMPLER),
+        param("light_sampler", LIGHT_SAMPLER),
+        param("passes", Type::Int),
+    ],
+};
+
+/// The settings of the `path`, `direct` and `distributed` integrators, in
+/// Mitsuba 3's terms (`direct` is a path of two vertices whose first takes
+/// its own numbers of emitter and BSDF samples, without Russian roulette).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathSettings {
+    /// The longest path, in vertices counted from the camera (1: only
+    /// emitters seen directly, 2: direct light); `None` for no bound.
+    pub max_depth: Option<u32>,
+    /// The depth from which Russian roulette may end a path.
+    pub rr_depth: u32,
+    /// Emitters seen directly by camera rays are black.
+    pub hide_emitters: bool,
+    /// Emitter samples at the first vertex (1 at every other).
+    pub emitter_samples: u32,
+    /// BSDF samples at the first vertex, each going on as its own path (1
+    /// at every other).
+    pub bsdf_samples: u32,
+    /// Vertices below this depth draw the thesis's sets (`distributed`):
+    /// a shadow set toward every emitter and a set of BSDF samples, from
+    /// their distributions; 0 for `path` and `direct`.
+    pub sets_depth: u32,
+    /// Where the numbers of each bounce come from.
+    pub sampler: PathSampler,
+    /// How next-event estimation chooses its emitter.
+    pub light_sampler: LightChoice,
+    /// The thesis's metrics on the sets (`distributed`), if on.
+    pub metric: Option<Metric>,
+    /// Passes the samples are cut into.
+    pub passes: u32,
+}
+
+impl Default for PathSettings {
+    fn default() -> Self {
+        PathSettings {
+            max_depth: None,
+            rr_depth: 5,
+            hide_emitters: false,
+            emitter_samples: 1,
+            bsdf_samples: 1,
+            sets_depth: 0,
+            sampler: PathSampler::Independent,
+            light_sampler: LightChoice::Bvh,
+            metric: None,
+            passes: 1,
+        }
+    }
+}
+
+/// Which of the three integrators the settings are read for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    Path,
+    Direct,
+    Distributed,
+}
+
+impl PathSettings {
+    /// The settings of integrator `variant` from its parameters `i`.
+    pub fn read(variant: Variant, i: &Props) -> Result<PathSettings, Invalid> {
+        let mut s = match variant {
+            Variant::Path => path(i)?,
+            Variant::Direct => direct(i)?,
+            Variant::Distributed => {
+                let sets_depth = int(i, "sets_depth", 1, 1, 64)?;
+                PathSettings {
+                    sets_depth,
+                    ..path(i)?
+                }
+            }
+        };
+        s.sampler = i
+            .choice("path_sampler", "path sampler", &PathSampler::NAMES)?
+            .and_then(PathSampler::from_name)
+            .unwrap_or_default();
+        s.light_sampler = i
+            .choice("light_sampler", "light sampler", &LightChoice::NAMES)?
+            .and_then(LightChoice::from_name)
+            .unwrap_or_default();
+        s.passes = int(i, "passes", 1, 1, i64::from(MAX_RAYS))?;
+        s.metric = metric::read(i)?;
+        Ok(s)
+    }
+}
+
+/// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
+/// bound), `rr_depth` (≥ 1) and `hide_emitters`.
+fn path(i: &Props) -> Result<PathSettings, Invalid> {
+    let d = PathSettings::default();
+    let max_depth = match i.int("max_depth")? {
+        None | Some(-1) => None,
+        Some(v) => Some(u32::try_from(v).map_err(|_| {
+            i.error(
+                "max_depth",
+                format!(
+                    "must be -1 (no bound) or an integer from 0 to {}, got {v}",
+                    u32::MAX
+                ),
+            )
+        })?),
+    };
+    Ok(PathSettings {
+        max_depth,
+        rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
+        hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
+        ..d
+    })
+}
+
+/// The `direct` integrator's settings: Mitsuba's `emitter_samples` and
+/// `bsdf_samples` (each 0 or more, not both 0), or `shading_samples` for
+/// both, and `hide_emitters`.
+fn direct(i: &Props) -> Result<PathSettings, Invalid> {
+    let count = |key: &str, default: u32| int(i, key, i64::from(default), 0, i64::from(MAX_RAYS));
+    let both = count("shading_samples", 1)?;
+    let emitter_samples = count("emitter_samples", both)?;
+    let bsdf_samples = count("bsdf_samples", both)?;
+    if emitter_samples == 0 && bsdf_samples == 0 {
+        let key = if i.int("bsdf_samples")?.is_some() {
+            "bsdf_samples"
+        } else {
+            "shading_samples"
+        };
+        return Err(i.error(
+            key,
+            "a direct integrator needs an emitter or a BSDF sample: emitter_samples and \
+             bsdf_samples cannot both be 0",
+        ));
+    }
+    Ok(PathSettings {
+        max_depth: Some(2),
+        rr_depth: u32::MAX,
+        hide_emitters: i.bool("hide_emitters")?.unwrap_or(false),
+        emitter_samples,
+        bsdf_samples,
+        ..PathSettings::default()
+    })
+}

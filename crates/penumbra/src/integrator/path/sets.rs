@@ -1,0 +1,219 @@
+//! The thesis's sets at a vertex of the distributed path tracer: a shadow
+//! set toward every emitter and a set of BSDF samples, each going on as a
+//! path, and the sets the reflection metric judges.
+
+use super::vertex::{
+    count_bounce, go_through, power_heuristic, sample_emitter, shadow_ray, shadow_set, Escape,
+    Material, Nee, Paths, ShadowTally, Shadows, Vertex, NO_SET,
+};
+use crate::accel::Hit;
+use crate::bsdf::Bsdf;
+use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::shading::ShadingPoint;
+use crate::integrator::stats::RayStats;
+use crate::integrator::streams;
+use crate::math::{Rgb, Vec3};
+use crate::sampling::{EffectSpec, Rng, SetPoint};
+use crate::scene::Scene;
+
+/// Where a vertex's work goes: its shadow rays, the paths it starts, the
+/// ray counts, and a buffer for a set's points.
+pub(super) struct Out<'a> {
+    pub(super) shadows: &'a mut Shadows,
+    pub(super) next: &'a mut Paths,
+    pub(super) stats: &'a mut RayStats,
+    pub(super) points: &'a mut Vec<Vec3>,
+    pub(super) escape: Escape,
+    /// With the reflection metric on, at a first vertex: the members its
+    /// sets always trace (α, at least 2).
+    pub(super) judge: Option<u32>,
+    /// The samples of the wave, which judged sets' members add to.
+    pub(super) radiance: &'a mut Vec<Rgb>,
+    /// The sets the reflection metric judges.
+    pub(super) pending: &'a mut Vec<PendingSet>,
+}
+
+/// A vertex that draws the thesis's sets (`distributed`): a set of shadow
+/// rays toward every emitter, of the emitter's `shadow_rays` from its
+/// `shadow_distribution`, and one set of BSDF samples whose count and
+/// distribution are the largest set the material's lobes ask for (the
+/// render's reflection set for a material without sets), each sample
+/// starting a path of its own with the set's share of the throughput. The
+/// two are weighed by the power heuristic on density times count. `path`
+/// is the vertex's stream; `rr` says whether the paths it starts face
+/// Russian roulette.
+#[inline]
+pub(super) fn thesis_sets(
+    (scene, metric): (&Scene, Option<Metric>),
+    v: &Vertex<'_>,
+    (bsdf, material): (&Bsdf, &Material),
+    (path, rr): (Rng, bool),
+    out: &mut Out<'_>,
+) {
+    let table = &scene.settings.points;
+    let set = material.set;
+    let nb = set.rays as f32;
+    if material.smooth {
+        // The shadow metric's k, for the sets it judges.
+        let metric = metric.filter(|m| m.shadows);
+        for (j, emitter) in scene.emitters.iter().enumerate() {
+            let set = shadow_set(emitter, scene.settings.shadow);
+            let (n, d) = (set.rays, set.distribution);
+            let k = metric.map(|m| m.shadow_rays).filter(|&k| k < n);
+            let id = match k {
+                Some(k) => {
+                    let tally = ShadowTally {
+                        n,
+                        k,
+                        reached: 0,
+                        blocked: 0,
+                    };
+                    out.shadows.sets.push(tally);
+                    out.shadows.sets.len() as u32 - 1
+                }
+                None => NO_SET,
+            };
+            let mut rng = path.derive(streams::shadow(j as u64));
+            d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
+            for (m, &point) in out.points.iter().enumerate() {
+                let Some(ls) = sample_emitter(emitter, v.hit.p, (point, d), out.escape) else {
+                    continue;
+                };
+                let ns = n as f32;
+                let weigh = |pdf_b: f32| power_heuristic(ns * ls.pdf, nb * pdf_b);
+                let rays = match k {
+                    Some(k) if m as u32 >= k => &mut out.shadows.later,
+                    _ => &mut out.shadows.now,
+                };
+                shadow_ray(v, bsdf, &ls, weigh, ns, (rays, id));
+            }
+        }
+    }
+    let mut rng = path.derive(streams::BSDF_SET);
+    set.distribution
+        .generate_in(table, set.rays as usize, 1.0, &mut rng, out.points);
+    let first = out.judge.filter(|&a| set.rays > a);
+    if let Some(alpha) = first {
+        // The reflection metric judges the set: its first α members, each
+        // adding to a sample of its own, and the rest one at a time
+        // (see `Wavefront::judge_sets`).
+        let acc = out.radiance.len() as u32;
+        out.radiance
+            .resize(out.radiance.len() + alpha as usize, Rgb::ZERO);
+        for k in 0..alpha {
+            let member = Member {
+                k,
+                point: out.points[k as usize],
+                set,
+                slot: acc + k,
+                share: 1.0,
+            };
+            set_member(v, bsdf, (path, rr), member, out.next, out.stats);
+        }
+        out.pending.push(PendingSet {
+            hit: *v.hit,
+            at: v.at,
+            wo: v.wo,
+            beta: v.beta,
+            eta2: v.eta2,
+            slot: v.slot,
+            path,
+            rr,
+            material: v.hit.material,
+            set,
+            acc,
+            batch: alpha,
+            mean: RunningMean::default(),
+        });
+        return;
+    }
+    for (k, &point) in out.points.iter().enumerate() {
+        let member = Member {
+            k: k as u32,
+            point,
+            set,
+            slot: v.slot,
+            share: nb,
+        };
+        set_member(v, bsdf, (path, rr), member, out.next, out.stats);
+    }
+}
+
+/// A member of a vertex's set of BSDF samples: the `k`th of `set`, at
+/// `point`, adding to sample `slot` with `1 / share` of the throughput.
+#[derive(Clone, Copy)]
+pub(super) struct Member {
+    pub(super) k: u32,
+    pub(super) point: Vec3,
+    pub(super) set: EffectSpec,
+    pub(super) slot: u32,
+    pub(super) share: f32,
+}
+
+/// Starts the path of member `m` of the BSDF set at `v` (whose stream is
+/// `path`; `rr`: the path faces Russian roulette), unless its sample has
+/// no density, carries nothing or roulette ends it.
+#[inline]
+pub(super) fn set_member(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    (path, rr): (Rng, bool),
+    m: Member,
+    next: &mut Paths,
+    stats: &mut RayStats,
+) {
+    let n = m.set.rays;
+    let u = SetPoint::new(m.point, m.set.distribution);
+    let Some(s) = bsdf.sample(v.hit, v.wo, None, u) else {
+        return;
+    };
+    let stream = path.child(m.k as usize, n as usize);
+    let roulette = rr.then(|| stream.derive(streams::ROULETTE).next_f32());
+    let Some(through) = go_through(v, &s, m.share, roulette) else {
+        return;
+    };
+    let delta = s.flags.is_delta();
+    // The emission met is weighed against the whole set's density.
+    let mis = if delta {
+        (0.0, Nee::None)
+    } else {
+        (n as f32 * s.pdf, Nee::Sets)
+    };
+    let ray = v.at.spawn_ray(s.wi);
+    next.push(ray, m.slot, through, stream, ((v.hit.p, v.hit.n), mis));
+    count_bounce(stats, s.flags);
+}
+
+/// A set of BSDF samples the reflection metric judges, at a first vertex:
+/// the vertex, its set, the samples `acc..acc + batch` its latest members
+/// add to, and the running mean of the members traced so far.
+pub(super) struct PendingSet {
+    pub(super) hit: Hit,
+    pub(super) at: ShadingPoint,
+    pub(super) wo: Vec3,
+    pub(super) beta: Rgb,
+    pub(super) eta2: f32,
+    /// The sample the set's value goes to.
+    pub(super) slot: u32,
+    pub(super) path: Rng,
+    pub(super) rr: bool,
+    pub(super) material: u32,
+    pub(super) set: EffectSpec,
+    pub(super) acc: u32,
+    pub(super) batch: u32,
+    pub(super) mean: RunningMean,
+}
+
+impl PendingSet {
+    #[inline]
+    pub(super) fn vertex(&self) -> Vertex<'_> {
+        Vertex {
+            hit: &self.hit,
+            at: self.at,
+            wo: self.wo,
+            beta: self.beta,
+            eta2: self.eta2,
+            slot: self.slot,
+        }
+    }
+}

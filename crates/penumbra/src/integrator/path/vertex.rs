@@ -1,0 +1,391 @@
+//! What the wavefront's stages share: the buffers of a wave's paths and
+//! shadow rays, a vertex and what it needs of its material, and the
+//! sampling and weighing of emitters at a vertex.
+
+use crate::accel::Hit;
+use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
+use crate::emitter::{Emitter, LightSample};
+use crate::integrator::shading::ShadingPoint;
+use crate::integrator::stats::RayStats;
+use crate::math::{Ray, Rgb, Vec2, Vec3};
+use crate::sampling::points::unit_square;
+use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
+
+/// The largest probability with which Russian roulette keeps a path.
+const RR_MAX: f32 = 0.95;
+
+/// The live paths of a wave, one entry per path in each buffer.
+#[derive(Default)]
+pub(super) struct Paths {
+    /// The ray each path follows next.
+    pub(super) ray: Vec<Ray>,
+    /// The sample of the wave the path adds its radiance to.
+    pub(super) slot: Vec<u32>,
+    /// Throughput: what the radiance found next is multiplied by.
+    pub(super) beta: Vec<Rgb>,
+    /// The product of the `eta²` of the interfaces crossed (see
+    /// [`BsdfSample::eta`](crate::bsdf::BsdfSample::eta)).
+    pub(super) eta2: Vec<f32>,
+    /// The path's stream (its primary sample's).
+    pub(super) rng: Vec<Rng>,
+    /// The vertex the ray left from, and its shading normal (zero for the
+    /// camera): where the light sampler's probability of the emitter met is
+    /// asked.
+    pub(super) from: Vec<(Vec3, Vec3)>,
+    /// What the emission the ray meets is weighed by: the BSDF's
+    /// solid-angle density times its samples at the vertex the ray left
+    /// (0 after a delta lobe or from the camera: the emission then counts
+    /// whole), and the emitter samples taken there.
+    pub(super) mis: Vec<(f32, Nee)>,
+}
+
+/// The emitter samples a vertex took (next-event estimation), as the
+/// emission met from it is weighed against them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Nee {
+    /// None: the emission met counts whole.
+    None,
+    /// This many, each toward an emitter chosen by the light sampler.
+    Choice(f32),
+    /// A set toward every emitter, of the emitter's shadow rays (the
+    /// thesis's shadow sets).
+    Sets,
+}
+
+impl Paths {
+    #[inline]
+    pub(super) fn clear(&mut self) {
+        self.ray.clear();
+        self.slot.clear();
+        self.beta.clear();
+        self.eta2.clear();
+        self.rng.clear();
+        self.from.clear();
+        self.mis.clear();
+    }
+
+    #[inline]
+    pub(super) fn len(&self) -> usize {
+        self.ray.len()
+    }
+
+    #[inline]
+    pub(super) fn push(
+        &mut self,
+        ray: Ray,
+        slot: u32,
+        (beta, eta2): (Rgb, f32),
+        rng: Rng,
+        (from, mis): ((Vec3, Vec3), (f32, Nee)),
+    ) {
+        self.ray.push(ray);
+        self.slot.push(slot);
+        self.beta.push(beta);
+        self.eta2.push(eta2);
+        self.rng.push(rng);
+        self.from.push(from);
+        self.mis.push(mis);
+    }
+}
+
+/// Shadow rays, each with the sample it lights, what it brings if nothing
+/// blocks it, and the shadow set whose metric judges it ([`NO_SET`]: none).
+#[derive(Default)]
+pub(super) struct ShadowRays {
+    pub(super) ray: Vec<Ray>,
+    pub(super) slot: Vec<u32>,
+    pub(super) value: Vec<Rgb>,
+    pub(super) set: Vec<u32>,
+}
+
+impl ShadowRays {
+    #[inline]
+    pub(super) fn clear(&mut self) {
+        self.ray.clear();
+        self.slot.clear();
+        self.value.clear();
+        self.set.clear();
+    }
+
+    #[inline]
+    pub(super) fn push(&mut self, ray: Ray, slot: u32, value: Rgb, set: u32) {
+        self.ray.push(ray);
+        self.slot.push(slot);
+        self.value.push(value);
+        self.set.push(set);
+    }
+}
+
+/// A shadow set the thesis's shadow metric judges: `n` members, of which
+/// the first `k` are traced first; `reached` and `blocked` count how those
+/// of them that are rays ended.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ShadowTally {
+    pub(super) n: u32,
+    pub(super) k: u32,
+    pub(super) reached: u32,
+    pub(super) blocked: u32,
+}
+
+impl ShadowTally {
+    /// The metric's verdict after the first `k` members: stop if they all
+    /// reached the emitter or were all blocked (and one was a ray).
+    #[inline]
+    pub(super) fn stops(&self) -> bool {
+        (self.reached == 0 || self.blocked == 0) && self.reached + self.blocked > 0
+    }
+}
+
+/// No shadow set: a ray no metric judges.
+pub(super) const NO_SET: u32 = u32::MAX;
+
+/// The shadow rays of a bounce: `now`, traced first, and `later`, the
+/// members past the first `k` of the sets the shadow metric judges, traced
+/// only for the sets it does not stop (see `Wavefront::occlude`).
+#[derive(Default)]
+pub(super) struct Shadows {
+    pub(super) now: ShadowRays,
+    pub(super) later: ShadowRays,
+    pub(super) sets: Vec<ShadowTally>,
+}
+
+impl Shadows {
+    #[inline]
+    pub(super) fn clear(&mut self) {
+        self.now.clear();
+        self.later.clear();
+        self.sets.clear();
+    }
+}
+
+/// The weight of the emission of `emitter` that a path meets, having left
+/// its last vertex with BSDF density `pdf` times the BSDF samples taken
+/// there (0: from the camera or a delta lobe, which next-event estimation
+/// could not have drawn) beside the emitter samples `nee`: the power
+/// heuristic against the emitter samples' density (`density()` of one
+/// sample toward where the path met it, times their count and, under a
+/// choice among emitters, the probability `choice()` that the light
+/// sampler chose this one from that vertex; a set has its emitter's size,
+/// `shadow` for one at infinity); 1 if the light sampler could not have
+/// chosen it there; 0 for an emitter sampled without a density (the
+/// thesis's penumbra model), whose light its shadow rays alone bring.
+#[inline]
+pub(super) fn emission_weight(
+    emitter: &Emitter,
+    shadow: EffectSpec,
+    (pdf, nee): (f32, Nee),
+    choice: impl FnOnce() -> f32,
+    density: impl FnOnce() -> f32,
+) -> f32 {
+    if pdf == 0.0 {
+        return 1.0;
+    }
+    let pdf_light = match nee {
+        Nee::None => return 1.0,
+        Nee::Choice(samples) => {
+            let pmf = choice();
+            if pmf <= 0.0 {
+                return 1.0;
+            }
+            samples * pmf * density()
+        }
+        Nee::Sets => shadow_set(emitter, shadow).rays as f32 * density(),
+    };
+    if pdf_light > 0.0 {
+        power_heuristic(pdf, pdf_light)
+    } else {
+        0.0
+    }
+}
+
+/// The throughput and `eta²` product of the path the BSDF sample `s`
+/// continues from `v`, one of `n` samples there; `None` if the sample has
+/// no density where it needs one, carries nothing, or Russian roulette
+/// (when `roulette` gives its number) ends it. Roulette keeps a path with
+/// probability `min(max(throughput) · eta², 0.95)`, as Mitsuba 3 does, so
+/// that the radiance scale of a crossing into a denser medium does not
+/// end paths that will cross back out.
+#[inline]
+pub(super) fn go_through(
+    v: &Vertex<'_>,
+    s: &BsdfSample,
+    n: f32,
+    roulette: Option<f32>,
+) -> Option<(Rgb, f32)> {
+    if !s.flags.is_delta() && (s.pdf <= 0.0 || s.pdf.is_nan()) {
+        return None;
+    }
+    let mut beta = v.beta * s.weight / n;
+    let eta2 = v.eta2 * s.eta * s.eta;
+    if let Some(u) = roulette {
+        let q = (beta.max_element() * eta2).min(RR_MAX);
+        if u >= q || q.is_nan() {
+            return None;
+        }
+        beta /= q;
+    }
+    (beta.max_element() > 0.0).then_some((beta, eta2))
+}
+
+/// Counts a BSDF sample's ray as a reflection or a refraction ray.
+#[inline]
+pub(super) fn count_bounce(stats: &mut RayStats, flags: BsdfFlags) {
+    if flags.contains(BsdfFlags::TRANSMISSION) {
+        stats.refraction += 1;
+    } else {
+        stats.reflection += 1;
+    }
+}
+
+/// Counts a BSDF sample's ray, left untraced by the metric, as a saved
+/// reflection or refraction ray.
+#[inline]
+pub(super) fn count_saved(stats: &mut RayStats, flags: BsdfFlags) {
+    if flags.contains(BsdfFlags::TRANSMISSION) {
+        stats.saved.refraction += 1;
+    } else {
+        stats.saved.reflection += 1;
+    }
+}
+
+/// A shading point, as next-event estimation reads it.
+pub(super) struct Vertex<'h> {
+    pub(super) hit: &'h Hit,
+    /// Where its rays leave from (the hit's own geometric normal).
+    pub(super) at: ShadingPoint,
+    pub(super) wo: Vec3,
+    pub(super) beta: Rgb,
+    pub(super) eta2: f32,
+    pub(super) slot: u32,
+}
+
+/// One of `e` emitter samples at `v` toward `emitter` (chosen with
+/// probability `pmf`) with the point `point`, beside `b` BSDF samples
+/// (`counts`): its shadow ray and what it brings,
+/// `f · L · cos / (pdf · pmf · e)` weighed by the power heuristic, pushed
+/// to `shadows` unless it brings nothing.
+#[inline]
+pub(super) fn light_sample(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    (emitter, escape): (&Emitter, Escape),
+    point: Vec2,
+    (e, b, pmf): (f32, f32, f32),
+    shadows: &mut Shadows,
+) {
+    let p = SetPoint::uniform(point).native();
+    let Some(ls) = sample_emitter(emitter, v.hit.p, (p, Distribution::Jitter), escape) else {
+        return;
+    };
+    let weigh = |pdf_b: f32| power_heuristic(e * pmf * ls.pdf, b * pdf_b);
+    shadow_ray(v, bsdf, &ls, weigh, e * pmf, (&mut shadows.now, NO_SET));
+}
+
+/// What a vertex needs of its material's lobes.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Material {
+    /// It has a smooth lobe: emitter samples can light it.
+    pub(super) smooth: bool,
+    /// The set of BSDF samples a vertex drawing the thesis's sets takes:
+    /// the largest set its lobes ask for, else the render's reflection set.
+    pub(super) set: EffectSpec,
+}
+
+impl Material {
+    #[inline]
+    pub(super) fn of(bsdf: &Bsdf, reflection: EffectSpec) -> Material {
+        let lobes = bsdf.lobes();
+        let largest = lobes.sets.iter().flatten().max_by_key(|s| s.rays);
+        Material {
+            smooth: lobes.any_smooth(),
+            set: largest.copied().unwrap_or(reflection),
+        }
+    }
+}
+
+/// How far a shadow ray toward an emitter at infinity goes: past the
+/// sphere around the world's bounds.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Escape {
+    pub(super) center: Vec3,
+    pub(super) radius: f32,
+}
+
+/// The shadow set of `emitter` at a vertex drawing the thesis's sets: its
+/// own, but one at infinity takes the render's shadow set (`shadow`).
+#[inline]
+pub(super) fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
+    if emitter.is_infinite() {
+        shadow
+    } else {
+        EffectSpec {
+            rays: emitter.shadow_rays(),
+            distribution: emitter.shadow().distribution,
+        }
+    }
+}
+
+/// A sample of `emitter` seen from `p` for the distribution point `point`
+/// of `d`: [`Emitter::sample_one`], or for an emitter at infinity a
+/// direction with a target beyond the world (`escape`).
+#[inline]
+pub(super) fn sample_emitter(
+    emitter: &Emitter,
+    p: Vec3,
+    (point, d): (Vec3, Distribution),
+    escape: Escape,
+) -> Option<LightSample> {
+    if !emitter.is_infinite() {
+        return emitter.sample_one(p, point, d);
+    }
+    let (dir, radiance, pdf) = emitter.sample_direction(unit_square(point, d))?;
+    let far = 2.0 * (escape.radius + (p - escape.center).length()) + 1.0;
+    Some(LightSample {
+        target: p + dir * far,
+        dir,
+        weight: radiance / pdf,
+        pdf,
+    })
+}
+
+/// The shadow ray of the light sample `ls` at `v`, one of `n` (the
+/// sample's share: divided by `n`), and what it brings if unblocked:
+/// `f · weight · cos / n`, times `weigh` of the BSDF's density toward it
+/// where the sample has a density (1 where it has none: a point light, the
+/// thesis's penumbra model). Pushed to `rays`, judged with shadow set `set`,
+/// unless it brings nothing.
+#[inline]
+pub(super) fn shadow_ray(
+    v: &Vertex<'_>,
+    bsdf: &Bsdf,
+    ls: &LightSample,
+    weigh: impl Fn(f32) -> f32,
+    n: f32,
+    (rays, set): (&mut ShadowRays, u32),
+) {
+    let wi = ls.dir;
+    let f = bsdf.eval(v.hit, v.wo, wi);
+    let cos = v.hit.n.dot(wi).abs();
+    if f == Rgb::ZERO || cos <= 0.0 {
+        return;
+    }
+    let w = if ls.pdf > 0.0 {
+        weigh(bsdf.pdf(v.hit, v.wo, wi))
+    } else {
+        1.0
+    };
+    let ray = v.at.spawn_ray_to(v.at.origin(wi), ls.target);
+    rays.push(ray, v.slot, v.beta * f * ls.weight * (cos * w / n), set);
+}
+
+/// The power heuristic (β = 2) weight of a sample drawn with density `a`
+/// against another strategy's density `b`.
+#[inline]
+pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}

@@ -1,0 +1,39 @@
+//! The table of stream keys below a primary sample's path, for every
+//! integrator: which branch of a path's stream each use derives. The
+//! [module docs](super) give it as a table.
+//!
+//! `whitted` and `distributed` draw the shadow set toward emitter `j` from
+//! the same branch, `SHADOW + j`; the branches of the bounces of `path`
+//! (`b`) and of `whitted`'s lobe sets (`2k + 1`, `2k + 2`) lie far below
+//! it, and the distributed path tracer's BSDF set and roulette just below.
+
+/// The first shadow-set branch: the set toward emitter `j` takes
+/// `SHADOW + j`.
+pub const SHADOW: u64 = 1 << 32;
+
+/// The branch of a vertex's set of BSDF samples (`distributed`).
+pub const BSDF_SET: u64 = SHADOW - 1;
+
+/// The branch of a set's path that its Russian roulette reads
+/// (`distributed`).
+pub const ROULETTE: u64 = SHADOW - 2;
+
+/// The branch of the shadow set toward emitter `j`.
+#[inline]
+pub fn shadow(j: u64) -> u64 {
+    SHADOW + j
+}
+
+/// The branches of a set of lobe `k` of a BSDF (`whitted`): its points
+/// from `path.derive(2k + 1)`, the paths of its rays from
+/// `path.derive(2k + 2)`.
+#[inline]
+pub fn lobe(k: usize) -> (u64, u64) {
+    (2 * k as u64 + 1, 2 * k as u64 + 2)
+}
+
+/// The branch of bounce `b` of a path (`path`, `direct`, `distributed`).
+#[inline]
+pub fn bounce(b: u32) -> u64 {
+    u64::from(b)
+}
