@@ -20,7 +20,7 @@
 //! set running forever.
 
 use crate::description::check::{int, range};
-use crate::description::{Invalid, Props};
+use crate::description::{Invalid, Param, Props, Type};
 use crate::math::Rgb;
 use crate::sampling::MAX_RAYS;
 
@@ -41,6 +41,17 @@ pub struct Metric {
     /// Apply the α/threshold rule to the primary rays of a pixel too.
     pub pixels: bool,
 }
+
+/// The keys of the metrics in the schemas of the integrators that have
+/// them (documented with the render options).
+pub const PARAMS: [Param; 6] = [
+    Param::new("metric", Type::Bool, "", ""),
+    Param::new("reflection_metric", Type::Bool, "", ""),
+    Param::new("shadow_metric", Type::Bool, "", ""),
+    Param::new("metric_threshold", Type::Number, "", ""),
+    Param::new("metric_min_rays", Type::Int, "", ""),
+    Param::new("shadow_metric_rays", Type::Int, "", ""),
+];
 
 /// The metrics of an integrator's parameters `i` (`metric` and the keys
 /// of each rule); `None` when they are off.

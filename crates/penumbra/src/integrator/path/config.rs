@@ -54,12 +54,12 @@ pub const DISTRIBUTED: Schema = Schema {
         param("path_sampler", PATH_SAMPLER),
         param("light_sampler", LIGHT_SAMPLER),
         param("passes", Type::Int),
-        param("metric", Type::Bool),
-        param("reflection_metric", Type::Bool),
-        param("shadow_metric", Type::Bool),
-        param("metric_threshold", Type::Number),
-        param("metric_min_rays", Type::Int),
-        param("shadow_metric_rays", Type::Int),
+        metric::PARAMS[0],
+        metric::PARAMS[1],
+        metric::PARAMS[2],
+        metric::PARAMS[3],
+        metric::PARAMS[4],
+        metric::PARAMS[5],
     ],
 };
 

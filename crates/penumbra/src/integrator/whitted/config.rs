@@ -22,12 +22,12 @@ pub const SCHEMA: Schema = Schema {
     params: &[
         param("max_depth", Type::Int),
         param("passes", Type::Int),
-        param("metric", Type::Bool),
-        param("reflection_metric", Type::Bool),
-        param("shadow_metric", Type::Bool),
-        param("metric_threshold", Type::Number),
-        param("metric_min_rays", Type::Int),
-        param("shadow_metric_rays", Type::Int),
+        metric::PARAMS[0],
+        metric::PARAMS[1],
+        metric::PARAMS[2],
+        metric::PARAMS[3],
+        metric::PARAMS[4],
+        metric::PARAMS[5],
         param("pixel_metric", Type::Bool),
         param("noise_threshold", Type::Number),
         param(
