@@ -1021,8 +1021,9 @@ fn shapegroups_and_instances_map_onto_groups() {
         (
             r#"<shape type="shapegroup" id="g">
             <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
-            </shape><shape type="instance"><ref id="g"/></shape>"#,
-            "a shape inside a group cannot emit",
+            </shape><shape type="instance"><ref id="g"/>
+            <transform name="to_world"><scale x="2"/></transform></shape>"#,
+            "an emitting sphere that moves or is placed by an instance must keep its proportions",
             5,
         ),
         (

@@ -140,8 +140,9 @@ fn bad_shapes_and_instances_are_located() {
             "test.toml:2:8:",
         ),
         (
-            "[materials.hot]\nemission = [1, 1, 1]\n[[groups.g.objects]]\ntype = \"sphere\"\nmaterial = \"hot\"\n",
-            "test.toml:5:12:",
+            "[materials.hot]\nemission = [1, 1, 1]\n[[groups.g.objects]]\ntype = \"sphere\"\nmaterial = \"hot\"\n\
+             [[objects]]\ntype = \"instance\"\ngroup = \"g\"\ntransform = { scale = [1, 2, 1] }\n",
+            "test.toml:2:",
         ),
         (
             "[groups.g]\nshapes = 1\n",

@@ -27,8 +27,9 @@
 use penumbra::accel::Hit;
 use penumbra::bsdf::Bsdf;
 use penumbra::camera::CameraSample;
-use penumbra::emitter::{Area, AreaShape, Emitter, LightSample};
+use penumbra::emitter::{Emitter, LightSample, Reference};
 use penumbra::geometry::quad::Quad;
+use penumbra::geometry::Shape;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
 use penumbra::render::{render, Image, RenderOptions};
@@ -104,13 +105,10 @@ impl<'a> Floor<'a> {
         let [light] = scene.emitters.as_slice() else {
             return Err("the kernel needs exactly one light".into());
         };
-        let rect = matches!(
-            light,
-            Emitter::Area(Area {
-                shape: AreaShape::Rect(_),
-                ..
-            })
-        );
+        let rect = match light {
+            Emitter::Area(a) => matches!(a.surface.shape(), Shape::Quad(_)),
+            _ => false,
+        };
         if !rect || light.shadow_rays() != 1 {
             return Err("the kernel needs a rectangle light with one shadow ray".into());
         }
@@ -184,8 +182,12 @@ impl<'a> Floor<'a> {
                 Distribution::Jitter.one(1.0, &mut rng)
             });
             lights.clear();
-            self.light
-                .sample(|k| p[k], &points, Distribution::Jitter, lights);
+            self.light.sample(
+                |k| Reference::new(p[k], 0.0),
+                &points,
+                Distribution::Jitter,
+                lights,
+            );
             for k in 0..4 {
                 if t[k].is_none() {
                     sum += self.background;

@@ -109,7 +109,8 @@ enum Prim {
 
 pub struct World {
     pub objects: Vec<Object>,
-    pub meshes: Vec<Mesh>,
+    /// The scene's meshes, shared with the emitters of emitting ones.
+    pub meshes: Arc<[Mesh]>,
     /// The top level; see the module docs.
     top: Bvh4<Item>,
     quads: Vec<QuadPack>,
@@ -157,7 +158,8 @@ impl Candidate {
 type Best = Option<(Prim, f32, Candidate)>;
 
 impl World {
-    pub fn new(objects: Vec<Object>, meshes: Vec<Mesh>) -> World {
+    pub fn new(objects: Vec<Object>, meshes: impl Into<Arc<[Mesh]>>) -> World {
+        let meshes: Arc<[Mesh]> = meshes.into();
         let mut tri_refs = Vec::new();
         let mut tri_meshes = Vec::new();
         let mut items = Vec::new();

@@ -13,7 +13,7 @@
 //! it as `direction`.
 
 use super::model::EmitterModel;
-use super::sample::LightSample;
+use super::sample::{LightSample, Reference};
 use crate::description::check::{nonneg3, nonzero3};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
@@ -126,7 +126,8 @@ impl EmitterModel for Directional {
     }
 
     #[inline]
-    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+    fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        let p = r.p;
         Directional::sample(self, p)
     }
 }

@@ -37,13 +37,13 @@ mod sample;
 pub mod sky;
 pub mod spot;
 
-pub use area::{Area, AreaShape, MeshLight, PenumbraModel};
+pub use area::{Area, PenumbraModel};
 pub use constant::Constant;
 pub use directional::Directional;
 pub use envmap::Envmap;
 pub use model::{EmitterModel, ONE_RAY};
 pub use point::Point;
-pub use sample::LightSample;
+pub use sample::{LightSample, Reference};
 pub use sky::Sky;
 pub use spot::Spot;
 
@@ -127,7 +127,8 @@ macro_rules! emitters {
             }
 
             /// Samples the emitter for a batch of distribution points:
-            /// sample `k` seen from the shading point `at(k)` with the point
+            /// sample `k` seen from the shading point `at(k)` (at its ray's
+            /// time) with the point
             /// `points[k]`, appended to `out` (`None` where the point gives
             /// no sample: on the back of the light, say). The one way an
             /// emitter is sampled. A rectangle sampled on its surface by a
@@ -138,7 +139,7 @@ macro_rules! emitters {
             /// by point.
             pub fn sample(
                 &self,
-                at: impl Fn(usize) -> Vec3,
+                at: impl Fn(usize) -> Reference,
                 points: &[Vec3],
                 d: Distribution,
                 out: &mut Vec<Option<LightSample>>,
@@ -149,9 +150,9 @@ macro_rules! emitters {
             }
 
             /// One sample of [`sample`](Self::sample), the portable form.
-            pub fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+            pub fn sample_one(&self, r: Reference, point: Vec3, d: Distribution) -> Option<LightSample> {
                 match self {
-                    $(Emitter::$variant(e) => EmitterModel::sample_one(e, p, point, d),)*
+                    $(Emitter::$variant(e) => EmitterModel::sample_one(e, r, point, d),)*
                 }
             }
 
@@ -175,9 +176,9 @@ macro_rules! emitters {
 
             /// The solid-angle density with which [`sample`](Self::sample)
             /// draws `target` (see [`EmitterModel::pdf`]).
-            pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
+            pub fn pdf(&self, r: Reference, target: Vec3, n: Vec3) -> f32 {
                 match self {
-                    $(Emitter::$variant(e) => EmitterModel::pdf(e, p, target, n),)*
+                    $(Emitter::$variant(e) => EmitterModel::pdf(e, r, target, n),)*
                 }
             }
 
@@ -208,12 +209,14 @@ emitters! {
 mod tests {
     use super::*;
     use crate::geometry::quad::Quad;
+    use crate::geometry::surface::tests::{still, triangles};
+    use crate::geometry::{Shape, Surface};
     use crate::math::Frame;
     use crate::sampling::Rng;
 
-    fn area(shape: AreaShape) -> Emitter {
+    fn area(surface: Surface) -> Emitter {
         Emitter::Area(Area {
-            shape,
+            surface,
             radiance: Rgb::splat(2.0),
             model: PenumbraModel::Surface,
             shadow: EffectSpec {
@@ -229,46 +232,43 @@ mod tests {
     /// weighs it by).
     #[test]
     fn weights_are_radiance_over_pdf() {
-        let p = Vec3::new(0.3, 0.0, -0.2);
-        let tri = |a: Vec3, b: Vec3, c: Vec3| [a, b, c];
-        let mesh = MeshLight::new(vec![
-            tri(
+        let at = Reference::new(Vec3::new(0.3, 0.0, -0.2), 0.0);
+        let mesh = triangles(&[
+            [
                 Vec3::new(-0.5, 2.0, -0.5),
                 Vec3::new(0.5, 2.0, -0.5),
                 Vec3::new(-0.5, 2.0, 0.5),
-            ),
-            tri(
+            ],
+            [
                 Vec3::new(0.5, 2.2, -0.5),
                 Vec3::new(0.5, 2.2, 0.5),
                 Vec3::new(-0.5, 2.2, 0.5),
-            ),
-        ])
-        .unwrap();
+            ],
+        ]);
         let lights = [
-            area(AreaShape::Rect(Quad::new(
+            area(still(Shape::Quad(Quad::new(
                 Vec3::new(-0.5, 2.0, -0.5),
                 Vec3::X,
                 Vec3::Z,
-            ))),
-            area(AreaShape::Disk {
+            )))),
+            area(still(Shape::Disk {
                 center: Vec3::new(0.0, 2.0, 0.0),
                 frame: Frame::from_normal(-Vec3::Y),
                 radius: 0.6,
-            }),
-            area(AreaShape::Sphere {
+            })),
+            area(still(Shape::Sphere {
                 center: Vec3::new(0.5, 2.5, 0.0),
                 radius: 0.5,
-            }),
-            area(AreaShape::Mesh(mesh)),
-            area(AreaShape::Cylinder {
-                cylinder: crate::geometry::Cylinder::new(
+            })),
+            area(mesh),
+            area(still(Shape::Cylinder(
+                crate::geometry::Cylinder::new(
                     Vec3::new(-1.0, 2.0, 0.0),
                     Vec3::new(1.0, 2.0, 0.0),
                     0.3,
                 )
                 .unwrap(),
-                inward: false,
-            }),
+            ))),
         ];
         let mut rng = Rng::new(17);
         for e in &lights {
@@ -276,21 +276,21 @@ mod tests {
             let mut found = 0;
             for _ in 0..2000 {
                 let point = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0);
-                let Some(s) = e.sample_one(p, point, Distribution::Random) else {
+                let Some(s) = e.sample_one(at, point, Distribution::Random) else {
                     continue;
                 };
-                let n = match &a.shape {
-                    AreaShape::Sphere { center, .. } => (s.target - *center).normalize(),
-                    AreaShape::Rect(q) => q.normal,
-                    AreaShape::Disk { frame, .. } => frame.n,
+                let n = match a.surface.shape() {
+                    Shape::Sphere { center, .. } => (s.target - *center).normalize(),
+                    Shape::Quad(q) => q.normal,
+                    Shape::Disk { frame, .. } => frame.n,
                     // Both triangles face down.
-                    AreaShape::Mesh(_) => -Vec3::Y,
-                    AreaShape::Cylinder { cylinder: c, .. } => {
+                    Shape::Mesh { .. } => -Vec3::Y,
+                    Shape::Cylinder(c) => {
                         let d = s.target - c.base;
                         (d - d.dot(c.frame.n) * c.frame.n).normalize()
                     }
                 };
-                let pdf = e.pdf(p, s.target, n);
+                let pdf = e.pdf(at, s.target, n);
                 assert!(pdf > 0.0);
                 assert!(
                     (s.pdf - pdf).abs() < 2e-3 * pdf,
@@ -306,7 +306,7 @@ mod tests {
                 found += 1;
             }
             // Under half of a tube faces a point outside it.
-            let tube = matches!(a.shape, AreaShape::Cylinder { .. });
+            let tube = matches!(a.surface.shape(), Shape::Cylinder(_));
             assert!(found > if tube { 600 } else { 1000 }, "{found}");
         }
     }
@@ -320,8 +320,8 @@ mod tests {
     fn batches_are_the_portable_samples() {
         let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
         let shapes = [
-            AreaShape::Rect(rect),
-            AreaShape::Sphere {
+            Shape::Quad(rect),
+            Shape::Sphere {
                 center: Vec3::new(0.5, 2.5, 0.0),
                 radius: 0.5,
             },
@@ -333,7 +333,7 @@ mod tests {
         let mut lights = vec![(point, false)];
         for shape in shapes {
             for model in [PenumbraModel::Surface, PenumbraModel::Thesis] {
-                let Emitter::Area(mut a) = area(shape.clone()) else {
+                let Emitter::Area(mut a) = area(still(shape.clone())) else {
                     unreachable!()
                 };
                 a.model = model;
@@ -352,7 +352,7 @@ mod tests {
         for (light, _) in &lights {
             for d in Distribution::ALL {
                 if let Emitter::Area(a) = light {
-                    kernel += usize::from(a.four_wide(d));
+                    kernel += usize::from(a.four_wide(d).is_some());
                 }
                 for n in 0..200 {
                     let mut v = |lo: f32, hi: f32, z: f32| {
@@ -361,10 +361,10 @@ mod tests {
                     let p: Vec<Vec3> = (0..n % 10).map(|_| v(-3.0, 4.0, 3.0)).collect();
                     let points: Vec<Vec3> = p.iter().map(|_| v(-1.2, 1.2, 1.0)).collect();
                     out.clear();
-                    light.sample(|k| p[k], &points, d, &mut out);
+                    light.sample(|k| Reference::new(p[k], 0.0), &points, d, &mut out);
                     assert_eq!(out.len(), p.len());
                     for ((p, point), got) in p.iter().zip(&points).zip(&out) {
-                        let want = light.sample_one(*p, *point, d);
+                        let want = light.sample_one(Reference::new(*p, 0.0), *point, d);
                         assert_eq!(bits(got), bits(&want), "{light:?} {d:?}");
                         valid += usize::from(got.is_some());
                     }

@@ -2,7 +2,7 @@
 //! of an emitter without the property (see the [module docs](super)).
 
 use super::bounds::LightBounds;
-use super::sample::LightSample;
+use super::sample::{LightSample, Reference};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec};
 
@@ -70,7 +70,7 @@ pub trait EmitterModel {
     #[inline]
     fn sample(
         &self,
-        at: impl Fn(usize) -> Vec3,
+        at: impl Fn(usize) -> Reference,
         points: &[Vec3],
         d: Distribution,
         out: &mut Vec<Option<LightSample>>,
@@ -78,11 +78,11 @@ pub trait EmitterModel {
         out.extend((0..points.len()).map(|k| self.sample_one(at(k), points[k], d)));
     }
 
-    /// One sample seen from `p` with the distribution point `point`, the
+    /// One sample seen from `r` with the distribution point `point`, the
     /// portable form; `None` for an emitter at infinity, seen rather than
     /// sampled by the integrators that shade with this.
     #[inline]
-    fn sample_one(&self, _p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+    fn sample_one(&self, _r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
         None
     }
 
@@ -100,10 +100,10 @@ pub trait EmitterModel {
     }
 
     /// The solid-angle density with which [`sample`](Self::sample) draws
-    /// `target` (a point of the emitter with outward normal `n`) from `p`;
+    /// `target` (a point of the emitter with outward normal `n`) from `r`;
     /// 0 for a delta light and for the thesis model, whose rays are not
     /// drawn from the light's surface.
-    fn pdf(&self, _p: Vec3, _target: Vec3, _n: Vec3) -> f32 {
+    fn pdf(&self, _r: Reference, _target: Vec3, _n: Vec3) -> f32 {
         0.0
     }
 }

@@ -9,7 +9,7 @@
 
 use super::bounds::{mean, LightBounds};
 use super::model::EmitterModel;
-use super::sample::LightSample;
+use super::sample::{LightSample, Reference};
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
@@ -105,7 +105,8 @@ impl EmitterModel for Point {
     }
 
     #[inline]
-    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+    fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        let p = r.p;
         Point::sample(self, p)
     }
 }

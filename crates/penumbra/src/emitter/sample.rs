@@ -5,6 +5,20 @@ use glam::Vec4;
 
 use crate::math::{Rgb, Vec3};
 
+/// Where an emitter is sampled from: a shading point, and the time of the
+/// ray that reached it (a moving light is sampled where it is then).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reference {
+    pub p: Vec3,
+    pub time: f32,
+}
+
+impl Reference {
+    pub fn new(p: Vec3, time: f32) -> Reference {
+        Reference { p, time }
+    }
+}
+
 /// Where to send a shadow ray and what it brings if unoccluded.
 #[derive(Clone, Copy, Debug)]
 pub struct LightSample {
@@ -77,13 +91,4 @@ pub(super) fn area_sample(
         weight: power * (cos_l * area / r2),
         pdf: r2 / (cos_l * area),
     })
-}
-
-/// The solid-angle density of uniform area sampling: r² / (cos θ_light · A).
-pub(super) fn area_pdf(cos_l: f32, r2: f32, area: f32) -> f32 {
-    if cos_l > 0.0 && area > 0.0 {
-        r2 / (cos_l * area)
-    } else {
-        0.0
-    }
 }

@@ -20,7 +20,7 @@
 
 use super::bounds::{mean, LightBounds};
 use super::model::EmitterModel;
-use super::sample::LightSample;
+use super::sample::{LightSample, Reference};
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
@@ -198,7 +198,8 @@ impl EmitterModel for Spot {
     }
 
     #[inline]
-    fn sample_one(&self, p: Vec3, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+    fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
+        let p = r.p;
         Spot::sample(self, p)
     }
 }

@@ -20,8 +20,10 @@
 //! | `group` | string | **required** | the name of the group (a `[groups.NAME]` table) |
 //! | `transform` | transform | identity | the placement, any invertible affine map |
 //!
-//! A group may hold neither an emitter (a shape with an `area` child or an
-//! emitting material) nor an instance, as in Mitsuba; nor a moving shape.
+//! A group may hold neither an instance, as in Mitsuba, nor a moving
+//! shape. Unlike Mitsuba's, it may hold emitters: each instance of an
+//! emitting shape is an emitter of its own (a
+//! [`Surface`](super::Surface) placed by the instance).
 //!
 //! [`World`]: crate::accel::World
 

@@ -11,6 +11,7 @@ pub mod motion;
 pub mod quad;
 pub mod shape;
 pub mod sphere;
+pub mod surface;
 pub mod tessellate;
 pub mod triangle;
 
@@ -19,3 +20,4 @@ pub use interaction::{shading_frame, LocalGeometry, SurfaceInteraction};
 pub use mesh::Mesh;
 pub use motion::{Motion, Similarity};
 pub use shape::{Shape, ShapeHit};
+pub use surface::{Density, Place, ShapeSample, Surface, SurfaceError};

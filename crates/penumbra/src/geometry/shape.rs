@@ -131,6 +131,17 @@ impl Shape {
         })
     }
 
+    /// What messages call the shape.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Quad(_) => "quad",
+            Shape::Disk { .. } => "disk",
+            Shape::Cylinder(_) => "cylinder",
+            Shape::Mesh { .. } => "mesh",
+        }
+    }
+
     /// True if a segment can cross the shape twice (in and out): a sphere
     /// or a cylinder.
     #[inline]

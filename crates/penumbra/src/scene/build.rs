@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::context::BuildContext;
-use super::lights;
+use super::lights::{self, Light};
 use super::points::read_points;
 use super::ray_sets::{custom_sets, each_set};
 use super::reuse::{self, WorldCache};
@@ -25,11 +25,10 @@ use crate::bsdf::{self, Bsdf, BsdfModel};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
-use crate::emitter::{area, Area, AreaShape, Emitter, MeshLight, PenumbraModel};
+use crate::emitter::{area, Area, Emitter, PenumbraModel};
 use crate::geometry::instance::Placement;
-use crate::geometry::quad::Quad;
-use crate::geometry::{Mesh, Shape};
-use crate::math::{Frame, Mat4, Rgb};
+use crate::geometry::{Mesh, Place, Shape, Surface, SurfaceError};
+use crate::math::{Mat4, Rgb};
 use crate::sampling::{EffectSpec, PointTable};
 use crate::texture::Textures;
 
@@ -84,33 +83,50 @@ pub fn build(
         .and_then(|(k, w)| w.get(k));
     let (mut objects, meshes) = match reused {
         Some(_) => (Vec::new(), Vec::new()),
-        None => objects(root, ctx, &names, &emission)?,
+        None => objects(root, ctx, &names)?,
     };
+    let meshes: Arc<[Mesh]> = meshes.into();
     let light_material = bsdfs.len() as u32;
     bsdfs.push(Thesis::new(&black(&sets)).into());
     let mut emitters = Vec::new();
     let mut far = Vec::new();
     for node in root.children_of(Kind::Emitter) {
         let p = Props::new(node);
-        let (emitter, shape) = lights::light(&node.plugin, &p, &sets, &ctx.base_dir)?;
-        p.finish(schemas::schema(node)?.what)?;
-        if emitter.is_infinite() {
-            far.push(emitter);
-            continue;
+        let what = schemas::schema(node)?.what;
+        let shape = match lights::light(&node.plugin, &p, &ctx.base_dir)? {
+            Light::Emitter(emitter) if emitter.is_infinite() => {
+                far.push(emitter);
+                p.finish(what)?;
+                continue;
+            }
+            Light::Emitter(emitter) => {
+                emitters.push(emitter);
+                p.finish(what)?;
+                continue;
+            }
+            Light::Shape(shape) => shape,
+        };
+        // A shape carrying an `area` emitter, visible but casting no
+        // shadow, of a black material.
+        let (radiance, model, shadow) = area::read(&p, what, sets.shadow)?;
+        p.finish(what)?;
+        let object = Object {
+            material: light_material,
+            emitter: Some(emitters.len() as u32),
+            casts_shadows: false,
+            ..Object::new(shape, light_material)
+        };
+        let at = node.origin.clone();
+        let carried = Carried {
+            radiance,
+            model,
+            shadow,
+            at,
+        };
+        emitters.push(Emitter::Area(emitter(&object, &meshes, &carried)?));
+        if reused.is_none() {
+            objects.push(object);
         }
-        if let Some(shape) = shape.filter(|_| reused.is_none()) {
-            objects.push(Object {
-                shape,
-                material: light_material,
-                emitter: Some(emitters.len() as u32),
-                casts_shadows: false,
-                motion: None,
-                placement: None,
-                flip_normals: false,
-                mesh_bvh: None,
-            });
-        }
-        emitters.push(emitter);
     }
     let carried = shape_emitters(root, &names, &emission, &sets)?;
     match &reused {
@@ -336,7 +352,6 @@ fn objects(
     root: &Node,
     ctx: &BuildContext,
     names: &HashMap<String, u32>,
-    emission: &[(Rgb, Origin)],
 ) -> Result<(Vec<Object>, Vec<Mesh>), BuildError> {
     let (mut objects, mut meshes) = (Vec::new(), Vec::new());
     let mut files = MeshFiles::default();
@@ -352,7 +367,7 @@ fn objects(
                     )
                     .into());
                 };
-                let group = group(node, ctx, names, emission, &mut meshes, &mut files)?;
+                let group = group(node, ctx, names, &mut meshes, &mut files)?;
                 groups.insert(name, group);
                 continue;
             }
@@ -409,13 +424,12 @@ fn objects(
 
 /// The shapes of a group (a `shapegroup` node's children) in the group's
 /// own space, each mesh with its tree, built once for all the group's
-/// instances. A group holds neither emitters nor groups nor instances, and
+/// instances. A group holds neither groups nor instances, and
 /// nothing in it moves.
 fn group(
     node: &Node,
     ctx: &BuildContext,
     names: &HashMap<String, u32>,
-    emission: &[(Rgb, Origin)],
     meshes: &mut Vec<Mesh>,
     files: &mut MeshFiles,
 ) -> Result<Vec<Object>, BuildError> {
@@ -433,25 +447,8 @@ fn group(
             )
             .into());
         }
-        if let Some(e) = child.child(Kind::Emitter) {
-            return Err(Invalid::at(
-                &e.origin,
-                "a shape inside a group cannot emit (as in Mitsuba): place the emitting \
-                 shape outside the group",
-            )
-            .into());
-        }
         let p = Props::new(child);
         let material = material_index(&p, names)?;
-        if emission[material as usize].0 != Rgb::ZERO {
-            return Err(p
-                .error(
-                    "material",
-                    "a shape inside a group cannot emit (as in Mitsuba): its material has an \
-                     emission; place the emitting shape outside the group",
-                )
-                .into());
-        }
         if p.has("transform_end") {
             return Err(p
                 .error(
@@ -491,6 +488,7 @@ fn material_index(p: &Props, names: &HashMap<String, u32>) -> Result<u32, Invali
 
 /// What a shape's emitter is made of: its radiance, model and shadow
 /// set, and where it is described.
+#[derive(Clone)]
 struct Carried {
     radiance: Rgb,
     model: PenumbraModel,
@@ -498,145 +496,136 @@ struct Carried {
     at: Origin,
 }
 
-/// The emitter each shape carries, in the order of the shapes (the order
-/// of their objects): its `area` child's, else its material's emission's
-/// (the surface model with the render's shadow set), else none.
+/// The emitter each object carries, in the order of the objects: the
+/// plain shapes' in their order, then each instance's shapes' (its group's,
+/// in their order: each instance of an emitting shape is an emitter of its
+/// own). A shape carries its `area` child's emitter, else its material's
+/// emission's (the surface model with the render's shadow set), else none.
 fn shape_emitters(
     root: &Node,
     names: &HashMap<String, u32>,
     emission: &[(Rgb, Origin)],
     sets: &Sets,
 ) -> Result<Vec<Option<Carried>>, Invalid> {
+    let shapes = || root.children_of(Kind::Shape);
     let mut out = Vec::new();
-    let plain = root
-        .children_of(Kind::Shape)
-        .filter(|s| !matches!(s.plugin.as_str(), "shapegroup" | "instance"));
-    for shape in plain {
-        if let Some(child) = shape.child(Kind::Emitter) {
-            let p = Props::new(child);
-            let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow)?;
-            p.finish("area emitter")?;
-            let at = child.origin.clone();
-            out.push(Some(Carried {
-                radiance,
-                model,
-                shadow,
-                at,
-            }));
-            continue;
-        }
-        let material = match shape.prop("material").map(|p| &p.value.value) {
-            Some(Value::String(name)) => names.get(name).copied().unwrap_or(0),
-            _ => 0,
+    for shape in shapes().filter(|s| !matches!(s.plugin.as_str(), "shapegroup" | "instance")) {
+        out.push(carried(shape, names, emission, sets)?);
+    }
+    let mut groups: HashMap<&str, Vec<Option<Carried>>> = HashMap::new();
+    for group in shapes().filter(|s| s.plugin == "shapegroup") {
+        let carried = group
+            .children_of(Kind::Shape)
+            .map(|s| carried(s, names, emission, sets))
+            .collect::<Result<_, _>>()?;
+        groups.insert(group.id.as_deref().unwrap_or_default(), carried);
+    }
+    for instance in shapes().filter(|s| s.plugin == "instance") {
+        let name = match instance.prop("group").map(|p| &p.value.value) {
+            Some(Value::String(name)) => name.as_str(),
+            _ => "",
         };
-        let (radiance, at) = &emission[material as usize];
-        out.push((*radiance != Rgb::ZERO).then(|| Carried {
-            radiance: *radiance,
-            model: PenumbraModel::Surface,
-            shadow: sets.shadow,
-            at: at.clone(),
-        }));
+        out.extend(groups.get(name).into_iter().flatten().cloned());
     }
     Ok(out)
 }
 
-/// Gives every object that carries an emitter (see [`shape_emitters`]) an
-/// area emitter of its shape, appended to `emitters`.
-fn emitting_objects(
-    objects: &mut [Object],
-    meshes: &[Mesh],
-    carried: &[Option<Carried>],
-    emitters: &mut Vec<Emitter>,
-) -> Result<(), Invalid> {
-    for (o, c) in objects.iter_mut().zip(carried) {
-        let Some(Carried {
+/// The emitter the shape `shape` carries (see [`shape_emitters`]).
+fn carried(
+    shape: &Node,
+    names: &HashMap<String, u32>,
+    emission: &[(Rgb, Origin)],
+    sets: &Sets,
+) -> Result<Option<Carried>, Invalid> {
+    if let Some(child) = shape.child(Kind::Emitter) {
+        let p = Props::new(child);
+        let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow)?;
+        p.finish("area emitter")?;
+        let at = child.origin.clone();
+        return Ok(Some(Carried {
             radiance,
             model,
             shadow,
             at,
-        }) = c
-        else {
-            continue;
-        };
-        if o.motion.is_some() {
-            return Err(Invalid::at(
-                at,
-                "an emitting object cannot move (its emitter is sampled where it is)",
-            ));
-        }
-        let flip = o.flip_normals;
-        let shape = match &o.shape {
-            // Flipped, a flat light emits to the other side: its edges
-            // (or its frame's normal) the other way round.
-            Shape::Quad(q) if flip => AreaShape::Rect(Quad::new(q.origin, q.edge_v, q.edge_u)),
-            Shape::Quad(q) => AreaShape::Rect(*q),
-            Shape::Sphere { .. } if flip => {
-                return Err(Invalid::at(
-                    at,
-                    "a sphere light emits outward: an emitting sphere cannot flip its normals",
-                ))
-            }
-            Shape::Sphere { center, radius } => AreaShape::Sphere {
-                center: *center,
-                radius: *radius,
-            },
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => AreaShape::Disk {
-                center: *center,
-                frame: if flip {
-                    Frame {
-                        u: frame.u,
-                        v: -frame.v,
-                        n: -frame.n,
-                    }
-                } else {
-                    *frame
-                },
-                radius: *radius,
-            },
-            Shape::Cylinder(_) | Shape::Mesh { .. } if *model == PenumbraModel::Thesis => {
-                return Err(Invalid::at(
-                    at,
-                    "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh \
-                     or cylinder",
-                ));
-            }
-            Shape::Cylinder(c) => AreaShape::Cylinder {
-                cylinder: *c,
-                inward: flip,
-            },
-            Shape::Mesh { mesh } => {
-                let m = &meshes[*mesh as usize];
-                let tris = (0..m.triangles.len())
-                    .map(|t| {
-                        let [a, b, c] = m.vertices(t);
-                        if flip {
-                            [a, c, b]
-                        } else {
-                            [a, b, c]
-                        }
-                    })
-                    .collect();
-                AreaShape::Mesh(MeshLight::new(tris).ok_or_else(|| {
-                    Invalid::at(
-                        at,
-                        "an emitting mesh must have a surface: its triangles have no area",
-                    )
-                })?)
-            }
-        };
-        o.emitter = Some(emitters.len() as u32);
-        emitters.push(Emitter::Area(Area {
-            shape,
-            radiance: *radiance,
-            model: *model,
-            shadow: *shadow,
         }));
     }
+    let material = match shape.prop("material").map(|p| &p.value.value) {
+        Some(Value::String(name)) => names.get(name).copied().unwrap_or(0),
+        _ => 0,
+    };
+    let (radiance, at) = &emission[material as usize];
+    Ok((*radiance != Rgb::ZERO).then(|| Carried {
+        radiance: *radiance,
+        model: PenumbraModel::Surface,
+        shadow: sets.shadow,
+        at: at.clone(),
+    }))
+}
+
+/// Gives every object that carries an emitter (see [`shape_emitters`]) an
+/// area emitter of its surface (where it is, placed or moving), appended
+/// to `emitters`; `meshes` are the scene's.
+fn emitting_objects(
+    objects: &mut [Object],
+    meshes: &Arc<[Mesh]>,
+    carried: &[Option<Carried>],
+    emitters: &mut Vec<Emitter>,
+) -> Result<(), Invalid> {
+    for (o, c) in objects.iter_mut().zip(carried) {
+        let Some(c) = c else {
+            continue;
+        };
+        emitters.push(Emitter::Area(emitter(o, meshes, c)?));
+        o.emitter = Some(emitters.len() as u32 - 1);
+    }
     Ok(())
+}
+
+/// The area emitter `c` of the object `o`.
+fn emitter(o: &Object, meshes: &Arc<[Mesh]>, c: &Carried) -> Result<Area, Invalid> {
+    let what = o.shape.name();
+    let thesis = c.model == PenumbraModel::Thesis;
+    if matches!(o.shape, Shape::Sphere { .. }) && o.flip_normals {
+        return Err(Invalid::at(
+            &c.at,
+            "a sphere light emits outward: an emitting sphere cannot flip its normals",
+        ));
+    }
+    if thesis && matches!(o.shape, Shape::Cylinder(_) | Shape::Mesh { .. }) {
+        return Err(Invalid::at(
+            &c.at,
+            "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh or cylinder",
+        ));
+    }
+    let place = match (&o.motion, &o.placement) {
+        (Some(m), _) => Place::Moving(Box::new(*m)),
+        (None, Some(p)) => Place::Placed(Arc::clone(p)),
+        (None, None) => Place::World,
+    };
+    let surface = Surface::new(o.shape.clone(), Arc::clone(meshes), place, o.flip_normals);
+    let surface = surface.map_err(|e| match e {
+        SurfaceError::NoArea => Invalid::at(
+            &c.at,
+            format!("an emitting {what} must have a surface: it has no area"),
+        ),
+        SurfaceError::Proportions => Invalid::at(
+            &c.at,
+            format!("an emitting {what} that moves or is placed by an instance {e}"),
+        ),
+    })?;
+    if thesis && !surface.keeps_proportions() {
+        return Err(Invalid::at(
+            &c.at,
+            "the thesis penumbra model needs a light that keeps its proportions: its \
+             instance may rotate, translate and scale it uniformly",
+        ));
+    }
+    Ok(Area {
+        surface,
+        radiance: c.radiance,
+        model: c.model,
+        shadow: c.shadow,
+    })
 }
 
 /// The objects of a reused world, to give the emitting ones their

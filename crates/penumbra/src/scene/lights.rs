@@ -6,14 +6,11 @@
 
 use std::path::Path;
 
-use super::settings::Sets;
 use super::shapes::quad;
 use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
 use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
-use crate::emitter::{
-    area, Area, AreaShape, Constant, Directional, Emitter, Envmap, Point, Sky, Spot,
-};
+use crate::emitter::{area, Constant, Directional, Emitter, Envmap, Point, Sky, Spot};
 use crate::geometry::Shape;
 use crate::math::Frame;
 
@@ -104,35 +101,30 @@ pub const SCHEMAS: [&Schema; 9] = [
     &Sky::SCHEMA,
 ];
 
-/// The light `plugin` of the parameters `p`: its emitter and, for an area
-/// light, the shape that carries it. `sets` gives the render's shadow set;
-/// `base_dir` anchors an environment map's file.
-pub(super) fn light(
-    plugin: &str,
-    p: &Props,
-    sets: &Sets,
-    base_dir: &Path,
-) -> Result<(Emitter, Option<Shape>), Invalid> {
-    let (shape, surface) = match plugin {
-        "point" => return Ok((Emitter::Point(Point::build(p)?), None)),
-        "constant" => return Ok((Emitter::Constant(Constant::build(p)?), None)),
-        "spot" => return Ok((Emitter::Spot(Spot::build(p)?), None)),
-        "directional" => return Ok((Emitter::Directional(Directional::build(p)?), None)),
-        "envmap" => return Ok((Emitter::Envmap(Envmap::build(p, base_dir)?), None)),
-        "sky" => return Ok((Emitter::Envmap(Sky::build(p)?.envmap()), None)),
-        "rect" => {
-            let q = quad(p, "rect light")?;
-            (AreaShape::Rect(q), Shape::Quad(q))
-        }
+/// What a light of a scene file is: an emitter of its own, or a shape
+/// carrying an `area` emitter (whose parameters are the light's others).
+pub(super) enum Light {
+    Emitter(Emitter),
+    Shape(Shape),
+}
+
+/// The light `plugin` of the parameters `p`; `base_dir` anchors an
+/// environment map's file.
+pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Light, Invalid> {
+    let emitter = match plugin {
+        "point" => Emitter::Point(Point::build(p)?),
+        "constant" => Emitter::Constant(Constant::build(p)?),
+        "spot" => Emitter::Spot(Spot::build(p)?),
+        "directional" => Emitter::Directional(Directional::build(p)?),
+        "envmap" => Emitter::Envmap(Envmap::build(p, base_dir)?),
+        "sky" => Emitter::Envmap(Sky::build(p)?.envmap()),
+        "rect" => return Ok(Light::Shape(Shape::Quad(quad(p, "rect light")?))),
         "sphere" => {
             let center = required(p, p.numbers::<3>("center")?, "center", "sphere light")?;
             let center = finite3_value(p, "center", center)?;
             let radius = required(p, p.f32("radius")?, "radius", "sphere light")?;
             let radius = positive_value(p, "radius", radius)?;
-            (
-                AreaShape::Sphere { center, radius },
-                Shape::Sphere { center, radius },
-            )
+            return Ok(Light::Shape(Shape::Sphere { center, radius }));
         }
         "disk" => {
             let center = required(p, p.numbers::<3>("center")?, "center", "disk light")?;
@@ -142,28 +134,13 @@ pub(super) fn light(
             let radius = required(p, p.f32("radius")?, "radius", "disk light")?;
             let radius = positive_value(p, "radius", radius)?;
             let frame = Frame::from_normal(normal.normalize());
-            (
-                AreaShape::Disk {
-                    center,
-                    frame,
-                    radius,
-                },
-                Shape::Disk {
-                    center,
-                    frame,
-                    radius,
-                },
-            )
+            return Ok(Light::Shape(Shape::Disk {
+                center,
+                frame,
+                radius,
+            }));
         }
         _ => return Err(p.node_error(format!("`{plugin}` is not a light a scene names by itself"))),
     };
-    let what = format!("{plugin} light");
-    let (radiance, model, shadow) = area::read(p, &what, sets.shadow)?;
-    let emitter = Emitter::Area(Area {
-        shape,
-        radiance,
-        model,
-        shadow,
-    });
-    Ok((emitter, Some(surface)))
+    Ok(Light::Emitter(emitter))
 }

@@ -1,7 +1,10 @@
 //! `area`: a surface emitting uniform radiance, carried by a shape (Mitsuba
 //! 3's `area` emitter): a rectangle, sphere, disk, cylinder or triangle
-//! mesh (cubes included). What a
-//! ray that hits the shape sees, and what a shading point is lit by.
+//! mesh (cubes included), still, placed by an instance or moving. What a
+//! ray that hits the shape sees, and what a shading point is lit by. The
+//! emitter holds the shape's [`Surface`] and samples it through
+//! [`Shape::sample`](crate::geometry::Shape::sample) (a moving light where
+//! it is at the ray's time); a mesh's triangles stay the scene's.
 //!
 //! One-sided (emitting along the shape's geometric normal), but for
 //! spheres, which emit outward from their whole surface. A shading point
@@ -25,13 +28,9 @@
 //! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
 //! | `shadow_distribution` | distribution | the render's | |
 
-mod cylinder;
 mod disk;
-mod mesh;
 mod rect;
 mod sphere;
-
-pub use mesh::MeshLight;
 
 use crate::description::check::{int, nonneg3, required};
 use crate::description::mitsuba::adapt;
@@ -40,10 +39,10 @@ use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::model::EmitterModel;
-use crate::emitter::sample::{area_pdf, LightSample};
+use crate::emitter::sample::{area_sample, LightSample, Reference};
 use crate::geometry::quad::Quad;
-use crate::geometry::Cylinder;
-use crate::math::{Aabb, Frame, Rgb, Vec3};
+use crate::geometry::{Density, Shape, Surface};
+use crate::math::{Rgb, Vec3};
 use crate::sampling::points::end_point;
 use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
 
@@ -121,34 +120,12 @@ pub fn read(
     Ok((radiance, model, shadow))
 }
 
-/// The shape an area light samples, in world space.
-#[derive(Clone, Debug)]
-pub enum AreaShape {
-    /// A parallelogram emitting along `edge_u × edge_v`.
-    Rect(Quad),
-    Sphere {
-        center: Vec3,
-        radius: f32,
-    },
-    /// A disk emitting along `frame.n`.
-    Disk {
-        center: Vec3,
-        frame: Frame,
-        radius: f32,
-    },
-    /// An open cylinder emitting away from its axis, or toward it when
-    /// `inward` (`flip_normals`).
-    Cylinder {
-        cylinder: Cylinder,
-        inward: bool,
-    },
-    Mesh(MeshLight),
-}
-
-/// An area light (see the [module docs](self)).
+/// An area light (see the [module docs](self)): the surface of a shape
+/// where it is (still, placed by an instance, or moving), emitting from
+/// the side its normals face.
 #[derive(Clone, Debug)]
 pub struct Area {
-    pub shape: AreaShape,
+    pub surface: Surface,
     pub radiance: Rgb,
     pub model: PenumbraModel,
     /// Rays per shadow set and their distribution.
@@ -156,37 +133,31 @@ pub struct Area {
 }
 
 impl Area {
-    /// The light's centre, which the thesis model aims around.
-    pub fn center(&self) -> Vec3 {
-        match &self.shape {
-            AreaShape::Rect(q) => q.center(),
-            AreaShape::Sphere { center, .. } | AreaShape::Disk { center, .. } => *center,
-            AreaShape::Cylinder { cylinder: c, .. } => c.base + 0.5 * c.length * c.frame.n,
-            AreaShape::Mesh(m) => m.centroid(),
+    /// The light's centre in the shape's own space, which the thesis model
+    /// aims around.
+    fn center(&self) -> Vec3 {
+        match self.surface.shape() {
+            Shape::Quad(q) => q.center(),
+            Shape::Sphere { center, .. } | Shape::Disk { center, .. } => *center,
+            Shape::Cylinder(c) => c.base + 0.5 * c.length * c.frame.n,
+            Shape::Mesh { .. } => self.surface.shape_bounds().centroid(),
         }
     }
 
-    /// The thesis's light size: the radius of the distribution around the
-    /// centre. A rectangle (or mesh) uses half the side of the square of
-    /// equal area.
-    pub fn size(&self) -> f32 {
-        match &self.shape {
-            AreaShape::Rect(q) => rect::size(q),
-            AreaShape::Sphere { radius, .. } | AreaShape::Disk { radius, .. } => *radius,
-            AreaShape::Cylinder { cylinder: c, .. } => 0.5 * c.area().sqrt(),
-            AreaShape::Mesh(m) => 0.5 * m.area().sqrt(),
+    /// The thesis's light size in the shape's own space: the radius of the
+    /// distribution around the centre. A rectangle (or any other shape)
+    /// uses half the side of the square of equal area.
+    fn size(&self) -> f32 {
+        match self.surface.shape() {
+            Shape::Quad(q) => rect::size(q),
+            Shape::Sphere { radius, .. } | Shape::Disk { radius, .. } => *radius,
+            _ => 0.5 * self.surface.area().sqrt(),
         }
     }
 
     /// The area of the emitting surface.
     pub fn area(&self) -> f32 {
-        match &self.shape {
-            AreaShape::Rect(q) => q.area(),
-            AreaShape::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
-            AreaShape::Disk { radius, .. } => disk::area(*radius),
-            AreaShape::Cylinder { cylinder: c, .. } => c.area(),
-            AreaShape::Mesh(m) => m.area(),
-        }
+        self.surface.area()
     }
 
     /// The power it emits, `π · A · L` (one-sided: a sphere outward), the
@@ -195,85 +166,58 @@ impl Area {
         std::f32::consts::PI * self.area() * mean(self.radiance)
     }
 
-    /// What a light BVH knows of it: the box around the shape, the cone
-    /// of its normals (one normal for a rectangle or disk; every direction
-    /// for a sphere; the directions across the axis for a tube; a cone
-    /// around a mesh's triangles' normals), emitting into the hemisphere
-    /// of each normal, and its [`power`](Self::power).
+    /// What a light BVH knows of it: the box around the surface over the
+    /// shutter, the cone of its normals
+    /// ([`Surface::normal_cone`]), emitting into the hemisphere of each
+    /// normal, and its [`power`](Self::power).
     pub fn bounds(&self) -> LightBounds {
-        let (bounds, axis, cos_theta_o) = match &self.shape {
-            AreaShape::Rect(q) => {
-                let corners = [
-                    q.origin,
-                    q.origin + q.edge_u,
-                    q.origin + q.edge_v,
-                    q.origin + q.edge_u + q.edge_v,
-                ];
-                (Aabb::from_points(corners), q.normal, 1.0)
-            }
-            AreaShape::Disk {
-                center,
-                frame,
-                radius,
-            } => {
-                let n = frame.n;
-                let e = (Vec3::ONE - n * n).max(Vec3::ZERO);
-                let r = *radius * Vec3::new(e.x.sqrt(), e.y.sqrt(), e.z.sqrt());
-                (Aabb::new(*center - r, *center + r), n, 1.0)
-            }
-            AreaShape::Sphere { center, radius } => {
-                let r = Vec3::splat(*radius);
-                (Aabb::new(*center - r, *center + r), Vec3::Z, -1.0)
-            }
-            AreaShape::Cylinder { cylinder: c, .. } => (c.bounds(), c.frame.n, 0.0),
-            AreaShape::Mesh(m) => {
-                let (axis, cos) = m.normal_cone();
-                (m.bounds(), axis, cos)
-            }
-        };
-        LightBounds::new(bounds, axis, self.power(), cos_theta_o, 0.0)
+        let (axis, cos_theta_o) = self.surface.normal_cone();
+        LightBounds::new(self.surface.bounds(), axis, self.power(), cos_theta_o, 0.0)
     }
 
     /// Radiance leaving the light's surface toward `-dir` at a point with
     /// geometric normal `n` (one-sided but for spheres).
     #[inline]
     pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
-        match self.shape {
-            AreaShape::Sphere { .. } => self.radiance,
+        match self.surface.shape() {
+            Shape::Sphere { .. } => self.radiance,
             _ if n.dot(dir) < 0.0 => self.radiance,
             _ => Rgb::ZERO,
         }
     }
 
-    /// True if [`sample`](Self::sample) takes points of `d` four at a time
-    /// through a kernel: a rectangle sampled on its surface by a square
-    /// distribution.
+    /// The rectangle that [`sample`](Self::sample) takes points of `d`
+    /// four at a time for through a kernel: a rectangle in world space
+    /// sampled on its surface by a square distribution.
     #[inline]
-    pub(super) fn four_wide(&self, d: Distribution) -> bool {
-        let rect = matches!(self.shape, AreaShape::Rect(_));
-        rect && self.model == PenumbraModel::Surface && d != Distribution::Random
+    pub(super) fn four_wide(&self, d: Distribution) -> Option<&Quad> {
+        let surface = self.model == PenumbraModel::Surface && d != Distribution::Random;
+        match self.surface.shape() {
+            Shape::Quad(q) if surface && self.surface.is_plain() => Some(q),
+            _ => None,
+        }
     }
 
     /// Samples for a batch of distribution points (see
     /// [`Emitter::sample`](super::Emitter::sample)).
     pub(super) fn sample(
         &self,
-        at: impl Fn(usize) -> Vec3,
+        at: impl Fn(usize) -> Reference,
         points: &[Vec3],
         d: Distribution,
         out: &mut Vec<Option<LightSample>>,
     ) {
-        let wide = match &self.shape {
-            AreaShape::Rect(q) if self.four_wide(d) => {
+        let wide = match self.four_wide(d) {
+            Some(q) => {
                 let fours = points.chunks_exact(4);
                 for (g, four) in fours.enumerate() {
-                    let p = std::array::from_fn(|l| at(4 * g + l));
+                    let p = std::array::from_fn(|l| at(4 * g + l).p);
                     let four = four.try_into().expect("chunks of four");
                     out.extend(rect::sample4(self.radiance, q, &p, four).lanes());
                 }
                 points.len() / 4 * 4
             }
-            _ => 0,
+            None => 0,
         };
         let rest = points.iter().enumerate().skip(wide);
         out.extend(rest.map(|(k, &point)| self.sample_one(at(k), point, d)));
@@ -281,33 +225,48 @@ impl Area {
 
     /// One sample: the portable form, which the rectangle's kernel is
     /// tested against.
-    pub(super) fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+    pub(super) fn sample_one(
+        &self,
+        r: Reference,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<LightSample> {
         match self.model {
-            PenumbraModel::Thesis => self.sample_thesis(p, point, d),
-            PenumbraModel::Surface => self.sample_surface(p, point, d),
+            PenumbraModel::Thesis => self.sample_thesis(r, point, d),
+            PenumbraModel::Surface => {
+                let s = self.surface.sample(r.p, r.time, point, d)?;
+                match s.density {
+                    Density::Area { area, two_sided } => {
+                        area_sample(self.radiance, r.p, s.p, s.n, area, two_sided)
+                    }
+                    Density::Cone(solid_angle) => Some(LightSample {
+                        target: s.p,
+                        dir: (s.p - r.p).normalize_or_zero(),
+                        weight: self.radiance * solid_angle,
+                        pdf: 1.0 / solid_angle,
+                    }),
+                }
+            }
         }
     }
 
     /// The solid-angle density with which the surface model draws `target`
-    /// (a point of the light with outward normal `n`) from `p`; 0 under the
-    /// thesis model, whose rays are not drawn from the light's surface.
-    pub fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
+    /// (a point of the light with outward normal `n`) from `r`; 0 under
+    /// the thesis model, whose rays are not drawn from the light's surface.
+    pub fn pdf(&self, r: Reference, target: Vec3, n: Vec3) -> f32 {
         if self.model == PenumbraModel::Thesis {
             return 0.0;
         }
-        let to = target - p;
-        let r2 = to.length_squared();
-        let cos_l = n.dot(-to) / r2.sqrt();
-        match &self.shape {
-            AreaShape::Sphere { center, radius } => sphere::pdf(p, *center, *radius, cos_l, r2),
-            AreaShape::Rect(q) => area_pdf(cos_l, r2, q.area()),
-            AreaShape::Disk { radius, .. } => area_pdf(cos_l, r2, disk::area(*radius)),
-            AreaShape::Cylinder { cylinder: c, .. } => area_pdf(cos_l, r2, c.area()),
-            AreaShape::Mesh(m) => m.pdf(cos_l, r2),
-        }
+        self.surface.density(r.p, r.time, target, n)
     }
 
-    fn sample_thesis(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
+    /// The thesis's shadow-ray target (§3.3), in the shape's own space
+    /// carried to the world where the light moves or is placed (where it
+    /// keeps its proportions: directions, and the weight's ratio of the
+    /// light's intensity to the squared distance, are the same in both).
+    fn sample_thesis(&self, r: Reference, point: Vec3, d: Distribution) -> Option<LightSample> {
+        let sim = self.surface.similarity(r.time);
+        let p = sim.map_or(r.p, |s| s.point_to_local(r.p));
         let c = self.center();
         let axis = (c - p).normalize_or_zero();
         let target = end_point(c, axis, point, self.size(), d);
@@ -317,46 +276,29 @@ impl Area {
             return None;
         }
         let weight = self.point_intensity(-to / r2.sqrt()) / r2;
+        let target = sim.map_or(target, |s| s.point_to_world(target));
         Some(LightSample {
             target,
-            dir: to.normalize_or_zero(),
+            dir: (target - r.p).normalize_or_zero(),
             weight,
             pdf: 0.0,
         })
     }
 
-    /// Intensity toward direction `w` (unit, from the light) of the light
-    /// collapsed to a point, as the thesis shades every shadow ray.
+    /// Intensity toward direction `w` (unit, from the light, in its own
+    /// space) of the light collapsed to a point, as the thesis shades
+    /// every shadow ray.
     fn point_intensity(&self, w: Vec3) -> Rgb {
         let power = self.radiance;
-        match &self.shape {
-            AreaShape::Rect(q) => rect::intensity(power, q, w),
-            AreaShape::Sphere { radius, .. } => sphere::intensity(power, *radius),
-            AreaShape::Disk { frame, radius, .. } => disk::intensity(power, frame.n, *radius, w),
+        let face = |n: Vec3| if self.surface.is_flipped() { -n } else { n };
+        match self.surface.shape() {
+            Shape::Quad(q) => rect::intensity(power, q.area(), face(q.normal), w),
+            Shape::Sphere { radius, .. } => sphere::intensity(power, *radius),
+            Shape::Disk { frame, radius, .. } => disk::intensity(power, face(frame.n), *radius, w),
             // Not reached: the thesis model is refused on meshes and
             // cylinders when the scene is built; a flat light of the
             // shape's area facing `w`.
-            AreaShape::Cylinder { cylinder: c, .. } => power * c.area(),
-            AreaShape::Mesh(m) => power * m.area(),
-        }
-    }
-
-    fn sample_surface(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        let power = self.radiance;
-        match &self.shape {
-            AreaShape::Rect(q) => rect::sample(power, q, p, point, d),
-            AreaShape::Disk {
-                center,
-                frame,
-                radius,
-            } => disk::sample(power, *center, frame, *radius, p, point, d),
-            AreaShape::Sphere { center, radius } => {
-                sphere::sample(power, *center, *radius, p, point, d)
-            }
-            AreaShape::Cylinder { cylinder, inward } => {
-                cylinder::sample(power, cylinder, *inward, p, point, d)
-            }
-            AreaShape::Mesh(m) => m.sample(power, p, point, d),
+            _ => power * self.area(),
         }
     }
 }
@@ -383,7 +325,7 @@ impl EmitterModel for Area {
     #[inline]
     fn sample(
         &self,
-        at: impl Fn(usize) -> Vec3,
+        at: impl Fn(usize) -> Reference,
         points: &[Vec3],
         d: Distribution,
         out: &mut Vec<Option<LightSample>>,
@@ -392,11 +334,11 @@ impl EmitterModel for Area {
     }
 
     #[inline]
-    fn sample_one(&self, p: Vec3, point: Vec3, d: Distribution) -> Option<LightSample> {
-        Area::sample_one(self, p, point, d)
+    fn sample_one(&self, r: Reference, point: Vec3, d: Distribution) -> Option<LightSample> {
+        Area::sample_one(self, r, point, d)
     }
 
-    fn pdf(&self, p: Vec3, target: Vec3, n: Vec3) -> f32 {
-        Area::pdf(self, p, target, n)
+    fn pdf(&self, r: Reference, target: Vec3, n: Vec3) -> f32 {
+        Area::pdf(self, r, target, n)
     }
 }

@@ -1,14 +1,12 @@
 //! A rectangle light (a parallelogram), one-sided, emitting along its normal
 //! with uniform radiance. Sampled uniformly over its area; a four-wide kernel
-//! prepares four samples at once with the scalar path's operations.
+//! prepares four samples at once with the portable path's operations.
 
 use glam::Vec4;
 
-use crate::emitter::sample::{area_sample, LightSample, LightSamples4};
+use crate::emitter::sample::LightSamples4;
 use crate::geometry::quad::Quad;
 use crate::math::{Rgb, Vec3};
-use crate::sampling::points::unit_square;
-use crate::sampling::Distribution;
 
 /// The thesis's light size: half the side of the square of equal area.
 #[inline]
@@ -16,27 +14,15 @@ pub(super) fn size(q: &Quad) -> f32 {
     0.5 * q.area().sqrt()
 }
 
-/// Intensity toward direction `w` (unit, from the light) of the rectangle
-/// collapsed to a point: `L · A · cos θ`.
+/// Intensity toward direction `w` (unit, from the light) of a rectangle of
+/// area `area` facing `n`, collapsed to a point: `L · A · cos θ`.
 #[inline]
-pub(super) fn intensity(power: Rgb, q: &Quad, w: Vec3) -> Rgb {
-    power * (q.area() * q.normal.dot(w).max(0.0))
+pub(super) fn intensity(power: Rgb, area: f32, n: Vec3, w: Vec3) -> Rgb {
+    power * (area * n.dot(w).max(0.0))
 }
 
-/// A uniform point of the rectangle for the distribution point `point`.
-#[inline]
-pub(super) fn sample(
-    power: Rgb,
-    q: &Quad,
-    p: Vec3,
-    point: Vec3,
-    d: Distribution,
-) -> Option<LightSample> {
-    let u = unit_square(point, d);
-    area_sample(power, p, q.point(u.x, u.y), q.normal, q.area(), false)
-}
-
-/// [`sample`] for four points at once, lane by lane the same bits (the same
+/// [`Shape::sample`](crate::geometry::Shape::sample) of a rectangle and
+/// the emitter's weight, for four points at once, lane by lane the same bits (the same
 /// operations in the same order, with no fused ones). Prepared one by one, a
 /// set of 64 shadow rays spends a quarter of its time on them, mostly waiting
 /// on the divisions.

@@ -9,7 +9,7 @@
 //! **One leaf per emitter.** An area light on a triangle mesh is one
 //! emitter here (it samples its triangles by area), so its leaf bounds the
 //! whole mesh: the box around its triangles and a cone around their
-//! normals ([`MeshLight::normal_cone`](crate::emitter::MeshLight::normal_cone)).
+//! normals ([`Surface::normal_cone`](crate::geometry::Surface::normal_cone)).
 //! pbrt-v4 makes every triangle a light of its own; doing so here would
 //! change what an emitter index names (hits carry it, multiple importance
 //! sampling looks its probability up by it) and the emitters' sampling, for
@@ -319,8 +319,9 @@ mod tests {
     use super::*;
     use crate::emitter::bounds::tests::random_unit;
     use crate::emitter::choice::tests::{area, many_emitters};
-    use crate::emitter::AreaShape;
+    use crate::emitter::Reference;
     use crate::geometry::quad::Quad;
+    use crate::geometry::Shape;
     use crate::math::Frame;
     use crate::sampling::{Distribution, Rng};
 
@@ -349,7 +350,7 @@ mod tests {
                 }
                 let can = (0..16).any(|_| {
                     let point = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0);
-                    e.sample_one(p, point, Distribution::Random)
+                    e.sample_one(Reference::new(p, 0.0), point, Distribution::Random)
                         .is_some_and(|s| s.weight.max_element() > 0.0 && s.dir.dot(n).abs() > 1e-3)
                 });
                 if can {
@@ -372,10 +373,7 @@ mod tests {
         let up = Quad::new(Vec3::new(-0.5, 1.0, -0.5), Vec3::Z, Vec3::X);
         let down = Quad::new(Vec3::new(3.5, 1.0, -0.5), Vec3::X, Vec3::Z);
         assert!(up.normal.y > 0.0 && down.normal.y < 0.0);
-        let emitters = [
-            area(AreaShape::Rect(up), 1.0),
-            area(AreaShape::Rect(down), 1.0),
-        ];
+        let emitters = [area(Shape::Quad(up), 1.0), area(Shape::Quad(down), 1.0)];
         let bvh = LightBvh::new(&emitters);
         let p = Vec3::new(0.0, 0.0, 0.0);
         assert_eq!(bvh.pmf(p, Vec3::Y, 0), 0.0);
@@ -397,10 +395,7 @@ mod tests {
             for j in 0..25 {
                 let at = Vec3::new(i as f32, 2.0, j as f32);
                 let f = Frame::from_normal(-Vec3::Y);
-                emitters.push(area(
-                    AreaShape::Rect(Quad::new(at, f.u * 0.1, f.v * 0.1)),
-                    1.0,
-                ));
+                emitters.push(area(Shape::Quad(Quad::new(at, f.u * 0.1, f.v * 0.1)), 1.0));
             }
         }
         let bvh = LightBvh::new(&emitters);

@@ -103,16 +103,20 @@ impl LightSampler {
 pub(crate) mod tests {
     use super::*;
     use crate::emitter::bounds::tests::random_unit;
-    use crate::emitter::{
-        Area, AreaShape, Constant, Directional, MeshLight, PenumbraModel, Point, Spot,
-    };
+    use crate::emitter::{Area, Constant, Directional, PenumbraModel, Point, Spot};
     use crate::geometry::quad::Quad;
+    use crate::geometry::surface::tests::{still, triangles};
+    use crate::geometry::{Shape, Surface};
     use crate::math::{Frame, Rgb};
     use crate::sampling::{Distribution, EffectSpec, Rng};
 
-    pub(crate) fn area(shape: AreaShape, radiance: f32) -> Emitter {
+    pub(crate) fn area(shape: Shape, radiance: f32) -> Emitter {
+        surface_area(still(shape), radiance)
+    }
+
+    pub(crate) fn surface_area(surface: Surface, radiance: f32) -> Emitter {
         Emitter::Area(Area {
-            shape,
+            surface,
             radiance: Rgb::splat(radiance),
             model: PenumbraModel::Surface,
             shadow: EffectSpec {
@@ -140,11 +144,11 @@ pub(crate) mod tests {
             let frame = Frame::from_normal(n);
             let e = match k % 6 {
                 0 => area(
-                    AreaShape::Rect(Quad::new(at, frame.u * size, frame.v * size)),
+                    Shape::Quad(Quad::new(at, frame.u * size, frame.v * size)),
                     radiance,
                 ),
                 1 => area(
-                    AreaShape::Disk {
+                    Shape::Disk {
                         center: at,
                         frame,
                         radius: size,
@@ -152,7 +156,7 @@ pub(crate) mod tests {
                     radiance,
                 ),
                 2 => area(
-                    AreaShape::Sphere {
+                    Shape::Sphere {
                         center: at,
                         radius: size,
                     },
@@ -163,34 +167,30 @@ pub(crate) mod tests {
                     intensity: Rgb::splat(radiance),
                 }),
                 4 => Emitter::Spot(Spot::new(at, n, Rgb::splat(radiance), 40.0, 25.0)),
-                _ => area(
-                    AreaShape::Mesh(
-                        MeshLight::new(vec![
-                            [at, at + frame.u * size, at + frame.v * size],
-                            [at, at + frame.v * size, at + (frame.n - frame.u) * size],
-                        ])
-                        .unwrap(),
-                    ),
+                _ => surface_area(
+                    triangles(&[
+                        [at, at + frame.u * size, at + frame.v * size],
+                        [at, at + frame.v * size, at + (frame.n - frame.u) * size],
+                    ]),
                     radiance,
                 ),
             };
             out.push(e);
         }
         out.push(area(
-            AreaShape::Cylinder {
-                cylinder: crate::geometry::Cylinder::new(
+            Shape::Cylinder(
+                crate::geometry::Cylinder::new(
                     Vec3::new(-1.0, 1.0, 0.0),
                     Vec3::new(1.0, 1.5, 0.0),
                     0.2,
                 )
                 .unwrap(),
-                inward: false,
-            },
+            ),
             5.0,
         ));
         // One that emits nothing.
         out.push(area(
-            AreaShape::Sphere {
+            Shape::Sphere {
                 center: Vec3::ZERO,
                 radius: 0.3,
             },
@@ -266,7 +266,7 @@ pub(crate) mod tests {
         let everywhere: Vec<Emitter> = many_emitters(true)
             .into_iter()
             .filter(|e| match e {
-                Emitter::Area(a) => matches!(a.shape, AreaShape::Sphere { .. }),
+                Emitter::Area(a) => matches!(a.surface.shape(), Shape::Sphere { .. }),
                 other => matches!(other, Emitter::Point(_) | Emitter::Constant(_)),
             })
             .collect();

@@ -60,7 +60,7 @@ mod tests {
     fn probabilities_are_shares_of_power() {
         let quad = crate::geometry::quad::Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 2.0 * Vec3::Z);
         let emitters = [
-            super::super::tests::area(crate::emitter::AreaShape::Rect(quad), 1.0),
+            super::super::tests::area(crate::geometry::Shape::Quad(quad), 1.0),
             Emitter::Point(crate::emitter::Point {
                 position: Vec3::Y,
                 intensity: Rgb::ONE,

@@ -8,6 +8,7 @@ use super::vertex::{
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
+use crate::emitter::Reference;
 use crate::integrator::metric::{Metric, RunningMean};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
@@ -76,7 +77,12 @@ pub(super) fn thesis_sets(
             let mut rng = path.derive(streams::shadow(j as u64));
             d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
             for (m, &point) in out.points.iter().enumerate() {
-                let Some(ls) = sample_emitter(emitter, v.hit.p, (point, d), out.escape) else {
+                let Some(ls) = sample_emitter(
+                    emitter,
+                    Reference::new(v.hit.p, v.hit.time),
+                    (point, d),
+                    out.escape,
+                ) else {
                     continue;
                 };
                 let ns = n as f32;

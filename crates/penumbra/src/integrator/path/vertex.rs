@@ -4,7 +4,7 @@
 
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
-use crate::emitter::{Emitter, LightSample};
+use crate::emitter::{Emitter, LightSample, Reference};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::math::{Ray, Rgb, Vec2, Vec3};
@@ -274,7 +274,12 @@ pub(super) fn light_sample(
     shadows: &mut Shadows,
 ) {
     let p = SetPoint::uniform(point).native();
-    let Some(ls) = sample_emitter(emitter, v.hit.p, (p, Distribution::Jitter), escape) else {
+    let Some(ls) = sample_emitter(
+        emitter,
+        Reference::new(v.hit.p, v.hit.time),
+        (p, Distribution::Jitter),
+        escape,
+    ) else {
         return;
     };
     let weigh = |pdf_b: f32| power_heuristic(e * pmf * ls.pdf, b * pdf_b);
@@ -325,19 +330,20 @@ pub(super) fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
     }
 }
 
-/// A sample of `emitter` seen from `p` for the distribution point `point`
+/// A sample of `emitter` seen from `r` for the distribution point `point`
 /// of `d`: [`Emitter::sample_one`], or for an emitter at infinity a
 /// direction with a target beyond the world (`escape`).
 #[inline]
 pub(super) fn sample_emitter(
     emitter: &Emitter,
-    p: Vec3,
+    r: Reference,
     (point, d): (Vec3, Distribution),
     escape: Escape,
 ) -> Option<LightSample> {
     if !emitter.is_infinite() {
-        return emitter.sample_one(p, point, d);
+        return emitter.sample_one(r, point, d);
     }
+    let p = r.p;
     let (dir, radiance, pdf) = emitter.sample_direction(unit_square(point, d))?;
     let far = 2.0 * (escape.radius + (p - escape.center).length()) + 1.0;
     Some(LightSample {

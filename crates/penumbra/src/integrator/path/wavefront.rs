@@ -7,6 +7,7 @@ use std::ops::Range;
 use super::PathSettings;
 use crate::accel::{Hit, PacketScratch};
 use crate::emitter::choice::LightSampler;
+use crate::emitter::Reference;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::shading::ShadingPoint;
@@ -323,7 +324,7 @@ impl<'s> Wavefront<'s> {
                 let emitter = &scene.emitters[e as usize];
                 let (from, from_n) = paths.from[i];
                 let choice = || chooser.pmf(from, from_n, e);
-                let density = || emitter.pdf(from, hit.p, hit.ng);
+                let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
                 let w = emission_weight(emitter, shadow, prev, choice, density);
                 if w > 0.0 {
                     let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);

@@ -2,7 +2,7 @@ use glam::Vec3A;
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::bsdf::{Bsdf, BsdfFlags, Lobes};
-use crate::emitter::{Emitter, LightSample};
+use crate::emitter::{Emitter, LightSample, Reference};
 use crate::math::Rgb;
 use crate::math::{Aabb, Ray, Vec3};
 use crate::sampling::{BranchKey, Distribution, EffectSpec, PointTable, Rng, SetPoint};
@@ -567,7 +567,8 @@ impl<'a> Tracer<'a> {
         }
         let samples = &mut self.light_samples;
         samples.clear();
-        light.sample(|k| lit[k / n].frame.at.p, &points, d, samples);
+        let at = |k: usize| Reference::new(lit[k / n].frame.at.p, lit[k / n].frame.at.time);
+        light.sample(at, &points, d, samples);
         for (h, samples) in lit.iter().zip(samples.chunks_exact(n)) {
             let ray = |ls: &Option<LightSample>| shadow_ray(&h.frame, h.origin, ls.as_ref()?);
             set.extend(samples.iter().map(ray));
