@@ -15,4 +15,4 @@ pub mod world;
 pub use bvh4::{Bvh4, LeafSet, RayPacket};
 pub use shaft::Shaft;
 pub use tri::{TriHit, TriStats, TriangleBvh};
-pub use world::{Hit, Object, PacketScratch, ShaftSet, World};
+pub use world::{Crossing, Hit, Object, PacketScratch, ShaftSet, World};

@@ -59,6 +59,7 @@ mod shading;
 mod stats;
 pub mod stopping;
 pub mod streams;
+pub mod transmittance;
 mod whitted;
 
 pub use film::FilmTile;

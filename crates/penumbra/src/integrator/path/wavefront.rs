@@ -13,6 +13,7 @@ use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
+use crate::integrator::transmittance::transmittance_all;
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::SetPoint;
@@ -445,7 +446,7 @@ impl<'s> Wavefront<'s> {
         if !now.ray.is_empty() {
             self.stats.shadow += now.ray.len() as u64;
             self.batches.occlusion.add(now.ray.len());
-            world.transmittance_all(&now.ray, (0.0, SHADOW_END), &self.opaque, passed);
+            transmittance_all(world, &now.ray, (0.0, SHADOW_END), &self.opaque, passed);
             for (&set, pass) in now.set.iter().zip(passed.iter()) {
                 if let Some(t) = sets.get_mut(set as usize) {
                     if pass.is_some() {
@@ -486,7 +487,7 @@ impl<'s> Wavefront<'s> {
         let rays = &later.ray[..keep];
         self.stats.shadow += keep as u64;
         self.batches.occlusion.add(keep);
-        world.transmittance_all(rays, (0.0, SHADOW_END), &self.opaque, passed);
+        transmittance_all(world, rays, (0.0, SHADOW_END), &self.opaque, passed);
         for ((&slot, &value), pass) in later.slot.iter().zip(&later.value).zip(passed.iter()) {
             if pass.is_some() {
                 self.radiance[slot as usize] += value;
