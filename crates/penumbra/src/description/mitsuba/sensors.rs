@@ -7,8 +7,10 @@
 
 use std::rc::Rc;
 
-use super::mapper::{float, get_bool, get_float, get_int, get_string, get_transform, located};
-use super::mapper::{obj_has, render, set, vec3};
+use super::mapper::{
+    float, get_bool, get_float, get_int, get_string, get_transform, located, obj_has, render, set,
+    vec3,
+};
 use super::objects::{error_at, Object, Place};
 use super::parse::clip;
 use super::registry::Mapper;
