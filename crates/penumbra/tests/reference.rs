@@ -69,7 +69,8 @@ fn every_plugin_and_parameter_is_described() {
     }
 }
 
-/// A Mitsuba plugin name is read as one Penumbra plugin of its kind.
+/// A Mitsuba plugin name is read as one Penumbra plugin of its kind, by
+/// one entry of the kind's registry, which the plugin's schema names.
 #[test]
 fn mitsuba_names_map_to_one_plugin() {
     for kind in Kind::ALL {
@@ -77,6 +78,17 @@ fn mitsuba_names_map_to_one_plugin() {
         for s in schemas::of(kind) {
             for name in s.mitsuba {
                 assert!(seen.insert(*name), "{kind:?}: `{name}` twice");
+            }
+        }
+        let mut read = std::collections::HashSet::new();
+        for p in schemas::plugins(kind) {
+            for name in p.names {
+                assert!(read.insert(*name), "{kind:?}: `{name}` read twice");
+                assert!(
+                    p.schema.mitsuba.contains(name),
+                    "{kind:?}: `{name}` is not a Mitsuba name of `{}`",
+                    p.schema.plugin
+                );
             }
         }
     }

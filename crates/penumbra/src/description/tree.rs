@@ -13,6 +13,9 @@ pub enum Kind {
     Integrator,
     Sensor,
     Film,
+    /// A film's pixel filter (Mitsuba's `<rfilter>`), whose parameters
+    /// are the film's keys: no node of a tree is one.
+    Filter,
     Sampler,
     Shape,
     Bsdf,
@@ -22,11 +25,12 @@ pub enum Kind {
 
 impl Kind {
     /// Every kind, in the order of the enum.
-    pub const ALL: [Kind; 9] = [
+    pub const ALL: [Kind; 10] = [
         Kind::Scene,
         Kind::Integrator,
         Kind::Sensor,
         Kind::Film,
+        Kind::Filter,
         Kind::Sampler,
         Kind::Shape,
         Kind::Bsdf,
@@ -41,6 +45,7 @@ impl Kind {
             Kind::Integrator => "integrator",
             Kind::Sensor => "sensor",
             Kind::Film => "film",
+            Kind::Filter => "rfilter",
             Kind::Sampler => "sampler",
             Kind::Shape => "shape",
             Kind::Bsdf => "bsdf",

@@ -4,6 +4,8 @@
 use super::settings::Settings;
 use crate::camera::{Camera, CameraSpec};
 use crate::description::check::{finite3, nonzero3, positive, range};
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::{sensors, Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 
 /// The parameters of the `perspective` sensor.
@@ -19,55 +21,111 @@ pub const PERSPECTIVE: Schema = Schema {
             Type::Vector,
             "[0, 1, 5]",
             "eye position at shutter open",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "look_at",
             Type::Vector,
             "[0, 0, 0]",
             "point at the image centre",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "up",
             Type::Vector,
             "[0, 1, 0]",
             "up direction; must not be parallel to the view",
-        ),
+        )
+        .penumbra_only(),
         Param::new("fov", Type::Number, "40", "vertical field of view, degrees")
-            .range(Range::Between(0.01, 179.0)),
+            .range(Range::Between(0.01, 179.0))
+            .penumbra_only(),
         Param::new(
             "aperture",
             Type::Number,
             "0",
             "lens radius in scene units; 0 is a pinhole (everything sharp)",
         )
-        .range(Range::NonNegative),
+        .range(Range::NonNegative)
+        .penumbra_only(),
         Param::new(
             "focal_distance",
             Type::Number,
             "distance to `look_at`",
             "distance of the plane in focus (measured along the view axis)",
         )
-        .range(Range::Positive),
+        .range(Range::Positive)
+        .penumbra_only(),
         Param::new(
             "shutter",
             Type::Numbers(2),
             "[0, 1]",
             "exposed part of the frame, 0 ≤ open ≤ close ≤ 1",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "position_end",
             Type::Vector,
             "`position`",
             "eye position at frame time 1 (camera motion blur)",
-        ),
+        )
+        .penumbra_only(),
         Param::new(
             "look_at_end",
             Type::Vector,
             "`look_at`",
             "target at frame time 1",
-        ),
+        )
+        .penumbra_only(),
     ],
 };
+
+/// What Mitsuba's sensors read: the camera is placed by `to_world` and
+/// its field of view given Mitsuba's way.
+const SENSOR_KEYS: [&str; 6] = [
+    "fov",
+    "fov_axis",
+    "focal_length",
+    "to_world",
+    "near_clip",
+    "far_clip",
+];
+
+/// How Mitsuba's `perspective` and `thinlens` map onto the camera.
+pub const PLUGINS: [Plugin; 2] = [
+    Plugin::named(
+        &PERSPECTIVE,
+        &["perspective"],
+        Mitsuba {
+            differences: "`to_world` as `position` (its origin), `look_at` (one unit along its \
+                +z) and `up` (its +y), one that mirrors refused; `fov` along `fov_axis` (`x` by \
+                default, `y`, `diagonal`, `smaller`, `larger`) or `focal_length` (default \
+                `50mm`, of a 36 × 24 mm film, along the diagonal) as the vertical `fov` of the \
+                film's aspect; `near_clip` and `far_clip` ignored with a warning",
+            reads: &SENSOR_KEYS,
+            adapt: Some(Adapt::Held(sensors::perspective)),
+        },
+    ),
+    Plugin::named(
+        &PERSPECTIVE,
+        &["thinlens"],
+        Mitsuba {
+            differences: "as `perspective`; `aperture_radius` and `focus_distance` (both \
+                required) as `aperture` and `focal_distance`",
+            reads: &[
+                "fov",
+                "fov_axis",
+                "focal_length",
+                "to_world",
+                "near_clip",
+                "far_clip",
+                "aperture_radius",
+                "focus_distance",
+            ],
+            adapt: Some(Adapt::Held(sensors::thinlens)),
+        },
+    ),
+];
 
 /// The camera of the sensor's parameters `p`, for an image of `s`.
 pub fn build(p: &Props, s: &Settings) -> Result<Camera, Invalid> {

@@ -11,6 +11,7 @@ mod camera;
 mod context;
 pub mod convert;
 mod error;
+mod filters;
 mod lights;
 mod load;
 pub mod options;

@@ -92,7 +92,13 @@ pub fn table(schema: &Schema) -> String {
 /// what differs. Only for the kinds the Mitsuba reader maps through their
 /// schemas.
 fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
-    let plugin = schemas::plugins(kind).iter().find(|p| p.schema == schema)?;
+    let plugins: Vec<&Plugin> = schemas::plugins(kind)
+        .iter()
+        .filter(|p| p.schema == schema)
+        .collect();
+    if plugins.is_empty() {
+        return None;
+    }
     if schema.mitsuba.is_empty() {
         return Some("Penumbra's own: no Mitsuba 3 plugin reads as it.\n".into());
     }
@@ -129,17 +135,42 @@ fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
         .filter(|p| p.mitsuba == MitsubaKey::None && p.ty != Type::Material)
         .map(|p| format!("`{}`", p.name))
         .collect();
-    if !own.is_empty() {
-        parts.push(format!("has no {}", own.join(", ")));
+    let mut reads: Vec<String> = Vec::new();
+    for n in plugins.iter().flat_map(|p| p.mitsuba.reads) {
+        let n = format!("`{n}`");
+        if !reads.contains(&n) {
+            reads.push(n);
+        }
     }
-    if parts.is_empty() {
-        note += "takes these keys under the same names";
+    if own.len() == schema.params.len() && !reads.is_empty() {
+        // An adapter makes every key of what Mitsuba's plugin reads.
+        note += &format!(
+            "has none of these keys: they are made from its {}",
+            reads.join(", ")
+        );
     } else {
-        note += &format!("takes these keys but {}", parts.join("; "));
+        if !own.is_empty() {
+            parts.push(format!("has no {}", own.join(", ")));
+        }
+        if parts.is_empty() {
+            note += "takes these keys under the same names";
+        } else {
+            note += &format!("takes these keys but {}", parts.join("; "));
+        }
     }
     note += ".";
-    if !plugin.mitsuba.differences.is_empty() {
-        note += &format!(" Differences: {}.", plugin.mitsuba.differences);
+    let differing: Vec<&&Plugin> = plugins
+        .iter()
+        .filter(|p| !p.mitsuba.differences.is_empty())
+        .collect();
+    for p in &differing {
+        let of = if plugins.len() == 1 {
+            String::new()
+        } else {
+            let names: Vec<String> = p.names.iter().map(|n| format!("`{n}`")).collect();
+            format!(" of {}", names.join(", "))
+        };
+        note += &format!(" Differences{of}: {}.", p.mitsuba.differences);
     }
     Some(note + "\n")
 }
@@ -185,12 +216,16 @@ pub fn scene_format(text: &str) -> (String, Vec<String>) {
 pub fn mitsuba_table(kind: Kind) -> String {
     let mut out =
         String::from("| Mitsuba | parameters read | Penumbra | differences |\n|---|---|---|---|\n");
-    for Plugin { schema, mitsuba } in schemas::plugins(kind) {
-        if schema.mitsuba.is_empty() {
+    for Plugin {
+        schema,
+        names,
+        mitsuba,
+    } in schemas::plugins(kind)
+    {
+        if names.is_empty() {
             continue;
         }
-        let tags: Vec<String> = schema
-            .mitsuba
+        let tags: Vec<String> = names
             .iter()
             .map(|n| format!("`<{} type=\"{n}\">`", kind.name()))
             .collect();

@@ -5,7 +5,7 @@
 //! above the scene and check their own node (`integrator::plugins`) when
 //! the scene is built.
 
-use super::{camera, lights, settings, shapes};
+use super::{camera, filters, lights, settings, shapes};
 use crate::bsdf::Bsdf;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Schema};
@@ -20,6 +20,8 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Integrator => &[],
         Kind::Sensor => &[&camera::PERSPECTIVE],
         Kind::Film => &[&settings::FILM],
+        // A film's filter is its keys.
+        Kind::Filter => &[],
         Kind::Sampler => &[&settings::SAMPLER],
         Kind::Bsdf => Bsdf::SCHEMAS,
         Kind::Shape => &shapes::SCHEMAS,
@@ -36,11 +38,15 @@ pub fn area_schema() -> &'static Schema {
 /// through their schemas (the others it maps by hand).
 pub fn plugins(kind: Kind) -> &'static [Plugin] {
     match kind {
+        Kind::Sensor => &camera::PLUGINS,
+        Kind::Film => &settings::FILM_PLUGINS,
+        Kind::Filter => &filters::PLUGINS,
+        Kind::Sampler => &settings::SAMPLER_PLUGINS,
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
         Kind::Shape => &shapes::PLUGINS,
         Kind::Emitter => &lights::PLUGINS,
-        _ => &[],
+        Kind::Scene | Kind::Integrator => &[],
     }
 }
 
@@ -67,6 +73,7 @@ fn what(kind: Kind) -> &'static str {
         Kind::Integrator => "integrator",
         Kind::Sensor => "sensor",
         Kind::Film => "film",
+        Kind::Filter => "pixel filter",
         Kind::Sampler => "sampler",
         Kind::Texture => "texture",
         Kind::Scene => "scene",

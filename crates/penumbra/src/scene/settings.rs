@@ -6,6 +6,8 @@
 use std::sync::Arc;
 
 use crate::description::check::int;
+use crate::description::mitsuba::registry::Adapt;
+use crate::description::mitsuba::{sensors, Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::sampling::filter::FILTER_KEYS;
 use crate::sampling::{
@@ -147,14 +149,27 @@ pub const FILM: Schema = Schema {
     params: &[
         param("width", Type::Int),
         param("height", Type::Int),
-        param("filter", Type::Choice("pixel filter", &FILTERS)),
-        param("filter_radius", Type::Number),
-        param("filter_stddev", Type::Number),
-        param("filter_b", Type::Number),
-        param("filter_c", Type::Number),
-        param("filter_lobes", Type::Int),
+        param("filter", Type::Choice("pixel filter", &FILTERS)).penumbra_only(),
+        param("filter_radius", Type::Number).penumbra_only(),
+        param("filter_stddev", Type::Number).penumbra_only(),
+        param("filter_b", Type::Number).penumbra_only(),
+        param("filter_c", Type::Number).penumbra_only(),
+        param("filter_lobes", Type::Int).penumbra_only(),
     ],
 };
+
+/// How Mitsuba's `hdrfilm` maps onto the film.
+pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
+    &FILM,
+    Mitsuba {
+        differences: "`width` and `height` are 768 × 576 unless given, each at least 1; its \
+            `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys; \
+            `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
+            the output's extension chooses the format",
+        reads: &["file_format", "pixel_format", "component_format"],
+        adapt: Some(Adapt::Held(sensors::hdrfilm)),
+    },
+)];
 
 /// The sampler's parameters (documented with the render options).
 pub const SAMPLER: Schema = Schema {
@@ -170,21 +185,82 @@ pub const SAMPLER: Schema = Schema {
         "orthogonal",
     ],
     params: &[
+        param("spp", Type::Int).mitsuba("sample_count"),
         param("seed", Type::Int),
-        param("spp", Type::Int),
-        param("shadow_rays", Type::Int),
-        param("reflection_rays", Type::Int),
-        param("refraction_rays", Type::Int),
-        param("distribution", Type::Distribution),
-        param("pixel_distribution", Type::Distribution),
-        param("lens_distribution", Type::Distribution),
-        param("time_distribution", Type::Distribution),
-        param("shadow_distribution", Type::Distribution),
-        param("reflection_distribution", Type::Distribution),
-        param("refraction_distribution", Type::Distribution),
-        param("points", Type::Path),
+        param("shadow_rays", Type::Int).penumbra_only(),
+        param("reflection_rays", Type::Int).penumbra_only(),
+        param("refraction_rays", Type::Int).penumbra_only(),
+        param("distribution", Type::Distribution).penumbra_only(),
+        param("pixel_distribution", Type::Distribution).penumbra_only(),
+        param("lens_distribution", Type::Distribution).penumbra_only(),
+        param("time_distribution", Type::Distribution).penumbra_only(),
+        param("shadow_distribution", Type::Distribution).penumbra_only(),
+        param("reflection_distribution", Type::Distribution).penumbra_only(),
+        param("refraction_distribution", Type::Distribution).penumbra_only(),
+        param("points", Type::Path).penumbra_only(),
     ],
 };
+
+/// A Mitsuba sampler mapped by `adapt`, what differs said by
+/// `differences`; `jitter` read where `reads` says.
+const fn sampler(
+    name: &'static [&'static str],
+    differences: &'static str,
+    reads: &'static [&'static str],
+    adapt: Adapt,
+) -> Plugin {
+    Plugin::named(
+        &SAMPLER,
+        name,
+        Mitsuba {
+            differences,
+            reads,
+            adapt: Some(adapt),
+        },
+    )
+}
+
+/// How Mitsuba's samplers map onto the sampler: `sample_count` (4 unless
+/// given) as `spp`, the camera sample's distribution and the bounces'
+/// path sampler the nearest Penumbra has.
+pub const SAMPLER_PLUGINS: [Plugin; 5] = [
+    sampler(
+        &["independent"],
+        "`sample_count` is 4 unless given; the camera sample `random`, its film positions \
+         `fast-random` (uniform over the pixel's square, as Mitsuba's; `random` fills the disk \
+         inscribed in the pixel); the bounces independent",
+        &[],
+        Adapt::Held(sensors::independent),
+    ),
+    sampler(
+        &["stratified"],
+        "`sample_count` is 4 unless given; the camera sample `jitter` (`grid` without \
+         `jitter`), the bounces `render.path_sampler = \"pmj02\"`: the nearest, with a warning",
+        &["jitter"],
+        Adapt::Held(sensors::stratified),
+    ),
+    sampler(
+        &["multijitter"],
+        "`sample_count` is 4 unless given; the camera sample `jitter`, the bounces \
+         `render.path_sampler = \"pmj02\"`: the nearest, with a warning",
+        &["jitter"],
+        Adapt::Held(sensors::multijitter),
+    ),
+    sampler(
+        &["ldsampler"],
+        "`sample_count` is 4 unless given; the camera sample `sobol`, the bounces \
+         `render.path_sampler = \"sobol\"`: the nearest, with a warning",
+        &[],
+        Adapt::Held(sensors::ldsampler),
+    ),
+    sampler(
+        &["orthogonal"],
+        "`sample_count` is 4 unless given; the camera sample `pmj02`, the bounces \
+         `render.path_sampler = \"pmj02\"`: the nearest, with a warning",
+        &[],
+        Adapt::Held(sensors::orthogonal),
+    ),
+];
 
 /// The render's sets of shadow, reflection and refraction rays, which
 /// emitters and materials take unless they set their own.

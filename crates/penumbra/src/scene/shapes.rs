@@ -260,29 +260,29 @@ const MESH_MITSUBA: Mitsuba = Mitsuba {
 /// The shapes as the readers see them.
 pub const PLUGINS: [Plugin; 9] = [
     Plugin::new(&SPHERE, Mitsuba::differs("only uniform scale outside a group")),
-    Plugin {
-        schema: &QUAD,
-        mitsuba: Mitsuba {
+    Plugin::new(
+        &QUAD,
+        Mitsuba {
             differences: "the square [−1, 1]² at z = 0 through `to_world` as `origin`, `edge_u`, `edge_v`, ordered so that `edge_u × edge_v` is Mitsuba's normal",
             reads: &["to_world"],
             adapt: Some(Adapt::Node(adapt::rectangle)),
         },
-    },
+    ),
     Plugin::new(&MESH, MESH_MITSUBA),
     Plugin::new(&RECTANGLE, Mitsuba::SAME),
     Plugin::new(&DISK, Mitsuba::differs("only uniform scale outside a group")),
     Plugin::new(&CUBE, Mitsuba::SAME),
-    Plugin {
-        schema: &CYLINDER,
-        mitsuba: Mitsuba::differs(
+    Plugin::new(
+        &CYLINDER,
+        Mitsuba::differs(
             "only uniform scale outside a group (Mitsuba also takes an elliptic tube)",
         ),
-    },
+    ),
     Plugin::new(&INSTANCE, Mitsuba::differs("`<ref id=\"g\"/>` to a shapegroup as `group = \"g\"`")),
-    Plugin {
-        schema: &SHAPEGROUP,
-        mitsuba: Mitsuba::differs("`[groups.ID]`; a shape in it carrying an `area` emitter is refused, as Mitsuba refuses it"),
-    },
+    Plugin::new(
+        &SHAPEGROUP,
+        Mitsuba::differs("`[groups.ID]`; a shape in it carrying an `area` emitter is refused, as Mitsuba refuses it"),
+    ),
 ];
 
 /// Every shape of a scene file.

@@ -186,10 +186,10 @@ fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
     let of = |kind| mitsuba_names(registry(kind));
     [
         ("integrator", plugins::INTEGRATORS.to_vec()),
-        ("sensor", plugins::SENSORS.to_vec()),
-        ("film", plugins::FILMS.to_vec()),
-        ("rfilter", plugins::RFILTERS.to_vec()),
-        ("sampler", plugins::SAMPLERS.to_vec()),
+        ("sensor", of(Kind::Sensor)),
+        ("film", of(Kind::Film)),
+        ("rfilter", of(Kind::Filter)),
+        ("sampler", of(Kind::Sampler)),
         ("shape", of(Kind::Shape)),
         ("bsdf", of(Kind::Bsdf)),
         ("emitter", of(Kind::Emitter)),

@@ -9,13 +9,15 @@
 //! folder), a transform (a placement's 4 × 4, or `to_uv`'s upper-left 2 ×
 //! 2 and translation) — and a parameter the schema requires checked.
 
+use std::rc::Rc;
+
 use super::mapper::{
     file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
     get_vector, located, matrix, rows, type_error, unsupported, vec3, Out,
 };
-use super::objects::{error_at, Object, Place};
+use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
-use super::registry::Plugin;
+use super::registry::{Adapt, Mapper, Plugin};
 use super::spectrum::Use;
 use super::values::PropValue;
 use crate::description::error::{KeyPath, SceneError};
@@ -26,7 +28,7 @@ use crate::description::tree::{Kind, Located, Node, Prop, Value};
 pub(super) fn mitsuba_names(plugins: &[Plugin]) -> Vec<&'static str> {
     plugins
         .iter()
-        .flat_map(|p| p.schema.mitsuba.iter().copied())
+        .flat_map(|p| p.names.iter().copied())
         .collect()
 }
 
@@ -77,6 +79,32 @@ pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(),
 }
 
 impl Out<'_> {
+    /// The node of an object of `kind` at `base`, through the schema of
+    /// the plugin of that kind that reads its plugin and the plugin's own
+    /// adapter.
+    pub(super) fn mapped(
+        &mut self,
+        kind: Kind,
+        obj: &Object,
+        base: KeyPath,
+    ) -> Result<Node, SceneError> {
+        let plugin = plugin_of((self.registry)(kind), obj, kind.name())?;
+        let schema = plugin.schema;
+        let mut known = mitsuba_keys(schema);
+        known.extend(plugin.mitsuba.reads);
+        self.no_props(obj, &known)?;
+        let mut node = Node::new(kind, schema.plugin, obj.at.origin(base.clone()));
+        node.plugin_origin = obj.plugin_at.origin(base.key("type"));
+        self.params(obj, schema, &mut node, &base)?;
+        match plugin.mitsuba.adapt {
+            Some(Adapt::Node(adapt)) => adapt(obj, &mut node, &base)?,
+            Some(Adapt::Held(adapt)) => adapt(self, obj, &mut node, &base)?,
+            Some(Adapt::Object(_)) | None => {}
+        }
+        required(obj, schema, &node)?;
+        Ok(node)
+    }
+
     /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
     /// gives under Mitsuba's name, in the schema's order.
     pub(super) fn params(
@@ -195,4 +223,45 @@ fn transform_table(
     };
     let table = vec![Prop::new("matrix", at.origin(inner), value)];
     located(Value::Table(table), path, at)
+}
+
+impl Mapper for Out<'_> {
+    fn held(&self, obj: &Object) -> Result<Vec<Rc<Object>>, SceneError> {
+        obj.children
+            .iter()
+            .map(|(_, c)| match c {
+                Child::Object(o) => Ok(Rc::clone(o)),
+                Child::Ref { id, at } => {
+                    self.ids.get(id, at)?;
+                    Ok(Rc::clone(&self.ids.map[id]))
+                }
+            })
+            .collect()
+    }
+
+    fn bsdf_as(
+        &mut self,
+        inner: &Object,
+        outer: &Object,
+        flag: &'static str,
+    ) -> Result<String, SceneError> {
+        let plugin = plugin_of((self.registry)(Kind::Bsdf), inner, "bsdf")?;
+        self.bsdf(inner, outer, plugin.schema, Some(flag))
+    }
+
+    fn node(&mut self, kind: Kind, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
+        self.mapped(kind, obj, base)
+    }
+
+    fn no_children(&self, obj: &Object) -> Result<(), SceneError> {
+        Out::no_children(self, obj)
+    }
+
+    fn warn(&mut self, message: String) {
+        self.warnings.push(message);
+    }
+
+    fn path_sampler(&mut self, name: &'static str, at: &Place) {
+        self.path_sampler = Some((name, at.clone()));
+    }
 }

@@ -33,7 +33,7 @@ impl Out<'_> {
     /// at the place of `outer` (the same object but where a plugin maps a
     /// Mitsuba object onto the one it holds), `flag` set true at `outer`'s
     /// type: its name.
-    fn bsdf(
+    pub(super) fn bsdf(
         &mut self,
         inner: &Object,
         outer: &Object,
@@ -303,30 +303,5 @@ impl Out<'_> {
         self.bsdfs.push(node);
         self.default_material[slot] = Some(name.clone());
         name
-    }
-}
-
-impl Mapper for Out<'_> {
-    fn held(&self, obj: &Object) -> Result<Vec<Rc<Object>>, SceneError> {
-        obj.children
-            .iter()
-            .map(|(_, c)| match c {
-                Child::Object(o) => Ok(Rc::clone(o)),
-                Child::Ref { id, at } => {
-                    self.ids.get(id, at)?;
-                    Ok(Rc::clone(&self.ids.map[id]))
-                }
-            })
-            .collect()
-    }
-
-    fn bsdf_as(
-        &mut self,
-        inner: &Object,
-        outer: &Object,
-        flag: &'static str,
-    ) -> Result<String, SceneError> {
-        let plugin = plugin_of((self.registry)(Kind::Bsdf), inner, "bsdf")?;
-        self.bsdf(inner, outer, plugin.schema, Some(flag))
     }
 }

@@ -24,16 +24,18 @@
 //!    [`spectrum`]s), ids and aliases registered (each id once), references
 //!    kept by id.
 //! 4. [`plugins`]: objects onto Penumbra's plugins, references resolved.
-//!    Shapes, emitters, BSDFs and textures map through the schemas of the
-//!    [`Registry`] the caller hands in (`mapping.rs` holds the mapping,
-//!    [`adapt`] what some plugins mean otherwise); the rest by hand:
+//!    Sensors, films, reconstruction filters, samplers, shapes, emitters,
+//!    BSDFs and textures map through the schemas of the [`Registry`] the
+//!    caller hands in (`mapping.rs` holds the mapping, [`adapt`] and
+//!    [`sensors`] what some plugins mean otherwise); the scene's structure
+//!    and the integrator by hand:
 //!
 //! | Mitsuba | Penumbra node | key path |
 //! |---|---|---|
 //! | `<integrator>` `path`, `direct` (default `path`) | integrator of that name | `render` |
-//! | `<sensor>` `perspective`, `thinlens` | sensor `perspective` (position, look_at, up, vertical fov; aperture, focal_distance) | `camera` |
-//! | `<film>` `hdrfilm`, its `<rfilter>` | film (width, height, filter) | `render` |
-//! | `<sampler>` | sampler `sets` (spp, seed, distribution, pixel distribution) | `render` |
+//! | `<sensor>` | the sensor that reads it, holding its film and sampler (Mitsuba's `hdrfilm` and `independent` where it holds none) | `camera` |
+//! | `<film>` in the sensor, its `<rfilter>` | the film that reads it, the filter's parameters as its `filter_*` keys | `render` |
+//! | `<sampler>` in the sensor | the sampler that reads it | `render` |
 //! | `<emitter type="constant">` | emitter `constant` (radiance) | `render.background` |
 //! | `<emitter>` of another type | the emitter of the registry that reads it | `lights[i]` |
 //! | `<bsdf>` | the model that reads it, with its id or `bsdf_N` | `materials.NAME` |
@@ -59,6 +61,7 @@ pub mod objects;
 pub mod parse;
 pub mod plugins;
 pub mod registry;
+pub mod sensors;
 pub mod spectrum;
 pub mod transform;
 pub mod upgrade;

@@ -14,7 +14,7 @@
 
 use std::rc::Rc;
 
-use super::objects::Object;
+use super::objects::{Object, Place};
 use crate::description::error::{KeyPath, SceneError};
 use crate::description::schema::Schema;
 use crate::description::tree::{Kind, Node};
@@ -59,24 +59,49 @@ pub enum Adapt {
     /// Completes the node the schema made of a Mitsuba object (at the key
     /// path `base`): the parameters whose meaning differs.
     Node(fn(&Object, &mut Node, &KeyPath) -> Result<(), SceneError>),
+    /// Completes the node as [`Node`](Self::Node) does, asking the reader
+    /// for what the object holds and telling it what the user should know.
+    Held(fn(&mut dyn Mapper, &Object, &mut Node, &KeyPath) -> Result<(), SceneError>),
 }
 
 /// One plugin of a kind, as the reader sees it.
 #[derive(Clone, Copy, Debug)]
 pub struct Plugin {
     pub schema: &'static Schema,
+    /// The Mitsuba plugins mapped so: the schema's, or some of them where
+    /// they map each in its own way.
+    pub names: &'static [&'static str],
     pub mitsuba: Mitsuba,
 }
 
 impl Plugin {
-    /// The plugin of `schema`, mapped from Mitsuba as `mitsuba` says.
+    /// The plugin of `schema`, each of the schema's Mitsuba names mapped
+    /// as `mitsuba` says.
     pub const fn new(schema: &'static Schema, mitsuba: Mitsuba) -> Plugin {
-        Plugin { schema, mitsuba }
+        Plugin {
+            schema,
+            names: schema.mitsuba,
+            mitsuba,
+        }
+    }
+
+    /// The plugin of `schema` for Mitsuba's plugins `names` (some of the
+    /// schema's), mapped as `mitsuba` says.
+    pub const fn named(
+        schema: &'static Schema,
+        names: &'static [&'static str],
+        mitsuba: Mitsuba,
+    ) -> Plugin {
+        Plugin {
+            schema,
+            names,
+            mitsuba,
+        }
     }
 
     /// True if Mitsuba's plugin `name` maps onto this one.
     pub fn reads(&self, name: &str) -> bool {
-        self.schema.mitsuba.contains(&name)
+        self.names.contains(&name)
     }
 }
 
@@ -97,6 +122,20 @@ pub trait Mapper {
         outer: &Object,
         flag: &'static str,
     ) -> Result<String, SceneError>;
+
+    /// The node of `obj`, an object of `kind` that another holds, through
+    /// the plugin of that kind that reads it, at the key path `base`.
+    fn node(&mut self, kind: Kind, obj: &Object, base: KeyPath) -> Result<Node, SceneError>;
+
+    /// Refuses a child of `obj`, which holds none.
+    fn no_children(&self, obj: &Object) -> Result<(), SceneError>;
+
+    /// Tells the user `message` once the scene is read.
+    fn warn(&mut self, message: String);
+
+    /// Sets the integrator's `path_sampler` to `name`, from the sampler
+    /// written at `at`.
+    fn path_sampler(&mut self, name: &'static str, at: &Place);
 }
 
 #[cfg(test)]
@@ -128,18 +167,9 @@ pub(crate) mod tests {
     const SHAPES: Schema = named(Kind::Shape, &["sphere", "rectangle", "disk"]);
     const POINT: Schema = named(Kind::Emitter, &["point"]);
 
-    const BSDFS: &[Plugin] = &[Plugin {
-        schema: &DIFFUSE,
-        mitsuba: Mitsuba::SAME,
-    }];
-    const SHAPE_PLUGINS: &[Plugin] = &[Plugin {
-        schema: &SHAPES,
-        mitsuba: Mitsuba::SAME,
-    }];
-    const EMITTERS: &[Plugin] = &[Plugin {
-        schema: &POINT,
-        mitsuba: Mitsuba::SAME,
-    }];
+    const BSDFS: &[Plugin] = &[Plugin::new(&DIFFUSE, Mitsuba::SAME)];
+    const SHAPE_PLUGINS: &[Plugin] = &[Plugin::new(&SHAPES, Mitsuba::SAME)];
+    const EMITTERS: &[Plugin] = &[Plugin::new(&POINT, Mitsuba::SAME)];
 
     /// A registry of a few plugins (`diffuse`, shapes and a point light
     /// known by name), for the reader's own tests.
