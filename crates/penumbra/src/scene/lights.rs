@@ -16,6 +16,7 @@ use crate::emitter::{
 };
 use crate::geometry::Shape;
 use crate::math::Frame;
+use crate::sampling::EffectSpec;
 
 /// A parameter a light cannot do without.
 const fn param(name: &'static str, ty: Type, doc: &'static str) -> Param {
@@ -104,22 +105,42 @@ pub const SCHEMAS: [&Schema; 9] = [
     &Sky::SCHEMA,
 ];
 
-/// The light `plugin` of the parameters `p`: its emitter and, for an area
-/// light, the shape that carries it. `sets` gives the render's shadow set;
-/// `base_dir` anchors an environment map's file.
+/// A light of the scene, built.
+pub(super) struct Light {
+    pub(super) emitter: Emitter,
+    /// The shape that carries an area light.
+    pub(super) shape: Option<Shape>,
+    /// The shadow set an area light asks for (`shadow_rays`,
+    /// `shadow_distribution`); `None` for the other lights.
+    pub(super) shadow: Option<EffectSpec>,
+}
+
+impl Light {
+    /// A light without a shape or shadow set of its own.
+    fn bare(emitter: Emitter) -> Light {
+        Light {
+            emitter,
+            shape: None,
+            shadow: None,
+        }
+    }
+}
+
+/// The light `plugin` of the parameters `p`. `sets` gives the render's
+/// shadow set; `base_dir` anchors an environment map's file.
 pub(super) fn light(
     plugin: &str,
     p: &Props,
     sets: &Sets,
     base_dir: &Path,
-) -> Result<(Emitter, Option<Shape>), Invalid> {
+) -> Result<Light, Invalid> {
     let (shape, surface) = match plugin {
-        "point" => return Ok((Emitter::Point(Point::build(p)?), None)),
-        "constant" => return Ok((Emitter::Constant(Constant::build(p)?), None)),
-        "spot" => return Ok((Emitter::Spot(Spot::build(p)?), None)),
-        "directional" => return Ok((Emitter::Directional(Directional::build(p)?), None)),
-        "envmap" => return Ok((Emitter::Envmap(Envmap::build(p, base_dir)?), None)),
-        "sky" => return Ok((Emitter::Envmap(Sky::build(p)?.envmap()), None)),
+        "point" => return Ok(Light::bare(Emitter::Point(Point::build(p)?))),
+        "constant" => return Ok(Light::bare(Emitter::Constant(Constant::build(p)?))),
+        "spot" => return Ok(Light::bare(Emitter::Spot(Spot::build(p)?))),
+        "directional" => return Ok(Light::bare(Emitter::Directional(Directional::build(p)?))),
+        "envmap" => return Ok(Light::bare(Emitter::Envmap(Envmap::build(p, base_dir)?))),
+        "sky" => return Ok(Light::bare(Emitter::Envmap(Sky::build(p)?.envmap()))),
         "rect" => {
             let q = quad(p, "rect light")?;
             (AreaShape::Rect(q), Shape::Quad(q))
@@ -165,5 +186,9 @@ pub(super) fn light(
         model,
         shadow,
     });
-    Ok((emitter, Some(surface)))
+    Ok(Light {
+        emitter,
+        shape: Some(surface),
+        shadow: Some(shadow),
+    })
 }

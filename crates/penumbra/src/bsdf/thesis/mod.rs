@@ -46,7 +46,7 @@ pub use mirror::Mirror;
 pub use phong::Phong;
 
 use super::{BsdfModel, Defaults};
-use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use super::sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 use crate::description::check::{int, nonneg3, range};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
@@ -133,6 +133,26 @@ impl Thesis {
                 effect: m.refraction,
             }),
         }
+    }
+}
+
+impl Thesis {
+    /// The sets its lobes ask for, by slot (the thesis's per-material
+    /// budgets): the mirror's `reflection_rays` of
+    /// `reflection_distribution`, the dielectric's two lobes'
+    /// `refraction_rays` of `refraction_distribution`; `None` for absent
+    /// lobes and the local part. Read once, when the scene is built, into
+    /// the table the integrators look sets up in.
+    pub fn sets(&self) -> [Option<EffectSpec>; MAX_LOBES] {
+        let mut sets = [None; MAX_LOBES];
+        if let Some(m) = &self.mirror {
+            sets[MIRROR] = Some(m.effect);
+        }
+        if let Some(d) = &self.dielectric {
+            sets[REFRACTION] = Some(d.effect);
+            sets[FRESNEL] = Some(d.effect);
+        }
+        sets
     }
 }
 
