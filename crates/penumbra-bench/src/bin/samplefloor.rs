@@ -29,6 +29,7 @@ use penumbra::bsdf::Bsdf;
 use penumbra::camera::CameraSample;
 use penumbra::emitter::{Area, AreaShape, Emitter, LightSample};
 use penumbra::geometry::quad::Quad;
+use penumbra::integrator::RaySets;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
 use penumbra::render::{render, Image, RenderOptions};
@@ -111,7 +112,7 @@ impl<'a> Floor<'a> {
                 ..
             })
         );
-        if !rect || light.shadow_rays() != 1 {
+        if !rect || RaySets::new(scene).shadow[0].rays != 1 {
             return Err("the kernel needs a rectangle light with one shadow ray".into());
         }
         // The ground's material, as the renderer finds it: what a ray

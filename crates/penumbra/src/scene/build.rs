@@ -575,8 +575,8 @@ fn emitting_objects(
         let Some(Carried {
             radiance,
             model,
-            shadow,
             at,
+            ..
         }) = c
         else {
             continue;
@@ -656,7 +656,6 @@ fn emitting_objects(
             shape,
             radiance: *radiance,
             model: *model,
-            shadow: *shadow,
         }));
     }
     Ok(())

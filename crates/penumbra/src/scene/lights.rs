@@ -184,7 +184,6 @@ pub(super) fn light(
         shape,
         radiance,
         model,
-        shadow,
     });
     Ok(Light {
         emitter,

@@ -80,7 +80,7 @@ pub(super) fn each_set(
     f("shutter times", s.spp, s.time);
     for (b, sets) in bsdfs.iter().zip(&budgets.lobes) {
         let mut seen: Vec<EffectSpec> = Vec::new();
-        for (k, flags, _) in b.lobes().iter() {
+        for (k, flags) in b.lobes().iter() {
             let Some(set) =
                 sets[k].filter(|_| flags.contains(BsdfFlags::DELTA | BsdfFlags::GLOSSY))
             else {

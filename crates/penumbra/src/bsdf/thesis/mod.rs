@@ -241,13 +241,10 @@ impl BsdfModel for Thesis {
         let mut l = Lobes::default();
         if let Some(m) = &self.mirror {
             l.flags[MIRROR] = delta(BsdfFlags::REFLECTION, m.glossiness);
-            l.sets[MIRROR] = Some(m.effect);
         }
         if let Some(d) = &self.dielectric {
             l.flags[REFRACTION] = delta(BsdfFlags::TRANSMISSION, d.translucency);
             l.flags[FRESNEL] = delta(BsdfFlags::REFLECTION, d.translucency);
-            l.sets[REFRACTION] = Some(d.effect);
-            l.sets[FRESNEL] = Some(d.effect);
         }
         if self.lit {
             l.flags[LOCAL] = self.local.flags();

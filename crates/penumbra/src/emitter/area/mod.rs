@@ -151,8 +151,6 @@ pub struct Area {
     pub shape: AreaShape,
     pub radiance: Rgb,
     pub model: PenumbraModel,
-    /// Rays per shadow set and their distribution.
-    pub shadow: EffectSpec,
 }
 
 impl Area {
@@ -362,11 +360,6 @@ impl Area {
 }
 
 impl EmitterModel for Area {
-    #[inline]
-    fn shadow(&self) -> EffectSpec {
-        self.shadow
-    }
-
     fn power(&self, _radius: f32) -> f32 {
         Area::power(self)
     }

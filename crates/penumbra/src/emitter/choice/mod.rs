@@ -108,17 +108,13 @@ pub(crate) mod tests {
     };
     use crate::geometry::quad::Quad;
     use crate::math::{Frame, Rgb};
-    use crate::sampling::{Distribution, EffectSpec, Rng};
+    use crate::sampling::Rng;
 
     pub(crate) fn area(shape: AreaShape, radiance: f32) -> Emitter {
         Emitter::Area(Area {
             shape,
             radiance: Rgb::splat(radiance),
             model: PenumbraModel::Surface,
-            shadow: EffectSpec {
-                rays: 1,
-                distribution: Distribution::Random,
-            },
         })
     }
 

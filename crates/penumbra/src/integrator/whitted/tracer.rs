@@ -435,7 +435,7 @@ impl<'a> Tracer<'a> {
         let (lobes, ..) = self.lobes[hit.material as usize];
         let sets = &self.lobe_sets[hit.material as usize];
         let bsdf = &self.scene.bsdfs[hit.material as usize];
-        for (k, flags, _) in lobes.iter() {
+        for (k, flags) in lobes.iter() {
             if !flags.is_delta() {
                 continue;
             }
