@@ -30,6 +30,7 @@ use penumbra::camera::CameraSample;
 use penumbra::emitter::{Emitter, LightSample, Reference};
 use penumbra::geometry::quad::Quad;
 use penumbra::geometry::Shape;
+use penumbra::integrator::RaySets;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
 use penumbra::render::{render, Image, RenderOptions};
@@ -109,7 +110,7 @@ impl<'a> Floor<'a> {
             Emitter::Area(a) => matches!(a.surface.shape(), Shape::Quad(_)),
             _ => false,
         };
-        if !rect || light.shadow_rays() != 1 {
+        if !rect || RaySets::new(scene).shadow[0].rays != 1 {
             return Err("the kernel needs a rectangle light with one shadow ray".into());
         }
         // The ground's material, as the renderer finds it: what a ray

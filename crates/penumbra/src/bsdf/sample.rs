@@ -4,7 +4,6 @@
 use std::ops::BitOr;
 
 use crate::math::{Rgb, Vec3};
-use crate::sampling::EffectSpec;
 
 /// What kind of lobe a model has (a set of bits).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -84,15 +83,13 @@ pub struct BsdfSample {
 /// The most lobes a model has.
 pub const MAX_LOBES: usize = 8;
 
-/// A model's lobes, by slot: the kind of each and, where the model sets
-/// one, how many rays a set of it traces and from which distribution (the
-/// thesis's per-material ray budgets). Slots with empty flags are absent
-/// lobes; a slot keeps its number whether the others are present or not,
-/// so that an integrator can name a lobe's random stream by it.
+/// A model's lobes, by slot: the kind of each. Slots with empty flags are
+/// absent lobes; a slot keeps its number whether the others are present or
+/// not, so that an integrator can name a lobe's random stream, and look up
+/// the set of rays it traces for it, by the slot.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Lobes {
     pub flags: [BsdfFlags; MAX_LOBES],
-    pub sets: [Option<EffectSpec>; MAX_LOBES],
 }
 
 impl Lobes {
@@ -122,15 +119,14 @@ impl Lobes {
             return false;
         }
         into.flags[at..at + n].copy_from_slice(&self.flags[..n]);
-        into.sets[at..at + n].copy_from_slice(&self.sets[..n]);
         true
     }
 
-    /// The present lobes: (slot, flags, set).
-    pub fn iter(&self) -> impl Iterator<Item = (usize, BsdfFlags, Option<EffectSpec>)> + '_ {
+    /// The present lobes: (slot, flags).
+    pub fn iter(&self) -> impl Iterator<Item = (usize, BsdfFlags)> + '_ {
         (0..MAX_LOBES)
             .filter(|&k| !self.flags[k].is_empty())
-            .map(|k| (k, self.flags[k], self.sets[k]))
+            .map(|k| (k, self.flags[k]))
     }
 
     /// The union of the lobes' flags.

@@ -41,14 +41,14 @@ pub use area::{Area, PenumbraModel};
 pub use constant::Constant;
 pub use directional::Directional;
 pub use envmap::Envmap;
-pub use model::{EmitterModel, ONE_RAY};
+pub use model::EmitterModel;
 pub use point::Point;
 pub use sample::{LightSample, Reference};
 pub use sky::Sky;
 pub use spot::Spot;
 
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::sampling::{Distribution, EffectSpec};
+use crate::sampling::Distribution;
 
 /// Makes [`Emitter`], the enum of the emitters listed (each a variant
 /// named as its type), and its dispatch through [`EmitterModel`].
@@ -61,14 +61,6 @@ macro_rules! emitters {
         }
 
         impl Emitter {
-            /// Rays per shadow set and their distribution.
-            #[inline]
-            pub fn shadow(&self) -> EffectSpec {
-                match self {
-                    $(Emitter::$variant(e) => e.shadow(),)*
-                }
-            }
-
             /// True for an emitter without extent (see [`EmitterModel::is_delta`]).
             #[inline]
             pub fn is_delta(&self) -> bool {
@@ -181,16 +173,6 @@ macro_rules! emitters {
                     $(Emitter::$variant(e) => EmitterModel::pdf(e, r, target, n),)*
                 }
             }
-
-            /// Shadow rays actually traced per shading point.
-            #[inline]
-            pub fn shadow_rays(&self) -> u32 {
-                if self.is_delta() {
-                    1
-                } else {
-                    self.shadow().rays
-                }
-            }
         }
     };
 }
@@ -219,10 +201,6 @@ mod tests {
             surface,
             radiance: Rgb::splat(2.0),
             model: PenumbraModel::Surface,
-            shadow: EffectSpec {
-                rays: 16,
-                distribution: Distribution::Random,
-            },
         })
     }
 

@@ -4,25 +4,12 @@
 use super::bounds::LightBounds;
 use super::sample::{LightSample, Reference};
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::sampling::{Distribution, EffectSpec};
-
-/// The shadow sets of an emitter without extent: one ray (every ray would
-/// be the same).
-pub const ONE_RAY: EffectSpec = EffectSpec {
-    rays: 1,
-    distribution: Distribution::Grid,
-};
+use crate::sampling::Distribution;
 
 /// What every emitter answers (see the [module docs](crate::emitter)); the defaults
 /// are those of an emitter without the property (no surface, not at
-/// infinity, not a delta light, sampled by one ray).
+/// infinity, not a delta light).
 pub trait EmitterModel {
-    /// Rays per shadow set and their distribution.
-    #[inline]
-    fn shadow(&self) -> EffectSpec {
-        ONE_RAY
-    }
-
     /// True for an emitter without extent (a point, spot or directional
     /// light): every shadow ray toward it would be the same.
     #[inline]

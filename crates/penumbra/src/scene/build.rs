@@ -12,7 +12,7 @@ use std::sync::Arc;
 use super::context::BuildContext;
 use super::lights::{self, Light};
 use super::points::read_points;
-use super::ray_sets::{custom_sets, each_set};
+use super::ray_sets::{custom_sets, each_set, lobe_sets, Budgets};
 use super::reuse::{self, WorldCache};
 use super::schemas;
 use super::settings::{self, Sets, Settings};
@@ -21,7 +21,7 @@ use super::transform;
 use super::{camera, Scene};
 use crate::accel::world::{mesh_bvh, Object, World};
 use crate::bsdf::thesis::{Thesis, ThesisParams};
-use crate::bsdf::{self, Bsdf, BsdfModel};
+use crate::bsdf::{self, Bsdf, BsdfModel, MAX_LOBES};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
@@ -73,7 +73,7 @@ pub fn build(
     fp.finish("film")?;
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
-    let (mut bsdfs, emission, names) = materials(root, &sets, &textures)?;
+    let (mut bsdfs, emission, names, mut lobes) = materials(root, &sets, &textures)?;
     let key = worlds.as_ref().and_then(|_| reuse::key(root, ctx));
     // A world built under the same key came from these very objects, which
     // were valid then and are now: they need neither checking nor loading.
@@ -87,8 +87,12 @@ pub fn build(
     };
     let meshes: Arc<[Mesh]> = meshes.into();
     let light_material = bsdfs.len() as u32;
-    bsdfs.push(Thesis::new(&black(&sets)).into());
+    let black = Thesis::new(&black(&sets));
+    lobes.push(black.sets());
+    bsdfs.push(black.into());
     let mut emitters = Vec::new();
+    // The shadow set each emitter's description asks for, by emitter.
+    let mut shadow = Vec::new();
     let mut far = Vec::new();
     for node in root.children_of(Kind::Emitter) {
         let p = Props::new(node);
@@ -101,6 +105,7 @@ pub fn build(
             }
             Light::Emitter(emitter) => {
                 emitters.push(emitter);
+                shadow.push(None);
                 p.finish(what)?;
                 continue;
             }
@@ -108,7 +113,7 @@ pub fn build(
         };
         // A shape carrying an `area` emitter, visible but casting no
         // shadow, of a black material.
-        let (radiance, model, shadow) = area::read(&p, what, sets.shadow)?;
+        let (radiance, model, set) = area::read(&p, what, sets.shadow)?;
         p.finish(what)?;
         let object = Object {
             material: light_material,
@@ -120,10 +125,11 @@ pub fn build(
         let carried = Carried {
             radiance,
             model,
-            shadow,
+            shadow: set,
             at,
         };
         emitters.push(Emitter::Area(emitter(&object, &meshes, &carried)?));
+        shadow.push(Some(set));
         if reused.is_none() {
             objects.push(object);
         }
@@ -136,15 +142,21 @@ pub fn build(
         }
         None => emitting_objects(&mut objects, &meshes, &carried, &mut emitters)?,
     }
+    // The emitting objects' emitters follow the lights', one for each
+    // object carrying one; those at infinity come last and set none.
+    shadow.extend(carried.iter().flatten().map(|c| Some(c.shadow)));
     emitters.extend(far);
-    let sets_drawn = custom_sets(&settings, &bsdfs, &emitters);
+    shadow.resize(emitters.len(), None);
+    let budgets = Budgets { shadow, lobes };
+    debug_assert_eq!(budgets.lobes.len(), bsdfs.len());
+    let sets_drawn = custom_sets(&settings, &bsdfs, &budgets);
     if let Some(&(what, _)) = sets_drawn.first() {
         settings.points = points(&sampler, ctx, what)?;
     }
     // Read only when some set draws from `custom`.
     sp.get("points");
     sp.finish("sampler")?;
-    let warnings = square_warnings(&settings, &bsdfs, &emitters);
+    let warnings = square_warnings(&settings, &bsdfs, &budgets);
     // NaN: read at each point a shadow ray crosses (a textured opacity).
     let transparency = bsdfs
         .iter()
@@ -173,6 +185,7 @@ pub fn build(
         bsdfs,
         emitters,
         far,
+        budgets,
         world,
         settings,
         integrator,
@@ -184,8 +197,14 @@ pub fn build(
 
 /// The materials in the tree's order (index 0 is the default, the
 /// `thesis` material's defaults, for objects without one), what each
-/// emits, and their indices by name.
-type Materials = (Vec<Bsdf>, Vec<(Rgb, Origin)>, HashMap<String, u32>);
+/// emits, their indices by name, and the sets their lobes ask for (see
+/// [`lobe_sets`]).
+type Materials = (
+    Vec<Bsdf>,
+    Vec<(Rgb, Origin)>,
+    HashMap<String, u32>,
+    Vec<[Option<EffectSpec>; MAX_LOBES]>,
+);
 
 fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials, Invalid> {
     let none = Origin::unlocated(Default::default());
@@ -194,7 +213,10 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
     // Materials held by others (by name) are built before them.
     let order = holding_order(&nodes)?;
     let mut named: HashMap<String, Arc<Bsdf>> = HashMap::new();
+    // The held materials' lobe slots and sets, by name.
+    let mut held = HashMap::new();
     let mut built: Vec<Option<(Bsdf, (Rgb, Origin))>> = vec![None; nodes.len()];
+    let mut lobes = vec![[None; MAX_LOBES]; nodes.len() + 1];
     for i in order {
         let node = nodes[i];
         let defaults = bsdf::Defaults {
@@ -222,8 +244,10 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
             .cloned()
             .unwrap_or_else(|| node.origin.clone());
         p.finish(schemas::schema(node)?.what)?;
+        lobes[i + 1] = lobe_sets(&model, node, &held);
         if let Some(id) = &node.id {
             named.insert(id.clone(), Arc::new(model.clone()));
+            held.insert(id.clone(), (model.lobes().slots(), lobes[i + 1]));
         }
         built[i] = Some((model, (emits, at)));
     }
@@ -233,10 +257,9 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
         textures,
         materials: &named,
     };
-    let mut bsdfs = vec![Bsdf::from(<Thesis as BsdfModel>::build(
-        &Props::new(&default),
-        &defaults,
-    )?)];
+    let first = <Thesis as BsdfModel>::build(&Props::new(&default), &defaults)?;
+    lobes[0] = first.sets();
+    let mut bsdfs = vec![Bsdf::from(first)];
     let mut emission = vec![(Rgb::ZERO, none)];
     let mut names = HashMap::new();
     for (node, b) in nodes.iter().zip(built) {
@@ -247,7 +270,7 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
         bsdfs.push(model);
         emission.push(emits);
     }
-    Ok((bsdfs, emission, names))
+    Ok((bsdfs, emission, names, lobes))
 }
 
 /// The deepest chain of materials holding materials (a material holding
@@ -624,7 +647,6 @@ fn emitter(o: &Object, meshes: &Arc<[Mesh]>, c: &Carried) -> Result<Area, Invali
         surface,
         radiance: c.radiance,
         model: c.model,
-        shadow: c.shadow,
     })
 }
 
@@ -674,9 +696,9 @@ fn points(sampler: &Node, ctx: &BuildContext, what: &str) -> Result<Arc<PointTab
 /// distribution that needs one. The pixel's message stands for its lens
 /// positions too (the same count; a pinhole camera draws none), and
 /// shutter times are one-dimensional.
-fn square_warnings(s: &Settings, bsdfs: &[Bsdf], emitters: &[Emitter]) -> Vec<String> {
+fn square_warnings(s: &Settings, bsdfs: &[Bsdf], budgets: &Budgets) -> Vec<String> {
     let mut seen = Vec::new();
-    each_set(s, bsdfs, emitters, |what, rays, d| {
+    each_set(s, bsdfs, budgets, |what, rays, d| {
         let message = d.non_square_warning(rays as usize);
         let camera = matches!(what, "lens positions" | "shutter times");
         if let (Some(msg), false) = (message, camera) {

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::ray_sets::custom_sets;
+use super::ray_sets::{custom_sets, Budgets};
 use super::settings::Settings;
 use crate::accel::World;
 use crate::bsdf::Bsdf;
@@ -23,6 +23,10 @@ pub struct Scene {
     /// hit nothing see, by index into `emitters`: the one list every
     /// integrator reads.
     pub far: Vec<u32>,
+    /// The sets of rays the description asks of each emitter and material
+    /// (the thesis's per-light shadow sets and per-material ray sets), by
+    /// index: what the integrators that trace those sets read.
+    pub budgets: Budgets,
     /// The geometry and its BVH; shared with other scenes built from the
     /// same geometry through a [`WorldCache`](super::WorldCache).
     pub world: Arc<World>,
@@ -46,7 +50,7 @@ impl Scene {
     /// distribution, smallest first, each once: what a table made by a
     /// function (Python's `points=`) is asked for.
     pub fn custom_set_sizes(&self) -> Vec<u32> {
-        let sets = custom_sets(&self.settings, &self.bsdfs, &self.emitters);
+        let sets = custom_sets(&self.settings, &self.bsdfs, &self.budgets);
         let mut sizes: Vec<u32> = sets.into_iter().map(|(_, n)| n).collect();
         sizes.sort_unstable();
         sizes.dedup();

@@ -33,6 +33,7 @@ pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
 pub use points::{read_points, Points, PointsFileError};
+pub use ray_sets::Budgets;
 pub use reuse::WorldCache;
 pub use settings::{IntegratorChoice, Sets, Settings, StopRule};
 

@@ -291,6 +291,6 @@ mod tests {
             "not overridden"
         );
         let scene = src.build().unwrap();
-        assert_eq!(scene.emitters[1].shadow().rays, 16);
+        assert_eq!(scene.budgets.shadow[1].map(|s| s.rays), Some(16));
     }
 }

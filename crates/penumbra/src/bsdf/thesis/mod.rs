@@ -46,7 +46,7 @@ pub use mirror::Mirror;
 pub use phong::Phong;
 
 use super::{BsdfModel, Defaults};
-use super::sample::{BsdfFlags, BsdfSample, Lobes};
+use super::sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 use crate::description::check::{int, nonneg3, range};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
@@ -136,6 +136,26 @@ impl Thesis {
     }
 }
 
+impl Thesis {
+    /// The sets its lobes ask for, by slot (the thesis's per-material
+    /// budgets): the mirror's `reflection_rays` of
+    /// `reflection_distribution`, the dielectric's two lobes'
+    /// `refraction_rays` of `refraction_distribution`; `None` for absent
+    /// lobes and the local part. Read once, when the scene is built, into
+    /// the table the integrators look sets up in.
+    pub fn sets(&self) -> [Option<EffectSpec>; MAX_LOBES] {
+        let mut sets = [None; MAX_LOBES];
+        if let Some(m) = &self.mirror {
+            sets[MIRROR] = Some(m.effect);
+        }
+        if let Some(d) = &self.dielectric {
+            sets[REFRACTION] = Some(d.effect);
+            sets[FRESNEL] = Some(d.effect);
+        }
+        sets
+    }
+}
+
 /// `DELTA | kind`, and `GLOSSY` too when the lobe is blurred.
 fn delta(kind: BsdfFlags, radius: f32) -> BsdfFlags {
     let blur = if radius > 0.0 {
@@ -221,13 +241,10 @@ impl BsdfModel for Thesis {
         let mut l = Lobes::default();
         if let Some(m) = &self.mirror {
             l.flags[MIRROR] = delta(BsdfFlags::REFLECTION, m.glossiness);
-            l.sets[MIRROR] = Some(m.effect);
         }
         if let Some(d) = &self.dielectric {
             l.flags[REFRACTION] = delta(BsdfFlags::TRANSMISSION, d.translucency);
             l.flags[FRESNEL] = delta(BsdfFlags::REFLECTION, d.translucency);
-            l.sets[REFRACTION] = Some(d.effect);
-            l.sets[FRESNEL] = Some(d.effect);
         }
         if self.lit {
             l.flags[LOCAL] = self.local.flags();

@@ -128,8 +128,6 @@ pub struct Area {
     pub surface: Surface,
     pub radiance: Rgb,
     pub model: PenumbraModel,
-    /// Rays per shadow set and their distribution.
-    pub shadow: EffectSpec,
 }
 
 impl Area {
@@ -304,11 +302,6 @@ impl Area {
 }
 
 impl EmitterModel for Area {
-    #[inline]
-    fn shadow(&self) -> EffectSpec {
-        self.shadow
-    }
-
     fn power(&self, _radius: f32) -> f32 {
         Area::power(self)
     }

@@ -108,7 +108,7 @@ pub(crate) mod tests {
     use crate::geometry::surface::tests::{still, triangles};
     use crate::geometry::{Shape, Surface};
     use crate::math::{Frame, Rgb};
-    use crate::sampling::{Distribution, EffectSpec, Rng};
+    use crate::sampling::Rng;
 
     pub(crate) fn area(shape: Shape, radiance: f32) -> Emitter {
         surface_area(still(shape), radiance)
@@ -119,10 +119,6 @@ pub(crate) mod tests {
             surface,
             radiance: Rgb::splat(radiance),
             model: PenumbraModel::Surface,
-            shadow: EffectSpec {
-                rays: 1,
-                distribution: Distribution::Random,
-            },
         })
     }
 

@@ -99,6 +99,7 @@ pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
+use super::ray_sets::RaySets;
 use super::stats::{RayStats, StageBatches};
 use crate::emitter::choice::LightSampler;
 use crate::scene::Scene;
@@ -116,6 +117,9 @@ pub struct Path {
     /// settings' `light_sampler`), built once per render and shared by
     /// every worker.
     pub lights: LightSampler,
+    /// The shadow set of each emitter and the set of each material's
+    /// lobes, which `distributed` draws.
+    pub sets: RaySets,
 }
 
 impl Path {
@@ -134,6 +138,7 @@ impl Path {
             settings,
             spp: scene.settings.spp,
             lights: LightSampler::new(settings.light_sampler, &scene.emitters, sphere),
+            sets: RaySets::new(scene),
         }
     }
 }
@@ -144,7 +149,7 @@ impl Integrator for Path {
 
     fn worker<'s>(&'s self, scene: &'s Scene) -> PathWorker<'s> {
         PathWorker {
-            wave: Wavefront::new(scene, self.settings, &self.lights),
+            wave: Wavefront::new(scene, self.settings, &self.lights, &self.sets),
         }
     }
 

@@ -3,8 +3,8 @@
 //! path, and the sets the reflection metric judges.
 
 use super::vertex::{
-    count_bounce, go_through, power_heuristic, sample_emitter, shadow_ray, shadow_set, Escape,
-    Material, Nee, Paths, ShadowTally, Shadows, Vertex, NO_SET,
+    count_bounce, go_through, power_heuristic, sample_emitter, shadow_ray, Escape, Material, Nee,
+    Paths, ShadowTally, Shadows, Vertex, NO_SET,
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
@@ -35,8 +35,9 @@ pub(super) struct Out<'a> {
 }
 
 /// A vertex that draws the thesis's sets (`distributed`): a set of shadow
-/// rays toward every emitter, of the emitter's `shadow_rays` from its
-/// `shadow_distribution`, and one set of BSDF samples whose count and
+/// rays toward every emitter, of its shadow set in `shadow` (by emitter,
+/// see [`RaySets::shadow`](crate::integrator::RaySets::shadow)), and one
+/// set of BSDF samples whose count and
 /// distribution are the largest set the material's lobes ask for (the
 /// render's reflection set for a material without sets), each sample
 /// starting a path of its own with the set's share of the throughput. The
@@ -45,7 +46,7 @@ pub(super) struct Out<'a> {
 /// Russian roulette.
 #[inline]
 pub(super) fn thesis_sets(
-    (scene, metric): (&Scene, Option<Metric>),
+    (scene, shadow, metric): (&Scene, &[EffectSpec], Option<Metric>),
     v: &Vertex<'_>,
     (bsdf, material): (&Bsdf, &Material),
     (path, rr): (Rng, bool),
@@ -57,8 +58,7 @@ pub(super) fn thesis_sets(
     if material.smooth {
         // The shadow metric's k, for the sets it judges.
         let metric = metric.filter(|m| m.shadows);
-        for (j, emitter) in scene.emitters.iter().enumerate() {
-            let set = shadow_set(emitter, scene.settings.shadow);
+        for (j, (emitter, set)) in scene.emitters.iter().zip(shadow).enumerate() {
             let (n, d) = (set.rays, set.distribution);
             let k = metric.map(|m| m.shadow_rays).filter(|&k| k < n);
             let id = match k {

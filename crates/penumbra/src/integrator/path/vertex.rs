@@ -3,7 +3,7 @@
 //! sampling and weighing of emitters at a vertex.
 
 use crate::accel::Hit;
-use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample};
+use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
@@ -158,20 +158,19 @@ impl Shadows {
     }
 }
 
-/// The weight of the emission of `emitter` that a path meets, having left
+/// The weight of the emission of an emitter that a path meets, having left
 /// its last vertex with BSDF density `pdf` times the BSDF samples taken
 /// there (0: from the camera or a delta lobe, which next-event estimation
 /// could not have drawn) beside the emitter samples `nee`: the power
 /// heuristic against the emitter samples' density (`density()` of one
 /// sample toward where the path met it, times their count and, under a
 /// choice among emitters, the probability `choice()` that the light
-/// sampler chose this one from that vertex; a set has its emitter's size,
-/// `shadow` for one at infinity); 1 if the light sampler could not have
+/// sampler chose this one from that vertex; a set has the size of the
+/// emitter's shadow set `shadow`); 1 if the light sampler could not have
 /// chosen it there; 0 for an emitter sampled without a density (the
 /// thesis's penumbra model), whose light its shadow rays alone bring.
 #[inline]
 pub(super) fn emission_weight(
-    emitter: &Emitter,
     shadow: EffectSpec,
     (pdf, nee): (f32, Nee),
     choice: impl FnOnce() -> f32,
@@ -189,7 +188,7 @@ pub(super) fn emission_weight(
             }
             samples * pmf * density()
         }
-        Nee::Sets => shadow_set(emitter, shadow).rays as f32 * density(),
+        Nee::Sets => shadow.rays as f32 * density(),
     };
     if pdf_light > 0.0 {
         power_heuristic(pdf, pdf_light)
@@ -297,12 +296,16 @@ pub(super) struct Material {
 }
 
 impl Material {
+    /// What a vertex needs of `bsdf`, whose lobes ask for `sets` (by slot).
     #[inline]
-    pub(super) fn of(bsdf: &Bsdf, reflection: EffectSpec) -> Material {
-        let lobes = bsdf.lobes();
-        let largest = lobes.sets.iter().flatten().max_by_key(|s| s.rays);
+    pub(super) fn of(
+        bsdf: &Bsdf,
+        sets: &[Option<EffectSpec>; MAX_LOBES],
+        reflection: EffectSpec,
+    ) -> Material {
+        let largest = sets.iter().flatten().max_by_key(|s| s.rays);
         Material {
-            smooth: lobes.any_smooth(),
+            smooth: bsdf.lobes().any_smooth(),
             set: largest.copied().unwrap_or(reflection),
         }
     }
@@ -314,20 +317,6 @@ impl Material {
 pub(super) struct Escape {
     pub(super) center: Vec3,
     pub(super) radius: f32,
-}
-
-/// The shadow set of `emitter` at a vertex drawing the thesis's sets: its
-/// own, but one at infinity takes the render's shadow set (`shadow`).
-#[inline]
-pub(super) fn shadow_set(emitter: &Emitter, shadow: EffectSpec) -> EffectSpec {
-    if emitter.is_infinite() {
-        shadow
-    } else {
-        EffectSpec {
-            rays: emitter.shadow_rays(),
-            distribution: emitter.shadow().distribution,
-        }
-    }
 }
 
 /// A sample of `emitter` seen from `r` for the distribution point `point`

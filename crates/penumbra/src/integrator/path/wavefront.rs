@@ -10,13 +10,14 @@ use crate::emitter::choice::LightSampler;
 use crate::emitter::Reference;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
+use crate::integrator::ray_sets::RaySets;
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
 use crate::integrator::transmittance::transmittance_all;
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{Rgb, Vec3};
-use crate::sampling::SetPoint;
+use crate::sampling::{EffectSpec, SetPoint};
 use crate::scene::Scene;
 
 use super::sets::{set_member, thesis_sets, Member, Out, PendingSet};
@@ -39,6 +40,9 @@ pub(super) struct Wavefront<'s> {
     settings: PathSettings,
     /// How next-event estimation chooses its emitter.
     lights: &'s LightSampler,
+    /// The shadow set of each emitter, for the vertices drawing the
+    /// thesis's sets.
+    shadow_sets: &'s [EffectSpec],
     pub(super) stats: RayStats,
     /// The calls of each stage and the items they took.
     pub(super) batches: StageBatches,
@@ -75,11 +79,13 @@ impl<'s> Wavefront<'s> {
         scene: &'s Scene,
         settings: PathSettings,
         lights: &'s LightSampler,
+        sets: &'s RaySets,
     ) -> Wavefront<'s> {
         let materials = scene
             .bsdfs
             .iter()
-            .map(|bsdf| Material::of(bsdf, scene.settings.reflection))
+            .zip(&sets.lobes)
+            .map(|(bsdf, lobes)| Material::of(bsdf, lobes, scene.settings.reflection))
             .collect();
         let b = scene.world.bounds();
         let escape = Escape {
@@ -90,6 +96,7 @@ impl<'s> Wavefront<'s> {
             scene,
             settings,
             lights,
+            shadow_sets: &sets.shadow,
             stats: RayStats::default(),
             batches: StageBatches::default(),
             materials,
@@ -271,7 +278,7 @@ impl<'s> Wavefront<'s> {
     /// each path meets, prepares its shadow ray, samples its BSDF and keeps
     /// in `self.next` the paths that go on.
     fn shade(&mut self, depth: u32, max_depth: u32) {
-        let scene = self.scene;
+        let (scene, shadow_sets) = (self.scene, self.shadow_sets);
         let Wavefront {
             settings,
             lights: chooser,
@@ -296,7 +303,6 @@ impl<'s> Wavefront<'s> {
         let go_on = depth.saturating_add(1) < max_depth;
         // Next-event estimation chooses among every emitter.
         let lights = scene.emitters.len();
-        let shadow = scene.settings.shadow;
         group_by_material(hits, scene.bsdfs.len(), order, groups);
         for g in groups.windows(2).filter(|g| g[1] > g[0]) {
             batches.shading.add((g[1] - g[0]) as usize);
@@ -313,7 +319,7 @@ impl<'s> Wavefront<'s> {
                         let emitter = &scene.emitters[e as usize];
                         let (from, from_n) = paths.from[i];
                         let choice = || chooser.pmf(from, from_n, e);
-                        let w = emission_weight(emitter, shadow, prev, choice, || {
+                        let w = emission_weight(shadow_sets[e as usize], prev, choice, || {
                             emitter.pdf_direction(ray.dir)
                         });
                         *acc += beta * emitter.eval_miss(ray.dir) * w;
@@ -326,7 +332,7 @@ impl<'s> Wavefront<'s> {
                 let (from, from_n) = paths.from[i];
                 let choice = || chooser.pmf(from, from_n, e);
                 let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
-                let w = emission_weight(emitter, shadow, prev, choice, density);
+                let w = emission_weight(shadow_sets[e as usize], prev, choice, density);
                 if w > 0.0 {
                     let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);
                     *acc += beta * le * w;
@@ -364,7 +370,7 @@ impl<'s> Wavefront<'s> {
                 let rr = depth + 1 >= settings.rr_depth;
                 let m = &materials[hit.material as usize];
                 thesis_sets(
-                    (scene, settings.metric),
+                    (scene, shadow_sets, settings.metric),
                     &v,
                     (bsdf, m),
                     (paths.rng[i], rr),

@@ -3,6 +3,7 @@
 use crate::description::check::int;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::integrator::metric::{self, Metric};
+use crate::integrator::ray_sets::RaySets;
 use crate::integrator::stopping::{self, Stopping, STOP_RULES};
 use crate::sampling::MAX_RAYS;
 use crate::scene::Scene;
@@ -68,7 +69,7 @@ impl WhittedSettings {
 
 /// The thesis's distributed Whitted integrator, with its settings, ready
 /// to render a scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Whitted {
     /// Levels of reflection and refraction rays (the thesis's recursion depth).
     pub max_depth: u32,
@@ -82,6 +83,9 @@ pub struct Whitted {
     pub passes: u32,
     /// Pixels of the whole image (adaptive rules judge blocks against it).
     pub image: usize,
+    /// The shadow set of each emitter and the set of each material's
+    /// lobes.
+    pub sets: RaySets,
 }
 
 impl Whitted {
@@ -95,6 +99,7 @@ impl Whitted {
             spp: s.spp,
             passes: settings.passes,
             image: s.width as usize * s.height as usize,
+            sets: RaySets::new(scene),
         }
     }
 

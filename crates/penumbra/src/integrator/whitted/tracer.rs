@@ -1,7 +1,7 @@
 use glam::Vec3A;
 
 use crate::accel::{Hit, PacketScratch, ShaftSet};
-use crate::bsdf::{Bsdf, BsdfFlags, Lobes};
+use crate::bsdf::{Bsdf, BsdfFlags, Lobes, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
 use crate::integrator::transmittance::transmittance;
 use crate::math::Rgb;
@@ -57,12 +57,18 @@ pub struct Tracer<'a> {
     /// The lobes of each of the scene's BSDFs, and whether direct light is
     /// evaluated on them (a smooth lobe) and rays traced (a delta lobe).
     lobes: Vec<(Lobes, bool, bool)>,
+    /// The set each of a material's lobes asks for, by material and slot
+    /// (the integrator's [`RaySets::lobes`](crate::integrator::RaySets::lobes)).
+    lobe_sets: &'a [[Option<EffectSpec>; MAX_LOBES]],
     /// The emitters direct light comes from (all but those at infinity,
     /// which rays that hit nothing see), by index in the scene.
     sampled: Vec<u32>,
     /// The branch of emitter `j`'s shadow sets (`streams::shadow`), hashed once,
     /// for each of `sampled`.
     shadow_keys: Vec<BranchKey>,
+    /// The shadow set toward each of `sampled` (from
+    /// [`RaySets::shadow`](crate::integrator::RaySets::shadow)).
+    shadow_sets: Vec<EffectSpec>,
     /// The calibrated rule on sets, if on (see [`SetRule`]).
     set_rule: Option<SetRule>,
     /// Replica sums of the sets being traced, one per nesting level.
@@ -125,7 +131,7 @@ impl<'a> Tracer<'a> {
         self.metric.is_some_and(|m| m.pixels)
     }
 
-    pub fn new(scene: &'a Scene, config: &Whitted) -> Self {
+    pub fn new(scene: &'a Scene, config: &'a Whitted) -> Self {
         let s = &scene.settings;
         Tracer {
             max_depth: config.max_depth,
@@ -149,8 +155,13 @@ impl<'a> Tracer<'a> {
                     (l, l.any_smooth(), l.any_delta())
                 })
                 .collect(),
+            lobe_sets: &config.sets.lobes,
             sampled: (0..scene.emitters.len() as u32)
                 .filter(|&j| !scene.emitters[j as usize].is_infinite())
+                .collect(),
+            shadow_sets: (0..scene.emitters.len())
+                .filter(|&j| !scene.emitters[j].is_infinite())
+                .map(|j| config.sets.shadow[j])
                 .collect(),
             shadow_keys: (0..scene.emitters.len() as u64)
                 .filter(|&j| !scene.emitters[j as usize].is_infinite())
@@ -205,7 +216,7 @@ impl<'a> Tracer<'a> {
         if !level.lit.is_empty() {
             for j in 0..self.sampled.len() {
                 let (key, light) = (self.shadow_keys[j], self.sampled[j]);
-                let light = &scene.emitters[light as usize];
+                let light = (&scene.emitters[light as usize], self.shadow_sets[j]);
                 self.direct_light(light, |i| rng(i).derive_key(key), &mut level);
             }
         }
@@ -331,12 +342,18 @@ impl<'a> Tracer<'a> {
         (mean, start, stopped)
     }
 
-    /// Direct light from `light` at every lit hit of `level`, appended to
-    /// `level.direct`: for each, the average over its shadow set (see
-    /// [`trace_set`](Self::trace_set)). The rays of a set large enough are
-    /// traced within its own shaft; sets too small for one share the
-    /// batch's if all of them together are large enough.
-    fn direct_light(&mut self, light: &Emitter, rng: impl Fn(usize) -> Rng, level: &mut Level) {
+    /// Direct light from `light` (an emitter and its shadow set) at every
+    /// lit hit of `level`, appended to `level.direct`: for each, the
+    /// average over its shadow set (see [`trace_set`](Self::trace_set)).
+    /// The rays of a set large enough are traced within its own shaft; sets
+    /// too small for one share the batch's if all of them together are
+    /// large enough.
+    fn direct_light(
+        &mut self,
+        light: (&Emitter, EffectSpec),
+        rng: impl Fn(usize) -> Rng,
+        level: &mut Level,
+    ) {
         let Level {
             hits,
             lit,
@@ -344,8 +361,8 @@ impl<'a> Tracer<'a> {
             direct,
         } = level;
         rays.clear();
-        self.shadow_sets(lit, light, &rng, rays);
-        let n = light.shadow_rays() as usize;
+        self.shadow_rays(lit, light, &rng, rays);
+        let n = light.1.rays as usize;
         let own = n >= SHAFT_MIN_RAYS as usize;
         let shared = !own
             && rays.iter().flatten().count() >= SHAFT_MIN_RAYS as usize
@@ -355,7 +372,7 @@ impl<'a> Tracer<'a> {
             let Some(si) = &hits[h.ray] else { continue };
             let bsdf = &scene.bsdfs[h.material as usize];
             let shaft = shared || (own && self.gather_shaft(set));
-            direct.push(self.trace_set(&h.frame, si, bsdf, light, set, shaft));
+            direct.push(self.trace_set(&h.frame, si, bsdf, set, shaft));
         }
     }
 
@@ -417,12 +434,13 @@ impl<'a> Tracer<'a> {
             return;
         }
         let (lobes, ..) = self.lobes[hit.material as usize];
+        let sets = &self.lobe_sets[hit.material as usize];
         let bsdf = &self.scene.bsdfs[hit.material as usize];
-        for (k, flags, set) in lobes.iter() {
+        for (k, flags) in lobes.iter() {
             if !flags.is_delta() {
                 continue;
             }
-            let spec = set.unwrap_or_else(|| self.default_set(flags));
+            let spec = sets[k].unwrap_or_else(|| self.default_set(flags));
             // A delta lobe weighs every ray of its set alike: its weight at
             // the perfect direction. `None`: the lobe sends nothing here
             // (total internal reflection, say).
@@ -453,7 +471,6 @@ impl<'a> Tracer<'a> {
         s: &Local,
         si: &Hit,
         bsdf: &Bsdf,
-        light: &Emitter,
         set: &[Option<ShadowRay>],
         shaft: bool,
     ) -> Rgb {
@@ -467,7 +484,7 @@ impl<'a> Tracer<'a> {
                 .and_then(|r| self.shadow_term(s, si, bsdf, r, shaft, clear));
             return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
-        let n = light.shadow_rays();
+        let n = set.len() as u32;
         let k = (self.metric)
             .filter(|m| m.shadows)
             .map_or(u32::MAX, |m| m.shadow_rays);
@@ -541,17 +558,18 @@ impl<'a> Tracer<'a> {
         Some(bsdf.eval(si, s.wo, r.wi) * r.weight * (r.cos * t))
     }
 
-    /// Appends to `set` the shadow sets toward `light` of the `lit` hits,
-    /// one after another (`None` for points that give no ray): hit `h`'s
-    /// distribution points drawn from `rng(h.ray)`.
-    fn shadow_sets(
+    /// Appends to `set` the shadow sets toward `light` (an emitter and its
+    /// shadow set) of the `lit` hits, one after another (`None` for points
+    /// that give no ray): hit `h`'s distribution points drawn from
+    /// `rng(h.ray)`.
+    fn shadow_rays(
         &mut self,
         lit: &[Lit],
-        light: &Emitter,
+        (light, spec): (&Emitter, EffectSpec),
         rng: &impl Fn(usize) -> Rng,
         set: &mut Vec<Option<ShadowRay>>,
     ) {
-        let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
+        let (n, d) = (spec.rays as usize, spec.distribution);
         let mut points = self.pool.pop().unwrap_or_default();
         points.clear();
         if n == 1 {
@@ -561,7 +579,7 @@ impl<'a> Tracer<'a> {
         } else {
             let mut one = self.pool.pop().unwrap_or_default();
             for h in lit {
-                self.set_points(light, &mut rng(h.ray), &mut one);
+                self.set_points(spec, &mut rng(h.ray), &mut one);
                 points.extend_from_slice(&one);
             }
             self.pool.push(one);
@@ -577,9 +595,9 @@ impl<'a> Tracer<'a> {
         self.pool.push(points);
     }
 
-    /// The distribution points of a shadow set toward `light`, into `points`.
-    fn set_points(&mut self, light: &Emitter, rng: &mut Rng, points: &mut Vec<Vec3>) {
-        let (n, d) = (light.shadow_rays() as usize, light.shadow().distribution);
+    /// The distribution points of a shadow set of `spec`, into `points`.
+    fn set_points(&mut self, spec: EffectSpec, rng: &mut Rng, points: &mut Vec<Vec3>) {
+        let (n, d) = (spec.rays as usize, spec.distribution);
         if let Some(rule) = SetRule::for_set(self.set_rule, n) {
             let mut scratch = self.pool.pop().unwrap_or_default();
             rule.points((d, self.points), n, rng, &mut scratch, points);
