@@ -68,7 +68,7 @@ impl Shape {
     /// (its triangles by area) and `area` is its area. Uniform in area
     /// but for a sphere seen from outside, uniform in the cone it
     /// subtends.
-    #[inline]
+    #[inline(always)]
     pub fn sample(
         &self,
         meshes: &[Mesh],
@@ -102,19 +102,16 @@ impl Shape {
             Shape::Sphere { center, radius } => {
                 Some(sample_sphere(*center, *radius, from, unit_square(point, d)))
             }
+            Shape::Mesh { mesh } => sample_mesh(
+                &meshes[*mesh as usize],
+                triangles?,
+                area,
+                unit_square(point, d),
+            ),
             Shape::Cylinder(c) => {
                 let u = unit_square(point, d);
                 let (p, n) = c.point(u.x, u.y);
                 Some(on_area(p, n, c.area()))
-            }
-            Shape::Mesh { mesh } => {
-                let u = unit_square(point, d);
-                let (i, _, rest) = triangles?.sample(u.x);
-                let (b0, b1) = square_to_triangle(Vec2::new(rest, u.y));
-                let [a, b, c] = meshes[*mesh as usize].vertices(i);
-                let p = b0 * a + b1 * b + (1.0 - b0 - b1) * c;
-                let n = (b - a).cross(c - a).normalize_or_zero();
-                Some(on_area(p, n, area))
             }
         }
     }
@@ -147,9 +144,27 @@ fn cos_max(radius: f32, d2: f32) -> f32 {
     (1.0 - radius * radius / d2).max(0.0).sqrt()
 }
 
+/// A point of the mesh `m` of area `area` for the point `u` of the unit
+/// square: a triangle chosen by `triangles` (by area), uniform within it.
+#[inline(never)]
+fn sample_mesh(m: &Mesh, triangles: &Discrete, area: f32, u: Vec2) -> Option<ShapeSample> {
+    let (i, _, rest) = triangles.sample(u.x);
+    let (b0, b1) = square_to_triangle(Vec2::new(rest, u.y));
+    let [a, b, c] = m.vertices(i);
+    let p = b0 * a + b1 * b + (1.0 - b0 - b1) * c;
+    Some(ShapeSample {
+        p,
+        n: (b - a).cross(c - a).normalize_or_zero(),
+        density: Density::Area {
+            area,
+            two_sided: false,
+        },
+    })
+}
+
 /// A point of the sphere seen from `from`: from outside, uniform in the
 /// cone it subtends (on the near side); from inside, uniform in area.
-#[inline]
+#[inline(never)]
 fn sample_sphere(c: Vec3, r: f32, from: Vec3, u: Vec2) -> ShapeSample {
     let to_c = c - from;
     let d2 = to_c.length_squared();
@@ -354,8 +369,29 @@ impl Surface {
 
     /// A point of the surface for the distribution point `point` of `d`,
     /// seen from `from` at `time` (see [`Shape::sample`]), in world space.
-    #[inline]
+    #[inline(always)]
     pub fn sample(
+        &self,
+        from: Vec3,
+        time: f32,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<ShapeSample> {
+        if !matches!(self.place, Place::World) {
+            return self.sample_placed(from, time, point, d);
+        }
+        let mesh = (self.triangles.as_ref(), self.local_area);
+        let s = self.shape.sample(&self.meshes, mesh, from, point, d)?;
+        Some(if self.flip {
+            ShapeSample { n: -s.n, ..s }
+        } else {
+            s
+        })
+    }
+
+    /// [`sample`](Self::sample) of a surface placed or moving.
+    #[inline(never)]
+    fn sample_placed(
         &self,
         from: Vec3,
         time: f32,
@@ -364,14 +400,8 @@ impl Surface {
     ) -> Option<ShapeSample> {
         let mesh = (self.triangles.as_ref(), self.local_area);
         let face = |n: Vec3| if self.flip { -n } else { n };
-        let s = match &self.place {
-            Place::World => {
-                let s = self.shape.sample(&self.meshes, mesh, from, point, d)?;
-                return Some(ShapeSample { n: face(s.n), ..s });
-            }
-            Place::Placed(pl)
-                if !matches!(self.shape, Shape::Sphere { .. } | Shape::Cylinder(_)) =>
-            {
+        if let Place::Placed(pl) = &self.place {
+            if !matches!(self.shape, Shape::Sphere { .. } | Shape::Cylinder(_)) {
                 // Flat pieces under any affine map: uniform stays uniform.
                 let local = pl.to_object.transform_point3(from);
                 let s = self.shape.sample(&self.meshes, mesh, local, point, d)?;
@@ -384,15 +414,11 @@ impl Surface {
                     },
                 });
             }
-            _ => {
-                let sim = self.similarity(time)?;
-                let s =
-                    self.shape
-                        .sample(&self.meshes, mesh, sim.point_to_local(from), point, d)?;
-                (s, sim)
-            }
-        };
-        let (s, sim) = s;
+        }
+        let sim = self.similarity(time)?;
+        let s = self
+            .shape
+            .sample(&self.meshes, mesh, sim.point_to_local(from), point, d)?;
         let density = match s.density {
             Density::Area { area, two_sided } => Density::Area {
                 area: area * sim.scale.x * sim.scale.x,

@@ -43,7 +43,7 @@ use crate::emitter::sample::{area_sample, LightSample, Reference};
 use crate::geometry::quad::Quad;
 use crate::geometry::{Density, Shape, Surface};
 use crate::math::{Rgb, Vec3};
-use crate::sampling::points::end_point;
+use crate::sampling::points::{end_point, unit_square};
 use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
@@ -184,16 +184,23 @@ impl Area {
         }
     }
 
+    /// The rectangle in world space facing its normal that the light is, if
+    /// it is one.
+    #[inline(always)]
+    fn plain_rect(&self) -> Option<&Quad> {
+        match self.surface.shape() {
+            Shape::Quad(q) if self.surface.is_plain() => Some(q),
+            _ => None,
+        }
+    }
+
     /// The rectangle that [`sample`](Self::sample) takes points of `d`
     /// four at a time for through a kernel: a rectangle in world space
     /// sampled on its surface by a square distribution.
     #[inline]
     pub(super) fn four_wide(&self, d: Distribution) -> Option<&Quad> {
         let surface = self.model == PenumbraModel::Surface && d != Distribution::Random;
-        match self.surface.shape() {
-            Shape::Quad(q) if surface && self.surface.is_plain() => Some(q),
-            _ => None,
-        }
+        self.plain_rect().filter(|_| surface)
     }
 
     /// Samples for a batch of distribution points (see
@@ -232,6 +239,12 @@ impl Area {
         match self.model {
             PenumbraModel::Thesis => self.sample_thesis(r, point, d),
             PenumbraModel::Surface => {
+                if let Some(q) = self.plain_rect() {
+                    // The rectangle's own path, which its kernel repeats.
+                    let u = unit_square(point, d);
+                    let target = q.point(u.x, u.y);
+                    return area_sample(self.radiance, r.p, target, q.normal, q.area(), false);
+                }
                 let s = self.surface.sample(r.p, r.time, point, d)?;
                 match s.density {
                     Density::Area { area, two_sided } => {
