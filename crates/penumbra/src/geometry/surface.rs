@@ -447,7 +447,8 @@ impl Surface {
                     return 0.0;
                 };
                 let local = |p| sim.point_to_local(p);
-                let n = sim.rotation.conjugate() * n;
+                // The inverse of `normal_to_world`: `S R⁻¹ n`, made unit.
+                let n = (sim.rotation.conjugate() * n * sim.scale).normalize_or_zero();
                 let area = self.local_area;
                 self.shape.density(area, local(from), local(target), n)
             }
@@ -715,6 +716,23 @@ pub(crate) mod tests {
             (got - want).abs() < 5e-3 * want,
             "moving sphere: {got} vs {want}"
         );
+        // A sphere placed by a mirroring similarity around the point: seen
+        // from inside, E = π.
+        let mirror = Mat4::from_cols_array_2d(&[
+            [-1.5, 0.0, 0.0, 0.0],
+            [0.0, 1.5, 0.0, 0.0],
+            [0.0, 0.0, 1.5, 0.0],
+            [0.0, 0.5, 0.0, 1.0],
+        ]);
+        let placement = Arc::new(Placement::new(mirror).unwrap());
+        let unit = Shape::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        let around = Surface::new(unit, Arc::from(Vec::new()), Place::Placed(placement), false).unwrap();
+        assert!(around.keeps_proportions());
+        let got = irradiance(&around, 0.0, 100_000);
+        assert!((got - PI).abs() < 5e-3 * PI, "sphere around: {got} vs π");
         // Stretching as it moves, a light would not stay uniform.
         let stretch = Motion {
             end: Similarity {
