@@ -729,7 +729,8 @@ pub(crate) mod tests {
             center: Vec3::ZERO,
             radius: 1.0,
         };
-        let around = Surface::new(unit, Arc::from(Vec::new()), Place::Placed(placement), false).unwrap();
+        let around =
+            Surface::new(unit, Arc::from(Vec::new()), Place::Placed(placement), false).unwrap();
         assert!(around.keeps_proportions());
         let got = irradiance(&around, 0.0, 100_000);
         assert!((got - PI).abs() < 5e-3 * PI, "sphere around: {got} vs π");

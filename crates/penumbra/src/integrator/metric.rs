@@ -42,6 +42,50 @@ pub struct Metric {
     pub pixels: bool,
 }
 
+/// A shadow set under the thesis's shadow metric: after its first `k` of
+/// `n` rays, a set whose rays all reached the light, or were all blocked,
+/// stops, and their mean stands for the set. Counted by `whitted` ray by
+/// ray and by the wavefront set by set, judged the same way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowTally {
+    pub n: u32,
+    pub k: u32,
+    pub reached: u32,
+    pub blocked: u32,
+}
+
+impl ShadowTally {
+    /// The tally of a set of `n` rays under the metric `m`, if the metric
+    /// judges it (its shadow rule on, and `k < n`).
+    #[inline]
+    pub fn of(m: Option<Metric>, n: u32) -> Option<ShadowTally> {
+        let k = m.filter(|m| m.shadows).map(|m| m.shadow_rays)?;
+        (k < n).then_some(ShadowTally {
+            n,
+            k,
+            reached: 0,
+            blocked: 0,
+        })
+    }
+
+    /// Counts a ray that reached the light (`true`) or was blocked.
+    #[inline]
+    pub fn count(&mut self, reached: bool) {
+        if reached {
+            self.reached += 1;
+        } else {
+            self.blocked += 1;
+        }
+    }
+
+    /// The metric's verdict after the first `k` members: stop if they all
+    /// reached the emitter or were all blocked (and one was a ray).
+    #[inline]
+    pub fn stops(&self) -> bool {
+        (self.reached == 0 || self.blocked == 0) && self.reached + self.blocked > 0
+    }
+}
+
 /// The keys of the metrics in the schemas of the integrators that have
 /// them (documented with the render options).
 pub const PARAMS: [Param; 6] = [

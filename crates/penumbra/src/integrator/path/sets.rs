@@ -4,12 +4,12 @@
 
 use super::vertex::{
     count_bounce, go_through, power_heuristic, sample_emitter, shadow_ray, Escape, Material, Nee,
-    Paths, ShadowTally, Shadows, Vertex, NO_SET,
+    Paths, Shadows, Vertex, NO_SET,
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::emitter::Reference;
-use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::metric::{Metric, RunningMean, ShadowTally};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::streams;
@@ -56,19 +56,13 @@ pub(super) fn thesis_sets(
     let set = material.set;
     let nb = set.rays as f32;
     if material.smooth {
-        // The shadow metric's k, for the sets it judges.
-        let metric = metric.filter(|m| m.shadows);
         for (j, (emitter, set)) in scene.emitters.iter().zip(shadow).enumerate() {
             let (n, d) = (set.rays, set.distribution);
-            let k = metric.map(|m| m.shadow_rays).filter(|&k| k < n);
-            let id = match k {
-                Some(k) => {
-                    let tally = ShadowTally {
-                        n,
-                        k,
-                        reached: 0,
-                        blocked: 0,
-                    };
+            // The shadow metric's tally, for the sets it judges.
+            let tally = ShadowTally::of(metric, n);
+            let k = tally.map(|t| t.k);
+            let id = match tally {
+                Some(tally) => {
                     out.shadows.sets.push(tally);
                     out.shadows.sets.len() as u32 - 1
                 }

@@ -5,6 +5,7 @@
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
+use crate::integrator::metric::ShadowTally;
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::math::{Ray, Rgb, Vec2, Vec3};
@@ -113,26 +114,6 @@ impl ShadowRays {
         self.slot.push(slot);
         self.value.push(value);
         self.set.push(set);
-    }
-}
-
-/// A shadow set the thesis's shadow metric judges: `n` members, of which
-/// the first `k` are traced first; `reached` and `blocked` count how those
-/// of them that are rays ended.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct ShadowTally {
-    pub(super) n: u32,
-    pub(super) k: u32,
-    pub(super) reached: u32,
-    pub(super) blocked: u32,
-}
-
-impl ShadowTally {
-    /// The metric's verdict after the first `k` members: stop if they all
-    /// reached the emitter or were all blocked (and one was a ray).
-    #[inline]
-    pub(super) fn stops(&self) -> bool {
-        (self.reached == 0 || self.blocked == 0) && self.reached + self.blocked > 0
     }
 }
 

@@ -455,11 +455,7 @@ impl<'s> Wavefront<'s> {
             transmittance_all(world, &now.ray, (0.0, SHADOW_END), &self.opaque, passed);
             for (&set, pass) in now.set.iter().zip(passed.iter()) {
                 if let Some(t) = sets.get_mut(set as usize) {
-                    if pass.is_some() {
-                        t.reached += 1;
-                    } else {
-                        t.blocked += 1;
-                    }
+                    t.count(pass.is_some());
                 }
             }
             let rays = now.slot.iter().zip(&now.value).zip(&now.set);

@@ -10,7 +10,7 @@ use crate::sampling::{BranchKey, Distribution, EffectSpec, PointTable, Rng, SetP
 use crate::scene::Scene;
 
 use super::config::Whitted;
-use crate::integrator::metric::{Metric, RunningMean};
+use crate::integrator::metric::{Metric, RunningMean, ShadowTally};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::stopping::sets::{SetRule, SetTally};
@@ -485,27 +485,25 @@ impl<'a> Tracer<'a> {
             return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
         let n = set.len() as u32;
-        let k = (self.metric)
-            .filter(|m| m.shadows)
-            .map_or(u32::MAX, |m| m.shadow_rays);
+        let mut shadow_metric = ShadowTally::of(self.metric, n);
         let rule = SetRule::for_set(self.set_rule, set.len());
         let mut tally = rule.map(|r| {
             let mut t = self.tallies.pop().unwrap_or_default();
             t.reset(&r);
             (r, t, r.pass_end(0, set.len()))
         });
-        let (mut sum, mut reached, mut blocked, mut done) = (Rgb::ZERO, 0u32, 0u32, 0u32);
+        let (mut sum, mut done) = (Rgb::ZERO, 0u32);
         for r in set {
             done += 1;
             let mut term = Rgb::ZERO;
             if let Some(r) = r {
-                match self.shadow_term(s, si, bsdf, r, shaft, clear) {
-                    Some(t) => {
-                        term = t;
-                        sum += t;
-                        reached += 1;
-                    }
-                    None => blocked += 1,
+                let t = self.shadow_term(s, si, bsdf, r, shaft, clear);
+                if let Some(t) = t {
+                    term = t;
+                    sum += t;
+                }
+                if let Some(m) = &mut shadow_metric {
+                    m.count(t.is_some());
                 }
             }
             // The calibrated rule, at the end of each of its passes.
@@ -520,7 +518,7 @@ impl<'a> Tracer<'a> {
                 }
             }
             // The shadow metric: after k rays, all reached or all blocked.
-            if done == k && done < n && (reached == 0 || blocked == 0) && reached + blocked > 0 {
+            if shadow_metric.is_some_and(|m| done == m.k && m.stops()) {
                 self.stats.saved.shadow += u64::from(n - done);
                 break;
             }
