@@ -281,7 +281,7 @@ pub const PLUGINS: [Plugin; 9] = [
     Plugin::new(&INSTANCE, Mitsuba::differs("`<ref id=\"g\"/>` to a shapegroup as `group = \"g\"`")),
     Plugin::new(
         &SHAPEGROUP,
-        Mitsuba::differs("`[groups.ID]`; a shape in it carrying an `area` emitter is refused, as Mitsuba refuses it"),
+        Mitsuba::differs("`[groups.ID]`; a shape in it may carry an `area` emitter, each instance an emitter of its own (Mitsuba refuses it)"),
     ),
 ];
 
