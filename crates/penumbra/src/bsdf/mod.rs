@@ -104,6 +104,15 @@ pub trait BsdfModel: Sized {
     /// without the cosine; 0 for delta lobes.
     fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb;
 
+    /// [`eval`](Self::eval) at one point for each direction of `wi`, into
+    /// `out` (cleared first): the batch form, which a model's kernel may
+    /// take several lanes at a time; by default, one by one.
+    #[inline]
+    fn eval_all(&self, si: &SurfaceInteraction, wo: Vec3, wi: &[Vec3], out: &mut Vec<Rgb>) {
+        out.clear();
+        out.extend(wi.iter().map(|&w| self.eval(si, wo, w)));
+    }
+
     /// A direction drawn with the set point `u`: from lobe `lobe` alone
     /// (its weight not divided by a choice), or from a lobe the point
     /// chooses. `None` where the point gives no direction.
@@ -198,6 +207,20 @@ macro_rules! models {
             pub fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
                 match self {
                     $(Bsdf::$variant(m) => m.eval(si, wo, wi),)*
+                }
+            }
+
+            /// See [`BsdfModel::eval_all`].
+            #[inline]
+            pub fn eval_all(
+                &self,
+                si: &SurfaceInteraction,
+                wo: Vec3,
+                wi: &[Vec3],
+                out: &mut Vec<Rgb>,
+            ) {
+                match self {
+                    $(Bsdf::$variant(m) => m.eval_all(si, wo, wi, out),)*
                 }
             }
 

@@ -8,7 +8,7 @@ use super::vertex::{
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
-use crate::emitter::Reference;
+use crate::emitter::{LightSample, Reference};
 use crate::integrator::metric::{Metric, RunningMean, ShadowTally};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
@@ -24,6 +24,7 @@ pub(super) struct Out<'a> {
     pub(super) next: &'a mut Paths,
     pub(super) stats: &'a mut RayStats,
     pub(super) points: &'a mut Vec<Vec3>,
+    pub(super) lights: &'a mut LightBuffers,
     pub(super) escape: Escape,
     /// With the reflection metric on, at a first vertex: the members its
     /// sets always trace (α, at least 2).
@@ -32,6 +33,15 @@ pub(super) struct Out<'a> {
     pub(super) radiance: &'a mut Vec<Rgb>,
     /// The sets the reflection metric judges.
     pub(super) pending: &'a mut Vec<PendingSet>,
+}
+
+/// A shadow set's emitter samples, the directions of those that give one,
+/// and the BSDF toward each: kept between vertices.
+#[derive(Default)]
+pub(super) struct LightBuffers {
+    samples: Vec<Option<LightSample>>,
+    dirs: Vec<Vec3>,
+    values: Vec<Rgb>,
 }
 
 /// A vertex that draws the thesis's sets (`distributed`): a set of shadow
@@ -70,22 +80,37 @@ pub(super) fn thesis_sets(
             };
             let mut rng = path.derive(streams::shadow(j as u64));
             d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
-            for (m, &point) in out.points.iter().enumerate() {
-                let Some(ls) = sample_emitter(
-                    emitter,
-                    Reference::new(v.hit.p, v.hit.time),
-                    (point, d),
-                    out.escape,
-                ) else {
+            // The set's samples and the BSDF toward them, each a batch.
+            let at = Reference::new(v.hit.p, v.hit.time);
+            let LightBuffers {
+                samples,
+                dirs,
+                values,
+            } = &mut *out.lights;
+            samples.clear();
+            if emitter.is_infinite() {
+                let escape = out.escape;
+                let each = |&point: &Vec3| sample_emitter(emitter, at, (point, d), escape);
+                samples.extend(out.points.iter().map(each));
+            } else {
+                emitter.sample(|_| at, out.points, d, samples);
+            }
+            dirs.clear();
+            dirs.extend(samples.iter().flatten().map(|ls| ls.dir));
+            bsdf.eval_all(v.hit, v.wo, dirs, values);
+            let mut f = values.iter();
+            for (m, ls) in samples.iter().enumerate() {
+                let Some(ls) = ls else {
                     continue;
                 };
+                let f = *f.next().expect("a value per sample");
                 let ns = n as f32;
                 let weigh = |pdf_b: f32| power_heuristic(ns * ls.pdf, nb * pdf_b);
                 let rays = match k {
                     Some(k) if m as u32 >= k => &mut out.shadows.later,
                     _ => &mut out.shadows.now,
                 };
-                shadow_ray(v, bsdf, &ls, weigh, ns, (rays, id));
+                shadow_ray(v, bsdf, (ls, f), weigh, ns, (rays, id));
             }
         }
     }

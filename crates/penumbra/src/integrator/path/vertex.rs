@@ -263,7 +263,15 @@ pub(super) fn light_sample(
         return;
     };
     let weigh = |pdf_b: f32| power_heuristic(e * pmf * ls.pdf, b * pdf_b);
-    shadow_ray(v, bsdf, &ls, weigh, e * pmf, (&mut shadows.now, NO_SET));
+    let f = bsdf.eval(v.hit, v.wo, ls.dir);
+    shadow_ray(
+        v,
+        bsdf,
+        (&ls, f),
+        weigh,
+        e * pmf,
+        (&mut shadows.now, NO_SET),
+    );
 }
 
 /// What a vertex needs of its material's lobes.
@@ -324,7 +332,8 @@ pub(super) fn sample_emitter(
     })
 }
 
-/// The shadow ray of the light sample `ls` at `v`, one of `n` (the
+/// The shadow ray of the light sample `ls` at `v`, toward which the BSDF
+/// is `f`, one of `n` (the
 /// sample's share: divided by `n`), and what it brings if unblocked:
 /// `f · weight · cos / n`, times `weigh` of the BSDF's density toward it
 /// where the sample has a density (1 where it has none: a point light, the
@@ -334,13 +343,12 @@ pub(super) fn sample_emitter(
 pub(super) fn shadow_ray(
     v: &Vertex<'_>,
     bsdf: &Bsdf,
-    ls: &LightSample,
+    (ls, f): (&LightSample, Rgb),
     weigh: impl Fn(f32) -> f32,
     n: f32,
     (rays, set): (&mut ShadowRays, u32),
 ) {
     let wi = ls.dir;
-    let f = bsdf.eval(v.hit, v.wo, wi);
     let cos = v.hit.n.dot(wi).abs();
     if f == Rgb::ZERO || cos <= 0.0 {
         return;

@@ -20,7 +20,7 @@ use crate::math::{Rgb, Vec3};
 use crate::sampling::{EffectSpec, SetPoint};
 use crate::scene::Scene;
 
-use super::sets::{set_member, thesis_sets, Member, Out, PendingSet};
+use super::sets::{set_member, thesis_sets, LightBuffers, Member, Out, PendingSet};
 use super::vertex::{
     count_bounce, count_saved, emission_weight, go_through, light_sample, Escape, Material, Nee,
     Paths, Shadows, Vertex,
@@ -70,6 +70,9 @@ pub(super) struct Wavefront<'s> {
     weights: Vec<f32>,
     /// The points of a set being drawn.
     points: Vec<Vec3>,
+    /// A shadow set's emitter samples, their directions and the BSDF
+    /// toward each.
+    set_lights: LightBuffers,
     /// The sets the reflection metric judges, of the wave's first vertices.
     pending: Vec<PendingSet>,
 }
@@ -113,6 +116,7 @@ impl<'s> Wavefront<'s> {
             radiance: Vec::new(),
             weights: Vec::new(),
             points: Vec::new(),
+            set_lights: LightBuffers::default(),
             pending: Vec::new(),
         }
     }
@@ -293,6 +297,7 @@ impl<'s> Wavefront<'s> {
             shadows,
             radiance,
             points,
+            set_lights,
             batches,
             pending,
             ..
@@ -362,6 +367,7 @@ impl<'s> Wavefront<'s> {
                     next,
                     stats,
                     points: &mut *points,
+                    lights: &mut *set_lights,
                     escape: *escape,
                     judge: judge.map(|m| m.min_rays.max(2)),
                     radiance: &mut *radiance,
