@@ -111,6 +111,25 @@ pub struct TileJob<'a> {
     pub cancelled: &'a dyn Fn() -> bool,
 }
 
+impl TileJob<'_> {
+    /// The one tile loop: hands `step` the tile's rows, `rows` at a time
+    /// (at least one), the cancel flag checked before each step; `false`
+    /// if the tile was cancelled.
+    #[inline]
+    pub fn rows(&self, rows: u32, mut step: impl FnMut(Range<u32>)) -> bool {
+        let mut y0 = self.ys.start;
+        while y0 < self.ys.end {
+            if (self.cancelled)() {
+                return false;
+            }
+            let y1 = (y0 + rows.max(1)).min(self.ys.end);
+            step(y0..y1);
+            y0 = y1;
+        }
+        true
+    }
+}
+
 /// The range of samples pass `k` of `passes` adds, out of `budget`: the
 /// budget cut as evenly as it goes, earlier passes never larger.
 pub fn pass_samples(k: u32, passes: u32, budget: u32) -> Range<u32> {

@@ -130,26 +130,16 @@ impl<'s> Wavefront<'s> {
         film: &mut FilmTile,
         bad: &mut Vec<BadSample>,
     ) -> bool {
-        let TileJob {
-            xs,
-            ys,
-            samples,
-            cancelled,
-        } = tile;
+        let (xs, samples) = (&tile.xs, &tile.samples);
         let m = samples.len();
         if m == 0 {
             return true;
         }
         let rows = (WAVE / (xs.len() * m)).max(1) as u32;
-        let mut y0 = ys.start;
-        while y0 < ys.end {
-            if cancelled() {
-                return false;
-            }
-            let y1 = (y0 + rows).min(ys.end);
-            self.wave(&xs, y0..y1, &samples);
+        tile.rows(rows, |ys| {
+            self.wave(xs, ys.clone(), samples);
             let mut values = self.radiance.iter().zip(&self.weights);
-            for y in y0..y1 {
+            for y in ys {
                 for x in xs.clone() {
                     let k = film.index(x, y);
                     for i in samples.clone() {
@@ -158,9 +148,7 @@ impl<'s> Wavefront<'s> {
                     }
                 }
             }
-            y0 = y1;
-        }
-        true
+        })
     }
 
     /// Traces samples `samples` of pixels `xs × ys` to their end, leaving

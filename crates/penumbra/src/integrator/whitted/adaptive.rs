@@ -34,13 +34,8 @@ pub fn render_tile(
     film: &mut FilmTile,
     bad: &mut Vec<BadSample>,
 ) -> bool {
-    let TileJob {
-        xs,
-        ys,
-        samples,
-        cancelled,
-    } = tile;
-    let (w, h) = (xs.len(), ys.len());
+    let (w, h) = (tile.xs.len(), tile.ys.len());
+    let samples = tile.samples.clone();
     let replicas = stopper.replicas();
     let spp = stopper.spp;
     if !matches!(state, TileState::Adaptive(_)) {
@@ -74,11 +69,9 @@ pub fn render_tile(
         };
         let part = pass_end.min(end);
         let size = part - sched.done;
-        for (row, y) in ys.clone().enumerate() {
-            if cancelled() {
-                return false;
-            }
-            for (col, x) in xs.clone().enumerate() {
+        let whole = tile.rows(1, |ys| {
+            let (row, y) = ((ys.start - tile.ys.start) as usize, ys.start);
+            for (col, x) in tile.xs.clone().enumerate() {
                 let k = row * w + col;
                 let t = sched.block.pixels[k];
                 if !t.active {
@@ -124,6 +117,9 @@ pub fn render_tile(
                     tracer.stats.primary += rays.len() as u64;
                 });
             }
+        });
+        if !whole {
+            return false;
         }
         sched.done = part;
         if part < pass_end {

@@ -60,20 +60,11 @@ pub(super) fn render_rows(
     film: &mut FilmTile,
     bad: &mut Vec<BadSample>,
 ) -> bool {
-    let TileJob {
-        xs,
-        ys,
-        samples,
-        cancelled,
-    } = tile;
-    for y in ys {
-        if cancelled() {
-            return false;
-        }
+    tile.rows(1, |ys| {
         let row = Row {
-            xs: xs.clone(),
-            y,
-            samples: samples.clone(),
+            xs: tile.xs.clone(),
+            y: ys.start,
+            samples: tile.samples.clone(),
         };
         render_pixels(
             scene,
@@ -84,8 +75,7 @@ pub(super) fn render_rows(
             film,
             bad,
         );
-    }
-    true
+    })
 }
 
 /// Samples `samples` of pixels `xs` of row `y`.
