@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use penumbra::description::mitsuba::{self, spectrum, transform, Loaded};
 use penumbra::description::{from_toml, Kind, Node, Value};
+use penumbra::integrator::plugins::registry;
 use penumbra::scene::convert;
-use penumbra::scene::schemas::plugins;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Overrides, SceneError, SceneSource};
 
 const LIMIT: u64 = 4 << 20;
@@ -41,7 +41,7 @@ impl Dir {
             .iter()
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect();
-        mitsuba::from_xml_file(&self.path(name), &defines, LIMIT, plugins)
+        mitsuba::from_xml_file(&self.path(name), &defines, LIMIT, registry)
     }
 
     fn tree(&self, name: &str) -> Node {
@@ -589,12 +589,12 @@ fn the_size_limit_covers_each_file_and_all_includes_together() {
         ("b.xml", &scene(&pad)),
     ]);
     assert!(
-        mitsuba::from_xml_file(&d.path("scene.xml"), &[], 10_000, plugins).is_err_and(|e| {
+        mitsuba::from_xml_file(&d.path("scene.xml"), &[], 10_000, registry).is_err_and(|e| {
             let e = e.to_string();
             e.contains("sensor")
         })
     );
-    let e = mitsuba::from_xml_file(&d.path("scene.xml"), &[], 5_000, plugins)
+    let e = mitsuba::from_xml_file(&d.path("scene.xml"), &[], 5_000, registry)
         .unwrap_err()
         .to_string();
     assert!(
@@ -1698,7 +1698,7 @@ fn deep_nesting_is_refused_without_overflowing_the_stack() {
     let e = std::thread::Builder::new()
         .stack_size(256 << 10)
         .spawn(move || {
-            mitsuba::from_xml_file(&path, &[], LIMIT, plugins)
+            mitsuba::from_xml_file(&path, &[], LIMIT, registry)
                 .unwrap_err()
                 .to_string()
         })
@@ -1763,11 +1763,11 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
         <shape type="sphere"><float name="radius" value="2"/><string name="glow" value="yes"/></shape>"#,
     );
     let path = d.path("scene.xml");
-    let strict = mitsuba::from_xml_file(&path, &[], LIMIT, plugins)
+    let strict = mitsuba::from_xml_file(&path, &[], LIMIT, registry)
         .unwrap_err()
         .to_string();
     assert!(strict.contains("`foo` is not a parameter"), "{strict}");
-    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true, plugins).unwrap();
+    let loaded = mitsuba::from_xml_file_with(&path, &[], LIMIT, true, registry).unwrap();
     assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
     assert!(loaded.warnings[1].contains("scene.xml:5:") && loaded.warnings[1].contains("`glow`"));
     assert!(loaded.warnings[1].ends_with("ignored (--lenient)"));
@@ -1785,7 +1785,7 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
         .build()
         .unwrap();
     let d = with_sensor(r#"<shape type="torus"/>"#);
-    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true, plugins)
+    let e = mitsuba::from_xml_file_with(&d.path("scene.xml"), &[], LIMIT, true, registry)
         .unwrap_err()
         .to_string();
     assert!(e.contains("shape `torus` is not supported"), "{e}");

@@ -11,6 +11,7 @@ mod common;
 use std::path::Path;
 
 use penumbra::description::{Kind, Range, Type};
+use penumbra::integrator::plugins::registry;
 use penumbra::scene::reference;
 use penumbra::scene::schemas;
 use penumbra::scene::{LoadOptions, SceneSource};
@@ -26,7 +27,10 @@ fn the_docs_tables_are_the_schemas() {
             )),
         }
     };
-    let (format, mitsuba) = (fresh(reference::scene_format), fresh(reference::mitsuba));
+    let (format, mitsuba) = (
+        fresh(reference::scene_format),
+        fresh(|text| reference::mitsuba(text, registry)),
+    );
     let stale = common::stale_docs(&[
         ("docs/scene-format.md", &format),
         ("docs/mitsuba.md", &mitsuba),
@@ -81,7 +85,7 @@ fn mitsuba_names_map_to_one_plugin() {
             }
         }
         let mut read = std::collections::HashSet::new();
-        for p in schemas::plugins(kind) {
+        for p in registry(kind) {
             for name in p.names {
                 assert!(read.insert(*name), "{kind:?}: `{name}` read twice");
                 assert!(

@@ -57,6 +57,7 @@ mod path;
 pub mod plugins;
 mod ray_sets;
 mod shading;
+mod sources;
 mod stats;
 pub mod stopping;
 pub mod streams;

@@ -1,6 +1,7 @@
 //! The integrators as plugins. Each integrator's schema and settings sit
 //! beside it (`whitted/config.rs`, `path/config.rs`); this file lists
-//! them, reads the integrator a scene describes into its settings, and
+//! them (and, for the Mitsuba reader, the [`registry`] of every plugin),
+//! reads the integrator a scene describes into its settings, and
 //! builds scenes so that a bad integrator parameter is refused at its place
 //! when the scene is built.
 //!
@@ -13,8 +14,9 @@
 use super::metric::Metric;
 use super::path::{self, PathSettings, Variant};
 use super::whitted::{self, WhittedSettings};
+use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Origin, Props, SceneError, Schema};
-use crate::scene::{IntegratorChoice, Scene, SceneSource, WorldCache};
+use crate::scene::{schemas, IntegratorChoice, Scene, SceneSource, WorldCache};
 
 /// The schemas of the integrators, in the order of [`IntegratorChoice::ALL`].
 pub const SCHEMAS: [&Schema; 4] = [
@@ -23,6 +25,17 @@ pub const SCHEMAS: [&Schema; 4] = [
     &path::DIRECT,
     &path::DISTRIBUTED,
 ];
+
+/// Every plugin as the Mitsuba reader sees it: the integrators Mitsuba 3
+/// has (`path`, `direct`) and the scene's plugins of every other kind
+/// ([`schemas::plugins`]). The scene layer, below the integrators, cannot
+/// name them: readers of Mitsuba scenes take this registry.
+pub fn registry(kind: Kind) -> &'static [Plugin] {
+    match kind {
+        Kind::Integrator => &path::PLUGINS,
+        _ => schemas::plugins(kind),
+    }
+}
 
 /// An integrator and its settings, read from its description.
 #[derive(Clone, Copy, Debug, PartialEq)]

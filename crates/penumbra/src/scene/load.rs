@@ -1,10 +1,12 @@
-//! Reading scene files and built-in scenes into a description, and building it
-//! with errors located in the source.
+//! Reading TOML scenes, built-in scenes and JSON into a description, and
+//! building it with errors located in the source. Opening a file by name
+//! and reading Mitsuba scenes (`SceneSource::open`, `from_xml`,
+//! `from_mitsuba_dict`) sit in the integrator layer (`integrator::sources`),
+//! whose registry of plugins names the integrators too.
 
 use std::path::{Path, PathBuf};
 
 use super::build::build;
-use super::builtin;
 use super::context::BuildContext;
 use super::reuse::WorldCache;
 use super::schemas;
@@ -57,74 +59,10 @@ pub struct SceneSource {
 }
 
 impl SceneSource {
-    /// Opens a scene file, or a built-in scene by name when no such file exists.
-    pub fn open(name_or_path: &str, opts: &LoadOptions) -> Result<SceneSource, SceneError> {
-        let path = Path::new(name_or_path);
-        if !path.exists() {
-            if let Some(b) = builtin::find(name_or_path) {
-                let label = PathBuf::from(format!("<built-in scene {}>", b.name));
-                return SceneSource::from_toml(b.toml, &label, Path::new("."), opts);
-            }
-            let names: Vec<&str> = builtin::SCENES.iter().map(|b| b.name).collect();
-            return Err(SceneError::new(format!(
-                "{name_or_path}: no such file, and not a built-in scene (built-ins: {})",
-                names.join(", ")
-            )));
-        }
-        let base = path
-            .parent()
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-        if is_xml(path) {
-            return SceneSource::from_xml(path, &base, opts);
-        }
-        if !opts.defines.is_empty() {
-            return Err(SceneError::new(format!(
-                "{}: -D/--define sets parameters of Mitsuba XML scenes; this is not one (.xml)",
-                path.display()
-            )));
-        }
-        let text = read_text(path)?;
-        SceneSource::from_toml(&text, path, &base, opts)
-    }
-
-    /// Reads a Mitsuba 3 XML scene (see
-    /// [`description::mitsuba`](crate::description::mitsuba)): `file` names
-    /// it in errors, `base_dir` anchors mesh paths, `opts.defines` override
-    /// its defaults.
-    pub fn from_xml(
-        file: &Path,
-        base_dir: &Path,
-        opts: &LoadOptions,
-    ) -> Result<SceneSource, SceneError> {
-        let limit = input::size_limit(MAX_SCENE_FILE_SIZE).map_err(|e| SceneError {
-            file: Some(file.to_path_buf()),
-            position: None,
-            message: e.to_string(),
-        })?;
-        let loaded = description::mitsuba::from_xml_file_with(
-            file,
-            &opts.defines,
-            limit,
-            opts.lenient,
-            super::schemas::plugins,
-        )?;
-        SceneSource::from_mitsuba(loaded, base_dir, opts)
-    }
-
-    /// Reads a scene in Mitsuba 3's dict form (`mi.load_dict`'s, see
-    /// [`description::mitsuba::dict`]): `base_dir` anchors its file names;
-    /// errors name the dict's key paths.
-    pub fn from_mitsuba_dict(
-        d: &description::mitsuba::dict::DictValue,
-        base_dir: &Path,
-        opts: &LoadOptions,
-    ) -> Result<SceneSource, SceneError> {
-        let loaded =
-            description::mitsuba::from_dict(d, base_dir, opts.lenient, super::schemas::plugins)?;
-        SceneSource::from_mitsuba(loaded, base_dir, opts)
-    }
-
-    fn from_mitsuba(
+    /// The description a Mitsuba reader made (`from_xml` and
+    /// `from_mitsuba_dict`, in `integrator::sources`, whose registry names
+    /// the integrators too), its tree checked and its warnings kept.
+    pub(crate) fn from_mitsuba(
         loaded: description::mitsuba::Loaded,
         base_dir: &Path,
         opts: &LoadOptions,
@@ -195,7 +133,7 @@ impl SceneSource {
 }
 
 /// Whether a scene file is Mitsuba XML, by its extension (any case).
-fn is_xml(path: &Path) -> bool {
+pub(crate) fn is_xml(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
 }
@@ -208,7 +146,8 @@ fn context(base_dir: &Path, opts: &LoadOptions) -> BuildContext {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, SceneError> {
+/// The text of the scene file `path`, within the size limit, as UTF-8.
+pub(crate) fn read_text(path: &Path) -> Result<String, SceneError> {
     let err = |e: InputError| SceneError {
         file: Some(path.to_path_buf()),
         position: None,

@@ -30,6 +30,7 @@ pub use build::{BuildError, INSTANCED_TRIANGLES, INSTANCING_FACTOR, MAX_PIXELS};
 pub use built::Scene;
 pub use context::BuildContext;
 pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE};
+pub(crate) use load::{is_xml, read_text};
 pub use options::{Choices, RenderOption, OPTIONS};
 pub use overrides::Overrides;
 pub use points::{read_points, Points, PointsFileError};

@@ -7,7 +7,7 @@
 //! `PENUMBRA_UPDATE_DOCS=1`.
 
 use super::schemas;
-use crate::description::mitsuba::Plugin;
+use crate::description::mitsuba::{Plugin, Registry};
 use crate::description::{Kind, MitsubaKey, Param, Range, Schema, Type};
 
 /// The kinds whose plugins the scene-format reference documents one by one
@@ -212,15 +212,15 @@ pub fn scene_format(text: &str) -> (String, Vec<String>) {
 }
 
 /// The table of the Mitsuba plugins of `kind` that the reader maps
-/// through their schemas.
-pub fn mitsuba_table(kind: Kind) -> String {
+/// through their schemas, as `registry` lists them.
+pub fn mitsuba_table(kind: Kind, registry: Registry) -> String {
     let mut out =
         String::from("| Mitsuba | parameters read | Penumbra | differences |\n|---|---|---|---|\n");
     for Plugin {
         schema,
         names,
         mitsuba,
-    } in schemas::plugins(kind)
+    } in registry(kind)
     {
         if names.is_empty() {
             continue;
@@ -270,17 +270,19 @@ pub fn mitsuba_table(kind: Kind) -> String {
     out
 }
 
-/// The Mitsuba reference `text` with the table of every kind mapped
-/// through the schemas written afresh, and the tables it lacks.
-pub fn mitsuba(text: &str) -> (String, Vec<String>) {
+/// The Mitsuba reference `text` with the table of every kind `registry`
+/// maps through the schemas written afresh, and the tables it lacks. The
+/// registry is the reader's (`integrator::plugins::registry`), whose
+/// integrators sit above the scene.
+pub fn mitsuba(text: &str, registry: Registry) -> (String, Vec<String>) {
     let mut out = text.to_string();
     let mut missing = Vec::new();
     for kind in Kind::ALL {
-        if schemas::plugins(kind).is_empty() {
+        if registry(kind).is_empty() {
             continue;
         }
         let id = format!("mitsuba:{}", kind.name());
-        match replace_block(&out, &id, &mitsuba_table(kind)) {
+        match replace_block(&out, &id, &mitsuba_table(kind, registry)) {
             Some(t) => out = t,
             None => missing.push(id),
         }

@@ -35,7 +35,8 @@ pub fn area_schema() -> &'static Schema {
 }
 
 /// The plugins of a kind as the Mitsuba reader sees them: the kinds it maps
-/// through their schemas (the others it maps by hand).
+/// through their schemas but the integrators, which sit above the scene
+/// (`integrator::plugins::registry` adds them).
 pub fn plugins(kind: Kind) -> &'static [Plugin] {
     match kind {
         Kind::Sensor => &camera::PLUGINS,

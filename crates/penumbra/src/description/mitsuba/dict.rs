@@ -31,7 +31,6 @@ use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use super::mapping::mitsuba_names;
 use super::objects::{error_at, Child, Ids, Object, Place, Property, OBJECT_TAGS};
 use super::parse::clip;
-use super::plugins;
 use super::registry::Registry;
 use super::spectrum::{self, Spectrum};
 use super::transform::{self, Mat4};
@@ -185,7 +184,7 @@ impl<'de> Visitor<'de> for DictVisitor {
 fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
     let of = |kind| mitsuba_names(registry(kind));
     [
-        ("integrator", plugins::INTEGRATORS.to_vec()),
+        ("integrator", of(Kind::Integrator)),
         ("sensor", of(Kind::Sensor)),
         ("film", of(Kind::Film)),
         ("rfilter", of(Kind::Filter)),

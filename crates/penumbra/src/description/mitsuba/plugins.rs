@@ -2,26 +2,20 @@
 //! a TOML scene lowers to, under the same plugin names, property names and
 //! key paths (`objects[2].radius`), every value at its XML tag. The scene's
 //! structure (groups, instances, the background, a shape's material and
-//! emitter, the sensor's place) and the integrator are mapped here; every
-//! object through its plugin's schema (`mapping.rs`, `materials.rs`).
+//! emitter, the sensor's place) is mapped here; every object, the
+//! integrator and the sensor too, through its plugin's schema
+//! (`mapping.rs`, `materials.rs`).
 
 use std::collections::HashSet;
 
-use super::mapper::{
-    children, get_color, get_transform, located, matrix, render, set, type_error, unsupported,
-    vec3, Out,
-};
+use super::mapper::{children, get_color, get_transform, located, matrix, render, set, vec3, Out};
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
 use super::registry::Registry;
 use super::spectrum::Use;
 use super::transform::Mat4;
-use super::values::PropValue;
 use crate::description::error::{KeyPath, SceneError};
 use crate::description::tree::{Kind, Node, Prop, Value};
-
-/// The integrators read by hand, in the order messages list them.
-pub const INTEGRATORS: &[&str] = &["path", "direct"];
 
 /// Builds the tree of a scene object.
 pub fn scene(
@@ -124,43 +118,15 @@ pub fn scene(
 }
 
 impl Out<'_> {
+    /// The integrator, through the plugin that reads it, its parameters
+    /// under the `render` key path and its plugin at `render.integrator`.
     fn integrator(&mut self, obj: &Object) -> Result<(), SceneError> {
         if self.integrator.is_some() {
             return Err(error_at(&obj.at, "a second <integrator>: a scene has one"));
         }
-        let known: &[&str] = match obj.plugin.as_str() {
-            "path" => &["max_depth", "rr_depth", "hide_emitters"],
-            "direct" => &[
-                "emitter_samples",
-                "bsdf_samples",
-                "shading_samples",
-                "hide_emitters",
-            ],
-            _ => return Err(unsupported(obj, "integrator", INTEGRATORS)),
-        };
-        self.no_props(obj, known)?;
+        let mut node = self.mapped(Kind::Integrator, obj, render())?;
         self.no_children(obj)?;
-        let mut node = Node::new(
-            Kind::Integrator,
-            obj.plugin.clone(),
-            obj.at.origin(render()),
-        );
         node.plugin_origin = obj.plugin_at.origin(render().key("integrator"));
-        for p in obj
-            .props
-            .iter()
-            .filter(|p| known.contains(&p.name.as_str()))
-        {
-            let value = match &p.value {
-                PropValue::Int(i) => Value::Int(*i),
-                PropValue::Bool(b) => Value::Bool(*b),
-                PropValue::Float(x) => Value::Float(*x),
-                _ => return Err(type_error(p, "an integer or a boolean")),
-            };
-            set(&mut node, &render(), &p.name, &p.at, |path, at| {
-                located(value, path, at)
-            });
-        }
         self.integrator = Some(node);
         Ok(())
     }

@@ -1,8 +1,10 @@
 //! What the Mitsuba reader knows of Penumbra's plugins: for each kind, every
 //! plugin's [`Schema`] and how Mitsuba's plugin of that name maps onto it.
 //!
-//! The reader sits below the layers that define the plugins, so the scene
-//! layer hands it a [`Registry`] (`scene::schemas::plugins`). A plugin
+//! The reader sits below the layers that define the plugins, so they hand
+//! it a [`Registry`]: the integrator layer's (`integrator::plugins::registry`,
+//! its integrators and the scene layer's `scene::schemas::plugins` for every
+//! other kind). A plugin
 //! whose Mitsuba counterpart means the same thing maps through its schema
 //! alone: each parameter under Mitsuba's name for it
 //! ([`Param::mitsuba_name`](crate::description::Param::mitsuba_name)), read
@@ -166,18 +168,21 @@ pub(crate) mod tests {
 
     const SHAPES: Schema = named(Kind::Shape, &["sphere", "rectangle", "disk"]);
     const POINT: Schema = named(Kind::Emitter, &["point"]);
+    const INTEGRATOR: Schema = named(Kind::Integrator, &["path", "direct"]);
 
     const BSDFS: &[Plugin] = &[Plugin::new(&DIFFUSE, Mitsuba::SAME)];
     const SHAPE_PLUGINS: &[Plugin] = &[Plugin::new(&SHAPES, Mitsuba::SAME)];
     const EMITTERS: &[Plugin] = &[Plugin::new(&POINT, Mitsuba::SAME)];
+    const INTEGRATORS: &[Plugin] = &[Plugin::new(&INTEGRATOR, Mitsuba::SAME)];
 
-    /// A registry of a few plugins (`diffuse`, shapes and a point light
-    /// known by name), for the reader's own tests.
+    /// A registry of a few plugins (`diffuse`, shapes, a point light and
+    /// the integrators known by name), for the reader's own tests.
     pub(crate) fn registry(kind: Kind) -> &'static [Plugin] {
         match kind {
             Kind::Bsdf => BSDFS,
             Kind::Shape => SHAPE_PLUGINS,
             Kind::Emitter => EMITTERS,
+            Kind::Integrator => INTEGRATORS,
             _ => &[],
         }
     }

@@ -2,6 +2,7 @@
 //! `distributed`, and the settings they are read into.
 
 use crate::description::check::int;
+use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::emitter::choice::LightChoice;
 use crate::integrator::metric::{self, Metric};
@@ -31,9 +32,9 @@ pub const PATH: Schema = Schema {
         param("max_depth", Type::Int),
         param("rr_depth", Type::Int),
         param("hide_emitters", Type::Bool),
-        param("path_sampler", PATH_SAMPLER),
-        param("light_sampler", LIGHT_SAMPLER),
-        param("passes", Type::Int),
+        param("path_sampler", PATH_SAMPLER).penumbra_only(),
+        param("light_sampler", LIGHT_SAMPLER).penumbra_only(),
+        param("passes", Type::Int).penumbra_only(),
     ],
 };
 
@@ -75,11 +76,28 @@ pub const DIRECT: Schema = Schema {
         param("bsdf_samples", Type::Int),
         param("shading_samples", Type::Int),
         param("hide_emitters", Type::Bool),
-        param("path_sampler", PATH_SAMPLER),
-        param("light_sampler", LIGHT_SAMPLER),
-        param("passes", Type::Int),
+        param("path_sampler", PATH_SAMPLER).penumbra_only(),
+        param("light_sampler", LIGHT_SAMPLER).penumbra_only(),
+        param("passes", Type::Int).penumbra_only(),
     ],
 };
+
+/// How Mitsuba 3's `path` and `direct` map onto Penumbra's: their
+/// parameters under the same names, read as their types say.
+pub const PLUGINS: [Plugin; 2] = [
+    Plugin::new(
+        &PATH,
+        Mitsuba::differs("shadow rays see every surface as opaque"),
+    ),
+    Plugin::new(
+        &DIRECT,
+        Mitsuba::differs(
+            "`shading_samples` sets both sample counts, each of which \
+             `emitter_samples` or `bsdf_samples` overrides where given (Mitsuba refuses \
+             `shading_samples` beside either); shadow rays see every surface as opaque",
+        ),
+    ),
+];
 
 /// The settings of the `path`, `direct` and `distributed` integrators, in
 /// Mitsuba 3's terms (`direct` is a path of two vertices whose first takes

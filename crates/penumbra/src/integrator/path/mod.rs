@@ -95,7 +95,7 @@ mod sets;
 mod vertex;
 mod wavefront;
 
-pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH};
+pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH, PLUGINS};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
