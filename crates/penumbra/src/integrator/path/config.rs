@@ -85,16 +85,13 @@ pub const DIRECT: Schema = Schema {
 /// How Mitsuba 3's `path` and `direct` map onto Penumbra's: their
 /// parameters under the same names, read as their types say.
 pub const PLUGINS: [Plugin; 2] = [
-    Plugin::new(
-        &PATH,
-        Mitsuba::differs("shadow rays see every surface as opaque"),
-    ),
+    Plugin::new(&PATH, Mitsuba::SAME),
     Plugin::new(
         &DIRECT,
         Mitsuba::differs(
             "`shading_samples` sets both sample counts, each of which \
              `emitter_samples` or `bsdf_samples` overrides where given (Mitsuba refuses \
-             `shading_samples` beside either); shadow rays see every surface as opaque",
+             `shading_samples` beside either)",
         ),
     ),
 ];
