@@ -485,8 +485,8 @@ impl World {
 
     /// True if nothing can block a segment held by the shaft `set` was
     /// gathered for: no static-triangle leaf and no caster is within it.
-    /// [`transmittance`](Self::transmittance) within it is then 1 for every
-    /// such segment, and a shadow set need not trace its rays.
+    /// Such a segment then [crosses](Self::crossings) nothing, and a shadow
+    /// set need not trace its rays.
     pub fn shaft_is_clear(&self, set: &ShaftSet) -> bool {
         set.items.is_empty()
     }
@@ -804,7 +804,7 @@ pub struct PacketScratch {
 }
 
 /// What a shadow set may cross, gathered once by [`World::gather_shaft`] and
-/// read by [`World::transmittance`] for each of its rays.
+/// read by [`World::crossings`] for each of its rays.
 #[derive(Clone, Debug, Default)]
 pub struct ShaftSet {
     /// Top-level leaves the shaft may reach.

@@ -37,7 +37,7 @@ pub struct Scene {
     pub integrator: Node,
     /// Per-material fraction of light a shadow ray keeps crossing it; NaN
     /// where it varies over the surface (read from the material at each
-    /// crossing, [`World::transmittance_varying`](crate::accel::World::transmittance_varying)).
+    /// crossing by the integrators' transparent shadows).
     pub transparency: Vec<f32>,
     /// Things worth telling the user once (non-square ray counts).
     pub warnings: Vec<String>,

@@ -1,5 +1,5 @@
 //! Mitsuba 3's dict form (`mi.load_dict`) read into the [objects] an XML
-//! file gives, so that the same [`plugins`] mapping lowers both.
+//! file gives, so that the same [`plugins`](super::plugins) mapping lowers both.
 //!
 //! A dict is an object: its `type` names the plugin (`"scene"` at the
 //! root), `id` its id, and every other key a property or a nested object:

@@ -39,7 +39,8 @@ fn implied(tag: &str, plugin: &str, at: &Place) -> Object {
     }
 }
 
-/// Mitsuba's `perspective`: see [`sensor`].
+/// Mitsuba's `perspective`: the camera its `to_world` places, with its
+/// field of view, film and sampler.
 pub fn perspective(
     m: &mut dyn Mapper,
     obj: &Object,
