@@ -280,3 +280,62 @@ models! {
     normalmap::NormalMap,
     bumpmap::BumpMap,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::thesis::tests::interaction;
+    use crate::description::{from_toml, Kind};
+    use crate::sampling::{Distribution, EffectSpec, Rng};
+    use std::collections::HashMap;
+
+    /// Every model that builds from its defaults answers the batch form
+    /// with the bits of its scalar form, direction by direction (so a
+    /// kernel a model gives later is held to its portable form), at tilted
+    /// shading normals and over both hemispheres.
+    #[test]
+    fn batch_evaluation_gives_the_scalar_bits() {
+        let set = EffectSpec {
+            rays: 1,
+            distribution: Distribution::Jitter,
+        };
+        let textures = crate::texture::Textures::default();
+        let d = Defaults {
+            reflection: set,
+            refraction: set,
+            textures: &textures,
+            materials: &HashMap::new(),
+        };
+        let mut rng = Rng::new(3);
+        let mut unit = || {
+            let v = Vec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            v.normalize_or(Vec3::Z)
+        };
+        let (mut built, mut out) = (0, Vec::new());
+        for schema in Bsdf::SCHEMAS {
+            let text = format!("[materials.m]\ntype = \"{}\"\n", schema.plugin);
+            let root = from_toml(&text, std::path::Path::new("t.toml")).unwrap();
+            let node = root.child(Kind::Bsdf).expect("a material");
+            // Models that need a held material or a texture are left out.
+            let Some(Ok(m)) = Bsdf::build(&node.plugin, &Props::new(node), &d) else {
+                continue;
+            };
+            built += 1;
+            for _ in 0..50 {
+                let si = interaction((Vec3::Z + 0.3 * unit()).normalize());
+                let wo = unit();
+                let wi: Vec<Vec3> = (0..7).map(|_| unit()).collect();
+                m.eval_all(&si, wo, &wi, &mut out);
+                let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+                let want: Vec<_> = wi.iter().map(|&w| bits(m.eval(&si, wo, w))).collect();
+                let got: Vec<_> = out.iter().map(|&c| bits(c)).collect();
+                assert_eq!(got, want, "{}", schema.plugin);
+            }
+        }
+        assert!(built >= 8, "{built} models built");
+    }
+}
