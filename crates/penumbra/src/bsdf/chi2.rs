@@ -203,6 +203,17 @@ pub fn build_in<M: BsdfModel>(
     text: &str,
     materials: &HashMap<String, Arc<Bsdf>>,
 ) -> Result<M, Invalid> {
+    with_defaults(text, materials, |p, d| M::build(p, d))
+}
+
+/// `build` called with the parameters of the material of `text` (TOML
+/// keys of a material) and the defaults of a test: one ray per set, no
+/// textures, the named `materials`.
+pub fn with_defaults<T>(
+    text: &str,
+    materials: &HashMap<String, Arc<Bsdf>>,
+    build: impl FnOnce(&Props, &Defaults) -> T,
+) -> T {
     let root = from_toml(
         &format!("[materials.m]\n{text}\n"),
         std::path::Path::new("t.toml"),
@@ -220,7 +231,7 @@ pub fn build_in<M: BsdfModel>(
         textures: &textures,
         materials,
     };
-    M::build(&Props::new(node), &d)
+    build(&Props::new(node), &d)
 }
 
 /// The χ² p-value of `m`'s directions sampled (no lobe asked for) for the

@@ -284,9 +284,9 @@ models! {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bsdf::chi2::with_defaults;
     use crate::bsdf::thesis::tests::interaction;
-    use crate::description::{from_toml, Kind};
-    use crate::sampling::{Distribution, EffectSpec, Rng};
+    use crate::sampling::Rng;
     use std::collections::HashMap;
 
     /// Every model that builds from its defaults answers the batch form
@@ -295,17 +295,6 @@ mod tests {
     /// shading normals and over both hemispheres.
     #[test]
     fn batch_evaluation_gives_the_scalar_bits() {
-        let set = EffectSpec {
-            rays: 1,
-            distribution: Distribution::Jitter,
-        };
-        let textures = crate::texture::Textures::default();
-        let d = Defaults {
-            reflection: set,
-            refraction: set,
-            textures: &textures,
-            materials: &HashMap::new(),
-        };
         let mut rng = Rng::new(3);
         let mut unit = || {
             let v = Vec3::new(
@@ -317,11 +306,11 @@ mod tests {
         };
         let (mut built, mut out) = (0, Vec::new());
         for schema in Bsdf::SCHEMAS {
-            let text = format!("[materials.m]\ntype = \"{}\"\n", schema.plugin);
-            let root = from_toml(&text, std::path::Path::new("t.toml")).unwrap();
-            let node = root.child(Kind::Bsdf).expect("a material");
+            let text = format!("type = \"{}\"", schema.plugin);
+            let none = HashMap::new();
+            let m = with_defaults(&text, &none, |p, d| Bsdf::build(schema.plugin, p, d));
             // Models that need a held material or a texture are left out.
-            let Some(Ok(m)) = Bsdf::build(&node.plugin, &Props::new(node), &d) else {
+            let Some(Ok(m)) = m else {
                 continue;
             };
             built += 1;

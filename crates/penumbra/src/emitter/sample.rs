@@ -51,7 +51,7 @@ pub(super) struct LightSamples4 {
 
 impl LightSamples4 {
     /// The four samples, lane by lane.
-    #[inline]
+    #[inline(always)]
     pub(super) fn lanes(&self) -> [Option<LightSample>; 4] {
         let v3 = |v: &[Vec4; 3], l: usize| Vec3::new(v[0][l], v[1][l], v[2][l]);
         std::array::from_fn(|l| {

@@ -68,6 +68,18 @@ impl ShadowTally {
         })
     }
 
+    /// The tally of a set of `n` rays that the metric does not judge: its
+    /// `k` is never reached.
+    #[inline]
+    pub fn unjudged(n: u32) -> ShadowTally {
+        ShadowTally {
+            n,
+            k: u32::MAX,
+            reached: 0,
+            blocked: 0,
+        }
+    }
+
     /// Counts a ray that reached the light (`true`) or was blocked.
     #[inline]
     pub fn count(&mut self, reached: bool) {

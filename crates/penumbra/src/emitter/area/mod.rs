@@ -204,7 +204,9 @@ impl Area {
     }
 
     /// Samples for a batch of distribution points (see
-    /// [`Emitter::sample`](super::Emitter::sample)).
+    /// [`Emitter::sample`](super::Emitter::sample)); inlined into each
+    /// caller's loop.
+    #[inline(always)]
     pub(super) fn sample(
         &self,
         at: impl Fn(usize) -> Reference,
@@ -328,7 +330,7 @@ impl EmitterModel for Area {
         self.emitted(n, dir)
     }
 
-    #[inline]
+    #[inline(always)]
     fn sample(
         &self,
         at: impl Fn(usize) -> Reference,

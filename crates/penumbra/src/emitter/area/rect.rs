@@ -26,7 +26,7 @@ pub(super) fn intensity(power: Rgb, area: f32, n: Vec3, w: Vec3) -> Rgb {
 /// operations in the same order, with no fused ones). Prepared one by one, a
 /// set of 64 shadow rays spends a quarter of its time on them, mostly waiting
 /// on the divisions.
-#[inline]
+#[inline(always)]
 pub(super) fn sample4(power: Rgb, q: &Quad, p: &[Vec3; 4], points: &[Vec3; 4]) -> LightSamples4 {
     // `unit_square` and `Quad::point`, lane-wise.
     let square = |c: Vec4| {

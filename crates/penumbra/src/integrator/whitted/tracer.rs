@@ -485,7 +485,7 @@ impl<'a> Tracer<'a> {
             return Rgb::ZERO + term.unwrap_or(Rgb::ZERO);
         }
         let n = set.len() as u32;
-        let mut shadow_metric = ShadowTally::of(self.metric, n);
+        let mut shadow_metric = ShadowTally::of(self.metric, n).unwrap_or(ShadowTally::unjudged(n));
         let rule = SetRule::for_set(self.set_rule, set.len());
         let mut tally = rule.map(|r| {
             let mut t = self.tallies.pop().unwrap_or_default();
@@ -502,9 +502,7 @@ impl<'a> Tracer<'a> {
                     term = t;
                     sum += t;
                 }
-                if let Some(m) = &mut shadow_metric {
-                    m.count(t.is_some());
-                }
+                shadow_metric.count(t.is_some());
             }
             // The calibrated rule, at the end of each of its passes.
             if let Some((rule, t, end)) = &mut tally {
@@ -518,7 +516,7 @@ impl<'a> Tracer<'a> {
                 }
             }
             // The shadow metric: after k rays, all reached or all blocked.
-            if shadow_metric.is_some_and(|m| done == m.k && m.stops()) {
+            if done == shadow_metric.k && shadow_metric.stops() {
                 self.stats.saved.shadow += u64::from(n - done);
                 break;
             }
