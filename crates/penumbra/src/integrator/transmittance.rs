@@ -41,23 +41,16 @@ pub fn transmittance(
     (!blocked).then_some(trans)
 }
 
-/// [`transmittance`] of every ray of a batch over the same fraction
-/// `range` of its direction, with no material that varies, into `out`
-/// (one entry per ray, the same bits as ray by ray): the occlusion stage
-/// of a wavefront in one call, the place where wider kernels take the rays
-/// several at a time.
-pub fn transmittance_all(
-    world: &World,
-    rays: &[Ray],
-    range: (f32, f32),
-    transparency: &[f32],
-    out: &mut Vec<Option<f32>>,
-) {
+/// Whether each ray of a batch passes the same fraction `range` of its
+/// direction with every surface opaque (as Mitsuba's shadow rays see
+/// them), into `out` (one entry per ray: 1 where it passes, `None` where
+/// it is blocked): the occlusion stage of a wavefront in one call, the
+/// place where wider kernels take the rays several at a time.
+pub fn unblocked_all(world: &World, rays: &[Ray], range: (f32, f32), out: &mut Vec<Option<f32>>) {
     out.clear();
-    let opaque = |_: &Hit| 0.0;
     out.extend(
         rays.iter()
-            .map(|ray| transmittance(world, ray, range, transparency, None, &opaque)),
+            .map(|ray| (!world.occluded(ray, range)).then_some(1.0)),
     );
 }
 

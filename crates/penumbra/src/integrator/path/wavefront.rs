@@ -14,7 +14,7 @@ use crate::integrator::ray_sets::RaySets;
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
-use crate::integrator::transmittance::transmittance_all;
+use crate::integrator::transmittance::unblocked_all;
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::{EffectSpec, SetPoint};
@@ -50,8 +50,6 @@ pub(super) struct Wavefront<'s> {
     materials: Vec<Material>,
     /// How to reach the emitters at infinity from a point (see [`Escape`]).
     escape: Escape,
-    /// Per material, the transparency shadow rays see: none.
-    opaque: Vec<f32>,
     paths: Paths,
     next: Paths,
     hits: Vec<Option<Hit>>,
@@ -104,7 +102,6 @@ impl<'s> Wavefront<'s> {
             batches: StageBatches::default(),
             materials,
             escape,
-            opaque: vec![0.0; scene.bsdfs.len()],
             paths: Paths::default(),
             next: Paths::default(),
             hits: Vec::new(),
@@ -446,7 +443,7 @@ impl<'s> Wavefront<'s> {
         if !now.ray.is_empty() {
             self.stats.shadow += now.ray.len() as u64;
             self.batches.occlusion.add(now.ray.len());
-            transmittance_all(world, &now.ray, (0.0, SHADOW_END), &self.opaque, passed);
+            unblocked_all(world, &now.ray, (0.0, SHADOW_END), passed);
             for (&set, pass) in now.set.iter().zip(passed.iter()) {
                 if let Some(t) = sets.get_mut(set as usize) {
                     t.count(pass.is_some());
@@ -483,7 +480,7 @@ impl<'s> Wavefront<'s> {
         let rays = &later.ray[..keep];
         self.stats.shadow += keep as u64;
         self.batches.occlusion.add(keep);
-        transmittance_all(world, rays, (0.0, SHADOW_END), &self.opaque, passed);
+        unblocked_all(world, rays, (0.0, SHADOW_END), passed);
         for ((&slot, &value), pass) in later.slot.iter().zip(&later.value).zip(passed.iter()) {
             if pass.is_some() {
                 self.radiance[slot as usize] += value;
