@@ -69,6 +69,23 @@ pub trait TextureModel: Sized {
     /// One value at `uv` (Mitsuba's `eval_1`).
     fn eval_1(&self, uv: Vec2) -> f32;
 
+    /// [`eval`](Self::eval) at each point of `uvs`, into `out` (cleared
+    /// first): the batch form, which a texture's kernel may take several
+    /// lanes at a time; by default, one by one.
+    #[inline]
+    fn eval_all(&self, uvs: &[Vec2], out: &mut Vec<Rgb>) {
+        out.clear();
+        out.extend(uvs.iter().map(|&uv| self.eval(uv)));
+    }
+
+    /// [`eval_1`](Self::eval_1) at each point of `uvs`, into `out`
+    /// (cleared first); by default, one by one.
+    #[inline]
+    fn eval_1_all(&self, uvs: &[Vec2], out: &mut Vec<f32>) {
+        out.clear();
+        out.extend(uvs.iter().map(|&uv| self.eval_1(uv)));
+    }
+
     /// The derivatives of [`eval_1`](Self::eval_1) in `u` and `v` (0 for
     /// a texture constant where it is differentiable).
     fn eval_1_grad(&self, _uv: Vec2) -> Vec2 {
@@ -129,6 +146,30 @@ macro_rules! textures {
                 match self {
                     Texture::Constant(c) => *c,
                     $(Texture::$variant(t) => t.eval(uv),)*
+                }
+            }
+
+            /// The colour at each of `uvs`, into `out` (cleared first): the
+            /// batch form (see [`TextureModel::eval_all`]).
+            pub fn eval_all(&self, uvs: &[Vec2], out: &mut Vec<Rgb>) {
+                match self {
+                    Texture::Constant(c) => {
+                        out.clear();
+                        out.resize(uvs.len(), *c);
+                    }
+                    $(Texture::$variant(t) => t.eval_all(uvs, out),)*
+                }
+            }
+
+            /// One value at each of `uvs`, into `out` (cleared first): the
+            /// batch form (see [`TextureModel::eval_1_all`]).
+            pub fn eval_1_all(&self, uvs: &[Vec2], out: &mut Vec<f32>) {
+                match self {
+                    Texture::Constant(c) => {
+                        out.clear();
+                        out.resize(uvs.len(), one(*c));
+                    }
+                    $(Texture::$variant(t) => t.eval_1_all(uvs, out),)*
                 }
             }
 

@@ -142,3 +142,66 @@ fn one_value_of_a_colour_is_its_grey_or_its_luminance() {
     assert!((one(c) - c.luminance()).abs() < 1e-7);
     assert_eq!(Texture::Constant(Rgb::splat(0.7)).bounds_1(), (0.7, 0.7));
 }
+
+/// The batch forms give, lane by lane, the bits of the scalar ones, for
+/// the constant and every texture model.
+#[test]
+fn a_batch_gives_the_bits_of_each_lane() {
+    use std::sync::Arc;
+
+    use super::bitmap::{Bitmap, Filter, Wrap};
+    use crate::input::image::Image;
+    use crate::sampling::Rng;
+
+    let image = Image {
+        width: 3,
+        height: 2,
+        channels: 3,
+        pixels: (0..18).map(|i| (i * 7 % 11) as f32 / 10.0).collect(),
+    };
+    let to_uv = UvTransform::IDENTITY;
+    let textures = [
+        Texture::Constant(Rgb::new(0.1, 0.4, 0.2)),
+        Texture::Checkerboard(Checkerboard {
+            color0: Rgb::new(0.9, 0.1, 0.3),
+            color1: Rgb::splat(0.2),
+            to_uv,
+        }),
+        Texture::Bitmap(Bitmap::new(
+            Arc::new(image.clone()),
+            Filter::Bilinear,
+            Wrap::Mirror,
+            to_uv,
+        )),
+        Texture::Bitmap(Bitmap::new(
+            Arc::new(image),
+            Filter::Nearest,
+            Wrap::Repeat,
+            to_uv,
+        )),
+    ];
+    let mut rng = Rng::new(3);
+    let uvs: Vec<Vec2> = (0..37)
+        .map(|_| Vec2::new(rng.range(-2.0, 3.0), rng.range(-2.0, 3.0)))
+        .collect();
+    let (mut colours, mut values) = (vec![Rgb::ONE; 5], Vec::new());
+    for t in &textures {
+        t.eval_all(&uvs, &mut colours);
+        t.eval_1_all(&uvs, &mut values);
+        let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+        let want: Vec<_> = uvs.iter().map(|&uv| bits(t.eval_uv(uv))).collect();
+        assert_eq!(
+            colours.iter().map(|&c| bits(c)).collect::<Vec<_>>(),
+            want,
+            "{t:?}"
+        );
+        let want: Vec<_> = uvs.iter().map(|&uv| t.eval_1_uv(uv).to_bits()).collect();
+        assert_eq!(
+            values.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            want,
+            "{t:?}"
+        );
+    }
+    // Not vacuous: the lanes differ.
+    assert!(colours.windows(2).any(|w| w[0] != w[1]));
+}
