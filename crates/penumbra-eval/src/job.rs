@@ -121,7 +121,7 @@ impl Job {
         match self.variant {
             Variant::AsIs => {}
             Variant::PointLight => {
-                for light in children.iter_mut().filter(|c| c.kind == Kind::Emitter) {
+                for light in children.iter_mut().filter(|c| c.kind == Kind::Shape) {
                     if let Some(point) = point_light(light) {
                         *light = point;
                     }
@@ -153,17 +153,15 @@ fn frosted_pane() -> Option<Node> {
     node(Kind::Shape, serde_json::json!({ "objects": [quad] }))
 }
 
-/// For a rectangle light, a point light with the power it sends straight
-/// down (radiance × area, W/sr), at the rectangle's centre; `None` for
-/// other lights, which are kept.
+/// For a rectangle light (a quad carrying an area emitter, as a `rect`
+/// light is read), a point light with the power it sends straight down
+/// (radiance × area, W/sr), at the rectangle's centre; `None` for other
+/// shapes, which are kept.
 fn point_light(l: &Node) -> Option<Node> {
-    if l.plugin != "rect" {
-        return None;
-    }
-    let p = Props::new(l);
-    let [o, u, v, radiance] =
-        ["origin", "edge_u", "edge_v", "radiance"].map(|k| p.numbers::<3>(k).ok().flatten());
-    let (o, u, v, radiance) = (o?, u?, v?, radiance?);
+    let emitter = l.child(Kind::Emitter).filter(|_| l.plugin == "quad")?;
+    let (p, e) = (Props::new(l), Props::new(emitter));
+    let [o, u, v] = ["origin", "edge_u", "edge_v"].map(|k| p.numbers::<3>(k).ok().flatten());
+    let (o, u, v, radiance) = (o?, u?, v?, e.numbers::<3>("radiance").ok().flatten()?);
     let centre = [0, 1, 2].map(|i| o[i] + 0.5 * (u[i] + v[i]));
     let cross = [
         u[1] * v[2] - u[2] * v[1],
@@ -222,8 +220,10 @@ mod tests {
             "edge_v": [0.0, 0.0, 2.0],
             "radiance": [40.0, 40.0, 40.0],
         });
-        let rect = node(Kind::Emitter, serde_json::json!({ "lights": [rect] })).unwrap();
-        let p = point_light(&rect).unwrap();
+        let rect = serde_json::json!({ "lights": [rect] });
+        let rect = SceneSource::from_json(&rect, Path::new("."), &LoadOptions::default()).unwrap();
+        let rect = rect.root.child(Kind::Shape).unwrap();
+        let p = point_light(rect).unwrap();
         assert_eq!(p.plugin, "point");
         let props = Props::new(&p);
         assert_eq!(

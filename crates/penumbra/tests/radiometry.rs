@@ -552,7 +552,7 @@ fn a_shape_carrying_an_area_emitter_is_a_light() {
     let e = try_scene(&bad).err().expect("refused").to_string();
     assert!(
         e.contains(
-            "unknown light type `area`; valid choices are: point, rect, sphere, disk, constant"
+            "unknown light type `area`; valid choices are: point, constant, spot, directional, envmap, sky, rect, sphere, quad"
         ),
         "{e}"
     );
@@ -732,4 +732,57 @@ edge_v = [0.0, 0.0, 2.0]
     // in the second (Mitsuba's `eval_1`, squares swapped).
     assert_close(centre(&looking_down(&mask(-0.25))), want * 0.3, 1e-3);
     assert_close(centre(&looking_down(&mask(-1.25))), want * 0.8, 1e-3);
+}
+
+/// A light of a shape's type is that shape carrying an `area` emitter, of
+/// the black `penumbra:light` material and casting no shadow: written out
+/// as such an object, the scene renders the same bits. A light may take
+/// any shape and set `casts_shadows` itself.
+#[test]
+fn a_light_of_a_shape_type_is_that_shape_with_an_area_emitter() {
+    let quad = "origin = [-0.3, 1.5, -0.8]\nedge_u = [1.2, 0.0, 0.0]\nedge_v = [0.0, 0.0, 0.9]\n";
+    let emitter = "radiance = [10, 10, 10]\nshadow_rays = 4\n";
+    let light = looking_down(&format!("[[lights]]\ntype = \"rect\"\n{quad}{emitter}"));
+    let object = looking_down(&format!(
+        "[materials.\"penumbra:light\"]\nalbedo = [0, 0, 0]\nshininess = 0\nior = 1\nglossiness = 0\ntranslucency = 0\n\
+         [[objects]]\ntype = \"quad\"\n{quad}casts_shadows = false\nmaterial = \"penumbra:light\"\n\
+         emitter = {{ radiance = [10, 10, 10], shadow_rays = 4 }}\n"
+    ));
+    let bits = |toml: &str| {
+        let (img, stats) = render_toml(toml);
+        let px: Vec<u32> = (0..11 * 11)
+            .flat_map(|i| img.get(i % 11, i / 11).to_array())
+            .map(f32::to_bits)
+            .collect();
+        (px, stats.total())
+    };
+    let (a, b) = (bits(&light), bits(&object));
+    assert_eq!(a, b);
+    // Not vacuous: the floor is lit.
+    assert!(centre(&light).max_element() > 0.1);
+
+    // A tube light over the floor lights it; the lowered shape casts no
+    // shadow unless the light says so.
+    let tube = |casts: &str| {
+        looking_down(&format!(
+            "[[lights]]\ntype = \"cylinder\"\np0 = [-0.5, 1, 0]\np1 = [0.5, 1, 0]\nradius = 0.1\n\
+             radiance = [5, 5, 5]\nshadow_rays = 16\n{casts}"
+        ))
+    };
+    let scene = try_scene(&tube("")).unwrap();
+    let lights: Vec<_> = scene
+        .world
+        .objects
+        .iter()
+        .filter(|o| o.emitter.is_some())
+        .collect();
+    assert_eq!(lights.len(), 1);
+    assert!(!lights[0].casts_shadows);
+    assert!(centre(&tube("")).max_element() > 0.01);
+    let scene = try_scene(&tube("casts_shadows = true\n")).unwrap();
+    assert!(scene
+        .world
+        .objects
+        .iter()
+        .any(|o| o.emitter.is_some() && o.casts_shadows));
 }

@@ -81,7 +81,7 @@ fn closed_sets_list_valid_choices() {
     );
     let e = err("[[lights]]\ntype = \"projector\"\nposition = [0.0, 1.0, 0.0]\n");
     assert!(
-        e.contains("point, rect, sphere, disk, constant, spot, directional, envmap, sky"),
+        e.contains("point, constant, spot, directional, envmap, sky, rect, sphere, quad, mesh, rectangle, disk, cube, cylinder"),
         "{e}"
     );
     let e = err("[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\nmodel = \"exact\"\n");

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::context::BuildContext;
-use super::lights::{self, Light};
+use super::lights;
 use super::points::read_points;
 use super::ray_sets::{custom_sets, each_set, lobe_sets, Budgets};
 use super::reuse::{self, WorldCache};
@@ -20,7 +20,7 @@ use super::shapes::{self, MeshFiles};
 use super::transform;
 use super::{camera, Scene};
 use crate::accel::world::{mesh_bvh, Object, World};
-use crate::bsdf::thesis::{Thesis, ThesisParams};
+use crate::bsdf::thesis::Thesis;
 use crate::bsdf::{self, Bsdf, BsdfModel, MAX_LOBES};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
@@ -73,7 +73,7 @@ pub fn build(
     fp.finish("film")?;
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
-    let (mut bsdfs, emission, names, mut lobes) = materials(root, &sets, &textures)?;
+    let (bsdfs, emission, names, lobes) = materials(root, &sets, &textures)?;
     let key = worlds.as_ref().and_then(|_| reuse::key(root, ctx));
     // A world built under the same key came from these very objects, which
     // were valid then and are now: they need neither checking nor loading.
@@ -86,65 +86,58 @@ pub fn build(
         None => objects(root, ctx, &names)?,
     };
     let meshes: Arc<[Mesh]> = meshes.into();
-    let light_material = bsdfs.len() as u32;
-    let black = Thesis::new(&black(&sets));
-    lobes.push(black.sets());
-    bsdfs.push(black.into());
+    // The emitters in the tree's order: a light of its own where the tree
+    // names it, an emitting shape's where the shape is, then those of the
+    // instances' shapes; those at infinity come last.
+    let carried = shape_emitters(root, &names, &emission, &sets)?;
+    // A reused world's objects are copied to give the emitting ones their
+    // emitters again (in the order they were given them when it was built).
+    let mut copied;
+    let (emitting, meshes_of): (&mut Vec<Object>, &Arc<[Mesh]>) = match &reused {
+        Some(world) => {
+            copied = copies(world);
+            (&mut copied, &world.meshes)
+        }
+        None => (&mut objects, &meshes),
+    };
     let mut emitters = Vec::new();
     // The shadow set each emitter's description asks for, by emitter.
     let mut shadow = Vec::new();
     let mut far = Vec::new();
-    for node in root.children_of(Kind::Emitter) {
-        let p = Props::new(node);
-        let what = schemas::schema(node)?.what;
-        let shape = match lights::light(&node.plugin, &p, &ctx.base_dir)? {
-            Light::Emitter(emitter) if emitter.is_infinite() => {
-                far.push(emitter);
-                p.finish(what)?;
-                continue;
+    let mut emit = |i: usize, emitters: &mut Vec<Emitter>, shadow: &mut Vec<_>| {
+        if let Some(c) = &carried[i] {
+            let o = &mut emitting[i];
+            emitters.push(Emitter::Area(emitter(o, meshes_of, c)?));
+            shadow.push(Some(c.shadow));
+            o.emitter = Some(emitters.len() as u32 - 1);
+        }
+        Ok::<_, Invalid>(())
+    };
+    // The plain shapes come first among the objects, in the tree's order.
+    let mut next = 0;
+    for node in &root.children {
+        match node.kind {
+            Kind::Emitter => {
+                let p = Props::new(node);
+                let emitter = lights::light(&node.plugin, &p, &ctx.base_dir)?;
+                p.finish(schemas::schema(node)?.what)?;
+                if emitter.is_infinite() {
+                    far.push(emitter);
+                } else {
+                    emitters.push(emitter);
+                    shadow.push(None);
+                }
             }
-            Light::Emitter(emitter) => {
-                emitters.push(emitter);
-                shadow.push(None);
-                p.finish(what)?;
-                continue;
+            Kind::Shape if !matches!(node.plugin.as_str(), "shapegroup" | "instance") => {
+                emit(next, &mut emitters, &mut shadow)?;
+                next += 1;
             }
-            Light::Shape(shape) => shape,
-        };
-        // A shape carrying an `area` emitter, visible but casting no
-        // shadow, of a black material.
-        let (radiance, model, set) = area::read(&p, what, sets.shadow)?;
-        p.finish(what)?;
-        let object = Object {
-            material: light_material,
-            emitter: Some(emitters.len() as u32),
-            casts_shadows: false,
-            ..Object::new(shape, light_material)
-        };
-        let at = node.origin.clone();
-        let carried = Carried {
-            radiance,
-            model,
-            shadow: set,
-            at,
-        };
-        emitters.push(Emitter::Area(emitter(&object, &meshes, &carried)?));
-        shadow.push(Some(set));
-        if reused.is_none() {
-            objects.push(object);
+            _ => {}
         }
     }
-    let carried = shape_emitters(root, &names, &emission, &sets)?;
-    match &reused {
-        Some(world) => {
-            let mut copies = copies(world);
-            emitting_objects(&mut copies, &world.meshes, &carried, &mut emitters)?
-        }
-        None => emitting_objects(&mut objects, &meshes, &carried, &mut emitters)?,
+    for i in next..carried.len() {
+        emit(i, &mut emitters, &mut shadow)?;
     }
-    // The emitting objects' emitters follow the lights', one for each
-    // object carrying one; those at infinity come last and set none.
-    shadow.extend(carried.iter().flatten().map(|c| Some(c.shadow)));
     emitters.extend(far);
     shadow.resize(emitters.len(), None);
     let budgets = Budgets { shadow, lobes };
@@ -352,22 +345,6 @@ fn holding_order(nodes: &[&Node]) -> Result<Vec<usize>, Invalid> {
     Ok(order)
 }
 
-/// The surface material of light shapes: black, since their emission is the light's.
-fn black(sets: &Sets) -> ThesisParams {
-    ThesisParams {
-        albedo: Rgb::ZERO,
-        specular: 0.0,
-        shininess: 0.0,
-        reflectivity: 0.0,
-        transparency: 0.0,
-        ior: 1.0,
-        glossiness: 0.0,
-        translucency: 0.0,
-        reflection: sets.reflection,
-        refraction: sets.refraction,
-    }
-}
-
 /// The objects of the tree's shapes (meshes loaded and baked) and their
 /// meshes: the plain shapes' in their order, then those of the instances
 /// (see [`instance`](crate::geometry::instance)), each group built once.
@@ -437,6 +414,7 @@ fn objects(
         objects.extend(shapes.iter().map(|o| Object {
             placement: Some(Arc::clone(&placement)),
             flip_normals: o.flip_normals,
+            casts_shadows: o.casts_shadows,
             mesh_bvh: o.mesh_bvh.clone(),
             ..Object::new(o.shape.clone(), o.material)
         }));
@@ -583,25 +561,6 @@ fn carried(
         shadow: sets.shadow,
         at: at.clone(),
     }))
-}
-
-/// Gives every object that carries an emitter (see [`shape_emitters`]) an
-/// area emitter of its surface (where it is, placed or moving), appended
-/// to `emitters`; `meshes` are the scene's.
-fn emitting_objects(
-    objects: &mut [Object],
-    meshes: &Arc<[Mesh]>,
-    carried: &[Option<Carried>],
-    emitters: &mut Vec<Emitter>,
-) -> Result<(), Invalid> {
-    for (o, c) in objects.iter_mut().zip(carried) {
-        let Some(c) = c else {
-            continue;
-        };
-        emitters.push(Emitter::Area(emitter(o, meshes, c)?));
-        o.emitter = Some(emitters.len() as u32 - 1);
-    }
-    Ok(())
 }
 
 /// The area emitter `c` of the object `o`.

@@ -1,99 +1,32 @@
 //! The lights of a scene (`[[lights]]` of a scene file): a point, spot or
 //! directional light, an environment map or a sky is an emitter of its
-//! own; a rectangle, sphere or disk light is a shape carrying an `area`
+//! own; a light of a shape's type (`rect`, `sphere`, `disk`, any shape of
+//! `[[objects]]`) is [lowered](lower) to that shape carrying an `area`
 //! emitter, visible to rays but casting no shadow (so that it never blocks
 //! its own light, as the thesis's lights do not).
 
 use std::path::Path;
 
-use super::shapes::quad;
-use crate::description::check::{finite3_value, nonzero3_value, positive_value, required};
+use super::shapes;
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
+use crate::description::{Invalid, Kind, Located, Node, Origin, Prop, Props, Schema, Value};
 use crate::emitter::{area, Constant, Directional, Emitter, Envmap, Point, Sky, Spot};
-use crate::geometry::Shape;
-use crate::math::Frame;
-
-/// A parameter a light cannot do without.
-const fn param(name: &'static str, ty: Type, doc: &'static str) -> Param {
-    Param::new(name, ty, "required", doc)
-}
-
-pub const RECT: Schema = Schema {
-    kind: Kind::Emitter,
-    plugin: "rect",
-    what: "rect light",
-    doc: "a parallelogram emitting uniform radiance along `edge_u × edge_v`, casting no shadow",
-    mitsuba: &[],
-    params: &[
-        param("origin", Type::Vector, "one corner"),
-        param("edge_u", Type::Vector, "first edge"),
-        param(
-            "edge_v",
-            Type::Vector,
-            "second edge; the light emits along `edge_u × edge_v`",
-        ),
-        area::PARAMS[0],
-        area::PARAMS[1],
-        area::PARAMS[2],
-        area::PARAMS[3],
-    ],
-};
-
-pub const SPHERE: Schema = Schema {
-    kind: Kind::Emitter,
-    plugin: "sphere",
-    what: "sphere light",
-    doc: "a sphere emitting uniform radiance outward, casting no shadow",
-    mitsuba: &[],
-    params: &[
-        param("center", Type::Vector, "its centre"),
-        param("radius", Type::Number, "its radius > 0").range(Range::Positive),
-        area::PARAMS[0],
-        area::PARAMS[1],
-        area::PARAMS[2],
-        area::PARAMS[3],
-    ],
-};
-
-pub const DISK: Schema = Schema {
-    kind: Kind::Emitter,
-    plugin: "disk",
-    what: "disk light",
-    doc: "a disk emitting uniform radiance along its normal, casting no shadow",
-    mitsuba: &[],
-    params: &[
-        param("center", Type::Vector, "its centre"),
-        param("normal", Type::Vector, "the direction it emits along"),
-        param("radius", Type::Number, "its radius > 0").range(Range::Positive),
-        area::PARAMS[0],
-        area::PARAMS[1],
-        area::PARAMS[2],
-        area::PARAMS[3],
-    ],
-};
 
 /// The emitters as the readers see them: Mitsuba's first, in the order
 /// messages list them.
-pub const PLUGINS: [Plugin; 10] = [
+pub const PLUGINS: [Plugin; 7] = [
     Plugin::new(&Point::SCHEMA, Point::MITSUBA),
     Plugin::new(&Constant::SCHEMA, Constant::MITSUBA),
     Plugin::new(&area::SCHEMA, area::MITSUBA),
     Plugin::new(&Spot::SCHEMA, Spot::MITSUBA),
     Plugin::new(&Directional::SCHEMA, Directional::MITSUBA),
     Plugin::new(&Envmap::SCHEMA, Envmap::MITSUBA),
-    Plugin::new(&RECT, Mitsuba::SAME),
-    Plugin::new(&SPHERE, Mitsuba::SAME),
-    Plugin::new(&DISK, Mitsuba::SAME),
     Plugin::new(&Sky::SCHEMA, Mitsuba::SAME),
 ];
 
 /// Every emitter a scene file names: its lights, and the background's.
-pub const SCHEMAS: [&Schema; 9] = [
+pub const SCHEMAS: [&Schema; 6] = [
     &Point::SCHEMA,
-    &RECT,
-    &SPHERE,
-    &DISK,
     &Constant::SCHEMA,
     &Spot::SCHEMA,
     &Directional::SCHEMA,
@@ -101,46 +34,121 @@ pub const SCHEMAS: [&Schema; 9] = [
     &Sky::SCHEMA,
 ];
 
-/// What a light of a scene file is: an emitter of its own, or a shape
-/// carrying an `area` emitter (whose parameters are the light's others).
-pub(super) enum Light {
-    Emitter(Emitter),
-    Shape(Shape),
-}
-
 /// The light `plugin` of the parameters `p`; `base_dir` anchors an
 /// environment map's file.
-pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Light, Invalid> {
-    let emitter = match plugin {
+pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Emitter, Invalid> {
+    Ok(match plugin {
         "point" => Emitter::Point(Point::build(p)?),
         "constant" => Emitter::Constant(Constant::build(p)?),
         "spot" => Emitter::Spot(Spot::build(p)?),
         "directional" => Emitter::Directional(Directional::build(p)?),
         "envmap" => Emitter::Envmap(Envmap::build(p, base_dir)?),
         "sky" => Emitter::Envmap(Sky::build(p)?.envmap()),
-        "rect" => return Ok(Light::Shape(Shape::Quad(quad(p, "rect light")?))),
-        "sphere" => {
-            let center = required(p, p.numbers::<3>("center")?, "center", "sphere light")?;
-            let center = finite3_value(p, "center", center)?;
-            let radius = required(p, p.f32("radius")?, "radius", "sphere light")?;
-            let radius = positive_value(p, "radius", radius)?;
-            return Ok(Light::Shape(Shape::Sphere { center, radius }));
-        }
-        "disk" => {
-            let center = required(p, p.numbers::<3>("center")?, "center", "disk light")?;
-            let center = finite3_value(p, "center", center)?;
-            let normal = required(p, p.numbers::<3>("normal")?, "normal", "disk light")?;
-            let normal = nonzero3_value(p, "normal", normal)?;
-            let radius = required(p, p.f32("radius")?, "radius", "disk light")?;
-            let radius = positive_value(p, "radius", radius)?;
-            let frame = Frame::from_normal(normal.normalize());
-            return Ok(Light::Shape(Shape::Disk {
-                center,
-                frame,
-                radius,
-            }));
-        }
         _ => return Err(p.node_error(format!("`{plugin}` is not a light a scene names by itself"))),
-    };
-    Ok(Light::Emitter(emitter))
+    })
+}
+
+/// The material a light of a shape type is made of, unless it names one:
+/// black, so that its surface shows its emission alone. A scene may define
+/// a material of this name to give such lights another.
+pub const LIGHT_MATERIAL: &str = "penumbra:light";
+
+/// The names a light takes for a shape beside the shapes' own.
+const ALIASES: [(&str, &str); 1] = [("rect", "quad")];
+
+/// The types of shape a light may take: `rect`, then the shapes'
+/// (but a group's and an instance's).
+pub fn shape_types() -> impl Iterator<Item = &'static str> {
+    let shapes = shapes::SCHEMAS.iter().map(|s| s.plugin);
+    ALIASES
+        .iter()
+        .map(|(light, _)| *light)
+        .chain(shapes.filter(|p| !matches!(*p, "instance" | "shapegroup")))
+}
+
+/// Lowers the lights of `root` whose type is a shape's (`rect` for
+/// `quad`): each becomes that shape carrying an `area` emitter, the
+/// light's keys going to the emitter where they are the `area` emitter's
+/// and to the shape otherwise. The shape casts no shadow (so that a light
+/// never blocks its own light, as the thesis's lights do not) and is of
+/// [`LIGHT_MATERIAL`], unless the light sets `casts_shadows` or
+/// `material`. Every key keeps its place, so messages point where the
+/// scene wrote it.
+pub fn lower(root: &mut Node) {
+    let mut black = false;
+    for node in &mut root.children {
+        if node.kind != Kind::Emitter {
+            continue;
+        }
+        let plugin = match ALIASES.iter().find(|(light, _)| *light == node.plugin) {
+            Some((_, shape)) => *shape,
+            None => node.plugin.as_str(),
+        };
+        if !shape_types().any(|t| t == plugin) {
+            continue;
+        }
+        let mut shape = Node::new(Kind::Shape, plugin, node.origin.clone());
+        shape.plugin_origin = node.plugin_origin.clone();
+        shape.id = node.id.take();
+        let mut emitter = Node::new(Kind::Emitter, area::SCHEMA.plugin, node.origin.clone());
+        emitter.plugin_origin = node.plugin_origin.clone();
+        for p in node.props.drain(..) {
+            match area::SCHEMA.param(&p.name) {
+                Some(_) => emitter.props.push(p),
+                None => shape.props.push(p),
+            }
+        }
+        let at = |key: &str| Origin::unlocated(node.origin.path.key(key));
+        if shape.prop("casts_shadows").is_none() {
+            let value = Located::new(Value::Bool(false), at("casts_shadows"));
+            shape
+                .props
+                .push(Prop::new("casts_shadows", at("casts_shadows"), value));
+        }
+        if shape.prop("material").is_none() {
+            let value = Located::new(Value::String(LIGHT_MATERIAL.into()), at("material"));
+            shape
+                .props
+                .push(Prop::new("material", at("material"), value));
+            black = true;
+        }
+        shape.children.push(emitter);
+        *node = shape;
+    }
+    let defined = root
+        .children_of(Kind::Bsdf)
+        .any(|m| m.id.as_deref() == Some(LIGHT_MATERIAL));
+    if black && !defined {
+        root.children.push(black_material(&root.origin));
+    }
+}
+
+/// The thesis material that reflects and transmits nothing, named
+/// [`LIGHT_MATERIAL`].
+fn black_material(root: &Origin) -> Node {
+    let path = root.path.key("materials").key(LIGHT_MATERIAL);
+    let mut m = Node::new(Kind::Bsdf, "thesis", Origin::unlocated(path.clone()));
+    m.id = Some(LIGHT_MATERIAL.into());
+    let zero = Value::Float(0.0);
+    for (key, value) in [
+        (
+            "albedo",
+            Value::Array(
+                (0..3)
+                    .map(|i| {
+                        Located::new(zero.clone(), Origin::unlocated(path.key("albedo").index(i)))
+                    })
+                    .collect(),
+            ),
+        ),
+        ("shininess", zero.clone()),
+        ("ior", Value::Float(1.0)),
+        ("glossiness", zero.clone()),
+        ("translucency", zero),
+    ] {
+        let at = Origin::unlocated(path.key(key));
+        m.props
+            .push(Prop::new(key, at.clone(), Located::new(value, at)));
+    }
+    m
 }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::build::build;
 use super::context::BuildContext;
+use super::lights;
 use super::reuse::WorldCache;
 use super::schemas;
 use super::Scene;
@@ -82,7 +83,8 @@ impl SceneSource {
         base_dir: &Path,
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
-        let root = description::from_toml(text, file)?;
+        let mut root = description::from_toml(text, file)?;
+        lights::lower(&mut root);
         schemas::check(&root)?;
         Ok(SceneSource {
             root,
@@ -99,7 +101,8 @@ impl SceneSource {
         base_dir: &Path,
         opts: &LoadOptions,
     ) -> Result<SceneSource, SceneError> {
-        let root = description::from_json(value)?;
+        let mut root = description::from_json(value)?;
+        lights::lower(&mut root);
         schemas::check(&root)?;
         Ok(SceneSource::from_tree(root, base_dir, opts))
     }

@@ -81,7 +81,7 @@ impl Overrides {
     /// scene-file key goes to (the film, the sampler, the integrator, the
     /// sensor), its origin the key's path without a place in the file (the
     /// value came from elsewhere). A ray count or distribution given here
-    /// also removes the materials' and lights' own.
+    /// also removes the materials' and emitters' own.
     pub fn apply(&self, src: &mut SceneSource) {
         let root = &mut src.root;
         if let (Some(i), Some(n)) = (self.integrator, root.child_mut(Kind::Integrator)) {
@@ -176,11 +176,28 @@ impl Overrides {
                 n.remove_prop(key);
             }
         };
+        // The lights' own, and those of the emitters shapes carry (in
+        // groups too).
+        let emitters = |n: &mut Node| {
+            clear(n, "shadow_rays", self.shadow_rays.is_some());
+            clear(n, "shadow_distribution", shadow_d.is_some());
+        };
         for n in root.children.iter_mut() {
             match n.kind {
-                Kind::Emitter => {
-                    clear(n, "shadow_rays", self.shadow_rays.is_some());
-                    clear(n, "shadow_distribution", shadow_d.is_some());
+                Kind::Emitter => emitters(n),
+                // A shape's children: its emitter, or a group's shapes and
+                // theirs.
+                Kind::Shape => {
+                    for c in n.children.iter_mut() {
+                        match c.kind {
+                            Kind::Emitter => emitters(c),
+                            _ => c
+                                .children
+                                .iter_mut()
+                                .filter(|e| e.kind == Kind::Emitter)
+                                .for_each(emitters),
+                        }
+                    }
                 }
                 Kind::Bsdf => {
                     clear(n, "reflection_rays", self.reflection_rays.is_some());
@@ -282,7 +299,11 @@ mod tests {
             poisson
         );
         assert_eq!(sampler.prop("distribution").unwrap().value.value, poisson);
-        let rect = root.children_of(Kind::Emitter).nth(1).unwrap();
+        let rect = root
+            .child(Kind::Shape)
+            .unwrap()
+            .child(Kind::Emitter)
+            .unwrap();
         assert!(rect.prop("shadow_rays").is_none() && rect.prop("shadow_distribution").is_none());
         let m = root.child(Kind::Bsdf).unwrap();
         assert_eq!(

@@ -136,10 +136,10 @@ mod tests {
     }
 
     /// Each emitter's shadow set is the one its description asks for, in
-    /// the order of the emitters: the lights' (an area light's own keys,
-    /// none for a point light), then the emitting objects' (an `emitter`
-    /// table's keys, the render's for a material's emission), then those
-    /// at infinity (none).
+    /// the order of the emitters, the tree's: the emitting objects' (an
+    /// `emitter` table's keys, the render's for a material's emission),
+    /// then the lights' (an area light's own keys, none for a point
+    /// light), then those at infinity (none).
     #[test]
     fn shadow_sets_follow_the_emitters() {
         let scene = build(
@@ -157,10 +157,10 @@ mod tests {
         assert_eq!(
             scene.budgets.shadow,
             [
-                Some(spec(9, jitter)),
-                None,
                 Some(spec(2, jitter)),
                 Some(spec(5, Distribution::Poisson)),
+                Some(spec(9, jitter)),
+                None,
                 None,
             ]
         );

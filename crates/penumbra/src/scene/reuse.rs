@@ -71,13 +71,21 @@ impl WorldCache {
     }
 }
 
+/// The keys of an emitter that leave the world as it is.
+const UNSHAPED: [&str; 5] = [
+    "radiance",
+    "intensity",
+    "model",
+    "shadow_rays",
+    "shadow_distribution",
+];
+
 /// Everything the world of `root` is made from, as text: the shapes (their
 /// whole nodes: materials are named, placements given), the materials'
-/// names in order (objects refer to them by index, lights' surfaces to the
-/// one after the last) and what they emit (emitting objects carry
-/// emitters, numbered in the world), the lights without what does not
-/// shape them (power, model, shadow rays, so that sweeps over those share a
-/// world), where mesh paths point, and each mesh file's length and
+/// names in order (objects refer to them by index) and what they emit
+/// (emitting objects carry emitters, numbered in the world), the lights
+/// and the shapes' emitters without what does not shape the world (power,
+/// model, shadow rays, so that sweeps over those share a world), where mesh paths point, and each mesh file's length and
 /// modification time (so that a file rewritten between builds is read
 /// again). `None` when a mesh path cannot be resolved or a file not
 /// examined: such a scene is built afresh, which reports the error.
@@ -90,25 +98,30 @@ pub(super) fn key(root: &Node, ctx: &BuildContext) -> Option<String> {
         let emits = m.prop("emission").map(|p| format!("{:?}", p.value.value));
         key += &format!("bsdf {:?} {emits:?}|", m.id);
     }
+    // What does not shape the world: the emitters' power, model and
+    // shadow sets.
+    let unshaped = |node: &mut Node| {
+        for name in UNSHAPED {
+            node.remove_prop(name);
+        }
+    };
     for s in root.children_of(Kind::Shape) {
-        key += &s.fingerprint();
+        let mut shape = s.clone();
+        shape
+            .children
+            .iter_mut()
+            .filter(|c| c.kind == Kind::Emitter)
+            .for_each(unshaped);
+        key += &shape.fingerprint();
         key.push('|');
     }
     for l in root
         .children_of(Kind::Emitter)
         .filter(|l| l.plugin != "constant")
     {
-        let mut shape = l.clone();
-        for name in [
-            "radiance",
-            "intensity",
-            "model",
-            "shadow_rays",
-            "shadow_distribution",
-        ] {
-            shape.remove_prop(name);
-        }
-        key += &shape.fingerprint();
+        let mut light = l.clone();
+        unshaped(&mut light);
+        key += &light.fingerprint();
         key.push('|');
     }
     let files = mesh_stamps(root, ctx)?;

@@ -94,7 +94,11 @@ pub(crate) fn schema_in(parent: Kind, node: &Node) -> Result<&'static Schema, In
         .find(|s| s.plugin == node.plugin)
         .copied()
         .ok_or_else(|| {
-            let names: Vec<&str> = all.iter().map(|s| s.plugin).collect();
+            let mut names: Vec<&str> = all.iter().map(|s| s.plugin).collect();
+            if (parent, node.kind) == (Kind::Scene, Kind::Emitter) {
+                // A light of a shape's type is lowered to that shape.
+                names.extend(lights::shape_types());
+            }
             Invalid::at(
                 &node.plugin_origin,
                 format!(

@@ -31,7 +31,7 @@ pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
 pub const INSTANCING_FACTOR: u64 = 16;
 
 /// The keys every object has besides its shape's.
-const COMMON: [Param; 4] = [
+const COMMON: [Param; 5] = [
     Param::new(
         "material",
         Type::Material,
@@ -58,6 +58,13 @@ const COMMON: [Param; 4] = [
         "false",
         "turn the normals the other way: into a sphere, cube or cylinder, against a flat shape's or a mesh's winding (a one-sided light then emits to the other side)",
     ),
+    Param::new(
+        "casts_shadows",
+        Type::Bool,
+        "true",
+        "whether it blocks shadow rays; `false` lets light through it, as through a `[[lights]]` light's surface (Cycles' shadow visibility)",
+    )
+    .penumbra_only(),
 ];
 
 pub const SPHERE: Schema = Schema {
@@ -84,6 +91,7 @@ pub const SPHERE: Schema = Schema {
         COMMON[1],
         COMMON[2],
         COMMON[3],
+        COMMON[4],
     ],
 };
 
@@ -107,6 +115,7 @@ pub const QUAD: Schema = Schema {
         COMMON[1].penumbra_only(),
         COMMON[2],
         COMMON[3],
+        COMMON[4],
     ],
 };
 
@@ -125,6 +134,7 @@ pub const MESH: Schema = Schema {
         COMMON[1],
         COMMON[2],
         COMMON[3],
+        COMMON[4],
     ],
 };
 
@@ -134,7 +144,7 @@ pub const RECTANGLE: Schema = Schema {
     what: "rectangle",
     doc: "Mitsuba's rectangle: the square [−1, 1]² at z = 0 placed by the transform, facing +z",
     mitsuba: &[],
-    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4]],
 };
 
 pub const DISK: Schema = Schema {
@@ -170,6 +180,7 @@ pub const DISK: Schema = Schema {
         COMMON[1],
         COMMON[2],
         COMMON[3],
+        COMMON[4],
     ],
 };
 
@@ -179,7 +190,7 @@ pub const CUBE: Schema = Schema {
     what: "cube",
     doc: "Mitsuba's cube: the 24-vertex mesh of [−1, 1]³ placed by the transform",
     mitsuba: &["cube"],
-    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3]],
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4]],
 };
 
 pub const CYLINDER: Schema = Schema {
@@ -212,6 +223,7 @@ pub const CYLINDER: Schema = Schema {
         COMMON[1],
         COMMON[2],
         COMMON[3],
+        COMMON[4],
     ],
 };
 
@@ -372,18 +384,22 @@ pub(super) fn object(
     meshes: &mut Vec<Mesh>,
     files: &mut MeshFiles,
 ) -> Result<Object, BuildError> {
-    let start = transform::read(p, "transform")?.unwrap_or(Mat4::IDENTITY);
+    // Without a transform, a shape is taken as written, with no arithmetic.
+    let given = transform::read(p, "transform")?;
+    let start = given.unwrap_or(Mat4::IDENTITY);
+    let as_written = given.is_none();
     let end = transform::read(p, "transform_end")?;
     let motion = match end {
         Some(end) => Some(transform::motion(p, &start, &end)?),
         None => None,
     };
     let flip_normals = p.bool("flip_normals")?.unwrap_or(false);
+    let casts_shadows = p.bool("casts_shadows")?.unwrap_or(true);
     let shape = match plugin {
         "sphere" => {
             let center = finite3(p, "center", [0.0; 3])?;
             let radius = positive(p, "radius", 1.0)?;
-            sphere(p, center, radius, &start, motion.is_some())?
+            sphere(p, center, radius, &start, as_written || motion.is_some())?
         }
         "rectangle" => {
             let q = Quad::new(Vec3::new(-1.0, -1.0, 0.0), 2.0 * Vec3::X, 2.0 * Vec3::Y);
@@ -401,16 +417,19 @@ pub(super) fn object(
             };
             let radius = positive(p, "radius", 1.0)?;
             let frame = Frame::from_normal(normal);
-            let m = if motion.is_some() {
-                Mat4::IDENTITY
+            if as_written || motion.is_some() {
+                Shape::Disk {
+                    center,
+                    frame,
+                    radius,
+                }
             } else {
-                start
-            };
-            let s = uniform_scale(p, "disk", &m)?;
-            Shape::Disk {
-                center: m.transform_point3(center),
-                frame: placed_frame(&m, &frame),
-                radius: radius * s,
+                let s = uniform_scale(p, "disk", &start)?;
+                Shape::Disk {
+                    center: start.transform_point3(center),
+                    frame: placed_frame(&start, &frame),
+                    radius: radius * s,
+                }
             }
         }
         "cylinder" => {
@@ -444,7 +463,7 @@ pub(super) fn object(
         }
         "quad" => {
             let q = quad(p, "quad")?;
-            Shape::Quad(if motion.is_some() {
+            Shape::Quad(if as_written || motion.is_some() {
                 q
             } else {
                 transform_quad(&q, &start)
@@ -474,7 +493,7 @@ pub(super) fn object(
         shape,
         material,
         emitter: None,
-        casts_shadows: true,
+        casts_shadows,
         motion,
         placement: None,
         flip_normals,
@@ -521,8 +540,16 @@ fn transform_rectangle(q: &Quad, m: &Mat4) -> Quad {
 
 /// A static sphere stays analytic under translation, rotation and uniform
 /// scale; anything else would make an ellipsoid, which we do not support.
-fn sphere(p: &Props, center: Vec3, radius: f32, m: &Mat4, moving: bool) -> Result<Shape, Invalid> {
-    if moving {
+/// `as_given`: the sphere is taken as given (a moving one is placed at
+/// each ray's time).
+fn sphere(
+    p: &Props,
+    center: Vec3,
+    radius: f32,
+    m: &Mat4,
+    as_given: bool,
+) -> Result<Shape, Invalid> {
+    if as_given {
         return Ok(Shape::Sphere { center, radius });
     }
     let (scale, _, _) = m.to_scale_rotation_translation();
