@@ -1330,8 +1330,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
         ),
         (
             r#"<emitter type="projector"/>"#,
-            "emitter `projector` is not supported; supported: point, constant, area, spot, \
-             directional, envmap",
+            "emitter `projector` is not supported; supported: point, constant, spot, \
+             directional, envmap, area",
         ),
         (r#"<emitter type="envmap"/>"#, "envmap: missing `filename`"),
         (

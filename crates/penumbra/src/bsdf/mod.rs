@@ -141,6 +141,13 @@ pub trait BsdfModel: Sized {
     fn uniform_shadow_transmittance(&self) -> Option<f32> {
         Some(0.0)
     }
+
+    /// The sets of rays the model's own parameters ask for, by lobe slot
+    /// (the thesis material's `reflection_rays`, …); `None` for a model
+    /// without such parameters.
+    fn own_sets(&self) -> Option<[Option<EffectSpec>; MAX_LOBES]> {
+        None
+    }
 }
 
 /// Declares the models' modules, and makes [`Bsdf`], the enum of the
@@ -257,6 +264,13 @@ macro_rules! models {
             pub fn uniform_shadow_transmittance(&self) -> Option<f32> {
                 match self {
                     $(Bsdf::$variant(m) => m.uniform_shadow_transmittance(),)*
+                }
+            }
+
+            /// See [`BsdfModel::own_sets`].
+            pub fn own_sets(&self) -> Option<[Option<EffectSpec>; MAX_LOBES]> {
+                match self {
+                    $(Bsdf::$variant(m) => m.own_sets(),)*
                 }
             }
         }

@@ -8,7 +8,9 @@
 //!
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
-use super::model::EmitterModel;
+use std::path::Path;
+
+use super::model::{EmitterModel, EmitterPlugin};
 use crate::description::check::{nonneg3, required};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
@@ -72,6 +74,14 @@ impl Constant {
     /// The density of [`sample`](Self::sample) for any direction.
     pub fn pdf(&self) -> f32 {
         square_to_uniform_sphere_pdf(Vec3::Z)
+    }
+}
+
+impl EmitterPlugin for Constant {
+    type Built = Constant;
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Constant, Invalid> {
+        Constant::build(p)
     }
 }
 

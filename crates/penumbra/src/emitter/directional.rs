@@ -12,7 +12,9 @@
 //! Mitsuba's `to_world` turns `+z` into the direction: the XML reader gives
 //! it as `direction`.
 
-use super::model::EmitterModel;
+use std::path::Path;
+
+use super::model::{EmitterModel, EmitterPlugin};
 use super::sample::{LightSample, Reference};
 use crate::description::check::{nonneg3, nonzero3};
 use crate::description::mitsuba::adapt;
@@ -108,6 +110,14 @@ impl Directional {
             weight: self.irradiance,
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterPlugin for Directional {
+    type Built = Directional;
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Directional, Invalid> {
+        Directional::build(p)
     }
 }
 

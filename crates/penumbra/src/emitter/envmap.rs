@@ -29,7 +29,7 @@ use crate::input::image::{read_image, Encoding};
 use crate::math::{Mat3, Rgb, Vec2, Vec3};
 use crate::sampling::piecewise2d::Piecewise2D;
 
-use super::model::EmitterModel;
+use super::model::{EmitterModel, EmitterPlugin};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug)]
@@ -228,6 +228,14 @@ impl Envmap {
             return 0.0;
         }
         self.map.distribution.pdf(uv) / (2.0 * PI * PI * sin_t)
+    }
+}
+
+impl EmitterPlugin for Envmap {
+    type Built = Envmap;
+
+    fn build(p: &Props, base_dir: &Path) -> Result<Envmap, Invalid> {
+        Envmap::build(p, base_dir)
     }
 }
 

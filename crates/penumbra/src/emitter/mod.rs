@@ -41,12 +41,16 @@ pub use area::{Area, PenumbraModel};
 pub use constant::Constant;
 pub use directional::Directional;
 pub use envmap::Envmap;
-pub use model::EmitterModel;
+pub use model::{EmitterModel, EmitterPlugin};
 pub use point::Point;
 pub use sample::{LightSample, Reference};
 pub use sky::Sky;
 pub use spot::Spot;
 
+use std::path::Path;
+
+use crate::description::mitsuba::Plugin;
+use crate::description::{Invalid, Props, Schema};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution;
 
@@ -59,6 +63,12 @@ macro_rules! emitters {
         pub enum Emitter {
             $($variant($variant),)*
         }
+
+        $(impl From<$variant> for Emitter {
+            fn from(e: $variant) -> Emitter {
+                Emitter::$variant(e)
+            }
+        })*
 
         impl Emitter {
             /// True for an emitter without extent (see [`EmitterModel::is_delta`]).
@@ -185,6 +195,43 @@ emitters! {
     Spot,
     Directional,
     Envmap,
+}
+
+/// Makes the registry of the emitters a scene names by itself: their
+/// schemas, their plugins as the readers see them (the `area` emitter,
+/// which shapes carry, among them) and [`build`].
+macro_rules! plugins {
+    ($($plugin:ident,)*) => {
+        /// The emitters a scene names by itself, in the order messages
+        /// list them.
+        pub const SCHEMAS: &[&Schema] = &[$(&$plugin::SCHEMA,)*];
+
+        /// The emitters as the readers see them: those a scene names by
+        /// itself, then the `area` emitter a shape carries.
+        pub const PLUGINS: &[Plugin] = &[
+            $(Plugin::new(&$plugin::SCHEMA, $plugin::MITSUBA),)*
+            Plugin::new(&area::SCHEMA, area::MITSUBA),
+        ];
+
+        /// The emitter `plugin` of the parameters `p` (files relative to
+        /// `base_dir`); `None` for a name no emitter of [`SCHEMAS`] has.
+        pub fn build(plugin: &str, p: &Props, base_dir: &Path) -> Option<Result<Emitter, Invalid>> {
+            $(if plugin == $plugin::SCHEMA.plugin {
+                return Some(<$plugin as EmitterPlugin>::build(p, base_dir).map(Emitter::from));
+            })*
+            None
+        }
+    };
+}
+
+// The emitters a scene names by itself: one line each.
+plugins! {
+    Point,
+    Constant,
+    Spot,
+    Directional,
+    Envmap,
+    Sky,
 }
 
 #[cfg(test)]

@@ -1,10 +1,26 @@
 //! What every emitter answers: [`EmitterModel`], whose defaults are those
 //! of an emitter without the property (see the [module docs](super)).
 
+use std::path::Path;
+
 use super::bounds::LightBounds;
 use super::sample::{LightSample, Reference};
+use crate::description::{Invalid, Props};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution;
+
+/// An emitter a scene names by itself (a `[[lights]]` entry, a Mitsuba
+/// `<emitter>` at the top): its builder. Its schema and how Mitsuba's
+/// plugin maps onto it are its `SCHEMA` and `MITSUBA`.
+pub trait EmitterPlugin {
+    /// What it builds: the emitter itself, or the one it is computed into
+    /// (a sky: an environment map).
+    type Built;
+
+    /// The emitter of a scene's parameters, its files relative to
+    /// `base_dir`.
+    fn build(p: &Props, base_dir: &Path) -> Result<Self::Built, Invalid>;
+}
 
 /// What every emitter answers (see the [module docs](crate::emitter)); the defaults
 /// are those of an emitter without the property (no surface, not at

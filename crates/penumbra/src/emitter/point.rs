@@ -7,8 +7,10 @@
 //! | `position` | vector | **required** | where it is |
 //! | `intensity` | colour ≥ 0 | **required** | radiant intensity |
 
+use std::path::Path;
+
 use super::bounds::{mean, LightBounds};
-use super::model::EmitterModel;
+use super::model::{EmitterModel, EmitterPlugin};
 use super::sample::{LightSample, Reference};
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::mitsuba::adapt;
@@ -87,6 +89,14 @@ impl Point {
             weight: self.intensity / r2,
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterPlugin for Point {
+    type Built = Point;
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Point, Invalid> {
+        Point::build(p)
     }
 }
 

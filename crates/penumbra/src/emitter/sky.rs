@@ -33,10 +33,14 @@
 //! another thing, which the XML reader refuses; `penumbra convert` never
 //! writes a sky.
 
+use std::path::Path;
+
 use std::f32::consts::PI;
 
 use super::envmap::Envmap;
+use super::model::EmitterPlugin;
 use crate::description::check::{int, nonneg3, nonzero3, range};
+use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Mat3, Rgb, Vec3};
 
@@ -124,6 +128,9 @@ impl Sky {
             ),
         ],
     };
+
+    /// Penumbra's own: no Mitsuba plugin reads as it.
+    pub const MITSUBA: Mitsuba = Mitsuba::SAME;
 
     /// The sky of a scene's parameters.
     pub fn build(p: &Props) -> Result<Sky, Invalid> {
@@ -247,6 +254,14 @@ impl Sky {
 fn pixel_solid_angle(y: usize, w: usize, h: usize) -> f64 {
     let theta = |y: usize| std::f64::consts::PI * y as f64 / h as f64;
     std::f64::consts::TAU / w as f64 * (theta(y).cos() - theta(y + 1).cos())
+}
+
+impl EmitterPlugin for Sky {
+    type Built = Envmap;
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Envmap, Invalid> {
+        Ok(Sky::build(p)?.envmap())
+    }
 }
 
 #[cfg(test)]

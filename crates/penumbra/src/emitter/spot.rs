@@ -18,8 +18,10 @@
 //! Mitsuba's `to_world` places the light at its origin shining along its
 //! `+z`: the XML reader gives it as `position` and `look_at`.
 
+use std::path::Path;
+
 use super::bounds::{mean, LightBounds};
-use super::model::EmitterModel;
+use super::model::{EmitterModel, EmitterPlugin};
 use super::sample::{LightSample, Reference};
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::mitsuba::adapt;
@@ -180,6 +182,14 @@ impl Spot {
             weight: self.intensity * (falloff / r2),
             pdf: 0.0,
         })
+    }
+}
+
+impl EmitterPlugin for Spot {
+    type Built = Spot;
+
+    fn build(p: &Props, _base_dir: &Path) -> Result<Spot, Invalid> {
+        Spot::build(p)
     }
 }
 

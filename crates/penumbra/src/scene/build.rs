@@ -10,7 +10,6 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::context::BuildContext;
-use super::lights;
 use super::points::read_points;
 use super::ray_sets::{custom_sets, each_set, lobe_sets, Budgets};
 use super::reuse::{self, WorldCache};
@@ -25,7 +24,7 @@ use crate::bsdf::{self, Bsdf, BsdfModel, MAX_LOBES};
 use crate::description::check::{nonneg3, required};
 use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
-use crate::emitter::{area, Area, Emitter, PenumbraModel};
+use crate::emitter::{self, area, Area, Emitter, PenumbraModel};
 use crate::geometry::instance::Placement;
 use crate::geometry::{Mesh, Place, Shape, Surface, SurfaceError};
 use crate::math::{Mat4, Rgb};
@@ -119,7 +118,11 @@ pub fn build(
         match node.kind {
             Kind::Emitter => {
                 let p = Props::new(node);
-                let emitter = lights::light(&node.plugin, &p, &ctx.base_dir)?;
+                let Some(emitter) = emitter::build(&node.plugin, &p, &ctx.base_dir) else {
+                    let what = format!("`{}` is not a light a scene names by itself", node.plugin);
+                    return Err(p.node_error(what).into());
+                };
+                let emitter = emitter?;
                 p.finish(schemas::schema(node)?.what)?;
                 if emitter.is_infinite() {
                     far.push(emitter);

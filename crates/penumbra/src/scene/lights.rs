@@ -5,48 +5,9 @@
 //! emitter, visible to rays but casting no shadow (so that it never blocks
 //! its own light, as the thesis's lights do not).
 
-use std::path::Path;
-
 use super::shapes;
-use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{Invalid, Kind, Located, Node, Origin, Prop, Props, Schema, Value};
-use crate::emitter::{area, Constant, Directional, Emitter, Envmap, Point, Sky, Spot};
-
-/// The emitters as the readers see them: Mitsuba's first, in the order
-/// messages list them.
-pub const PLUGINS: [Plugin; 7] = [
-    Plugin::new(&Point::SCHEMA, Point::MITSUBA),
-    Plugin::new(&Constant::SCHEMA, Constant::MITSUBA),
-    Plugin::new(&area::SCHEMA, area::MITSUBA),
-    Plugin::new(&Spot::SCHEMA, Spot::MITSUBA),
-    Plugin::new(&Directional::SCHEMA, Directional::MITSUBA),
-    Plugin::new(&Envmap::SCHEMA, Envmap::MITSUBA),
-    Plugin::new(&Sky::SCHEMA, Mitsuba::SAME),
-];
-
-/// Every emitter a scene file names: its lights, and the background's.
-pub const SCHEMAS: [&Schema; 6] = [
-    &Point::SCHEMA,
-    &Constant::SCHEMA,
-    &Spot::SCHEMA,
-    &Directional::SCHEMA,
-    &Envmap::SCHEMA,
-    &Sky::SCHEMA,
-];
-
-/// The light `plugin` of the parameters `p`; `base_dir` anchors an
-/// environment map's file.
-pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Emitter, Invalid> {
-    Ok(match plugin {
-        "point" => Emitter::Point(Point::build(p)?),
-        "constant" => Emitter::Constant(Constant::build(p)?),
-        "spot" => Emitter::Spot(Spot::build(p)?),
-        "directional" => Emitter::Directional(Directional::build(p)?),
-        "envmap" => Emitter::Envmap(Envmap::build(p, base_dir)?),
-        "sky" => Emitter::Envmap(Sky::build(p)?.envmap()),
-        _ => return Err(p.node_error(format!("`{plugin}` is not a light a scene names by itself"))),
-    })
-}
+use crate::description::{Kind, Located, Node, Origin, Prop, Value};
+use crate::emitter::area;
 
 /// The material a light of a shape type is made of, unless it names one:
 /// black, so that its surface shows its emission alone. A scene may define

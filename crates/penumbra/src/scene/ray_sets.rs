@@ -40,8 +40,8 @@ pub(super) fn lobe_sets(
     node: &Node,
     held: &HashMap<String, (usize, [Option<EffectSpec>; MAX_LOBES])>,
 ) -> [Option<EffectSpec>; MAX_LOBES] {
-    if let Bsdf::Thesis(t) = model {
-        return t.sets();
+    if let Some(sets) = model.own_sets() {
+        return sets;
     }
     let mut sets = [None; MAX_LOBES];
     let schema = Bsdf::SCHEMAS.iter().find(|s| s.plugin == node.plugin);

@@ -9,7 +9,7 @@ use super::{camera, filters, lights, settings, shapes};
 use crate::bsdf::Bsdf;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Schema};
-use crate::emitter::area;
+use crate::emitter::{self, area};
 use crate::texture::Texture;
 
 /// The plugins of a kind a scene names by itself.
@@ -25,7 +25,7 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Sampler => &[&settings::SAMPLER],
         Kind::Bsdf => Bsdf::SCHEMAS,
         Kind::Shape => &shapes::SCHEMAS,
-        Kind::Emitter => &lights::SCHEMAS,
+        Kind::Emitter => emitter::SCHEMAS,
     }
 }
 
@@ -46,7 +46,7 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
         Kind::Shape => &shapes::PLUGINS,
-        Kind::Emitter => &lights::PLUGINS,
+        Kind::Emitter => emitter::PLUGINS,
         Kind::Scene | Kind::Integrator => &[],
     }
 }

@@ -233,6 +233,10 @@ impl BsdfModel for Thesis {
         ],
     };
 
+    fn own_sets(&self) -> Option<[Option<EffectSpec>; MAX_LOBES]> {
+        Some(self.sets())
+    }
+
     fn build(p: &Props, d: &Defaults) -> Result<Thesis, Invalid> {
         Ok(Thesis::new(&ThesisParams::read(p, d)?))
     }
