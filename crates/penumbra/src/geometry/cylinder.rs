@@ -19,7 +19,11 @@
 use std::f32::consts::TAU;
 
 use super::interaction::LocalGeometry;
-use crate::math::{Aabb, Frame, Ray, Vec2, Vec3};
+use super::mesh::Mesh;
+use super::model::{placed_frame, MeshTable, ShapeHit, ShapeModel, ShapeSample};
+use crate::math::{Aabb, Frame, Mat4, Ray, Vec2, Vec3};
+use crate::sampling::points::unit_square;
+use crate::sampling::{Discrete, Distribution};
 
 /// An open cylinder in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,6 +136,70 @@ impl Cylinder {
             dpdu: TAU * r * (cos_phi * f.v - sin_phi * f.u),
             dpdv: self.length * f.n,
         }
+    }
+}
+
+impl ShapeModel for Cylinder {
+    const NAME: &'static str = "cylinder";
+
+    fn bounds(&self, _meshes: &[Mesh]) -> Aabb {
+        Cylinder::bounds(self)
+    }
+
+    #[inline]
+    fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
+        Cylinder::intersect(self, ray, tmin, tmax).map(ShapeHit::at)
+    }
+
+    #[inline]
+    fn geometry(&self, _meshes: &[Mesh], _hit: &ShapeHit, p: Vec3) -> LocalGeometry {
+        Cylinder::geometry(self, p - self.base)
+    }
+
+    fn area(&self, _meshes: &[Mesh]) -> f32 {
+        Cylinder::area(self)
+    }
+
+    #[inline]
+    fn is_closed(&self) -> bool {
+        true
+    }
+
+    fn center(&self, _meshes: &[Mesh]) -> Vec3 {
+        self.base + 0.5 * self.length * self.frame.n
+    }
+
+    /// Those across its axis (whichever way it faces).
+    fn normal_cone(
+        &self,
+        _meshes: &[Mesh],
+        _triangles: Option<&Discrete>,
+        _flip: bool,
+    ) -> (Vec3, f32) {
+        (self.frame.n, 0.0)
+    }
+
+    fn transformed(&self, m: &Mat4, scale: f32) -> Option<Cylinder> {
+        Some(Cylinder {
+            base: m.transform_point3(self.base),
+            frame: placed_frame(m, &self.frame),
+            radius: self.radius * scale,
+            length: self.length * scale,
+        })
+    }
+
+    #[inline(always)]
+    fn sample(
+        &self,
+        _meshes: &[Mesh],
+        _mesh: MeshTable,
+        _from: Vec3,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<ShapeSample> {
+        let u = unit_square(point, d);
+        let (p, n) = self.point(u.x, u.y);
+        Some(ShapeSample::on_area(p, n, Cylinder::area(self)))
     }
 }
 

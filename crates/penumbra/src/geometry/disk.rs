@@ -1,6 +1,140 @@
-//! The disk: a circle of radius `r` around `center`, facing `frame.n`.
+//! The disk: a circle of radius `radius` around `center`, facing
+//! `frame.n`.
+//!
+//! Its surface coordinates are Mitsuba's polar ones: `u = r / radius`,
+//! `v = φ / 2π` (φ from the frame's `u` axis).
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `center` | point | `[0, 0, 0]` | centre |
+//! | `normal` | vector | `[0, 0, 1]` | the side it faces |
+//! | `radius` | number > 0 | `1` | radius |
 
-use crate::math::{Ray, Vec3};
+use std::f32::consts::{PI, TAU};
+
+use super::interaction::LocalGeometry;
+use super::mesh::Mesh;
+use super::model::{
+    angle, placed_frame, plane_area_scale, MeshTable, ShapeHit, ShapeModel, ShapeSample,
+};
+use crate::math::{Aabb, Frame, Mat4, Ray, Vec2, Vec3};
+use crate::sampling::points::unit_disk;
+use crate::sampling::Distribution;
+
+/// A disk.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disk {
+    pub center: Vec3,
+    /// `n` the side it faces; `u` and `v` the axes of its plane.
+    pub frame: Frame,
+    pub radius: f32,
+}
+
+impl Disk {
+    pub fn new(center: Vec3, frame: Frame, radius: f32) -> Disk {
+        Disk {
+            center,
+            frame,
+            radius,
+        }
+    }
+}
+
+impl ShapeModel for Disk {
+    const NAME: &'static str = "disk";
+
+    fn bounds(&self, _meshes: &[Mesh]) -> Aabb {
+        let e = Vec3::ONE - self.frame.n * self.frame.n;
+        let r = self.radius * Vec3::from_array(e.max(Vec3::ZERO).to_array().map(f32::sqrt));
+        Aabb::new(self.center - r, self.center + r)
+    }
+
+    #[inline]
+    fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
+        intersect_disk(ray, self.center, self.frame.n, self.radius, tmin, tmax).map(ShapeHit::at)
+    }
+
+    #[inline]
+    fn geometry(&self, _meshes: &[Mesh], _hit: &ShapeHit, p: Vec3) -> LocalGeometry {
+        disk_geometry(p - self.center, &self.frame, self.radius)
+    }
+
+    fn area(&self, _meshes: &[Mesh]) -> f32 {
+        PI * self.radius * self.radius
+    }
+
+    #[inline]
+    fn is_flat(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn plane(&self) -> Option<(Vec3, Vec3)> {
+        Some((self.frame.n, self.center))
+    }
+
+    fn center(&self, _meshes: &[Mesh]) -> Vec3 {
+        self.center
+    }
+
+    fn size(&self) -> Option<f32> {
+        Some(self.radius)
+    }
+
+    fn projected_area(&self, w: Vec3) -> Option<f32> {
+        Some(PI * self.radius * self.radius * self.frame.n.dot(w).max(0.0))
+    }
+
+    fn normal_cone(
+        &self,
+        _meshes: &[Mesh],
+        _triangles: Option<&crate::sampling::Discrete>,
+        flip: bool,
+    ) -> (Vec3, f32) {
+        (if flip { -self.frame.n } else { self.frame.n }, 1.0)
+    }
+
+    fn area_scale(&self, m: &Mat4) -> f32 {
+        plane_area_scale(self.frame.u, self.frame.v, m)
+    }
+
+    fn transformed(&self, m: &Mat4, scale: f32) -> Option<Disk> {
+        Some(Disk::new(
+            m.transform_point3(self.center),
+            placed_frame(m, &self.frame),
+            self.radius * scale,
+        ))
+    }
+
+    #[inline(always)]
+    fn sample(
+        &self,
+        _meshes: &[Mesh],
+        _mesh: MeshTable,
+        _from: Vec3,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<ShapeSample> {
+        let (frame, radius) = (&self.frame, self.radius);
+        let u = unit_disk(point, d) * radius;
+        let p = self.center + u.x * frame.u + u.y * frame.v;
+        Some(ShapeSample::on_area(p, frame.n, PI * radius * radius))
+    }
+}
+
+/// A disk's geometry at offset `d` from its centre.
+fn disk_geometry(d: Vec3, frame: &Frame, radius: f32) -> LocalGeometry {
+    let (x, y) = (d.dot(frame.u), d.dot(frame.v));
+    let r = (x * x + y * y).sqrt();
+    let (cos_phi, sin_phi) = if r > 0.0 { (x / r, y / r) } else { (1.0, 0.0) };
+    LocalGeometry {
+        ng: frame.n,
+        ns: frame.n,
+        uv: Vec2::new(r / radius, angle(x, y) / TAU),
+        dpdu: radius * (cos_phi * frame.u + sin_phi * frame.v),
+        dpdv: TAU * r * (cos_phi * frame.v - sin_phi * frame.u),
+    }
+}
 
 /// Ray–disk intersection: the plane hit in (tmin, tmax), then a distance
 /// test to the centre.

@@ -11,7 +11,7 @@ use crate::description::check::{finite3_value, nonzero3_value, positive_value, r
 use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::{area, Constant, Directional, Emitter, Envmap, Point, Sky, Spot};
-use crate::geometry::Shape;
+use crate::geometry::{Disk, Shape, Sphere};
 use crate::math::Frame;
 
 /// A parameter a light cannot do without.
@@ -124,7 +124,7 @@ pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Light, I
             let center = finite3_value(p, "center", center)?;
             let radius = required(p, p.f32("radius")?, "radius", "sphere light")?;
             let radius = positive_value(p, "radius", radius)?;
-            return Ok(Light::Shape(Shape::Sphere { center, radius }));
+            return Ok(Light::Shape(Shape::Sphere(Sphere::new(center, radius))));
         }
         "disk" => {
             let center = required(p, p.numbers::<3>("center")?, "center", "disk light")?;
@@ -134,11 +134,7 @@ pub(super) fn light(plugin: &str, p: &Props, base_dir: &Path) -> Result<Light, I
             let radius = required(p, p.f32("radius")?, "radius", "disk light")?;
             let radius = positive_value(p, "radius", radius)?;
             let frame = Frame::from_normal(normal.normalize());
-            return Ok(Light::Shape(Shape::Disk {
-                center,
-                frame,
-                radius,
-            }));
+            return Ok(Light::Shape(Shape::Disk(Disk::new(center, frame, radius))));
         }
         _ => return Err(p.node_error(format!("`{plugin}` is not a light a scene names by itself"))),
     };
