@@ -284,4 +284,22 @@ mod tests {
         let c = Cylinder::new(Vec3::ZERO, Vec3::Z * 2.0, 0.5).unwrap();
         assert!((c.area() - TAU).abs() < 1e-5);
     }
+
+    /// A tube's centre is the middle of its axis; carried by a similarity
+    /// of scale 2 it is twice as long and wide around the carried axis.
+    #[test]
+    fn centre_and_similar_tubes() {
+        let c = Cylinder::new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0), 0.5).unwrap();
+        assert_eq!(ShapeModel::center(&c, &[]), Vec3::Y);
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            glam::Quat::from_rotation_z(0.3),
+            Vec3::X,
+        );
+        let t = c.transformed(&m, 2.0).unwrap();
+        assert_eq!((t.radius, t.length), (1.0, 4.0));
+        let top = m.transform_point3(Vec3::new(0.0, 2.0, 0.0));
+        assert!((t.base + t.length * t.frame.n - top).length() < 1e-5);
+        assert!(c.is_closed() && c.projected_area(Vec3::Y).is_none());
+    }
 }

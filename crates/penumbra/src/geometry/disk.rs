@@ -163,4 +163,26 @@ mod tests {
         let along = Ray::new(Vec3::new(-3.0, 2.0, 0.0), Vec3::X, 0.0);
         assert_eq!(intersect_disk(&along, c, n, 1.0, 0.0, 10.0), None);
     }
+
+    /// A disk shows `π r² cos θ` toward a direction at θ to its normal, and
+    /// nothing from behind; carried by a similarity, its frame stays
+    /// orthonormal and its plane is the carried one.
+    #[test]
+    fn silhouette_and_similar_disks() {
+        let d = Disk::new(Vec3::ZERO, Frame::from_normal(Vec3::Y), 2.0);
+        let w = Vec3::new(0.0, 0.5, 0.75f32.sqrt());
+        let a = d.projected_area(w).unwrap();
+        assert!((a - 2.0 * PI).abs() < 1e-5, "{a}");
+        assert_eq!(d.projected_area(-Vec3::Y), Some(0.0));
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::splat(0.5),
+            glam::Quat::from_rotation_x(0.4),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
+        let t = d.transformed(&m, 0.5).unwrap();
+        let f = t.frame;
+        assert!((f.n - m.transform_vector3(Vec3::Y).normalize()).length() < 1e-6);
+        assert!(f.u.dot(f.n).abs() < 1e-6 && (f.u.cross(f.v) - f.n).length() < 1e-5);
+        assert_eq!((t.radius, t.plane().unwrap().1), (1.0, Vec3::Y));
+    }
 }

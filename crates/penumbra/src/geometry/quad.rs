@@ -322,4 +322,24 @@ mod tests {
         assert!(hits > 1000, "{hits} hits");
         assert!(Quad4::new(&[quads[0]; 5]).is_none());
     }
+
+    /// Carried by an affine map (a shear too), a quad's corners are the
+    /// carried corners; it shows its area toward its normal, none from
+    /// behind, and a light of it has half the side of its square as size.
+    #[test]
+    fn carried_quads_and_their_silhouette() {
+        let q = Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Z);
+        let mut m = Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0));
+        m.y_axis.x = 0.5;
+        m.x_axis.x = 1.5;
+        let t = q.transformed(&m, 1.0).unwrap();
+        for (s, u) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+            let want = m.transform_point3(q.point(s, u));
+            assert!((t.point(s, u) - want).length() < 1e-5);
+        }
+        assert_eq!(q.projected_area(q.normal), Some(6.0));
+        assert_eq!(q.projected_area(-q.normal), Some(0.0));
+        assert_eq!(q.size(), Some(0.5 * 6f32.sqrt()));
+        assert_eq!(q.plane(), Some((q.normal, q.origin)));
+    }
 }

@@ -374,6 +374,54 @@ mod tests {
         );
     }
 
+    /// The batch forms give, lane by lane, the scalar form's bits: rays
+    /// against every analytic shape, and points drawn on every shape
+    /// (a mesh of two triangles too) from shading points all around.
+    #[test]
+    fn batches_are_the_scalar_answers() {
+        use crate::sampling::{Discrete, Rng};
+        let mesh = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Z, Vec3::new(1.0, 0.5, 1.0)],
+            triangles: vec![[0, 1, 2], [1, 3, 2]],
+            ..Mesh::default()
+        };
+        let table = Discrete::new([0.5, 0.7]).unwrap();
+        let meshes = [mesh];
+        let frame = Frame::from_normal(Vec3::new(0.2, 1.0, -0.3).normalize());
+        let shapes = [
+            Shape::Sphere(Sphere::new(Vec3::new(0.2, 0.1, -0.3), 0.7)),
+            Shape::Quad(Quad::new(Vec3::splat(-0.5), Vec3::X, Vec3::Z)),
+            Shape::Disk(Disk::new(Vec3::ZERO, frame, 0.8)),
+            Shape::Cylinder(Cylinder::new(Vec3::ZERO, Vec3::new(0.3, 1.0, 0.2), 0.5).unwrap()),
+            Shape::MeshShape(MeshShape::new(0)),
+        ];
+        let mut r = Rng::new(21);
+        let mut v = |s: f32| Vec3::new(r.range(-s, s), r.range(-s, s), r.range(-s, s));
+        let rays: Vec<Ray> = (0..64).map(|_| Ray::new(v(3.0), v(0.5), 0.0)).collect();
+        let from: Vec<Vec3> = (0..64).map(|_| v(3.0)).collect();
+        let points: Vec<Vec3> = (0..64).map(|_| v(1.0)).collect();
+        let bits = |h: Option<ShapeHit>| h.map(|h| (h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits()));
+        for shape in &shapes {
+            let mut hits = vec![None; rays.len()];
+            shape.intersect_all(&rays, 0.0, f32::INFINITY, &mut hits);
+            for (ray, hit) in rays.iter().zip(&hits) {
+                let one = shape.intersect(ray, 0.0, f32::INFINITY);
+                assert_eq!(bits(*hit), bits(one), "{shape:?} {ray:?}");
+            }
+            let mesh = (Some(&table), 1.0);
+            for d in [Distribution::Jitter, Distribution::Random] {
+                let mut drawn = vec![None; points.len()];
+                shape.sample_all(&meshes, mesh, &from, &points, d, &mut drawn);
+                for k in 0..points.len() {
+                    let one = shape.sample(&meshes, mesh, from[k], points[k], d);
+                    // Debug prints every f32 so that it reads back to its bits.
+                    assert_eq!(format!("{:?}", drawn[k]), format!("{one:?}"), "{shape:?}");
+                    assert!(one.is_some());
+                }
+            }
+        }
+    }
+
     #[test]
     fn areas() {
         let q = Shape::Quad(Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Z));

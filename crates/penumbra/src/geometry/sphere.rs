@@ -229,4 +229,23 @@ mod tests {
         let t = intersect_sphere(&r, Vec3::ZERO, 0.01, 0.0, f32::INFINITY).unwrap();
         assert!((t - (1.0e4 - 0.01)).abs() < 2e-3, "t = {t}");
     }
+
+    /// Carried by a similarity, a sphere keeps its shape: its centre moved,
+    /// its radius scaled; it shows `π r²` toward every direction.
+    #[test]
+    fn similar_spheres_and_their_silhouette() {
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(1.0, -2.0, 3.0),
+        );
+        let s = Sphere::new(Vec3::X, 0.5).transformed(&m, 2.0).unwrap();
+        assert!((s.center - m.transform_point3(Vec3::X)).length() < 1e-6);
+        assert_eq!(s.radius, 1.0);
+        for w in [Vec3::X, -Vec3::Y, Vec3::new(0.6, 0.0, 0.8)] {
+            assert_eq!(s.projected_area(w), Some(PI));
+        }
+        assert_eq!(s.size(), Some(1.0));
+        assert!(s.is_closed() && !s.is_flat() && !s.uniform_in_area());
+    }
 }
