@@ -1,5 +1,6 @@
-//! The quad: a parallelogram (a rectangle for the scene format's `quad`
-//! and Mitsuba's `rectangle`), one-sided, facing `edge_u × edge_v`. Its
+//! The quad: a parallelogram (the scene format's `quad`; Mitsuba's
+//! `rectangle` is the square [−1, 1]² of the plane z = 0 under its
+//! transform), one-sided, facing `edge_u × edge_v`. Its
 //! surface coordinates are the hit's `(s, t)` along the edges, its
 //! derivatives the edges. A leaf of static quads is tested four at a
 //! time ([`Quad4`]).
@@ -7,7 +8,7 @@
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `origin` | point | required | a corner |
-//! | `edge_u`, `edge_v` | vectors | required | the edges from it |
+//! | `edge_u`, `edge_v` | vectors, not parallel | required | the edges from it |
 
 use super::interaction::LocalGeometry;
 use super::mesh::Mesh;
