@@ -268,9 +268,9 @@ impl Surface {
     /// the surface faces) from `from` at `time`.
     #[inline]
     pub fn density(&self, from: Vec3, time: f32, target: Vec3, n: Vec3) -> f32 {
-        match (&self.place, &self.shape) {
-            (Place::World, shape) => shape.density(self.local_area, from, target, n),
-            (_, shape) if !shape.uniform_in_area() => {
+        match &self.place {
+            Place::World => self.shape.density(self.local_area, from, target, n),
+            _ if !self.shape.uniform_in_area() => {
                 // In the shape's space (a sphere's cone): solid angles
                 // are the same.
                 let Some(sim) = self.similarity(time) else {
@@ -282,7 +282,7 @@ impl Surface {
                 let area = self.local_area;
                 self.shape.density(area, local(from), local(target), n)
             }
-            (place, _) => {
+            place => {
                 let area = match place {
                     Place::Moving(m) => self.local_area * m.at(time).scale.x.powi(2),
                     _ => self.area,
