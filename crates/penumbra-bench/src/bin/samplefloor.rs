@@ -29,7 +29,6 @@ use penumbra::bsdf::Bsdf;
 use penumbra::camera::CameraSample;
 use penumbra::emitter::{Emitter, LightSample, Reference};
 use penumbra::geometry::quad::Quad;
-use penumbra::geometry::Shape;
 use penumbra::integrator::RaySets;
 use penumbra::math::Rgb;
 use penumbra::math::{Ray, Vec2, Vec3};
@@ -107,7 +106,7 @@ impl<'a> Floor<'a> {
             return Err("the kernel needs exactly one light".into());
         };
         let rect = match light {
-            Emitter::Area(a) => matches!(a.surface.shape(), Shape::Quad(_)),
+            Emitter::Area(a) => a.surface.shape().as_quad().is_some(),
             _ => false,
         };
         if !rect || RaySets::new(scene).shadow[0].rays != 1 {

@@ -74,9 +74,7 @@ impl Object {
     /// True if the object is a static mesh in world space, whose triangles
     /// the world copies into its tree of static triangles.
     fn is_static_mesh(&self) -> bool {
-        matches!(self.shape, Shape::Mesh { .. })
-            && self.motion.is_none()
-            && self.placement.is_none()
+        self.shape.as_mesh().is_some() && self.motion.is_none() && self.placement.is_none()
     }
 }
 
@@ -166,13 +164,14 @@ impl World {
         let mut bounds = Vec::new();
         for (oi, o) in objects.iter().enumerate() {
             let object = oi as u32;
-            match (&o.shape, o.motion) {
-                (Shape::Mesh { mesh }, None) if o.is_static_mesh() => {
-                    let m = &meshes[*mesh as usize];
+            match (o.shape.as_mesh(), o.motion) {
+                (Some(mesh), None) if o.is_static_mesh() => {
+                    let m = &meshes[mesh.mesh as usize];
                     tri_refs.extend((0..m.triangles.len() as u32).map(|tri| (object, tri)));
-                    tri_meshes.resize(tri_refs.len(), *mesh);
+                    tri_meshes.resize(tri_refs.len(), mesh.mesh);
                 }
-                (shape, motion) => {
+                (_, motion) => {
+                    let shape = &o.shape;
                     let b = match (&o.mesh_bvh, &o.placement) {
                         // An instance's mesh: the shared tree's box.
                         (Some(bvh), Some(_)) => bvh.bounds(),
@@ -200,15 +199,12 @@ impl World {
             // The static quads of a leaf first (up to four at once), then
             // its other objects, then the triangles.
             let static_quad = |item: &Item| match *item {
-                Item::Object(o) => match &objects[o as usize] {
-                    Object {
-                        shape: Shape::Quad(q),
-                        motion: None,
-                        placement: None,
-                        ..
-                    } => Some((o, *q)),
-                    _ => None,
-                },
+                Item::Object(o) => {
+                    let object = &objects[o as usize];
+                    let still = object.motion.is_none() && object.placement.is_none();
+                    let q = object.shape.as_quad().filter(|_| still)?;
+                    Some((o, *q))
+                }
                 _ => None,
             };
             let leaf: Vec<Item> = ids.iter().map(|&i| items[i as usize]).collect();
@@ -441,7 +437,7 @@ impl World {
             let plane = o.shape.plane().filter(|_| still);
             let apart = plane.is_some_and(|(n, p)| one_side(n, p, &[origins, targets]));
             // Otherwise a still object whose box the shaft misses.
-            let analytic = !matches!(o.shape, Shape::Mesh { .. });
+            let analytic = o.shape.as_mesh().is_none();
             let outside = || still && analytic && !shaft.overlaps(&o.shape.bounds(&[]));
             if !apart && !outside() {
                 out.items.push(Item::Object(object));
@@ -574,7 +570,7 @@ impl World {
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
-        if !matches!(o.shape, Shape::Mesh { .. }) {
+        if o.shape.as_mesh().is_none() {
             return o.shape.intersect(ray, tmin, tmax).map(Candidate::of);
         }
         // A moving mesh or an instance's: its own tree, in its own space.
@@ -704,10 +700,10 @@ impl Crossing<'_> {
             }
             Crossed::Triangle { id } => {
                 let (object, tri) = w.tri_refs[id as usize];
-                let Shape::Mesh { mesh } = w.objects[object as usize].shape else {
+                let Some(mesh) = w.objects[object as usize].shape.as_mesh() else {
                     return false;
                 };
-                let [p0, p1, p2] = w.meshes[mesh as usize].vertices(tri as usize);
+                let [p0, p1, p2] = w.meshes[mesh.mesh as usize].vertices(tri as usize);
                 let shear = RayShear::new(ray);
                 let Some((t, b1, b2)) = intersect_triangle(ray, &shear, p0, p1, p2, tmin, tmax)
                 else {
@@ -850,6 +846,7 @@ pub fn mesh_bvh(mesh: &Mesh) -> Arc<TriangleBvh> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::geometry::{Disk, MeshShape, Sphere};
     use crate::math::{self, offset_origin};
     use glam::Vec4;
 
@@ -906,7 +903,7 @@ pub(crate) mod tests {
         };
         let ground = Quad::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::Z * 10.0, Vec3::X * 10.0);
         let objects = vec![
-            object(Shape::Mesh { mesh: 0 }, 0),
+            object(Shape::MeshShape(MeshShape::new(0)), 0),
             object(Shape::Quad(ground), 0),
             object(other, 1),
         ];
@@ -926,20 +923,21 @@ pub(crate) mod tests {
                 (None, Some(pl)) => pl.ray_to_object(ray),
                 (None, None) => *ray,
             };
-            let t = match o.shape {
-                Shape::Mesh { mesh } => {
-                    let m = &w.meshes[mesh as usize];
+            let t = match o.shape.as_mesh() {
+                Some(mesh) => {
+                    let m = &w.meshes[mesh.mesh as usize];
                     let shear = RayShear::new(&local);
                     let mut near = tmax;
                     for tri in 0..m.triangles.len() as u32 {
-                        let hit = Shape::intersect_triangle_of(m, tri, &local, &shear, 0.0, near);
+                        let hit =
+                            mesh.intersect_triangle(&w.meshes, tri, &local, &shear, 0.0, near);
                         if let Some(h) = hit {
                             near = h.t;
                         }
                     }
                     (near < tmax).then_some(near)
                 }
-                ref shape => shape.intersect(&local, 0.0, tmax).map(|h| h.t),
+                None => o.shape.intersect(&local, 0.0, tmax).map(|h| h.t),
             };
             if let Some(t) = t {
                 best = Some((t, i as u32));
@@ -979,8 +977,8 @@ pub(crate) mod tests {
         let mut objects = Vec::new();
         let mut add = |shape, motion: Option<Motion>| {
             let material = objects.len() as u32;
-            let mesh_bvh = match (&shape, motion) {
-                (Shape::Mesh { mesh }, Some(_)) => Some(mesh_bvh(&meshes[*mesh as usize])),
+            let mesh_bvh = match (Shape::as_mesh(&shape), motion) {
+                (Some(mesh), Some(_)) => Some(mesh_bvh(&meshes[mesh.mesh as usize])),
                 _ => None,
             };
             objects.push(Object {
@@ -1009,16 +1007,16 @@ pub(crate) mod tests {
                 end,
             })
         };
-        add(Shape::Mesh { mesh: 0 }, None);
+        add(Shape::MeshShape(MeshShape::new(0)), None);
         let m = slide(&mut r);
-        add(Shape::Mesh { mesh: 1 }, m);
+        add(Shape::MeshShape(MeshShape::new(1)), m);
         // Instances of the first mesh, sheared; cylinders, some moving.
         let shared = mesh_bvh(&meshes[0]);
         let mut placed = Vec::new();
         for _ in 0..40 {
             let mut m = glam::Mat4::from_translation(point(&mut r));
             m.y_axis.x = r.range(-0.5, 0.5);
-            let mut o = Object::new(Shape::Mesh { mesh: 0 }, 0);
+            let mut o = Object::new(Shape::MeshShape(MeshShape::new(0)), 0);
             o.placement = Some(Arc::new(Placement::new(m).unwrap()));
             o.mesh_bvh = Some(Arc::clone(&shared));
             placed.push(o);
@@ -1033,22 +1031,10 @@ pub(crate) mod tests {
         for i in 0..320 {
             let c = point(&mut r);
             match i % 4 {
-                0 => add(
-                    Shape::Sphere {
-                        center: c,
-                        radius: r.range(0.1, 0.6),
-                    },
-                    None,
-                ),
+                0 => add(Shape::Sphere(Sphere::new(c, r.range(0.1, 0.6))), None),
                 1 => {
                     let m = slide(&mut r);
-                    add(
-                        Shape::Sphere {
-                            center: Vec3::ZERO,
-                            radius: r.range(0.1, 0.6),
-                        },
-                        m,
-                    )
+                    add(Shape::Sphere(Sphere::new(Vec3::ZERO, r.range(0.1, 0.6))), m)
                 }
                 2 => {
                     let (u, v) = (Vec3::X * r.range(0.2, 1.0), Vec3::Z * r.range(0.2, 1.0));
@@ -1056,14 +1042,7 @@ pub(crate) mod tests {
                 }
                 _ => {
                     let frame = Frame::from_normal(Vec3::new(0.3, 1.0, 0.2).normalize());
-                    add(
-                        Shape::Disk {
-                            center: c,
-                            frame,
-                            radius: r.range(0.1, 0.6),
-                        },
-                        None,
-                    )
+                    add(Shape::Disk(Disk::new(c, frame, r.range(0.1, 0.6))), None)
                 }
             }
         }
@@ -1143,22 +1122,15 @@ pub(crate) mod tests {
             Vec3::new(0.0, 0.8, 0.3),
         );
         let group: Vec<(Shape, bool)> = vec![
-            (Shape::Mesh { mesh: 0 }, false),
-            (Shape::Mesh { mesh: 1 }, true),
+            (Shape::MeshShape(MeshShape::new(0)), false),
+            (Shape::MeshShape(MeshShape::new(1)), true),
             (
-                Shape::Sphere {
-                    center: Vec3::new(0.4, 0.1, -0.2),
-                    radius: 0.35,
-                },
+                Shape::Sphere(Sphere::new(Vec3::new(0.4, 0.1, -0.2), 0.35)),
                 false,
             ),
             (Shape::Cylinder(cyl), true),
             (
-                Shape::Disk {
-                    center: Vec3::new(-0.3, 0.4, 0.2),
-                    frame: disk_frame,
-                    radius: 0.4,
-                },
+                Shape::Disk(Disk::new(Vec3::new(-0.3, 0.4, 0.2), disk_frame, 0.4)),
                 false,
             ),
             (Shape::Quad(quad), true),
@@ -1187,57 +1159,18 @@ pub(crate) mod tests {
                     let mut o = Object::new(shape.clone(), material);
                     o.placement = Some(Arc::clone(&pl));
                     o.flip_normals = *flip;
-                    if let Shape::Mesh { mesh } = shape {
-                        o.mesh_bvh = Some(Arc::clone(&bvhs[*mesh as usize]));
+                    if let Some(mesh) = shape.as_mesh() {
+                        o.mesh_bvh = Some(Arc::clone(&bvhs[mesh.mesh as usize]));
                     }
                     inst.push(o);
                     // The flattened copy.
                     let scale = m.x_axis.truncate().length();
-                    let moved_frame = |f: &Frame| {
-                        let (u, n) = (
-                            m.transform_vector3(f.u).normalize(),
-                            m.transform_vector3(f.n).normalize(),
-                        );
-                        Frame {
-                            u,
-                            v: n.cross(u),
-                            n,
+                    let world_shape = match shape.as_mesh() {
+                        Some(mesh) => {
+                            flat_meshes.push(group_meshes[mesh.mesh as usize].transformed(&m));
+                            Shape::MeshShape(MeshShape::new(flat_meshes.len() as u32 - 1))
                         }
-                    };
-                    let world_shape = match shape {
-                        Shape::Mesh { mesh } => {
-                            flat_meshes.push(group_meshes[*mesh as usize].transformed(&m));
-                            Shape::Mesh {
-                                mesh: flat_meshes.len() as u32 - 1,
-                            }
-                        }
-                        Shape::Sphere { center, radius } => Shape::Sphere {
-                            center: m.transform_point3(*center),
-                            radius: radius * scale,
-                        },
-                        Shape::Cylinder(c) => Shape::Cylinder(Cylinder {
-                            base: m.transform_point3(c.base),
-                            frame: moved_frame(&c.frame),
-                            radius: c.radius * scale,
-                            length: c.length * scale,
-                        }),
-                        Shape::Disk {
-                            center,
-                            frame,
-                            radius,
-                        } => Shape::Disk {
-                            center: m.transform_point3(*center),
-                            frame: moved_frame(frame),
-                            radius: radius * scale,
-                        },
-                        Shape::Quad(q) => {
-                            let o = m.transform_point3(q.origin);
-                            Shape::Quad(Quad::new(
-                                o,
-                                m.transform_vector3(q.edge_u),
-                                m.transform_vector3(q.edge_v),
-                            ))
-                        }
+                        None => shape.transformed(&m, scale).expect("an analytic shape"),
                     };
                     let mut f = Object::new(world_shape, material);
                     f.flip_normals = *flip;
@@ -1293,7 +1226,7 @@ pub(crate) mod tests {
             let j = a.material % k;
             // A sphere in world space has no orientation: its coordinates
             // are about the world's axes, an instance's about its own.
-            if matches!(group[j as usize].0, Shape::Sphere { .. }) {
+            if group[j as usize].0.as_sphere().is_some() {
                 continue;
             }
             let duv = (a.uv - b.uv).abs().max_element();
@@ -1325,7 +1258,7 @@ pub(crate) mod tests {
                     },
                     local,
                 );
-                if !matches!(inst.objects[a.object as usize].shape, Shape::Mesh { .. }) {
+                if inst.objects[a.object as usize].shape.as_mesh().is_none() {
                     assert!(pl.normal_to_world(g.ng).dot(a.ng) < -0.99, "{ray:?}");
                 }
             }
@@ -1391,10 +1324,7 @@ pub(crate) mod tests {
     fn packets_hit_what_single_rays_hit() {
         use crate::sampling::Rng;
         let light = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
-        let sphere = Shape::Sphere {
-            center: Vec3::new(0.5, 1.0, 0.0),
-            radius: 0.4,
-        };
+        let sphere = Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4));
         let (mut scratch, mut out, mut r) = (PacketScratch::default(), Vec::new(), Rng::new(41));
         for world in [
             soup_ground_and_sphere(Shape::Quad(light)),
@@ -1434,10 +1364,8 @@ pub(crate) mod tests {
     #[test]
     fn shaft_gives_what_single_rays_give() {
         use crate::sampling::Rng;
-        let world = soup_ground_and_sphere(Shape::Sphere {
-            center: Vec3::new(0.5, 1.0, 0.0),
-            radius: 0.4,
-        });
+        let world =
+            soup_ground_and_sphere(Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4)));
         // What a segment crosses, in order: (material, count) of each
         // surface, up to the first opaque one (material 0).
         fn crossed(

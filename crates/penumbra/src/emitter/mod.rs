@@ -239,7 +239,7 @@ mod tests {
     use super::*;
     use crate::geometry::quad::Quad;
     use crate::geometry::surface::tests::{still, triangles};
-    use crate::geometry::{Shape, Surface};
+    use crate::geometry::{Disk, Shape, Sphere, Surface};
     use crate::math::Frame;
     use crate::sampling::Rng;
 
@@ -276,15 +276,15 @@ mod tests {
                 Vec3::X,
                 Vec3::Z,
             )))),
-            area(still(Shape::Disk {
-                center: Vec3::new(0.0, 2.0, 0.0),
-                frame: Frame::from_normal(-Vec3::Y),
-                radius: 0.6,
-            })),
-            area(still(Shape::Sphere {
-                center: Vec3::new(0.5, 2.5, 0.0),
-                radius: 0.5,
-            })),
+            area(still(Shape::Disk(Disk::new(
+                Vec3::new(0.0, 2.0, 0.0),
+                Frame::from_normal(-Vec3::Y),
+                0.6,
+            )))),
+            area(still(Shape::Sphere(Sphere::new(
+                Vec3::new(0.5, 2.5, 0.0),
+                0.5,
+            )))),
             area(mesh),
             area(still(Shape::Cylinder(
                 crate::geometry::Cylinder::new(
@@ -304,16 +304,17 @@ mod tests {
                 let Some(s) = e.sample_one(at, point, Distribution::Random) else {
                     continue;
                 };
-                let n = match a.surface.shape() {
-                    Shape::Sphere { center, .. } => (s.target - *center).normalize(),
-                    Shape::Quad(q) => q.normal,
-                    Shape::Disk { frame, .. } => frame.n,
+                let shape = a.surface.shape();
+                let n = if let Some(ball) = shape.as_sphere() {
+                    (s.target - ball.center).normalize()
+                } else if let Some(c) = shape.as_cylinder() {
+                    let d = s.target - c.base;
+                    (d - d.dot(c.frame.n) * c.frame.n).normalize()
+                } else if let Some((n, _)) = shape.plane() {
+                    n
+                } else {
                     // Both triangles face down.
-                    Shape::Mesh { .. } => -Vec3::Y,
-                    Shape::Cylinder(c) => {
-                        let d = s.target - c.base;
-                        (d - d.dot(c.frame.n) * c.frame.n).normalize()
-                    }
+                    -Vec3::Y
                 };
                 let pdf = e.pdf(at, s.target, n);
                 assert!(pdf > 0.0);
@@ -331,7 +332,7 @@ mod tests {
                 found += 1;
             }
             // Under half of a tube faces a point outside it.
-            let tube = matches!(a.surface.shape(), Shape::Cylinder(_));
+            let tube = a.surface.shape().as_cylinder().is_some();
             assert!(found > if tube { 600 } else { 1000 }, "{found}");
         }
     }
@@ -346,10 +347,7 @@ mod tests {
         let rect = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z);
         let shapes = [
             Shape::Quad(rect),
-            Shape::Sphere {
-                center: Vec3::new(0.5, 2.5, 0.0),
-                radius: 0.5,
-            },
+            Shape::Sphere(Sphere::new(Vec3::new(0.5, 2.5, 0.0), 0.5)),
         ];
         let point = Emitter::Point(Point {
             position: Vec3::new(0.0, 3.0, 0.0),

@@ -19,7 +19,11 @@
 use std::f32::consts::TAU;
 
 use super::interaction::LocalGeometry;
-use crate::math::{Aabb, Frame, Ray, Vec2, Vec3};
+use super::mesh::Mesh;
+use super::model::{placed_frame, MeshTable, ShapeHit, ShapeModel, ShapeSample};
+use crate::math::{Aabb, Frame, Mat4, Ray, Vec2, Vec3};
+use crate::sampling::points::unit_square;
+use crate::sampling::{Discrete, Distribution};
 
 /// An open cylinder in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,6 +139,70 @@ impl Cylinder {
     }
 }
 
+impl ShapeModel for Cylinder {
+    const NAME: &'static str = "cylinder";
+
+    fn bounds(&self, _meshes: &[Mesh]) -> Aabb {
+        Cylinder::bounds(self)
+    }
+
+    #[inline]
+    fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
+        Cylinder::intersect(self, ray, tmin, tmax).map(ShapeHit::at)
+    }
+
+    #[inline]
+    fn geometry(&self, _meshes: &[Mesh], _hit: &ShapeHit, p: Vec3) -> LocalGeometry {
+        Cylinder::geometry(self, p - self.base)
+    }
+
+    fn area(&self, _meshes: &[Mesh]) -> f32 {
+        Cylinder::area(self)
+    }
+
+    #[inline]
+    fn is_closed(&self) -> bool {
+        true
+    }
+
+    fn center(&self, _meshes: &[Mesh]) -> Vec3 {
+        self.base + 0.5 * self.length * self.frame.n
+    }
+
+    /// Those across its axis (whichever way it faces).
+    fn normal_cone(
+        &self,
+        _meshes: &[Mesh],
+        _triangles: Option<&Discrete>,
+        _flip: bool,
+    ) -> (Vec3, f32) {
+        (self.frame.n, 0.0)
+    }
+
+    fn transformed(&self, m: &Mat4, scale: f32) -> Option<Cylinder> {
+        Some(Cylinder {
+            base: m.transform_point3(self.base),
+            frame: placed_frame(m, &self.frame),
+            radius: self.radius * scale,
+            length: self.length * scale,
+        })
+    }
+
+    #[inline(always)]
+    fn sample(
+        &self,
+        _meshes: &[Mesh],
+        _mesh: MeshTable,
+        _from: Vec3,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<ShapeSample> {
+        let u = unit_square(point, d);
+        let (p, n) = self.point(u.x, u.y);
+        Some(ShapeSample::on_area(p, n, Cylinder::area(self)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,5 +283,23 @@ mod tests {
         assert!(Cylinder::new(Vec3::ZERO, Vec3::Z, f32::NAN).is_none());
         let c = Cylinder::new(Vec3::ZERO, Vec3::Z * 2.0, 0.5).unwrap();
         assert!((c.area() - TAU).abs() < 1e-5);
+    }
+
+    /// A tube's centre is the middle of its axis; carried by a similarity
+    /// of scale 2 it is twice as long and wide around the carried axis.
+    #[test]
+    fn centre_and_similar_tubes() {
+        let c = Cylinder::new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0), 0.5).unwrap();
+        assert_eq!(ShapeModel::center(&c, &[]), Vec3::Y);
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            glam::Quat::from_rotation_z(0.3),
+            Vec3::X,
+        );
+        let t = c.transformed(&m, 2.0).unwrap();
+        assert_eq!((t.radius, t.length), (1.0, 4.0));
+        let top = m.transform_point3(Vec3::new(0.0, 2.0, 0.0));
+        assert!((t.base + t.length * t.frame.n - top).length() < 1e-5);
+        assert!(c.is_closed() && c.projected_area(Vec3::Y).is_none());
     }
 }

@@ -1,4 +1,21 @@
-use crate::math::{Ray, Vec3};
+//! The quad: a parallelogram (the scene format's `quad`; Mitsuba's
+//! `rectangle` is the square [−1, 1]² of the plane z = 0 under its
+//! transform), one-sided, facing `edge_u × edge_v`. Its
+//! surface coordinates are the hit's `(s, t)` along the edges, its
+//! derivatives the edges. A leaf of static quads is tested four at a
+//! time ([`Quad4`]).
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `origin` | point | required | a corner |
+//! | `edge_u`, `edge_v` | vectors, not parallel | required | the edges from it |
+
+use super::interaction::LocalGeometry;
+use super::mesh::Mesh;
+use super::model::{plane_area_scale, MeshTable, ShapeHit, ShapeModel, ShapeSample};
+use crate::math::{Aabb, Mat4, Ray, Vec2, Vec3};
+use crate::sampling::points::unit_square;
+use crate::sampling::{Discrete, Distribution};
 use glam::{BVec4A, Vec4};
 
 /// A parallelogram `origin + s·edge_u + t·edge_v`, s, t ∈ [0, 1].
@@ -65,6 +82,106 @@ impl Quad {
         } else {
             None
         }
+    }
+}
+
+impl ShapeModel for Quad {
+    const NAME: &'static str = "quad";
+
+    fn bounds(&self, _meshes: &[Mesh]) -> Aabb {
+        Aabb::from_points([
+            self.origin,
+            self.point(1.0, 0.0),
+            self.point(0.0, 1.0),
+            self.point(1.0, 1.0),
+        ])
+    }
+
+    #[inline]
+    fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
+        Quad::intersect(self, ray, tmin, tmax).map(|(t, b1, b2)| ShapeHit {
+            t,
+            b1,
+            b2,
+            inner: 0,
+        })
+    }
+
+    #[inline]
+    fn geometry(&self, _meshes: &[Mesh], hit: &ShapeHit, _p: Vec3) -> LocalGeometry {
+        LocalGeometry {
+            ng: self.normal,
+            ns: self.normal,
+            uv: Vec2::new(hit.b1, hit.b2),
+            dpdu: self.edge_u,
+            dpdv: self.edge_v,
+        }
+    }
+
+    fn area(&self, _meshes: &[Mesh]) -> f32 {
+        self.area
+    }
+
+    #[inline]
+    fn is_flat(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn plane(&self) -> Option<(Vec3, Vec3)> {
+        Some((self.normal, self.origin))
+    }
+
+    fn center(&self, _meshes: &[Mesh]) -> Vec3 {
+        Quad::center(self)
+    }
+
+    fn size(&self) -> Option<f32> {
+        Some(0.5 * self.area.sqrt())
+    }
+
+    fn projected_area(&self, w: Vec3) -> Option<f32> {
+        Some(self.area * self.normal.dot(w).max(0.0))
+    }
+
+    fn normal_cone(
+        &self,
+        _meshes: &[Mesh],
+        _triangles: Option<&Discrete>,
+        flip: bool,
+    ) -> (Vec3, f32) {
+        (if flip { -self.normal } else { self.normal }, 1.0)
+    }
+
+    fn area_scale(&self, m: &Mat4) -> f32 {
+        plane_area_scale(self.edge_u, self.edge_v, m)
+    }
+
+    /// The corners carried by `m` (any affine map).
+    fn transformed(&self, m: &Mat4, _scale: f32) -> Option<Quad> {
+        let o = m.transform_point3(self.origin);
+        Some(Quad::new(
+            o,
+            m.transform_point3(self.origin + self.edge_u) - o,
+            m.transform_point3(self.origin + self.edge_v) - o,
+        ))
+    }
+
+    #[inline(always)]
+    fn sample(
+        &self,
+        _meshes: &[Mesh],
+        _mesh: MeshTable,
+        _from: Vec3,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<ShapeSample> {
+        let u = unit_square(point, d);
+        Some(ShapeSample::on_area(
+            self.point(u.x, u.y),
+            self.normal,
+            self.area,
+        ))
     }
 }
 
@@ -205,5 +322,25 @@ mod tests {
         }
         assert!(hits > 1000, "{hits} hits");
         assert!(Quad4::new(&[quads[0]; 5]).is_none());
+    }
+
+    /// Carried by an affine map (a shear too), a quad's corners are the
+    /// carried corners; it shows its area toward its normal, none from
+    /// behind, and a light of it has half the side of its square as size.
+    #[test]
+    fn carried_quads_and_their_silhouette() {
+        let q = Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Z);
+        let mut m = Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0));
+        m.y_axis.x = 0.5;
+        m.x_axis.x = 1.5;
+        let t = q.transformed(&m, 1.0).unwrap();
+        for (s, u) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+            let want = m.transform_point3(q.point(s, u));
+            assert!((t.point(s, u) - want).length() < 1e-5);
+        }
+        assert_eq!(q.projected_area(q.normal), Some(6.0));
+        assert_eq!(q.projected_area(-q.normal), Some(0.0));
+        assert_eq!(q.size(), Some(0.5 * 6f32.sqrt()));
+        assert_eq!(q.plane(), Some((q.normal, q.origin)));
     }
 }

@@ -1,164 +1,249 @@
 //! The shapes a scene is made of, and what every shape answers: its bounds,
-//! where a ray meets it, its normals there, and its area.
+//! where a ray meets it, its normals there, its area, and points drawn on
+//! it.
 //!
-//! A closed set with one dispatch point (this file): the acceleration
-//! structure asks a shape through these methods and never matches on the
-//! kind itself. A triangle mesh is a shape too; its triangles are searched
-//! by the acceleration structure, which tests them four at a time, so the
-//! per-ray methods here answer for the analytic shapes and for one triangle
-//! of a mesh.
+//! Each shape is a type in a file of its own (its docs and tests beside
+//! it) implementing [`ShapeModel`]; the closed enum [`Shape`] and its
+//! dispatch are made by the `shapes!` list in this file, one line per
+//! shape, one match per question. The acceleration structure and the
+//! emitters ask a shape through these methods and never match on the
+//! kind. A triangle mesh is a shape too; its triangles are searched by
+//! the acceleration structure, which tests them four at a time, so the
+//! per-ray methods answer for the analytic shapes.
 
-use std::f32::consts::{PI, TAU};
-
-use super::cylinder::Cylinder;
-use super::disk::intersect_disk;
+pub use super::cylinder::Cylinder;
+pub use super::disk::Disk;
 use super::interaction::LocalGeometry;
 use super::mesh::Mesh;
-use super::quad::Quad;
-use super::sphere::intersect_sphere;
-use super::triangle::{intersect_triangle, RayShear};
-use crate::math::{Aabb, Frame, Ray, Vec2, Vec3};
+pub use super::mesh_shape::MeshShape;
+pub use super::model::{MeshTable, ShapeHit, ShapeModel, ShapeSample};
+pub use super::quad::Quad;
+pub use super::sphere::Sphere;
+use crate::math::{Aabb, Mat4, Ray, Vec3};
+use crate::sampling::{Discrete, Distribution};
 
-/// A shape in its own space (world space for static objects).
-#[derive(Clone, Debug)]
-pub enum Shape {
-    Sphere {
-        center: Vec3,
-        radius: f32,
-    },
-    /// A parallelogram (a rectangle for the scene format's `quad`).
-    Quad(Quad),
-    Disk {
-        center: Vec3,
-        frame: Frame,
-        radius: f32,
-    },
-    /// An open tube (Mitsuba's `cylinder`).
-    Cylinder(Cylinder),
-    /// A triangle mesh: the index of one of the scene's meshes.
-    Mesh {
-        mesh: u32,
-    },
+macro_rules! shapes {
+    ($($variant:ident => $as:ident,)*) => {
+        /// A shape in its own space (world space for static objects): one
+        /// of the shapes of this layer.
+        #[derive(Clone, Debug)]
+        pub enum Shape {
+            $($variant($variant),)*
+        }
+
+        $(impl From<$variant> for Shape {
+            fn from(s: $variant) -> Shape {
+                Shape::$variant(s)
+            }
+        })*
+
+        impl Shape {
+            /// The names of the shapes.
+            pub const NAMES: &'static [&'static str] = &[$(<$variant as ShapeModel>::NAME,)*];
+
+            /// What messages call the shape.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Shape::$variant(_) => <$variant as ShapeModel>::NAME,)*
+                }
+            }
+
+            $(
+                #[doc = concat!("The shape if it is a [`", stringify!($variant), "`].")]
+                #[inline(always)]
+                pub fn $as(&self) -> Option<&$variant> {
+                    match self {
+                        Shape::$variant(s) => Some(s),
+                        #[allow(unreachable_patterns)]
+                        _ => None,
+                    }
+                }
+            )*
+
+            /// The box holding the shape (`meshes` resolves a mesh's index).
+            pub fn bounds(&self, meshes: &[Mesh]) -> Aabb {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::bounds(s, meshes),)*
+                }
+            }
+
+            /// See [`ShapeModel::intersect`].
+            #[inline]
+            pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::intersect(s, ray, tmin, tmax),)*
+                }
+            }
+
+            /// See [`ShapeModel::intersect_all`].
+            #[inline]
+            pub fn intersect_all(
+                &self,
+                rays: &[Ray],
+                tmin: f32,
+                tmax: f32,
+                out: &mut [Option<ShapeHit>],
+            ) {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::intersect_all(s, rays, tmin, tmax, out),)*
+                }
+            }
+
+            /// See [`ShapeModel::geometry`].
+            #[inline]
+            pub fn geometry(&self, meshes: &[Mesh], hit: &ShapeHit, p: Vec3) -> LocalGeometry {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::geometry(s, meshes, hit, p),)*
+                }
+            }
+
+            /// The surface area.
+            pub fn area(&self, meshes: &[Mesh]) -> f32 {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::area(s, meshes),)*
+                }
+            }
+
+            /// See [`ShapeModel::is_closed`].
+            #[inline]
+            pub fn is_closed(&self) -> bool {
+                match self {
+                    $(Shape::$variant(s) => s.is_closed(),)*
+                }
+            }
+
+            /// See [`ShapeModel::is_flat`].
+            #[inline]
+            pub fn is_flat(&self) -> bool {
+                match self {
+                    $(Shape::$variant(s) => s.is_flat(),)*
+                }
+            }
+
+            /// See [`ShapeModel::plane`].
+            #[inline]
+            pub fn plane(&self) -> Option<(Vec3, Vec3)> {
+                match self {
+                    $(Shape::$variant(s) => s.plane(),)*
+                }
+            }
+
+            /// See [`ShapeModel::center`].
+            pub fn center(&self, meshes: &[Mesh]) -> Vec3 {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::center(s, meshes),)*
+                }
+            }
+
+            /// See [`ShapeModel::size`].
+            pub fn size(&self) -> Option<f32> {
+                match self {
+                    $(Shape::$variant(s) => s.size(),)*
+                }
+            }
+
+            /// See [`ShapeModel::projected_area`].
+            #[inline]
+            pub fn projected_area(&self, w: Vec3) -> Option<f32> {
+                match self {
+                    $(Shape::$variant(s) => s.projected_area(w),)*
+                }
+            }
+
+            /// See [`ShapeModel::normal_cone`].
+            pub fn normal_cone(
+                &self,
+                meshes: &[Mesh],
+                triangles: Option<&Discrete>,
+                flip: bool,
+            ) -> (Vec3, f32) {
+                match self {
+                    $(Shape::$variant(s) => s.normal_cone(meshes, triangles, flip),)*
+                }
+            }
+
+            /// See [`ShapeModel::area_scale`].
+            pub fn area_scale(&self, m: &Mat4) -> f32 {
+                match self {
+                    $(Shape::$variant(s) => s.area_scale(m),)*
+                }
+            }
+
+            /// See [`ShapeModel::transformed`].
+            pub fn transformed(&self, m: &Mat4, scale: f32) -> Option<Shape> {
+                match self {
+                    $(Shape::$variant(s) => s.transformed(m, scale).map(Shape::$variant),)*
+                }
+            }
+
+            /// See [`ShapeModel::uniform_in_area`].
+            #[inline]
+            pub fn uniform_in_area(&self) -> bool {
+                match self {
+                    $(Shape::$variant(s) => s.uniform_in_area(),)*
+                }
+            }
+
+            /// A point of the shape, in its own space, for the distribution
+            /// point `point` of `d`, seen from `from`; `meshes` resolves a
+            /// mesh, whose triangle is chosen by `mesh` (its triangles by
+            /// area, and its area). Uniform in area but for a sphere seen
+            /// from outside, uniform in the cone it subtends (see
+            /// [`ShapeModel::sample`]).
+            #[inline(always)]
+            pub fn sample(
+                &self,
+                meshes: &[Mesh],
+                mesh: MeshTable,
+                from: Vec3,
+                point: Vec3,
+                d: Distribution,
+            ) -> Option<ShapeSample> {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::sample(s, meshes, mesh, from, point, d),)*
+                }
+            }
+
+            /// See [`ShapeModel::sample_all`].
+            #[inline]
+            pub fn sample_all(
+                &self,
+                meshes: &[Mesh],
+                mesh: MeshTable,
+                from: &[Vec3],
+                points: &[Vec3],
+                d: Distribution,
+                out: &mut [Option<ShapeSample>],
+            ) {
+                match self {
+                    $(Shape::$variant(s) => s.sample_all(meshes, mesh, from, points, d, out),)*
+                }
+            }
+
+            /// The solid-angle density with which [`sample`](Self::sample)
+            /// draws `target` (a point of the shape with normal `n`, in the
+            /// shape's space) from `from`; `area` is the shape's area.
+            #[inline]
+            pub fn density(&self, area: f32, from: Vec3, target: Vec3, n: Vec3) -> f32 {
+                match self {
+                    $(Shape::$variant(s) => ShapeModel::density(s, area, from, target, n),)*
+                }
+            }
+        }
+    };
 }
 
-/// Where a ray meets a shape: the distance and the surface coordinates that
-/// the normals are computed from (the barycentrics and triangle of a mesh,
-/// the (s, t) of a quad; unused by spheres and disks).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ShapeHit {
-    pub t: f32,
-    pub b1: f32,
-    pub b2: f32,
-    /// The triangle of a mesh.
-    pub inner: u32,
+// The shapes: one line each, the type (also the variant's name) and the
+// name of the method that picks it out.
+shapes! {
+    Sphere => as_sphere,
+    Quad => as_quad,
+    Disk => as_disk,
+    Cylinder => as_cylinder,
+    MeshShape => as_mesh,
 }
 
 impl Shape {
-    /// The box holding the shape (`meshes` resolves a mesh's index).
-    pub fn bounds(&self, meshes: &[Mesh]) -> Aabb {
-        match self {
-            Shape::Sphere { center, radius } => Aabb::new(
-                *center - Vec3::splat(*radius),
-                *center + Vec3::splat(*radius),
-            ),
-            Shape::Quad(q) => Aabb::from_points([
-                q.origin,
-                q.point(1.0, 0.0),
-                q.point(0.0, 1.0),
-                q.point(1.0, 1.0),
-            ]),
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => {
-                let e = Vec3::ONE - frame.n * frame.n;
-                let r = *radius * Vec3::from_array(e.max(Vec3::ZERO).to_array().map(f32::sqrt));
-                Aabb::new(*center - r, *center + r)
-            }
-            Shape::Cylinder(c) => c.bounds(),
-            Shape::Mesh { mesh } => meshes[*mesh as usize].bounds(),
-        }
-    }
-
-    /// The nearest point of an analytic shape along `ray` within
-    /// (tmin, tmax). A mesh answers `None`: its triangles are searched by the
-    /// acceleration structure ([`intersect_triangle_of`](Self::intersect_triangle_of)
-    /// tests one of them).
-    #[inline]
-    pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<ShapeHit> {
-        let at = |t| ShapeHit {
-            t,
-            ..ShapeHit::default()
-        };
-        match self {
-            Shape::Sphere { center, radius } => {
-                intersect_sphere(ray, *center, *radius, tmin, tmax).map(at)
-            }
-            Shape::Quad(q) => q.intersect(ray, tmin, tmax).map(|(t, b1, b2)| ShapeHit {
-                t,
-                b1,
-                b2,
-                inner: 0,
-            }),
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => intersect_disk(ray, *center, frame.n, *radius, tmin, tmax).map(at),
-            Shape::Cylinder(c) => c.intersect(ray, tmin, tmax).map(at),
-            Shape::Mesh { .. } => None,
-        }
-    }
-
-    /// Triangle `tri` of mesh `m` along `ray` within (tmin, tmax).
-    #[inline]
-    pub fn intersect_triangle_of(
-        m: &Mesh,
-        tri: u32,
-        ray: &Ray,
-        shear: &RayShear,
-        tmin: f32,
-        tmax: f32,
-    ) -> Option<ShapeHit> {
-        let [p0, p1, p2] = m.vertices(tri as usize);
-        let (t, b1, b2) = intersect_triangle(ray, shear, p0, p1, p2, tmin, tmax)?;
-        Some(ShapeHit {
-            t,
-            b1,
-            b2,
-            inner: tri,
-        })
-    }
-
-    /// What messages call the shape.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Shape::Sphere { .. } => "sphere",
-            Shape::Quad(_) => "quad",
-            Shape::Disk { .. } => "disk",
-            Shape::Cylinder(_) => "cylinder",
-            Shape::Mesh { .. } => "mesh",
-        }
-    }
-
-    /// True if a segment can cross the shape twice (in and out): a sphere
-    /// or a cylinder.
-    #[inline]
-    pub fn is_closed(&self) -> bool {
-        matches!(self, Shape::Sphere { .. } | Shape::Cylinder(_))
-    }
-
-    /// The plane of a flat analytic shape: its unit normal and a point of it.
-    #[inline]
-    pub fn plane(&self) -> Option<(Vec3, Vec3)> {
-        match self {
-            Shape::Quad(q) => Some((q.normal, q.origin)),
-            Shape::Disk { center, frame, .. } => Some((frame.n, *center)),
-            Shape::Sphere { .. } | Shape::Cylinder(_) | Shape::Mesh { .. } => None,
-        }
-    }
-
     /// The geometric and shading normals at `p`, found by `hit` (unit; the
     /// geometric one as the shape defines it, not turned toward a ray).
     #[inline]
@@ -166,134 +251,12 @@ impl Shape {
         let g = self.geometry(meshes, hit, p);
         (g.ng, g.ns)
     }
-
-    /// The shape's part of the surface-interaction record at `p`, found by
-    /// `hit`: normals, surface coordinates and their derivatives, as the
-    /// [interaction module](super::interaction) defines them.
-    #[inline]
-    pub fn geometry(&self, meshes: &[Mesh], hit: &ShapeHit, p: Vec3) -> LocalGeometry {
-        match self {
-            Shape::Sphere { center, .. } => sphere_geometry(p - *center),
-            Shape::Quad(q) => LocalGeometry {
-                ng: q.normal,
-                ns: q.normal,
-                uv: Vec2::new(hit.b1, hit.b2),
-                dpdu: q.edge_u,
-                dpdv: q.edge_v,
-            },
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => disk_geometry(p - *center, frame, *radius),
-            Shape::Cylinder(c) => c.geometry(p - c.base),
-            Shape::Mesh { mesh } => {
-                let m = &meshes[*mesh as usize];
-                let tri = hit.inner as usize;
-                let corners = m.vertices(tri);
-                let [p0, p1, p2] = corners;
-                let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                let ns = m.shading_normal(tri, hit.b1, hit.b2).unwrap_or(ng);
-                let (uv, (dpdu, dpdv)) = match m.triangle_uvs(tri) {
-                    Some(uvs) => {
-                        let b0 = 1.0 - hit.b1 - hit.b2;
-                        let uv = b0 * uvs[0] + hit.b1 * uvs[1] + hit.b2 * uvs[2];
-                        (uv, triangle_derivatives(corners, uvs))
-                    }
-                    None => (Vec2::new(hit.b1, hit.b2), (p1 - p0, p2 - p0)),
-                };
-                LocalGeometry {
-                    ng,
-                    ns,
-                    uv,
-                    dpdu,
-                    dpdv,
-                }
-            }
-        }
-    }
-
-    /// The surface area.
-    pub fn area(&self, meshes: &[Mesh]) -> f32 {
-        match self {
-            Shape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
-            Shape::Quad(q) => q.area(),
-            Shape::Disk { radius, .. } => PI * radius * radius,
-            Shape::Cylinder(c) => c.area(),
-            Shape::Mesh { mesh } => {
-                let m = &meshes[*mesh as usize];
-                (0..m.triangles.len())
-                    .map(|i| {
-                        let [a, b, c] = m.vertices(i);
-                        0.5 * (b - a).cross(c - a).length()
-                    })
-                    .sum()
-            }
-        }
-    }
-}
-
-/// The angle of `(x, y)` about the origin from +x, in [0, 2π).
-#[inline]
-fn angle(x: f32, y: f32) -> f32 {
-    let phi = y.atan2(x);
-    if phi < 0.0 {
-        phi + TAU
-    } else {
-        phi
-    }
-}
-
-/// A sphere's geometry at offset `d` from its centre (Mitsuba's
-/// parameterisation: poles on the z axis).
-fn sphere_geometry(d: Vec3) -> LocalGeometry {
-    let n = d.normalize_or_zero();
-    let rxy = (d.x * d.x + d.y * d.y).sqrt();
-    let (cos_phi, sin_phi) = if rxy > 0.0 {
-        (d.x / rxy, d.y / rxy)
-    } else {
-        (1.0, 0.0)
-    };
-    LocalGeometry {
-        ng: n,
-        ns: n,
-        uv: Vec2::new(angle(d.x, d.y) / TAU, n.z.clamp(-1.0, 1.0).acos() / PI),
-        dpdu: TAU * Vec3::new(-d.y, d.x, 0.0),
-        dpdv: PI * Vec3::new(d.z * cos_phi, d.z * sin_phi, -rxy),
-    }
-}
-
-/// A disk's geometry at offset `d` from its centre.
-fn disk_geometry(d: Vec3, frame: &Frame, radius: f32) -> LocalGeometry {
-    let (x, y) = (d.dot(frame.u), d.dot(frame.v));
-    let r = (x * x + y * y).sqrt();
-    let (cos_phi, sin_phi) = if r > 0.0 { (x / r, y / r) } else { (1.0, 0.0) };
-    LocalGeometry {
-        ng: frame.n,
-        ns: frame.n,
-        uv: Vec2::new(r / radius, angle(x, y) / TAU),
-        dpdu: radius * (cos_phi * frame.u + sin_phi * frame.v),
-        dpdv: TAU * r * (cos_phi * frame.v - sin_phi * frame.u),
-    }
-}
-
-/// `dp/du` and `dp/dv` of the triangle `p` with texture coordinates `uv`
-/// (pbrt's solution of the 2×2 system); the edges when the coordinates are
-/// degenerate.
-fn triangle_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> (Vec3, Vec3) {
-    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
-    let det = d1.x * d2.y - d1.y * d2.x;
-    if det.abs() < 1e-12 || !det.is_finite() {
-        return (e1, e2);
-    }
-    let inv = 1.0 / det;
-    ((d2.y * e1 - d1.y * e2) * inv, (d1.x * e2 - d2.x * e1) * inv)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::{Frame, Vec2};
 
     /// Every hit of an analytic shape lies inside its bounds, on its
     /// surface, and its normal is unit length.
@@ -301,16 +264,13 @@ mod tests {
     fn hits_lie_on_the_shape_inside_its_bounds() {
         use crate::sampling::Rng;
         let shapes = [
-            Shape::Sphere {
-                center: Vec3::new(0.2, 0.1, -0.3),
-                radius: 0.7,
-            },
+            Shape::Sphere(Sphere::new(Vec3::new(0.2, 0.1, -0.3), 0.7)),
             Shape::Quad(Quad::new(Vec3::splat(-0.5), Vec3::X, Vec3::Z)),
-            Shape::Disk {
-                center: Vec3::ZERO,
-                frame: Frame::from_normal(Vec3::new(1.0, 2.0, 0.5).normalize()),
-                radius: 0.8,
-            },
+            Shape::Disk(Disk::new(
+                Vec3::ZERO,
+                Frame::from_normal(Vec3::new(1.0, 2.0, 0.5).normalize()),
+                0.8,
+            )),
         ];
         let mut r = Rng::new(5);
         for shape in &shapes {
@@ -346,27 +306,22 @@ mod tests {
         use crate::sampling::Rng;
         let frame = Frame::from_normal(Vec3::new(0.3, 1.0, -0.4).normalize());
         let (c, r) = (Vec3::new(0.5, -0.2, 0.1), 0.8);
-        let tube = super::super::cylinder::Cylinder::new(c, c + 1.5 * frame.n, r).unwrap();
+        let tube = Cylinder::new(c, c + 1.5 * frame.n, r).unwrap();
         let shapes = [
-            Shape::Sphere {
-                center: c,
-                radius: r,
-            },
-            Shape::Disk {
-                center: c,
-                frame,
-                radius: r,
-            },
+            Shape::Sphere(Sphere::new(c, r)),
+            Shape::Disk(Disk::new(c, frame, r)),
             Shape::Cylinder(tube),
         ];
         // The point of the surface nearest to `p`, and its coordinates.
-        let project = |s: &Shape, p: Vec3| match s {
-            Shape::Sphere { .. } => c + r * (p - c).normalize(),
-            Shape::Cylinder(t) => {
+        let project = |s: &Shape, p: Vec3| {
+            if let Some(t) = s.as_cylinder() {
                 let along = t.frame.n * (p - t.base).dot(t.frame.n);
                 t.base + along + r * (p - t.base - along).normalize()
+            } else if s.is_closed() {
+                c + r * (p - c).normalize()
+            } else {
+                p - frame.n * (p - c).dot(frame.n)
             }
-            _ => p - frame.n * (p - c).dot(frame.n),
         };
         let mut rng = Rng::new(3);
         let mut checked = 0;
@@ -377,12 +332,12 @@ mod tests {
                     rng.range(-1.0, 1.0),
                     rng.range(-1.0, 1.0),
                 );
-                let p = match s {
-                    Shape::Sphere { .. } => c + r * dir.normalize(),
-                    Shape::Cylinder(t) => {
-                        project(s, t.base + t.frame.n * (0.75 + 0.7 * dir.z) + dir)
-                    }
-                    _ => project(s, c + 0.9 * r * dir.clamp_length_max(1.0)),
+                let p = if let Some(t) = s.as_cylinder() {
+                    project(s, t.base + t.frame.n * (0.75 + 0.7 * dir.z) + dir)
+                } else if s.is_closed() {
+                    c + r * dir.normalize()
+                } else {
+                    project(s, c + 0.9 * r * dir.clamp_length_max(1.0))
                 };
                 let g = s.geometry(&[], &ShapeHit::default(), p);
                 // Away from the sphere's poles and seam, the disk's centre and seam.
@@ -419,39 +374,59 @@ mod tests {
         );
     }
 
-    /// A triangle's derivatives map texture-coordinate steps onto the
-    /// triangle: `p(uv) = p0 + dpdu (u − u0) + dpdv (v − v0)` at every corner.
+    /// The batch forms give, lane by lane, the scalar form's bits: rays
+    /// against every analytic shape, and points drawn on every shape
+    /// (a mesh of two triangles too) from shading points all around.
     #[test]
-    fn triangle_derivatives_map_texture_coordinates() {
-        let p = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(2.0, 0.0, 1.0),
-            Vec3::new(0.5, 3.0, 0.0),
+    fn batches_are_the_scalar_answers() {
+        use crate::sampling::{Discrete, Rng};
+        let mesh = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Z, Vec3::new(1.0, 0.5, 1.0)],
+            triangles: vec![[0, 1, 2], [1, 3, 2]],
+            ..Mesh::default()
+        };
+        let table = Discrete::new([0.5, 0.7]).unwrap();
+        let meshes = [mesh];
+        let frame = Frame::from_normal(Vec3::new(0.2, 1.0, -0.3).normalize());
+        let shapes = [
+            Shape::Sphere(Sphere::new(Vec3::new(0.2, 0.1, -0.3), 0.7)),
+            Shape::Quad(Quad::new(Vec3::splat(-0.5), Vec3::X, Vec3::Z)),
+            Shape::Disk(Disk::new(Vec3::ZERO, frame, 0.8)),
+            Shape::Cylinder(Cylinder::new(Vec3::ZERO, Vec3::new(0.3, 1.0, 0.2), 0.5).unwrap()),
+            Shape::MeshShape(MeshShape::new(0)),
         ];
-        let uv = [
-            Vec2::new(0.1, 0.2),
-            Vec2::new(0.9, 0.3),
-            Vec2::new(0.2, 0.8),
-        ];
-        let (dpdu, dpdv) = triangle_derivatives(p, uv);
-        for k in 0..3 {
-            let d = uv[k] - uv[0];
-            let q = p[0] + dpdu * d.x + dpdv * d.y;
-            assert!((q - p[k]).length() < 1e-5, "corner {k}: {q:?}");
+        let mut r = Rng::new(21);
+        let mut v = |s: f32| Vec3::new(r.range(-s, s), r.range(-s, s), r.range(-s, s));
+        let rays: Vec<Ray> = (0..64).map(|_| Ray::new(v(3.0), v(0.5), 0.0)).collect();
+        let from: Vec<Vec3> = (0..64).map(|_| v(3.0)).collect();
+        let points: Vec<Vec3> = (0..64).map(|_| v(1.0)).collect();
+        let bits = |h: Option<ShapeHit>| h.map(|h| (h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits()));
+        for shape in &shapes {
+            let mut hits = vec![None; rays.len()];
+            shape.intersect_all(&rays, 0.0, f32::INFINITY, &mut hits);
+            for (ray, hit) in rays.iter().zip(&hits) {
+                let one = shape.intersect(ray, 0.0, f32::INFINITY);
+                assert_eq!(bits(*hit), bits(one), "{shape:?} {ray:?}");
+            }
+            let mesh = (Some(&table), 1.0);
+            for d in [Distribution::Jitter, Distribution::Random] {
+                let mut drawn = vec![None; points.len()];
+                shape.sample_all(&meshes, mesh, &from, &points, d, &mut drawn);
+                for k in 0..points.len() {
+                    let one = shape.sample(&meshes, mesh, from[k], points[k], d);
+                    // Debug prints every f32 so that it reads back to its bits.
+                    assert_eq!(format!("{:?}", drawn[k]), format!("{one:?}"), "{shape:?}");
+                    assert!(one.is_some());
+                }
+            }
         }
-        // Degenerate coordinates fall back to the edges.
-        let (a, b) = triangle_derivatives(p, [Vec2::ZERO; 3]);
-        assert_eq!((a, b), (p[1] - p[0], p[2] - p[0]));
     }
 
     #[test]
     fn areas() {
         let q = Shape::Quad(Quad::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Z));
         assert!((q.area(&[]) - 6.0).abs() < 1e-6);
-        let s = Shape::Sphere {
-            center: Vec3::ZERO,
-            radius: 2.0,
-        };
+        let s = Shape::Sphere(Sphere::new(Vec3::ZERO, 2.0));
         assert!((s.area(&[]) - 16.0 * std::f32::consts::PI).abs() < 1e-4);
     }
 }

@@ -17,183 +17,15 @@
 //! shape or mesh may be sheared or scaled along any axis, since an affine
 //! map keeps a uniform density on a plane uniform.
 
-use std::f32::consts::PI;
 use std::sync::Arc;
 
 use super::instance::Placement;
 use super::mesh::Mesh;
+pub use super::model::{area_pdf, Density, ShapeSample};
 use super::motion::{Motion, Similarity};
 use super::shape::Shape;
-use crate::math::{Aabb, Mat4, Vec2, Vec3};
-use crate::sampling::points::{unit_disk, unit_square};
-use crate::sampling::warp::{square_to_triangle, square_to_uniform_cone, square_to_uniform_sphere};
+use crate::math::{Aabb, Vec3};
 use crate::sampling::{Discrete, Distribution};
-
-/// How a point was drawn on a surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Density {
-    /// Uniformly over a surface of this area; `two_sided` when the point
-    /// is seen from inside a closed shape, whose inner side faces it.
-    Area { area: f32, two_sided: bool },
-    /// Uniformly over the directions of a cone of this solid angle, seen
-    /// from the reference point.
-    Cone(f32),
-}
-
-/// A point drawn on a surface: where, its unit normal (the side the
-/// surface faces), and how it was drawn.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShapeSample {
-    pub p: Vec3,
-    pub n: Vec3,
-    pub density: Density,
-}
-
-/// The solid-angle density of uniform area sampling: `r² / (cos θ · A)`
-/// for a point seen at `cos_l` (to its normal) and squared distance `r2`;
-/// 0 from behind.
-#[inline]
-pub fn area_pdf(cos_l: f32, r2: f32, area: f32) -> f32 {
-    if cos_l > 0.0 && area > 0.0 {
-        r2 / (cos_l * area)
-    } else {
-        0.0
-    }
-}
-
-impl Shape {
-    /// A point of the shape, in its own space, for the distribution point
-    /// `point` of `d` (see the [module docs](self)), seen from `from`;
-    /// `meshes` resolves a mesh, whose triangle is chosen by `triangles`
-    /// (its triangles by area) and `area` is its area. Uniform in area
-    /// but for a sphere seen from outside, uniform in the cone it
-    /// subtends.
-    #[inline(always)]
-    pub fn sample(
-        &self,
-        meshes: &[Mesh],
-        (triangles, area): (Option<&Discrete>, f32),
-        from: Vec3,
-        point: Vec3,
-        d: Distribution,
-    ) -> Option<ShapeSample> {
-        let on_area = |p, n, area| ShapeSample {
-            p,
-            n,
-            density: Density::Area {
-                area,
-                two_sided: false,
-            },
-        };
-        match self {
-            Shape::Quad(q) => {
-                let u = unit_square(point, d);
-                Some(on_area(q.point(u.x, u.y), q.normal, q.area()))
-            }
-            Shape::Disk {
-                center,
-                frame,
-                radius,
-            } => {
-                let u = unit_disk(point, d) * *radius;
-                let p = *center + u.x * frame.u + u.y * frame.v;
-                Some(on_area(p, frame.n, PI * radius * radius))
-            }
-            Shape::Sphere { center, radius } => {
-                Some(sample_sphere(*center, *radius, from, unit_square(point, d)))
-            }
-            Shape::Mesh { mesh } => sample_mesh(
-                &meshes[*mesh as usize],
-                triangles?,
-                area,
-                unit_square(point, d),
-            ),
-            Shape::Cylinder(c) => {
-                let u = unit_square(point, d);
-                let (p, n) = c.point(u.x, u.y);
-                Some(on_area(p, n, c.area()))
-            }
-        }
-    }
-
-    /// The solid-angle density with which [`sample`](Self::sample) draws
-    /// `target` (a point of the shape with normal `n`, in the shape's
-    /// space) from `from`; `area` is the shape's area.
-    #[inline]
-    pub fn density(&self, area: f32, from: Vec3, target: Vec3, n: Vec3) -> f32 {
-        let to = target - from;
-        let r2 = to.length_squared();
-        let cos_l = n.dot(-to) / r2.sqrt();
-        match self {
-            Shape::Sphere { center, radius } => {
-                let d2 = (*center - from).length_squared();
-                if d2 <= radius * radius {
-                    return area_pdf(cos_l.abs(), r2, area);
-                }
-                1.0 / (2.0 * PI * (1.0 - cos_max(*radius, d2)))
-            }
-            _ => area_pdf(cos_l, r2, area),
-        }
-    }
-}
-
-/// The cosine of the half-angle of the cone a sphere of radius `radius`
-/// subtends from a point at squared distance `d2` from its centre
-/// (outside it).
-fn cos_max(radius: f32, d2: f32) -> f32 {
-    (1.0 - radius * radius / d2).max(0.0).sqrt()
-}
-
-/// A point of the mesh `m` of area `area` for the point `u` of the unit
-/// square: a triangle chosen by `triangles` (by area), uniform within it.
-#[inline(never)]
-fn sample_mesh(m: &Mesh, triangles: &Discrete, area: f32, u: Vec2) -> Option<ShapeSample> {
-    let (i, _, rest) = triangles.sample(u.x);
-    let (b0, b1) = square_to_triangle(Vec2::new(rest, u.y));
-    let [a, b, c] = m.vertices(i);
-    let p = b0 * a + b1 * b + (1.0 - b0 - b1) * c;
-    Some(ShapeSample {
-        p,
-        n: (b - a).cross(c - a).normalize_or_zero(),
-        density: Density::Area {
-            area,
-            two_sided: false,
-        },
-    })
-}
-
-/// A point of the sphere seen from `from`: from outside, uniform in the
-/// cone it subtends (on the near side); from inside, uniform in area.
-#[inline(never)]
-fn sample_sphere(c: Vec3, r: f32, from: Vec3, u: Vec2) -> ShapeSample {
-    let to_c = c - from;
-    let d2 = to_c.length_squared();
-    if d2 <= r * r {
-        let n = square_to_uniform_sphere(u);
-        return ShapeSample {
-            p: c + r * n,
-            n,
-            density: Density::Area {
-                area: 4.0 * PI * r * r,
-                two_sided: true,
-            },
-        };
-    }
-    let d = d2.sqrt();
-    let cos_max = cos_max(r, d2);
-    let frame = crate::math::Frame::from_normal(to_c / d);
-    let w = frame.to_world(square_to_uniform_cone(u, cos_max));
-    // Distance to the near side of the sphere along w (clamped to the
-    // tangent point when rounding puts w just outside the cone).
-    let b = w.dot(to_c);
-    let disc = (r * r - (d2 - b * b)).max(0.0);
-    let p = from + (b - disc.sqrt()) * w;
-    ShapeSample {
-        p,
-        n: (p - c) / r,
-        density: Density::Cone(2.0 * PI * (1.0 - cos_max)),
-    }
-}
 
 /// Where a surface is.
 #[derive(Clone, Debug)]
@@ -263,10 +95,7 @@ impl Surface {
             Place::Placed(p) => uniform(p.to_world.to_scale_rotation_translation().0),
             Place::Moving(m) => uniform(m.start.scale) && uniform(m.end.scale),
         };
-        let flat = matches!(
-            shape,
-            Shape::Quad(_) | Shape::Disk { .. } | Shape::Mesh { .. }
-        );
+        let flat = shape.is_flat();
         let placed = matches!(place, Place::Placed(_));
         if !(similar || placed && flat) {
             return Err(SurfaceError::Proportions);
@@ -275,9 +104,9 @@ impl Surface {
             Place::Placed(p) => Some(p.to_world),
             _ => None,
         };
-        let triangles = match &shape {
-            Shape::Mesh { mesh } => {
-                let m = &meshes[*mesh as usize];
+        let triangles = match shape.as_mesh() {
+            Some(mesh) => {
+                let m = &meshes[mesh.mesh as usize];
                 let area = |i| {
                     let [a, b, c] = m.vertices(i);
                     let [a, b, c] = match &to_world {
@@ -289,20 +118,20 @@ impl Surface {
                 let table = Discrete::new((0..m.triangles.len()).map(area));
                 Some(table.ok_or(SurfaceError::NoArea)?)
             }
-            _ => None,
+            None => None,
         };
         let local_area = match &triangles {
-            // A placed mesh's table is in world space.
             Some(t) if to_world.is_none() => t.total() as f32,
             _ => shape.area(&meshes),
         };
-        let area = match (&shape, &place) {
-            (_, Place::World) => local_area,
-            (Shape::Mesh { .. }, Place::Placed(_)) => {
+        let area = match &place {
+            Place::World => local_area,
+            // A placed mesh's table is in world space.
+            Place::Placed(_) if triangles.is_some() => {
                 triangles.as_ref().map_or(0.0, |t| t.total() as f32)
             }
-            (_, Place::Placed(p)) => local_area * area_scale(&shape, &p.to_world),
-            (_, Place::Moving(m)) => local_area * m.start.scale.x.abs().powi(2),
+            Place::Placed(p) => local_area * shape.area_scale(&p.to_world),
+            Place::Moving(m) => local_area * m.start.scale.x.abs().powi(2),
         };
         if !(area > 0.0 && area.is_finite()) {
             return Err(SurfaceError::NoArea);
@@ -401,7 +230,7 @@ impl Surface {
         let mesh = (self.triangles.as_ref(), self.local_area);
         let face = |n: Vec3| if self.flip { -n } else { n };
         if let Place::Placed(pl) = &self.place {
-            if !matches!(self.shape, Shape::Sphere { .. } | Shape::Cylinder(_)) {
+            if self.shape.is_flat() {
                 // Flat pieces under any affine map: uniform stays uniform.
                 let local = pl.to_object.transform_point3(from);
                 let s = self.shape.sample(&self.meshes, mesh, local, point, d)?;
@@ -439,10 +268,11 @@ impl Surface {
     /// the surface faces) from `from` at `time`.
     #[inline]
     pub fn density(&self, from: Vec3, time: f32, target: Vec3, n: Vec3) -> f32 {
-        match (&self.place, &self.shape) {
-            (Place::World, shape) => shape.density(self.local_area, from, target, n),
-            (_, Shape::Sphere { .. }) => {
-                // In the sphere's space: solid angles are the same.
+        match &self.place {
+            Place::World => self.shape.density(self.local_area, from, target, n),
+            _ if !self.shape.uniform_in_area() => {
+                // In the shape's space (a sphere's cone): solid angles
+                // are the same.
                 let Some(sim) = self.similarity(time) else {
                     return 0.0;
                 };
@@ -452,7 +282,7 @@ impl Surface {
                 let area = self.local_area;
                 self.shape.density(area, local(from), local(target), n)
             }
-            (place, _) => {
+            place => {
                 let area = match place {
                     Place::Moving(m) => self.local_area * m.at(time).scale.x.powi(2),
                     _ => self.area,
@@ -462,6 +292,12 @@ impl Surface {
                 area_pdf(n.dot(-to) / r2.sqrt(), r2, area)
             }
         }
+    }
+
+    /// The centre of the shape in its own space (see
+    /// [`ShapeModel::center`](super::ShapeModel::center)).
+    pub fn shape_center(&self) -> Vec3 {
+        self.shape.center(&self.meshes)
     }
 
     /// The box around the shape in its own space.
@@ -486,69 +322,20 @@ impl Surface {
     /// normal, widened to the farthest). Placed or moving, every
     /// direction.
     pub fn normal_cone(&self) -> (Vec3, f32) {
-        let face = |n: Vec3| if self.flip { -n } else { n };
         if !matches!(self.place, Place::World) {
             return (Vec3::Z, -1.0);
         }
-        match &self.shape {
-            Shape::Quad(q) => (face(q.normal), 1.0),
-            Shape::Disk { frame, .. } => (face(frame.n), 1.0),
-            Shape::Sphere { .. } => (Vec3::Z, -1.0),
-            Shape::Cylinder(c) => (c.frame.n, 0.0),
-            Shape::Mesh { mesh } => {
-                let m = &self.meshes[*mesh as usize];
-                let Some(table) = &self.triangles else {
-                    return (Vec3::Z, -1.0);
-                };
-                let normal = |i| {
-                    let [a, b, c] = m.vertices(i);
-                    face((b - a).cross(c - a).normalize_or_zero())
-                };
-                let sum: Vec3 = (0..m.triangles.len())
-                    .map(|i| table.pmf(i) * normal(i))
-                    .sum();
-                if sum.length() < 1e-3 {
-                    return (Vec3::Z, -1.0);
-                }
-                let axis = sum.normalize();
-                let cos = (0..m.triangles.len())
-                    .map(normal)
-                    .filter(|n| *n != Vec3::ZERO)
-                    .map(|n| n.dot(axis))
-                    .fold(1.0f32, f32::min);
-                // A little wider than the smallest cosine, against rounding.
-                (axis, if cos > -0.999 { cos - 1e-4 } else { -1.0 })
-            }
-        }
-    }
-}
-
-/// The factor by which the affine map `m` multiplies the areas of a flat
-/// shape (its plane's), or of a closed shape it scales uniformly.
-fn area_scale(shape: &Shape, m: &Mat4) -> f32 {
-    let plane = match shape {
-        Shape::Quad(q) => Some((q.edge_u, q.edge_v)),
-        Shape::Disk { frame, .. } => Some((frame.u, frame.v)),
-        _ => None,
-    };
-    match plane {
-        Some((u, v)) => {
-            let w = m
-                .transform_vector3(u)
-                .cross(m.transform_vector3(v))
-                .length();
-            w / u.cross(v).length()
-        }
-        None => {
-            let (s, _, _) = m.to_scale_rotation_translation();
-            s.x * s.x
-        }
+        self.shape
+            .normal_cone(&self.meshes, self.triangles.as_ref(), self.flip)
     }
 }
 
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::geometry::shape::{MeshShape, Sphere};
+    use crate::math::Mat4;
+    use std::f32::consts::PI;
 
     /// The surface of `shape` in world space, facing its normals.
     pub(crate) fn still(shape: Shape) -> Surface {
@@ -565,7 +352,13 @@ pub(crate) mod tests {
             ..Mesh::default()
         };
         let meshes = Arc::from(vec![mesh]);
-        Surface::new(Shape::Mesh { mesh: 0 }, meshes, Place::World, false).expect("an area")
+        Surface::new(
+            Shape::MeshShape(MeshShape::new(0)),
+            meshes,
+            Place::World,
+            false,
+        )
+        .expect("an area")
     }
 
     use crate::geometry::quad::Quad;
@@ -667,7 +460,7 @@ pub(crate) mod tests {
         };
         let meshes: Arc<[Mesh]> = Arc::from(vec![mesh]);
         let mesh = Surface::new(
-            Shape::Mesh { mesh: 0 },
+            Shape::MeshShape(MeshShape::new(0)),
             meshes,
             Place::Placed(placement),
             false,
@@ -704,10 +497,7 @@ pub(crate) mod tests {
         );
         // A sphere seen from outside: E = π r² h / d³ for its centre at
         // height h and distance d.
-        let ball = Shape::Sphere {
-            center: Vec3::ZERO,
-            radius: 0.25,
-        };
+        let ball = Shape::Sphere(Sphere::new(Vec3::ZERO, 0.25));
         let moving = Surface::new(ball, none, Place::Moving(Box::new(motion)), false).unwrap();
         let (c, r) = (mid.translation, 0.25 * mid.scale.x);
         let want = PI * r * r * c.y / c.length().powi(3);
@@ -725,10 +515,7 @@ pub(crate) mod tests {
             [0.0, 0.5, 0.0, 1.0],
         ]);
         let placement = Arc::new(Placement::new(mirror).unwrap());
-        let unit = Shape::Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        };
+        let unit = Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0));
         let around =
             Surface::new(unit, Arc::from(Vec::new()), Place::Placed(placement), false).unwrap();
         assert!(around.keeps_proportions());
@@ -801,7 +588,7 @@ pub(crate) mod tests {
             ..Mesh::default()
         };
         let none = Surface::new(
-            Shape::Mesh { mesh: 0 },
+            Shape::MeshShape(MeshShape::new(0)),
             Arc::from(vec![flat]),
             Place::World,
             false,

@@ -58,7 +58,7 @@ pub fn unblocked_all(world: &World, rays: &[Ray], range: (f32, f32), out: &mut V
 mod tests {
     use super::*;
     use crate::accel::world::tests::soup_ground_and_sphere;
-    use crate::geometry::Shape;
+    use crate::geometry::{Shape, Sphere};
     use crate::math::{Aabb, Vec3};
     use crate::sampling::Rng;
 
@@ -70,10 +70,8 @@ mod tests {
     /// opaque, such a material blocks.
     #[test]
     fn varying_transparency_is_read_where_crossed() {
-        let world = soup_ground_and_sphere(Shape::Sphere {
-            center: Vec3::new(0.5, 1.0, 0.0),
-            radius: 0.4,
-        });
+        let world =
+            soup_ground_and_sphere(Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4)));
         let transparency = [f32::NAN, f32::NAN];
         let varying = |h: &Hit| 0.3 + 0.6 * h.uv.x.rem_euclid(1.0);
         let (mut set, mut r) = (ShaftSet::default(), Rng::new(43));
@@ -119,10 +117,8 @@ mod tests {
     /// (material 0) blocks it.
     #[test]
     fn fixed_transparencies_multiply_per_crossing() {
-        let world = soup_ground_and_sphere(Shape::Sphere {
-            center: Vec3::new(0.5, 1.0, 0.0),
-            radius: 0.4,
-        });
+        let world =
+            soup_ground_and_sphere(Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4)));
         let transparency = [0.0, 0.5];
         let mut r = Rng::new(5);
         let (mut dimmed, mut blocked) = (0, 0);

@@ -26,8 +26,8 @@ use crate::description::Value;
 use crate::description::{Invalid, Kind, Node, Origin, Props};
 use crate::emitter::{self, area, Area, Emitter, PenumbraModel};
 use crate::geometry::instance::Placement;
-use crate::geometry::{Mesh, Place, Shape, Surface, SurfaceError};
-use crate::math::{Mat4, Rgb};
+use crate::geometry::{Mesh, Place, Surface, SurfaceError};
+use crate::math::{Mat4, Rgb, Vec3};
 use crate::sampling::{EffectSpec, PointTable};
 use crate::texture::Textures;
 
@@ -462,8 +462,8 @@ fn group(
                 .into());
         }
         let mut o = shapes::object(&child.plugin, &p, material, ctx, meshes, files)?;
-        if let Shape::Mesh { mesh } = o.shape {
-            o.mesh_bvh = Some(mesh_bvh(&meshes[mesh as usize]));
+        if let Some(mesh) = o.shape.as_mesh() {
+            o.mesh_bvh = Some(mesh_bvh(&meshes[mesh.mesh as usize]));
         }
         p.finish(schemas::schema(child)?.what)?;
         out.push(o);
@@ -570,13 +570,14 @@ fn carried(
 fn emitter(o: &Object, meshes: &Arc<[Mesh]>, c: &Carried) -> Result<Area, Invalid> {
     let what = o.shape.name();
     let thesis = c.model == PenumbraModel::Thesis;
-    if matches!(o.shape, Shape::Sphere { .. }) && o.flip_normals {
+    if o.shape.as_sphere().is_some() && o.flip_normals {
         return Err(Invalid::at(
             &c.at,
             "a sphere light emits outward: an emitting sphere cannot flip its normals",
         ));
     }
-    if thesis && matches!(o.shape, Shape::Cylinder(_) | Shape::Mesh { .. }) {
+    // The thesis collapses a light to a point of its projected area.
+    if thesis && o.shape.projected_area(Vec3::Z).is_none() {
         return Err(Invalid::at(
             &c.at,
             "the thesis penumbra model needs a rectangle, sphere or disk, not a mesh or cylinder",

@@ -16,7 +16,7 @@ use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::cube::cube;
 use crate::geometry::mesh_file::read_mesh_part;
 use crate::geometry::quad::Quad;
-use crate::geometry::{Cylinder, Mesh, Shape};
+use crate::geometry::{Cylinder, Disk, Mesh, MeshShape, Shape, ShapeModel, Sphere};
 use crate::math::{Frame, Mat4, Vec2, Vec3};
 
 /// Triangles a scene may always hold, counting a mesh once for every
@@ -418,18 +418,10 @@ pub(super) fn object(
             let radius = positive(p, "radius", 1.0)?;
             let frame = Frame::from_normal(normal);
             if as_written || motion.is_some() {
-                Shape::Disk {
-                    center,
-                    frame,
-                    radius,
-                }
+                Shape::Disk(Disk::new(center, frame, radius))
             } else {
                 let s = uniform_scale(p, "disk", &start)?;
-                Shape::Disk {
-                    center: start.transform_point3(center),
-                    frame: placed_frame(&start, &frame),
-                    radius: radius * s,
-                }
+                Shape::Disk(placed(Disk::new(center, frame, radius), &start, s))
             }
         }
         "cylinder" => {
@@ -445,28 +437,21 @@ pub(super) fn object(
                 start
             };
             let s = uniform_scale(p, "cylinder", &m)?;
-            Shape::Cylinder(Cylinder {
-                base: m.transform_point3(c.base),
-                frame: placed_frame(&m, &c.frame),
-                radius: c.radius * s,
-                length: c.length * s,
-            })
+            Shape::Cylinder(placed(c, &m, s))
         }
         "cube" => {
             meshes.push(match motion {
                 Some(_) => cube(),
                 None => cube().transformed(&start),
             });
-            Shape::Mesh {
-                mesh: (meshes.len() - 1) as u32,
-            }
+            Shape::MeshShape(MeshShape::new((meshes.len() - 1) as u32))
         }
         "quad" => {
             let q = quad(p, "quad")?;
             Shape::Quad(if as_written || motion.is_some() {
                 q
             } else {
-                transform_quad(&q, &start)
+                placed(q, &start, 1.0)
             })
         }
         _ => {
@@ -482,11 +467,11 @@ pub(super) fn object(
             } else {
                 bake(meshes, m, &start)
             };
-            Shape::Mesh { mesh: mesh as u32 }
+            Shape::MeshShape(MeshShape::new(mesh as u32))
         }
     };
-    let mesh_bvh = match (&shape, motion) {
-        (Shape::Mesh { mesh }, Some(_)) => Some(mesh_bvh(&meshes[*mesh as usize])),
+    let mesh_bvh = match (shape.as_mesh(), motion) {
+        (Some(mesh), Some(_)) => Some(mesh_bvh(&meshes[mesh.mesh as usize])),
         _ => None,
     };
     Ok(Object {
@@ -515,22 +500,16 @@ fn uniform_scale(p: &Props, what: &str, m: &Mat4) -> Result<f32, Invalid> {
     Ok(s.x)
 }
 
-/// The frame `f` turned by the rotation of a similarity `m`: its axes
-/// carried by `m` and made unit (right-handed, also under a mirror).
-fn placed_frame(m: &Mat4, f: &Frame) -> Frame {
-    let n = m.transform_vector3(f.n).normalize();
-    let u = m.transform_vector3(f.u).normalize();
-    Frame {
-        u,
-        v: n.cross(u),
-        n,
-    }
+/// The analytic shape `s` carried by the similarity `m` of scale `scale`
+/// (see [`ShapeModel::transformed`]).
+fn placed<S: ShapeModel + Copy>(s: S, m: &Mat4, scale: f32) -> S {
+    s.transformed(m, scale).unwrap_or(s)
 }
 
 /// Mitsuba's rectangle under `m`: its normal is the transformed +z, so a
 /// mirroring transform takes the edges in the other order.
 fn transform_rectangle(q: &Quad, m: &Mat4) -> Quad {
-    let t = transform_quad(q, m);
+    let t = placed(*q, m, 1.0);
     if m.determinant() < 0.0 {
         Quad::new(t.origin, t.edge_v, t.edge_u)
     } else {
@@ -550,17 +529,14 @@ fn sphere(
     as_given: bool,
 ) -> Result<Shape, Invalid> {
     if as_given {
-        return Ok(Shape::Sphere { center, radius });
+        return Ok(Shape::Sphere(Sphere::new(center, radius)));
     }
     let (scale, _, _) = m.to_scale_rotation_translation();
     let s = scale.abs();
     if (s.max_element() - s.min_element()) > 1e-4 * s.max_element() {
         return Err(p.error("transform", "a sphere can only be scaled uniformly"));
     }
-    Ok(Shape::Sphere {
-        center: m.transform_point3(center),
-        radius: radius * s.x,
-    })
+    Ok(Shape::Sphere(placed(Sphere::new(center, radius), m, s.x)))
 }
 
 /// The parallelogram of `origin`, `edge_u` and `edge_v` (`what` names the
@@ -576,15 +552,6 @@ pub(super) fn quad(p: &Props, what: &str) -> Result<Quad, Invalid> {
         return Err(p.error("edge_v", "edge_u and edge_v must not be parallel"));
     }
     Ok(Quad::new(origin, eu, ev))
-}
-
-fn transform_quad(q: &Quad, m: &Mat4) -> Quad {
-    let o = m.transform_point3(q.origin);
-    Quad::new(
-        o,
-        m.transform_point3(q.origin + q.edge_u) - o,
-        m.transform_point3(q.origin + q.edge_v) - o,
-    )
 }
 
 /// How a mesh is made of its file's data: with its vertex normals (else

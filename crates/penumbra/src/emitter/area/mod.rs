@@ -28,9 +28,7 @@
 //! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
 //! | `shadow_distribution` | distribution | the render's | |
 
-mod disk;
 mod rect;
-mod sphere;
 
 use crate::description::check::{int, nonneg3, required};
 use crate::description::mitsuba::adapt;
@@ -41,7 +39,7 @@ use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::model::EmitterModel;
 use crate::emitter::sample::{area_sample, LightSample, Reference};
 use crate::geometry::quad::Quad;
-use crate::geometry::{Density, Shape, Surface};
+use crate::geometry::{Density, Surface};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::{end_point, unit_square};
 use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
@@ -134,23 +132,15 @@ impl Area {
     /// The light's centre in the shape's own space, which the thesis model
     /// aims around.
     fn center(&self) -> Vec3 {
-        match self.surface.shape() {
-            Shape::Quad(q) => q.center(),
-            Shape::Sphere { center, .. } | Shape::Disk { center, .. } => *center,
-            Shape::Cylinder(c) => c.base + 0.5 * c.length * c.frame.n,
-            Shape::Mesh { .. } => self.surface.shape_bounds().centroid(),
-        }
+        self.surface.shape_center()
     }
 
     /// The thesis's light size in the shape's own space: the radius of the
     /// distribution around the centre. A rectangle (or any other shape)
     /// uses half the side of the square of equal area.
     fn size(&self) -> f32 {
-        match self.surface.shape() {
-            Shape::Quad(q) => rect::size(q),
-            Shape::Sphere { radius, .. } | Shape::Disk { radius, .. } => *radius,
-            _ => 0.5 * self.surface.area().sqrt(),
-        }
+        let size = self.surface.shape().size();
+        size.unwrap_or_else(|| 0.5 * self.surface.area().sqrt())
     }
 
     /// The area of the emitting surface.
@@ -177,10 +167,10 @@ impl Area {
     /// geometric normal `n` (one-sided but for spheres).
     #[inline]
     pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
-        match self.surface.shape() {
-            Shape::Sphere { .. } => self.radiance,
-            _ if n.dot(dir) < 0.0 => self.radiance,
-            _ => Rgb::ZERO,
+        if self.surface.shape().as_sphere().is_some() || n.dot(dir) < 0.0 {
+            self.radiance
+        } else {
+            Rgb::ZERO
         }
     }
 
@@ -188,10 +178,10 @@ impl Area {
     /// it is one.
     #[inline(always)]
     fn plain_rect(&self) -> Option<&Quad> {
-        match self.surface.shape() {
-            Shape::Quad(q) if self.surface.is_plain() => Some(q),
-            _ => None,
-        }
+        self.surface
+            .shape()
+            .as_quad()
+            .filter(|_| self.surface.is_plain())
     }
 
     /// The rectangle that [`sample`](Self::sample) takes points of `d`
@@ -302,16 +292,15 @@ impl Area {
     /// space) of the light collapsed to a point, as the thesis shades
     /// every shadow ray.
     fn point_intensity(&self, w: Vec3) -> Rgb {
-        let power = self.radiance;
-        let face = |n: Vec3| if self.surface.is_flipped() { -n } else { n };
-        match self.surface.shape() {
-            Shape::Quad(q) => rect::intensity(power, q.area(), face(q.normal), w),
-            Shape::Sphere { radius, .. } => sphere::intensity(power, *radius),
-            Shape::Disk { frame, radius, .. } => disk::intensity(power, face(frame.n), *radius, w),
-            // Not reached: the thesis model is refused on meshes and
-            // cylinders when the scene is built; a flat light of the
-            // shape's area facing `w`.
-            _ => power * self.area(),
+        // `L · A⊥`: the area the shape shows toward `w` (a flipped shape
+        // shows its other side).
+        let w = if self.surface.is_flipped() { -w } else { w };
+        match self.surface.shape().projected_area(w) {
+            Some(area) => self.radiance * area,
+            // Not reached: the thesis model is refused on shapes without
+            // one when the scene is built; a flat light of the shape's
+            // area facing `w`.
+            None => self.radiance * self.area(),
         }
     }
 }

@@ -8,19 +8,6 @@ use crate::emitter::sample::LightSamples4;
 use crate::geometry::quad::Quad;
 use crate::math::{Rgb, Vec3};
 
-/// The thesis's light size: half the side of the square of equal area.
-#[inline]
-pub(super) fn size(q: &Quad) -> f32 {
-    0.5 * q.area().sqrt()
-}
-
-/// Intensity toward direction `w` (unit, from the light) of a rectangle of
-/// area `area` facing `n`, collapsed to a point: `L · A · cos θ`.
-#[inline]
-pub(super) fn intensity(power: Rgb, area: f32, n: Vec3, w: Vec3) -> Rgb {
-    power * (area * n.dot(w).max(0.0))
-}
-
 /// [`Shape::sample`](crate::geometry::Shape::sample) of a rectangle and
 /// the emitter's weight, for four points at once, lane by lane the same bits (the same
 /// operations in the same order, with no fused ones). Prepared one by one, a

@@ -106,7 +106,7 @@ pub(crate) mod tests {
     use crate::emitter::{Area, Constant, Directional, PenumbraModel, Point, Spot};
     use crate::geometry::quad::Quad;
     use crate::geometry::surface::tests::{still, triangles};
-    use crate::geometry::{Shape, Surface};
+    use crate::geometry::{Disk, Shape, Sphere, Surface};
     use crate::math::{Frame, Rgb};
     use crate::sampling::Rng;
 
@@ -143,21 +143,8 @@ pub(crate) mod tests {
                     Shape::Quad(Quad::new(at, frame.u * size, frame.v * size)),
                     radiance,
                 ),
-                1 => area(
-                    Shape::Disk {
-                        center: at,
-                        frame,
-                        radius: size,
-                    },
-                    radiance,
-                ),
-                2 => area(
-                    Shape::Sphere {
-                        center: at,
-                        radius: size,
-                    },
-                    radiance,
-                ),
+                1 => area(Shape::Disk(Disk::new(at, frame, size)), radiance),
+                2 => area(Shape::Sphere(Sphere::new(at, size)), radiance),
                 3 => Emitter::Point(Point {
                     position: at,
                     intensity: Rgb::splat(radiance),
@@ -185,13 +172,7 @@ pub(crate) mod tests {
             5.0,
         ));
         // One that emits nothing.
-        out.push(area(
-            Shape::Sphere {
-                center: Vec3::ZERO,
-                radius: 0.3,
-            },
-            0.0,
-        ));
+        out.push(area(Shape::Sphere(Sphere::new(Vec3::ZERO, 0.3)), 0.0));
         if with_infinite {
             out.push(Emitter::Constant(Constant {
                 radiance: Rgb::splat(0.2),
@@ -262,7 +243,7 @@ pub(crate) mod tests {
         let everywhere: Vec<Emitter> = many_emitters(true)
             .into_iter()
             .filter(|e| match e {
-                Emitter::Area(a) => matches!(a.surface.shape(), Shape::Sphere { .. }),
+                Emitter::Area(a) => a.surface.shape().as_sphere().is_some(),
                 other => matches!(other, Emitter::Point(_) | Emitter::Constant(_)),
             })
             .collect();
