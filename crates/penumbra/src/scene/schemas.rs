@@ -24,7 +24,7 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Filter => &[],
         Kind::Sampler => &[&settings::SAMPLER],
         Kind::Bsdf => Bsdf::SCHEMAS,
-        Kind::Shape => &shapes::SCHEMAS,
+        Kind::Shape => shapes::SCHEMAS,
         Kind::Emitter => emitter::SCHEMAS,
     }
 }
@@ -45,7 +45,7 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
         Kind::Sampler => &settings::SAMPLER_PLUGINS,
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
-        Kind::Shape => &shapes::PLUGINS,
+        Kind::Shape => shapes::PLUGINS,
         Kind::Emitter => emitter::PLUGINS,
         Kind::Scene | Kind::Integrator => &[],
     }
