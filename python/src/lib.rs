@@ -179,7 +179,7 @@ fn samples<'py>(
         warn(py, &w)?;
     }
     let table = match points.filter(|p| !p.is_none()) {
-        None if d == Distribution::Custom => {
+        None if d.needs_table() => {
             return Err(options::value_error(
                 "the custom distribution draws from your point sets: pass points= \
                  (a path, an array of shape (N, 2) or (S, N, 2), or a function of the set size)",

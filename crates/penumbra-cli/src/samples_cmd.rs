@@ -62,7 +62,7 @@ pub fn run(a: &SamplesArgs) -> Result<(), CliError> {
     let table =
         match (&a.points, dist) {
             (Some(path), _) => read_points(path).map_err(input)?,
-            (None, Some(Distribution::Custom)) => return Err(input(
+            (None, Some(d)) if d.needs_table() => return Err(input(
                 "the custom distribution draws from your point sets: give them with --points FILE \
                  (a JSON or .npy file)",
             )),

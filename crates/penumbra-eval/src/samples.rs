@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use penumbra::math::Vec3;
-use penumbra::sampling::{Distribution, Rng};
+use penumbra::sampling::{Distribution, Domain, Rng};
 
 /// Side of the panel of one distribution, in pixels.
 pub const PANEL: u32 = 512;
@@ -87,7 +87,7 @@ fn panel(
         1.0
     };
     let mut chart = ChartBuilder::on(&square).build_cartesian_2d(-r..r, -r..r)?;
-    if Distribution::from_name(title) == Some(Distribution::Random) {
+    if Distribution::from_name(title).map(Distribution::domain) == Some(Domain::Disk) {
         let circle = (0..=256).map(|k| {
             let (s, c) = (std::f64::consts::TAU * f64::from(k) / 256.0).sin_cos();
             (r * c, r * s)

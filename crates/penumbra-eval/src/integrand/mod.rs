@@ -33,7 +33,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use penumbra::math::Vec3;
-use penumbra::sampling::{Distribution, Rng};
+use penumbra::sampling::{Distribution, Domain, Rng};
 use rayon::prelude::*;
 
 use crate::error::EvalError;
@@ -226,7 +226,7 @@ pub fn unit_points(
     out.clear();
     out.extend(scratch.iter().map(|p| {
         let (x, y) = (f64::from(p.x), f64::from(p.y));
-        if d == Distribution::Random {
+        if d.domain() == Domain::Disk {
             let u = (x * x + y * y).min(1.0);
             let v = (y.atan2(x) / std::f64::consts::TAU).rem_euclid(1.0);
             [u, v.min(1.0)]
@@ -339,7 +339,7 @@ mod tests {
                     cells[cell(p[0]) + 8 * cell(p[1])] += 1;
                 }
             }
-            if matches!(d, Distribution::Random | Distribution::FastRandom) {
+            if d.domain() != Domain::Square {
                 let expected = 1000.0;
                 let chi2: f64 = cells
                     .iter()

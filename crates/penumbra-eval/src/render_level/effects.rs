@@ -2,7 +2,7 @@
 //! other effect has a single `grid` ray (see the module above) and the
 //! camera is a pinhole unless the effect is depth of field.
 
-use penumbra::sampling::Distribution;
+use penumbra::sampling::{Distribution, Domain};
 use penumbra::scene::Overrides;
 
 use crate::convergence::Effect;
@@ -93,18 +93,20 @@ fn shared(_: Distribution) -> Distribution {
 
 /// Film positions: `random`'s disk is its own limit.
 fn film(d: Distribution) -> Distribution {
-    match d {
-        Distribution::Random => Distribution::Random,
-        _ => Distribution::Jitter,
+    if d.domain() == Domain::Disk {
+        d
+    } else {
+        Distribution::Jitter
     }
 }
 
 /// End points of reflected and refracted rays: `random`'s disk and
 /// `fast-random`'s cube are their own limits.
 fn end_points(d: Distribution) -> Distribution {
-    match d {
-        Distribution::Random | Distribution::FastRandom => d,
-        _ => Distribution::Jitter,
+    if d.domain() == Domain::Square {
+        Distribution::Jitter
+    } else {
+        d
     }
 }
 

@@ -1,6 +1,9 @@
 //! The integrators as plugins. Each integrator's schema and settings sit
-//! beside it (`whitted/config.rs`, `path/config.rs`); this file lists
-//! them (and, for the Mitsuba reader, the [`registry`] of every plugin),
+//! beside it (`whitted/config.rs`, `path/config.rs`), each implementing
+//! [`IntegratorModel`] (`whitted/config.rs`, `path/plugins.rs`); this
+//! file lists them in the `integrators!` list, one line per integrator,
+//! which makes [`Config`] and its dispatch (and, for the Mitsuba reader,
+//! gives the [`registry`] of every plugin),
 //! reads the integrator a scene describes into its settings, and
 //! builds scenes so that a bad integrator parameter is refused at its place
 //! when the scene is built.
@@ -11,20 +14,14 @@
 //! description into the integrator's own settings, when the scene is built
 //! (to check it) and when a render starts.
 
+use super::interface::Integrator;
 use super::metric::Metric;
-use super::path::{self, PathSettings, Variant};
-use super::whitted::{self, WhittedSettings};
+use super::model::IntegratorModel;
+use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin};
+use super::whitted::WhittedPlugin;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Origin, Props, SceneError, Schema};
 use crate::scene::{schemas, IntegratorChoice, Scene, SceneSource, WorldCache};
-
-/// The schemas of the integrators, in the order of [`IntegratorChoice::ALL`].
-pub const SCHEMAS: [&Schema; 4] = [
-    &whitted::SCHEMA,
-    &path::PATH,
-    &path::DIRECT,
-    &path::DISTRIBUTED,
-];
 
 /// Every plugin as the Mitsuba reader sees it: the integrators Mitsuba 3
 /// has (`path`, `direct`) and the scene's plugins of every other kind
@@ -37,91 +34,112 @@ pub fn registry(kind: Kind) -> &'static [Plugin] {
     }
 }
 
-/// An integrator and its settings, read from its description.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Config {
-    Whitted(WhittedSettings),
-    /// `path`, `direct` or `distributed`: the path tracer's wavefront.
-    Path(Variant, PathSettings),
+/// What a caller does with the integrator a [`Config`] makes
+/// ([`Config::render_with`]): a render, generic over the integrator.
+pub trait RenderWith {
+    type Output;
+
+    fn render<I: Integrator>(self, integrator: &I) -> Self::Output;
+}
+
+/// Makes [`Config`] (an integrator listed, `Variant => Model` with the
+/// model implementing [`IntegratorModel`], with its settings), the list
+/// of their schemas and the dispatch.
+macro_rules! integrators {
+    ($($variant:ident => $model:ty,)*) => {
+        /// The schemas of the integrators, in the list's order (that of
+        /// [`IntegratorChoice::ALL`]).
+        pub const SCHEMAS: [&Schema; [$(IntegratorChoice::$variant,)*].len()] =
+            [$(<$model as IntegratorModel>::SCHEMA,)*];
+
+        /// An integrator and its settings, read from its description.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Config {
+            $($variant(<$model as IntegratorModel>::Settings),)*
+        }
+
+        impl Config {
+            /// The integrator `node` describes (checked against its schema:
+            /// its name known, each key its own and of its type) with its
+            /// settings.
+            pub fn read(node: &Node) -> Result<Config, Invalid> {
+                let choice = IntegratorChoice::from_name(&node.plugin).ok_or_else(|| {
+                    Invalid::at(
+                        &node.plugin_origin,
+                        format!(
+                            "unknown integrator `{}`; valid choices are: {}",
+                            node.plugin,
+                            IntegratorChoice::NAMES.join(", ")
+                        ),
+                    )
+                })?;
+                let schema = match choice {
+                    $(IntegratorChoice::$variant => <$model as IntegratorModel>::SCHEMA,)*
+                };
+                let others: Vec<&Schema> = SCHEMAS
+                    .iter()
+                    .copied()
+                    .filter(|o| o.plugin != schema.plugin)
+                    .collect();
+                description::check(node, schema, &others)?;
+                let p = Props::new(node);
+                let config = match choice {
+                    $(IntegratorChoice::$variant => Config::$variant(<$model as IntegratorModel>::read(&p)?),)*
+                };
+                p.finish("integrator")?;
+                Ok(config)
+            }
+
+            /// Which integrator it is.
+            pub fn choice(&self) -> IntegratorChoice {
+                match self {
+                    $(Config::$variant(_) => IntegratorChoice::$variant,)*
+                }
+            }
+
+            /// `max_depth` as the integrator counts it (−1: no bound), as
+            /// reports show it.
+            pub fn depth(&self) -> i64 {
+                match self {
+                    $(Config::$variant(s) => <$model as IntegratorModel>::depth(s),)*
+                }
+            }
+
+            /// The thesis's acceleration metrics, if on.
+            pub fn metric(&self) -> Option<Metric> {
+                match self {
+                    $(Config::$variant(s) => <$model as IntegratorModel>::metric(s),)*
+                }
+            }
+
+            /// Passes the render is made in.
+            pub fn passes(&self) -> u32 {
+                match self {
+                    $(Config::$variant(s) => <$model as IntegratorModel>::passes(s),)*
+                }
+            }
+
+            /// Makes the integrator for `scene` and hands it to `run`.
+            pub fn render_with<R: RenderWith>(self, scene: &Scene, run: R) -> R::Output {
+                match self {
+                    $(Config::$variant(s) => run.render(&<$model as IntegratorModel>::integrator(scene, s)),)*
+                }
+            }
+        }
+    };
+}
+
+integrators! {
+    Whitted => WhittedPlugin,
+    Path => PathPlugin,
+    Direct => DirectPlugin,
+    Distributed => DistributedPlugin,
 }
 
 impl Config {
-    /// The integrator `node` describes (checked against its schema: its
-    /// name known, each key its own and of its type) with its settings.
-    pub fn read(node: &Node) -> Result<Config, Invalid> {
-        let choice = IntegratorChoice::from_name(&node.plugin).ok_or_else(|| {
-            Invalid::at(
-                &node.plugin_origin,
-                format!(
-                    "unknown integrator `{}`; valid choices are: {}",
-                    node.plugin,
-                    IntegratorChoice::NAMES.join(", ")
-                ),
-            )
-        })?;
-        let schema = SCHEMAS[choice as usize];
-        let others: Vec<&Schema> = SCHEMAS
-            .iter()
-            .copied()
-            .filter(|o| o.plugin != schema.plugin)
-            .collect();
-        description::check(node, schema, &others)?;
-        let p = Props::new(node);
-        let config = match choice {
-            IntegratorChoice::Whitted => Config::Whitted(WhittedSettings::read(&p)?),
-            IntegratorChoice::Path => {
-                Config::Path(Variant::Path, PathSettings::read(Variant::Path, &p)?)
-            }
-            IntegratorChoice::Direct => {
-                Config::Path(Variant::Direct, PathSettings::read(Variant::Direct, &p)?)
-            }
-            IntegratorChoice::Distributed => Config::Path(
-                Variant::Distributed,
-                PathSettings::read(Variant::Distributed, &p)?,
-            ),
-        };
-        p.finish("integrator")?;
-        Ok(config)
-    }
-
     /// The integrator `scene` describes.
     pub fn of(scene: &Scene) -> Result<Config, Invalid> {
         Config::read(&scene.integrator)
-    }
-
-    /// Which integrator it is.
-    pub fn choice(&self) -> IntegratorChoice {
-        match self {
-            Config::Whitted(_) => IntegratorChoice::Whitted,
-            Config::Path(Variant::Path, _) => IntegratorChoice::Path,
-            Config::Path(Variant::Direct, _) => IntegratorChoice::Direct,
-            Config::Path(Variant::Distributed, _) => IntegratorChoice::Distributed,
-        }
-    }
-
-    /// `max_depth` as the integrator counts it (−1: no bound), as reports
-    /// show it.
-    pub fn depth(&self) -> i64 {
-        match self {
-            Config::Whitted(w) => i64::from(w.max_depth),
-            Config::Path(_, p) => p.max_depth.map_or(-1, i64::from),
-        }
-    }
-
-    /// The thesis's acceleration metrics, if on.
-    pub fn metric(&self) -> Option<Metric> {
-        match self {
-            Config::Whitted(w) => w.metric,
-            Config::Path(_, p) => p.metric,
-        }
-    }
-
-    /// Passes the render is made in.
-    pub fn passes(&self) -> u32 {
-        match self {
-            Config::Whitted(w) => w.passes,
-            Config::Path(_, p) => p.passes,
-        }
     }
 }
 
@@ -154,5 +172,21 @@ impl SceneSource {
     pub fn build_reusing(&self, worlds: &mut WorldCache) -> Result<Scene, SceneError> {
         Config::read(&node_of(&self.root))?;
         self.build_scene(Some(worlds))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scene's choices are the integrators listed, in the list's order,
+    /// under their schemas' names.
+    #[test]
+    fn choices_are_the_integrators_listed() {
+        assert_eq!(SCHEMAS.len(), IntegratorChoice::ALL.len());
+        for (choice, schema) in IntegratorChoice::ALL.into_iter().zip(SCHEMAS) {
+            assert_eq!(choice.name(), schema.plugin);
+            assert_eq!(IntegratorChoice::from_name(schema.plugin), Some(choice));
+        }
     }
 }

@@ -20,7 +20,7 @@ pub use report::stats_document;
 use crate::description::SceneError;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
-    pass_samples, BadSample, Config, Integrator, Path, RayStats, StageBatches, Whitted,
+    pass_samples, BadSample, Config, Integrator, RayStats, RenderWith, StageBatches,
 };
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -78,9 +78,36 @@ pub fn render(
     cancel: Option<&AtomicBool>,
 ) -> Result<(Image, RenderStats), RenderError> {
     let config = Config::of(scene).map_err(|e| RenderError::Integrator(e.into()))?;
-    match config {
-        Config::Whitted(s) => render_with(&Whitted::new(scene, s), scene, opts, progress, cancel),
-        Config::Path(_, s) => render_with(&Path::new(scene, s), scene, opts, progress, cancel),
+    config.render_with(
+        scene,
+        Render {
+            scene,
+            opts,
+            progress,
+            cancel,
+        },
+    )
+}
+
+/// A render of a scene with whichever integrator its [`Config`] makes.
+struct Render<'a> {
+    scene: &'a Scene,
+    opts: &'a RenderOptions,
+    progress: Progress<'a>,
+    cancel: Option<&'a AtomicBool>,
+}
+
+impl RenderWith for Render<'_> {
+    type Output = Result<(Image, RenderStats), RenderError>;
+
+    fn render<I: Integrator>(self, integrator: &I) -> Self::Output {
+        render_with(
+            integrator,
+            self.scene,
+            self.opts,
+            self.progress,
+            self.cancel,
+        )
     }
 }
 

@@ -24,7 +24,7 @@ pub mod zsobol;
 pub use custom::PointTable;
 pub use discrete::Discrete;
 pub use distribution::{
-    poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution,
+    poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution, Domain,
 };
 pub use filter::{Filter, FilterParams, PixelFilter};
 pub use path_sampler::{BounceNumbers, PathSampler};

@@ -21,13 +21,7 @@
 //! fast random) are sets of a given size, not sequences one can index: they
 //! serve the camera sample and the thesis's sets, not the bounces of paths.
 
-use super::halton::Halton;
-use super::pmj02::Pmj02;
-use super::pmj02bn::Pmj02bn;
-use super::r2::R2;
-use super::sobol::{owen_scramble, Sobol};
-use super::zsobol::ZSobol;
-use super::{mix64, Distribution, Rng};
+use super::{Distribution, Rng};
 use crate::math::Vec2;
 
 /// Where a path's per-bounce numbers come from; see the [module docs](self).
@@ -41,29 +35,30 @@ pub enum PathSampler {
 }
 
 impl PathSampler {
-    /// Every path sampler, in the order the reference lists them.
-    pub const ALL: [PathSampler; 7] = [
-        PathSampler::Independent,
-        PathSampler::Sequence(Distribution::Sobol),
-        PathSampler::Sequence(Distribution::Zsobol),
-        PathSampler::Sequence(Distribution::Pmj02),
-        PathSampler::Sequence(Distribution::Pmj02bn),
-        PathSampler::Sequence(Distribution::Halton),
-        PathSampler::Sequence(Distribution::R2),
-    ];
+    /// Every path sampler, in the order the reference lists them:
+    /// `independent`, then [`Distribution::SEQUENCES`].
+    pub const ALL: [PathSampler; Distribution::SEQUENCES.len() + 1] = {
+        let mut all = [PathSampler::Independent; Distribution::SEQUENCES.len() + 1];
+        let mut i = 0;
+        while i < Distribution::SEQUENCES.len() {
+            all[i + 1] = PathSampler::Sequence(Distribution::SEQUENCES[i]);
+            i += 1;
+        }
+        all
+    };
 
     /// The names users write, in the order of [`ALL`](Self::ALL).
-    pub const NAMES: [&'static str; 7] = [
-        "independent",
-        "sobol",
-        "zsobol",
-        "pmj02",
-        "pmj02bn",
-        "halton",
-        "r2",
-    ];
+    pub const NAMES: [&'static str; Self::ALL.len()] = {
+        let mut names = [""; Self::ALL.len()];
+        let mut i = 0;
+        while i < Self::ALL.len() {
+            names[i] = Self::ALL[i].name();
+            i += 1;
+        }
+        names
+    };
 
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             PathSampler::Independent => "independent",
             PathSampler::Sequence(d) => d.name(),
@@ -107,10 +102,7 @@ impl BounceNumbers {
     pub fn value(&mut self, d: u64) -> f32 {
         match self.sampler {
             PathSampler::Independent => self.stream.next_f32(),
-            PathSampler::Sequence(s) => {
-                let (set, i) = self.set(s, d);
-                set.value(i)
-            }
+            PathSampler::Sequence(s) => s.bounce_value(self.stream.derive(d).place()),
         }
     }
 
@@ -123,71 +115,7 @@ impl BounceNumbers {
                 let x = self.stream.next_f32();
                 Vec2::new(x, self.stream.next_f32())
             }
-            PathSampler::Sequence(s) => {
-                let (set, i) = self.set(s, d);
-                set.point(i)
-            }
-        }
-    }
-
-    /// The set of dimension `d` and the index of this path's point in it.
-    fn set(&self, s: Distribution, d: u64) -> (Set, u32) {
-        let place = self.stream.derive(d).place();
-        if s == Distribution::Zsobol {
-            return (Set::Zsobol(ZSobol::new(place, 1)), 0);
-        }
-        // The scramble: the kind of branches and the pixel, with whatever
-        // part of the index does not fit in 32 bits.
-        let (index, high) = place.local_parts();
-        let mut rng = Rng::new(mix64(place.dimension ^ mix64(place.pixel_code() ^ high)));
-        let set = match s {
-            Distribution::Pmj02 => Set::Pmj02(Pmj02::new(&mut rng)),
-            Distribution::Pmj02bn => Set::Pmj02bn(Pmj02bn::new(&mut rng)),
-            Distribution::Halton => Set::Halton(Halton::new(&mut rng)),
-            Distribution::R2 => Set::R2(R2::new(&mut rng)),
-            _ => Set::Sobol(Sobol::new(&mut rng)),
-        };
-        // The samples' order, shuffled per dimension (pbrt-v4's padded
-        // samplers): the same index in every dimension would tie the
-        // dimensions' points to one another. The shuffle maps the first
-        // 2^m indices onto an aligned block of 2^m, which keeps a prefix
-        // of a (0,2)-sequence a net.
-        (set, owen_scramble(index, rng.next_u32()))
-    }
-}
-
-/// One scrambled set of a sequence.
-enum Set {
-    Sobol(Sobol),
-    Zsobol(ZSobol),
-    Pmj02(Pmj02),
-    Pmj02bn(Pmj02bn),
-    Halton(Halton),
-    R2(R2),
-}
-
-impl Set {
-    #[inline]
-    fn value(&self, i: u32) -> f32 {
-        match self {
-            Set::Sobol(s) => s.value(i),
-            Set::Zsobol(s) => s.value(i),
-            Set::Pmj02(s) => s.value(i),
-            Set::Pmj02bn(s) => s.value(i),
-            Set::Halton(s) => s.value(i),
-            Set::R2(s) => s.value(i),
-        }
-    }
-
-    #[inline]
-    fn point(&self, i: u32) -> Vec2 {
-        match self {
-            Set::Sobol(s) => s.point(i),
-            Set::Zsobol(s) => s.point(i),
-            Set::Pmj02(s) => s.point(i),
-            Set::Pmj02bn(s) => s.point(i),
-            Set::Halton(s) => s.point(i),
-            Set::R2(s) => s.point(i),
+            PathSampler::Sequence(s) => s.bounce_point(self.stream.derive(d).place()),
         }
     }
 }

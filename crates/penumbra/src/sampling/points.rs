@@ -9,7 +9,7 @@
 //! sample a real surface or a round lens.
 
 use super::warp::square_to_disk_concentric;
-use super::Distribution;
+use super::{Distribution, Domain};
 use crate::math::{Frame, Vec2, Vec3};
 
 /// Largest ray budget per effect (the exponential growth of sets of sets
@@ -101,7 +101,7 @@ pub fn end_points(center: Vec3, axis: Vec3, radius: f32, d: Distribution) -> imp
 /// map, so they stay uniform.
 #[inline]
 pub fn unit_square(point: Vec3, d: Distribution) -> Vec2 {
-    let p = if d == Distribution::Random {
+    let p = if d.domain() == Domain::Disk {
         disk_to_square(Vec2::new(point.x, point.y))
     } else {
         Vec2::new(point.x, point.y)
@@ -114,7 +114,7 @@ pub fn unit_square(point: Vec3, d: Distribution) -> Vec2 {
 /// which preserves area and therefore their stratification.
 #[inline]
 pub fn unit_disk(point: Vec3, d: Distribution) -> Vec2 {
-    if d == Distribution::Random {
+    if d.domain() == Domain::Disk {
         Vec2::new(point.x, point.y)
     } else {
         square_to_disk_concentric(unit_square(point, d))

@@ -111,7 +111,7 @@ pub(super) fn custom_sets(
 ) -> Vec<(&'static str, u32)> {
     let mut sets = Vec::new();
     each_set(s, bsdfs, budgets, |what, rays, d| {
-        if d == Distribution::Custom {
+        if d.needs_table() {
             sets.push((what, rays));
         }
     });

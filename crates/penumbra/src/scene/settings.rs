@@ -24,7 +24,9 @@ pub const MAX_REPLICAS: u32 = 64;
 /// memory as 32-bit floats, 12 bytes a pixel, 3 GiB at this size.
 pub const MAX_PIXELS: u64 = 1 << 28;
 
-/// The integrators a scene may choose.
+/// The integrators a scene may choose, by name. The integrators themselves
+/// sit above the scene; their list (`integrator/plugins.rs`) makes their
+/// dispatch and checks that it names these, in this order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum IntegratorChoice {
     /// The thesis's distributed Whitted tracer.
@@ -47,13 +49,10 @@ impl IntegratorChoice {
     ];
     pub const NAMES: [&'static str; 4] = ["whitted", "path", "direct", "distributed"];
 
+    /// The name scenes select it by: its integrator's schema's (the
+    /// integrators' list checks they agree).
     pub fn name(self) -> &'static str {
-        match self {
-            IntegratorChoice::Whitted => "whitted",
-            IntegratorChoice::Path => "path",
-            IntegratorChoice::Direct => "direct",
-            IntegratorChoice::Distributed => "distributed",
-        }
+        Self::NAMES[self as usize]
     }
 
     pub fn from_name(s: &str) -> Option<IntegratorChoice> {

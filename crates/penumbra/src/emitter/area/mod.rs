@@ -42,7 +42,7 @@ use crate::geometry::quad::Quad;
 use crate::geometry::{Density, Surface};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::points::{end_point, unit_square};
-use crate::sampling::{Distribution, EffectSpec, MAX_RAYS};
+use crate::sampling::{Distribution, Domain, EffectSpec, MAX_RAYS};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
 /// [module docs](self)).
@@ -189,7 +189,7 @@ impl Area {
     /// sampled on its surface by a square distribution.
     #[inline]
     pub(super) fn four_wide(&self, d: Distribution) -> Option<&Quad> {
-        let surface = self.model == PenumbraModel::Surface && d != Distribution::Random;
+        let surface = self.model == PenumbraModel::Surface && d.domain() != Domain::Disk;
         self.plain_rect().filter(|_| surface)
     }
 

@@ -144,28 +144,10 @@ impl Default for PathSettings {
     }
 }
 
-/// Which of the three integrators the settings are read for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Variant {
-    Path,
-    Direct,
-    Distributed,
-}
-
 impl PathSettings {
-    /// The settings of integrator `variant` from its parameters `i`.
-    pub fn read(variant: Variant, i: &Props) -> Result<PathSettings, Invalid> {
-        let mut s = match variant {
-            Variant::Path => path(i)?,
-            Variant::Direct => direct(i)?,
-            Variant::Distributed => {
-                let sets_depth = int(i, "sets_depth", 1, 1, 64)?;
-                PathSettings {
-                    sets_depth,
-                    ..path(i)?
-                }
-            }
-        };
+    /// What the three read alike on top of their own settings `s`: the
+    /// path sampler, the light sampler, the passes and the metrics.
+    pub(super) fn read_shared(mut s: PathSettings, i: &Props) -> Result<PathSettings, Invalid> {
         s.sampler = i
             .choice("path_sampler", "path sampler", &PathSampler::NAMES)?
             .and_then(PathSampler::from_name)
@@ -178,11 +160,25 @@ impl PathSettings {
         s.metric = metric::read(i)?;
         Ok(s)
     }
+
+    pub(super) fn depth(&self) -> i64 {
+        self.max_depth.map_or(-1, i64::from)
+    }
+}
+
+/// The `distributed` integrator's settings: the path tracer's and
+/// `sets_depth` (1 to 64, default 1).
+pub(super) fn distributed(i: &Props) -> Result<PathSettings, Invalid> {
+    let sets_depth = int(i, "sets_depth", 1, 1, 64)?;
+    Ok(PathSettings {
+        sets_depth,
+        ..path(i)?
+    })
 }
 
 /// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
 /// bound), `rr_depth` (≥ 1) and `hide_emitters`.
-fn path(i: &Props) -> Result<PathSettings, Invalid> {
+pub(super) fn path(i: &Props) -> Result<PathSettings, Invalid> {
     let d = PathSettings::default();
     let max_depth = match i.int("max_depth")? {
         None | Some(-1) => None,
@@ -207,7 +203,7 @@ fn path(i: &Props) -> Result<PathSettings, Invalid> {
 /// The `direct` integrator's settings: Mitsuba's `emitter_samples` and
 /// `bsdf_samples` (each 0 or more, not both 0), or `shading_samples` for
 /// both, and `hide_emitters`.
-fn direct(i: &Props) -> Result<PathSettings, Invalid> {
+pub(super) fn direct(i: &Props) -> Result<PathSettings, Invalid> {
     let count = |key: &str, default: u32| int(i, key, i64::from(default), 0, i64::from(MAX_RAYS));
     let both = count("shading_samples", 1)?;
     let emitter_samples = count("emitter_samples", both)?;

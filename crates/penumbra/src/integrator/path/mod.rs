@@ -91,11 +91,13 @@
 //! in each pixel's sample order once the wave is done.
 
 mod config;
+pub mod plugins;
 mod sets;
 mod vertex;
 mod wavefront;
 
-pub use config::{PathSettings, Variant, DIRECT, DISTRIBUTED, PATH, PLUGINS};
+pub use config::{PathSettings, PLUGINS};
+pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};

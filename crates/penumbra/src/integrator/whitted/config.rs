@@ -3,6 +3,7 @@
 use crate::description::check::int;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::integrator::metric::{self, Metric};
+use crate::integrator::model::IntegratorModel;
 use crate::integrator::ray_sets::RaySets;
 use crate::integrator::stopping::{self, Stopping, STOP_RULES};
 use crate::sampling::MAX_RAYS;
@@ -64,6 +65,36 @@ impl WhittedSettings {
             metric: metric::read(p)?,
             stopping: stopping::read(p)?,
         })
+    }
+}
+
+/// The `whitted` integrator as a plugin: its parameters read into its
+/// settings, rendered by [`Whitted`].
+pub struct WhittedPlugin;
+
+impl IntegratorModel for WhittedPlugin {
+    const SCHEMA: &'static Schema = &SCHEMA;
+    type Settings = WhittedSettings;
+    type Integrator = Whitted;
+
+    fn read(p: &Props) -> Result<WhittedSettings, Invalid> {
+        WhittedSettings::read(p)
+    }
+
+    fn depth(s: &WhittedSettings) -> i64 {
+        i64::from(s.max_depth)
+    }
+
+    fn metric(s: &WhittedSettings) -> Option<Metric> {
+        s.metric
+    }
+
+    fn passes(s: &WhittedSettings) -> u32 {
+        s.passes
+    }
+
+    fn integrator(scene: &Scene, s: WhittedSettings) -> Whitted {
+        Whitted::new(scene, s)
     }
 }
 

@@ -13,7 +13,7 @@ mod pixel;
 mod state;
 mod tracer;
 
-pub use config::{Whitted, WhittedSettings, SCHEMA};
+pub use config::{Whitted, WhittedPlugin, WhittedSettings};
 pub(super) use pixel::{guard, primary_rays};
 pub use state::TileState;
 pub use tracer::Tracer;

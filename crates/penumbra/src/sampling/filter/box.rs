@@ -8,6 +8,8 @@
 //! Its profile is `f(x) = 1` for `|x| ≤ 1/2`, 0 beyond. Film points in
 //! `[-1/2, 1/2]²` are its samples as they are, each of weight 1.
 
+use super::model::{FilterError, FilterModel, FilterParams};
+
 /// The box filter; see the [module docs](self).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BoxFilter;
@@ -22,6 +24,29 @@ impl BoxFilter {
         } else {
             0.0
         }
+    }
+}
+
+impl FilterModel for BoxFilter {
+    const NAME: &'static str = "box";
+    const ANALYTIC: bool = true;
+
+    fn build(_: &FilterParams) -> Result<BoxFilter, FilterError> {
+        Ok(BoxFilter)
+    }
+
+    fn radius(self) -> f32 {
+        Self::RADIUS
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        self.profile(x)
+    }
+
+    /// The film point as it is.
+    #[inline]
+    fn warp(self, p: f32) -> Option<f32> {
+        Some(p)
     }
 }
 

@@ -9,6 +9,8 @@
 //! 0 beyond. It is sampled through a table of its inverse distribution;
 //! it is never negative, so every sample weighs 1.
 
+use super::model::{FilterError, FilterModel, FilterParams};
+
 /// The Gaussian filter; see the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gaussian {
@@ -46,6 +48,26 @@ impl Gaussian {
         } else {
             (g(x) - g(r)).max(0.0)
         }
+    }
+}
+
+impl FilterModel for Gaussian {
+    const NAME: &'static str = "gaussian";
+    const PARAMS: &'static [&'static str] = &["stddev"];
+
+    fn build(params: &FilterParams) -> Result<Gaussian, FilterError> {
+        match params.stddev {
+            Some(s) => Gaussian::new(s).map_err(FilterError::of("stddev")),
+            None => Ok(Gaussian::default()),
+        }
+    }
+
+    fn radius(self) -> f32 {
+        Gaussian::radius(self)
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        self.profile(x)
     }
 }
 

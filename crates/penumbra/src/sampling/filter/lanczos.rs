@@ -12,6 +12,8 @@
 
 use std::f64::consts::PI;
 
+use super::model::{FilterError, FilterModel, FilterParams, CELLS};
+
 /// The Lanczos filter; see the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lanczos {
@@ -55,6 +57,32 @@ impl Lanczos {
         }
         let px = PI * t;
         (px.sin() / px) * ((px / a).sin() / (px / a))
+    }
+}
+
+impl FilterModel for Lanczos {
+    const NAME: &'static str = "lanczos";
+    const PARAMS: &'static [&'static str] = &["lobes"];
+
+    fn build(params: &FilterParams) -> Result<Lanczos, FilterError> {
+        match params.lobes {
+            Some(n) => Lanczos::new(n).map_err(FilterError::of("lobes")),
+            None => Ok(Lanczos::default()),
+        }
+    }
+
+    fn radius(self) -> f32 {
+        Lanczos::radius(self)
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        self.profile(x)
+    }
+
+    /// 512 cells per lobe, at least 1024: its profile has a lobe
+    /// per pixel of its radius.
+    fn cells(self) -> usize {
+        (CELLS / 2 * self.lobes as usize).max(CELLS)
     }
 }
 

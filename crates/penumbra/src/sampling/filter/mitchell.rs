@@ -1,5 +1,5 @@
-//! The Mitchell–Netravali cubic filters (Mitsuba's `mitchell`, and
-//! `catmullrom`: the member with `B = 0`, `C = 1/2`).
+//! The Mitchell–Netravali cubic filters (Mitsuba's `mitchell`; its member
+//! with `B = 0`, `C = 1/2` is [`catmullrom`](super::catmullrom)).
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
@@ -14,6 +14,8 @@
 //! with a density proportional to `|f|` (a table of its inverse
 //! distribution) and each sample weighs the sign of `f` times `∫|f|/∫f`
 //! per axis.
+
+use super::model::{FilterError, FilterModel, FilterParams};
 
 /// A Mitchell–Netravali filter; see the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +67,25 @@ impl Mitchell {
             0.0
         };
         v / 6.0
+    }
+}
+
+impl FilterModel for Mitchell {
+    const NAME: &'static str = "mitchell";
+    const PARAMS: &'static [&'static str] = &["B", "C"];
+
+    fn build(params: &FilterParams) -> Result<Mitchell, FilterError> {
+        let d = Mitchell::default();
+        let (b, c) = (params.b.unwrap_or(d.b), params.c.unwrap_or(d.c));
+        Mitchell::new(b, c).map_err(|(param, message)| FilterError { param, message })
+    }
+
+    fn radius(self) -> f32 {
+        Self::RADIUS
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        self.profile(x)
     }
 }
 

@@ -20,84 +20,144 @@
 //! | `tent` | `radius` (1) | `radius` | ≥ 0 | [`tent`] |
 //! | `gaussian` | `stddev` (0.5) | 4·`stddev` | ≥ 0 | [`gaussian`] |
 //! | `mitchell` | `B` (1/3), `C` (1/3) | 2 | signed | [`mitchell`] |
-//! | `catmullrom` | none (`B` = 0, `C` = 1/2) | 2 | signed | [`mitchell`] |
+//! | `catmullrom` | none (`B` = 0, `C` = 1/2) | 2 | signed | [`catmullrom`] |
 //! | `lanczos` | `lobes` (3) | `lobes` | signed | [`lanczos`] |
 //!
 //! The names, parameters and defaults are Mitsuba 3's.
+//!
+//! Each filter is a type implementing [`FilterModel`], in a file of its
+//! own; the enums [`Filter`] (by name) and [`Profile`] (with its
+//! parameters) and their dispatch are made by the `filters!` list in this
+//! file, one line per filter.
 
 pub mod r#box;
+pub mod catmullrom;
 pub mod gaussian;
 pub mod lanczos;
 pub mod mitchell;
+mod model;
 mod table;
 pub mod tent;
 
 use std::sync::Arc;
 
+pub use catmullrom::CatmullRom;
 pub use gaussian::Gaussian;
 pub use lanczos::Lanczos;
 pub use mitchell::Mitchell;
+pub use model::{FilterError, FilterModel, FilterParams};
 pub use r#box::BoxFilter;
 pub use tent::Tent;
 
 use table::InverseCdf;
 
-/// A pixel filter by name, with its default parameters: what the `filter`
-/// option chooses. [`PixelFilter`] is the filter with its parameters.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Deserialize, serde::Serialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Filter {
-    #[default]
-    Box,
-    Tent,
-    Gaussian,
-    Mitchell,
-    CatmullRom,
-    Lanczos,
+/// Makes [`Filter`] (each filter listed by name) and [`Profile`] (each
+/// with its parameters), `Variant => Model` with the model implementing
+/// [`FilterModel`], and their dispatch.
+macro_rules! filters {
+    ($($variant:ident => $model:ty,)*) => {
+        /// A pixel filter by name, with its default parameters: what the
+        /// `filter` option chooses. [`PixelFilter`] is the filter with its
+        /// parameters.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Deserialize, serde::Serialize)]
+        #[serde(rename_all = "lowercase")]
+        pub enum Filter {
+            $($variant,)*
+        }
+
+        /// A filter's profile, with its parameters.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Profile {
+            $($variant($model),)*
+        }
+
+        impl Filter {
+            /// Every filter, in the list's order.
+            pub const ALL: [Filter; [$(Filter::$variant,)*].len()] = [$(Filter::$variant,)*];
+
+            /// The name users write (the serde name too).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Filter::$variant => <$model as FilterModel>::NAME,)*
+                }
+            }
+
+            /// The names of the parameters it takes.
+            pub fn params(self) -> &'static [&'static str] {
+                match self {
+                    $(Filter::$variant => <$model as FilterModel>::PARAMS,)*
+                }
+            }
+
+            /// Its profile with `params`, or why not.
+            fn build(self, params: &FilterParams) -> Result<Profile, FilterError> {
+                Ok(match self {
+                    $(Filter::$variant => Profile::$variant(<$model as FilterModel>::build(params)?),)*
+                })
+            }
+        }
+
+        impl Profile {
+            /// How far from the pixel's centre a sample may land, in pixels.
+            pub fn radius(self) -> f32 {
+                match self {
+                    $(Profile::$variant(f) => <$model as FilterModel>::radius(f),)*
+                }
+            }
+
+            /// The profile along one axis (not normalised; 0 beyond the radius).
+            pub fn eval(self, x: f64) -> f64 {
+                match self {
+                    $(Profile::$variant(f) => <$model as FilterModel>::eval(f, x),)*
+                }
+            }
+
+            /// Whether it is sampled by the analytic inverse of its
+            /// distribution (else through a table).
+            fn is_analytic(self) -> bool {
+                match self {
+                    $(Profile::$variant(_) => <$model as FilterModel>::ANALYTIC,)*
+                }
+            }
+
+            /// The offset of film coordinate `p` by the analytic inverse of
+            /// the distribution; `None` for a tabulated filter.
+            #[inline]
+            fn warp(self, p: f32) -> Option<f32> {
+                match self {
+                    $(Profile::$variant(f) => <$model as FilterModel>::warp(f, p),)*
+                }
+            }
+
+            /// The cells of its table.
+            fn cells(self) -> usize {
+                match self {
+                    $(Profile::$variant(f) => <$model as FilterModel>::cells(f),)*
+                }
+            }
+        }
+    };
 }
 
-/// The cells of a filter's table: 1024, or 512 per lobe of a Lanczos
-/// filter of more than 2 (whose profile has a lobe per pixel of its
-/// radius; the others' shapes do not change with their size).
-const CELLS: usize = 1024;
+filters! {
+    Box => BoxFilter,
+    Tent => Tent,
+    Gaussian => Gaussian,
+    Mitchell => Mitchell,
+    CatmullRom => CatmullRom,
+    Lanczos => Lanczos,
+}
+
+impl Default for Filter {
+    /// The box: the thesis's supersampling over the pixel.
+    fn default() -> Self {
+        Filter::Box
+    }
+}
 
 impl Filter {
-    pub const ALL: [Filter; 6] = [
-        Filter::Box,
-        Filter::Tent,
-        Filter::Gaussian,
-        Filter::Mitchell,
-        Filter::CatmullRom,
-        Filter::Lanczos,
-    ];
-
-    /// The name users write (the serde name too).
-    pub fn name(self) -> &'static str {
-        match self {
-            Filter::Box => "box",
-            Filter::Tent => "tent",
-            Filter::Gaussian => "gaussian",
-            Filter::Mitchell => "mitchell",
-            Filter::CatmullRom => "catmullrom",
-            Filter::Lanczos => "lanczos",
-        }
-    }
-
     pub fn from_name(s: &str) -> Option<Filter> {
         Filter::ALL.into_iter().find(|f| f.name() == s)
-    }
-
-    /// The names of the parameters it takes.
-    pub fn params(self) -> &'static [&'static str] {
-        match self {
-            Filter::Box | Filter::CatmullRom => &[],
-            Filter::Tent => &["radius"],
-            Filter::Gaussian => &["stddev"],
-            Filter::Mitchell => &["B", "C"],
-            Filter::Lanczos => &["lobes"],
-        }
     }
 }
 
@@ -110,76 +170,6 @@ pub const FILTER_KEYS: [(&str, &str); 5] = [
     ("C", "filter_c"),
     ("lobes", "filter_lobes"),
 ];
-
-/// The parameters given to a filter; a missing one takes its default.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FilterParams {
-    pub radius: Option<f32>,
-    pub stddev: Option<f32>,
-    pub b: Option<f32>,
-    pub c: Option<f32>,
-    pub lobes: Option<i64>,
-}
-
-impl FilterParams {
-    /// The parameters given, by their names ([`Filter::params`]).
-    pub fn given(&self) -> Vec<&'static str> {
-        let mut out = Vec::new();
-        let mut add = |name, given: bool| {
-            if given {
-                out.push(name);
-            }
-        };
-        add("radius", self.radius.is_some());
-        add("stddev", self.stddev.is_some());
-        add("B", self.b.is_some());
-        add("C", self.c.is_some());
-        add("lobes", self.lobes.is_some());
-        out
-    }
-}
-
-/// Why a filter's parameters were refused: the parameter (by its name in
-/// [`Filter::params`]) and what is wrong with it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct FilterError {
-    pub param: &'static str,
-    pub message: String,
-}
-
-/// A filter's profile, with its parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Profile {
-    Box(BoxFilter),
-    Tent(Tent),
-    Gaussian(Gaussian),
-    Mitchell(Mitchell),
-    Lanczos(Lanczos),
-}
-
-impl Profile {
-    /// How far from the pixel's centre a sample may land, in pixels.
-    pub fn radius(self) -> f32 {
-        match self {
-            Profile::Box(_) => BoxFilter::RADIUS,
-            Profile::Tent(t) => t.radius,
-            Profile::Gaussian(g) => g.radius(),
-            Profile::Mitchell(_) => Mitchell::RADIUS,
-            Profile::Lanczos(l) => l.radius(),
-        }
-    }
-
-    /// The profile along one axis (not normalised; 0 beyond the radius).
-    pub fn eval(self, x: f64) -> f64 {
-        match self {
-            Profile::Box(b) => b.profile(x),
-            Profile::Tent(t) => t.profile(x),
-            Profile::Gaussian(g) => g.profile(x),
-            Profile::Mitchell(m) => m.profile(x),
-            Profile::Lanczos(l) => l.profile(x),
-        }
-    }
-}
 
 /// A pixel filter with its parameters, ready to sample; see the
 /// [module docs](self). Two filters are equal when their names and
@@ -229,46 +219,18 @@ impl PixelFilter {
                 ),
             });
         }
-        let bad = |param: &'static str| move |message: String| FilterError { param, message };
-        let profile = match filter {
-            Filter::Box => Profile::Box(BoxFilter),
-            Filter::Tent => Profile::Tent(match params.radius {
-                Some(r) => Tent::new(r).map_err(bad("radius"))?,
-                None => Tent::default(),
-            }),
-            Filter::Gaussian => Profile::Gaussian(match params.stddev {
-                Some(s) => Gaussian::new(s).map_err(bad("stddev"))?,
-                None => Gaussian::default(),
-            }),
-            Filter::Mitchell => {
-                let d = Mitchell::default();
-                let (b, c) = (params.b.unwrap_or(d.b), params.c.unwrap_or(d.c));
-                Profile::Mitchell(
-                    Mitchell::new(b, c)
-                        .map_err(|(param, message)| FilterError { param, message })?,
-                )
-            }
-            Filter::CatmullRom => Profile::Mitchell(Mitchell::CATMULL_ROM),
-            Filter::Lanczos => Profile::Lanczos(match params.lobes {
-                Some(n) => Lanczos::new(n).map_err(bad("lobes"))?,
-                None => Lanczos::default(),
-            }),
-        };
-        let table = match profile {
-            Profile::Box(_) | Profile::Tent(_) => None,
-            _ => {
-                let r = profile.radius();
-                let cells = match profile {
-                    Profile::Lanczos(l) => (CELLS / 2 * l.lobes as usize).max(CELLS),
-                    _ => CELLS,
-                };
-                let t =
-                    InverseCdf::new(r, cells, |x| profile.eval(x)).ok_or_else(|| FilterError {
-                        param: filter.params().first().copied().unwrap_or(""),
-                        message: format!("the {} filter integrates to nothing", filter.name()),
-                    })?;
-                Some(Arc::new(t))
-            }
+        let profile = filter.build(params)?;
+        let table = if profile.is_analytic() {
+            None
+        } else {
+            let r = profile.radius();
+            let t = InverseCdf::new(r, profile.cells(), |x| profile.eval(x)).ok_or_else(|| {
+                FilterError {
+                    param: filter.params().first().copied().unwrap_or(""),
+                    message: format!("the {} filter integrates to nothing", filter.name()),
+                }
+            })?;
+            Some(Arc::new(t))
         };
         let weight = table.as_ref().map_or(1.0, |t| t.norm * t.norm);
         Ok(PixelFilter {
@@ -312,11 +274,11 @@ impl PixelFilter {
     /// in `p`. The box filter returns `p` itself.
     #[inline]
     pub fn warp(&self, p: f32) -> f32 {
-        match (&self.profile, &self.table) {
-            (Profile::Box(_), _) => p,
-            (Profile::Tent(t), _) => t.sample(p + 0.5),
-            (_, Some(table)) => table.sample(p + 0.5),
-            (_, None) => unreachable!("every other filter has a table"),
+        match (self.profile.warp(p), &self.table) {
+            (Some(x), _) => x,
+            (None, Some(table)) => table.sample(p + 0.5),
+            // Every filter without an analytic inverse has a table.
+            (None, None) => p,
         }
     }
 

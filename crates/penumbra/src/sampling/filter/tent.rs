@@ -8,6 +8,8 @@
 //! sampled by the analytic inverse of its distribution, so every sample
 //! weighs 1.
 
+use super::model::{FilterError, FilterModel, FilterParams};
+
 /// The tent filter; see the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tent {
@@ -45,6 +47,32 @@ impl Tent {
             1.0 - (2.0 * (1.0 - u)).sqrt()
         };
         self.radius * x
+    }
+}
+
+impl FilterModel for Tent {
+    const NAME: &'static str = "tent";
+    const PARAMS: &'static [&'static str] = &["radius"];
+    const ANALYTIC: bool = true;
+
+    fn build(params: &FilterParams) -> Result<Tent, FilterError> {
+        match params.radius {
+            Some(r) => Tent::new(r).map_err(FilterError::of("radius")),
+            None => Ok(Tent::default()),
+        }
+    }
+
+    fn radius(self) -> f32 {
+        self.radius
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        self.profile(x)
+    }
+
+    #[inline]
+    fn warp(self, p: f32) -> Option<f32> {
+        Some(self.sample(p + 0.5))
     }
 }
 

@@ -1,0 +1,60 @@
+//! The path tracers as plugins: `path`, `direct` and `distributed`, one
+//! integrator ([`Path`]) and one kind of settings ([`PathSettings`]), each
+//! its own schema and reading.
+
+use crate::description::{Invalid, Props, Schema};
+use crate::integrator::metric::Metric;
+use crate::integrator::model::IntegratorModel;
+use crate::scene::Scene;
+
+use super::config::{direct, distributed, path, PathSettings, DIRECT, DISTRIBUTED, PATH};
+use super::Path;
+
+/// The `path` integrator as a plugin: its parameters read into its settings.
+pub struct PathPlugin;
+
+/// The `direct` integrator as a plugin: its parameters read into its settings.
+pub struct DirectPlugin;
+
+/// The `distributed` integrator as a plugin: its parameters read into its
+/// settings.
+pub struct DistributedPlugin;
+
+/// The three as plugins: the same settings and integrator, each its own
+/// schema and reading.
+macro_rules! path_plugins {
+    ($($plugin:ident: $schema:ident, $read:expr;)*) => {$(
+        impl IntegratorModel for $plugin {
+            const SCHEMA: &'static Schema = &$schema;
+            type Settings = PathSettings;
+            type Integrator = Path;
+
+            fn read(i: &Props) -> Result<PathSettings, Invalid> {
+                let read: fn(&Props) -> Result<PathSettings, Invalid> = $read;
+                PathSettings::read_shared(read(i)?, i)
+            }
+
+            fn depth(s: &PathSettings) -> i64 {
+                s.depth()
+            }
+
+            fn metric(s: &PathSettings) -> Option<Metric> {
+                s.metric
+            }
+
+            fn passes(s: &PathSettings) -> u32 {
+                s.passes
+            }
+
+            fn integrator(scene: &Scene, s: PathSettings) -> Path {
+                Path::new(scene, s)
+            }
+        }
+    )*};
+}
+
+path_plugins! {
+    PathPlugin: PATH, path;
+    DirectPlugin: DIRECT, direct;
+    DistributedPlugin: DISTRIBUTED, distributed;
+}
