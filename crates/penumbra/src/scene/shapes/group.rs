@@ -1,9 +1,9 @@
 //! The group of shapes that instances place, and the instance: their
 //! schemas (the builder places them, `scene::build`).
 
-use crate::scene::transform;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Kind, Param, Schema, Type};
+use crate::scene::transform;
 
 pub const INSTANCE: Schema = Schema {
     kind: Kind::Shape,
