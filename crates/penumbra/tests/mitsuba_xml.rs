@@ -1654,6 +1654,40 @@ fn malformed_xml_is_refused_with_its_place() {
     assert!(e.contains("not valid UTF-8") && place_of(&e).1 == 2, "{e}");
 }
 
+/// An element of very many attributes is refused at its place before the
+/// XML parser compares them pairwise, in an included file too; one of
+/// `MAX_ATTRIBUTES` is left to the usual checks.
+#[test]
+fn an_element_of_too_many_attributes_is_refused_at_its_place() {
+    let attrs = |n: usize| (0..n).map(|i| format!(" a{i}=\"1\"")).collect::<String>();
+    let crowded = format!(
+        "<scene version=\"3.0.0\">\n  <integrator type=\"path\"{}/>\n</scene>",
+        attrs(100_000)
+    );
+    let include = "<scene version=\"3.0.0\">\n<include filename=\"crowded.xml\"/>\n</scene>";
+    let d = Dir::new(&[
+        ("scene.xml", &crowded),
+        ("outer.xml", include),
+        ("crowded.xml", &crowded),
+    ]);
+    for (file, name) in [("scene.xml", "scene.xml"), ("outer.xml", "crowded.xml")] {
+        let e = d.err(file);
+        let (at, line, column) = place_of(&e);
+        assert!(
+            e.contains("<integrator> has more than 64 attributes")
+                && at.ends_with(name)
+                && (line, column) == (2, 3),
+            "{e}"
+        );
+    }
+    let many = format!(
+        "<scene version=\"3.0.0\">\n  <integrator type=\"path\"{}/>\n</scene>",
+        attrs(63)
+    );
+    let e = Dir::new(&[("scene.xml", &many)]).err("scene.xml");
+    assert!(e.contains("unexpected attribute `a0`"), "{e}");
+}
+
 #[test]
 fn a_billion_laughs_is_refused_at_once() {
     let mut text =

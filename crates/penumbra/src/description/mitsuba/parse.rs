@@ -63,6 +63,36 @@ pub fn error_at(at: &Location, message: impl Into<String>) -> SceneError {
     }
 }
 
+/// Most attributes an element may have. Mitsuba's elements take a few;
+/// the XML parser compares each attribute of an element with the ones
+/// before it, so one element of very many would take time quadratic in its
+/// size.
+pub const MAX_ATTRIBUTES: usize = 64;
+
+/// The first element of `text` with more than [`MAX_ATTRIBUTES`]
+/// attributes: its offset and name. One pass of a tokenizer, in time
+/// linear in the text; a text that does not tokenize is left to the
+/// parser to report.
+fn crowded_element(text: &str) -> Option<(usize, &str)> {
+    let (mut count, mut start) = (0, None);
+    for token in xmlparser::Tokenizer::from(text) {
+        match token.ok()? {
+            xmlparser::Token::ElementStart { local, span, .. } => {
+                count = 0;
+                start = Some((span.start(), local.as_str()));
+            }
+            xmlparser::Token::Attribute { .. } => {
+                count += 1;
+                if count > MAX_ATTRIBUTES {
+                    return start;
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 /// What the whole read shares: the scene's folder, the parameters, the
 /// files open above the current one, the bytes read so far, the search
 /// folders of `<path>`, the files older than version 2.0. Paths are as the
@@ -151,6 +181,16 @@ impl<'a> Reader<'a> {
 
     fn document(&mut self, text: &str, rel: &Path, depth: usize) -> Result<Element, SceneError> {
         let file = Arc::new(rel.to_path_buf());
+        if let Some((offset, name)) = crowded_element(text) {
+            let at = Source::new(text, Arc::clone(&file)).location(offset);
+            return Err(error_at(
+                &at,
+                format!(
+                    "<{}> has more than {MAX_ATTRIBUTES} attributes (a Mitsuba element takes a few)",
+                    quote::clip(name, quote::MAX_QUOTED_CHARS)
+                ),
+            ));
+        }
         let options = roxmltree::ParsingOptions {
             allow_dtd: false,
             // Elements, attributes and text: at most one node per byte.
