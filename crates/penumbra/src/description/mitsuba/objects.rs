@@ -1,7 +1,7 @@
 //! Elements into objects: a plugin (`<shape type="sphere">`) with its typed
 //! properties, nested objects and references, and the scene's ids.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use super::parse::{self, check_attrs, clip, Element, Reader};
@@ -168,6 +168,9 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
         plugin_at,
     };
     let mut aliases = Vec::new();
+    // The properties' names so far: a set, so that an object of very many
+    // is read in time linear in their number.
+    let mut named = HashSet::new();
     for c in &e.children {
         let name = c.get("name").map(str::to_string);
         match c.tag.as_str() {
@@ -194,7 +197,7 @@ fn object(e: &Element, reader: &Reader, ids: &mut Ids) -> Result<Rc<Object>, Sce
             | "spectrum" | "transform" => {
                 let value = values::read(c, reader)?;
                 let name = name.expect("checked by the value's reader");
-                if obj.props.iter().any(|p| p.name == name) {
+                if !named.insert(name.clone()) {
                     return Err(parse::error_at(
                         &c.at,
                         format!("`{}` is given twice", clip(&name)),
