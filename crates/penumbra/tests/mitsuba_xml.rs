@@ -534,6 +534,76 @@ fn includes_defaults_and_refs_work_across_nested_files() {
     assert!(e.contains("`abc` is not a finite number"), "{e}");
 }
 
+/// Laid out as Mitsuba's own Cornell box (`cbox-rgb.xml`): an included
+/// fragment names meshes relative to the scene's folder, as Mitsuba
+/// resolves a plugin's file, and refers to an `area` emitter that the
+/// scene declares after the include; the pinhole reads `focus_distance`.
+/// A `<path>` folder comes before the scene's folder, and a file found in
+/// neither is still found beside the fragment that names it.
+#[test]
+fn files_and_forward_references_resolve_as_mitsuba_resolves_them() {
+    let tri = |z: f32| format!("v -1 -1 {z}\nv 1 -1 {z}\nv 0 1 {z}\nf 1 2 3\n");
+    let fragment = scene(
+        r#"<shape type="obj"><string name="filename" value="meshes/light.obj"/>
+             <ref id="area-emitter"/></shape>
+           <shape type="obj"><string name="filename" value="meshes/wall.obj"/></shape>
+           <shape type="obj"><string name="filename" value="beside.obj"/></shape>"#,
+    );
+    let main = scene(
+        r#"<sensor type="perspective"><float name="fov" value="45"/>
+             <float name="focus_distance" value="1000"/></sensor>
+           <include filename="fragments/shapes.xml"/>
+           <emitter type="area" id="area-emitter"><rgb name="radiance" value="2"/></emitter>"#,
+    );
+    let d = Dir::new(&[
+        ("scene.xml", &main),
+        ("fragments/shapes.xml", &fragment),
+        ("meshes/light.obj", &tri(-1.0)),
+        ("meshes/wall.obj", &tri(-2.0)),
+        // Mitsuba would not look here: the scene's folder comes first.
+        ("fragments/meshes/wall.obj", &tri(-9.0)),
+        ("fragments/beside.obj", &tri(-3.0)),
+    ]);
+    let root = d.tree("scene.xml");
+    let paths: Vec<String> = shapes(&root)
+        .iter()
+        .map(|s| match prop(s, "path") {
+            Value::String(p) => p.clone(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        paths,
+        [
+            "meshes/light.obj",
+            "meshes/wall.obj",
+            "fragments/beside.obj"
+        ]
+    );
+    let light = shapes(&root)[0];
+    let emitter = light.child(Kind::Emitter).expect("the declared emitter");
+    assert_eq!(numbers(prop(emitter, "radiance")), [2.0; 3]);
+    assert!(shapes(&root)[1].child(Kind::Emitter).is_none());
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.emitters.len(), 1);
+
+    // A `<path>` folder is searched before the scene's.
+    let with_path = main.replace("<include", "<path value=\"other\"/>\n<include");
+    d.write("scene.xml", with_path.as_bytes());
+    d.write("other/meshes/wall.obj", tri(-5.0).as_bytes());
+    let root = d.tree("scene.xml");
+    let Value::String(wall) = prop(shapes(&root)[1], "path") else {
+        panic!()
+    };
+    assert_eq!(wall, "other/meshes/wall.obj");
+
+    // Declared and referred to by nothing, an `area` emitter is refused.
+    let lonely =
+        with_sensor(r#"<emitter type="area" id="e"><rgb name="radiance" value="1"/></emitter>"#);
+    let e = lonely.err("scene.xml");
+    assert!(e.contains("give it an id that a <shape> refers to"), "{e}");
+}
+
 #[test]
 fn include_loops_directories_devices_and_deep_chains_are_refused() {
     let d = Dir::new(&[

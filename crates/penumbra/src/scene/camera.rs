@@ -81,14 +81,16 @@ pub const PERSPECTIVE: Schema = Schema {
 };
 
 /// What Mitsuba's sensors read: the camera is placed by `to_world` and
-/// its field of view given Mitsuba's way.
-const SENSOR_KEYS: [&str; 6] = [
+/// its field of view given Mitsuba's way; every projective camera of
+/// Mitsuba reads `focus_distance`, which a pinhole does not use.
+const SENSOR_KEYS: [&str; 7] = [
     "fov",
     "fov_axis",
     "focal_length",
     "to_world",
     "near_clip",
     "far_clip",
+    "focus_distance",
 ];
 
 /// How Mitsuba's `perspective` and `thinlens` map onto the camera.
@@ -101,7 +103,8 @@ pub const PLUGINS: [Plugin; 2] = [
                 +z) and `up` (its +y), one that mirrors refused; `fov` along `fov_axis` (`x` by \
                 default, `y`, `diagonal`, `smaller`, `larger`) or `focal_length` (default \
                 `50mm`, of a 36 × 24 mm film, along the diagonal) as the vertical `fov` of the \
-                film's aspect; `near_clip` and `far_clip` ignored with a warning",
+                film's aspect; `focus_distance` read and unused, as by Mitsuba's pinhole; \
+                `near_clip` and `far_clip` ignored with a warning",
             reads: &SENSOR_KEYS,
             adapt: Some(Adapt::Held(sensors::perspective)),
         },

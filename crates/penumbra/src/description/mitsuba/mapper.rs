@@ -37,6 +37,10 @@ pub(super) struct Out<'a> {
     /// in the scene, which a `<ref>` names rather than copies.
     pub textures: Vec<Node>,
     pub texture_ids: HashSet<String>,
+    /// The ids the scene's shapes (and those of its groups) refer to by
+    /// `<ref>`: an `area` emitter declared in the scene under one of them
+    /// lights those shapes.
+    pub shape_refs: HashSet<String>,
     pub names: HashSet<String>,
     pub shapes: Vec<Node>,
     pub lights: Vec<Node>,

@@ -163,7 +163,7 @@ impl Out<'_> {
                 Some((name, a)) => {
                     let file = self
                         .reader
-                        .resolve(&file_dir(obj, self.reader.scene_dir), name);
+                        .resolve_file(&file_dir(obj, self.reader.scene_dir), name);
                     let text = self
                         .reader
                         .scene_relative(&file)

@@ -423,6 +423,23 @@ impl<'a> Reader<'a> {
             .unwrap_or(own)
     }
 
+    /// A file a plugin names (a mesh, an image), found where Mitsuba finds
+    /// it when the plugin is built: in the `<path>` folders (the last given
+    /// first), then in the scene's folder, whichever file names it; then,
+    /// beyond Mitsuba, in the folder `dir` of the file that names it. One
+    /// found nowhere is the scene folder's, for the error to name.
+    pub fn resolve_file(&self, dir: &Path, name: &str) -> PathBuf {
+        if Path::new(name).is_absolute() {
+            return PathBuf::from(name);
+        }
+        let scene = self.scene_dir.join(name);
+        let search = self.search.iter().map(|d| d.join(name));
+        search
+            .chain([scene.clone(), dir.join(name)])
+            .find(|p| p.exists())
+            .unwrap_or(scene)
+    }
+
     /// A path of [`resolve`](Self::resolve) as the scene's own files name
     /// theirs: relative to the scene's folder where it lies below it,
     /// otherwise absolute.

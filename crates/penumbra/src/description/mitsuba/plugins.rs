@@ -17,6 +17,33 @@ use super::transform::Mat4;
 use crate::description::error::{KeyPath, SceneError};
 use crate::description::tree::{Kind, Node, Prop, Value};
 
+/// The ids that the shapes of the scene `root`, and the shapes of its
+/// groups, refer to by `<ref>`.
+fn shape_refs(root: &Object) -> HashSet<String> {
+    let shapes = root.children.iter().filter_map(|(_, c)| match c {
+        Child::Object(o) if o.tag == "shape" => Some(o.as_ref()),
+        _ => None,
+    });
+    let mut refs = HashSet::new();
+    for shape in shapes {
+        for (_, c) in &shape.children {
+            match c {
+                Child::Ref { id, .. } => {
+                    refs.insert(id.clone());
+                }
+                Child::Object(o) if o.tag == "shape" => {
+                    refs.extend(o.children.iter().filter_map(|(_, c)| match c {
+                        Child::Ref { id, .. } => Some(id.clone()),
+                        Child::Object(_) => None,
+                    }));
+                }
+                Child::Object(_) => {}
+            }
+        }
+    }
+    refs
+}
+
 /// Builds the tree of a scene object.
 pub fn scene(
     root: &Object,
@@ -46,6 +73,7 @@ pub fn scene(
                 _ => None,
             })
             .collect(),
+        shape_refs: shape_refs(root),
         names: HashSet::new(),
         shapes: Vec::new(),
         lights: Vec::new(),
@@ -162,10 +190,18 @@ impl Out<'_> {
                     .push(Prop::new("radiance", key, vec3(radiance, path, &at)));
                 self.background = Some(node);
             }
+            // Declared in the scene and referred to by shapes (as Mitsuba
+            // allows): read where they refer to it.
+            "area"
+                if obj
+                    .id
+                    .as_ref()
+                    .is_some_and(|id| self.shape_refs.contains(id)) => {}
             "area" => {
                 return Err(error_at(
                     &obj.at,
-                    "an `area` emitter lights a shape: put it inside a <shape>",
+                    "an `area` emitter lights a shape: put it inside a <shape>, or give it an \
+                     id that a <shape> refers to by <ref>",
                 ))
             }
             _ => {

@@ -66,7 +66,8 @@ pub fn thinlens(
 /// images of the origin, of one unit along +z and of +y as `position`,
 /// `look_at` and `up` (one that mirrors the image refused); the field of
 /// view as the vertical `fov` for the film's aspect; with `thin`, the
-/// lens. `near_clip` and `far_clip` are ignored, with a warning.
+/// lens (without it, `focus_distance` is read and unused, as by Mitsuba's
+/// pinhole). `near_clip` and `far_clip` are ignored, with a warning.
 fn sensor(
     m: &mut dyn Mapper,
     obj: &Object,
@@ -126,7 +127,11 @@ fn sensor(
     set(node, base, "up", &m_at, |p, at| vec3(up, p, at));
     let (fov, fov_at) = vertical_fov(obj, aspect)?;
     set(node, base, "fov", &fov_at, |p, at| float(fov, p, at));
-    if thin {
+    if !thin {
+        // Read as Mitsuba's perspective reads it: a pinhole focuses
+        // everywhere, and the value has no effect.
+        get_float(obj, "focus_distance")?;
+    } else {
         let Some((radius, r_at)) = get_float(obj, "aperture_radius")? else {
             return Err(error_at(&obj.at, "thinlens: missing `aperture_radius`"));
         };
