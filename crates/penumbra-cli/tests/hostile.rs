@@ -1028,7 +1028,7 @@ fn xml_cases(cases: &mut Vec<Case>) {
     case(
         "includes itself",
         one(r#"<include filename="scene.xml"/>"#),
-        File("scene.xml"),
+        SceneLine,
     );
     let mut dir = one(r#"<include filename="sub"/>"#);
     dir.push(("sub", Entry::Dir));

@@ -612,7 +612,19 @@ fn include_loops_directories_devices_and_deep_chains_are_refused() {
         ("b.xml", &scene(r#"<include filename="a.xml"/>"#)),
     ]);
     let e = d.err("scene.xml");
-    assert!(e.contains("a.xml") && e.contains("include loop"), "{e}");
+    // Named at the `<include>` that closes the loop: `b.xml`'s, line 3.
+    let (file, line, _) = place_of(&e);
+    assert!(
+        e.contains("`a.xml`") && e.contains("include loop") && file.ends_with("b.xml") && line == 3,
+        "{e}"
+    );
+    // A file including itself.
+    let d = Dir::new(&[("scene.xml", &scene(r#"<include filename="scene.xml"/>"#))]);
+    let e = d.err("scene.xml");
+    assert!(
+        e.contains("include loop") && place_of(&e).0.ends_with("scene.xml") && place_of(&e).1 == 3,
+        "{e}"
+    );
 
     let e = one(r#"<include filename="gone.xml"/>"#).err("scene.xml");
     assert!(

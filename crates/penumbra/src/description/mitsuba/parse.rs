@@ -378,6 +378,17 @@ impl<'a> Reader<'a> {
                 format!("<include>: no file `{}`", rel.display()),
             ));
         }
+        let key = std::fs::canonicalize(&rel).unwrap_or_else(|_| rel.clone());
+        if self.stack.contains(&key) {
+            return Err(error_at(
+                &attr.at,
+                format!(
+                    "<include>: an include loop: `{}` is being read already (it includes this \
+                     file, directly or through others)",
+                    clip(&attr.value)
+                ),
+            ));
+        }
         // Errors inside name the included file and their place in it.
         let mut root = self.file(&rel, depth)?;
         if root.tag == "scene" {
