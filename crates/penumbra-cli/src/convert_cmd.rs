@@ -4,10 +4,10 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use penumbra::scene::{convert, LoadOptions, SceneSource};
+use penumbra::scene::{convert, SceneSource};
 
 use crate::error::{input, other, CliError};
-use crate::render_cmd::parse_define;
+use crate::xml_flags::XmlFlags;
 
 #[derive(Args)]
 #[command(
@@ -23,14 +23,9 @@ pub struct ConvertArgs {
     /// The TOML scene file to write.
     #[arg(short, long, value_name = "PATH")]
     pub output: PathBuf,
-    /// Sets a parameter `$NAME` of the XML scene, winning over its
-    /// `<default>` (repeatable).
-    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub define: Vec<(String, String)>,
-    /// Parameters of a Mitsuba XML scene that Penumbra does not read are
-    /// warnings instead of errors (unsupported plugins stay errors).
-    #[arg(long)]
-    pub lenient: bool,
+    /// How the XML scene is read (`-D`, `-a`, `--sensor`, `--lenient`).
+    #[command(flatten)]
+    pub xml: XmlFlags,
 }
 
 pub fn run(args: &ConvertArgs) -> Result<(), CliError> {
@@ -61,11 +56,7 @@ pub fn run(args: &ConvertArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    let opts = LoadOptions {
-        bunny: None,
-        defines: args.define.clone(),
-        lenient: args.lenient,
-    };
+    let opts = args.xml.load_options(None);
     let source = SceneSource::open(&scene.to_string_lossy(), &opts).map_err(input)?;
     for w in &source.warnings {
         eprintln!("warning: {w}");

@@ -10,6 +10,7 @@ mod render_cmd;
 mod report;
 mod reproduce_cmd;
 mod samples_cmd;
+mod xml_flags;
 
 use std::process::ExitCode;
 

@@ -9,11 +9,12 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::io::output::{write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
-use penumbra::scene::{default_bunny_path, LoadOptions, SceneSource};
+use penumbra::scene::{default_bunny_path, SceneSource};
 
 use crate::error::{input, other, CliError};
 use crate::flags::OptionFlags;
 use crate::report::print_summary;
+use crate::xml_flags::XmlFlags;
 
 /// Options of `penumbra render`.
 #[derive(Args)]
@@ -41,14 +42,9 @@ pub struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     pub quiet: bool,
-    /// Sets a parameter `$NAME` of a Mitsuba XML scene, winning over its
-    /// `<default>` (repeatable: -D spp=64 -D res=512).
-    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub define: Vec<(String, String)>,
-    /// Parameters of a Mitsuba XML scene that Penumbra does not read are
-    /// warnings instead of errors (unsupported plugins stay errors).
-    #[arg(long)]
-    pub lenient: bool,
+    /// How a Mitsuba XML scene is read (`-D`, `-a`, `--sensor`, `--lenient`).
+    #[command(flatten)]
+    pub xml: XmlFlags,
     /// The render options (`--width`, `--spp`, `--metric`, ...).
     #[command(flatten)]
     pub options: OptionFlags,
@@ -64,11 +60,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Some(stats) = &args.stats {
         check_parent(stats)?;
     }
-    let opts = LoadOptions {
-        bunny: args.bunny.clone().or_else(default_bunny_path),
-        defines: args.define.clone(),
-        lenient: args.lenient,
-    };
+    let opts = args
+        .xml
+        .load_options(args.bunny.clone().or_else(default_bunny_path));
     let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;
     choices.overrides.apply(&mut source);
@@ -114,19 +108,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         print_summary(&args.output, &json);
     }
     Ok(())
-}
-
-/// `NAME=VALUE`, the name of letters, digits and `_`.
-pub fn parse_define(text: &str) -> Result<(String, String), String> {
-    let (name, value) = text
-        .split_once('=')
-        .ok_or_else(|| format!("`{text}` is not NAME=VALUE"))?;
-    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-        return Err(format!(
-            "`{name}` is not a parameter name (letters, digits and _)"
-        ));
-    }
-    Ok((name.to_string(), value.to_string()))
 }
 
 /// An output whose directory does not exist is an argument error.

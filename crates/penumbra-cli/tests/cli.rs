@@ -477,6 +477,82 @@ fn renders_a_mitsuba_scene_with_defines() {
     assert!(stderr(&o).contains("NAME=VALUE"), "{}", stderr(&o));
 }
 
+/// Mitsuba's command-line flags: `--sensor N` renders sensor N (its film's
+/// size shows which), one past the last is refused with exit 2 and no
+/// image; `-a` adds search folders, several separated by `;`, for `render`
+/// and `convert` alike.
+#[test]
+fn chooses_a_sensor_and_searches_folders_as_mitsuba() {
+    let dir = tempfile::tempdir().unwrap();
+    let sensor = |w: u32| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="45"/>
+        <film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="8"/></film></sensor>"#
+        )
+    };
+    let scene = format!(
+        r#"<scene version="3.0.0">
+    {}
+    {}
+    <shape type="obj"><string name="filename" value="tri.obj"/></shape>
+    <emitter type="point"><point name="position" value="0, 2, 0"/><rgb name="intensity" value="5"/></emitter>
+</scene>
+"#,
+        sensor(8),
+        sensor(12)
+    );
+    std::fs::write(dir.path().join("scene.xml"), scene).unwrap();
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    let tri = "v -1 -1 4\nv 1 -1 4\nv 0 1 4\nf 1 2 3\n";
+    std::fs::write(dir.path().join("meshes/tri.obj"), tri).unwrap();
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "scene.xml", "-o", "out.png", "--quiet"];
+        args.extend_from_slice(extra);
+        penumbra(&args, dir.path())
+    };
+    // The mesh is found only along the search folders.
+    let o = render(&[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("tri.obj"), "{}", stderr(&o));
+    for (extra, width) in [
+        (&["-a", "none;meshes"][..], 8),
+        (&["-a", "meshes", "--sensor", "1"][..], 12),
+    ] {
+        let o = render(extra);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let img = image::open(dir.path().join("out.png")).unwrap();
+        assert_eq!(img.width(), width);
+        std::fs::remove_file(dir.path().join("out.png")).unwrap();
+    }
+    let o = render(&["-a", "meshes", "--sensor", "2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("sensor 2 was asked for; the scene has 2"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("out.png").exists());
+    let o = penumbra(
+        &[
+            "convert",
+            "scene.xml",
+            "-o",
+            "out.toml",
+            "-a",
+            "meshes",
+            "--sensor",
+            "1",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let toml = std::fs::read_to_string(dir.path().join("out.toml")).unwrap();
+    assert!(
+        toml.contains("width = 12") && toml.contains("tri.obj"),
+        "{toml}"
+    );
+}
+
 /// `penumbra convert`: the TOML file renders the XML file's pixels; it is
 /// never written over the input, and a bad scene leaves an existing output
 /// as it was (exit 2).

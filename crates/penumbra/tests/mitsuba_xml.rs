@@ -604,6 +604,55 @@ fn files_and_forward_references_resolve_as_mitsuba_resolves_them() {
     assert!(e.contains("give it an id that a <shape> refers to"), "{e}");
 }
 
+/// A scene of several sensors renders the first, or the one asked for
+/// (Mitsuba's `--sensor`); one past the last is refused at the scene.
+/// Folders given as Mitsuba's `-a` are searched after the `<path>` folders
+/// and before the scene's own.
+#[test]
+fn sensors_are_chosen_and_search_folders_given_as_mitsuba_s_command_line() {
+    let sensor = |x: f32| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="45"/>
+                 <transform name="to_world"><translate x="{x}"/></transform></sensor>"#
+        )
+    };
+    let body = format!(
+        "{}\n{}\n<shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/></shape>",
+        sensor(1.0),
+        sensor(2.0)
+    );
+    let tri = |z: f32| format!("v -1 -1 {z}\nv 1 -1 {z}\nv 0 1 {z}\nf 1 2 3\n");
+    let d = Dir::new(&[
+        ("scene.xml", &scene(&body)),
+        ("tri.obj", &tri(-1.0)),
+        ("extra/tri.obj", &tri(-2.0)),
+    ]);
+    let read = |sensor: usize, search: &[PathBuf]| {
+        let read = mitsuba::Read {
+            sensor,
+            search,
+            ..mitsuba::Read::default()
+        };
+        mitsuba::from_xml_file_read(&d.path("scene.xml"), &read, LIMIT, registry)
+    };
+    let x = |root: &Node| numbers(prop(root.child(Kind::Sensor).unwrap(), "position"))[0];
+    assert_eq!(x(&read(0, &[]).unwrap().root), 1.0);
+    assert_eq!(x(&read(1, &[]).unwrap().root), 2.0);
+    let e = read(2, &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("sensor 2 was asked for; the scene has 2, 0 to 1") && place_of(&e).1 == 2,
+        "{e}"
+    );
+    let path = |root: &Node| match prop(shapes(root)[0], "path") {
+        Value::String(p) => p.clone(),
+        other => panic!("{other:?}"),
+    };
+    // The scene's own folder holds `tri.obj`, but the search folder comes first.
+    let extra = [d.path("extra")];
+    assert!(path(&read(0, &extra).unwrap().root).ends_with("extra/tri.obj"));
+    assert_eq!(path(&read(0, &[]).unwrap().root), "tri.obj");
+}
+
 #[test]
 fn include_loops_directories_devices_and_deep_chains_are_refused() {
     let d = Dir::new(&[

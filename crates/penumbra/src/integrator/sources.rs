@@ -44,7 +44,8 @@ impl SceneSource {
     /// Reads a Mitsuba 3 XML scene (see
     /// [`description::mitsuba`](crate::description::mitsuba)): `file` names
     /// it in errors, `base_dir` anchors mesh paths, `opts.defines` override
-    /// its defaults.
+    /// its defaults, `opts.search` and `opts.sensor` as Mitsuba's `-a` and
+    /// sensor index.
     pub fn from_xml(
         file: &Path,
         base_dir: &Path,
@@ -55,13 +56,13 @@ impl SceneSource {
             position: None,
             message: e.to_string(),
         })?;
-        let loaded = description::mitsuba::from_xml_file_with(
-            file,
-            &opts.defines,
-            limit,
-            opts.lenient,
-            registry,
-        )?;
+        let read = description::mitsuba::Read {
+            defines: &opts.defines,
+            lenient: opts.lenient,
+            search: &opts.search,
+            sensor: opts.sensor,
+        };
+        let loaded = description::mitsuba::from_xml_file_read(file, &read, limit, registry)?;
         SceneSource::from_mitsuba(loaded, base_dir, opts)
     }
 

@@ -37,6 +37,11 @@ pub struct LoadOptions {
     /// A Mitsuba XML scene's parameters Penumbra does not read are
     /// warnings rather than errors (`--lenient`); a TOML scene has none.
     pub lenient: bool,
+    /// Folders where a Mitsuba XML scene's files are looked for after its
+    /// `<path>` folders and before its own folder (`-a`).
+    pub search: Vec<PathBuf>,
+    /// Which of a Mitsuba XML scene's sensors renders, from 0 (`--sensor`).
+    pub sensor: usize,
 }
 
 /// The bunny named by `$PENUMBRA_BUNNY`, if set: what the command line and

@@ -29,6 +29,8 @@ pub(super) struct Out<'a> {
     pub warnings: &'a mut Vec<String>,
     pub integrator: Option<Node>,
     pub sensor: Option<Node>,
+    /// The sensor asked for, and how many the scene has given so far.
+    pub sensors: (usize, usize),
     /// The integrator's `path_sampler` for the sampler read, and where.
     pub path_sampler: Option<(&'static str, Place)>,
     pub background: Option<Node>,

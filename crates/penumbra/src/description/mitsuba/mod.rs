@@ -67,7 +67,7 @@ pub mod transform;
 pub mod upgrade;
 pub mod values;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::error::SceneError;
 use super::tree::Node;
@@ -103,8 +103,42 @@ pub fn from_xml_file_with(
     lenient: bool,
     registry: Registry,
 ) -> Result<Loaded, SceneError> {
+    let read = Read {
+        defines,
+        lenient,
+        ..Read::default()
+    };
+    from_xml_file_read(path, &read, limit, registry)
+}
+
+/// How a Mitsuba XML scene is read beyond its text, as Mitsuba's command
+/// line sets it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Read<'a> {
+    /// `$name` parameters (`-D`), winning over the scene's `<default>`s.
+    pub defines: &'a Defines,
+    /// Parameters Penumbra does not read are warnings (`--lenient`).
+    pub lenient: bool,
+    /// Folders where files are looked for after the scene's `<path>`
+    /// folders and before the scene's own folder (`-a`), the first given
+    /// first.
+    pub search: &'a [PathBuf],
+    /// Which of the scene's sensors renders, counted from 0 in the order
+    /// the scene gives them (`--sensor`).
+    pub sensor: usize,
+}
+
+/// [`from_xml_file`] read as `read` says.
+pub fn from_xml_file_read(
+    path: &Path,
+    read: &Read,
+    limit: u64,
+    registry: Registry,
+) -> Result<Loaded, SceneError> {
+    let (defines, lenient) = (read.defines, read.lenient);
     let scene_dir = path.parent().unwrap_or(Path::new(""));
     let mut reader = parse::Reader::new(scene_dir, defines, limit);
+    reader.search = read.search.to_vec();
     let mut root = reader.file(path, 0)?;
     let mut warnings = Vec::new();
     if let Some((file, version)) = reader.old_files.first() {
@@ -125,7 +159,15 @@ pub fn from_xml_file_with(
     let scene = objects::read_scene(&root, &reader, &mut ids)?;
     // The elements are not needed once they are objects.
     drop(root);
-    let root = plugins::scene(&scene, &ids, &reader, registry, lenient, &mut warnings)?;
+    let sensor = read.sensor;
+    let root = plugins::scene(
+        &scene,
+        &ids,
+        &reader,
+        registry,
+        (lenient, sensor),
+        &mut warnings,
+    )?;
     Ok(Loaded { root, warnings })
 }
 
@@ -142,6 +184,6 @@ pub fn from_dict(
     let mut ids = objects::Ids::default();
     let scene = dict::read_scene(d, &mut ids, registry)?;
     let mut warnings = Vec::new();
-    let root = plugins::scene(&scene, &ids, &reader, registry, lenient, &mut warnings)?;
+    let root = plugins::scene(&scene, &ids, &reader, registry, (lenient, 0), &mut warnings)?;
     Ok(Loaded { root, warnings })
 }

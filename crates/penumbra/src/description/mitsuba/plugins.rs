@@ -50,7 +50,7 @@ pub fn scene(
     ids: &Ids,
     reader: &Reader,
     registry: Registry,
-    lenient: bool,
+    (lenient, sensor): (bool, usize),
     warnings: &mut Vec<String>,
 ) -> Result<Node, SceneError> {
     let mut out = Out {
@@ -61,6 +61,7 @@ pub fn scene(
         warnings,
         integrator: None,
         sensor: None,
+        sensors: (sensor, 0),
         path_sampler: None,
         background: None,
         bsdfs: Vec::new(),
@@ -122,10 +123,18 @@ pub fn scene(
         });
     }
     let Some(sensor) = out.sensor.take() else {
-        return Err(error_at(
-            &root.at,
-            "the scene has no <sensor>; Penumbra renders through a perspective or thinlens sensor",
-        ));
+        let (wanted, found) = out.sensors;
+        let message = match found {
+            0 => "the scene has no <sensor>; Penumbra renders through a perspective or thinlens \
+                  sensor"
+                .to_string(),
+            1 => format!("sensor {wanted} was asked for; the scene has one, sensor 0"),
+            n => format!(
+                "sensor {wanted} was asked for; the scene has {n}, 0 to {}",
+                n - 1
+            ),
+        };
+        return Err(error_at(&root.at, message));
     };
     node.children.push(integrator);
     node.children.push(sensor);
@@ -161,12 +170,15 @@ impl Out<'_> {
 
     /// The sensor, through the plugin that reads it: the camera, holding
     /// the film and the sampler.
+    /// The sensor asked for (`--sensor`, the first by default), through
+    /// the plugin that reads it; the others are counted and left unread.
     fn sensor(&mut self, obj: &Object) -> Result<(), SceneError> {
-        if self.sensor.is_some() {
-            return Err(error_at(&obj.at, "a second <sensor>: Penumbra renders one"));
+        let (wanted, found) = self.sensors;
+        self.sensors.1 += 1;
+        if found == wanted {
+            let node = self.mapped(Kind::Sensor, obj, KeyPath::root().key("camera"))?;
+            self.sensor = Some(node);
         }
-        let node = self.mapped(Kind::Sensor, obj, KeyPath::root().key("camera"))?;
-        self.sensor = Some(node);
         Ok(())
     }
 
