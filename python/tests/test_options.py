@@ -87,9 +87,10 @@ def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
     binary = subprocess.run([str(cli), "render", "--help"], capture_output=True, text=True, check=True)
     # --max-file-size is the binary's global flag, not a render option
     # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE, as its workers do);
-    # --define and --lenient set how a Mitsuba XML scene is read, which only the binary reads.
+    # --define, --search, --sensor and --lenient set how a Mitsuba XML scene is read, which only the
+    # binary reads.
     binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--define",
-                     "--lenient"}
+                     "--search", "--sensor", "--lenient"}
     assert _flags(binary.stdout) - binary_others == expected
     module = subprocess.run(
         [sys.executable, "-m", "penumbra", "render", "--help"], capture_output=True, text=True, check=True
