@@ -1075,8 +1075,10 @@ fn cubes_cylinders_disks_and_flipped_normals_map_by_name() {
 }
 
 /// An OBJ's texture coordinates are flipped (`v → 1 − v`) as Mitsuba's
-/// reader flips them, unless `flip_tex_coords` is false; a PLY's are kept.
-/// Built, a point of the square carries the flipped coordinates.
+/// reader flips them, unless `flip_tex_coords` is false; a PLY's only when
+/// `flip_tex_coords` is true (its reader's default is false), a
+/// `.serialized` file's never (its reader does not apply it). Built, a
+/// point of the square carries the flipped coordinates.
 #[test]
 fn obj_texture_coordinates_are_flipped_as_mitsuba_flips_them() {
     let d = with_sensor(
@@ -1112,6 +1114,35 @@ fn obj_texture_coordinates_are_flipped_as_mitsuba_flips_them() {
     assert!(shapes(&d.tree("scene.xml"))[0]
         .prop("flip_tex_coords")
         .is_none());
+    // A PLY square with `flip_tex_coords`, built: its coordinates flipped.
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+               property float u\nproperty float v\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n3 0 2 3\n";
+    let d = with_sensor(
+        r#"<shape type="ply"><string name="filename" value="s.ply"/><boolean name="flip_tex_coords" value="true"/></shape>
+        <shape type="serialized"><string name="filename" value="s.serialized"/><boolean name="flip_tex_coords" value="true"/></shape>"#,
+    );
+    std::fs::write(d.path("s.ply"), ply).unwrap();
+    let root = d.tree("scene.xml");
+    assert_eq!(
+        prop(shapes(&root)[0], "flip_tex_coords"),
+        &Value::Bool(true)
+    );
+    assert!(shapes(&root)[1].prop("flip_tex_coords").is_none());
+    let mut only_ply = root.clone();
+    only_ply.children.retain(|c| {
+        c.kind != Kind::Shape
+            || c.prop("path")
+                .is_some_and(|p| matches!(&p.value.value, Value::String(s) if s.ends_with(".ply")))
+    });
+    let src = SceneSource::from_tree(only_ply, &d.path(""), &LoadOptions::default());
+    let scene = src.build().unwrap_or_else(|e| panic!("{e}"));
+    let ray = penumbra::math::Ray::new([0.3, 0.2, 5.0].into(), [0.0, 0.0, -1.0].into(), 0.0);
+    let uv = scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap().uv;
+    assert!(
+        (uv.x - 0.3).abs() < 1e-5 && (uv.y - 0.8).abs() < 1e-5,
+        "{uv:?}"
+    );
 }
 
 /// `shapegroup` and `instance` are `[groups.ID]` and objects of type

@@ -30,24 +30,26 @@ pub fn rectangle(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), Sc
     Ok(())
 }
 
-/// Mitsuba's `obj`, `ply` and `serialized`: `face_normals` (default false) is the opposite of `smooth`; an OBJ's
-/// texture coordinates are flipped unless `flip_tex_coords` is false (what
-/// Mitsuba's OBJ reader does), another file's `flip_tex_coords` is read
-/// and not applied.
+/// Mitsuba's `obj`, `ply` and `serialized`: `face_normals` (default false)
+/// is the opposite of `smooth`; an OBJ's texture coordinates are flipped
+/// unless `flip_tex_coords` is false (what Mitsuba's OBJ reader does), a
+/// PLY's only when it is true (its reader's default is false), and a
+/// `.serialized` file's `flip_tex_coords` is read and not applied, as
+/// Mitsuba's reader does not apply it.
 pub fn mesh(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
     let (faces, at) =
         get_bool(obj, "face_normals")?.map_or((false, obj.at.clone()), |(b, at)| (b, at.clone()));
     set(node, base, "smooth", &at, |p, at| {
         located(Value::Bool(!faces), p, at)
     });
-    if obj.plugin == "obj" {
-        if node.prop("flip_tex_coords").is_none() {
+    match obj.plugin.as_str() {
+        "obj" if node.prop("flip_tex_coords").is_none() => {
             set(node, base, "flip_tex_coords", &obj.at, |p, at| {
                 located(Value::Bool(true), p, at)
             });
         }
-    } else {
-        node.props.retain(|p| p.name != "flip_tex_coords");
+        "serialized" => node.props.retain(|p| p.name != "flip_tex_coords"),
+        _ => {}
     }
     Ok(())
 }

@@ -34,7 +34,7 @@ pub const SCHEMA: Schema = Schema {
 
 /// How Mitsuba's mesh plugins map onto it.
 pub const MITSUBA: Mitsuba = Mitsuba {
-    differences: "`filename` is required; `face_normals` (default false) as `smooth = !face_normals`; an OBJ's `flip_tex_coords` is true unless given (as Mitsuba's OBJ reader), a PLY's and a `.serialized` file's is read and not applied",
+    differences: "`filename` is required; `face_normals` (default false) as `smooth = !face_normals`; an OBJ's `flip_tex_coords` is true unless given (as Mitsuba's OBJ reader), a PLY's false unless given, a `.serialized` file's read and not applied (as Mitsuba's readers)",
     reads: &["face_normals"],
     adapt: Some(Adapt::Node(adapt::mesh)),
 };
