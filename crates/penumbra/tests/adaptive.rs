@@ -312,3 +312,33 @@ fn calibrated_sets_stop_where_their_replicas_agree() {
     let (again, _) = render_scene(&showcase_sets(0.05), 1);
     assert_eq!(bits(&again), bits(&adaptive));
 }
+
+/// Fewer camera rays than replicas: the replicas past the last ray get
+/// none, and the render keeps the budget (each pixel takes one ray at
+/// least, the rule's screen, and at most `spp`).
+#[test]
+fn fewer_rays_than_replicas_keep_the_budget() {
+    for spp in [1, 3, 7] {
+        let mut src = builtin("showcase", None);
+        set(
+            &mut src,
+            Overrides {
+                width: Some(16),
+                height: Some(12),
+                spp: Some(spp),
+                replicas: Some(8),
+                noise_threshold: Some(0.05),
+                ..Default::default()
+            },
+        );
+        let s = src.build().expect("showcase builds");
+        let (img, rays) = render_scene(&s, 2);
+        assert!(img.pixels.iter().all(|p| p.is_finite()), "spp {spp}");
+        let pixels = 16 * 12;
+        assert!(
+            (pixels..=pixels * u64::from(spp)).contains(&rays.primary),
+            "spp {spp}: {} camera rays",
+            rays.primary
+        );
+    }
+}

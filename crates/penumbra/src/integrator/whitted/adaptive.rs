@@ -81,9 +81,12 @@ pub fn render_tile(
                 with_scratch(|buf| {
                     buf.samples.clear();
                     buf.weights.clear();
+                    buf.offsets.clear();
                     rays.clear();
                     let pixel = pixel_stream(scene, x, y);
-                    for r in 0..replicas {
+                    // A replica past the last sample (fewer samples than
+                    // replicas) has none.
+                    for r in 0..replicas.min(spp) {
                         let of = if replicas == 1 {
                             pixel
                         } else {
@@ -112,7 +115,7 @@ pub fn render_tile(
                         // The rule judges the weighted samples, whose mean
                         // tends to the pixel's value.
                         sched.block.add(k, i, r as usize, l * w);
-                        film.add(f, l, w);
+                        film.add(f, l, w, buf.offsets[q]);
                     }
                     tracer.stats.primary += rays.len() as u64;
                 });
