@@ -474,6 +474,54 @@ fn defaults_and_defines_substitute_parameters() {
     assert_eq!(place_of(&e).1, 4);
 }
 
+/// An include is looked for as Mitsuba's parser looks: beside the file
+/// that names it, then beside each file that includes that one (the
+/// nearest first), then in the scene's folder.
+#[test]
+fn nested_includes_are_found_beside_their_includers() {
+    let d = Dir::new(&[
+        (
+            "scene.xml",
+            &scene(&format!(r#"{SENSOR}<include filename="a/b/first.xml"/>"#)),
+        ),
+        (
+            "a/b/first.xml",
+            r#"<scene version="3.0.0">
+                <include filename="own.xml"/>
+                <include filename="top.xml"/>
+            </scene>"#,
+        ),
+        (
+            "a/b/own.xml",
+            r#"<shape version="3.0.0" type="sphere"><float name="radius" value="2"/></shape>"#,
+        ),
+        (
+            "a/b/c/inner.xml",
+            r#"<shape version="3.0.0" type="sphere"><float name="radius" value="3"/></shape>"#,
+        ),
+        (
+            "top.xml",
+            r#"<scene version="3.0.0"><include filename="b/c/inner.xml"/></scene>"#,
+        ),
+    ]);
+    // `top.xml`, named in `a/b/first.xml`, lies in the scene's folder only.
+    // What it names is looked for beside it, then beside `a/b/first.xml`,
+    // which includes it, then beside the scene: `b/c/inner.xml` is nowhere,
+    // `c/inner.xml` is beside `a/b/first.xml`.
+    let e = d.err("scene.xml");
+    assert!(e.contains("b/c/inner.xml"), "{e}");
+    d.write(
+        "top.xml",
+        br#"<scene version="3.0.0"><include filename="c/inner.xml"/></scene>"#,
+    );
+    let root = d.tree("scene.xml");
+    let radii: Vec<_> = shapes(&root)
+        .iter()
+        .map(|s| prop(s, "radius").clone())
+        .collect();
+    assert_eq!(radii, [Value::Float(2.0), Value::Float(3.0)]);
+}
+
 #[test]
 fn includes_defaults_and_refs_work_across_nested_files() {
     let d = Dir::new(&[

@@ -420,15 +420,20 @@ impl<'a> Reader<'a> {
         Ok(())
     }
 
-    /// A file named in `dir`'s file: in that folder if it exists there, else
-    /// in the `<path>` folders (the last given first), else in that folder.
+    /// A file named in `dir`'s file, found as Mitsuba's parser finds an
+    /// include: in that folder if it exists there, else in the folders of
+    /// the files being read that include it (the nearest first), else in
+    /// the `<path>` folders (the last given first), else in the scene's
+    /// folder; one found nowhere is `dir`'s, for the error to name.
     pub fn resolve(&self, dir: &Path, name: &str) -> PathBuf {
         let own = dir.join(name);
         if Path::new(name).is_absolute() || own.exists() {
             return own;
         }
-        self.search
-            .iter()
+        let includers = self.stack.iter().rev().filter_map(|f| f.parent());
+        includers
+            .chain(self.search.iter().map(PathBuf::as_path))
+            .chain([self.scene_dir])
             .map(|d| d.join(name))
             .find(|p| p.exists())
             .unwrap_or(own)
