@@ -153,6 +153,7 @@ class Scene:
         filter_b: float | None = None,
         filter_c: float | None = None,
         filter_lobes: int | None = None,
+        splat: bool | None = None,
         aperture: float | None = None,
         focal_distance: float | None = None,
         max_depth: int | None = None,

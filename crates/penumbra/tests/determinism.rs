@@ -128,3 +128,119 @@ fn signed_filters_keep_pixels_independent() {
         assert_region_is_the_frames(&s, &a, region, &what);
     }
 }
+
+/// A splatting film adds each sample to the pixels around its own, across
+/// tile borders: still the same pixels, bit for bit, on 1 and 3 threads,
+/// in 1 and 3 passes, in regions cut across the tiles (each rendering the
+/// samples of the pixels around it), and under adaptive sampling, for the
+/// Whitted and the path tracer, with a positive and a signed filter.
+#[test]
+fn splatted_samples_give_the_same_pixels_on_any_threads_passes_and_regions() {
+    use penumbra::sampling::Filter;
+    use penumbra::scene::IntegratorChoice;
+    let bits = |img: &penumbra::render::Image| -> Vec<[u32; 3]> {
+        img.pixels
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    };
+    for (filter, integrator, noise) in [
+        (Filter::Gaussian, IntegratorChoice::Whitted, None),
+        (Filter::Lanczos, IntegratorChoice::Path, None),
+        (Filter::Gaussian, IntegratorChoice::Whitted, Some(0.05)),
+    ] {
+        let build = |passes: u32| {
+            let mut src = builtin("showcase", None);
+            set(
+                &mut src,
+                Overrides {
+                    filter: Some(filter),
+                    integrator: Some(integrator),
+                    splat: Some(true),
+                    spp: Some(6),
+                    passes: Some(passes),
+                    noise_threshold: noise,
+                    ..size(48, 40)
+                },
+            );
+            src.build().expect("showcase builds")
+        };
+        let s = build(1);
+        assert!(s.settings.splat);
+        let (a, ra) = render_scene(&s, 1);
+        let (b, rb) = render_scene(&s, 3);
+        let what = format!("{filter:?} {integrator:?} {noise:?}");
+        assert!(bits(&a) == bits(&b), "{what}: 1 and 3 threads differ");
+        assert_eq!(ra, rb, "{what}");
+        let (c, _) = render_scene(&build(3), 2);
+        assert!(bits(&a) == bits(&c), "{what}: 1 and 3 passes differ");
+        for region in [
+            Region {
+                x0: 5,
+                y0: 17,
+                x1: 41,
+                y1: 39,
+            },
+            Region {
+                x0: 0,
+                y0: 0,
+                x1: 1,
+                y1: 40,
+            },
+            Region {
+                x0: 33,
+                y0: 31,
+                x1: 48,
+                y1: 40,
+            },
+        ] {
+            assert_region_is_the_frames(&s, &a, region, &what);
+        }
+    }
+}
+
+/// The box filter covers a sample's own pixel only: splatting by it is
+/// drawing film points from it, bit for bit.
+#[test]
+fn splatting_by_the_box_is_the_pixels_own_samples() {
+    let render = |splat: bool| {
+        let mut src = builtin("showcase", None);
+        set(
+            &mut src,
+            Overrides {
+                splat: Some(splat),
+                spp: Some(4),
+                ..size(32, 24)
+            },
+        );
+        let s = src.build().expect("showcase builds");
+        assert!(!s.settings.splat);
+        render_scene(&s, 2)
+    };
+    assert!(render(true) == render(false));
+}
+
+/// Splatting weighs each pixel's samples by the filter and divides by the
+/// weights: a scene of one radiance everywhere (a constant environment
+/// seen through nothing) gives that radiance in every pixel, whatever
+/// the filter's shape, signed or not.
+#[test]
+fn a_uniform_scene_stays_uniform_under_splatting() {
+    for filter in ["gaussian", "mitchell", "lanczos", "tent"] {
+        let toml = format!(
+            "[render]\nwidth = 20\nheight = 14\nspp = 5\nfilter = \"{filter}\"\nsplat = true\n\
+             distribution = \"random\"\nintegrator = \"path\"\nbackground = [0.25, 0.5, 2.0]\n\
+             [camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 40\n"
+        );
+        let s = scene(&toml);
+        assert!(s.settings.splat, "{filter}");
+        let (img, _) = render_scene(&s, 2);
+        for (k, p) in img.pixels.iter().enumerate() {
+            let want = penumbra::math::Rgb::new(0.25, 0.5, 2.0);
+            assert!(
+                (*p - want).abs().max_element() <= 1e-6 * 2.0,
+                "{filter}: pixel {k} is {p:?}"
+            );
+        }
+    }
+}

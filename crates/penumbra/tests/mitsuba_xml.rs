@@ -193,6 +193,7 @@ max_depth = 3
 width = 64
 height = 48
 filter = "box"
+splat = true
 spp = 4
 seed = 7
 distribution = "random"

@@ -46,6 +46,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("filter_b", Kind::Film),
     ("filter_c", Kind::Film),
     ("filter_lobes", Kind::Film),
+    ("splat", Kind::Film),
     ("metric", Kind::Integrator),
     ("reflection_metric", Kind::Integrator),
     ("shadow_metric", Kind::Integrator),

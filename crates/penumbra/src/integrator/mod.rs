@@ -59,6 +59,7 @@ pub mod plugins;
 mod ray_sets;
 mod shading;
 mod sources;
+pub mod splat;
 mod stats;
 pub mod stopping;
 pub mod streams;
@@ -73,6 +74,7 @@ pub use path::{DirectPlugin, DistributedPlugin, Path, PathPlugin, PathSettings, 
 pub use plugins::{Config, RenderWith, SCHEMAS};
 pub use ray_sets::{RaySets, ONE_RAY};
 pub use shading::ShadingPoint;
+pub use splat::{SplatFilm, Splatting};
 pub use stats::{Batches, RayCounts, RayStats, StageBatches};
 pub use stopping::Stopping;
 pub use whitted::{Tracer, Whitted, WhittedPlugin, WhittedSettings, WhittedWorker};

@@ -2,7 +2,9 @@ use std::ops::Range;
 
 use super::region::Region;
 use crate::integrator::stopping::PixelSamples;
-use crate::integrator::{BadSample, FilmTile, Integrator, PixelWorker, RayStats, StageBatches};
+use crate::integrator::{
+    BadSample, FilmTile, Integrator, PixelWorker, RayStats, SplatFilm, Splatting, StageBatches,
+};
 use crate::math::Rgb;
 use crate::scene::Scene;
 
@@ -36,7 +38,11 @@ impl Image {
 /// One rendered tile with what it counted.
 pub(super) struct Tile {
     pub region: Region,
+    /// Its pixels resolved, row by row; empty with a splatting film.
     pub pixels: Vec<Rgb>,
+    /// With a splatting film, the sums of what its samples splatted (to be
+    /// merged with the other tiles').
+    pub splat: Option<SplatFilm>,
     pub rays: RayStats,
     pub batches: StageBatches,
     pub bad: Vec<BadSample>,
@@ -80,12 +86,13 @@ pub(super) struct TileSlot<S> {
 }
 
 impl<S: Default> TileSlot<S> {
-    /// A tile of `region` rendered as part of `block`.
-    pub(super) fn new(region: Region, block: Region) -> Self {
+    /// A tile of `region` rendered as part of `block`, its samples splatted
+    /// as `splat` says where it says so.
+    pub(super) fn new(region: Region, block: Region, splat: Option<&Splatting>) -> Self {
         TileSlot {
             region,
             samples: Vec::new(),
-            film: FilmTile::new(block.x0..block.x1, block.y0..block.y1),
+            film: FilmTile::with(block.x0..block.x1, block.y0..block.y1, splat),
             block,
             state: S::default(),
             rays: RayStats::default(),
@@ -135,17 +142,24 @@ pub(super) fn render_pass<I: Integrator>(
     true
 }
 
-/// The finished tile of `slot`: its pixels resolved, and how they ended.
-pub(super) fn finish<S>(slot: TileSlot<S>) -> Tile {
+/// The finished tile of `slot`: its pixels resolved (or its splatted
+/// sums), and how they ended.
+pub(super) fn finish<S>(mut slot: TileSlot<S>) -> Tile {
     let (region, block, samples) = (slot.region, slot.block, slot.samples);
     let samples = if samples.is_empty() || block == region {
         samples
     } else {
         crop(&samples, block, region)
     };
+    let splat = slot.film.splat.take();
+    let pixels = match splat {
+        Some(_) => Vec::new(),
+        None => slot.film.values(region.x0..region.x1, region.y0..region.y1),
+    };
     Tile {
         region,
-        pixels: slot.film.values(region.x0..region.x1, region.y0..region.y1),
+        splat,
+        pixels,
         rays: slot.rays,
         batches: slot.batches,
         bad: slot.bad,
@@ -187,7 +201,7 @@ mod tests {
             checks.get() > 3
         };
         let whitted = Whitted::of(&scene);
-        let mut slot = TileSlot::new(region, region);
+        let mut slot = TileSlot::new(region, region, None);
         assert!(!render_pass(
             &whitted,
             &scene,
@@ -198,7 +212,7 @@ mod tests {
         ));
         assert_eq!(checks.get(), 4);
         let never = || false;
-        let mut slot = TileSlot::new(region, region);
+        let mut slot = TileSlot::new(region, region, None);
         assert!(render_pass(&whitted, &scene, &mut slot, 0..4, true, &never));
         let tile = finish(slot);
         assert_eq!(tile.pixels.len(), 64);

@@ -18,9 +18,10 @@ pub use region::Region;
 pub use report::stats_document;
 
 use crate::description::SceneError;
+use crate::integrator::splat::{resolve, Sums};
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
-    pass_samples, BadSample, Config, Integrator, RayStats, RenderWith, StageBatches,
+    pass_samples, BadSample, Config, Integrator, RayStats, RenderWith, Splatting, StageBatches,
 };
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -117,6 +118,12 @@ impl RenderWith for Render<'_> {
 /// tile into the image. The tiles' films and the integrator's state per
 /// tile are kept between passes; a render of one pass keeps only the tiles
 /// being rendered.
+///
+/// With a splatting film the samples of the pixels around the region
+/// reach it too: the region grown by the filter's reach is rendered, each
+/// finished tile's sums are added to the region's (in fixed point, so in
+/// any order), and the image is resolved from them at the end. A region
+/// thus gets the pixels the whole frame has.
 pub fn render_with<I: Integrator>(
     integrator: &I,
     scene: &Scene,
@@ -144,7 +151,27 @@ pub fn render_with<I: Integrator>(
         .max(1);
     let pool = pool(threads)?;
     let tile = integrator.tile();
-    let tiles = tiles(region, tile);
+    let splatting = s.splat.then(|| Splatting {
+        filter: s.filter.clone(),
+        frame: (s.width, s.height),
+    });
+    let sampled = match &splatting {
+        Some(how) => {
+            let (xs, ys) = how.grown(&(region.x0..region.x1), &(region.y0..region.y1));
+            Region {
+                x0: xs.start,
+                y0: ys.start,
+                x1: xs.end,
+                y1: ys.end,
+            }
+        }
+        None => region,
+    };
+    let tiles = tiles(sampled, tile);
+    let splatted: Mutex<Vec<Sums>> = Mutex::new(match splatting {
+        Some(_) => vec![[0; 4]; region.width() as usize * region.height() as usize],
+        None => Vec::new(),
+    });
     let done = AtomicUsize::new(0);
     let start = Instant::now();
     let mut image = Image::new(region.width(), region.height());
@@ -188,7 +215,8 @@ pub fn render_with<I: Integrator>(
                     } else {
                         *t
                     };
-                    let tile = slot.get_or_insert_with(|| TileSlot::new(*t, block));
+                    let tile =
+                        slot.get_or_insert_with(|| TileSlot::new(*t, block, splatting.as_ref()));
                     if !film::render_pass(
                         integrator,
                         scene,
@@ -204,10 +232,19 @@ pub fn render_with<I: Integrator>(
                         return Some(None);
                     }
                     let tile = film::finish(slot.take()?);
-                    let band = cuts.partition_point(|&y| y < t.y0);
-                    let rows = &bands[band];
-                    let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
-                    tile.copy_into(&mut rows, region);
+                    if let Some(splat) = &tile.splat {
+                        let mut sums = splatted.lock().unwrap_or_else(|e| e.into_inner());
+                        splat.merge_into(
+                            &mut sums,
+                            &(region.x0..region.x1),
+                            &(region.y0..region.y1),
+                        );
+                    } else {
+                        let band = cuts.partition_point(|&y| y < t.y0);
+                        let rows = &bands[band];
+                        let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
+                        tile.copy_into(&mut rows, region);
+                    }
                     Some(Some((
                         tile.rays,
                         tile.batches,
@@ -226,6 +263,12 @@ pub fn render_with<I: Integrator>(
         }
     }
     drop(bands);
+    let splatted = splatted.into_inner().unwrap_or_else(|e| e.into_inner());
+    if !splatted.is_empty() {
+        for (p, s) in image.pixels.iter_mut().zip(&splatted) {
+            *p = resolve(s);
+        }
+    }
     let mut stats = RenderStats {
         threads,
         ..RenderStats::default()
@@ -250,14 +293,20 @@ pub fn render_with<I: Integrator>(
     Ok((image, stats))
 }
 
-/// Copies the values of tile `at` (row by row) into `out`, the values of
-/// `region` row by row.
+/// Copies the values of tile `at` (row by row) within `region` into `out`,
+/// the values of `region` row by row (a tile of the grown region of a
+/// splatting film may reach beyond it).
 fn place<T: Copy>(out: &mut [T], region: Region, at: Region, values: &[T]) {
     let (w, stride) = (at.width() as usize, region.width() as usize);
-    let x = (at.x0 - region.x0) as usize;
-    for (row, src) in values.chunks_exact(w).enumerate() {
-        let start = (at.y0 - region.y0) as usize * stride + row * stride + x;
-        out[start..start + w].copy_from_slice(src);
+    let (x0, x1) = (at.x0.max(region.x0), at.x1.min(region.x1));
+    if x0 >= x1 {
+        return;
+    }
+    let n = (x1 - x0) as usize;
+    for y in at.y0.max(region.y0)..at.y1.min(region.y1) {
+        let src = (y - at.y0) as usize * w + (x0 - at.x0) as usize;
+        let dst = (y - region.y0) as usize * stride + (x0 - region.x0) as usize;
+        out[dst..dst + n].copy_from_slice(&values[src..src + n]);
     }
 }
 

@@ -93,13 +93,7 @@ pub const PLUGINS: [Plugin; 6] = [
              the profile itself",
         ),
     ),
-    Plugin::new(
-        &MITCHELL,
-        Mitsuba::differs(
-            "`B` and `C` in [0, 1]; the negative lobes are importance sampled by `|f|` and weighed by their sign, \
-             where Mitsuba splats every sample into the neighbouring pixels",
-        ),
-    ),
-    Plugin::new(&CATMULLROM, Mitsuba::differs("as `mitchell`")),
-    Plugin::new(&LANCZOS, Mitsuba::differs("`lobes` from 1 to 32; sampled as `mitchell`")),
+    Plugin::new(&MITCHELL, Mitsuba::differs("`B` and `C` in [0, 1]")),
+    Plugin::new(&CATMULLROM, Mitsuba::SAME),
+    Plugin::new(&LANCZOS, Mitsuba::differs("`lobes` from 1 to 32")),
 ];

@@ -533,6 +533,18 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.filter_lobes = v.int()),
     },
     RenderOption {
+        name: "splat",
+        kind: Kind::Switch,
+        default: switch(false),
+        doc: "each sample is added to every pixel the filter covers, weighted by it (Mitsuba's \
+              hdrfilm, the default for its scenes), rather than film points drawn from the filter \
+              each adding to its own pixel; the box filter is the same either way",
+        table: Some(Table::Render),
+        flag: Flag::PLAIN,
+        python: true,
+        set: Some(|c, v| c.overrides.splat = v.switch()),
+    },
+    RenderOption {
         name: "aperture",
         kind: Kind::NonNegative,
         default: DefaultValue::Fixed(Value::Number(0.0)),

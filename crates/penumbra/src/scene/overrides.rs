@@ -48,6 +48,8 @@ pub struct Overrides {
     pub filter_b: Option<f32>,
     pub filter_c: Option<f32>,
     pub filter_lobes: Option<u32>,
+    /// Whether samples are splatted by the filter.
+    pub splat: Option<bool>,
     pub lens_distribution: Option<Distribution>,
     pub time_distribution: Option<Distribution>,
     pub shadow_distribution: Option<Distribution>,
@@ -166,6 +168,7 @@ impl Overrides {
         set(root, "filter_b", num(self.filter_b));
         set(root, "filter_c", num(self.filter_c));
         set(root, "filter_lobes", int(self.filter_lobes));
+        set(root, "splat", flag(self.splat));
         set(root, "lens_distribution", dist(self.lens_distribution));
         set(root, "time_distribution", dist(self.time_distribution));
         set(root, "shadow_distribution", dist(shadow_d));

@@ -82,6 +82,10 @@ pub struct Settings {
     /// The pixel filter the film points are drawn by, and the samples
     /// weighted by.
     pub filter: PixelFilter,
+    /// Whether the samples are splatted into the pixels the filter covers
+    /// (`splat`, with a filter other than the box) rather
+    /// than drawn from it.
+    pub splat: bool,
 }
 
 /// An adaptive sampling rule, by the name users write.
@@ -154,6 +158,7 @@ pub const FILM: Schema = Schema {
         param("filter_b", Type::Number).penumbra_only(),
         param("filter_c", Type::Number).penumbra_only(),
         param("filter_lobes", Type::Int).penumbra_only(),
+        param("splat", Type::Bool).penumbra_only(),
     ],
 };
 
@@ -162,7 +167,8 @@ pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
     &FILM,
     Mitsuba {
         differences: "`width` and `height` are 768 × 576 unless given, each at least 1; its \
-            `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys; \
+            `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys, each sample \
+            splatted by it (`splat`) as Mitsuba's film develops; \
             `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
             the output's extension chooses the format",
         reads: &["file_format", "pixel_format", "component_format"],
@@ -287,6 +293,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         ));
     }
     let filter = pixel_filter(film)?;
+    let splat = film.bool("splat")?.unwrap_or(false) && filter.filter() != Filter::Box;
     let sets = sets(sampler)?;
     let d = sampler
         .distribution("distribution")?
@@ -307,6 +314,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         refraction: sets.refraction,
         points: Arc::new(PointTable::NONE),
         filter,
+        splat,
     })
 }
 

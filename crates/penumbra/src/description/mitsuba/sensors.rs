@@ -225,7 +225,8 @@ fn vertical_fov(obj: &Object, aspect: f64) -> Result<(f64, Place), SceneError> {
 /// Mitsuba's `hdrfilm`: `width` and `height` at least 1, Mitsuba's
 /// 768 × 576 where not given; its `<rfilter>` (Mitsuba's `gaussian`
 /// without one) as `filter` and the `filter_*` keys of the parameters it
-/// gives. The output file's format is its extension's, so the formats
+/// gives, each sample splatted by it (`splat`), as Mitsuba develops its
+/// film. The output file's format is its extension's, so the formats
 /// the film names are ignored, with a warning.
 pub fn hdrfilm(
     m: &mut dyn Mapper,
@@ -254,6 +255,9 @@ pub fn hdrfilm(
             ));
         }
     }
+    set(node, base, "splat", &obj.at, |p, at| {
+        located(Value::Bool(true), p, at)
+    });
     let mut filter = None;
     for c in m.held(obj)? {
         if c.tag != "rfilter" {

@@ -16,7 +16,7 @@ use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
 use crate::integrator::transmittance::unblocked_all;
 use crate::integrator::whitted::{guard, primary_rays};
-use crate::math::{Rgb, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{EffectSpec, SetPoint};
 use crate::scene::Scene;
 
@@ -66,6 +66,8 @@ pub(super) struct Wavefront<'s> {
     radiance: Vec<Rgb>,
     /// Per sample of the wave, its pixel-filter weight.
     weights: Vec<f32>,
+    /// Each primary sample's film offset from its pixel's centre.
+    offsets: Vec<Vec2>,
     /// The points of a set being drawn.
     points: Vec<Vec3>,
     /// A shadow set's emitter samples, their directions and the BSDF
@@ -112,6 +114,7 @@ impl<'s> Wavefront<'s> {
             passed: Vec::new(),
             radiance: Vec::new(),
             weights: Vec::new(),
+            offsets: Vec::new(),
             points: Vec::new(),
             set_lights: LightBuffers::default(),
             pending: Vec::new(),
@@ -135,13 +138,13 @@ impl<'s> Wavefront<'s> {
         let rows = (WAVE / (xs.len() * m)).max(1) as u32;
         tile.rows(rows, |ys| {
             self.wave(xs, ys.clone(), samples);
-            let mut values = self.radiance.iter().zip(&self.weights);
+            let mut values = self.radiance.iter().zip(&self.weights).zip(&self.offsets);
             for y in ys {
                 for x in xs.clone() {
                     let k = film.index(x, y);
                     for i in samples.clone() {
-                        let (&l, &w) = values.next().expect("a value per sample");
-                        film.add(k, guard(l, x, y, i as usize, bad), w);
+                        let ((&l, &w), &o) = values.next().expect("a value per sample");
+                        film.add(k, guard(l, x, y, i as usize, bad), w, o);
                     }
                 }
             }
@@ -155,6 +158,7 @@ impl<'s> Wavefront<'s> {
         let paths = &mut self.paths;
         paths.clear();
         self.weights.clear();
+        self.offsets.clear();
         let ordered = self.settings.metric.is_some_and(|m| m.pixels);
         for y in ys {
             primary_rays(
@@ -163,7 +167,7 @@ impl<'s> Wavefront<'s> {
                 keep.clone(),
                 &mut paths.ray,
                 &mut paths.rng,
-                &mut self.weights,
+                (&mut self.weights, &mut self.offsets),
             );
         }
         let n = paths.ray.len();

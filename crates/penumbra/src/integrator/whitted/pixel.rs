@@ -25,6 +25,8 @@ pub(super) struct Scratch {
     pub(super) samples: Vec<CameraSample>,
     /// The pixel filter's weight of each camera sample.
     pub(super) weights: Vec<f32>,
+    /// Each camera sample's film position, from its pixel's centre.
+    pub(super) offsets: Vec<Vec2>,
     pub(super) rays: Vec<Ray>,
     pub(super) radiance: Vec<Rgb>,
     /// The branch of sample `i`'s path, `3 + i`, hashed once per thread.
@@ -136,6 +138,7 @@ pub fn render_pixels(
                 paths,
                 pixels,
                 weights,
+                offsets,
                 ..
             } = buf;
             // Ray `j` is sample `range.start + j % m` of pixel `j / m`, `m`
@@ -148,13 +151,16 @@ pub fn render_pixels(
             radiance.clear();
             tracer.radiance(rays, 0, path, radiance);
             let m = range.len();
-            for (x, (samples, weights)) in
-                (x0..x1).zip(radiance.chunks_exact(m).zip(weights.chunks_exact(m)))
-            {
+            for (x, ((samples, weights), offsets)) in (x0..x1).zip(
+                radiance
+                    .chunks_exact(m)
+                    .zip(weights.chunks_exact(m))
+                    .zip(offsets.chunks_exact(m)),
+            ) {
                 let k = film.index(x, y);
-                for (j, (&l, &w)) in samples.iter().zip(weights).enumerate() {
+                for (j, ((&l, &w), &o)) in samples.iter().zip(weights).zip(offsets).enumerate() {
                     tracer.stats.primary += 1;
-                    film.add(k, guard(l, x, y, range.start + j, bad), w);
+                    film.add(k, guard(l, x, y, range.start + j, bad), w, o);
                 }
             }
         }
@@ -165,14 +171,15 @@ pub fn render_pixels(
 /// pixel and each pixel's in the order of their index, appended to `rays`,
 /// with the stream of each ray's path appended to `paths`: the rays and
 /// streams a Whitted render traces, for the integrators that follow paths
-/// instead, and each ray's pixel-filter weight appended to `weights`.
+/// instead, and each ray's pixel-filter weight and film offset appended to
+/// `film`.
 pub(in crate::integrator) fn primary_rays(
     (scene, ordered): (&Scene, bool),
     (xs, y): (Range<u32>, u32),
     keep: Range<usize>,
     rays: &mut Vec<Ray>,
     paths: &mut Vec<crate::sampling::Rng>,
-    weights: &mut Vec<f32>,
+    (weights, offsets): (&mut Vec<f32>, &mut Vec<Vec2>),
 ) {
     with_scratch(|buf| {
         let n = scene.settings.spp as usize;
@@ -183,6 +190,7 @@ pub(in crate::integrator) fn primary_rays(
         camera_rays((scene, ordered), xs, y, keep.clone(), buf);
         rays.extend_from_slice(&buf.rays);
         weights.extend_from_slice(&buf.weights);
+        offsets.extend_from_slice(&buf.offsets);
         for pixel in &buf.pixels {
             paths.extend(keep.clone().map(|i| pixel.path_of(buf.paths[i], i)));
         }
@@ -211,6 +219,7 @@ fn metric_pixel(
         paths,
         pixels,
         weights,
+        offsets,
         ..
     } = buf;
     let path = |i: usize| pixels[0].path_of(paths[i], i);
@@ -225,7 +234,7 @@ fn metric_pixel(
     let value = |i: usize, l: Rgb| {
         let l = guard(l, x, y, i, bad);
         let w = weights[i - range.start];
-        film.add(k, l, w);
+        film.add(k, l, w, offsets[i - range.start]);
         l * w
     };
     let ray = |i: usize| rays[i - range.start];
@@ -287,6 +296,7 @@ fn camera_rays(
         .extend(xs.clone().map(|x| pixel_stream(scene, x, y)));
     buf.samples.clear();
     buf.weights.clear();
+    buf.offsets.clear();
     let n = scene.settings.spp as usize;
     // Without the pixel metric every camera ray is traced and the pixel is
     // their mean, so the order of the film points does not matter; the
@@ -321,6 +331,7 @@ pub(super) fn camera_samples(
         times,
         samples,
         weights,
+        offsets,
         ..
     } = buf;
     if n == 1 && s.pixel == Distribution::Grid {
@@ -354,8 +365,15 @@ pub(super) fn camera_samples(
     // the shutter's opening time.
     let opening = cam.time(0.0);
     for i in keep {
-        let (offset, w) = f.sample(film[i].x, film[i].y);
+        // A splatting film takes the points as they are, uniform in the
+        // pixel, and weighs them where it splats them.
+        let (offset, w) = if s.splat {
+            ([film[i].x, film[i].y], 1.0)
+        } else {
+            f.sample(film[i].x, film[i].y)
+        };
         weights.push(w);
+        offsets.push(Vec2::from(offset));
         let film = centre + Vec2::from(offset);
         samples.push(if pinhole {
             CameraSample {
