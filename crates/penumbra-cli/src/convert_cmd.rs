@@ -1,6 +1,5 @@
 //! `penumbra convert`: a Mitsuba 3 XML scene as a TOML scene file.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -62,14 +61,10 @@ pub fn run(args: &ConvertArgs) -> Result<(), CliError> {
         eprintln!("warning: {w}");
     }
     let text = convert::to_toml(&source, &out_dir).map_err(input)?;
-    // Into a file beside the output, renamed over it once whole.
-    let mut tmp = tempfile::NamedTempFile::new_in(&out_dir)
-        .map_err(|e| other(format!("{}: {e}", out_dir.display())))?;
-    tmp.write_all(text.as_bytes())
-        .and_then(|()| tmp.as_file().sync_all())
-        .map_err(|e| other(format!("{}: {e}", args.output.display())))?;
-    tmp.persist(&args.output)
-        .map_err(|e| other(format!("{}: {}", args.output.display(), e.error)))?;
+    // Into a file beside the output, renamed over it once whole, with the
+    // mode of any new file.
+    penumbra::io::output::write_bytes(&args.output, text.as_bytes())
+        .map_err(|e| other(e.to_string()))?;
     Ok(())
 }
 

@@ -577,6 +577,21 @@ fn converts_a_mitsuba_scene_to_toml() {
     assert!(o.status.success(), "{}", stderr(&o));
     let toml = std::fs::read_to_string(dir.path().join("scene.toml")).unwrap();
     assert!(toml.contains("radius = 0.5"), "{toml}");
+    // An ordinary file: the mode any new file gets, not a temporary's 0600.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = |name: &str| {
+            std::fs::metadata(dir.path().join(name))
+                .unwrap()
+                .permissions()
+                .mode()
+                & 0o777
+        };
+        std::fs::write(dir.path().join("plain"), b"").unwrap();
+        assert_eq!(mode("scene.toml"), mode("plain"));
+        std::fs::remove_file(dir.path().join("plain")).unwrap();
+    }
     for (input, image) in [("scene.xml", "xml.png"), ("scene.toml", "toml.png")] {
         let mut args = vec!["render", input, "-o", image, "--quiet"];
         if input.ends_with("xml") {

@@ -67,26 +67,22 @@ fn write_atomic(
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".penumbra-")
-        .suffix(".partial")
-        .tempfile_in(&dir)
-        .map_err(|e| {
-            err(format!(
-                "cannot create a temporary file in {}: {e}",
-                dir.display()
-            ))
-        })?;
-    write(tmp.as_file_mut()).map_err(err)?;
-    // Temporary files are private (0600); a rendered image is an ordinary file.
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".penumbra-").suffix(".partial");
+    // Temporary files are private (0600); an output is an ordinary file,
+    // made with the mode any new file gets (0666 less the umask).
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        let mode = std::fs::Permissions::from_mode(0o644);
-        tmp.as_file()
-            .set_permissions(mode)
-            .map_err(|e| err(e.to_string()))?;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
+    let mut tmp = builder.tempfile_in(&dir).map_err(|e| {
+        err(format!(
+            "cannot create a temporary file in {}: {e}",
+            dir.display()
+        ))
+    })?;
+    write(tmp.as_file_mut()).map_err(err)?;
     tmp.as_file().sync_all().map_err(|e| err(e.to_string()))?;
     tmp.persist(path).map_err(|e| err(e.error.to_string()))?;
     Ok(())
@@ -180,14 +176,19 @@ mod tests {
         let mut img = Image::new(3, 2);
         img.pixels[4] = Rgb::new(0.25, 0.5, 2.0);
         write_image(&dir.path().join("a.png"), &img).unwrap();
+        // The mode of any new file (the umask's).
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
-            let mode = std::fs::metadata(dir.path().join("a.png"))
-                .unwrap()
-                .permissions()
-                .mode();
-            assert_eq!(mode & 0o777, 0o644);
+            let mode = |name: &str| {
+                std::fs::metadata(dir.path().join(name))
+                    .unwrap()
+                    .permissions()
+                    .mode()
+                    & 0o777
+            };
+            std::fs::write(dir.path().join("plain"), b"").unwrap();
+            assert_eq!(mode("a.png"), mode("plain"));
         }
         let png = image::open(dir.path().join("a.png")).unwrap().to_rgb8();
         assert_eq!(png.dimensions(), (3, 2));
