@@ -2373,3 +2373,37 @@ fn spot_directional_and_envmap_emitters_are_lights() {
         "scale 0.5 on 2"
     );
 }
+
+/// Mitsuba's `projector`: its `to_world` as the light's position, axis and
+/// up, its nested texture as `irradiance`; a `to_world` that scales is
+/// refused at the transform.
+#[test]
+fn a_projector_is_placed_by_its_lookat_and_takes_a_nested_texture() {
+    let d = with_sensor(
+        r#"<emitter type="projector">
+            <float name="fov" value="60"/>
+            <transform name="to_world"><lookat origin="0, 0, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <texture type="checkerboard" name="irradiance"/>
+        </emitter>"#,
+    );
+    let root = d.tree("scene.xml");
+    let light = root.child(Kind::Emitter).expect("the projector");
+    assert_eq!(light.plugin, "projector");
+    let close = |v: &Value, want: [f64; 3]| {
+        numbers(v)
+            .iter()
+            .zip(want)
+            .all(|(a, b)| (a - b).abs() < 1e-6)
+    };
+    assert!(close(prop(light, "position"), [0.0, 0.0, 1.0]));
+    assert!(close(prop(light, "look_at"), [0.0, 0.0, 0.0]));
+    assert!(close(prop(light, "up"), [0.0, 1.0, 0.0]));
+    assert!(light.prop("irradiance").is_some());
+    let d = with_sensor(
+        r#"<emitter type="projector">
+            <transform name="to_world"><scale value="2"/></transform>
+        </emitter>"#,
+    );
+    let e = d.err("scene.xml");
+    assert!(e.contains("must be a rotation and a translation"), "{e}");
+}

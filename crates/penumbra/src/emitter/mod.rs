@@ -33,6 +33,7 @@ pub mod directional;
 pub mod envmap;
 mod model;
 pub mod point;
+pub mod projector;
 mod sample;
 pub mod sky;
 pub mod spot;
@@ -43,6 +44,7 @@ pub use directional::Directional;
 pub use envmap::Envmap;
 pub use model::{EmitterModel, EmitterPlugin};
 pub use point::Point;
+pub use projector::Projector;
 pub use sample::{LightSample, Reference};
 pub use sky::Sky;
 pub use spot::Spot;
@@ -193,6 +195,7 @@ emitters! {
     Area,
     Constant,
     Spot,
+    Projector,
     Directional,
     Envmap,
 }
@@ -229,6 +232,7 @@ plugins! {
     Point,
     Constant,
     Spot,
+    Projector,
     Directional,
     Envmap,
     Sky,

@@ -132,3 +132,39 @@ pub fn area(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneEr
     unit_colour(obj, node, base, "radiance");
     Ok(())
 }
+
+/// Mitsuba's `projector`: `to_world`'s images of the origin, of one unit
+/// along +z and of +y as `position`, `look_at` and `up`; a `to_world` that
+/// scales, shears or mirrors (whose 3 × 3 part is no rotation) is refused,
+/// since the light's frame would not say it.
+pub fn projector(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
+    let Some((m, at)) = get_transform(obj, "to_world")? else {
+        return Ok(());
+    };
+    let column = |k: usize| {
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        transform::vector(&m, e)
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let rigid = (0..3).all(|i| {
+        (0..3).all(|j| {
+            let want = if i == j { 1.0 } else { 0.0 };
+            (dot(column(i), column(j)) - want).abs() < 1e-4
+        })
+    }) && transform::det3(&m) > 0.0;
+    if !rigid {
+        return Err(error_at(
+            at,
+            "the projector's `to_world` must be a rotation and a translation (a `lookat`); \
+             one that scales, shears or mirrors is not supported",
+        ));
+    }
+    let position = transform::point(&m, [0.0; 3]);
+    let look_at = transform::point(&m, [0.0, 0.0, 1.0]);
+    let up = column(1);
+    set(node, base, "position", at, |p, at| vec3(position, p, at));
+    set(node, base, "look_at", at, |p, at| vec3(look_at, p, at));
+    set(node, base, "up", at, |p, at| vec3(up, p, at));
+    Ok(())
+}

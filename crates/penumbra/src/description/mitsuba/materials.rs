@@ -70,7 +70,7 @@ impl Out<'_> {
     /// Mitsuba calls by their names (or the one taking any), set on `node`
     /// at `base`; any other child but the materials a schema holds is
     /// refused.
-    fn texture_children(
+    pub(super) fn texture_children(
         &self,
         obj: &Object,
         schema: &Schema,

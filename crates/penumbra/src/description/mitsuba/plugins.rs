@@ -161,11 +161,47 @@ impl Out<'_> {
         if self.integrator.is_some() {
             return Err(error_at(&obj.at, "a second <integrator>: a scene has one"));
         }
+        if obj.plugin == "moment" {
+            return self.moment(obj);
+        }
         let mut node = self.mapped(Kind::Integrator, obj, render())?;
         self.no_children(obj)?;
         node.plugin_origin = obj.plugin_at.origin(render().key("integrator"));
         self.integrator = Some(node);
         Ok(())
+    }
+
+    /// Mitsuba's `moment`: the image of the one integrator it holds, which
+    /// is what Mitsuba's film shows of it; the first and second moments it
+    /// adds as channels are not written (a warning says so).
+    fn moment(&mut self, obj: &Object) -> Result<(), SceneError> {
+        self.no_props(obj, &[])?;
+        let nested = children(self.ids, obj)?;
+        let inner = match nested.as_slice() {
+            [one] if one.tag == "integrator" => *one,
+            [_, second, ..] if second.tag == "integrator" => {
+                return Err(error_at(
+                    &second.at,
+                    "a second integrator inside `moment`: Penumbra renders one integrator",
+                ))
+            }
+            [] => return Err(error_at(&obj.at, "`moment` holds no <integrator>")),
+            [other, ..] => {
+                return Err(error_at(
+                    &other.at,
+                    format!(
+                        "a <{}> inside the integrator `moment` is not supported",
+                        other.tag
+                    ),
+                ))
+            }
+        };
+        self.warnings.push(
+            "the `moment` integrator's image is its nested integrator's; its moment channels \
+             are not written"
+                .into(),
+        );
+        self.integrator(inner)
     }
 
     /// The sensor, through the plugin that reads it: the camera, holding
@@ -217,9 +253,16 @@ impl Out<'_> {
                 ))
             }
             _ => {
-                self.no_children(obj)?;
                 let base = KeyPath::root().key("lights").index(self.lights.len());
-                let node = self.mapped(Kind::Emitter, obj, base)?;
+                let mut node = self.mapped(Kind::Emitter, obj, base.clone())?;
+                // A nested texture: the texturable parameter of its name.
+                let plugin = (self.registry)(Kind::Emitter)
+                    .iter()
+                    .find(|p| p.schema.plugin == node.plugin)
+                    .map(|p| p.schema);
+                if let Some(schema) = plugin {
+                    self.texture_children(obj, schema, &mut node, &base)?;
+                }
                 self.lights.push(node);
             }
         }
