@@ -2306,7 +2306,8 @@ fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
 /// `spot`, `directional` and `envmap` become `[[lights]]` of the same
 /// names: `to_world` as the spot's position and the point one unit along
 /// its +z, as the directional light's direction, as the map's matrix; the
-/// map's file relative to the scene; and the scene builds and renders.
+/// map's file relative to the scene, its `mis_compensation`; and the scene
+/// builds and renders.
 #[test]
 fn spot_directional_and_envmap_emitters_are_lights() {
     let d = with_sensor(
@@ -2324,6 +2325,7 @@ fn spot_directional_and_envmap_emitters_are_lights() {
             <string name="filename" value="sky.hdr"/>
             <float name="scale" value="0.5"/>
             <transform name="to_world"><rotate y="1" angle="90"/></transform>
+            <boolean name="mis_compensation" value="true"/>
         </emitter>
         <shape type="sphere"><bsdf type="diffuse"/></shape>"#,
     );
@@ -2359,6 +2361,7 @@ fn spot_directional_and_envmap_emitters_are_lights() {
     let map = find("envmap");
     assert_eq!(prop(map, "filename"), &Value::String("sky.hdr".into()));
     assert_eq!(numbers(prop(map, "scale")), [0.5]);
+    assert_eq!(prop(map, "mis_compensation"), &Value::Bool(true));
     assert!(close(
         &numbers(prop(map, "to_world")),
         &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],

@@ -1,8 +1,10 @@
 //! `sky`: a procedural environment, a gradient sky over a uniform ground
 //! with a sun disc, computed when the scene is built into an
-//! equirectangular map that then lights the scene exactly as an
-//! [`envmap`](super::envmap) read from a file does (the same lookup, the
-//! same importance sampling). A scene lit by a sky needs no image file.
+//! equirectangular map that then lights the scene as an
+//! [`envmap`](super::envmap) does, but read by the nearest pixel and
+//! importance-sampled pixel by pixel ([`Envmap::nearest`]): each pixel
+//! holds what lies around its centre, and the sun is normalised over the
+//! pixels. A scene lit by a sky needs no image file.
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
@@ -196,7 +198,7 @@ impl Sky {
     /// The environment map of the sky.
     pub fn envmap(&self) -> Envmap {
         let (w, h, radiance) = self.pixels();
-        Envmap::new(w, h, radiance, Mat3::IDENTITY)
+        Envmap::nearest(w, h, radiance, Mat3::IDENTITY)
     }
 
     /// The pixels the sun covers (by index) and the share of each one's
@@ -368,7 +370,7 @@ mod tests {
                     *sum += f64::from(v) * cos * pixel_solid_angle(y, w, h);
                 }
             }
-            let e = Envmap::new(w, h, pixels, Mat3::IDENTITY);
+            let e = Envmap::nearest(w, h, pixels, Mat3::IDENTITY);
             let n = 100_000;
             let mut sampled = Rgb::ZERO;
             for _ in 0..n {

@@ -1,6 +1,7 @@
 //! Random numbers, the thesis's ray distributions and the warps that map them
 //! onto pixels, lenses, lights and directions.
 
+pub mod bilinear2d;
 #[cfg(test)]
 mod checks;
 pub mod custom;
@@ -21,6 +22,7 @@ pub mod sobol;
 pub mod warp;
 pub mod zsobol;
 
+pub use bilinear2d::Bilinear2D;
 pub use custom::PointTable;
 pub use discrete::Discrete;
 pub use distribution::{

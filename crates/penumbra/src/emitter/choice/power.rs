@@ -95,7 +95,13 @@ mod tests {
     /// to 4π.
     #[test]
     fn a_uniform_map_has_the_constant_emitters_power() {
-        let map = Envmap::new(64, 32, vec![Rgb::splat(0.7); 64 * 32], Mat3::IDENTITY);
+        let map = Envmap::new(
+            64,
+            32,
+            vec![Rgb::splat(0.7); 64 * 32],
+            Mat3::IDENTITY,
+            false,
+        );
         let constant = Constant {
             radiance: Rgb::splat(0.7),
         };
