@@ -6,7 +6,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
+//! | `material` | `none` or a name of Mitsuba 3's table (`Au`, `Ag`, `Al`, `Cu`, `Cr`, `W`, … 71 of them) | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
 //! | `eta` | colour ≥ 0 | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
 //! | `k` | colour ≥ 0 | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
 //! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
@@ -35,7 +35,7 @@ pub struct Conductor {
 /// The schema entries of the conductor's index, shared with
 /// `roughconductor`.
 pub const INDEX_PARAMS: [Param; 3] = [
-    Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror), `Au`, `Ag`, `Al`, `Cu`, `Cr`"),
+    Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror) or a measured material of Mitsuba 3's table (`Au`, `Ag`, `Al`, `Cu`, `Cr`, `W`, …)"),
     Param::new("eta", Type::Colour, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`").range(Range::NonNegative),
     Param::new("k", Type::Colour, "the material's", "imaginary part of the complex index (absorption), ≥ 0").range(Range::NonNegative),
 ];

@@ -11,7 +11,7 @@
 //! | `alpha` | number ≥ 0 or texture | `0.1` | roughness along both tangents |
 //! | `alpha_u`, `alpha_v` | number ≥ 0 or texture | `alpha` | anisotropic roughness (both, not with `alpha`); `u` along `dp/du` |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
-//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index; `none` reflects 1 at every facet |
+//! | `material` | `none` or a name of Mitsuba 3's table (`Au`, `Cu`, `W`, …) | `none` | a preset index ([`ior`](super::ior)); `none` reflects 1 at every facet |
 //! | `eta`, `k` | colour ≥ 0 | the material's | the complex index, not with a `material` other than `none` |
 //! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection |
 //!
