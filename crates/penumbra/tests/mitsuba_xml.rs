@@ -978,6 +978,17 @@ fn conductor_materials_and_index_spectra_as_mitsuba() {
     assert_eq!(f32s(numbers(prop(au, "eta"))), eta);
     assert_eq!(f32s(numbers(prop(au, "k"))), k);
 
+    // `eta` and `k` take textures, as Mitsuba's.
+    let d = with_sensor(
+        r#"<shape type="sphere"><bsdf type="roughconductor"><texture type="checkerboard" name="eta"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.9"/></texture><spectrum name="k" value="400:3, 700:4"/></bsdf></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let rough = root.child(Kind::Bsdf).unwrap();
+    assert!(matches!(prop(rough, "eta"), Value::Table(_)), "{rough:?}");
+    let k = [3.7901742458343506, 3.475724697113037, 3.120769500732422];
+    assert_eq!(f32s(numbers(prop(rough, "k"))), k);
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+
     for (text, want) in [
         (
             "400 1\n500 2\n450 3\n",

@@ -1,8 +1,9 @@
 //! Indices of refraction by name: dielectrics (a real index, at the sodium
 //! D line, 589 nm, near room temperature) and conductor presets (a complex
 //! index `eta + i·k` per RGB channel), under Mitsuba 3's names, and the
-//! readers of the parameters that take them (`int_ior`, `ext_ior`;
-//! `material`, `eta`, `k`).
+//! reader of the dielectric parameters that take them (`int_ior`,
+//! `ext_ior`; the conductors' `material` is read in
+//! [`conductor`](super::conductor)).
 //!
 //! The dielectric values are physical constants from published tables
 //! (Hecht, *Optics*, and the handbooks it draws on), the ones Mitsuba 3
@@ -46,7 +47,6 @@
 //!
 //! Names are matched exactly (Mitsuba opens the file of that name).
 
-use crate::description::check::finite3_value;
 use crate::description::{Invalid, NumberOr, Props};
 use crate::math::Rgb;
 
@@ -147,38 +147,6 @@ pub fn read_dielectric(p: &Props, name: &str, default: &str) -> Result<f32, Inva
     } else {
         Err(p.error(name, format!("must be a positive number, got {v}")))
     }
-}
-
-/// A conductor's index as Mitsuba 3 reads it: the preset `material`
-/// (default `none`), or `eta` and `k` (defaults 0 and 1), not both.
-/// `eta` and `k` must not be negative.
-pub fn read_conductor(p: &Props) -> Result<Conductor, Invalid> {
-    let material = p.choice("material", "conductor material", &CONDUCTOR_NAMES)?;
-    let given = p.has("eta") || p.has("k");
-    if let (Some(m), true) = (material, given) {
-        if m != "none" {
-            let at = if p.has("eta") { "eta" } else { "k" };
-            return Err(p.error(
-                at,
-                format!("give either `material` or `eta` and `k`, not both (`material` is `{m}`)"),
-            ));
-        }
-    }
-    let preset = conductor(material.unwrap_or("none")).expect("a listed name");
-    let read = |name: &str, default: Rgb| -> Result<Rgb, Invalid> {
-        let Some(v) = p.numbers::<3>(name)? else {
-            return Ok(default);
-        };
-        let x = Rgb::from_array(finite3_value(p, name, v)?.to_array());
-        if x.min_element() < 0.0 {
-            return Err(p.error(name, format!("must not be negative, got {v:?}")));
-        }
-        Ok(x)
-    };
-    Ok(Conductor {
-        eta: read("eta", preset.eta)?,
-        k: read("k", preset.k)?,
-    })
 }
 
 #[cfg(test)]
