@@ -37,7 +37,8 @@ const CIE_MAX: f64 = 830.0;
 /// Wavelengths the integral is taken at.
 const STEPS: usize = 1000;
 /// Mitsuba's scale on x̄, ȳ, z̄ (`MI_CIE_Y_NORMALIZATION`).
-const Y_NORMALIZATION: f64 = 1.0 / 106.7502593994140625;
+/// Mitsuba writes the divisor out as 106.7502593994140625, the same double.
+const Y_NORMALIZATION: f64 = 1.0 / 106.75025939941406;
 /// Mitsuba's scale on the D65 table (`MI_CIE_D65_NORMALIZATION`).
 const D65_NORMALIZATION: f64 = 1.0 / 98.99741751876255;
 
@@ -290,7 +291,7 @@ mod tests {
                 xyz[k] += weight * c[k] * f(*w);
             }
         }
-        xyz.map(|c| c / 106.7502593994140625)
+        xyz.map(|c| c / 106.75025939941406)
     }
 
     fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
