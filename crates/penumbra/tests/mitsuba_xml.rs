@@ -1611,8 +1611,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a shapegroup needs an `id`",
         ),
         (
-            r#"<bsdf type="conductor"><texture type="bitmap" name="eta"/></bsdf>"#,
-            "a texture as `eta` of the bsdf `conductor` is not supported",
+            r#"<bsdf type="dielectric"><texture type="bitmap" name="int_ior"/></bsdf>"#,
+            "a texture as `int_ior` of the bsdf `dielectric` is not supported",
         ),
         (r#"<shape type="obj"/>"#, "missing `filename`"),
     ] {
@@ -2305,8 +2305,8 @@ fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
             "texture `wood` is not supported; supported: checkerboard, bitmap",
         ),
         (
-            r#"<bsdf type="conductor" id="m"><texture type="checkerboard" name="eta"/></bsdf>"#,
-            "a texture as `eta` of the bsdf `conductor` is not supported (textures go to: specular_reflectance)",
+            r#"<bsdf type="dielectric" id="m"><texture type="checkerboard" name="int_ior"/></bsdf>"#,
+            "a texture as `int_ior` of the bsdf `dielectric` is not supported (textures go to: specular_reflectance, specular_transmittance)",
         ),
         (
             r#"<bsdf type="diffuse" id="m"><rgb name="reflectance" value="0.5"/><texture type="checkerboard" name="reflectance"/></bsdf>"#,
