@@ -610,7 +610,11 @@ fn a_conductor_mirrors_a_lit_diffuse_ceiling_exactly() {
     let gold = above_a_quad("type = \"conductor\"\nmaterial = \"Au\"", "") + &ceiling;
     let f = |eta: f32, k: f32| ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k);
     // Gold's index as Mitsuba 3.9's RGB variants give it.
-    let fresnel = Rgb::new(f(0.143036, 3.983), f(0.375307, 2.38556), f(1.44205, 1.60336));
+    let fresnel = Rgb::new(
+        f(0.143036, 3.983),
+        f(0.375307, 2.38556),
+        f(1.44205, 1.60336),
+    );
     assert_close(centre(&gold), want * fresnel, 1e-4);
     // Its normal turned down (the ceiling's edges are written the other
     // way round, so only the mirror's change).
