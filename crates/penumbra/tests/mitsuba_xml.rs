@@ -984,6 +984,88 @@ fn spectra_convert_as_mitsubas_rgb_variants() {
     );
 }
 
+/// Every conductor material of Mitsuba's table builds, on `conductor`
+/// and `roughconductor`; a `<spectrum>` file given as `eta` and `k` is
+/// weighted by D65 as Mitsuba's unbounded textures are (other numbers than
+/// the same files named by `material`); a hostile spectrum file is refused
+/// with the scene's place and the file's line.
+#[test]
+fn conductor_materials_and_index_spectra_as_mitsuba() {
+    let body: String = penumbra::bsdf::ior::CONDUCTOR_NAMES
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let plugin = if i % 2 == 0 { "conductor" } else { "roughconductor" };
+            format!(
+                r#"<shape type="sphere"><bsdf type="{plugin}"><string name="material" value="{name}"/></bsdf></shape>"#
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    build_whitted(&with_sensor(&body)).unwrap_or_else(|e| panic!("{e}"));
+    let e = build_whitted(&with_sensor(
+        r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="gold"/></bsdf></shape>"#,
+    ))
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("gold") && e.contains("W"), "{e}");
+
+    let d = with_sensor(
+        r#"<bsdf type="roughconductor" id="au"><spectrum name="eta" filename="Au.eta.spd"/><spectrum name="k" filename="Au.k.spd"/></bsdf>"#,
+    );
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ior");
+    for f in ["Au.eta.spd", "Au.k.spd"] {
+        d.write(f, &std::fs::read(data.join(f)).unwrap());
+    }
+    let root = d.tree("scene.xml");
+    let au = root.child(Kind::Bsdf).unwrap();
+    // Mitsuba 3.9.1 `scalar_rgb`, `mi.traverse` of the same bsdf.
+    let eta = [0.07987049221992493, 0.4046523869037628, 1.5589680671691895];
+    let k = [3.3867456912994385, 2.5007057189941406, 1.7689123153686523];
+    let f32s = |v: Vec<f64>| v.iter().map(|&c| c as f32 as f64).collect::<Vec<_>>();
+    assert_eq!(f32s(numbers(prop(au, "eta"))), eta);
+    assert_eq!(f32s(numbers(prop(au, "k"))), k);
+
+    // `eta` and `k` take textures, as Mitsuba's.
+    let d = with_sensor(
+        r#"<shape type="sphere"><bsdf type="roughconductor"><texture type="checkerboard" name="eta"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.9"/></texture><spectrum name="k" value="400:3, 700:4"/></bsdf></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let rough = root.child(Kind::Bsdf).unwrap();
+    assert!(matches!(prop(rough, "eta"), Value::Table(_)), "{rough:?}");
+    let k = [3.7901742458343506, 3.475724697113037, 3.120769500732422];
+    assert_eq!(f32s(numbers(prop(rough, "k"))), k);
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+
+    for (text, want) in [
+        (
+            "400 1\n500 2\n450 3\n",
+            "bad.spd: line 3: the wavelength 450 does not exceed",
+        ),
+        (
+            "400 1\n500 nan\n",
+            "bad.spd: line 2: `nan` is not a finite number",
+        ),
+        (
+            "400 1\n500 1e400\n",
+            "bad.spd: line 2: `1e400` is out of range",
+        ),
+        ("# nothing\n", "bad.spd: the file holds no"),
+    ] {
+        let d = with_sensor(
+            r#"<bsdf type="conductor"><spectrum name="eta" filename="bad.spd"/></bsdf>"#,
+        );
+        d.write("bad.spd", text.as_bytes());
+        let e = d.err("scene.xml");
+        let (file, line, col) = place_of(&e);
+        assert!(
+            e.contains(want) && file.ends_with("scene.xml") && line == 4 && col > 0,
+            "{text:?}: {e}"
+        );
+    }
+}
+
 #[test]
 fn transforms_compose_each_operation_after_the_last() {
     let d = with_sensor(
@@ -1578,8 +1660,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a shapegroup needs an `id`",
         ),
         (
-            r#"<bsdf type="conductor"><texture type="bitmap" name="eta"/></bsdf>"#,
-            "a texture as `eta` of the bsdf `conductor` is not supported",
+            r#"<bsdf type="dielectric"><texture type="bitmap" name="int_ior"/></bsdf>"#,
+            "a texture as `int_ior` of the bsdf `dielectric` is not supported",
         ),
         (r#"<shape type="obj"/>"#, "missing `filename`"),
     ] {
@@ -2272,8 +2354,8 @@ fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
             "texture `wood` is not supported; supported: checkerboard, bitmap",
         ),
         (
-            r#"<bsdf type="conductor" id="m"><texture type="checkerboard" name="eta"/></bsdf>"#,
-            "a texture as `eta` of the bsdf `conductor` is not supported (textures go to: specular_reflectance)",
+            r#"<bsdf type="dielectric" id="m"><texture type="checkerboard" name="int_ior"/></bsdf>"#,
+            "a texture as `int_ior` of the bsdf `dielectric` is not supported (textures go to: specular_reflectance, specular_transmittance)",
         ),
         (
             r#"<bsdf type="diffuse" id="m"><rgb name="reflectance" value="0.5"/><texture type="checkerboard" name="reflectance"/></bsdf>"#,

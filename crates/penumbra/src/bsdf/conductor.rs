@@ -6,15 +6,15 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
-//! | `eta` | colour ≥ 0 | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
-//! | `k` | colour ≥ 0 | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
+//! | `material` | `none` or a name of Mitsuba 3's table (`Au`, `Ag`, `Al`, `Cu`, `Cr`, `W`, … 71 of them) | `none` | a preset index ([`ior`]); `none` is a perfect mirror (`eta` 0, `k` 1) |
+//! | `eta` | colour ≥ 0 or texture | the material's (`none`: `[0, 0, 0]`) | real part of the index; not with a `material` other than `none` |
+//! | `k` | colour ≥ 0 or texture | the material's (`none`: `[1, 1, 1]`) | imaginary part (absorption) |
 //! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection (1 for realism) |
 //!
 //! Its lobe, slot 0, is a delta reflection: the Whitted integrator traces
 //! one ray of it, the mirror direction about the shading normal.
 
-use super::ior::{self, Conductor as Index};
+use super::ior;
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
 use super::fresnel;
@@ -35,9 +35,9 @@ pub struct Conductor {
 /// The schema entries of the conductor's index, shared with
 /// `roughconductor`.
 pub const INDEX_PARAMS: [Param; 3] = [
-    Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror), `Au`, `Ag`, `Al`, `Cu`, `Cr`"),
-    Param::new("eta", Type::Colour, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`").range(Range::NonNegative),
-    Param::new("k", Type::Colour, "the material's", "imaginary part of the complex index (absorption), ≥ 0").range(Range::NonNegative),
+    Param::new("material", Type::Choice("conductor material", &ior::CONDUCTOR_NAMES), "none", "a conductor preset: `none` (a perfect mirror) or a measured material of Mitsuba 3's table (`Au`, `Ag`, `Al`, `Cu`, `Cr`, `W`, …)"),
+    Param::new("eta", Type::ColourTexture, "the material's", "real part of the complex index, ≥ 0; not with a `material` other than `none`").range(Range::NonNegative),
+    Param::new("k", Type::ColourTexture, "the material's", "imaginary part of the complex index (absorption), ≥ 0").range(Range::NonNegative),
 ];
 
 /// The schema entry of `specular_reflectance`.
@@ -78,19 +78,47 @@ pub fn reflectance_texture(
     Ok(t)
 }
 
-/// The conductor's index of a scene's parameters: `None` for the perfect
-/// mirror (`eta` 0 and `k` 1, whether by name or by value).
-pub fn read_index(p: &Props) -> Result<Option<Index>, Invalid> {
-    let c = ior::read_conductor(p)?;
-    Ok((c.eta != Rgb::ZERO || c.k != Rgb::ONE).then_some(c))
+/// A conductor's complex index `eta + i·k`, per channel, each part a
+/// colour or a texture.
+#[derive(Clone, Debug)]
+pub struct Index {
+    pub eta: Texture,
+    pub k: Texture,
 }
 
-/// The Fresnel reflectance of `index` at the cosine `cos` (1 for the
-/// perfect mirror).
-pub fn reflectance(index: &Option<Index>, cos: f32) -> Rgb {
+/// The conductor's index as Mitsuba 3 reads it: the preset `material`
+/// (default `none`), or `eta` and `k` (defaults 0 and 1, colours or
+/// textures, not negative), not both; `None` for the perfect mirror (`eta`
+/// 0 and `k` 1, whether by name or by value).
+pub fn read_index(p: &Props, textures: &Textures) -> Result<Option<Index>, Invalid> {
+    let material = p.choice("material", "conductor material", &ior::CONDUCTOR_NAMES)?;
+    if let Some(m) = material.filter(|m| *m != "none") {
+        if let Some(at) = ["eta", "k"].into_iter().find(|n| p.has(n)) {
+            return Err(p.error(
+                at,
+                format!("give either `material` or `eta` and `k`, not both (`material` is `{m}`)"),
+            ));
+        }
+    }
+    let preset = ior::conductor(material.unwrap_or("none")).expect("a listed name");
+    let part = |name: &str, default: Rgb| -> Result<Texture, Invalid> {
+        let t = textures.colour(p, name, default)?;
+        if t.bounds().0.min_element() < 0.0 {
+            return Err(p.error(name, "must not be negative; the texture reaches below 0"));
+        }
+        Ok(t)
+    };
+    let (eta, k) = (part("eta", preset.eta)?, part("k", preset.k)?);
+    let mirror = eta.constant() == Some(Rgb::ZERO) && k.constant() == Some(Rgb::ONE);
+    Ok((!mirror).then_some(Index { eta, k }))
+}
+
+/// The Fresnel reflectance of `index` at `si` and the cosine `cos` (1 for
+/// the perfect mirror).
+pub fn reflectance(index: &Option<Index>, si: &SurfaceInteraction, cos: f32) -> Rgb {
     match index {
         None => Rgb::ONE,
-        Some(c) => fresnel::conductor(cos, c.eta, c.k),
+        Some(c) => fresnel::conductor(cos, c.eta.eval(si), c.k.eval(si)),
     }
 }
 
@@ -108,7 +136,7 @@ impl BsdfModel for Conductor {
 
     fn build(p: &Props, d: &Defaults) -> Result<Conductor, Invalid> {
         Ok(Conductor {
-            index: read_index(p)?,
+            index: read_index(p, d.textures)?,
             specular_reflectance: factor(p, d.textures, "specular_reflectance")?,
         })
     }
@@ -139,7 +167,7 @@ impl BsdfModel for Conductor {
         }
         Some(BsdfSample {
             wi: reflect(-wo, si.n),
-            weight: self.specular_reflectance.eval(si) * reflectance(&self.index, cos),
+            weight: self.specular_reflectance.eval(si) * reflectance(&self.index, si, cos),
             pdf: 1.0,
             flags: BsdfFlags::DELTA | BsdfFlags::REFLECTION,
             lobe: 0,
@@ -201,6 +229,6 @@ mod tests {
             assert!(e.contains(want), "{text}: {e}");
         }
         let c = build::<Conductor>("eta = [0.2, 0.9, 1.1]\nk = [3.9, 2.5, 2.1]").unwrap();
-        assert_eq!(c.index.unwrap().k, Rgb::new(3.9, 2.5, 2.1));
+        assert_eq!(c.index.unwrap().k.constant(), Some(Rgb::new(3.9, 2.5, 2.1)));
     }
 }

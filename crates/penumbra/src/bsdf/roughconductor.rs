@@ -11,8 +11,8 @@
 //! | `alpha` | number ≥ 0 or texture | `0.1` | roughness along both tangents |
 //! | `alpha_u`, `alpha_v` | number ≥ 0 or texture | `alpha` | anisotropic roughness (both, not with `alpha`); `u` along `dp/du` |
 //! | `sample_visible` | bool | `true` | sample the visible normals (else the whole distribution) |
-//! | `material` | `none`, `Au`, `Ag`, `Al`, `Cu`, `Cr` | `none` | a preset index; `none` reflects 1 at every facet |
-//! | `eta`, `k` | colour ≥ 0 | the material's | the complex index, not with a `material` other than `none` |
+//! | `material` | `none` or a name of Mitsuba 3's table (`Au`, `Cu`, `W`, …) | `none` | a preset index ([`ior`](super::ior)); `none` reflects 1 at every facet |
+//! | `eta`, `k` | colour ≥ 0 or texture | the material's | the complex index, not with a `material` other than `none` |
 //! | `specular_reflectance` | colour in [0, 1] or texture | `[1, 1, 1]` | a factor on the reflection |
 //!
 //! Its lobe, slot 0, is glossy reflection: the Whitted integrator lights it
@@ -21,8 +21,7 @@
 //! visible normals a sample weighs `F · G1(wi)` (at most 1 for a white
 //! conductor).
 
-use super::conductor::{factor, read_index, reflectance, INDEX_PARAMS, SPECULAR_REFLECTANCE};
-use super::ior::Conductor as Index;
+use super::conductor::{factor, read_index, reflectance, Index, INDEX_PARAMS, SPECULAR_REFLECTANCE};
 use super::microfacet::{Microfacet, Roughness, PARAMS};
 use super::{BsdfModel, Defaults};
 use super::sample::{BsdfFlags, BsdfSample, Lobes};
@@ -68,7 +67,7 @@ impl BsdfModel for RoughConductor {
     fn build(p: &Props, d: &Defaults) -> Result<RoughConductor, Invalid> {
         Ok(RoughConductor {
             distribution: Microfacet::read_textured(p, d.textures)?,
-            index: read_index(p)?,
+            index: read_index(p, d.textures)?,
             specular_reflectance: factor(p, d.textures, "specular_reflectance")?,
         })
     }
@@ -91,7 +90,7 @@ impl BsdfModel for RoughConductor {
         if dg <= 0.0 {
             return Rgb::ZERO;
         }
-        self.specular_reflectance.eval(si) * reflectance(&self.index, i.dot(h)) * (dg / (4.0 * o.z * i.z))
+        self.specular_reflectance.eval(si) * reflectance(&self.index, si, i.dot(h)) * (dg / (4.0 * o.z * i.z))
     }
 
     fn sample(
@@ -124,7 +123,7 @@ impl BsdfModel for RoughConductor {
         } else {
             d.g(o, i, m) * om / (o.z * m.z)
         };
-        let weight = self.specular_reflectance.eval(si) * reflectance(&self.index, i.dot(m)) * shadowing;
+        let weight = self.specular_reflectance.eval(si) * reflectance(&self.index, si, i.dot(m)) * shadowing;
         let wi = frame.to_world(i);
         Some(BsdfSample {
             wi,

@@ -98,7 +98,8 @@ fn held() -> HashMap<String, Arc<Bsdf>> {
 }
 
 /// The keys written beside the texture of `name` of `plugin`: its partner
-/// for a roughness given per tangent; the materials a model holds.
+/// for a roughness given per tangent; the materials a model holds; a
+/// conductor's `eta` beside its `k`.
 fn partner(plugin: &str, name: &str) -> &'static str {
     match (plugin, name) {
         (_, "alpha_u") => "alpha_v = 0.3",
@@ -106,6 +107,8 @@ fn partner(plugin: &str, name: &str) -> &'static str {
         ("mask", _) => "bsdf = \"rough\"",
         ("blendbsdf", _) => "bsdf_0 = \"rough\"\nbsdf_1 = \"paint\"",
         ("normalmap" | "bumpmap", _) => "bsdf = \"rough\"",
+        // With `eta` 0 every `k` reflects everything.
+        ("conductor" | "roughconductor", "k") => "eta = [0.5, 0.6, 0.7]",
         _ => "",
     }
 }
@@ -171,6 +174,10 @@ fn every_texture_typed_parameter_follows_a_checkerboard() {
     for want in [
         "diffuse.reflectance",
         "conductor.specular_reflectance",
+        "conductor.eta",
+        "conductor.k",
+        "roughconductor.eta",
+        "roughconductor.k",
         "roughconductor.alpha",
         "roughconductor.alpha_u",
         "roughconductor.alpha_v",

@@ -3,8 +3,8 @@
 //! found by its Mitsuba name, each parameter read under Mitsuba's name for
 //! it and converted as its type says — a colour from `<rgb>`, `<spectrum>`
 //! or a number (a colour in [0, 1] and a texture's colours as a
-//! reflectance, any other colour — an emission, a conductor's index — as
-//! an unbounded spectrum), a number, an integer, a boolean, a string (a
+//! reflectance, an emitter's colours as an emission, any other colour — a
+//! conductor's index — as an unbounded value), a number, an integer, a boolean, a string (a
 //! file name found as a mesh's is and written relative to the scene's
 //! folder), a transform (a placement's 4 × 4, or `to_uv`'s upper-left 2 ×
 //! 2 and translation) — and a parameter the schema requires checked.
@@ -142,10 +142,14 @@ impl Out<'_> {
         let at = |a: &Place| a.clone();
         Ok(match param.ty {
             Type::Colour | Type::ColourTexture => {
+                // As Mitsuba's texture getters: bounded (a reflectance),
+                // emissive, or unbounded (a conductor's `eta` and `k`).
                 let usage = if param.range == Range::Unit || kind == Kind::Texture {
                     Use::Reflectance
-                } else {
+                } else if kind == Kind::Emitter {
                     Use::Emission
+                } else {
+                    Use::Unbounded
                 };
                 get_color(obj, key, usage)?.map(|(c, a)| (vec3(c, path, a), at(a)))
             }

@@ -1,23 +1,46 @@
 //! Spectra to RGB, as Mitsuba 3's RGB variants turn a `<spectrum>` into a
-//! colour.
+//! colour (`spectrum_list_to_srgb` in Mitsuba's `src/core/spectrum.cpp`).
 //!
-//! A constant spectrum (`value="0.5"`) is that value on every channel for a
-//! reflectance; for an emitter it is the value times the sRGB image of the
-//! XYZ colour (1, 1, 1), the colour a flat spectrum has against sRGB's D65
-//! white. A list of `wavelength:value` pairs (or a file of them) is
-//! interpolated linearly between its wavelengths (and is zero outside them),
-//! integrated against the CIE 1931 colour matching functions at 1000 evenly
-//! spaced wavelengths from 360 nm to 830 nm, scaled so that a flat spectrum
-//! of 1 has luminance 1 and converted from XYZ to linear sRGB. For a
-//! reflectance the spectrum is first multiplied by the D65 illuminant
-//! (normalised the same way) and the result is clamped to [0, 1]; for an
-//! emitter negative channels are clamped to 0.
+//! A constant spectrum (`value="0.5"`) is that value on every channel,
+//! except for an emitter: there it is the value times the sRGB image of
+//! the XYZ colour (1, 1, 1), the colour a flat spectrum has against sRGB's
+//! D65 white.
+//!
+//! A list of `wavelength:value` pairs (or a file of them) is reduced in
+//! double precision:
+//!
+//! - it is read at 1000 evenly spaced wavelengths from 360 nm to 830 nm
+//!   (both included), interpolated linearly between its two neighbouring
+//!   wavelengths; a wavelength outside its first and last contributes
+//!   nothing;
+//! - each value is weighted by the CIE 1931 2° colour matching functions,
+//!   interpolated linearly in the CIE's table every 5 nm (the 95 values
+//!   Mitsuba stores, in single precision) and, except for an emitter, by
+//!   the CIE D65 illuminant times 1 / 98.99741751876255;
+//! - the sum is scaled by 470 / 1000 / 106.7502593994140625, a constant
+//!   (not the sum of ȳ over the same wavelengths), and taken from XYZ to
+//!   linear sRGB;
+//! - a reflectance (bounded to [0, 1]) is clamped to [0, 1], anything else
+//!   (an emitter's radiance, a conductor's `eta` and `k`) has its negative
+//!   channels set to 0.
+//!
+//! So a flat reflectance (or conductor index) of 1 over 360–830 nm is
+//! (0.99899, 0.99887, 0.99880), not exactly white, and a flat emission of 1
+//! is (1.20488, 0.94823, 0.90927), as in Mitsuba. Mitsuba reduces the files
+//! of a named conductor `material` without D65, as an emission; a
+//! `<spectrum>` given as `eta` or `k` is weighted by D65, so the same file
+//! gives other numbers there.
 
 /// Shortest and longest wavelength integrated over, in nanometres.
 const CIE_MIN: f64 = 360.0;
 const CIE_MAX: f64 = 830.0;
 /// Wavelengths the integral is taken at.
 const STEPS: usize = 1000;
+/// Mitsuba's scale on x̄, ȳ, z̄ (`MI_CIE_Y_NORMALIZATION`).
+/// Mitsuba writes the divisor out as 106.7502593994140625, the same double.
+const Y_NORMALIZATION: f64 = 1.0 / 106.75025939941406;
+/// Mitsuba's scale on the D65 table (`MI_CIE_D65_NORMALIZATION`).
+const D65_NORMALIZATION: f64 = 1.0 / 98.99741751876255;
 
 /// A spectrum as a file or an attribute wrote it.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,12 +51,17 @@ pub enum Spectrum {
     Samples(Vec<(f64, f64)>),
 }
 
-/// What a spectrum colours: a surface's reflectance or an emitter's
-/// radiance or intensity.
+/// What a spectrum gives a value to, which decides how Mitsuba reduces it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Use {
+    /// A surface's reflectance (or a texture's colour): weighted by D65,
+    /// clamped to [0, 1].
     Reflectance,
+    /// An emitter's radiance or intensity: no D65, negatives set to 0.
     Emission,
+    /// Another unbounded value (a conductor's `eta` and `k`): weighted by
+    /// D65, negatives set to 0.
+    Unbounded,
 }
 
 /// Linear sRGB of XYZ (the Rec. 709 primaries, D65 white).
@@ -47,17 +75,26 @@ fn xyz_to_srgb(xyz: [f64; 3]) -> [f64; 3] {
     XYZ_TO_SRGB.map(|row| row[0] * xyz[0] + row[1] * xyz[1] + row[2] * xyz[2])
 }
 
-/// The tables' x̄, ȳ, z̄ and D65 at a wavelength, interpolated linearly
-/// (zero outside 360–830 nm).
+/// [`XYZ_TO_SRGB`] with its entries rounded to single precision, as
+/// Mitsuba's matrix holds them when it reduces a list of samples.
+fn xyz_to_srgb_f32_matrix(xyz: [f64; 3]) -> [f64; 3] {
+    XYZ_TO_SRGB.map(|row| {
+        let r = row.map(|m| m as f32 as f64);
+        r[0] * xyz[0] + r[1] * xyz[1] + r[2] * xyz[2]
+    })
+}
+
+/// The tables' x̄, ȳ, z̄ and D65 (times [`D65_NORMALIZATION`]) at a
+/// wavelength in 360–830 nm, interpolated linearly in the single-precision
+/// tables.
 fn cie(w: f64) -> [f64; 4] {
-    if !(CIE_MIN..=CIE_MAX).contains(&w) {
-        return [0.0; 4];
-    }
-    let t = (w - CIE_MIN) / 5.0;
-    let i = (t as usize).min(CIE_5NM.len() - 2);
-    let f = t - i as f64;
+    let t = (w - CIE_MIN) * ((CIE_5NM.len() - 1) as f64 / (CIE_MAX - CIE_MIN));
+    let i = (t.max(0.0) as usize).min(CIE_5NM.len() - 2);
+    let w1 = t - i as f64;
+    let w0 = 1.0 - w1;
     let (a, b) = (CIE_5NM[i], CIE_5NM[i + 1]);
-    [0, 1, 2, 3].map(|k| a[k] * (1.0 - f) + b[k] * f)
+    let at = |k: usize| w0 * (a[k] as f32 as f64) + w1 * (b[k] as f32 as f64);
+    [at(0), at(1), at(2), at(3) * D65_NORMALIZATION]
 }
 
 /// The `i`-th wavelength of the integral.
@@ -65,19 +102,11 @@ fn wavelength(i: usize) -> f64 {
     CIE_MIN + (i as f64 / (STEPS - 1) as f64) * (CIE_MAX - CIE_MIN)
 }
 
-/// Σ ȳ and Σ ȳ·D65 over the integral's wavelengths: what a flat spectrum
-/// of 1 gives, so that it has luminance 1, with and without D65.
-fn norms() -> (f64, f64) {
-    (0..STEPS)
-        .map(|i| cie(wavelength(i)))
-        .fold((0.0, 0.0), |(y, yd), c| (y + c[1], yd + c[1] * c[3]))
-}
-
 /// The RGB colour Mitsuba 3's RGB variants give a spectrum used as `usage`.
 pub fn to_rgb(spectrum: &Spectrum, usage: Use) -> [f64; 3] {
     match spectrum {
         Spectrum::Constant(v) => match usage {
-            Use::Reflectance => [*v; 3],
+            Use::Reflectance | Use::Unbounded => [*v; 3],
             Use::Emission => xyz_to_srgb([1.0; 3]).map(|c| c * v),
         },
         Spectrum::Samples(samples) => samples_to_rgb(samples, usage),
@@ -85,8 +114,7 @@ pub fn to_rgb(spectrum: &Spectrum, usage: Use) -> [f64; 3] {
 }
 
 fn samples_to_rgb(samples: &[(f64, f64)], usage: Use) -> [f64; 3] {
-    let (y_norm, yd_norm) = norms();
-    let d65 = usage == Use::Reflectance;
+    let d65 = usage != Use::Emission;
     let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
     let mut xyz = [0.0; 3];
     for i in 0..STEPS {
@@ -98,17 +126,18 @@ fn samples_to_rgb(samples: &[(f64, f64)], usage: Use) -> [f64; 3] {
             .partition_point(|s| s.0 <= w)
             .clamp(1, samples.len() - 1);
         let ((w0, v0), (w1, v1)) = (samples[j - 1], samples[j]);
-        let v = v0 + (v1 - v0) * (w - w0) / (w1 - w0);
+        let v = ((w - w1) * v0 + (w0 - w) * v1) / (w0 - w1);
         let c = cie(w);
-        let weight = if d65 { v * c[3] * y_norm / yd_norm } else { v };
+        let weight = if d65 { c[3] } else { 1.0 };
         for k in 0..3 {
-            xyz[k] += c[k] * weight;
+            xyz[k] += c[k] * v * weight;
         }
     }
-    let rgb = xyz_to_srgb(xyz.map(|c| c / y_norm));
+    let scale = (CIE_MAX - CIE_MIN) * Y_NORMALIZATION / STEPS as f64;
+    let rgb = xyz_to_srgb_f32_matrix(xyz.map(|c| c * scale));
     match usage {
         Use::Reflectance => rgb.map(|c| c.clamp(0.0, 1.0)),
-        Use::Emission => rgb.map(|c| c.max(0.0)),
+        Use::Emission | Use::Unbounded => rgb.map(|c| c.max(0.0)),
     }
 }
 
@@ -136,33 +165,52 @@ pub fn parse(text: &str) -> Result<Spectrum, String> {
 }
 
 /// Reads a spectrum file: a `wavelength value` pair on each line, `#`
-/// comments and blank lines skipped.
+/// comments and blank lines skipped. An error names the line.
 pub fn parse_file(text: &str) -> Result<Spectrum, String> {
-    let mut samples = Vec::new();
+    let mut samples: Vec<(f64, f64)> = Vec::new();
+    let mut last_line = 0;
     for (n, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
+        let at = n + 1;
         let mut parts = line.split_whitespace();
         let (Some(w), Some(v)) = (parts.next(), parts.next()) else {
-            return Err(format!("line {}: expected a wavelength and a value", n + 1));
+            return Err(format!("line {at}: expected a wavelength and a value"));
         };
-        let pair = (super::number::number(w), super::number::number(v));
-        match pair {
-            (Ok(w), Ok(v)) => samples.push((w, v)),
-            (Err(e), _) | (_, Err(e)) => return Err(format!("line {}: {e}", n + 1)),
+        let (w, v) = match (super::number::number(w), super::number::number(v)) {
+            (Ok(w), Ok(v)) => (w, v),
+            (Err(e), _) | (_, Err(e)) => return Err(format!("line {at}: {e}")),
+        };
+        if let Some(&(before, _)) = samples.last() {
+            if w <= before {
+                return Err(format!(
+                    "line {at}: the wavelength {w} does not exceed the one before it ({before}, line {last_line}); the wavelengths of a spectrum must increase"
+                ));
+            }
         }
+        samples.push((w, v));
+        last_line = at;
     }
-    samples_checked(samples)
+    if samples.is_empty() {
+        return Err("the file holds no `wavelength value` line".into());
+    }
+    samples_checked(samples).map_err(|e| format!("line {last_line}: {e}"))
 }
 
+/// The spectrum of `samples`, which need at least two increasing
+/// wavelengths.
 pub fn samples_checked(samples: Vec<(f64, f64)>) -> Result<Spectrum, String> {
     if samples.len() < 2 {
         return Err("a spectrum needs at least two wavelength:value pairs".into());
     }
-    if samples.windows(2).any(|w| w[1].0 <= w[0].0) {
-        return Err("the wavelengths of a spectrum must increase".into());
+    if let Some(i) = samples.windows(2).position(|w| w[1].0 <= w[0].0) {
+        return Err(format!(
+            "the wavelengths of a spectrum must increase ({} follows {})",
+            samples[i + 1].0,
+            samples[i].0
+        ));
     }
     Ok(Spectrum::Samples(samples))
 }
@@ -225,26 +273,25 @@ mod tests {
         (820.0, [2.522525e-06, 9.1093e-07, 0.0]),
     ];
 
-    /// XYZ of a spectrum by Simpson's rule on the 10 nm table, normalised
-    /// so that Y of a flat 1 is 1: no D65, no 1000-point sum.
+    /// XYZ of a spectrum by Simpson's rule on the 10 nm table, over
+    /// 360–820 nm (the curves are below 1e-5 past it), scaled by Mitsuba's
+    /// constant 1 / 106.7502593994140625: no D65, no 1000-point sum.
     fn simpson_xyz(f: impl Fn(f64) -> f64) -> [f64; 3] {
-        // 46 intervals from 360 to 820 nm (the curves are below 1e-5 past it).
         let n = CIE_10NM.len() - 1;
         let mut xyz = [0.0; 3];
-        let mut y1 = 0.0;
         for (i, (w, c)) in CIE_10NM.iter().enumerate() {
             let weight = match i {
                 0 => 1.0,
                 _ if i == n => 1.0,
                 _ if i % 2 == 1 => 4.0,
                 _ => 2.0,
-            };
+            } * 10.0
+                / 3.0;
             for k in 0..3 {
                 xyz[k] += weight * c[k] * f(*w);
             }
-            y1 += weight * c[1];
         }
-        xyz.map(|c| c / y1)
+        xyz.map(|c| c / 106.75025939941406)
     }
 
     fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
@@ -254,35 +301,76 @@ mod tests {
     #[test]
     fn a_constant_reflectance_is_grey_and_a_constant_emission_is_srgb_of_xyz_white() {
         assert_eq!(to_rgb(&Spectrum::Constant(0.5), Use::Reflectance), [0.5; 3]);
+        assert_eq!(to_rgb(&Spectrum::Constant(2.5), Use::Unbounded), [2.5; 3]);
         let e = to_rgb(&Spectrum::Constant(2.0), Use::Emission);
         // 2 × (row sums of the XYZ → sRGB matrix).
         let by_hand = [2.0 * 1.204794, 2.0 * 0.948291, 2.0 * 0.908916];
         assert!(close(e, by_hand, 1e-12), "{e:?}");
     }
 
+    /// Sampled spectra give the numbers of Mitsuba 3.9.1's `scalar_rgb`
+    /// (a `diffuse` reflectance, a `conductor`'s `eta`, a `constant`
+    /// emitter's radiance given the same `<spectrum>`, read back with
+    /// `mi.traverse`, in single precision).
     #[test]
-    fn a_flat_reflectance_over_the_visible_range_is_white() {
-        // Against D65, a perfect reflector is sRGB white.
-        let s = parse("360:1, 830:1").unwrap();
-        let rgb = to_rgb(&s, Use::Reflectance);
-        assert!(close(rgb, [1.0, 1.0, 1.0], 2e-3), "{rgb:?}");
-        let half = to_rgb(&parse("360:0.25 830:0.25").unwrap(), Use::Reflectance);
-        assert!(close(half, [0.25; 3], 1e-3), "{half:?}");
-    }
-
-    #[test]
-    fn a_flat_emission_matches_the_constant_one() {
-        let s = to_rgb(&parse("360:3, 830:3").unwrap(), Use::Emission);
-        let c = to_rgb(&Spectrum::Constant(3.0), Use::Emission);
-        assert!(close(s, c, 1e-2), "{s:?} {c:?}");
+    fn sampled_spectra_are_mitsubas_numbers() {
+        let flat = parse("360:1, 830:1").unwrap();
+        let bumpy = parse("400:0.2, 500:0.6, 600:0.4, 700:0.3").unwrap();
+        let cases = [
+            (
+                &flat,
+                Use::Reflectance,
+                [0.9989852905273438, 0.9988737106323242, 0.998801589012146],
+            ),
+            (
+                &flat,
+                Use::Unbounded,
+                [0.9989852905273438, 0.9988737106323242, 0.998801589012146],
+            ),
+            (
+                &flat,
+                Use::Emission,
+                [1.2048836946487427, 0.9482281804084778, 0.9092668294906616],
+            ),
+            (
+                &bumpy,
+                Use::Reflectance,
+                [0.3176959455013275, 0.5354747176170349, 0.40488091111183167],
+            ),
+            (
+                &bumpy,
+                Use::Unbounded,
+                [0.3176959455013275, 0.5354747176170349, 0.40488091111183167],
+            ),
+            (
+                &bumpy,
+                Use::Emission,
+                [0.4019722640514374, 0.5082738995552063, 0.36133360862731934],
+            ),
+        ];
+        for (s, usage, mitsuba) in cases {
+            let rgb = to_rgb(s, usage).map(|c| c as f32 as f64);
+            assert_eq!(rgb, mitsuba, "{s:?} {usage:?}");
+        }
+        // A flat 5 is 5 times a flat 1, with no bound but for a reflectance.
+        let five = parse("360:5, 830:5").unwrap();
+        let one = to_rgb(&flat, Use::Unbounded);
+        assert!(close(
+            to_rgb(&five, Use::Unbounded),
+            one.map(|c| 5.0 * c),
+            1e-12
+        ));
+        assert_eq!(to_rgb(&five, Use::Reflectance), [1.0; 3]);
     }
 
     #[test]
     fn emission_spectra_agree_with_an_independent_integral() {
-        // A ramp and a bump, integrated by Simpson's rule on a 10 nm table.
+        // A ramp, a bump and a constant, integrated by Simpson's rule on a
+        // 10 nm table and scaled by Mitsuba's constant (not by the sum of ȳ).
         let ramp = |w: f64| (w - 360.0) / 470.0;
         let bump = |w: f64| (-((w - 550.0) / 40.0).powi(2)).exp();
-        for f in [&ramp as &dyn Fn(f64) -> f64, &bump] {
+        let one = |_: f64| 1.0;
+        for f in [&ramp as &dyn Fn(f64) -> f64, &bump, &one] {
             let pairs: Vec<String> = (0..=94)
                 .map(|i| {
                     let w = 360.0 + 5.0 * i as f64;
@@ -291,7 +379,7 @@ mod tests {
                 .collect();
             let rgb = to_rgb(&parse(&pairs.join(", ")).unwrap(), Use::Emission);
             let expect = xyz_to_srgb(simpson_xyz(f)).map(|c| c.max(0.0));
-            assert!(close(rgb, expect, 0.02), "{rgb:?} {expect:?}");
+            assert!(close(rgb, expect, 3e-3), "{rgb:?} {expect:?}");
         }
     }
 
@@ -309,14 +397,58 @@ mod tests {
         for bad in [
             "400:0.5",
             "500:1, 400:1",
+            "400:1, 400:2",
             "400:x",
             "abc",
             "400:nan, 500:1",
+            "400:inf, 500:1",
             "1e999",
+            "400:1e999, 500:1",
         ] {
             assert!(parse(bad).is_err(), "{bad}");
         }
         assert!(parse_file("# c\n400 0.5\n\n500 0.6\n").is_ok());
-        assert!(parse_file("400 0.5\n500\n").unwrap_err().contains("line 2"));
+    }
+
+    /// A hostile spectrum file is refused with the line at fault.
+    #[test]
+    fn hostile_spectrum_files_name_their_line() {
+        for (text, want) in [
+            (
+                "400 0.5\n500\n",
+                "line 2: expected a wavelength and a value",
+            ),
+            (
+                "# a\n400 0.5\n600 0.6\n500 0.7\n",
+                "line 4: the wavelength 500 does not exceed the one before it (600, line 3)",
+            ),
+            (
+                "400 0.5\n400 0.6\n",
+                "line 2: the wavelength 400 does not exceed",
+            ),
+            ("400 0.5\n500 nan\n", "line 2: `nan` is not a finite number"),
+            ("400 0.5\nNaN 0.5\n", "line 2: `NaN` is not a finite number"),
+            ("400 0.5\n500 1e999\n", "line 2: `1e999` is out of range"),
+            (
+                "400 0.5\n500 -inf\n",
+                "line 2: `-inf` is not a finite number",
+            ),
+            ("400 0.5\n", "line 1: a spectrum needs at least two"),
+            ("", "the file holds no `wavelength value` line"),
+            (
+                "# only a comment\n\n",
+                "the file holds no `wavelength value` line",
+            ),
+            (
+                "400 0.5\n500 0x10\n",
+                "line 2: `0x10` is not a finite number",
+            ),
+        ] {
+            let e = parse_file(text).unwrap_err();
+            assert!(e.contains(want), "{text:?}: {e}");
+        }
+        // Huge but finite values are read; their colour is finite too.
+        let s = parse_file("400 1e300\n500 1e300\n").unwrap();
+        assert!(to_rgb(&s, Use::Emission).iter().all(|c| c.is_finite()));
     }
 }
