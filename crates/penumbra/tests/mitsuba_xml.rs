@@ -1622,8 +1622,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
              serialized, disk, cube, cylinder, instance, shapegroup",
         ),
         (
-            r#"<emitter type="projector"/>"#,
-            "emitter `projector` is not supported; supported: point, constant, spot, \
+            r#"<emitter type="sunsky"/>"#,
+            "emitter `sunsky` is not supported; supported: point, constant, spot, projector, \
              directional, envmap, area",
         ),
         (r#"<emitter type="envmap"/>"#, "envmap: missing `filename`"),

@@ -552,7 +552,7 @@ fn a_shape_carrying_an_area_emitter_is_a_light() {
     let e = try_scene(&bad).err().expect("refused").to_string();
     assert!(
         e.contains(
-            "unknown light type `area`; valid choices are: point, constant, spot, directional, envmap, sky, rect, sphere, quad"
+            "unknown light type `area`; valid choices are: point, constant, spot, projector, directional, envmap, sky, rect, sphere, quad"
         ),
         "{e}"
     );

@@ -79,9 +79,9 @@ fn closed_sets_list_valid_choices() {
         e.contains("sphere, quad, mesh, rectangle, disk, cube, cylinder, instance, shapegroup"),
         "{e}"
     );
-    let e = err("[[lights]]\ntype = \"projector\"\nposition = [0.0, 1.0, 0.0]\n");
+    let e = err("[[lights]]\ntype = \"sunsky\"\nposition = [0.0, 1.0, 0.0]\n");
     assert!(
-        e.contains("point, constant, spot, directional, envmap, sky, rect, sphere, quad, mesh, rectangle, disk, cube, cylinder"),
+        e.contains("point, constant, spot, projector, directional, envmap, sky, rect, sphere, quad, mesh, rectangle, disk, cube, cylinder"),
         "{e}"
     );
     let e = err("[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\nmodel = \"exact\"\n");
