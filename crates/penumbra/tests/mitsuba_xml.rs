@@ -2388,3 +2388,77 @@ fn spot_directional_and_envmap_emitters_are_lights() {
         "scale 0.5 on 2"
     );
 }
+
+/// Mitsuba's crop window: the image written is the crop of the film, its
+/// pixels those of the whole film's render; one that leaves the film is
+/// refused at its key.
+#[test]
+fn a_films_crop_window_is_the_image_written() {
+    let film = |crop: &str| {
+        format!(
+            r#"<integrator type="path"/>
+            <sensor type="perspective"><float name="fov" value="40"/>
+              <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+              <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+              <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>{crop}</film>
+            </sensor>
+            <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 0.5, 0.25"/></emitter></shape>"#
+        )
+    };
+    let render = |body: &str| {
+        let d = one(body);
+        let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+        let opts = penumbra::render::RenderOptions {
+            threads: Some(2),
+            region: None,
+        };
+        penumbra::render::render(&scene, &opts, &|_, _| {}, None)
+            .unwrap()
+            .0
+    };
+    let full = render(&film(""));
+    let part = render(&film(
+        r#"<integer name="crop_offset_x" value="7"/><integer name="crop_offset_y" value="11"/>
+        <integer name="crop_width" value="20"/><integer name="crop_height" value="9"/>"#,
+    ));
+    assert_eq!((part.width, part.height), (20, 9));
+    for y in 0..9 {
+        for x in 0..20 {
+            assert_eq!(part.get(x, y), full.get(x + 7, y + 11), "({x}, {y})");
+        }
+    }
+    assert!(part.mean().r > 0.0);
+    let d = one(&film(
+        r#"<integer name="crop_offset_y" value="25"/><integer name="crop_height" value="6"/>"#,
+    ));
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("scene.xml:") && e.contains("leaves the image"),
+        "{e}"
+    );
+}
+
+/// An orthographic sensor whose `to_world` scales its unit view by 2 sees a
+/// sphere of radius 1 at its true size: π of the 4 × 4 square.
+#[test]
+fn an_orthographic_sensor_sees_its_scaled_unit_view() {
+    let d = one(r#"<integrator type="path"/>
+        <sensor type="orthographic">
+          <transform name="to_world"><scale value="2"/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+          <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+          <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/>
+            <rfilter type="box"/></film>
+        </sensor>
+        <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 1, 1"/></emitter></shape>"#);
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let opts = penumbra::render::RenderOptions {
+        threads: Some(2),
+        region: None,
+    };
+    let image = penumbra::render::render(&scene, &opts, &|_, _| {}, None)
+        .unwrap()
+        .0;
+    let covered = f64::from(image.mean().r) * 16.0;
+    let want = std::f64::consts::PI;
+    assert!((covered - want).abs() < 0.01 * want, "{covered} {want}");
+}
