@@ -264,7 +264,7 @@ fn clip_planes(obj: &Object) -> Result<(f64, f64, Place), SceneError> {
             format!("the sensor's `near_clip` must be greater than 0, got {near_v}"),
         ));
     }
-    if !(near_v < far_v) {
+    if near_v >= far_v || far_v.is_nan() {
         let at = far.map_or(near_at, |f| f.1);
         return Err(error_at(
             at,
