@@ -107,7 +107,12 @@ def render(
     settings = scene.settings(**options)
     for w in settings["warnings"]:
         warnings.warn(w, stacklevel=2)
-    regions = tiles(settings["width"], settings["height"], tile)
+    # The film's crop window (the whole frame when it has none) is the image.
+    cx0, cy0, cx1, cy1 = settings["crop"]
+    regions = [
+        (x0 + cx0, y0 + cy0, x1 + cx0, y1 + cy0)
+        for x0, y0, x1, y1 in tiles(cx1 - cx0, cy1 - cy0, tile)
+    ]
     started = time.perf_counter()
     scattered, run = _scatter(client, scene)
     futures = [
@@ -122,10 +127,10 @@ def render(
         )
         for i, region in enumerate(regions)
     ]
-    image = np.zeros((settings["height"], settings["width"], 3), dtype=np.float32)
+    image = np.zeros((cy1 - cy0, cx1 - cx0, 3), dtype=np.float32)
     parts: list[tuple[dict[str, Any], tuple[str, int]]] = []
     for (x0, y0, x1, y1), tile_image, stats, worker in _collect(client, futures, progress):
-        image[y0:y1, x0:x1] = tile_image
+        image[y0 - cy0 : y1 - cy0, x0 - cx0 : x1 - cx0] = tile_image
         parts.append((stats, worker))
     wall = time.perf_counter() - started
     merged = merge_stats(parts, wall_s=wall)

@@ -282,7 +282,8 @@ impl Scene {
 
     /// Validates the scene with these render options, exactly as `render`
     /// would (loading meshes and building the BVH, which is then cached), and
-    /// returns the settings in force: width, height, seed, spp, max_depth,
+    /// returns the settings in force: width, height, crop (the part of the
+    /// frame rendered, `[x0, y0, x1, y1]`), seed, spp, max_depth,
     /// primitives, build_s and warnings. Raises SceneError for an invalid
     /// scene. Use it to fail early, before sending work to a cluster.
     #[pyo3(signature = (**options))]
@@ -296,9 +297,11 @@ impl Scene {
         let s = &built.settings;
         let config = penumbra::integrator::Config::of(&built)
             .map_err(|e| scene_error(LibSceneError::from(e)))?;
+        let crop = penumbra::render::frame(s);
         let doc = serde_json::json!({
             "width": s.width,
             "height": s.height,
+            "crop": [crop.x0, crop.y0, crop.x1, crop.y1],
             "seed": s.seed,
             "spp": s.spp,
             "max_depth": config.depth(),

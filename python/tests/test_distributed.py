@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +46,24 @@ def test_tiles_on_two_worker_processes_give_exactly_the_local_image(client, smal
     assert stats["time"]["wall_s"] > 0 and stats["time"]["render_s"] > 0
     for key in ("scene", "width", "height", "seed", "spp", "max_depth", "primitives"):
         assert stats[key] == local_stats[key], key
+
+
+def test_a_crop_window_renders_on_the_workers_as_here(client):
+    """The film's crop window is the image, tiled over the workers, each
+    pixel the full frame's."""
+    d = tomllib.loads(penumbra.load_scene("showcase").text)
+    d["render"].update({"width": 48, "height": 32, "spp": 2, "seed": 4})
+    full, _ = penumbra.render(penumbra.scene_from_dict(d))
+    crop = {"crop_offset_x": 5, "crop_offset_y": 9, "crop_width": 30, "crop_height": 17}
+    d["render"].update(crop)
+    scene = penumbra.scene_from_dict(d)
+    assert scene.settings()["crop"] == [5, 9, 35, 26]
+    local, _ = penumbra.render(scene)
+    image, stats = pd.render(scene, client, tile=8)
+    assert image.shape == local.shape == (17, 30, 3)
+    assert np.array_equal(image, local)
+    assert np.array_equal(local, full[9:26, 5:35])
+    assert stats["tiles"] == len(pd.tiles(30, 17, 8))
 
 
 @pytest.mark.parametrize("integrator", ["path", "distributed"])

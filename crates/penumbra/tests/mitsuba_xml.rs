@@ -205,6 +205,8 @@ position = [0.0, 1.0, 5.0]
 look_at = [0.0, 1.0, 4.0]
 up = [0.0, 1.0, 0.0]
 fov = 40.0
+near_clip = 0.01
+far_clip = 10000.0
 
 [materials.red]
 type = "diffuse"
@@ -1507,8 +1509,24 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
             "`C` is not a parameter of the rfilter `catmullrom`",
         ),
         (
-            r#"<sensor type="orthographic"/>"#,
-            "sensor `orthographic` is not supported; supported: perspective, thinlens",
+            r#"<sensor type="spherical"/>"#,
+            "sensor `spherical` is not supported; supported: perspective, thinlens, orthographic",
+        ),
+        (
+            r#"<sensor type="perspective"><transform name="to_world"><scale value="2"/></transform></sensor>"#,
+            "scales",
+        ),
+        (
+            r#"<sensor type="orthographic"><transform name="to_world"><matrix value="1 0.5 0 0  0 1 0 0  0 0 1 0  0 0 0 1"/></transform></sensor>"#,
+            "shears",
+        ),
+        (
+            r#"<sensor type="perspective"><float name="near_clip" value="0"/></sensor>"#,
+            "`near_clip` must be greater than 0",
+        ),
+        (
+            r#"<sensor type="thinlens"><float name="near_clip" value="5"/><float name="far_clip" value="5"/></sensor>"#,
+            "must be less than `far_clip`",
         ),
         (
             r#"<sensor type="thinlens"><float name="focus_distance" value="1"/></sensor>"#,
@@ -1522,6 +1540,52 @@ fn sensors_films_and_samplers_map_onto_the_camera_and_render_settings() {
         let e = one(body).err("scene.xml");
         assert!(e.contains(message) && place_of(&e).1 >= 3, "{body}: {e}");
     }
+    // Clip planes: Mitsuba's defaults unless given; the principal point.
+    let clip_of = |body: &str| {
+        let root = one(body).tree("scene.xml");
+        let cam = sensor(&root).clone();
+        let f = |k: &str| match cam.prop(k).map(|p| &p.value.value) {
+            Some(Value::Float(v)) => *v,
+            other => panic!("{k}: {other:?}"),
+        };
+        (f("near_clip"), f("far_clip"), cam)
+    };
+    let (near, far, cam) = clip_of(r#"<sensor type="perspective"/>"#);
+    assert_eq!((near, far), (0.01, 10000.0));
+    assert!(cam.prop("principal_point_offset").is_none());
+    let (near, far, cam) = clip_of(
+        r#"<sensor type="perspective"><float name="near_clip" value="2"/><float name="far_clip" value="7"/>
+        <float name="principal_point_offset_y" value="0.25"/></sensor>"#,
+    );
+    assert_eq!((near, far), (2.0, 7.0));
+    assert_eq!(
+        numbers(prop(&cam, "principal_point_offset")),
+        vec![0.0, 0.25]
+    );
+    // An orthographic camera: the unit view scaled by `to_world`, the
+    // near plane moved by its scale along the axis.
+    let (near, far, cam) = clip_of(&format!(
+        r#"<sensor type="orthographic"><float name="near_clip" value="1"/><float name="far_clip" value="9"/>
+        <transform name="to_world"><scale x="3" y="2" z="4"/><translate value="0, 0, 1"/></transform>{film}</sensor>"#
+    ));
+    assert_eq!((near, far), (4.0, 12.0));
+    assert_eq!(
+        prop(&cam, "projection"),
+        &Value::String("orthographic".into())
+    );
+    assert_eq!(prop(&cam, "view_width"), &Value::Float(6.0));
+    assert_eq!(prop(&cam, "view_height"), &Value::Float(2.0));
+    assert!(close(
+        &numbers(prop(&cam, "position")),
+        &[0.0, 0.0, 1.0],
+        1e-12
+    ));
+    assert!(close(
+        &numbers(prop(&cam, "look_at")),
+        &[0.0, 0.0, 2.0],
+        1e-12
+    ));
+
     // An absurd size passes the reader and is refused by the builder.
     let d = one(
         r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="1000000"/></film></sensor>"#,
@@ -2491,4 +2555,78 @@ fn a_projector_is_placed_by_its_lookat_and_takes_a_nested_texture() {
     );
     let e = d.err("scene.xml");
     assert!(e.contains("must be a rotation and a translation"), "{e}");
+}
+
+/// Mitsuba's crop window: the image written is the crop of the film, its
+/// pixels those of the whole film's render; one that leaves the film is
+/// refused at its key.
+#[test]
+fn a_films_crop_window_is_the_image_written() {
+    let film = |crop: &str| {
+        format!(
+            r#"<integrator type="path"/>
+            <sensor type="perspective"><float name="fov" value="40"/>
+              <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+              <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+              <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>{crop}</film>
+            </sensor>
+            <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 0.5, 0.25"/></emitter></shape>"#
+        )
+    };
+    let render = |body: &str| {
+        let d = one(body);
+        let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+        let opts = penumbra::render::RenderOptions {
+            threads: Some(2),
+            region: None,
+        };
+        penumbra::render::render(&scene, &opts, &|_, _| {}, None)
+            .unwrap()
+            .0
+    };
+    let full = render(&film(""));
+    let part = render(&film(
+        r#"<integer name="crop_offset_x" value="7"/><integer name="crop_offset_y" value="11"/>
+        <integer name="crop_width" value="20"/><integer name="crop_height" value="9"/>"#,
+    ));
+    assert_eq!((part.width, part.height), (20, 9));
+    for y in 0..9 {
+        for x in 0..20 {
+            assert_eq!(part.get(x, y), full.get(x + 7, y + 11), "({x}, {y})");
+        }
+    }
+    assert!(part.mean().r > 0.0);
+    let d = one(&film(
+        r#"<integer name="crop_offset_y" value="25"/><integer name="crop_height" value="6"/>"#,
+    ));
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("scene.xml:") && e.contains("leaves the image"),
+        "{e}"
+    );
+}
+
+/// An orthographic sensor whose `to_world` scales its unit view by 2 sees a
+/// sphere of radius 1 at its true size: π of the 4 × 4 square.
+#[test]
+fn an_orthographic_sensor_sees_its_scaled_unit_view() {
+    let d = one(r#"<integrator type="path"/>
+        <sensor type="orthographic">
+          <transform name="to_world"><scale value="2"/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+          <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+          <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/>
+            <rfilter type="box"/></film>
+        </sensor>
+        <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 1, 1"/></emitter></shape>"#);
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let opts = penumbra::render::RenderOptions {
+        threads: Some(2),
+        region: None,
+    };
+    let image = penumbra::render::render(&scene, &opts, &|_, _| {}, None)
+        .unwrap()
+        .0;
+    let covered = f64::from(image.mean().r) * 16.0;
+    let want = std::f64::consts::PI;
+    assert!((covered - want).abs() < 0.01 * want, "{covered} {want}");
 }

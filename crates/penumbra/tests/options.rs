@@ -14,7 +14,7 @@ use penumbra::emitter::choice::LightChoice;
 use penumbra::sampling::filter::FILTER_KEYS;
 use penumbra::sampling::{Distribution, Filter, PathSampler};
 use penumbra::scene::options::markdown::{replace_section, table, View};
-use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value};
+use penumbra::scene::options::{Choices, DefaultValue, Kind, RenderOption, Table, Value, MAX_SIDE};
 use penumbra::scene::schemas;
 use penumbra::scene::{IntegratorChoice, LoadOptions, Scene, SceneSource, StopRule, OPTIONS};
 
@@ -108,6 +108,16 @@ fn background(s: &Scene) -> [f32; 3] {
 /// apply: the first integrator that takes it, when the default one does
 /// not; the filter that takes a filter's parameter.
 fn context(o: &RenderOption) -> String {
+    // A crop window must fit the image: one as wide (or tall) as an image
+    // may be, of one pixel the other way.
+    let side = MAX_SIDE;
+    match o.name {
+        "crop_offset_x" => return format!("width = {side}\nheight = 1\ncrop_width = 1\n"),
+        "crop_width" => return format!("width = {side}\nheight = 1\n"),
+        "crop_offset_y" => return format!("height = {side}\nwidth = 1\ncrop_height = 1\n"),
+        "crop_height" => return format!("height = {side}\nwidth = 1\n"),
+        _ => {}
+    }
     if let Some((param, _)) = FILTER_KEYS.iter().find(|(_, k)| *k == o.name) {
         let f = Filter::ALL.into_iter().find(|f| f.params().contains(param));
         return format!("filter = \"{}\"\n", f.unwrap().name());

@@ -1,9 +1,15 @@
-//! Pinhole and thin-lens cameras with a shutter.
+//! Pinhole, thin-lens and orthographic cameras with a shutter.
 //!
 //! The camera takes its random numbers as a [`CameraSample`] and owns no
 //! generator. Depth of field follows thesis §2.3.5: the pinhole ray of a pixel
 //! sample meets the focal plane at one point, and every lens ray of that
 //! sample starts on the aperture and passes through that point.
+//!
+//! Clip planes are planes perpendicular to the view axis, at `near_clip`
+//! and `far_clip` from the eye: a camera ray sees only what lies between
+//! them ([`Camera::clip`], which the integrators apply where they first
+//! intersect camera rays). A ray's origin stays at the eye (or on the lens),
+//! so that a camera without clip planes makes the same rays as before.
 
 use crate::math::{Ray, Vec2, Vec3};
 use glam::Vec4;
@@ -19,14 +25,38 @@ pub struct CameraSample {
     pub time: f32,
 }
 
+/// How the camera maps the film onto rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Projection {
+    /// Rays from the eye (or the lens) through the film, spread by the
+    /// field of view.
+    #[default]
+    Perspective,
+    /// Parallel rays along the view axis, from the points of a rectangle
+    /// centred on the eye and perpendicular to the axis.
+    Orthographic,
+}
+
 /// What a scene says about its camera (validated by the scene builder).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraSpec {
+    pub projection: Projection,
     pub position: [Vec3; 2],
     pub look_at: [Vec3; 2],
     pub up: Vec3,
-    /// Vertical field of view, radians.
+    /// Vertical field of view, radians (perspective).
     pub fov: f32,
+    /// Width and height of the rectangle the rays start from, scene units
+    /// (orthographic).
+    pub view_size: Vec2,
+    /// Distances from the eye, along the view axis, of the planes between
+    /// which the camera sees: 0 and infinity see everything.
+    pub near_clip: f32,
+    pub far_clip: f32,
+    /// Shift of the image's centre, in film widths (x, to the right) and
+    /// heights (y, down): the ray of film point `p` is the one the unshifted
+    /// camera makes at `p + principal_point · (width, height)`.
+    pub principal_point: Vec2,
     pub aperture: f32,
     pub focal_distance: f32,
     pub shutter: [f32; 2],
@@ -52,8 +82,11 @@ pub struct Camera {
     /// The view of a still camera; `None` when the camera moves during the
     /// shutter interval, whose view depends on the ray's time.
     still: Option<View>,
-    /// NDC to view-plane offsets: `(tan(fov/2) · aspect, tan(fov/2))`.
+    /// NDC to view-plane offsets: `(tan(fov/2) · aspect, tan(fov/2))` for
+    /// a perspective camera, half the view's size for an orthographic one.
     scale: Vec2,
+    /// The principal point's shift in pixels.
+    shift: Vec2,
 }
 
 impl Camera {
@@ -62,11 +95,51 @@ impl Camera {
         let aspect = spec.width as f32 / spec.height as f32;
         let moving = spec.position[0] != spec.position[1] || spec.look_at[0] != spec.look_at[1];
         let still = (!moving).then(|| View::new(spec.position[0], spec.look_at[0], spec.up));
+        let scale = match spec.projection {
+            Projection::Perspective => Vec2::new(tan * aspect, tan),
+            Projection::Orthographic => 0.5 * spec.view_size,
+        };
+        let shift = spec.principal_point * Vec2::new(spec.width as f32, spec.height as f32);
         Camera {
             spec,
             still,
-            scale: Vec2::new(tan * aspect, tan),
+            scale,
+            shift,
         }
+    }
+
+    /// True if the camera has clip planes (see [`clip`](Self::clip)).
+    pub fn clips(&self) -> bool {
+        self.spec.near_clip > 0.0 || self.spec.far_clip < f32::INFINITY
+    }
+
+    /// The interval of distances along camera ray `ray` (of unit
+    /// direction, made by this camera) within which it may hit: those
+    /// between the clip planes. `None` when the camera does not clip.
+    pub fn clip(&self, ray: &Ray) -> Option<(f32, f32)> {
+        let c = &self.spec;
+        if !self.clips() {
+            return None;
+        }
+        if c.projection == Projection::Orthographic {
+            return Some((c.near_clip, c.far_clip));
+        }
+        let forward = match self.still {
+            Some(view) => view.forward,
+            None => self.view(ray.time).forward,
+        };
+        // The planes' distance along the ray: the axial distance over the
+        // cosine of the ray with the axis.
+        let inv = 1.0 / ray.dir.dot(forward);
+        Some((c.near_clip * inv, c.far_clip * inv))
+    }
+
+    /// The view at frame time `time`.
+    fn view(&self, time: f32) -> View {
+        let c = &self.spec;
+        let t = time.clamp(0.0, 1.0);
+        let eye = c.position[0].lerp(c.position[1], t);
+        View::new(eye, c.look_at[0].lerp(c.look_at[1], t), c.up)
     }
 
     pub fn spec(&self) -> &CameraSpec {
@@ -99,7 +172,9 @@ impl Camera {
     /// (`rays4`), each lane the ray the portable form (`ray`) makes, bit
     /// for bit; a lens or a moving camera uses the portable form.
     pub fn generate(&self, samples: &[CameraSample], out: &mut Vec<Ray>) {
-        let wide = self.still.is_some() && self.spec.aperture <= 0.0;
+        let wide = self.still.is_some()
+            && self.spec.aperture <= 0.0
+            && self.spec.projection == Projection::Perspective;
         let split = if wide { samples.len() / 4 * 4 } else { 0 };
         for four in samples[..split].chunks_exact(4) {
             let film = std::array::from_fn(|k| four[k].film);
@@ -112,13 +187,14 @@ impl Camera {
     /// The portable form: one ray, for any camera.
     fn ray(&self, s: &CameraSample) -> Ray {
         let c = &self.spec;
-        let view = self.still.unwrap_or_else(|| {
-            let t = s.time.clamp(0.0, 1.0);
-            let eye = c.position[0].lerp(c.position[1], t);
-            View::new(eye, c.look_at[0].lerp(c.look_at[1], t), c.up)
-        });
-        let ndc_x = 2.0 * s.film.x / c.width as f32 - 1.0;
-        let ndc_y = 1.0 - 2.0 * s.film.y / c.height as f32;
+        let view = self.still.unwrap_or_else(|| self.view(s.time));
+        let ndc_x = 2.0 * (s.film.x + self.shift.x) / c.width as f32 - 1.0;
+        let ndc_y = 1.0 - 2.0 * (s.film.y + self.shift.y) / c.height as f32;
+        if c.projection == Projection::Orthographic {
+            let origin =
+                view.eye + (ndc_x * self.scale.x) * view.right + (ndc_y * self.scale.y) * view.up;
+            return Ray::new(origin, view.forward, s.time);
+        }
         let dir =
             (view.forward + (ndc_x * self.scale.x) * view.right + (ndc_y * self.scale.y) * view.up)
                 .normalize();
@@ -133,18 +209,21 @@ impl Camera {
 }
 
 impl Camera {
-    /// The four-wide form of [`ray`](Self::ray) for a still pinhole camera
-    /// (film positions and times; no lens), lane by lane the same rays: the
-    /// same operations in the same order, none fused. `None` for a lens or a
-    /// moving camera.
+    /// The four-wide form of [`ray`](Self::ray) for a still perspective
+    /// pinhole camera (film positions and times; no lens), lane by lane the
+    /// same rays: the same operations in the same order, none fused. `None`
+    /// for a lens, a moving or an orthographic camera.
     fn rays4(&self, film: [Vec2; 4], time: [f32; 4]) -> Option<[Ray; 4]> {
         let view = self.still?;
         let c = &self.spec;
-        if c.aperture > 0.0 {
+        if c.aperture > 0.0 || c.projection != Projection::Perspective {
             return None;
         }
         let (two, one) = (Vec4::splat(2.0), Vec4::ONE);
-        let (fx, fy) = (film.map(|f| f.x), film.map(|f| f.y));
+        let (fx, fy) = (
+            film.map(|f| f.x + self.shift.x),
+            film.map(|f| f.y + self.shift.y),
+        );
         let ndc_x = two * Vec4::from_array(fx) / Vec4::splat(c.width as f32) - one;
         let ndc_y = one - two * Vec4::from_array(fy) / Vec4::splat(c.height as f32);
         let (a, b) = (ndc_x * self.scale.x, ndc_y * self.scale.y);
@@ -179,10 +258,15 @@ mod tests {
 
     fn cam(aperture: f32) -> Camera {
         Camera::new(CameraSpec {
+            projection: Projection::Perspective,
             position: [Vec3::new(0.0, 0.0, 5.0); 2],
             look_at: [Vec3::ZERO; 2],
             up: Vec3::Y,
             fov: 60f32.to_radians(),
+            view_size: Vec2::new(2.0, 1.0),
+            near_clip: 0.0,
+            far_clip: f32::INFINITY,
+            principal_point: Vec2::ZERO,
             aperture,
             focal_distance: 5.0,
             shutter: [0.0, 1.0],
@@ -294,5 +378,98 @@ mod tests {
             let t = (r.origin.z - focus.z) / -r.dir.z;
             assert!((r.at(t) - focus).length() < 1e-4);
         }
+    }
+
+    fn at(film: Vec2) -> CameraSample {
+        CameraSample {
+            film,
+            lens: Vec2::ZERO,
+            time: 0.0,
+        }
+    }
+
+    /// An orthographic camera's rays are all along the view axis and start
+    /// on the rectangle of its view size centred on the eye, covering it:
+    /// the film's corners go to the rectangle's corners.
+    #[test]
+    fn orthographic_rays_are_parallel_and_cover_the_view() {
+        let mut spec = cam(0.0).spec.clone();
+        spec.projection = Projection::Orthographic;
+        spec.position = [Vec3::new(1.0, 2.0, 3.0); 2];
+        spec.look_at = [Vec3::new(1.0, 2.0, -7.0); 2];
+        spec.view_size = Vec2::new(6.0, 1.5);
+        let c = Camera::new(spec);
+        let corner = |x: f32, y: f32| c.ray(&at(Vec2::new(x, y))).origin;
+        let near = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+        assert!(near(corner(0.0, 0.0), Vec3::new(-2.0, 2.75, 3.0)));
+        assert!(near(corner(200.0, 0.0), Vec3::new(4.0, 2.75, 3.0)));
+        assert!(near(corner(0.0, 100.0), Vec3::new(-2.0, 1.25, 3.0)));
+        assert!(near(corner(200.0, 100.0), Vec3::new(4.0, 1.25, 3.0)));
+        assert!(near(corner(100.0, 50.0), Vec3::new(1.0, 2.0, 3.0)));
+        let mut samples = Vec::new();
+        let mut r = crate::sampling::Rng::new(4);
+        for _ in 0..100 {
+            let film = Vec2::new(r.range(0.0, 200.0), r.range(0.0, 100.0));
+            samples.push(at(film));
+        }
+        let mut rays = Vec::new();
+        c.generate(&samples, &mut rays);
+        for (s, ray) in samples.iter().zip(&rays) {
+            assert_eq!(ray.dir, -Vec3::Z);
+            // Linear in the film position.
+            let want = Vec3::new(
+                -2.0 + 6.0 * s.film.x / 200.0,
+                2.75 - 1.5 * s.film.y / 100.0,
+                3.0,
+            );
+            assert!(near(ray.origin, want), "{:?} {want:?}", ray.origin);
+        }
+    }
+
+    /// The clip interval of a perspective ray is the planes' distances
+    /// along it (the axial distance over its cosine with the axis); an
+    /// orthographic ray's is the axial one; a camera without planes has
+    /// none.
+    #[test]
+    fn clip_planes_are_perpendicular_to_the_axis() {
+        assert_eq!(cam(0.0).clip(&Ray::new(Vec3::ZERO, -Vec3::Z, 0.0)), None);
+        let mut spec = cam(0.0).spec.clone();
+        (spec.near_clip, spec.far_clip) = (2.0, 4.0);
+        let c = Camera::new(spec.clone());
+        for film in [Vec2::new(0.0, 0.0), Vec2::new(150.0, 20.0)] {
+            let ray = c.ray(&at(film));
+            let (near, far) = c.clip(&ray).expect("clip planes");
+            assert!((ray.at(near).z - 3.0).abs() < 1e-5, "{:?}", ray.at(near));
+            assert!((ray.at(far).z - 1.0).abs() < 1e-5, "{:?}", ray.at(far));
+        }
+        spec.projection = Projection::Orthographic;
+        let c = Camera::new(spec);
+        let ray = c.ray(&at(Vec2::new(13.0, 71.0)));
+        assert_eq!(c.clip(&ray), Some((2.0, 4.0)));
+    }
+
+    /// A principal point offset of (a, b) makes at film point p the ray
+    /// the centred camera makes at p + (a·width, b·height), for every
+    /// form of the camera.
+    #[test]
+    fn principal_point_shifts_the_film() {
+        let mut spec = cam(0.0).spec.clone();
+        spec.principal_point = Vec2::new(0.25, -0.125);
+        let shifted = Camera::new(spec.clone());
+        let centred = cam(0.0);
+        let (film, moved) = (Vec2::new(20.0, 40.0), Vec2::new(70.0, 27.5));
+        let a = shifted.ray(&at(film));
+        let b = centred.ray(&at(moved));
+        assert!((a.dir - b.dir).length() < 1e-6, "{:?} {:?}", a.dir, b.dir);
+        let mut four = Vec::new();
+        shifted.generate(&[at(film); 4], &mut four);
+        assert!(four.iter().all(|r| (r.dir - b.dir).length() < 1e-6));
+        spec.projection = Projection::Orthographic;
+        let shifted = Camera::new(spec.clone());
+        spec.principal_point = Vec2::ZERO;
+        let centred = Camera::new(spec);
+        let a = shifted.ray(&at(film));
+        let b = centred.ray(&at(moved));
+        assert!((a.origin - b.origin).length() < 1e-6);
     }
 }

@@ -50,6 +50,7 @@
 //!   refraction budget and `translucency` radius (a rough interface blurs both),
 //!   and its rays are counted as reflection rays.
 
+mod clip;
 mod film;
 mod interface;
 mod metric;

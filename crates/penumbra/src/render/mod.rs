@@ -31,7 +31,9 @@ use crate::scene::Scene;
 pub struct RenderOptions {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
-    /// Render only this part of the frame (pixels keep their full-frame values).
+    /// Render only this part of the frame (pixels keep their full-frame
+    /// values); `None` renders the scene's crop window, the whole frame
+    /// when it has none.
     pub region: Option<Region>,
 }
 
@@ -65,6 +67,25 @@ pub enum RenderError {
     /// the scene was built).
     #[error("{0}")]
     Integrator(SceneError),
+}
+
+/// The part of the frame a render makes unless told otherwise: the
+/// film's crop window, or the whole frame.
+pub fn frame(s: &crate::scene::Settings) -> Region {
+    match s.crop {
+        Some(c) => Region {
+            x0: c.x,
+            y0: c.y,
+            x1: c.x + c.width,
+            y1: c.y + c.height,
+        },
+        None => Region {
+            x0: 0,
+            y0: 0,
+            x1: s.width,
+            y1: s.height,
+        },
+    }
 }
 
 /// Progress callback: (tiles done, tiles in all).
@@ -132,12 +153,7 @@ pub fn render_with<I: Integrator>(
     cancel: Option<&AtomicBool>,
 ) -> Result<(Image, RenderStats), RenderError> {
     let s = &scene.settings;
-    let region = opts.region.unwrap_or(Region {
-        x0: 0,
-        y0: 0,
-        x1: s.width,
-        y1: s.height,
-    });
+    let region = opts.region.unwrap_or_else(|| frame(s));
     if region.x0 >= region.x1
         || region.y0 >= region.y1
         || region.x1 > s.width

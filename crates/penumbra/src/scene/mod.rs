@@ -36,6 +36,6 @@ pub use overrides::Overrides;
 pub use points::{read_points, Points, PointsFileError};
 pub use ray_sets::Budgets;
 pub use reuse::WorldCache;
-pub use settings::{IntegratorChoice, Sets, Settings, StopRule};
+pub use settings::{Crop, IntegratorChoice, Sets, Settings, StopRule};
 
 pub use crate::sampling::EffectSpec;

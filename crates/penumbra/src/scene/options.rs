@@ -302,6 +302,10 @@ const SIDE: Kind = Kind::Int {
     min: 1,
     max: MAX_SIDE,
 };
+const CROP_OFFSET: Kind = Kind::Int {
+    min: 0,
+    max: MAX_SIDE - 1,
+};
 const FOLLOWS_DISTRIBUTION: DefaultValue = DefaultValue::Follows("distribution");
 
 /// Every render option, in the order of `--help`, the docs and Python's
@@ -543,6 +547,47 @@ pub const OPTIONS: &[RenderOption] = &[
         flag: Flag::PLAIN,
         python: true,
         set: Some(|c, v| c.overrides.splat = v.switch()),
+    },
+    RenderOption {
+        name: "crop_offset_x",
+        kind: CROP_OFFSET,
+        default: int(0),
+        doc: "left column of the part of the image rendered and written (the crop window, \
+              Mitsuba's); the camera frames the whole `width` × `height` image",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
+    },
+    RenderOption {
+        name: "crop_offset_y",
+        kind: CROP_OFFSET,
+        default: int(0),
+        doc: "top row of the crop window",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
+    },
+    RenderOption {
+        name: "crop_width",
+        kind: SIDE,
+        default: DefaultValue::Computed("`width`"),
+        doc: "width of the crop window; `crop_offset_x + crop_width` at most `width`",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
+    },
+    RenderOption {
+        name: "crop_height",
+        kind: SIDE,
+        default: DefaultValue::Computed("`height`"),
+        doc: "height of the crop window; `crop_offset_y + crop_height` at most `height`",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
     },
     RenderOption {
         name: "aperture",

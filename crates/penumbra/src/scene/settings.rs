@@ -86,6 +86,19 @@ pub struct Settings {
     /// (`splat`, with a filter other than the box) rather
     /// than drawn from it.
     pub splat: bool,
+    /// The part of the `width` × `height` image that is rendered and
+    /// written (the camera frames the whole); `None` for the whole.
+    pub crop: Option<Crop>,
+}
+
+/// A crop window: the `width` × `height` pixels from column `x`, row `y`
+/// of the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Crop {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
 }
 
 /// An adaptive sampling rule, by the name users write.
@@ -159,6 +172,10 @@ pub const FILM: Schema = Schema {
         param("filter_c", Type::Number).penumbra_only(),
         param("filter_lobes", Type::Int).penumbra_only(),
         param("splat", Type::Bool).penumbra_only(),
+        param("crop_offset_x", Type::Int),
+        param("crop_offset_y", Type::Int),
+        param("crop_width", Type::Int),
+        param("crop_height", Type::Int),
     ],
 };
 
@@ -166,7 +183,9 @@ pub const FILM: Schema = Schema {
 pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
     &FILM,
     Mitsuba {
-        differences: "`width` and `height` are 768 × 576 unless given, each at least 1; its \
+        differences: "`width` and `height` are 768 × 576 unless given, each at least 1; the crop \
+            window (`crop_offset_x`, `crop_offset_y`, `crop_width`, `crop_height`) as Mitsuba's: \
+            the image written is the crop, the camera frames the whole film; its \
             `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys, each sample \
             splatted by it (`splat`) as Mitsuba's film develops; \
             `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
@@ -294,6 +313,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
     }
     let filter = pixel_filter(film)?;
     let splat = film.bool("splat")?.unwrap_or(false) && filter.filter() != Filter::Box;
+    let crop = crop(film, width, height)?;
     let sets = sets(sampler)?;
     let d = sampler
         .distribution("distribution")?
@@ -315,7 +335,42 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         points: Arc::new(PointTable::NONE),
         filter,
         splat,
+        crop,
     })
+}
+
+/// The film's crop window (Mitsuba's): the whole `width` × `height` image
+/// unless `crop_*` say otherwise, refused where it leaves the image;
+/// `None` for the whole image.
+fn crop(film: &Props, width: u32, height: u32) -> Result<Option<Crop>, Invalid> {
+    let max = i64::from(MAX_SIDE);
+    let x = int(film, "crop_offset_x", 0, 0, max - 1)?;
+    let y = int(film, "crop_offset_y", 0, 0, max - 1)?;
+    let w = int(film, "crop_width", i64::from(width), 1, max)?;
+    let h = int(film, "crop_height", i64::from(height), 1, max)?;
+    for (offset, size, side, key) in [(x, w, width, "crop_width"), (y, h, height, "crop_height")] {
+        if u64::from(offset) + u64::from(size) > u64::from(side) {
+            let (o, s) = if key == "crop_width" {
+                ("x", "width")
+            } else {
+                ("y", "height")
+            };
+            return Err(film.error(
+                key,
+                format!(
+                    "the crop window leaves the image: crop_offset_{o} ({offset}) + {key} \
+                     ({size}) is more than the image's {s} ({side})"
+                ),
+            ));
+        }
+    }
+    let whole = (x, y, w, h) == (0, 0, width, height);
+    Ok((!whole).then_some(Crop {
+        x,
+        y,
+        width: w,
+        height: h,
+    }))
 }
 
 /// The film's pixel filter, its parameters read from the `filter_*` keys:

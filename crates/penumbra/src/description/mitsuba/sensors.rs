@@ -40,40 +40,66 @@ fn implied(tag: &str, plugin: &str, at: &Place) -> Object {
 }
 
 /// Mitsuba's `perspective`: the camera its `to_world` places, with its
-/// field of view, film and sampler.
+/// field of view, principal point, clip planes, film and sampler.
 pub fn perspective(
     m: &mut dyn Mapper,
     obj: &Object,
     node: &mut Node,
     base: &KeyPath,
 ) -> Result<(), SceneError> {
-    sensor(m, obj, node, base, false)
+    sensor(m, obj, node, base, Model::Pinhole)
 }
 
 /// Mitsuba's `thinlens`: a `perspective` whose `aperture_radius` and
 /// `focus_distance` (both required) are the camera's `aperture` and
-/// `focal_distance`.
+/// `focal_distance`, without a principal point offset.
 pub fn thinlens(
     m: &mut dyn Mapper,
     obj: &Object,
     node: &mut Node,
     base: &KeyPath,
 ) -> Result<(), SceneError> {
-    sensor(m, obj, node, base, true)
+    sensor(m, obj, node, base, Model::ThinLens)
 }
+
+/// Mitsuba's `orthographic`: the unit view (2 wide, 2 over the film's
+/// aspect tall, centred on the axis) scaled by its `to_world`, with its
+/// clip planes, film and sampler.
+pub fn orthographic(
+    m: &mut dyn Mapper,
+    obj: &Object,
+    node: &mut Node,
+    base: &KeyPath,
+) -> Result<(), SceneError> {
+    sensor(m, obj, node, base, Model::Orthographic)
+}
+
+/// Which of Mitsuba's projective cameras a sensor is.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Model {
+    Pinhole,
+    ThinLens,
+    Orthographic,
+}
+
+/// Mitsuba's clip planes when a sensor gives none.
+pub const DEFAULT_NEAR_CLIP: f64 = 1e-2;
+pub const DEFAULT_FAR_CLIP: f64 = 1e4;
 
 /// A sensor: its film and sampler as the node's children; `to_world`'s
 /// images of the origin, of one unit along +z and of +y as `position`,
-/// `look_at` and `up` (one that mirrors the image refused); the field of
-/// view as the vertical `fov` for the film's aspect; with `thin`, the
-/// lens (without it, `focus_distance` is read and unused, as by Mitsuba's
-/// pinhole). `near_clip` and `far_clip` are ignored, with a warning.
+/// `look_at` and `up` (one that mirrors the image refused; one that scales
+/// refused as Mitsuba refuses it, but by an orthographic camera, whose
+/// view it sizes); the field of view as the vertical `fov` for the film's
+/// aspect; the clip planes (Mitsuba's 0.01 and 10⁴ where not given); for
+/// a thin lens, the lens (without it, `focus_distance` is read and
+/// unused, as by Mitsuba's pinhole and orthographic cameras).
 fn sensor(
     m: &mut dyn Mapper,
     obj: &Object,
     node: &mut Node,
     base: &KeyPath,
-    thin: bool,
+    model: Model,
 ) -> Result<(), SceneError> {
     let (mut film, mut sampler) = (None, None);
     for c in m.held(obj)? {
@@ -118,19 +144,82 @@ fn sensor(
             "the sensor's `to_world` mirrors the image, which Penumbra's camera cannot",
         ));
     }
+    let axes = [0, 1, 2].map(|i| {
+        let mut e = [0.0; 3];
+        e[i] = 1.0;
+        transform::vector(&m4, e)
+    });
+    if model != Model::Orthographic && has_scale(&m4) {
+        return Err(error_at(
+            &m_at,
+            "the sensor's `to_world` scales, which Mitsuba allows only an orthographic camera",
+        ));
+    }
+    let skewed = (0..3).any(|i| {
+        (i + 1..3).any(|j| {
+            let (a, b) = (axes[i], axes[j]);
+            transform::dot(a, b).abs() > 1e-3 * transform::length(a) * transform::length(b)
+        })
+    });
+    if skewed {
+        return Err(error_at(
+            &m_at,
+            "the sensor's `to_world` shears the view, which Penumbra's camera cannot",
+        ));
+    }
     let position = transform::point(&m4, [0.0; 3]);
-    let dir = transform::normalize(transform::vector(&m4, [0.0, 0.0, 1.0]));
-    let up = transform::normalize(transform::vector(&m4, [0.0, 1.0, 0.0]));
+    let dir = transform::normalize(axes[2]);
+    let up = transform::normalize(axes[1]);
     let look_at = [0, 1, 2].map(|i| position[i] + dir[i]);
     set(node, base, "position", &m_at, |p, at| vec3(position, p, at));
     set(node, base, "look_at", &m_at, |p, at| vec3(look_at, p, at));
     set(node, base, "up", &m_at, |p, at| vec3(up, p, at));
+    let (near, far, clip_at) = clip_planes(obj)?;
+    if model == Model::Orthographic {
+        let projection = Value::String("orthographic".into());
+        set(node, base, "projection", &obj.plugin_at, |p, at| {
+            located(projection, p, at)
+        });
+        // The unit view is [-1, 1] wide and [-1/aspect, 1/aspect] tall
+        // before `to_world` scales it.
+        let width = 2.0 * transform::length(axes[0]);
+        let height = 2.0 * transform::length(axes[1]) / aspect;
+        set(node, base, "view_width", &m_at, |p, at| float(width, p, at));
+        set(node, base, "view_height", &m_at, |p, at| {
+            float(height, p, at)
+        });
+        // Mitsuba's rays start on the near plane of the view's space,
+        // which `to_world` scales along the axis, and run `far - near`.
+        let (near, far) = {
+            let axial = near * transform::length(axes[2]);
+            (axial, axial + (far - near))
+        };
+        set(node, base, "near_clip", &clip_at, |p, at| {
+            float(near, p, at)
+        });
+        set(node, base, "far_clip", &clip_at, |p, at| float(far, p, at));
+        get_float(obj, "focus_distance")?;
+        return Ok(());
+    }
+    set(node, base, "near_clip", &clip_at, |p, at| {
+        float(near, p, at)
+    });
+    set(node, base, "far_clip", &clip_at, |p, at| float(far, p, at));
     let (fov, fov_at) = vertical_fov(obj, aspect)?;
     set(node, base, "fov", &fov_at, |p, at| float(fov, p, at));
-    if !thin {
+    if model == Model::Pinhole {
         // Read as Mitsuba's perspective reads it: a pinhole focuses
         // everywhere, and the value has no effect.
         get_float(obj, "focus_distance")?;
+        let x = get_float(obj, "principal_point_offset_x")?;
+        let y = get_float(obj, "principal_point_offset_y")?;
+        if let Some((_, at)) = x.or(y) {
+            let offset = [x.map_or(0.0, |v| v.0), y.map_or(0.0, |v| v.0)];
+            set(node, base, "principal_point_offset", at, |p, at| {
+                let items = (0..2).map(|i| float(offset[i], p.index(i), at)).collect();
+                located(Value::Array(items), p, at)
+            });
+        }
     } else {
         let Some((radius, r_at)) = get_float(obj, "aperture_radius")? else {
             return Err(error_at(&obj.at, "thinlens: missing `aperture_radius`"));
@@ -143,14 +232,47 @@ fn sensor(
             float(focus, p, at)
         });
     }
-    for clip_name in ["near_clip", "far_clip"] {
-        if obj.prop(clip_name).is_some() {
-            m.warn(format!(
-                "the sensor's `{clip_name}` is ignored: Penumbra's camera does not clip"
-            ));
-        }
-    }
     Ok(())
+}
+
+/// True if `m`'s linear part is not a rotation, by Mitsuba's test: some
+/// product of two of its rows differs from the identity's by more than
+/// 10⁻³.
+fn has_scale(m: &transform::Mat4) -> bool {
+    (0..3).any(|i| {
+        (i..3).any(|j| {
+            let dot: f64 = (0..3).map(|k| m[i][k] * m[j][k]).sum();
+            (dot - if i == j { 1.0 } else { 0.0 }).abs() > 1e-3
+        })
+    })
+}
+
+/// A sensor's `near_clip` and `far_clip`, Mitsuba's 0.01 and 10⁴ where
+/// not given, refused as Mitsuba refuses them (`near_clip` not positive,
+/// or not less than `far_clip`), with the place to name them at.
+fn clip_planes(obj: &Object) -> Result<(f64, f64, Place), SceneError> {
+    let near = get_float(obj, "near_clip")?;
+    let far = get_float(obj, "far_clip")?;
+    let near_at = near.map_or(&obj.at, |n| n.1);
+    let (near_v, far_v) = (
+        near.map_or(DEFAULT_NEAR_CLIP, |n| n.0),
+        far.map_or(DEFAULT_FAR_CLIP, |f| f.0),
+    );
+    if !(near_v > 0.0 && near_v.is_finite()) {
+        return Err(error_at(
+            near_at,
+            format!("the sensor's `near_clip` must be greater than 0, got {near_v}"),
+        ));
+    }
+    if near_v >= far_v || far_v.is_nan() {
+        let at = far.map_or(near_at, |f| f.1);
+        return Err(error_at(
+            at,
+            format!("the sensor's `near_clip` ({near_v}) must be less than `far_clip` ({far_v})"),
+        ));
+    }
+    let at = near.or(far).map_or(&obj.at, |v| v.1).clone();
+    Ok((near_v, far_v, at))
 }
 
 /// Mitsuba's field of view (`fov` along `fov_axis`, or `focal_length`)

@@ -8,6 +8,7 @@ use super::PathSettings;
 use crate::accel::{Hit, PacketScratch};
 use crate::emitter::choice::LightSampler;
 use crate::emitter::Reference;
+use crate::integrator::clip::clip_camera_hits;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, TileJob};
 use crate::integrator::ray_sets::RaySets;
@@ -191,6 +192,9 @@ impl<'s> Wavefront<'s> {
                 scene
                     .world
                     .intersect_all(&self.paths.ray, 0.0, &mut self.packet, &mut self.hits);
+                if depth == 0 {
+                    clip_camera_hits(scene, &self.paths.ray, &mut self.hits);
+                }
                 self.shade(depth, max_depth);
                 self.occlude();
                 std::mem::swap(&mut self.paths, &mut self.next);

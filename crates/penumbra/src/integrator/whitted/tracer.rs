@@ -3,6 +3,7 @@ use glam::Vec3A;
 use crate::accel::{Hit, PacketScratch, ShaftSet};
 use crate::bsdf::{Bsdf, BsdfFlags, Lobes, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
+use crate::integrator::clip::clip_camera_hits;
 use crate::integrator::transmittance::transmittance;
 use crate::math::Rgb;
 use crate::math::{Aabb, Ray, Vec3};
@@ -198,6 +199,9 @@ impl<'a> Tracer<'a> {
         let mut level = self.levels.pop().unwrap_or_default();
         let world = &scene.world;
         world.intersect_all(rays, 0.0, &mut self.packet, &mut level.hits);
+        if depth == 0 {
+            clip_camera_hits(scene, rays, &mut level.hits);
+        }
         level.lit.clear();
         for (i, (ray, hit)) in rays.iter().zip(&level.hits).enumerate() {
             let Some(hit) = hit else { continue };
