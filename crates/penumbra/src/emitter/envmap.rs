@@ -20,6 +20,8 @@
 //! Mitsuba interpolates bilinearly).
 
 use std::path::Path;
+
+use crate::texture::Textures;
 use std::sync::Arc;
 
 use crate::description::check::range;
@@ -234,8 +236,8 @@ impl Envmap {
 impl EmitterPlugin for Envmap {
     type Built = Envmap;
 
-    fn build(p: &Props, base_dir: &Path) -> Result<Envmap, Invalid> {
-        Envmap::build(p, base_dir)
+    fn build(p: &Props, textures: &Textures) -> Result<Envmap, Invalid> {
+        Envmap::build(p, &textures.base_dir)
     }
 }
 

@@ -118,7 +118,7 @@ pub fn build(
         match node.kind {
             Kind::Emitter => {
                 let p = Props::new(node);
-                let Some(emitter) = emitter::build(&node.plugin, &p, &ctx.base_dir) else {
+                let Some(emitter) = emitter::build(&node.plugin, &p, &textures) else {
                     let what = format!("`{}` is not a light a scene names by itself", node.plugin);
                     return Err(p.node_error(what).into());
                 };

@@ -21,8 +21,9 @@
 //!
 //! | texture | what |
 //! |---|---|
-//! | [`checkerboard`](checkerboard::Checkerboard) | two colours alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
+//! | [`checkerboard`](checkerboard::Checkerboard) | two colours or textures alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
 //! | [`bitmap`](bitmap::Bitmap) | an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped (Mitsuba 3's `bitmap`) |
+//! | [`rawconstant`](rawconstant::RawConstant) | one number or 3 numbers everywhere, taken as they are: no colour check, negative values allowed (Mitsuba 3's `rawconstant`) |
 //!
 //! Every texture takes `to_uv`, a 2D affine map applied to `(u, v)` before
 //! the lookup ([`UvTransform`]), written as a table applied as scale, then
@@ -59,9 +60,9 @@ pub trait TextureModel: Sized {
     /// How Mitsuba's plugin of its name maps onto it.
     const MITSUBA: Mitsuba = Mitsuba::SAME;
 
-    /// The texture of a scene's parameters, its files relative to
-    /// `base_dir`.
-    fn build(p: &Props, base_dir: &Path) -> Result<Self, Invalid>;
+    /// The texture of a scene's parameters: its files relative to
+    /// `textures.base_dir`, the textures it holds read through `textures`.
+    fn build(p: &Props, textures: &Textures) -> Result<Self, Invalid>;
 
     /// The colour at `uv`.
     fn eval(&self, uv: Vec2) -> Rgb;
@@ -131,11 +132,11 @@ macro_rules! textures {
             fn build_model(
                 plugin: &str,
                 p: &Props,
-                base_dir: &Path,
+                textures: &Textures,
             ) -> Option<Result<Texture, Invalid>> {
                 match plugin {
                     $(<$module::$variant as TextureModel>::NAME => {
-                        Some(<$module::$variant>::build(p, base_dir).map(Texture::$variant))
+                        Some(<$module::$variant>::build(p, textures).map(Texture::$variant))
                     })*
                     _ => None,
                 }
@@ -213,6 +214,7 @@ macro_rules! textures {
 textures! {
     checkerboard::Checkerboard,
     bitmap::Bitmap,
+    rawconstant::RawConstant,
 }
 
 impl Texture {
@@ -316,8 +318,8 @@ impl Textures {
             .collect();
         check(&node, schema, &others)?;
         let p = Props::new(&node);
-        let texture = Texture::build_model(plugin, &p, &self.base_dir)
-            .expect("every schema has a builder")?;
+        let texture =
+            Texture::build_model(plugin, &p, self).expect("every schema has a builder")?;
         p.finish(schema.what)?;
         Ok(texture)
     }

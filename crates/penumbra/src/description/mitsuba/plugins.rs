@@ -9,6 +9,7 @@
 use std::collections::HashSet;
 
 use super::mapper::{children, get_color, get_transform, located, matrix, render, set, vec3, Out};
+use super::mapping::plugin_of;
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
 use super::registry::Registry;
@@ -217,9 +218,13 @@ impl Out<'_> {
                 ))
             }
             _ => {
-                self.no_children(obj)?;
+                let schema = plugin_of((self.registry)(Kind::Emitter), obj, "emitter")?.schema;
+                if !schema.params.iter().any(|p| p.texturable()) {
+                    self.no_children(obj)?;
+                }
                 let base = KeyPath::root().key("lights").index(self.lights.len());
-                let node = self.mapped(Kind::Emitter, obj, base)?;
+                let mut node = self.mapped(Kind::Emitter, obj, base.clone())?;
+                self.texture_children(obj, schema, &mut node, &base)?;
                 self.lights.push(node);
             }
         }
