@@ -396,6 +396,7 @@ fn serialized_meshes_are_read_by_shape_index() {
         normals: Some(vec![[0.0, 0.0, -1.0]; 4]),
         uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
         triangles: vec![[0, 2, 1], [0, 3, 2]],
+        attributes: Vec::new(),
     };
     let body = |shape: &str| {
         scene(&format!(
@@ -2383,4 +2384,43 @@ fn textures_inside_textures_and_spots() {
     };
     assert!(slide.iter().any(|p| p.name == "format"));
     build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// `mesh_attribute` reads a PLY file's vertex colours (`vertex_color` of
+/// its `red, green, blue`); an attribute the file does not have is refused
+/// naming the file.
+#[test]
+fn mesh_attributes_are_read_from_ply_files() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\n\
+        property float x\nproperty float y\nproperty float z\n\
+        property uchar red\nproperty uchar green\nproperty uchar blue\n\
+        element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+        0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n";
+    let shape = |attribute: &str| {
+        format!(
+            r#"<shape type="ply"><string name="filename" value="t.ply"/>
+                <bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+                    <string name="name" value="{attribute}"/><float name="scale" value="0.5"/>
+                </texture></bsdf></shape>"#
+        )
+    };
+    let d = with_sensor(&shape("vertex_color"));
+    std::fs::write(d.path("t.ply"), ply).unwrap();
+    let root = d.tree("scene.xml");
+    let bsdf = root.child(Kind::Bsdf).unwrap();
+    let Value::Table(t) = prop(bsdf, "reflectance") else {
+        panic!()
+    };
+    let get = |name: &str| &t.iter().find(|p| p.name == name).unwrap().value.value;
+    assert_eq!(get("type"), &Value::String("mesh_attribute".into()));
+    assert_eq!(get("name"), &Value::String("vertex_color".into()));
+    assert_eq!(numbers(get("scale")), [0.5]);
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let d = with_sensor(&shape("vertex_nothing"));
+    std::fs::write(d.path("t.ply"), ply).unwrap();
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("t.ply has no attribute `vertex_nothing` (it has: vertex_color)"),
+        "{e}"
+    );
 }

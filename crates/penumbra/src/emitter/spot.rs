@@ -142,6 +142,12 @@ impl Spot {
             return Ok(spot);
         }
         let texture = textures.colour(p, "texture", Rgb::ONE)?;
+        if let Texture::MeshAttribute(_) = texture {
+            return Err(p.error(
+                "texture",
+                "a `mesh_attribute` has no mesh to read on a light",
+            ));
+        }
         if texture.bounds().0.min_element() < 0.0 {
             return Err(p.error("texture", "must not be negative"));
         }

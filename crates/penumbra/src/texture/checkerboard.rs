@@ -69,9 +69,16 @@ impl TextureModel for Checkerboard {
     const SCHEMA: Schema = SCHEMA;
 
     fn build(p: &Props, textures: &Textures) -> Result<Checkerboard, Invalid> {
+        let colour = |name: &str, default: f32| match textures.colour(p, name, Rgb::splat(default))? {
+            Texture::MeshAttribute(_) => Err(p.error(
+                name,
+                "a `mesh_attribute` is read at the point hit, not inside a checkerboard",
+            )),
+            t => Ok(Box::new(t)),
+        };
         Ok(Checkerboard {
-            color0: Box::new(textures.colour(p, "color0", Rgb::splat(0.4))?),
-            color1: Box::new(textures.colour(p, "color1", Rgb::splat(0.2))?),
+            color0: colour("color0", 0.4)?,
+            color1: colour("color1", 0.2)?,
             to_uv: UvTransform::read(p)?,
         })
     }
