@@ -221,10 +221,26 @@ fn bind_attributes(
             .objects
             .iter()
             .map(|o| {
-                let (mesh, (values, _)) = file_of(o)?;
+                let (mesh, (values, file)) = file_of(o)?;
                 let a = values.iter().find(|a| a.name == t.name)?;
-                Some((mesh, Arc::clone(a)))
+                Some((mesh, Arc::clone(a), file))
             })
+            .collect::<Vec<_>>();
+        if let Some((_, _, file)) = objects
+            .iter()
+            .flatten()
+            .find(|(_, a, _)| a.values.iter().any(|v| !v.is_finite()))
+        {
+            let message = format!(
+                "the attribute `{}` of the mesh file {} holds values that are not finite",
+                t.name,
+                file.display()
+            );
+            return Err(Invalid::at(&u.origin, message));
+        }
+        let objects = objects
+            .into_iter()
+            .map(|o| o.map(|(mesh, a, _)| (mesh, a)))
             .collect();
         // Bound once: a texture of the scene read by several materials is
         // one texture.

@@ -453,13 +453,14 @@ impl Values {
 
     /// Reads value `place` of the record, of type `t`, as Mitsuba does:
     /// an integer over its type's largest value, then decoded from sRGB.
+    /// Values are kept as they are, finite or not, as Mitsuba keeps them (a
+    /// scene is refused for them only where a texture reads them).
     fn read<S: Source>(
         &mut self,
         source: &mut S,
         place: usize,
         t: Scalar,
         name: &str,
-        record: u64,
     ) -> Fallible<()> {
         let raw = source.number(t, name)?;
         let value = match t {
@@ -476,11 +477,6 @@ impl Values {
                 srgb_decode((raw / max) as f32)
             }
         };
-        if !value.is_finite() {
-            return Err(source.error(format!(
-                "record {record}: `{name}` is {value}; attribute values must be finite"
-            )));
-        }
         if let Some(slot) = self.record.get_mut(place) {
             *slot = value;
         }
@@ -536,7 +532,7 @@ fn read_vertices<S: Source>(
                 Action::Normal(axis, t) => (normal.get_mut(axis), t),
                 Action::Uv(axis, t) => (uv.get_mut(axis), t),
                 Action::Attribute(place, t) => {
-                    values.read(source, place, t, &prop.name, index)?;
+                    values.read(source, place, t, &prop.name)?;
                     continue;
                 }
                 Action::Corners { .. } | Action::Skip(_) => {
@@ -612,9 +608,7 @@ impl FaceReader<'_> {
                         };
                         self.polygon(source, index, list, out)?
                     }
-                    Action::Attribute(place, t) => {
-                        values.read(source, place, t, &prop.name, index)?
-                    }
+                    Action::Attribute(place, t) => values.read(source, place, t, &prop.name)?,
                     _ => source.skip(prop.kind, &prop.name)?,
                 }
             }
@@ -1557,10 +1551,17 @@ mod tests {
             + "3 0 1 1\n";
         // `_` makes no attribute: its huge value is skipped, not refused.
         parse(bad.as_bytes()).unwrap();
+        // A value that is not finite is kept (refused only where read).
         let bad = header.clone()
-            + &record(0.0).replacen("0.5 0.5 0.5 0.5 0.5 0.5", "0.5 0.5 0.5 0.5 0.5 inf", 1)
+            + &record(0.0).replacen("0.5 0.5 0.5 0.5 0.5 0.5", "0.5 0.5 0.5 0.5 0.5 1e300", 1)
             + &record(1.0)
             + "3 0 1 1\n";
-        assert!(parse(bad.as_bytes()).is_err());
+        let mesh = parse(bad.as_bytes()).unwrap();
+        let a = mesh
+            .attributes
+            .iter()
+            .find(|a| a.name == "vertex_é")
+            .unwrap();
+        assert_eq!(a.values[0], f32::INFINITY);
     }
 }

@@ -324,6 +324,15 @@ mod tests {
             .unwrap()
             .to_string();
         assert!(e.contains("not a mesh read from a file"), "{e}");
+        // Values that are not finite are kept in the file's attributes and
+        // refused where a texture reads them.
+        let huge = SQUARE_PLY.replace("0 0 0 255 0 0 0\n", "0 0 0 255 0 0 1e300\n");
+        std::fs::write(dir.path().join("h.ply"), huge).unwrap();
+        let mut text = material("m", "vertex_heat") + &object(0.0, "m");
+        text = text.replace("s.ply", "h.ply");
+        let e = build(&text).err().unwrap().to_string();
+        assert!(e.contains("the attribute `vertex_heat` of the mesh file"), "{e}");
+        assert!(e.contains("h.ply holds values that are not finite"), "{e}");
         let e = build(&material("m", "color")).err().unwrap().to_string();
         assert!(e.contains("must start with `vertex_` or `face_`"), "{e}");
         let e = build(
