@@ -152,7 +152,7 @@ impl Spot {
             return Err(p.error("texture", "must not be negative"));
         }
         let y = up - spot.axis * up.dot(spot.axis);
-        if !(y.length_squared() > 1e-12 * up.length_squared()) {
+        if y.length_squared() <= 1e-12 * up.length_squared() || !y.is_finite() {
             return Err(p.error("up", "must not be along the axis (nor zero)"));
         }
         Ok(spot.projecting(texture, y))

@@ -199,6 +199,10 @@ pub fn build(
     })
 }
 
+/// The objects, the meshes and the attributes of the meshes read from
+/// files (by mesh).
+type Objects = (Vec<Object>, Vec<Mesh>, HashMap<usize, MeshAttributes>);
+
 /// Binds the mesh attributes the materials read (`uses`) to the world's
 /// objects, from the attributes of the meshes read from files; an object
 /// whose material reads an attribute its mesh does not have is refused at
@@ -452,7 +456,7 @@ fn objects(
     root: &Node,
     ctx: &BuildContext,
     names: &HashMap<String, u32>,
-) -> Result<(Vec<Object>, Vec<Mesh>, HashMap<usize, MeshAttributes>), BuildError> {
+) -> Result<Objects, BuildError> {
     let (mut objects, mut meshes) = (Vec::new(), Vec::new());
     let mut files = MeshFiles::default();
     let mut groups: HashMap<&str, Vec<Object>> = HashMap::new();

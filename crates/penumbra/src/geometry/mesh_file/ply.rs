@@ -266,11 +266,11 @@ fn attribute_groups(
             }
         }
     };
-    for i in 0..props.len() {
+    for (i, prop) in props.iter().enumerate() {
         if taken(i) {
             continue;
         }
-        let name = props[i].name.as_str();
+        let name = prop.name.as_str();
         let split = name.rfind('_').map(|at| (&name[..at], &name[at + 1..]));
         let Some((prefix, postfix)) = split.filter(|(_, post)| post.len() == 1) else {
             flush(&mut current, &mut members, &mut seen);
