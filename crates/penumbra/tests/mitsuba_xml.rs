@@ -399,6 +399,7 @@ fn serialized_meshes_are_read_by_shape_index() {
         normals: Some(vec![[0.0, 0.0, -1.0]; 4]),
         uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
         triangles: vec![[0, 2, 1], [0, 3, 2]],
+        attributes: Vec::new(),
     };
     let body = |shape: &str| {
         scene(&format!(
@@ -1692,10 +1693,6 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
         ),
         (r#"<emitter type="envmap"/>"#, "envmap: missing `filename`"),
         (
-            r#"<emitter type="spot"><rgb name="texture" value="1"/></emitter>"#,
-            "texture",
-        ),
-        (
             r#"<emitter type="directional"><vector name="direction" value="0, 0, 1"/><transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
             "`direction` or `to_world`, not both",
         ),
@@ -2426,8 +2423,12 @@ fn textures_nest_in_bsdfs_or_are_referenced_by_id() {
             "`reflectance` is given twice",
         ),
         (
-            r#"<bsdf type="diffuse" id="m"><texture type="bitmap" name="reflectance"><string name="format" value="float16"/></texture></bsdf>"#,
-            "`format` is not a parameter of the texture `bitmap` that Penumbra reads",
+            r#"<bsdf type="diffuse" id="m"><texture type="checkerboard" name="reflectance"><bsdf type="diffuse"/></texture></bsdf>"#,
+            "a <bsdf> inside the texture `checkerboard` is not supported",
+        ),
+        (
+            r#"<bsdf type="diffuse" id="m"><texture type="rawconstant" name="reflectance"><rgb name="value" value="0.5"/></texture></bsdf>"#,
+            "`value` must be a float or a 3D vector, got an rgb colour",
         ),
     ] {
         let e = with_sensor(body).err("scene.xml");
@@ -2629,4 +2630,103 @@ fn an_orthographic_sensor_sees_its_scaled_unit_view() {
     let covered = f64::from(image.mean().r) * 16.0;
     let want = std::f64::consts::PI;
     assert!((covered - want).abs() < 0.01 * want, "{covered} {want}");
+}
+
+/// A checkerboard's colours may be textures (nested or referenced by id);
+/// `rawconstant` takes a float or a vector as it is; a spot projects a
+/// texture, its `to_world` giving `up`; `format` is read. The scene builds.
+#[test]
+fn textures_inside_textures_and_spots() {
+    let d = with_sensor(
+        r#"
+        <texture type="rawconstant" id="raw"><vector name="value" value="0.25, 0.5, 0.75"/></texture>
+        <bsdf type="diffuse" id="floor">
+            <texture type="checkerboard" name="reflectance">
+                <ref name="color0" id="raw"/>
+                <texture type="rawconstant" name="color1"><float name="value" value="0.5"/></texture>
+            </texture>
+        </bsdf>
+        <emitter type="spot">
+            <transform name="to_world"><lookat origin="0, 2, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+            <texture type="bitmap" name="texture">
+                <string name="filename" value="slide.png"/>
+                <string name="format" value="uint8"/>
+            </texture>
+        </emitter>
+        <shape type="sphere"><ref id="floor"/></shape>"#,
+    );
+    image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([200 * x as u8, 40, 90]))
+        .save(d.path("slide.png"))
+        .unwrap();
+    let root = d.tree("scene.xml");
+    let raw = root.child(Kind::Texture).unwrap();
+    assert_eq!(raw.plugin, "rawconstant");
+    assert_eq!(numbers(prop(raw, "value")), [0.25, 0.5, 0.75]);
+    let floor = root.child(Kind::Bsdf).unwrap();
+    let Value::Table(board) = prop(floor, "reflectance") else {
+        panic!()
+    };
+    let get = |name: &str| &board.iter().find(|p| p.name == name).unwrap().value.value;
+    assert_eq!(get("color0"), &Value::String("raw".into()));
+    let Value::Table(inner) = get("color1") else {
+        panic!()
+    };
+    assert_eq!(numbers(&inner[1].value.value), [0.5]);
+    let spot = root.child(Kind::Emitter).unwrap();
+    assert!(close(
+        &numbers(prop(spot, "position")),
+        &[0.0, 2.0, 0.0],
+        1e-12
+    ));
+    assert!(close(
+        &numbers(prop(spot, "look_at")),
+        &[0.0, 1.0, 0.0],
+        1e-12
+    ));
+    // Mitsuba's look-at: local +y is `up` made orthogonal to the axis.
+    assert!(close(&numbers(prop(spot, "up")), &[0.0, 0.0, 1.0], 1e-12));
+    let Value::Table(slide) = prop(spot, "texture") else {
+        panic!()
+    };
+    assert!(slide.iter().any(|p| p.name == "format"));
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// `mesh_attribute` reads a PLY file's vertex colours (`vertex_color` of
+/// its `red, green, blue`); an attribute the file does not have is refused
+/// naming the file.
+#[test]
+fn mesh_attributes_are_read_from_ply_files() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\n\
+        property float x\nproperty float y\nproperty float z\n\
+        property uchar red\nproperty uchar green\nproperty uchar blue\n\
+        element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+        0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n";
+    let shape = |attribute: &str| {
+        format!(
+            r#"<shape type="ply"><string name="filename" value="t.ply"/>
+                <bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+                    <string name="name" value="{attribute}"/><float name="scale" value="0.5"/>
+                </texture></bsdf></shape>"#
+        )
+    };
+    let d = with_sensor(&shape("vertex_color"));
+    std::fs::write(d.path("t.ply"), ply).unwrap();
+    let root = d.tree("scene.xml");
+    let bsdf = root.child(Kind::Bsdf).unwrap();
+    let Value::Table(t) = prop(bsdf, "reflectance") else {
+        panic!()
+    };
+    let get = |name: &str| &t.iter().find(|p| p.name == name).unwrap().value.value;
+    assert_eq!(get("type"), &Value::String("mesh_attribute".into()));
+    assert_eq!(get("name"), &Value::String("vertex_color".into()));
+    assert_eq!(numbers(get("scale")), [0.5]);
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let d = with_sensor(&shape("vertex_nothing"));
+    std::fs::write(d.path("t.ply"), ply).unwrap();
+    let e = build_whitted(&d).err().unwrap().to_string();
+    assert!(
+        e.contains("t.ply has no attribute `vertex_nothing` (it has: vertex_color)"),
+        "{e}"
+    );
 }

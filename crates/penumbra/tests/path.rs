@@ -444,6 +444,7 @@ fn albedo_head_on(bsdf: &penumbra::bsdf::Bsdf) -> f32 {
         dpdu: Vec3::X,
         dpdv: Vec3::Y,
         prim: 0,
+        bary: Vec2::ZERO,
         object: 0,
         material: 0,
         emitter: None,

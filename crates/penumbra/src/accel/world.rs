@@ -27,7 +27,7 @@ use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
 use crate::geometry::triangle::{intersect_triangle, RayShear};
 use crate::geometry::{Mesh, Shape, ShapeHit, SurfaceInteraction};
-use crate::math::{nearest_lane, Aabb, Ray, Vec3};
+use crate::math::{nearest_lane, Aabb, Ray, Vec2, Vec3};
 
 /// What a ray finds: the surface-interaction record of the nearest surface.
 pub type Hit = SurfaceInteraction;
@@ -627,6 +627,11 @@ impl World {
             dpdv,
             prim: match prim {
                 Prim::Triangle { .. } | Prim::Object { .. } => c.inner,
+            },
+            bary: if o.shape.as_mesh().is_some() {
+                Vec2::new(c.b1, c.b2)
+            } else {
+                Vec2::ZERO
             },
             object,
             material: o.material,

@@ -14,7 +14,7 @@ use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution, EffectSpec, SetPoint};
 use crate::texture::checkerboard::Checkerboard;
-use crate::texture::TextureModel;
+use crate::texture::{Texture, TextureModel};
 use crate::texture::{Textures, UvTransform};
 
 /// The model `plugin` of the TOML keys `keys`.
@@ -124,8 +124,8 @@ fn every_texture_typed_parameter_follows_a_checkerboard() {
                 _ => continue,
             };
             let board = Checkerboard {
-                color0: c0,
-                color1: c1,
+                color0: Box::new(Texture::Constant(c0)),
+                color1: Box::new(Texture::Constant(c1)),
                 to_uv: UvTransform::IDENTITY,
             };
             let (name, plugin) = (param.name, schema.plugin);
@@ -223,7 +223,7 @@ fn textures_out_of_range_are_refused() {
         (
             "diffuse",
             "reflectance = { type = \"checkerboard\", color0 = [-1, 0, 0] }",
-            "t.toml:3:49: materials.m.reflectance.color0: must be finite and not negative",
+            "t.toml:3:49: materials.m.reflectance.color0: must not be negative, got [-1.0, 0.0, 0.0]",
         ),
         (
             "diffuse",

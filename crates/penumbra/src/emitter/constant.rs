@@ -8,7 +8,7 @@
 //!
 //! Sampled, as Mitsuba samples it, uniformly over the sphere of directions.
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use super::model::{EmitterModel, EmitterPlugin};
 use crate::description::check::{nonneg3, required};
@@ -80,7 +80,7 @@ impl Constant {
 impl EmitterPlugin for Constant {
     type Built = Constant;
 
-    fn build(p: &Props, _base_dir: &Path) -> Result<Constant, Invalid> {
+    fn build(p: &Props, _textures: &Textures) -> Result<Constant, Invalid> {
         Constant::build(p)
     }
 }

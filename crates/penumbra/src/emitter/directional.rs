@@ -12,7 +12,7 @@
 //! Mitsuba's `to_world` turns `+z` into the direction: the XML reader gives
 //! it as `direction`.
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use super::model::{EmitterModel, EmitterPlugin};
 use super::sample::{LightSample, Reference};
@@ -116,7 +116,7 @@ impl Directional {
 impl EmitterPlugin for Directional {
     type Built = Directional;
 
-    fn build(p: &Props, _base_dir: &Path) -> Result<Directional, Invalid> {
+    fn build(p: &Props, _textures: &Textures) -> Result<Directional, Invalid> {
         Directional::build(p)
     }
 }

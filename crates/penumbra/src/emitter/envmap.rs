@@ -44,6 +44,8 @@
 //! them.
 
 use std::path::Path;
+
+use crate::texture::Textures;
 use std::sync::Arc;
 
 use crate::description::check::range;
@@ -457,8 +459,8 @@ fn padded(width: usize, height: usize, radiance: Vec<Rgb>) -> (usize, usize, Vec
 impl EmitterPlugin for Envmap {
     type Built = Envmap;
 
-    fn build(p: &Props, base_dir: &Path) -> Result<Envmap, Invalid> {
-        Envmap::build(p, base_dir)
+    fn build(p: &Props, textures: &Textures) -> Result<Envmap, Invalid> {
+        Envmap::build(p, &textures.base_dir)
     }
 }
 

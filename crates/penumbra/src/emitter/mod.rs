@@ -49,7 +49,7 @@ pub use sample::{LightSample, Reference};
 pub use sky::Sky;
 pub use spot::Spot;
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use crate::description::mitsuba::Plugin;
 use crate::description::{Invalid, Props, Schema};
@@ -217,10 +217,11 @@ macro_rules! plugins {
         ];
 
         /// The emitter `plugin` of the parameters `p` (files relative to
-        /// `base_dir`); `None` for a name no emitter of [`SCHEMAS`] has.
-        pub fn build(plugin: &str, p: &Props, base_dir: &Path) -> Option<Result<Emitter, Invalid>> {
+        /// `textures.base_dir`, textures read through `textures`); `None`
+        /// for a name no emitter of [`SCHEMAS`] has.
+        pub fn build(plugin: &str, p: &Props, textures: &Textures) -> Option<Result<Emitter, Invalid>> {
             $(if plugin == $plugin::SCHEMA.plugin {
-                return Some(<$plugin as EmitterPlugin>::build(p, base_dir).map(Emitter::from));
+                return Some(<$plugin as EmitterPlugin>::build(p, textures).map(Emitter::from));
             })*
             None
         }

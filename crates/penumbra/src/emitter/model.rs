@@ -1,7 +1,7 @@
 //! What every emitter answers: [`EmitterModel`], whose defaults are those
 //! of an emitter without the property (see the [module docs](super)).
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use super::bounds::LightBounds;
 use super::sample::{LightSample, Reference};
@@ -17,9 +17,9 @@ pub trait EmitterPlugin {
     /// (a sky: an environment map).
     type Built;
 
-    /// The emitter of a scene's parameters, its files relative to
-    /// `base_dir`.
-    fn build(p: &Props, base_dir: &Path) -> Result<Self::Built, Invalid>;
+    /// The emitter of a scene's parameters: its files relative to
+    /// `textures.base_dir`, the textures it takes read through `textures`.
+    fn build(p: &Props, textures: &Textures) -> Result<Self::Built, Invalid>;
 }
 
 /// What every emitter answers (see the [module docs](crate::emitter)); the defaults

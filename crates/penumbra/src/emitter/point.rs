@@ -7,7 +7,7 @@
 //! | `position` | vector | **required** | where it is |
 //! | `intensity` | colour ≥ 0 | **required** | radiant intensity |
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
@@ -95,7 +95,7 @@ impl Point {
 impl EmitterPlugin for Point {
     type Built = Point;
 
-    fn build(p: &Props, _base_dir: &Path) -> Result<Point, Invalid> {
+    fn build(p: &Props, _textures: &Textures) -> Result<Point, Invalid> {
         Point::build(p)
     }
 }

@@ -28,7 +28,6 @@
 //! | `focal_length` | string | `50mm` | 35 mm film equivalent focal length (a diagonal field of view), without `fov` |
 
 use std::f32::consts::PI;
-use std::path::Path;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
@@ -115,8 +114,8 @@ impl Projector {
         adapt: Some(Adapt::Node(adapt::projector)),
     };
 
-    /// The light of a scene's parameters, textures relative to `base_dir`.
-    pub fn build(p: &Props, base_dir: &Path) -> Result<Projector, Invalid> {
+    /// The light of a scene's parameters, among the scene's `textures`.
+    pub fn build(p: &Props, textures: &Textures) -> Result<Projector, Invalid> {
         let position = finite3(p, "position", [0.0; 3])?;
         let look_at = finite3(p, "look_at", (position + Vec3::Z).to_array())?;
         let up = finite3(p, "up", [0.0, 1.0, 0.0])?;
@@ -131,7 +130,7 @@ impl Projector {
                 "must not be along the axis from `position` to `look_at`",
             ));
         }
-        let irradiance = Textures::new(base_dir).colour(p, "irradiance", Rgb::ONE)?;
+        let irradiance = textures.colour(p, "irradiance", Rgb::ONE)?;
         let scale = range(p, "scale", 1.0, 0.0, f32::MAX)?;
         let (w, h) = match &irradiance {
             Texture::Bitmap(b) => (b.image.width, b.image.height),
@@ -260,8 +259,8 @@ fn fov_x(p: &Props, aspect: f64) -> Result<f64, Invalid> {
 impl EmitterPlugin for Projector {
     type Built = Projector;
 
-    fn build(p: &Props, base_dir: &Path) -> Result<Projector, Invalid> {
-        Projector::build(p, base_dir)
+    fn build(p: &Props, textures: &Textures) -> Result<Projector, Invalid> {
+        Projector::build(p, textures)
     }
 }
 
@@ -299,6 +298,7 @@ impl EmitterModel for Projector {
 mod tests {
     use super::*;
     use crate::description::from_toml;
+    use std::path::Path;
 
     /// `f` of the parameters of a projector of `text` (TOML keys).
     fn with_props<T>(text: &str, f: impl FnOnce(&Props) -> T) -> T {
@@ -312,7 +312,9 @@ mod tests {
     }
 
     fn projector(text: &str) -> Result<Projector, Invalid> {
-        with_props(text, |p| Projector::build(p, Path::new(".")))
+        with_props(text, |p| {
+            Projector::build(p, &Textures::new(Path::new(".")))
+        })
     }
 
     /// A constant image lands on a plane facing the light as a constant

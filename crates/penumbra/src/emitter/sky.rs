@@ -35,7 +35,7 @@
 //! another thing, which the XML reader refuses; `penumbra convert` never
 //! writes a sky.
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use std::f32::consts::PI;
 
@@ -261,7 +261,7 @@ fn pixel_solid_angle(y: usize, w: usize, h: usize) -> f64 {
 impl EmitterPlugin for Sky {
     type Built = Envmap;
 
-    fn build(p: &Props, _base_dir: &Path) -> Result<Envmap, Invalid> {
+    fn build(p: &Props, _textures: &Textures) -> Result<Envmap, Invalid> {
         Ok(Sky::build(p)?.envmap())
     }
 }

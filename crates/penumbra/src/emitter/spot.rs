@@ -14,11 +14,20 @@
 //! | `intensity` | colour ≥ 0 | [1, 1, 1] | radiant intensity (W/sr per channel) along the axis |
 //! | `cutoff_angle` | number in (0, 180) | 20 | degrees from the axis where the light ends |
 //! | `beam_width` | number in [0, `cutoff_angle`] | `cutoff_angle` · 3/4 | degrees from the axis of full intensity |
+//! | `texture` | colour ≥ 0 or texture | none | a picture projected through the cone, multiplying `intensity` |
+//! | `up` | vector | [0, 1, 0] | the light's local `+y`, which orients `texture` |
+//!
+//! `texture` is projected as Mitsuba projects it: in the light's own frame
+//! (`x`, `y` across the axis, `z` along it; `y` is `up` made orthogonal to
+//! the axis, `x = y × z`), the direction `(x, y, z)` toward a point looks up
+//! `(u, v) = (½ + ½ x / (z tan c), ½ + ½ y / (z tan c))`, `c` the cutoff
+//! angle: the square `[0, 1]²` spans the square around the cone's disc.
 //!
 //! Mitsuba's `to_world` places the light at its origin shining along its
-//! `+z`: the XML reader gives it as `position` and `look_at`.
+//! `+z`: the XML reader gives it as `position`, `look_at` and `up` (the
+//! images of the origin, of `+z` and of the direction `+y`).
 
-use std::path::Path;
+use crate::texture::Textures;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
@@ -28,15 +37,21 @@ use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
-use crate::math::{Aabb, Rgb, Vec3};
+use crate::math::{Aabb, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution;
+use crate::texture::Texture;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Spot {
     pub position: Vec3,
     /// Unit direction of the axis.
     pub axis: Vec3,
     pub intensity: Rgb,
+    /// The picture projected through the cone, and the light's local
+    /// `x` and `y` (unit, across the axis) that orient it.
+    projected: Option<(Texture, Vec3, Vec3)>,
+    /// tan(cutoff): the half side of the picture at distance 1 on the axis.
+    tan_cutoff: f32,
     cos_cutoff: f32,
     cos_beam: f32,
     cutoff: f32,
@@ -79,18 +94,33 @@ impl Spot {
                 "`cutoff_angle` · 3/4",
                 "degrees from the axis of full intensity, in [0, `cutoff_angle`]",
             ),
+            Param::new(
+                "texture",
+                Type::ColourTexture,
+                "none",
+                "a picture projected through the cone, multiplying `intensity`, each channel ≥ 0",
+            )
+            .range(Range::NonNegative),
+            Param::new(
+                "up",
+                Type::Vector,
+                "[0, 1, 0]",
+                "the light's local +y (made orthogonal to the axis), which orients `texture`",
+            )
+            .penumbra_only(),
         ],
     };
 
     /// How Mitsuba's `spot` maps onto it.
     pub const MITSUBA: Mitsuba = Mitsuba {
-        differences: "`texture` is refused",
+        differences:
+            "a `texture` that does not vary (a plain value) is taken, where Mitsuba refuses it",
         reads: &["to_world"],
         adapt: Some(Adapt::Node(adapt::spot)),
     };
 
     /// The light of a scene's parameters.
-    pub fn build(p: &Props) -> Result<Spot, Invalid> {
+    pub fn build(p: &Props, textures: &Textures) -> Result<Spot, Invalid> {
         let position = finite3(p, "position", [0.0; 3])?;
         let look_at = finite3(p, "look_at", (position + Vec3::Z).to_array())?;
         let axis = look_at - position;
@@ -106,7 +136,44 @@ impl Spot {
             ));
         }
         let beam = range(p, "beam_width", cutoff * 0.75, 0.0, cutoff)?;
-        Ok(Spot::new(position, axis, intensity, cutoff, beam))
+        let up = finite3(p, "up", [0.0, 1.0, 0.0])?;
+        let spot = Spot::new(position, axis, intensity, cutoff, beam);
+        if !p.has("texture") {
+            return Ok(spot);
+        }
+        let texture = textures.colour(p, "texture", Rgb::ONE)?;
+        if let Texture::MeshAttribute(_) = texture {
+            return Err(p.error(
+                "texture",
+                "a `mesh_attribute` has no mesh to read on a light",
+            ));
+        }
+        if texture.bounds().0.min_element() < 0.0 {
+            return Err(p.error("texture", "must not be negative"));
+        }
+        let y = up - spot.axis * up.dot(spot.axis);
+        if y.length_squared() <= 1e-12 * up.length_squared() || !y.is_finite() {
+            return Err(p.error("up", "must not be along the axis (nor zero)"));
+        }
+        Ok(spot.projecting(texture, y))
+    }
+
+    /// The spot projecting `texture` through its cone, `up` (across the
+    /// axis, any length > 0) its local `+y`.
+    pub fn projecting(mut self, texture: Texture, up: Vec3) -> Spot {
+        let y = (up - self.axis * up.dot(self.axis)).normalize();
+        let x = y.cross(self.axis);
+        self.projected = Some((texture, x, y));
+        self
+    }
+
+    /// Mitsuba's coordinates of the picture along the unit direction `d`
+    /// from the light (in the cone): the local direction's `x / z` and
+    /// `y / z` over tan(cutoff), from −1 to 1, shifted to [0, 1].
+    #[inline]
+    pub fn uv(&self, d: Vec3, x: Vec3, y: Vec3) -> Vec2 {
+        let z = d.dot(self.axis) * self.tan_cutoff;
+        Vec2::new(0.5 + 0.5 * d.dot(x) / z, 0.5 + 0.5 * d.dot(y) / z)
     }
 
     /// A spot light at `position` shining along `axis` (any length > 0),
@@ -117,6 +184,8 @@ impl Spot {
             position,
             axis: axis.normalize(),
             intensity,
+            projected: None,
+            tan_cutoff: cutoff.tan(),
             cos_cutoff: cutoff.cos(),
             cos_beam: beam.cos(),
             cutoff,
@@ -176,10 +245,14 @@ impl Spot {
         if falloff <= 0.0 {
             return None;
         }
+        let intensity = match &self.projected {
+            None => self.intensity,
+            Some((t, x, y)) => self.intensity * t.eval_uv(self.uv(-dir, *x, *y)),
+        };
         Some(LightSample {
             target: self.position,
             dir,
-            weight: self.intensity * (falloff / r2),
+            weight: intensity * (falloff / r2),
             pdf: 0.0,
         })
     }
@@ -188,8 +261,8 @@ impl Spot {
 impl EmitterPlugin for Spot {
     type Built = Spot;
 
-    fn build(p: &Props, _base_dir: &Path) -> Result<Spot, Invalid> {
-        Spot::build(p)
+    fn build(p: &Props, textures: &Textures) -> Result<Spot, Invalid> {
+        Spot::build(p, textures)
     }
 }
 
@@ -314,5 +387,104 @@ mod tests {
             let got = s.sample(p).map_or(0.0, |l| l.weight.g);
             assert!((got - want).abs() <= 1e-5 * want.max(1.0));
         }
+    }
+
+    /// A spot projecting a constant texture of 1 gives, bit for bit, the
+    /// weights of the spot without one.
+    #[test]
+    fn a_texture_of_one_changes_nothing() {
+        let plain = Spot::new(
+            Vec3::new(0.2, 1.5, -0.3),
+            Vec3::new(0.1, -1.0, 0.2),
+            Rgb::new(3.0, 2.0, 0.7),
+            35.0,
+            20.0,
+        );
+        let textured = plain
+            .clone()
+            .projecting(Texture::Constant(Rgb::ONE), Vec3::new(0.0, 0.0, 1.0));
+        let mut rng = Rng::new(9);
+        let mut lit = 0;
+        for _ in 0..500 {
+            let p = Vec3::new(
+                rng.range(-2.0, 2.0),
+                rng.range(-1.0, 0.5),
+                rng.range(-2.0, 2.0),
+            );
+            let (a, b) = (plain.sample(p), textured.sample(p));
+            assert_eq!(a.is_some(), b.is_some());
+            if let (Some(a), Some(b)) = (a, b) {
+                let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+                assert_eq!(bits(a.weight), bits(b.weight));
+                assert_eq!(a.dir, b.dir);
+                lit += 1;
+            }
+        }
+        assert!(lit > 50, "{lit} points lit");
+    }
+
+    /// The picture's orientation, by Mitsuba's formula written out: in the
+    /// light's frame (x, y across the axis, z along it) the direction
+    /// (x, y, z) reads (u, v) = (½ + ½ x / (z tan c), ½ + ½ y / (z tan c)),
+    /// texel column ⌊2u⌋ and row ⌊2v⌋ of a 2 × 2 picture (row 0 on top).
+    /// The spot shines down −y with its local +y along world +z, so its
+    /// local +x is y × z = (+z) × (−y) = +x.
+    #[test]
+    fn the_picture_is_oriented_as_mitsubas() {
+        use std::sync::Arc;
+
+        use crate::input::image::Image;
+        use crate::texture::bitmap::{Bitmap, Filter, Wrap};
+        use crate::texture::UvTransform;
+
+        // Texel (column, row): red (0, 0), green (1, 0), blue (0, 1), grey (1, 1).
+        let texels = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.5, 0.5],
+        ];
+        let image = Image {
+            width: 2,
+            height: 2,
+            channels: 3,
+            pixels: texels.iter().flatten().copied().collect(),
+        };
+        let picture = Texture::Bitmap(Bitmap::new(
+            Arc::new(image),
+            Filter::Nearest,
+            Wrap::Clamp,
+            UvTransform::IDENTITY,
+        ));
+        let cutoff = 30.0f32;
+        let spot =
+            Spot::new(Vec3::ZERO, -Vec3::Y, Rgb::ONE, cutoff, cutoff).projecting(picture, Vec3::Z);
+        let tan = cutoff.to_radians().tan();
+        // (point, its texel): x > 0 is column 1, z > 0 (local +y) row 1.
+        for (x, z, texel) in [
+            (-0.2, -0.2, 0),
+            (0.2, -0.2, 1),
+            (-0.2, 0.2, 2),
+            (0.2, 0.2, 3),
+        ] {
+            let p = Vec3::new(x, -1.0, z);
+            let ls = spot.sample(p).expect("in the cone");
+            let r2 = p.length_squared();
+            // Local (x, y, z) of the direction from the light = (x, z, 1).
+            let (u, v) = (0.5 + 0.5 * x / tan, 0.5 + 0.5 * z / tan);
+            let want = texels[(v * 2.0).floor() as usize * 2 + (u * 2.0).floor() as usize];
+            assert_eq!(want, texels[texel]);
+            let got = ls.weight * r2;
+            assert!(
+                (got - Rgb::from_array(want)).abs().max_element() < 1e-5,
+                "({x}, {z}): {got:?}"
+            );
+            let uv = spot.uv(p.normalize(), Vec3::X, Vec3::Z);
+            assert!((uv - Vec2::new(u, v)).length() < 1e-6, "{uv:?}");
+        }
+        // The picture's edge is the cone's: a point on the cutoff's circle
+        // along local +x reads u = 1.
+        let edge = Vec3::new(tan, -1.0, 0.0).normalize();
+        assert!((spot.uv(edge, Vec3::X, Vec3::Z).x - 1.0).abs() < 1e-5);
     }
 }

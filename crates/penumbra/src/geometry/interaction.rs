@@ -52,6 +52,10 @@ pub struct SurfaceInteraction {
     pub dpdv: Vec3,
     /// The primitive of the shape: a mesh's triangle; 0 for analytic shapes.
     pub prim: u32,
+    /// On a mesh's triangle, the barycentric weights `(b1, b2)` of its
+    /// second and third corners at the point (what a vertex attribute is
+    /// interpolated with); 0 on analytic shapes.
+    pub bary: Vec2,
     /// The object of the world that was hit.
     pub object: u32,
     /// The object's BSDF, an index into the scene's models.

@@ -15,7 +15,7 @@ use super::ray_sets::{custom_sets, each_set, lobe_sets, Budgets};
 use super::reuse::{self, WorldCache};
 use super::schemas;
 use super::settings::{self, Sets, Settings};
-use super::shapes::{self, MeshFiles};
+use super::shapes::{self, MeshAttributes, MeshFiles};
 use super::transform;
 use super::{camera, Scene};
 use crate::accel::world::{mesh_bvh, Object, World};
@@ -29,7 +29,8 @@ use crate::geometry::instance::Placement;
 use crate::geometry::{Mesh, Place, Surface, SurfaceError};
 use crate::math::{Mat4, Rgb, Vec3};
 use crate::sampling::{EffectSpec, PointTable};
-use crate::texture::Textures;
+use crate::texture::mesh_attribute::Bound;
+use crate::texture::{AttributeUse, Textures};
 
 pub use super::error::BuildError;
 pub use super::settings::MAX_PIXELS;
@@ -73,15 +74,21 @@ pub fn build(
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
     let (bsdfs, emission, names, lobes) = materials(root, &sets, &textures)?;
-    let key = worlds.as_ref().and_then(|_| reuse::key(root, ctx));
+    // A world whose meshes' attributes are read is built anew (its
+    // attributes are bound to its objects).
+    let attribute_uses = textures.attribute_uses();
+    let key = worlds
+        .as_ref()
+        .filter(|_| attribute_uses.is_empty())
+        .and_then(|_| reuse::key(root, ctx));
     // A world built under the same key came from these very objects, which
     // were valid then and are now: they need neither checking nor loading.
     let reused = key
         .as_deref()
         .zip(worlds.as_deref_mut())
         .and_then(|(k, w)| w.get(k));
-    let (mut objects, meshes) = match reused {
-        Some(_) => (Vec::new(), Vec::new()),
+    let (mut objects, meshes, attributes) = match reused {
+        Some(_) => (Vec::new(), Vec::new(), HashMap::new()),
         None => objects(root, ctx, &names)?,
     };
     let meshes: Arc<[Mesh]> = meshes.into();
@@ -118,7 +125,7 @@ pub fn build(
         match node.kind {
             Kind::Emitter => {
                 let p = Props::new(node);
-                let Some(emitter) = emitter::build(&node.plugin, &p, &ctx.base_dir) else {
+                let Some(emitter) = emitter::build(&node.plugin, &p, &textures) else {
                     let what = format!("`{}` is not a light a scene names by itself", node.plugin);
                     return Err(p.node_error(what).into());
                 };
@@ -165,6 +172,7 @@ pub fn build(
         }
         world
     });
+    bind_attributes(&attribute_uses, &world, &attributes)?;
     // A directional light's shadow rays leave the world's bounding sphere.
     let b = world.bounds();
     let (center, radius) = (0.5 * (b.min + b.max), 0.5 * (b.max - b.min).length());
@@ -191,6 +199,97 @@ pub fn build(
     })
 }
 
+/// The objects, the meshes and the attributes of the meshes read from
+/// files (by mesh).
+type Objects = (Vec<Object>, Vec<Mesh>, HashMap<usize, MeshAttributes>);
+
+/// Binds the mesh attributes the materials read (`uses`) to the world's
+/// objects, from the attributes of the meshes read from files; an object
+/// whose material reads an attribute its mesh does not have is refused at
+/// the texture, naming the file.
+fn bind_attributes(
+    uses: &[AttributeUse],
+    world: &World,
+    attributes: &HashMap<usize, MeshAttributes>,
+) -> Result<(), Invalid> {
+    let file_of = |o: &Object| {
+        let m = o.shape.as_mesh()?;
+        attributes.get(&(m.mesh as usize)).map(|a| (m.mesh, a))
+    };
+    for u in uses {
+        let t = &u.texture;
+        if t.bound.get().is_some() {
+            continue;
+        }
+        let objects = world
+            .objects
+            .iter()
+            .map(|o| {
+                let (mesh, (values, file)) = file_of(o)?;
+                let a = values.iter().find(|a| a.name == t.name)?;
+                Some((mesh, Arc::clone(a), file))
+            })
+            .collect::<Vec<_>>();
+        if let Some((_, _, file)) = objects
+            .iter()
+            .flatten()
+            .find(|(_, a, _)| a.values.iter().any(|v| !v.is_finite()))
+        {
+            let message = format!(
+                "the attribute `{}` of the mesh file {} holds values that are not finite",
+                t.name,
+                file.display()
+            );
+            return Err(Invalid::at(&u.origin, message));
+        }
+        let objects = objects
+            .into_iter()
+            .map(|o| o.map(|(mesh, a, _)| (mesh, a)))
+            .collect();
+        // Bound once: a texture of the scene read by several materials is
+        // one texture.
+        let _ = t.bound.set(Bound {
+            meshes: Arc::clone(&world.meshes),
+            objects,
+        });
+    }
+    for (i, o) in world.objects.iter().enumerate() {
+        for u in uses
+            .iter()
+            .filter(|u| u.material != 0 && u.material == o.material)
+        {
+            let has = u
+                .texture
+                .bound
+                .get()
+                .is_some_and(|b| b.objects.get(i).is_some_and(Option::is_some));
+            if has {
+                continue;
+            }
+            let name = &u.texture.name;
+            let message = match file_of(o) {
+                Some((_, (values, file))) => {
+                    let names: Vec<&str> = values.iter().map(|a| a.name.as_str()).collect();
+                    let list = if names.is_empty() {
+                        "it has none".to_string()
+                    } else {
+                        format!("it has: {}", names.join(", "))
+                    };
+                    format!(
+                        "the mesh file {} has no attribute `{name}` ({list})",
+                        file.display()
+                    )
+                }
+                None => format!(
+                    "an object of this material is not a mesh read from a file: it has no attribute `{name}`"
+                ),
+            };
+            return Err(Invalid::at(&u.origin, message));
+        }
+    }
+    Ok(())
+}
+
 /// The materials in the tree's order (index 0 is the default, the
 /// `thesis` material's defaults, for objects without one), what each
 /// emits, their indices by name, and the sets their lobes ask for (see
@@ -215,6 +314,7 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
     let mut lobes = vec![[None; MAX_LOBES]; nodes.len() + 1];
     for i in order {
         let node = nodes[i];
+        textures.building_material(i as u32 + 1);
         let defaults = bsdf::Defaults {
             reflection: sets.reflection,
             refraction: sets.refraction,
@@ -247,6 +347,7 @@ fn materials(root: &Node, sets: &Sets, textures: &Textures) -> Result<Materials,
         }
         built[i] = Some((model, (emits, at)));
     }
+    textures.building_material(0);
     let defaults = bsdf::Defaults {
         reflection: sets.reflection,
         refraction: sets.refraction,
@@ -355,7 +456,7 @@ fn objects(
     root: &Node,
     ctx: &BuildContext,
     names: &HashMap<String, u32>,
-) -> Result<(Vec<Object>, Vec<Mesh>), BuildError> {
+) -> Result<Objects, BuildError> {
     let (mut objects, mut meshes) = (Vec::new(), Vec::new());
     let mut files = MeshFiles::default();
     let mut groups: HashMap<&str, Vec<Object>> = HashMap::new();
@@ -423,7 +524,7 @@ fn objects(
         }));
         p.finish("instance")?;
     }
-    Ok((objects, meshes))
+    Ok((objects, meshes, files.attributes))
 }
 
 /// The shapes of a group (a `shapegroup` node's children) in the group's

@@ -16,26 +16,38 @@
 //! Read as one value (a roughness), a texel is its grey, or the luminance
 //! of its colour.
 //!
+//! `format` is Mitsuba's storage precision of the texels, which rounds
+//! their values: `auto` and `variant` keep them as read (32-bit floats; an
+//! 8-bit file's values are its bytes decoded), `float16` (or `fp16`) rounds
+//! each linear value to half precision (to nearest, ties to even; beyond
+//! 65504, infinite), `uint8` keeps 8 bits a channel: an 8- or 16-bit file
+//! decoded from sRGB is rounded to 8 bits in sRGB then decoded again (an
+//! 8-bit file's values do not change), raw or float values (OpenEXR, HDR)
+//! are clamped to [0, 1] and rounded to multiples of 1/255. Mitsuba's
+//! `auto` keeps a 16-bit file at half precision; here it keeps it at 32
+//! bits (a difference below half's precision, 2⁻¹¹ relative).
+//!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `filename` | file | **required** | the image, relative to the scene file |
 //! | `raw` | bool | `false` | take 8- and 16-bit values as linear (a roughness or normal map) instead of decoding sRGB |
 //! | `filter_type` | `bilinear`, `nearest` | `bilinear` | interpolation between texels |
 //! | `wrap_mode` | `repeat`, `mirror`, `clamp` | `repeat` | texel indices outside the image |
+//! | `format` | `auto`, `variant`, `float16`, `fp16`, `uint8` | `auto` | the precision texels are kept at (Mitsuba's storage format) |
 //! | `to_uv` | table | identity | a map of `(u, v)` before the lookup (see the [module docs](super)) |
 
-use std::path::Path;
 use std::sync::Arc;
 
 use super::common::{one, UvTransform, TO_UV};
-use super::TextureModel;
+use super::{TextureModel, Textures};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::input::image::{read_image, Encoding, Image};
+use crate::input::image::{read_image, srgb_to_linear, Encoding, Image};
 use crate::math::{Rgb, Vec2};
 
 const FILTERS: &[&str] = &["bilinear", "nearest"];
 const WRAPS: &[&str] = &["repeat", "mirror", "clamp"];
+const FORMATS: &[&str] = &["auto", "variant", "float16", "fp16", "uint8"];
 
 /// Its parameters.
 const SCHEMA: Schema = Schema {
@@ -69,9 +81,50 @@ const SCHEMA: Schema = Schema {
             "repeat",
             "texel indices outside the image: tiled, tiled mirrored, or the edge's",
         ),
+        Param::new(
+            "format",
+            Type::Choice("storage format", FORMATS),
+            "auto",
+            "the precision texels are kept at: as read (`auto`, `variant`), rounded to half floats (`float16`, `fp16`) or to 8 bits (`uint8`)",
+        ),
         TO_UV,
     ],
 };
+
+/// `x` rounded to the nearest half-precision float (ties to even), as
+/// a float: infinite beyond half's largest, 65504.
+pub fn round_to_half(x: f32) -> f32 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    // The exponent of `x`, no lower than half's smallest normal's (−14):
+    // half keeps 10 bits below the leading one, and subnormals share the
+    // quantum 2⁻²⁴.
+    let e = (((x.abs().to_bits() >> 23) & 0xff) as i32 - 127).max(-14);
+    let quantum = f32::from_bits(((e - 10 + 127) as u32) << 23);
+    let r = (x / quantum).round_ties_even() * quantum;
+    if r.abs() > 65504.0 {
+        f32::INFINITY.copysign(x)
+    } else {
+        r
+    }
+}
+
+/// `x` (linear) kept at 8 bits: rounded in sRGB and decoded again if
+/// `srgb`, else clamped to [0, 1] and rounded to a multiple of 1/255.
+pub fn round_to_8_bits(x: f32, srgb: bool) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    if srgb {
+        let s = if x <= 0.0031308 {
+            x * 12.92
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
+        srgb_to_linear((s * 255.0).round().clamp(0.0, 255.0) / 255.0)
+    } else {
+        (x * 255.0).round() / 255.0
+    }
+}
 
 /// How texels are interpolated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,11 +212,11 @@ impl TextureModel for Bitmap {
     const NAME: &'static str = "bitmap";
     const SCHEMA: Schema = SCHEMA;
     const MITSUBA: Mitsuba = Mitsuba::differs(
-        "`format` and `accel` are refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it)",
+        "`accel` is refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it); `format=\"auto\"` keeps a 16-bit file at 32 bits (Mitsuba: half precision)",
     );
 
     /// The texture of a scene's parameters, its file relative to `base_dir`.
-    fn build(p: &Props, base_dir: &Path) -> Result<Bitmap, Invalid> {
+    fn build(p: &Props, textures: &Textures) -> Result<Bitmap, Invalid> {
         let Some(file) = p.string("filename")? else {
             return Err(p.node_error("missing field `filename` (the image file)"));
         };
@@ -177,10 +230,25 @@ impl TextureModel for Bitmap {
             Some("clamp") => Wrap::Clamp,
             _ => Wrap::Repeat,
         };
+        let format = p
+            .choice("format", "storage format", FORMATS)?
+            .unwrap_or("auto");
         let to_uv = UvTransform::read(p)?;
         let encoding = if raw { Encoding::Raw } else { Encoding::Srgb };
-        let image = read_image(&base_dir.join(file), encoding)
-            .map_err(|e| p.error("filename", e.to_string()))?;
+        let path = textures.base_dir.join(file);
+        let mut image =
+            read_image(&path, encoding).map_err(|e| p.error("filename", e.to_string()))?;
+        match format {
+            "float16" | "fp16" => image.pixels.iter_mut().for_each(|x| *x = round_to_half(*x)),
+            "uint8" => {
+                let float = path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                    e.eq_ignore_ascii_case("exr") || e.eq_ignore_ascii_case("hdr")
+                });
+                let srgb = !raw && !float;
+                image.pixels.iter_mut().for_each(|x| *x = round_to_8_bits(*x, srgb));
+            }
+            _ => {}
+        }
         if image.width == 0 || image.height == 0 {
             return Err(p.error("filename", "the image has no pixels"));
         }
@@ -249,8 +317,9 @@ impl TextureModel for Bitmap {
 
 #[cfg(test)]
 mod tests {
+    use std::path::Path;
+
     use super::*;
-    use crate::input::image::srgb_to_linear;
 
     /// A 3 × 2 image of greys: row 0 is 0, 1, 2; row 1 is 10, 11, 12.
     fn image() -> Arc<Image> {
@@ -455,5 +524,81 @@ mod tests {
                 < 1e-6
         );
         assert_eq!(build(true).eval_uv(Vec2::new(0.25, 0.5)).r, 0.0);
+    }
+
+    /// Half precision by hand: 10 bits below the leading one, ties to even,
+    /// subnormals in steps of 2⁻²⁴, infinite past 65504 (65520 and up).
+    #[test]
+    fn half_rounding_by_hand() {
+        for (x, want) in [
+            (1.0f32, 1.0f32),
+            (1.0 / 3.0, 0.333_251_95),
+            (1.0 + 1.0 / 2048.0, 1.0),
+            (1.0 + 3.0 / 2048.0, 1.0 + 2.0 / 1024.0),
+            (-2.5e-3, -0.002_500_534),
+            (65519.0, 65504.0),
+            (1e-8, 0.0),
+            (3e-8, 2f32.powi(-24)),
+            (1e-6, 17.0 * 2f32.powi(-24)),
+            (0.0, 0.0),
+        ] {
+            assert_eq!(round_to_half(x), want, "{x}");
+        }
+        assert_eq!(round_to_half(65520.0), f32::INFINITY);
+        assert_eq!(round_to_half(-1e6), f32::NEG_INFINITY);
+        // The rounding is within half a step: 2⁻¹¹ relative over the
+        // normal range.
+        let mut rng = crate::sampling::Rng::new(2);
+        for _ in 0..1000 {
+            let x = rng.range(6.2e-5, 60000.0);
+            assert!((round_to_half(x) - x).abs() <= x * 2f32.powi(-11), "{x}");
+        }
+    }
+
+    /// `format`: `uint8` and `variant` leave an 8-bit file's values as they
+    /// are, bit for bit; `float16` rounds each to half precision; `uint8`
+    /// of raw values rounds to multiples of 1/255.
+    #[test]
+    fn format_rounds_the_texels_as_mitsubas_storage() {
+        let dir = tempfile::tempdir().unwrap();
+        let img = image::RgbImage::from_fn(3, 2, |x, y| {
+            image::Rgb([37 * x as u8 + 5, 91 * y as u8 + 1, 200 + x as u8])
+        });
+        img.save(dir.path().join("t.png")).unwrap();
+        let build = |keys: &str| {
+            let text = format!(
+                "[textures.t]\ntype = \"bitmap\"\nfilename = \"t.png\"\nfilter_type = \"nearest\"\n{keys}"
+            );
+            let root = crate::description::from_toml(&text, Path::new("s.toml")).unwrap();
+            let t = crate::texture::Textures::of_scene(&root, dir.path()).unwrap();
+            match t.get("t").unwrap() {
+                crate::texture::Texture::Bitmap(b) => b.image.pixels.clone(),
+                t => panic!("{t:?}"),
+            }
+        };
+        let bits = |xs: Vec<f32>| xs.into_iter().map(f32::to_bits).collect::<Vec<_>>();
+        let auto = build("");
+        assert_eq!(bits(build("format = \"uint8\"")), bits(auto.clone()));
+        assert_eq!(bits(build("format = \"variant\"")), bits(auto.clone()));
+        let half = build("format = \"float16\"");
+        assert_eq!(bits(build("format = \"fp16\"")), bits(half.clone()));
+        assert_ne!(bits(half.clone()), bits(auto.clone()));
+        for (h, a) in half.iter().zip(&auto) {
+            assert_eq!(*h, round_to_half(*a));
+        }
+        let raw = build("raw = true\nformat = \"uint8\"");
+        assert_eq!(bits(raw), bits(build("raw = true")));
+        assert_eq!(round_to_8_bits(0.5, false), 128.0 / 255.0);
+        assert_eq!(round_to_8_bits(1.7, false), 1.0);
+        assert_eq!(round_to_8_bits(-0.2, false), 0.0);
+        // A 16-bit sRGB value of 0.502 rounds to byte 128 (0.502 · 255 = 128.01).
+        assert_eq!(
+            round_to_8_bits(srgb_to_linear(0.502), true),
+            srgb_to_linear(128.0 / 255.0)
+        );
+        let text = "[textures.t]\ntype = \"bitmap\"\nfilename = \"t.png\"\nformat = \"int4\"\n";
+        let root = crate::description::from_toml(text, Path::new("s.toml")).unwrap();
+        let e = crate::texture::Textures::of_scene(&root, dir.path()).unwrap_err().to_string();
+        assert!(e.contains("s.toml:4:10: textures.t.format"), "{e}");
     }
 }

@@ -1,6 +1,5 @@
 //! What the textures share: the transform of surface coordinates
-//! (`to_uv`), a colour read as one value, and the reading of a colour
-//! parameter.
+//! (`to_uv`) and a colour read as one value.
 
 use crate::description::{Invalid, Param, Props, Type, Value};
 use crate::math::{Rgb, Vec2};
@@ -121,16 +120,4 @@ impl UvTransform {
         t.finish("to_uv")?;
         Ok(out)
     }
-}
-
-/// A colour of a texture's parameters: 3 numbers, finite, none negative.
-pub(crate) fn read_colour(p: &Props, name: &str, default: Rgb) -> Result<Rgb, Invalid> {
-    let Some(xs) = p.numbers::<3>(name)? else {
-        return Ok(default);
-    };
-    let c = Rgb::from_array(xs);
-    if !c.is_finite() || c.min_element() < 0.0 {
-        return Err(p.error(name, format!("must be finite and not negative, got {xs:?}")));
-    }
-    Ok(c)
 }

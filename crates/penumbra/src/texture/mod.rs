@@ -21,8 +21,10 @@
 //!
 //! | texture | what |
 //! |---|---|
-//! | [`checkerboard`](checkerboard::Checkerboard) | two colours alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
+//! | [`checkerboard`](checkerboard::Checkerboard) | two colours or textures alternating in squares of side ½ in `(u, v)` (Mitsuba 3's `checkerboard`) |
 //! | [`bitmap`](bitmap::Bitmap) | an image file (PNG, JPEG, OpenEXR, Radiance HDR), sRGB-decoded or raw, nearest or bilinear, repeated, mirrored or clamped (Mitsuba 3's `bitmap`) |
+//! | [`mesh_attribute`](mesh_attribute::MeshAttribute) | an attribute of the mesh hit (a PLY file's vertex colours, other vertex or face values), interpolated over its triangles (Mitsuba 3's `mesh_attribute`) |
+//! | [`rawconstant`](rawconstant::RawConstant) | one number or 3 numbers everywhere, taken as they are: no colour check, negative values allowed (Mitsuba 3's `rawconstant`) |
 //!
 //! Every texture takes `to_uv`, a 2D affine map applied to `(u, v)` before
 //! the lookup ([`UvTransform`]), written as a table applied as scale, then
@@ -37,6 +39,7 @@
 
 mod common;
 
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -59,9 +62,9 @@ pub trait TextureModel: Sized {
     /// How Mitsuba's plugin of its name maps onto it.
     const MITSUBA: Mitsuba = Mitsuba::SAME;
 
-    /// The texture of a scene's parameters, its files relative to
-    /// `base_dir`.
-    fn build(p: &Props, base_dir: &Path) -> Result<Self, Invalid>;
+    /// The texture of a scene's parameters: its files relative to
+    /// `textures.base_dir`, the textures it holds read through `textures`.
+    fn build(p: &Props, textures: &Textures) -> Result<Self, Invalid>;
 
     /// The colour at `uv`.
     fn eval(&self, uv: Vec2) -> Rgb;
@@ -131,11 +134,11 @@ macro_rules! textures {
             fn build_model(
                 plugin: &str,
                 p: &Props,
-                base_dir: &Path,
+                textures: &Textures,
             ) -> Option<Result<Texture, Invalid>> {
                 match plugin {
                     $(<$module::$variant as TextureModel>::NAME => {
-                        Some(<$module::$variant>::build(p, base_dir).map(Texture::$variant))
+                        Some(<$module::$variant>::build(p, textures).map(Texture::$variant))
                     })*
                     _ => None,
                 }
@@ -213,6 +216,8 @@ macro_rules! textures {
 textures! {
     checkerboard::Checkerboard,
     bitmap::Bitmap,
+    rawconstant::RawConstant,
+    mesh_attribute::MeshAttribute,
 }
 
 impl Texture {
@@ -221,6 +226,7 @@ impl Texture {
     pub fn eval(&self, si: &SurfaceInteraction) -> Rgb {
         match self {
             Texture::Constant(c) => *c,
+            Texture::MeshAttribute(t) => t.eval_at(si),
             _ => self.eval_uv(si.uv),
         }
     }
@@ -230,6 +236,7 @@ impl Texture {
     pub fn eval_1(&self, si: &SurfaceInteraction) -> f32 {
         match self {
             Texture::Constant(c) => one(*c),
+            Texture::MeshAttribute(t) => t.eval_1_at(si),
             _ => self.eval_1_uv(si.uv),
         }
     }
@@ -258,6 +265,20 @@ pub struct Textures {
     /// The folder relative file names start from.
     pub base_dir: PathBuf,
     named: HashMap<String, Texture>,
+    /// The material being built (its index among the scene's), 0 outside
+    /// one.
+    material: Cell<u32>,
+    /// The mesh attributes the materials read, to bind to the meshes.
+    attributes: RefCell<Vec<AttributeUse>>,
+}
+
+/// A material's reading of a mesh attribute: which material, the texture
+/// and where it is written.
+#[derive(Clone, Debug)]
+pub struct AttributeUse {
+    pub material: u32,
+    pub texture: mesh_attribute::MeshAttribute,
+    pub origin: Origin,
 }
 
 impl Textures {
@@ -265,8 +286,29 @@ impl Textures {
     pub fn new(base_dir: &Path) -> Textures {
         Textures {
             base_dir: base_dir.to_path_buf(),
-            named: HashMap::new(),
+            ..Textures::default()
         }
+    }
+
+    /// Textures read from here on are the material `index`'s.
+    pub fn building_material(&self, index: u32) {
+        self.material.set(index);
+    }
+
+    /// Notes that the material being built reads the mesh attribute `t`
+    /// (written at `origin`).
+    fn used(&self, t: &mesh_attribute::MeshAttribute, origin: &Origin) {
+        self.attributes.borrow_mut().push(AttributeUse {
+            material: self.material.get(),
+            texture: t.clone(),
+            origin: origin.clone(),
+        });
+    }
+
+    /// The mesh attributes read by the materials (and by textures declared
+    /// in the scene, material 0), in the order they were read.
+    pub fn attribute_uses(&self) -> Vec<AttributeUse> {
+        self.attributes.borrow().clone()
     }
 
     /// Builds the scene's named textures: the children of `root` of kind
@@ -316,8 +358,8 @@ impl Textures {
             .collect();
         check(&node, schema, &others)?;
         let p = Props::new(&node);
-        let texture = Texture::build_model(plugin, &p, &self.base_dir)
-            .expect("every schema has a builder")?;
+        let texture =
+            Texture::build_model(plugin, &p, self).expect("every schema has a builder")?;
         p.finish(schema.what)?;
         Ok(texture)
     }
@@ -329,7 +371,12 @@ impl Textures {
     ) -> Result<Option<Texture>, Invalid> {
         match &v.value {
             Value::String(name) => match self.named.get(name) {
-                Some(t) => Ok(Some(t.clone())),
+                Some(t) => {
+                    if let Texture::MeshAttribute(m) = t {
+                        self.used(m, &v.origin);
+                    }
+                    Ok(Some(t.clone()))
+                }
                 None => {
                     let mut names: Vec<&str> = self.named.keys().map(String::as_str).collect();
                     names.sort_unstable();

@@ -38,8 +38,8 @@ fn a_parameter_is_a_colour_a_table_or_a_name() {
     ))
     .unwrap();
     let want = Texture::Checkerboard(Checkerboard {
-        color0: Rgb::ONE,
-        color1: Rgb::splat(0.2),
+        color0: Box::new(Texture::Constant(Rgb::ONE)),
+        color1: Box::new(Texture::Constant(Rgb::splat(0.2))),
         to_uv: UvTransform::IDENTITY,
     });
     assert_eq!(inline, want);
@@ -113,7 +113,7 @@ fn bad_textures_are_refused_at_their_place() {
         "[textures.a]\ntype = \"checkerboard\"\ncolor1 = 3\n{m}reflectance = \"a\""
     ));
     assert!(
-        e.starts_with("t.toml:3:10: textures.a.color1: invalid type: integer `3`, expected an array of 3 numbers"),
+        e.starts_with("t.toml:3:10: textures.a.color1: invalid type: integer `3`, expected 3 numbers, a texture table or a texture's name"),
         "{e}"
     );
     let e = err("[textures.a]\ncolor1 = [1, 1, 1]\n");
@@ -130,7 +130,7 @@ fn bad_textures_are_refused_at_their_place() {
     );
     let e = err("[textures.a]\ntype = \"bricks\"\n");
     assert!(
-        e.starts_with("t.toml:2:8: textures.a.type: unknown texture `bricks`; valid choices are: checkerboard, bitmap"),
+        e.starts_with("t.toml:2:8: textures.a.type: unknown texture `bricks`; valid choices are: checkerboard, bitmap, rawconstant"),
         "{e}"
     );
 }
@@ -163,10 +163,21 @@ fn a_batch_gives_the_bits_of_each_lane() {
     let textures = [
         Texture::Constant(Rgb::new(0.1, 0.4, 0.2)),
         Texture::Checkerboard(Checkerboard {
-            color0: Rgb::new(0.9, 0.1, 0.3),
-            color1: Rgb::splat(0.2),
+            color0: Box::new(Texture::Constant(Rgb::new(0.9, 0.1, 0.3))),
+            color1: Box::new(Texture::Checkerboard(Checkerboard {
+                color0: Box::new(Texture::Constant(Rgb::splat(0.2))),
+                color1: Box::new(Texture::RawConstant(
+                    super::rawconstant::RawConstant::number(-0.5),
+                )),
+                to_uv: UvTransform {
+                    rows: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0]],
+                },
+            })),
             to_uv,
         }),
+        Texture::RawConstant(super::rawconstant::RawConstant::rgb(Rgb::new(
+            2.0, -1.0, 0.5,
+        ))),
         Texture::Bitmap(Bitmap::new(
             Arc::new(image.clone()),
             Filter::Bilinear,
@@ -204,4 +215,95 @@ fn a_batch_gives_the_bits_of_each_lane() {
     }
     // Not vacuous: the lanes differ.
     assert!(colours.windows(2).any(|w| w[0] != w[1]));
+}
+
+/// `rawconstant` keeps its value as written, one number or 3, negative
+/// and above 1 included; read as one value, one number is itself.
+#[test]
+fn a_raw_constant_is_its_value() {
+    let m = "[materials.m]\ntype = \"diffuse\"\n";
+    let one_number = colour(&format!(
+        "{m}reflectance = {{ type = \"rawconstant\", value = -2.5 }}"
+    ))
+    .unwrap();
+    assert_eq!(one_number.eval_uv(Vec2::new(0.3, 7.0)), Rgb::splat(-2.5));
+    assert_eq!(one_number.eval_1_uv(Vec2::ZERO), -2.5);
+    let three = colour(&format!(
+        "{m}reflectance = {{ type = \"rawconstant\", value = [0.25, 3, -1] }}"
+    ))
+    .unwrap();
+    assert_eq!(
+        three.eval_uv(Vec2::new(0.3, 7.0)),
+        Rgb::new(0.25, 3.0, -1.0)
+    );
+    assert_eq!(
+        three.bounds(),
+        (Rgb::new(0.25, 3.0, -1.0), Rgb::new(0.25, 3.0, -1.0))
+    );
+    for (keys, want) in [
+        ("{ type = \"rawconstant\" }", "missing field `value`"),
+        (
+            "{ type = \"rawconstant\", value = [1, 2] }",
+            "expected 3 numbers, got 2",
+        ),
+        (
+            "{ type = \"rawconstant\", value = nan }",
+            "expected finite numbers",
+        ),
+    ] {
+        let e = err(&format!("{m}reflectance = {keys}"));
+        assert!(e.contains(want), "{keys}:\n{e}");
+    }
+}
+
+/// A checkerboard of two constant textures is, bit for bit, the
+/// checkerboard of the two colours; a texture as a colour is looked up at
+/// the surface's own (u, v), not the checkerboard's mapped ones.
+#[test]
+fn a_checkerboard_takes_textures_as_its_colours() {
+    let m = "[materials.m]\ntype = \"diffuse\"\n";
+    let plain = colour(&format!(
+        "{m}reflectance = {{ type = \"checkerboard\", color0 = [0.1, 0.7, 0.3], color1 = [0.9, 0.2, 0.05] }}"
+    ))
+    .unwrap();
+    let textured = colour(&format!(
+        "[textures.a]\ntype = \"rawconstant\"\nvalue = [0.1, 0.7, 0.3]\n{m}reflectance = {{ type = \"checkerboard\", color0 = \"a\", color1 = {{ type = \"rawconstant\", value = [0.9, 0.2, 0.05] }} }}"
+    ))
+    .unwrap();
+    let mut rng = crate::sampling::Rng::new(11);
+    for _ in 0..200 {
+        let uv = Vec2::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+        let bits = |c: Rgb| c.to_array().map(f32::to_bits);
+        assert_eq!(bits(plain.eval_uv(uv)), bits(textured.eval_uv(uv)));
+        assert_eq!(
+            plain.eval_1_uv(uv).to_bits(),
+            textured.eval_1_uv(uv).to_bits()
+        );
+    }
+    assert_eq!(plain.bounds(), textured.bounds());
+    // An inner board of squares 1/4 (scaled twice) inside the outer board's
+    // squares of 1/2 mapped by a scale of 1/2 (squares of 1): the inner one
+    // reads the unmapped (u, v).
+    let nested = colour(&format!(
+        "{m}reflectance = {{ type = \"checkerboard\", to_uv = {{ scale = 0.5 }}, color0 = {{ type = \"checkerboard\", color0 = [1, 0, 0], color1 = [0, 1, 0], to_uv = {{ scale = 2 }} }}, color1 = [0, 0, 1] }}"
+    ))
+    .unwrap();
+    // (0.1, 0.1): outer (0.05, 0.05), color0; inner (0.2, 0.2): red.
+    assert_eq!(nested.eval_uv(Vec2::new(0.1, 0.1)), Rgb::new(1.0, 0.0, 0.0));
+    // (0.35, 0.1): outer (0.175, 0.05), color0; inner (0.7, 0.2): green.
+    assert_eq!(
+        nested.eval_uv(Vec2::new(0.35, 0.1)),
+        Rgb::new(0.0, 1.0, 0.0)
+    );
+    // (1.1, 0.1): outer (0.55, 0.05), color1: blue.
+    assert_eq!(nested.eval_uv(Vec2::new(1.1, 0.1)), Rgb::new(0.0, 0.0, 1.0));
+    assert_eq!(nested.bounds(), (Rgb::ZERO, Rgb::ONE));
+    // A negative constant as a colour is refused where it is written.
+    let e = err(&format!(
+        "{m}reflectance = {{ type = \"checkerboard\", color0 = [0, -1, 0] }}"
+    ));
+    assert!(
+        e.contains("reflectance.color0: must not be negative"),
+        "{e}"
+    );
 }

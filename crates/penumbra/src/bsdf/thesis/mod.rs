@@ -446,6 +446,7 @@ pub(crate) mod tests {
             dpdu: Vec3::X,
             dpdv: Vec3::Z,
             prim: 0,
+            bary: crate::math::Vec2::ZERO,
             object: 0,
             material: 0,
             emitter: None,

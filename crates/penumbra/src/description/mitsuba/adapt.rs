@@ -110,13 +110,22 @@ pub fn point(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneE
 }
 
 /// Mitsuba's `spot`: `to_world`'s images of the origin and of +z as its
-/// `position` and `look_at`.
+/// `position` and `look_at`, and of the direction +y as its `up` (which
+/// orients its `texture`).
 pub fn spot(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
     if let Some((m, at)) = get_transform(obj, "to_world")? {
         let position = transform::point(&m, [0.0; 3]);
         let look_at = transform::point(&m, [0.0, 0.0, 1.0]);
+        let up = transform::vector(&m, [0.0, 1.0, 0.0]);
         set(node, base, "position", at, |p, at| vec3(position, p, at));
         set(node, base, "look_at", at, |p, at| vec3(look_at, p, at));
+        if obj
+            .children
+            .iter()
+            .any(|(name, _)| name.as_deref() == Some("texture"))
+        {
+            set(node, base, "up", at, |p, at| vec3(up, p, at));
+        }
     }
     Ok(())
 }

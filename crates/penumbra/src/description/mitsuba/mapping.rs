@@ -190,7 +190,22 @@ impl Out<'_> {
             Type::Table(keys) => {
                 get_transform(obj, key)?.map(|(m, a)| (transform_table(&m, keys, path, a), at(a)))
             }
-            Type::Numbers(_) | Type::Scale | Type::Scale2 | Type::Matrix3 | Type::Material => {
+            // One number or 3 (`rawconstant`'s `value`): a float, or a
+            // point or vector, as Mitsuba takes it.
+            Type::Scale => match obj.prop(key).map(|p| &p.value) {
+                None => None,
+                Some(PropValue::Vector(_)) => {
+                    get_vector(obj, key)?.map(|(v, a)| (vec3(v, path, a), at(a)))
+                }
+                Some(PropValue::Int(_) | PropValue::Float(_)) => {
+                    get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
+                }
+                Some(_) => {
+                    let p = obj.prop(key).expect("given");
+                    return Err(type_error(p, "a float or a 3D vector"));
+                }
+            },
+            Type::Numbers(_) | Type::Scale2 | Type::Matrix3 | Type::Material => {
                 match obj.prop(key) {
                     None => None,
                     Some(p) => {

@@ -4,7 +4,9 @@
 //! `[textures.ID]` in `<scene>`). A nested `<texture name="x">` (or `<ref
 //! name="x">` to one) sets the texturable parameter Mitsuba calls `x`;
 //! nested `<bsdf>`s (or `<ref>`s) the parameters naming materials, in the
-//! schema's order. Anything else is an error at its tag.
+//! schema's order; a texture holding textures (a checkerboard's colours) and
+//! an emitter taking one (a spot's `texture`) read them the same way.
+//! Anything else is an error at its tag.
 
 use std::rc::Rc;
 
@@ -261,24 +263,12 @@ impl Out<'_> {
                 ));
             }
         }
-        if let Some((_, c)) = obj.children.first() {
-            let at = match c {
-                Child::Object(o) => &o.at,
-                Child::Ref { at, .. } => at,
-            };
-            return Err(error_at(
-                at,
-                format!(
-                    "an object inside the texture `{}` is not supported (its colours are plain values)",
-                    clip(&obj.plugin)
-                ),
-            ));
-        }
         let mut table = Node::new(Kind::Texture, "", at.origin(path.clone()));
         set(&mut table, &path, "type", &obj.plugin_at, |p, at| {
             located(Value::String(schema.plugin.to_string()), p, at)
         });
         self.params(obj, schema, &mut table, &path)?;
+        self.texture_children(obj, schema, &mut table, &path)?;
         required(obj, schema, &table)?;
         Ok(located(Value::Table(table.props), path, at))
     }

@@ -9,6 +9,7 @@
 use std::collections::HashSet;
 
 use super::mapper::{children, get_color, get_transform, located, matrix, render, set, vec3, Out};
+use super::mapping::plugin_of;
 use super::objects::{error_at, Child, Ids, Object, Place};
 use super::parse::{clip, Reader};
 use super::registry::Registry;
@@ -253,16 +254,13 @@ impl Out<'_> {
                 ))
             }
             _ => {
+                let schema = plugin_of((self.registry)(Kind::Emitter), obj, "emitter")?.schema;
+                if !schema.params.iter().any(|p| p.texturable()) {
+                    self.no_children(obj)?;
+                }
                 let base = KeyPath::root().key("lights").index(self.lights.len());
                 let mut node = self.mapped(Kind::Emitter, obj, base.clone())?;
-                // A nested texture: the texturable parameter of its name.
-                let plugin = (self.registry)(Kind::Emitter)
-                    .iter()
-                    .find(|p| p.schema.plugin == node.plugin)
-                    .map(|p| p.schema);
-                if let Some(schema) = plugin {
-                    self.texture_children(obj, schema, &mut node, &base)?;
-                }
+                self.texture_children(obj, schema, &mut node, &base)?;
                 self.lights.push(node);
             }
         }

@@ -17,6 +17,24 @@ pub struct MeshData {
     /// every face corner); otherwise None.
     pub uvs: Option<Vec<[f32; 2]>>,
     pub triangles: Vec<[u32; 3]>,
+    /// Values beside the geometry: a PLY file's vertex and face attributes
+    /// (vertex colours and others), named and grouped as Mitsuba names and
+    /// groups them.
+    pub attributes: Vec<MeshAttribute>,
+}
+
+/// A mesh attribute (Mitsuba's): `dim` values per vertex, or per triangle
+/// for a face's (each triangle of a polygon's fan with the polygon's).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttribute {
+    /// `vertex_NAME` or `face_NAME`: `vertex_color` for a PLY file's
+    /// `r, g, b` or `red, green, blue`.
+    pub name: String,
+    /// Per triangle, else per vertex.
+    pub per_face: bool,
+    /// Values per vertex or triangle: 1, 3, or 4 (a colour with alpha).
+    pub dim: usize,
+    pub values: Vec<f32>,
 }
 
 /// Where in a file a problem was found, so users can open the file at that spot.

@@ -16,7 +16,7 @@ mod text;
 
 use std::path::Path;
 
-pub use error::{Location, MeshData, MeshError};
+pub use error::{Location, MeshAttribute, MeshData, MeshError};
 
 /// Reads a triangle mesh, choosing the format by extension because neither PLY nor
 /// OBJ content is reliably recognisable from a few leading bytes (OBJ has no magic).

@@ -440,6 +440,7 @@ impl<'p> Builder<'p> {
             normals: None,
             uvs: None,
             triangles,
+            attributes: Vec::new(),
         }
     }
 
@@ -486,6 +487,7 @@ impl<'p> Builder<'p> {
             normals: kept.normals.then_some(normals),
             uvs: kept.uvs.then_some(uvs),
             triangles,
+            attributes: Vec::new(),
         })
     }
 

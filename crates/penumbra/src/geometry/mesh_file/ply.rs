@@ -6,8 +6,16 @@
 //! and `texture_s`/`texture_t` (names as written, lower case; numbers of any
 //! type, not lists). A vertex with only one property of a pair has no texture
 //! coordinates from it. The `face` element's `vertex_indices` (or `vertex_index`)
-//! list gives polygons, fan-triangulated. Other elements and properties are
-//! skipped.
+//! list gives polygons, fan-triangulated. Other elements are skipped.
+//!
+//! Other number properties of `vertex` and `face` are read as Mitsuba reads
+//! them, as mesh attributes ([`MeshAttribute`]): `r, g, b` (or `red, green,
+//! blue`), with `a` (or `alpha`) if there, as `vertex_color` / `face_color`;
+//! consecutive properties `P_x, P_y, P_z` (or `P_r, P_g, P_b`, `P_0, P_1,
+//! P_2`, `P_1, P_2, P_3`) as `vertex_P` (`vertex_P_color` for `r, g, b`),
+//! one such property alone as a 1-value attribute; other properties are
+//! skipped. Integer values are taken as Mitsuba takes them: over their
+//! type's largest value (255 for `uchar`), then decoded from sRGB.
 //!
 //! Files come from scanners, converters and the internet, so every count and index in
 //! them is treated as untrusted: allocations are bounded by the bytes actually present
@@ -21,7 +29,7 @@ use std::path::Path;
 
 use self::header::{parse_header, Element, Format, Header, PropKind, Scalar};
 use self::source::{AsciiSource, BinarySource, Fallible, Source};
-use super::error::{Location, MeshData, MeshError};
+use super::error::{Location, MeshAttribute, MeshData, MeshError};
 
 /// Polygons with more corners than this are taken as a corrupt list count. Real files
 /// stay far below it, while a garbage count of billions would otherwise be read as one
@@ -65,9 +73,19 @@ enum Action {
     Position(usize, Scalar),
     Normal(usize, Scalar),
     Uv(usize, Scalar),
-    Corners { count: Scalar, item: Scalar },
+    Corners {
+        count: Scalar,
+        item: Scalar,
+    },
+    /// A value of an attribute: its place among the record's attribute
+    /// values.
+    Attribute(usize, Scalar),
     Skip(PropKind),
 }
+
+/// The attributes an element's properties make: each its name and its
+/// number of values, in the order of [`Action::Attribute`]'s places.
+type Groups = Vec<(String, usize)>;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 enum Plan {
@@ -75,10 +93,12 @@ enum Plan {
         actions: Vec<Action>,
         normals: bool,
         uvs: bool,
+        groups: Groups,
     },
     Faces {
         actions: Vec<Action>,
         vertex_count: u64,
+        groups: Groups,
     },
     Skip,
 }
@@ -160,10 +180,16 @@ fn vertex_plan(element: &Element, path: &Path) -> Result<Plan, MeshError> {
         normals &= scalar_named(element, axis, path)?.is_some();
     }
     let uv = uv_names(element);
+    let reserved = |name: &str| {
+        ["x", "y", "z", "nx", "ny", "nz", "u", "v"].contains(&name)
+            || uv.is_some_and(|(u, v)| name == u || name == v)
+    };
+    let (groups, places) = attribute_groups(element, reserved);
     let actions = element
         .props
         .iter()
-        .map(|p| match (p.name.as_str(), p.kind) {
+        .zip(&places)
+        .map(|(p, place)| match (p.name.as_str(), p.kind) {
             ("x", PropKind::Scalar(t)) => Action::Position(0, t),
             ("y", PropKind::Scalar(t)) => Action::Position(1, t),
             ("z", PropKind::Scalar(t)) => Action::Position(2, t),
@@ -172,6 +198,7 @@ fn vertex_plan(element: &Element, path: &Path) -> Result<Plan, MeshError> {
             ("nz", PropKind::Scalar(t)) if normals => Action::Normal(2, t),
             (name, PropKind::Scalar(t)) if uv.is_some_and(|(u, _)| u == name) => Action::Uv(0, t),
             (name, PropKind::Scalar(t)) if uv.is_some_and(|(_, v)| v == name) => Action::Uv(1, t),
+            (_, PropKind::Scalar(t)) if place.is_some() => Action::Attribute(place.unwrap_or(0), t),
             (_, kind) => Action::Skip(kind),
         })
         .collect();
@@ -179,7 +206,110 @@ fn vertex_plan(element: &Element, path: &Path) -> Result<Plan, MeshError> {
         actions,
         normals,
         uvs: uv.is_some(),
+        groups: named("vertex_", groups),
     })
+}
+
+/// Mitsuba's names: `vertex_NAME`, `face_NAME`.
+fn named(prefix: &str, groups: Groups) -> Groups {
+    groups
+        .into_iter()
+        .map(|(name, dim)| (format!("{prefix}{name}"), dim))
+        .collect()
+}
+
+/// Groups the number properties of `element` (but the `reserved` ones) into
+/// attributes as Mitsuba's PLY reader does (see the [module docs](self)):
+/// the attributes (name without `vertex_`/`face_`, values) and, for each
+/// property, its place among a record's attribute values, if it has one.
+fn attribute_groups(
+    element: &Element,
+    reserved: impl Fn(&str) -> bool,
+) -> (Groups, Vec<Option<usize>>) {
+    let props = &element.props;
+    let number = |i: usize| matches!(props[i].kind, PropKind::Scalar(_));
+    let find = |name: &str| (0..props.len()).find(|&i| number(i) && props[i].name == name);
+    let mut members: Vec<(String, Vec<usize>)> = Vec::new();
+    for names in [["r", "g", "b", "a"], ["red", "green", "blue", "alpha"]] {
+        if let (Some(r), Some(g), Some(b)) = (find(names[0]), find(names[1]), find(names[2])) {
+            let mut of = vec![r, g, b];
+            of.extend(find(names[3]));
+            members.push(("color".to_string(), of));
+            break;
+        }
+    }
+    // The colour's properties, and the names kept for it.
+    let colour: Vec<usize> = members.iter().flat_map(|(_, of)| of.clone()).collect();
+    let taken = |i: usize| {
+        !number(i)
+            || reserved(&props[i].name)
+            || ["r", "g", "b", "a"].contains(&props[i].name.as_str())
+            || colour.contains(&i)
+    };
+    // The postfixes of the components, by kind (x y z w, r g b a, 0 1 2 3,
+    // 1 2 3 4): component k of kind j is `POSTFIXES[k][j]`.
+    const POSTFIXES: [&[u8; 4]; 4] = [b"xr01", b"yg12", b"zb23", b"wa34"];
+    let mut seen: Vec<String> = Vec::new();
+    let mut current: Option<(String, usize, Vec<usize>)> = None;
+    let flush = |current: &mut Option<(String, usize, Vec<usize>)>,
+                 members: &mut Vec<(String, Vec<usize>)>,
+                 seen: &mut Vec<String>| {
+        if let Some((prefix, kind, of)) = current.take() {
+            if matches!(of.len(), 1 | 3) && !seen.contains(&prefix) {
+                let name = if kind == 1 {
+                    format!("{prefix}_color")
+                } else {
+                    prefix.clone()
+                };
+                seen.push(prefix);
+                members.push((name, of));
+            }
+        }
+    };
+    for (i, prop) in props.iter().enumerate() {
+        if taken(i) {
+            continue;
+        }
+        let name = prop.name.as_str();
+        let split = name.rfind('_').map(|at| (&name[..at], &name[at + 1..]));
+        let Some((prefix, postfix)) = split.filter(|(_, post)| post.len() == 1) else {
+            flush(&mut current, &mut members, &mut seen);
+            continue;
+        };
+        let c = postfix.as_bytes()[0];
+        if current.as_ref().is_some_and(|(p, _, _)| p != prefix) {
+            flush(&mut current, &mut members, &mut seen);
+        }
+        match &mut current {
+            None => {
+                if seen.iter().any(|p| p == prefix) {
+                    continue;
+                }
+                if let Some(kind) = POSTFIXES[0].iter().position(|&p| p == c) {
+                    current = Some((prefix.to_string(), kind, vec![i]));
+                }
+            }
+            Some((_, kind, of)) => {
+                if of.len() < POSTFIXES.len() && POSTFIXES[of.len()][*kind] == c {
+                    of.push(i);
+                } else {
+                    current = None;
+                }
+            }
+        }
+    }
+    flush(&mut current, &mut members, &mut seen);
+    let mut places = vec![None; props.len()];
+    let mut next = 0;
+    let mut groups = Vec::with_capacity(members.len());
+    for (name, of) in members {
+        for &i in &of {
+            places[i] = Some(next);
+            next += 1;
+        }
+        groups.push((name, of.len()));
+    }
+    (groups, places)
 }
 
 /// Names of texture coordinate pairs, the first present one used.
@@ -206,7 +336,8 @@ fn face_plan(element: &Element, vertex_count: u64, path: &Path) -> Result<Plan, 
     let is_indices = |name: &str| name == "vertex_indices" || name == "vertex_index";
     let mut found = false;
     let mut actions = Vec::with_capacity(element.props.len());
-    for prop in &element.props {
+    let (groups, places) = attribute_groups(element, |_| false);
+    for (prop, place) in element.props.iter().zip(places) {
         let action = match prop.kind {
             PropKind::List { count, item } if !found && is_indices(&prop.name) => {
                 if !item.is_integer() {
@@ -219,6 +350,7 @@ fn face_plan(element: &Element, vertex_count: u64, path: &Path) -> Result<Plan, 
                 found = true;
                 Action::Corners { count, item }
             }
+            PropKind::Scalar(t) if place.is_some() => Action::Attribute(place.unwrap_or(0), t),
             kind => Action::Skip(kind),
         };
         actions.push(action);
@@ -230,6 +362,7 @@ fn face_plan(element: &Element, vertex_count: u64, path: &Path) -> Result<Plan, 
     Ok(Plan::Faces {
         actions,
         vertex_count,
+        groups: named("face_", groups),
     })
 }
 
@@ -247,22 +380,28 @@ fn read_body<S: Source>(source: &mut S, header: &Header, plans: &[Plan]) -> Fall
                 actions,
                 normals,
                 uvs,
+                groups,
             } => {
                 let with = Attributes {
                     normals: *normals,
                     uvs: *uvs,
                 };
-                read_vertices(source, element, actions, with, &mut mesh)?
+                let mut values = Values::new(groups, false);
+                read_vertices(source, element, actions, with, &mut mesh, &mut values)?;
+                mesh.attributes.extend(values.attributes);
             }
             Plan::Faces {
                 actions,
                 vertex_count,
+                groups,
             } => {
                 let faces = FaceReader {
                     actions,
                     vertex_count: *vertex_count,
                 };
-                faces.read(source, element, &mut mesh.triangles)?;
+                let mut values = Values::new(groups, true);
+                faces.read(source, element, &mut mesh.triangles, &mut values)?;
+                mesh.attributes.extend(values.attributes);
             }
             Plan::Skip => skip_element(source, element)?,
         }
@@ -289,12 +428,94 @@ struct Attributes {
     uvs: bool,
 }
 
+/// The attributes of an element as they are read: one record's values,
+/// then each attribute's.
+struct Values {
+    record: Vec<f32>,
+    attributes: Vec<MeshAttribute>,
+}
+
+impl Values {
+    fn new(groups: &Groups, per_face: bool) -> Values {
+        Values {
+            record: vec![0.0; groups.iter().map(|g| g.1).sum()],
+            attributes: groups
+                .iter()
+                .map(|(name, dim)| MeshAttribute {
+                    name: name.clone(),
+                    per_face,
+                    dim: *dim,
+                    values: Vec::new(),
+                })
+                .collect(),
+        }
+    }
+
+    /// Reads value `place` of the record, of type `t`, as Mitsuba does:
+    /// an integer over its type's largest value, then decoded from sRGB.
+    /// Values are kept as they are, finite or not, as Mitsuba keeps them (a
+    /// scene is refused for them only where a texture reads them).
+    fn read<S: Source>(
+        &mut self,
+        source: &mut S,
+        place: usize,
+        t: Scalar,
+        name: &str,
+    ) -> Fallible<()> {
+        let raw = source.number(t, name)?;
+        let value = match t {
+            Scalar::F32 | Scalar::F64 => raw as f32,
+            _ => {
+                let max = match t {
+                    Scalar::I8 => f64::from(i8::MAX),
+                    Scalar::U8 => f64::from(u8::MAX),
+                    Scalar::I16 => f64::from(i16::MAX),
+                    Scalar::U16 => f64::from(u16::MAX),
+                    Scalar::I32 => f64::from(i32::MAX),
+                    _ => f64::from(u32::MAX),
+                };
+                srgb_decode((raw / max) as f32)
+            }
+        };
+        if let Some(slot) = self.record.get_mut(place) {
+            *slot = value;
+        }
+        Ok(())
+    }
+
+    /// Keeps the record's values `times` times (a face's for each triangle
+    /// of its fan).
+    fn keep(&mut self, times: usize) {
+        let mut at = 0;
+        for a in &mut self.attributes {
+            let values = &self.record[at..at + a.dim];
+            for _ in 0..times {
+                a.values.extend_from_slice(values);
+            }
+            at += a.dim;
+        }
+    }
+}
+
+/// An sRGB-encoded value in [0, 1] decoded to linear (negative values, from
+/// signed integers, keep their sign).
+fn srgb_decode(v: f32) -> f32 {
+    let a = v.abs();
+    let linear = if a <= 0.04045 {
+        a / 12.92
+    } else {
+        ((a + 0.055) / 1.055).powf(2.4)
+    };
+    linear.copysign(v)
+}
+
 fn read_vertices<S: Source>(
     source: &mut S,
     element: &Element,
     actions: &[Action],
     with: Attributes,
     mesh: &mut MeshData,
+    values: &mut Values,
 ) -> Fallible<()> {
     let capacity = source.capacity(element);
     mesh.positions.reserve_exact(capacity);
@@ -310,6 +531,10 @@ fn read_vertices<S: Source>(
                 Action::Position(axis, t) => (position.get_mut(axis), t),
                 Action::Normal(axis, t) => (normal.get_mut(axis), t),
                 Action::Uv(axis, t) => (uv.get_mut(axis), t),
+                Action::Attribute(place, t) => {
+                    values.read(source, place, t, &prop.name)?;
+                    continue;
+                }
                 Action::Corners { .. } | Action::Skip(_) => {
                     source.skip(prop.kind, &prop.name)?;
                     continue;
@@ -321,6 +546,7 @@ fn read_vertices<S: Source>(
             }
         }
         source.end_record()?;
+        values.keep(1);
         mesh.positions.push(position);
         if let Some(normals) = &mut normals {
             normals.push(normal);
@@ -365,11 +591,13 @@ impl FaceReader<'_> {
         source: &mut S,
         element: &Element,
         out: &mut Vec<[u32; 3]>,
+        values: &mut Values,
     ) -> Fallible<()> {
         // Most faces are triangles; polygons only make the vector grow past this.
         out.reserve_exact(source.capacity(element));
         for index in 0..element.count {
             source.begin_record(index)?;
+            let before = out.len();
             for (action, prop) in self.actions.iter().zip(&element.props) {
                 match *action {
                     Action::Corners { count, item } => {
@@ -380,10 +608,12 @@ impl FaceReader<'_> {
                         };
                         self.polygon(source, index, list, out)?
                     }
+                    Action::Attribute(place, t) => values.read(source, place, t, &prop.name)?,
                     _ => source.skip(prop.kind, &prop.name)?,
                 }
             }
             source.end_record()?;
+            values.keep(out.len() - before);
         }
         Ok(())
     }
@@ -494,6 +724,7 @@ mod tests {
             normals: Some((0..POSITIONS.len()).map(normal).collect()),
             uvs: None,
             triangles: FANS.to_vec(),
+            attributes: Vec::new(),
         }
     }
 
@@ -1211,5 +1442,126 @@ mod tests {
                 "axis {axis}: {min}..{max}"
             );
         }
+    }
+
+    /// Attributes are named and grouped as Mitsuba's: `red, green, blue,
+    /// alpha` as `vertex_color` (4 values), `P_x, P_y, P_z` as `vertex_P`,
+    /// `P_r, P_g, P_b` as `vertex_P_color`, one `P_0` alone as a 1-value
+    /// attribute; 2 components, a broken sequence, no postfix or a reserved
+    /// name make none. Integers are over their largest value then decoded
+    /// from sRGB; a face's values go to each triangle of its fan.
+    #[test]
+    fn attributes_are_grouped_and_named_as_mitsubas() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 4\n\
+            property float x\nproperty float y\nproperty float z\n\
+            property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n\
+            property float dir_x\nproperty float dir_y\nproperty float dir_z\n\
+            property ushort tint_r\nproperty ushort tint_g\nproperty ushort tint_b\n\
+            property double heat_0\n\
+            property float two_x\nproperty float two_y\n\
+            property float odd_x\nproperty float odd_z\nproperty float odd_y\n\
+            property float confidence\n\
+            element face 2\nproperty float grade_x\nproperty list uchar int vertex_indices\n\
+            end_header\n\
+            0 0 0 255 0 128 255 1 2 3 0 65535 32768 0.5 7 8 1 2 3 9\n\
+            1 0 0 0 0 0 0 1 2 3 0 0 0 1.5 7 8 1 2 3 9\n\
+            1 1 0 0 0 0 0 1 2 3 0 0 0 2.5 7 8 1 2 3 9\n\
+            0 1 0 0 0 0 0 1 2 3 0 0 0 3.5 7 8 1 2 3 9\n\
+            0.25 3 0 1 2\n0.75 4 0 1 2 3\n";
+        let mesh = parse(text.as_bytes()).unwrap();
+        let names: Vec<(&str, bool, usize)> = mesh
+            .attributes
+            .iter()
+            .map(|a| (a.name.as_str(), a.per_face, a.dim))
+            .collect();
+        assert_eq!(
+            names,
+            [
+                ("vertex_color", false, 4),
+                ("vertex_dir", false, 3),
+                ("vertex_tint_color", false, 3),
+                ("vertex_heat", false, 1),
+                ("face_grade", true, 1),
+            ]
+        );
+        let decode = |v: f32| ((v + 0.055) / 1.055).powf(2.4);
+        let colour = &mesh.attributes[0].values;
+        assert_eq!(colour[..2], [1.0, 0.0]);
+        assert!((colour[2] - decode(128.0 / 255.0)).abs() < 1e-6);
+        assert_eq!(colour[3], 1.0);
+        assert_eq!(colour.len(), 16);
+        assert_eq!(mesh.attributes[1].values[..3], [1.0, 2.0, 3.0]);
+        let tint = &mesh.attributes[2].values;
+        assert_eq!(tint[..2], [0.0, 1.0]);
+        assert!((tint[2] - decode(32768.0 / 65535.0)).abs() < 1e-6);
+        assert_eq!(mesh.attributes[3].values, [0.5, 1.5, 2.5, 3.5]);
+        // The quad's two triangles each carry its grade.
+        assert_eq!(mesh.attributes[4].values, [0.25, 0.75, 0.75]);
+        assert_eq!(mesh.triangles.len(), 3);
+    }
+
+    /// Hostile attribute headers: many properties, odd names (no postfix,
+    /// an empty prefix, a multi-byte postfix, a postfix of several letters,
+    /// a name that is all underscores), a property list among them, and a
+    /// value that is not finite, read without a panic.
+    #[test]
+    fn odd_attribute_headers_do_not_panic() {
+        let mut header = String::from(
+            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n",
+        );
+        let odd = [
+            "_", "__", "_x", "a_é", "a_xy", "é_x", "é_y", "é_z", "r", "g",
+        ];
+        for name in odd {
+            writeln!(header, "property float {name}").unwrap();
+        }
+        writeln!(header, "property list uchar float l_x").unwrap();
+        for i in 0..3000 {
+            writeln!(
+                header,
+                "property uchar p{}_{}",
+                i / 3,
+                ["x", "y", "z"][i % 3]
+            )
+            .unwrap();
+        }
+        header.push_str("element face 1\nproperty list uchar int vertex_indices\nend_header\n");
+        let record = |x: f32| {
+            let mut r = format!("{x} 0 0");
+            for _ in odd {
+                r.push_str(" 0.5");
+            }
+            r.push_str(" 2 1 2");
+            for i in 0..3000 {
+                write!(r, " {}", i % 256).unwrap();
+            }
+            r + "\n"
+        };
+        let text = header.clone() + &record(0.0) + &record(1.0) + "3 0 1 1\n";
+        let mesh = parse(text.as_bytes()).unwrap();
+        // `_x` alone is `vertex_` (an empty prefix, as Mitsuba names it);
+        // `é_x, é_y, é_z` is a 3-value attribute; the 1000 `p*_` ones too.
+        assert_eq!(mesh.attributes[0].name, "vertex_");
+        assert!(mesh.attributes.iter().any(|a| a.name == "vertex_é"));
+        assert_eq!(mesh.attributes.len(), 2 + 1000);
+        assert!(mesh.attributes.iter().all(|a| a.values.len() == 2 * a.dim));
+        let bad = header.replace("property float _\n", "property double _\n")
+            + &record(0.0).replacen(" 0.5", " 1e300", 1)
+            + &record(1.0)
+            + "3 0 1 1\n";
+        // `_` makes no attribute: its huge value is skipped, not refused.
+        parse(bad.as_bytes()).unwrap();
+        // A value that is not finite is kept (refused only where read).
+        let bad = header.clone()
+            + &record(0.0).replacen("0.5 0.5 0.5 0.5 0.5 0.5", "0.5 0.5 0.5 0.5 0.5 1e300", 1)
+            + &record(1.0)
+            + "3 0 1 1\n";
+        let mesh = parse(bad.as_bytes()).unwrap();
+        let a = mesh
+            .attributes
+            .iter()
+            .find(|a| a.name == "vertex_é")
+            .unwrap();
+        assert_eq!(a.values[0], f32::INFINITY);
     }
 }

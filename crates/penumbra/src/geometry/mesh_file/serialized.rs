@@ -227,6 +227,7 @@ pub fn parse_serialized(
         normals,
         uvs,
         triangles,
+        attributes: Vec::new(),
     })
 }
 
@@ -382,6 +383,7 @@ mod tests {
             normals: extra.then(|| vec![[0.0, 0.0, 1.0]; 3]),
             uvs: extra.then(|| vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
             triangles: vec![[0, 1, 2]],
+            attributes: Vec::new(),
         }
     }
 

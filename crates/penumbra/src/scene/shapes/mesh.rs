@@ -2,6 +2,8 @@
 //! `ply` and `serialized`): its schema and builder, and the reading of its
 //! file, once per file and kind of normals.
 
+use std::sync::Arc;
+
 use super::{FileKey, Loading, MeshFiles, Placing, COMMON};
 use crate::description::check::required;
 use crate::description::mitsuba::registry::Adapt;
@@ -54,6 +56,9 @@ pub(super) fn build(p: &Props, at: &Placing, load: &mut Loading) -> Result<Shape
     } else {
         bake(load.meshes, m, &at.start)
     };
+    if let Some(a) = load.files.attributes.get(&m).cloned() {
+        load.files.attributes.insert(mesh, a);
+    }
     Ok(Shape::MeshShape(MeshShape::new(mesh as u32)))
 }
 
@@ -127,6 +132,8 @@ fn load_mesh(
         mesh.compute_vertex_normals();
     }
     meshes.push(mesh);
+    let values = data.attributes.iter().cloned().map(Arc::new).collect();
+    files.attributes.insert(meshes.len() - 1, (values, path.clone()));
     files.cache.insert((key.0, index, read), meshes.len() - 1);
     Ok(meshes.len() - 1)
 }
@@ -221,5 +228,119 @@ mod tests {
         assert!(close(uv_at(-2.0), (u, 1.0 - v)), "{}", uv_at(-2.0));
         assert!(close(uv_at(2.0), (u, v)), "{}", uv_at(2.0));
         assert!(close(uv_at(5.0), (u, v)), "{}", uv_at(5.0));
+    }
+
+    /// A square of two triangles whose corners are red, green, blue and
+    /// white (`uchar`), with a float `heat_0` per vertex and a `grade_x`
+    /// per face.
+    const SQUARE_PLY: &str = "ply\nformat ascii 1.0\nelement vertex 4\n\
+        property float x\nproperty float y\nproperty float z\n\
+        property uchar red\nproperty uchar green\nproperty uchar blue\n\
+        property float heat_0\n\
+        element face 2\nproperty list uchar int vertex_indices\nproperty float grade_x\n\
+        end_header\n\
+        0 0 0 255 0 0 0\n1 0 0 0 255 0 1\n1 1 0 0 0 255 2\n0 1 0 255 255 255 3\n\
+        3 0 1 2 0.25\n3 0 2 3 0.75\n";
+
+    /// `mesh_attribute` reads the mesh hit: a vertex attribute interpolated
+    /// with the hit's barycentric weights (at (0.6, 0.3) on the triangle
+    /// (0,0), (1,0), (1,1) they are 0.4, 0.3, 0.3), a face attribute
+    /// constant on its face, times `scale`; as one value, a colour is 0.
+    #[test]
+    fn mesh_attributes_are_read_at_the_hit() {
+        use crate::bsdf::Bsdf;
+        use crate::math::Vec2;
+
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("s.ply"), SQUARE_PLY).unwrap();
+        let object = |x: f32, material: &str| {
+            format!(
+                "[[objects]]\ntype = \"mesh\"\npath = \"s.ply\"\nmaterial = \"{material}\"\n\
+                 transform = {{ translate = [{x}, 0, 0] }}\n"
+            )
+        };
+        let material = |name: &str, attribute: &str| {
+            format!(
+                "[materials.{name}]\ntype = \"diffuse\"\n\
+                 reflectance = {{ type = \"mesh_attribute\", name = \"{attribute}\", scale = 0.5 }}\n"
+            )
+        };
+        let text = material("colour", "vertex_color")
+            + &material("heat", "vertex_heat")
+            + "[textures.grade]\ntype = \"mesh_attribute\"\nname = \"face_grade\"\n"
+            + "[materials.grade]\ntype = \"diffuse\"\nreflectance = \"grade\"\n"
+            + &object(0.0, "colour")
+            + &object(2.0, "heat")
+            + &object(4.0, "grade");
+        let build = |text: &str| {
+            SceneSource::from_toml(
+                text,
+                std::path::Path::new("t.toml"),
+                dir.path(),
+                &LoadOptions::default(),
+            )
+            .and_then(|s| s.build())
+        };
+        let scene = build(&text).unwrap_or_else(|e| panic!("{e}"));
+        let at = |x: f32, y: f32| {
+            let ray = Ray::new(Vec3::new(x, y, 5.0), -Vec3::Z, 0.0);
+            let hit = scene.world.intersect(&ray, 0.0, f32::INFINITY).unwrap();
+            let Bsdf::Diffuse(d) = &scene.bsdfs[hit.material as usize] else {
+                panic!("a diffuse")
+            };
+            (d.reflectance.eval(&hit), d.reflectance.eval_1(&hit), hit)
+        };
+        let close = |a: crate::math::Rgb, b: [f32; 3]| {
+            (a - crate::math::Rgb::from_array(b)).abs().max_element() < 1e-5
+        };
+        let (c, one, hit) = at(0.6, 0.3);
+        assert!((hit.bary - Vec2::new(0.3, 0.3)).length() < 1e-5, "{}", hit.bary);
+        assert!(close(c, [0.2, 0.15, 0.15]), "{c:?}");
+        assert_eq!(one, 0.0);
+        // On the other triangle (0,0), (1,1), (0,1): 0.4 red, 0.3 blue, 0.3
+        // white, halved.
+        let (c, _, _) = at(0.3, 0.6);
+        assert!(close(c, [0.35, 0.15, 0.3]), "{c:?}");
+        // One value: 0.4 · 0 + 0.3 · 1 + 0.3 · 2, halved.
+        let (c, one, _) = at(2.6, 0.3);
+        assert!(close(c, [0.45; 3]), "{c:?}");
+        assert!((one - 0.45).abs() < 1e-5);
+        let (c, _, _) = at(4.6, 0.3);
+        assert_eq!(c, crate::math::Rgb::splat(0.25));
+        let (c, _, _) = at(4.3, 0.6);
+        assert_eq!(c, crate::math::Rgb::splat(0.75));
+
+        // An attribute the file does not have, at the texture, naming the
+        // file and what it has; a shape that is no mesh file has none.
+        let e = build(&(material("m", "vertex_nothing") + &object(0.0, "m")))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("materials.m.reflectance"), "{e}");
+        assert!(e.contains("s.ply has no attribute `vertex_nothing`"), "{e}");
+        assert!(e.contains("it has: vertex_color, vertex_heat, face_grade"), "{e}");
+        let e = build(&(material("m", "vertex_color") + "[[objects]]\ntype = \"sphere\"\nmaterial = \"m\"\n"))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("not a mesh read from a file"), "{e}");
+        // Values that are not finite are kept in the file's attributes and
+        // refused where a texture reads them.
+        let huge = SQUARE_PLY.replace("0 0 0 255 0 0 0\n", "0 0 0 255 0 0 1e300\n");
+        std::fs::write(dir.path().join("h.ply"), huge).unwrap();
+        let mut text = material("m", "vertex_heat") + &object(0.0, "m");
+        text = text.replace("s.ply", "h.ply");
+        let e = build(&text).err().unwrap().to_string();
+        assert!(e.contains("the attribute `vertex_heat` of the mesh file"), "{e}");
+        assert!(e.contains("h.ply holds values that are not finite"), "{e}");
+        let e = build(&material("m", "color")).err().unwrap().to_string();
+        assert!(e.contains("must start with `vertex_` or `face_`"), "{e}");
+        let e = build(
+            "[materials.m]\ntype = \"diffuse\"\nreflectance = { type = \"checkerboard\", color0 = { type = \"mesh_attribute\", name = \"vertex_color\" } }\n",
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.contains("not inside a checkerboard"), "{e}");
     }
 }

@@ -5,6 +5,7 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::context::BuildContext;
 use super::error::BuildError;
@@ -151,7 +152,16 @@ pub(super) struct MeshFiles {
     files: HashMap<(FileKey, u32), crate::geometry::mesh_file::MeshData>,
     /// Triangles of the objects, a mesh counted once for each object using it.
     used: u64,
+    /// The attributes of the meshes read from files (a PLY file's vertex
+    /// colours...), by mesh, and the file each was read from.
+    pub(super) attributes: HashMap<usize, MeshAttributes>,
 }
+
+/// A mesh's attributes and the file they were read from.
+pub(crate) type MeshAttributes = (
+    Arc<[Arc<crate::geometry::mesh_file::MeshAttribute>]>,
+    PathBuf,
+);
 
 /// Which file a path names: on Unix its device and inode, elsewhere its
 /// canonical path (the path as given if it cannot be resolved; reading it
