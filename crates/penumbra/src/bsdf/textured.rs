@@ -106,6 +106,8 @@ fn partner(plugin: &str, name: &str) -> &'static str {
         ("mask", _) => "bsdf = \"rough\"",
         ("blendbsdf", _) => "bsdf_0 = \"rough\"\nbsdf_1 = \"paint\"",
         ("normalmap" | "bumpmap", _) => "bsdf = \"rough\"",
+        ("principled", "sheen_tint") => "sheen = 0.5\nbase_color = [0.8, 0.3, 0.1]",
+        ("principled", "clearcoat_gloss") => "clearcoat = 0.5",
         _ => "",
     }
 }
@@ -190,6 +192,17 @@ fn every_texture_typed_parameter_follows_a_checkerboard() {
         "blendbsdf.weight",
         "normalmap.normalmap",
         "bumpmap.texture",
+        "principled.base_color",
+        "principled.roughness",
+        "principled.anisotropic",
+        "principled.metallic",
+        "principled.spec_trans",
+        "principled.spec_tint",
+        "principled.sheen",
+        "principled.sheen_tint",
+        "principled.flatness",
+        "principled.clearcoat",
+        "principled.clearcoat_gloss",
     ] {
         assert!(
             driven.iter().any(|d| d == want),
