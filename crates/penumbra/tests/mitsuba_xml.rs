@@ -1463,7 +1463,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             r#"<bsdf type="hair"/>"#,
             "bsdf `hair` is not supported; supported: diffuse, conductor, \
              roughconductor, dielectric, roughdielectric, thindielectric, plastic, \
-             roughplastic, twosided, mask, blendbsdf, normalmap, bumpmap, principled",
+             roughplastic, twosided, mask, blendbsdf, normalmap, bumpmap, principled, \
+             principledthin",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
@@ -1611,7 +1612,7 @@ fn conductors_and_dielectrics_keep_their_names_and_parameters() {
     common::render_scene(&scene, 2);
 }
 
-/// Mitsuba's principled material maps through its schema: numbers,
+/// Mitsuba's principled materials map through their schemas: numbers,
 /// colours and textures under Mitsuba's names; `eta` beside `specular` is
 /// refused at the material; the scene builds and renders.
 #[test]
@@ -1650,8 +1651,14 @@ fn the_principled_material_keeps_its_parameters() {
             <texture type="checkerboard" name="roughness"/>
         </bsdf>
         <bsdf type="principled" id="glass"><float name="spec_trans" value="1"/><float name="eta" value="1.33"/></bsdf>
+        <bsdf type="principledthin" id="leaf">
+            <rgb name="base_color" value="0.2, 0.6, 0.1"/><float name="spec_trans" value="0.4"/>
+            <float name="diff_trans" value="1.5"/><texture type="checkerboard" name="eta"/>
+            <float name="diffuse_transmittance_sampling_rate" value="0.5"/>
+        </bsdf>
         <shape type="sphere"><ref id="car"/></shape>
-        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="glass"/></shape>"#,
+        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="glass"/></shape>
+        <shape type="sphere"><point name="center" x="-2" y="0" z="0"/><ref id="leaf"/></shape>"#,
     );
     let root = d.tree("scene.xml");
     let bsdf = |id: &str| {
@@ -1674,6 +1681,10 @@ fn the_principled_material_keeps_its_parameters() {
         prop(car, "roughness")
     );
     assert_eq!(prop(bsdf("glass"), "eta"), &Value::Float(1.33));
+    let leaf = bsdf("leaf");
+    assert_eq!(leaf.plugin, "principledthin");
+    assert_eq!(prop(leaf, "diff_trans"), &Value::Float(1.5));
+    assert!(matches!(prop(leaf, "eta"), Value::Table(_)));
     let mut src = SceneSource::open(
         d.path("scene.xml").to_str().unwrap(),
         &LoadOptions::default(),

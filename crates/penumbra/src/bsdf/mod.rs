@@ -33,6 +33,7 @@
 //! | [`normalmap`](normalmap::NormalMap) | a material seen through a normal read from a texture (Mitsuba 3's `normalmap`) |
 //! | [`bumpmap`](bumpmap::BumpMap) | a material seen through the normal of a height field (Mitsuba 3's `bumpmap`) |
 //! | [`principled`](principled::Principled) | Burley's principled (Disney) material: a diffuse base with sheen, GGX metal and dielectric reflection and transmission, a clearcoat (Mitsuba 3's `principled`) |
+//! | [`principledthin`](principledthin::PrincipledThin) | the principled material of a thin sheet: diffuse reflection and transmission, GGX reflection and straight transmission (Mitsuba 3's `principledthin`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
@@ -295,6 +296,7 @@ models! {
     normalmap::NormalMap,
     bumpmap::BumpMap,
     principled::Principled,
+    principledthin::PrincipledThin,
 }
 
 #[cfg(test)]

@@ -707,11 +707,17 @@ impl BsdfModel for Principled {
         let q = self.pair(o, frame.to_local(wi))?;
         let cos = q.i.z.abs();
         let values = self.values(si, &a, &q);
+        let d = self.densities(si, &a, &q);
+        // A direction its own lobe's density does not count (its facet
+        // seen from the wrong side, up to rounding) is refused, as Mitsuba
+        // refuses it by the drawn normal.
+        if d[k].is_nan() || d[k] <= 0.0 {
+            return None;
+        }
         let (value, pdf) = match lobe {
-            Some(k) => (values[k], self.densities(si, &a, &q)[k]),
+            Some(k) => (values[k], d[k]),
             None => {
                 let p = self.choice(&a, o)?;
-                let d = self.densities(si, &a, &q);
                 let pdf = p[BASE] * d[BASE] + p[CLEARCOAT] * d[CLEARCOAT] + p[TRANSMISSION] * d[TRANSMISSION] + p[REFLECTION] * d[REFLECTION];
                 (values[BASE] + values[CLEARCOAT] + values[TRANSMISSION] + values[REFLECTION], pdf)
             }
@@ -760,7 +766,7 @@ pub const BASE_COLOR: Param = Param::new(
     "base_color",
     Type::ColourTexture,
     "[0.5, 0.5, 0.5]",
-    "the colour of the base, the metal and the tints, each channel in [0, 1]",
+    "the colour of the diffuse base, of the tints and (in `principled`) of the metal, each channel in [0, 1]",
 )
 .range(Range::Unit);
 pub const ROUGHNESS: Param = weight_param("roughness", "0.5", "roughness of the main lobes (GGX α = roughness², at least 0.001)");
