@@ -1656,10 +1656,11 @@ fn independent_film_positions_cover_the_whole_pixel() {
 fn unsupported_plugins_are_refused_naming_what_is_supported() {
     for (body, message) in [
         (
-            r#"<bsdf type="principled"/>"#,
-            "bsdf `principled` is not supported; supported: diffuse, conductor, \
+            r#"<bsdf type="hair"/>"#,
+            "bsdf `hair` is not supported; supported: diffuse, conductor, \
              roughconductor, dielectric, roughdielectric, thindielectric, plastic, \
-             roughplastic, twosided, mask, blendbsdf, normalmap, bumpmap",
+             roughplastic, twosided, mask, blendbsdf, normalmap, bumpmap, principled, \
+             principledthin",
         ),
         (
             r#"<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>"#,
@@ -1801,6 +1802,117 @@ fn conductors_and_dielectrics_keep_their_names_and_parameters() {
         assert!(names.contains(&m), "{names:?}");
     }
     common::render_scene(&scene, 2);
+}
+
+/// Mitsuba's principled materials map through their schemas: numbers,
+/// colours and textures under Mitsuba's names; `eta` beside `specular` is
+/// refused at the material; the scene builds and renders.
+#[test]
+fn the_principled_material_keeps_its_parameters() {
+    let d = with_sensor(
+        r#"<bsdf type="principled" id="car">
+            <rgb name="base_color" value="0.8, 0.1, 0.1"/>
+            <float name="metallic" value="0.7"/><float name="specular" value="0.6"/>
+            <float name="roughness" value="0.2"/><float name="spec_tint" value="0.4"/>
+            <float name="anisotropic" value="0.5"/><float name="sheen" value="0.3"/>
+            <float name="sheen_tint" value="0.2"/><float name="clearcoat" value="0.6"/>
+            <float name="clearcoat_gloss" value="0.3"/><float name="spec_trans" value="0.4"/>
+            <float name="flatness" value="0.1"/>
+            <float name="main_specular_sampling_rate" value="2"/>
+            <texture type="checkerboard" name="roughness_unused_name_check"/>
+        </bsdf>
+        <shape type="sphere"><ref id="car"/></shape>"#,
+    );
+    let e = SceneSource::open(
+        d.path("scene.xml").to_str().unwrap(),
+        &LoadOptions::default(),
+    )
+    .map(drop)
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("roughness_unused_name_check"), "{e}");
+    let d = with_sensor(
+        r#"<bsdf type="principled" id="car">
+            <rgb name="base_color" value="0.8, 0.1, 0.1"/>
+            <float name="metallic" value="0.7"/><float name="specular" value="0.6"/>
+            <float name="spec_tint" value="0.4"/><float name="anisotropic" value="0.5"/>
+            <float name="sheen" value="0.3"/><float name="sheen_tint" value="0.2"/>
+            <float name="clearcoat" value="0.6"/><float name="clearcoat_gloss" value="0.3"/>
+            <float name="spec_trans" value="0.4"/><float name="flatness" value="0.1"/>
+            <float name="main_specular_sampling_rate" value="2"/>
+            <texture type="checkerboard" name="roughness"/>
+        </bsdf>
+        <bsdf type="principled" id="glass"><float name="spec_trans" value="1"/><float name="eta" value="1.33"/></bsdf>
+        <bsdf type="principledthin" id="leaf">
+            <rgb name="base_color" value="0.2, 0.6, 0.1"/><float name="spec_trans" value="0.4"/>
+            <float name="diff_trans" value="1.5"/><texture type="checkerboard" name="eta"/>
+            <float name="diffuse_transmittance_sampling_rate" value="0.5"/>
+        </bsdf>
+        <shape type="sphere"><ref id="car"/></shape>
+        <shape type="sphere"><point name="center" x="2" y="0" z="0"/><ref id="glass"/></shape>
+        <shape type="sphere"><point name="center" x="-2" y="0" z="0"/><ref id="leaf"/></shape>"#,
+    );
+    let root = d.tree("scene.xml");
+    let bsdf = |id: &str| {
+        root.children_of(Kind::Bsdf)
+            .find(|b| b.id.as_deref() == Some(id))
+            .unwrap_or_else(|| panic!("{id}"))
+    };
+    let car = bsdf("car");
+    assert_eq!(car.plugin, "principled");
+    assert!(close(
+        &numbers(prop(car, "base_color")),
+        &[0.8, 0.1, 0.1],
+        1e-6
+    ));
+    assert_eq!(prop(car, "clearcoat_gloss"), &Value::Float(0.3));
+    assert_eq!(prop(car, "main_specular_sampling_rate"), &Value::Float(2.0));
+    assert!(
+        matches!(prop(car, "roughness"), Value::Table(_)),
+        "{:?}",
+        prop(car, "roughness")
+    );
+    assert_eq!(prop(bsdf("glass"), "eta"), &Value::Float(1.33));
+    let leaf = bsdf("leaf");
+    assert_eq!(leaf.plugin, "principledthin");
+    assert_eq!(prop(leaf, "diff_trans"), &Value::Float(1.5));
+    assert!(matches!(prop(leaf, "eta"), Value::Table(_)));
+    let mut src = SceneSource::open(
+        d.path("scene.xml").to_str().unwrap(),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    common::set(
+        &mut src,
+        Overrides {
+            width: Some(16),
+            height: Some(12),
+            spp: Some(2),
+            ..Default::default()
+        },
+    );
+    let scene = src.build().unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene
+            .bsdfs
+            .iter()
+            .filter(|b| b.name() == "principled")
+            .count(),
+        2
+    );
+    common::render_scene(&scene, 2);
+    let d = with_sensor(
+        r#"<bsdf type="principled"><float name="eta" value="1.5"/><float name="specular" value="0.5"/></bsdf>"#,
+    );
+    let e = SceneSource::open(
+        d.path("scene.xml").to_str().unwrap(),
+        &LoadOptions::default(),
+    )
+    .and_then(|s| s.build().map(drop))
+    .map(drop)
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("either `eta` or `specular`"), "{e}");
 }
 
 #[test]

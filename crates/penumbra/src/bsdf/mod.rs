@@ -32,6 +32,8 @@
 //! | [`blendbsdf`](blendbsdf::BlendBsdf) | a linear blend of two materials (Mitsuba 3's `blendbsdf`) |
 //! | [`normalmap`](normalmap::NormalMap) | a material seen through a normal read from a texture (Mitsuba 3's `normalmap`) |
 //! | [`bumpmap`](bumpmap::BumpMap) | a material seen through the normal of a height field (Mitsuba 3's `bumpmap`) |
+//! | [`principled`](principled::Principled) | Burley's principled (Disney) material: a diffuse base with sheen, GGX metal and dielectric reflection and transmission, a clearcoat (Mitsuba 3's `principled`) |
+//! | [`principledthin`](principledthin::PrincipledThin) | the principled material of a thin sheet: diffuse reflection and transmission, GGX reflection and straight transmission (Mitsuba 3's `principledthin`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
@@ -293,6 +295,8 @@ models! {
     blendbsdf::BlendBsdf,
     normalmap::NormalMap,
     bumpmap::BumpMap,
+    principled::Principled,
+    principledthin::PrincipledThin,
 }
 
 #[cfg(test)]

@@ -109,6 +109,10 @@ fn partner(plugin: &str, name: &str) -> &'static str {
         ("normalmap" | "bumpmap", _) => "bsdf = \"rough\"",
         // With `eta` 0 every `k` reflects everything.
         ("conductor" | "roughconductor", "k") => "eta = [0.5, 0.6, 0.7]",
+        ("principled", "sheen_tint") => "sheen = 0.5\nbase_color = [0.8, 0.3, 0.1]",
+        ("principled", "clearcoat_gloss") => "clearcoat = 0.5",
+        ("principledthin", "sheen_tint") => "sheen = 0.5\nbase_color = [0.8, 0.3, 0.1]",
+        ("principledthin", "anisotropic" | "eta" | "spec_tint") => "spec_trans = 0.5",
         _ => "",
     }
 }
@@ -197,6 +201,27 @@ fn every_texture_typed_parameter_follows_a_checkerboard() {
         "blendbsdf.weight",
         "normalmap.normalmap",
         "bumpmap.texture",
+        "principled.base_color",
+        "principled.roughness",
+        "principled.anisotropic",
+        "principled.metallic",
+        "principled.spec_trans",
+        "principled.spec_tint",
+        "principled.sheen",
+        "principled.sheen_tint",
+        "principled.flatness",
+        "principled.clearcoat",
+        "principled.clearcoat_gloss",
+        "principledthin.base_color",
+        "principledthin.roughness",
+        "principledthin.anisotropic",
+        "principledthin.spec_trans",
+        "principledthin.eta",
+        "principledthin.spec_tint",
+        "principledthin.sheen",
+        "principledthin.sheen_tint",
+        "principledthin.flatness",
+        "principledthin.diff_trans",
     ] {
         assert!(
             driven.iter().any(|d| d == want),
