@@ -1091,7 +1091,7 @@ fn xml_cases(cases: &mut Vec<Case>) {
     );
     case(
         "unknown bsdf",
-        one(r#"<bsdf type="principled"/>"#),
+        one(r#"<bsdf type="hair"/>"#),
         SceneLine,
     );
     let serialized = |bytes: Vec<u8>| {

@@ -15,6 +15,14 @@ fn size(width: u32, height: u32) -> Overrides {
     }
 }
 
+/// An image's bits, pixel by pixel.
+fn bits(img: &penumbra::render::Image) -> Vec<[u32; 3]> {
+    img.pixels
+        .iter()
+        .map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
+
 fn small_showcase() -> penumbra::scene::Scene {
     let mut src = builtin("showcase", None);
     set(&mut src, size(64, 48));
@@ -86,12 +94,6 @@ fn bunny_renders_identically_on_one_and_two_threads() {
 fn signed_filters_keep_pixels_independent() {
     use penumbra::sampling::Filter;
     use penumbra::scene::IntegratorChoice;
-    let bits = |img: &penumbra::render::Image| -> Vec<[u32; 3]> {
-        img.pixels
-            .iter()
-            .map(|p| p.to_array().map(f32::to_bits))
-            .collect()
-    };
     for (filter, integrator) in [
         (Filter::Mitchell, IntegratorChoice::Whitted),
         (Filter::Lanczos, IntegratorChoice::Whitted),
@@ -138,12 +140,6 @@ fn signed_filters_keep_pixels_independent() {
 fn splatted_samples_give_the_same_pixels_on_any_threads_passes_and_regions() {
     use penumbra::sampling::Filter;
     use penumbra::scene::IntegratorChoice;
-    let bits = |img: &penumbra::render::Image| -> Vec<[u32; 3]> {
-        img.pixels
-            .iter()
-            .map(|p| p.to_array().map(f32::to_bits))
-            .collect()
-    };
     for (filter, integrator, noise) in [
         (Filter::Gaussian, IntegratorChoice::Whitted, None),
         (Filter::Lanczos, IntegratorChoice::Path, None),
