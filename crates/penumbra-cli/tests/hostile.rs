@@ -1089,11 +1089,7 @@ fn xml_cases(cases: &mut Vec<Case>) {
         one(r#"<shape type="ply"><string name="filename" value="gone.ply"/></shape>"#),
         Mesh("gone.ply"),
     );
-    case(
-        "unknown bsdf",
-        one(r#"<bsdf type="hair"/>"#),
-        SceneLine,
-    );
+    case("unknown bsdf", one(r#"<bsdf type="hair"/>"#), SceneLine);
     let serialized = |bytes: Vec<u8>| {
         let mut entries = one(
             r#"<shape type="serialized"><string name="filename" value="m.serialized"/></shape>"#,

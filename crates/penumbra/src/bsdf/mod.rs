@@ -150,6 +150,13 @@ pub trait BsdfModel: Sized {
     fn own_sets(&self) -> Option<[Option<EffectSpec>; MAX_LOBES]> {
         None
     }
+
+    /// Whether [`sample`](Self::sample) reads a third number
+    /// ([`SetPoint::third`]) to choose its lobe: a path sampler then draws
+    /// one for it, a dimension of its own.
+    fn wants_third(&self) -> bool {
+        false
+    }
 }
 
 /// Declares the models' modules, and makes [`Bsdf`], the enum of the
@@ -273,6 +280,14 @@ macro_rules! models {
             pub fn own_sets(&self) -> Option<[Option<EffectSpec>; MAX_LOBES]> {
                 match self {
                     $(Bsdf::$variant(m) => m.own_sets(),)*
+                }
+            }
+
+            /// See [`BsdfModel::wants_third`].
+            #[inline]
+            pub fn wants_third(&self) -> bool {
+                match self {
+                    $(Bsdf::$variant(m) => m.wants_third(),)*
                 }
             }
         }

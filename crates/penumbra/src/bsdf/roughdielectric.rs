@@ -28,12 +28,13 @@
 //! Whitted integrator lights them directly through `eval` (light from the
 //! viewer's side only: shadow rays do not cross the surface). `sample`
 //! with a lobe asked for draws that lobe (reflection about, or refraction
-//! through, a normal of the visible normals of `wo`); with none, it picks
-//! reflection with the probability `P` = the Fresnel reflectance at the
-//! macro normal kept within [0.1, 0.9], by the point's first coordinate
-//! (whose rest then draws the normal). Mitsuba picks by the reflectance
-//! at the drawn facet, which takes a third random number a set point does
-//! not carry; both are unbiased, this one weighs reflection `F G1 / P`.
+//! through, a normal of the visible normals of `wo`); with none, it draws
+//! the facet from the point and picks reflection with the probability of
+//! the facet's Fresnel reflectance, by a third number, as Mitsuba does:
+//! each lobe then weighs its `G1` alone. The third number is a path
+//! sampler's own dimension in `path`, `direct` and `distributed`'s paths,
+//! and a hash of the point where a set draws the points
+//! ([`SetPoint::third`]).
 
 use super::conductor::{factor, SPECULAR_REFLECTANCE};
 use super::dielectric::{read_eta, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
@@ -59,9 +60,6 @@ pub struct RoughDielectric {
 
 const REFLECTION: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::REFLECTION);
 const TRANSMISSION: BsdfFlags = BsdfFlags::GLOSSY.union(BsdfFlags::TRANSMISSION);
-
-/// The bounds of the probability of choosing reflection.
-const CHOICE: (f32, f32) = (0.1, 0.9);
 
 /// A pair of directions in the shading frame, turned so that the viewer is
 /// outside (`o.z > 0`), with the relative index of the light's side over
@@ -107,12 +105,21 @@ impl RoughDielectric {
         })
     }
 
-    /// The probability of choosing reflection for a viewer at the cosine
-    /// `cos` (outside when positive).
-    fn choice(&self, cos: f32) -> f32 {
-        fresnel::dielectric(cos, self.eta)
-            .r
-            .clamp(CHOICE.0, CHOICE.1)
+    /// The Fresnel reflectance of the facet the point `u` draws (the
+    /// probability of choosing reflection, as Mitsuba's); `None` where it
+    /// draws none the viewer sees.
+    fn facet_fresnel(&self, si: &SurfaceInteraction, wo: Vec3, u: Vec2) -> Option<f32> {
+        let o0 = si.shading_frame().to_local(wo);
+        if o0.z == 0.0 {
+            return None;
+        }
+        let (o, eta) = if o0.z < 0.0 { (-o0, 1.0 / self.eta) } else { (o0, self.eta) };
+        let (m, pdf_m) = self.distribution.at(si).sample(o, u);
+        let om = o.dot(m);
+        if pdf_m.is_nan() || pdf_m <= 0.0 || om <= 0.0 {
+            return None;
+        }
+        Some(fresnel::dielectric(om, eta).r)
     }
 
     /// The lobe's density (not times a choice) of `l`.
@@ -248,20 +255,31 @@ impl BsdfModel for RoughDielectric {
         u: SetPoint,
     ) -> Option<BsdfSample> {
         let sq = u.square();
-        let (k, p, v) = match lobe {
-            Some(k @ (0 | 1)) => (k, 1.0, sq),
+        let k = match lobe {
+            Some(k @ (0 | 1)) => k,
             Some(_) => return None,
+            // As Mitsuba: the facet drawn from the point, then reflection
+            // with the probability of its Fresnel factor, by the third number.
+            None => usize::from(u.third() >= self.facet_fresnel(si, wo, sq)?),
+        };
+        let (wi, weight, pdf) = self.sample_lobe(si, wo, k, sq)?;
+        // The choice's probability as `pdf` finds it, from the pair's half
+        // vector (the drawn facet up to rounding).
+        let p = match lobe {
+            Some(_) => 1.0,
             None => {
-                let pr = self.choice(wo.dot(si.n));
-                let (k, p, x) = if sq.x < pr {
-                    (0, pr, sq.x / pr)
+                let l = self.local(si, wo, wi)?;
+                let f = fresnel::dielectric(l.o.dot(l.h), l.eta).r;
+                if k == 0 {
+                    f
                 } else {
-                    (1, 1.0 - pr, (sq.x - pr) / (1.0 - pr))
-                };
-                (k, p, Vec2::new(x.clamp(0.0, 1.0 - f32::EPSILON), sq.y))
+                    1.0 - f
+                }
             }
         };
-        let (wi, weight, pdf) = self.sample_lobe(si, wo, k, v)?;
+        if p <= 0.0 {
+            return None;
+        }
         let eta = match (k, wo.dot(si.n) < 0.0) {
             (0, _) => 1.0,
             (_, true) => 1.0 / self.eta,
@@ -282,8 +300,13 @@ impl BsdfModel for RoughDielectric {
         let Some(l) = self.local(si, wo, wi) else {
             return 0.0;
         };
-        let pr = self.choice(wo.dot(si.n));
-        self.lobe_pdf(&self.distribution.at(si), &l) * if l.reflect { pr } else { 1.0 - pr }
+        let f = fresnel::dielectric(l.o.dot(l.h), l.eta).r;
+        self.lobe_pdf(&self.distribution.at(si), &l) * if l.reflect { f } else { 1.0 - f }
+    }
+
+    /// The lobe is chosen by the drawn facet's Fresnel factor.
+    fn wants_third(&self) -> bool {
+        true
     }
 }
 
@@ -349,8 +372,9 @@ mod tests {
                     let u = SetPoint::uniform(Vec2::new(rng.next_f32(), rng.next_f32()));
                     for k in [0, 1] {
                         let Some(s) = m.sample(&si, wo, Some(k), u) else { continue };
-                        let pr = m.choice(wo.dot(n));
-                        let p = if k == 0 { pr } else { 1.0 - pr };
+                        let l = m.local(&si, wo, s.wi).expect("a sampled pair");
+                        let f = fresnel::dielectric(l.o.dot(l.h), l.eta).r;
+                        let p = if k == 0 { f } else { 1.0 - f };
                         let want = m.eval(&si, wo, s.wi) * (s.wi.dot(n).abs() / s.pdf);
                         assert!((s.weight - want).abs().max_element() <= 1e-3 * want.max_element().max(1e-2), "{text} lobe {k}");
                         assert!((s.pdf * p - m.pdf(&si, wo, s.wi)).abs() <= 1e-3 * s.pdf.max(1e-3));

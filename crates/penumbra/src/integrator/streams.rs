@@ -18,6 +18,14 @@ pub const BSDF_SET: u64 = SHADOW - 1;
 /// (`distributed`).
 pub const ROULETTE: u64 = SHADOW - 2;
 
+/// The first path-sampler dimension of a BSDF's third number (the lobe
+/// choice of [`SetPoint::third`](crate::sampling::SetPoint::third)): the
+/// `k`-th BSDF sample of a bounce, whose point is dimension `d = 2(e + k)`,
+/// takes `LOBE_DIMENSION + d`, far above the bounce's other dimensions.
+/// `independent` draws it after the sample's roulette number, and only
+/// for a model that reads it, so no other number moves.
+pub const LOBE_DIMENSION: u64 = 1 << 20;
+
 /// The branch of the shadow set toward emitter `j`.
 #[inline]
 pub fn shadow(j: u64) -> u64 {

@@ -29,10 +29,17 @@ pub struct EffectSpec {
 /// their random numbers as a `SetPoint`: a model that wants uniform numbers
 /// asks for [`square`](Self::square) (stratification kept), the thesis's
 /// models use the [`native`](Self::native) point itself, as its listings do.
+///
+/// A model that chooses among its lobes by what the point draws (a rough
+/// dielectric by the drawn facet's Fresnel factor, as Mitsuba's) needs one
+/// more number: [`third`](Self::third), the source's own where it has one
+/// (a path sampler's dimension), else one hashed from the point's bits.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SetPoint {
     pub point: Vec3,
     pub distribution: Distribution,
+    /// A third uniform number in [0, 1), where the point's source gives one.
+    pub extra: Option<f32>,
 }
 
 impl SetPoint {
@@ -40,7 +47,35 @@ impl SetPoint {
         SetPoint {
             point,
             distribution,
+            extra: None,
         }
+    }
+
+    /// The point with a third uniform number `w` in [0, 1).
+    pub fn with_third(self, w: f32) -> SetPoint {
+        SetPoint {
+            extra: Some(w),
+            ..self
+        }
+    }
+
+    /// A third number in [0, 1), independent of the point's own two: the
+    /// source's, else a hash of the point's bits (a pure function of the
+    /// point, uniform and unrelated to its coordinates' values, so a lobe
+    /// it chooses is chosen with the right probability).
+    #[inline]
+    pub fn third(&self) -> f32 {
+        if let Some(w) = self.extra {
+            return w;
+        }
+        let [x, y, z] = self.point.to_array().map(f32::to_bits);
+        let mut h = u64::from(x) | u64::from(y) << 32;
+        h ^= u64::from(z).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        // The finaliser of SplitMix64.
+        h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        h ^= h >> 31;
+        (h >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
     /// The point of two uniform numbers `u` in [0, 1)², for callers that

@@ -405,8 +405,11 @@ impl<'s> Wavefront<'s> {
             };
             for k in 0..b {
                 let d = 2 * u64::from(e + k);
-                let point = SetPoint::uniform(u.point(d));
+                let mut point = SetPoint::uniform(u.point(d));
                 let roulette = u.value(d + 1);
+                if bsdf.wants_third() {
+                    point = point.with_third(u.value(streams::LOBE_DIMENSION + d));
+                }
                 let Some(s) = bsdf.sample(hit, v.wo, None, point) else {
                     continue;
                 };
