@@ -24,8 +24,12 @@ its pixels' channels pass.
 
 Printed per scene: pass or fail, the fraction of channels that pass, the
 smallest p-value, Penumbra's mean radiance relative to the reference's,
-and the render time; or why Penumbra refused the scene. `--check` exits 1
-when any scene fails or is refused. Renders go to DIR (default
+and the render time; or why Penumbra refused the scene. With `--noise`,
+Mitsuba 3 (`scalar_rgb`, from bench/requirements.txt) renders the scene
+too at the same sample count, and the relative MSE of each image against
+the reference (mean of (x − ref)² / (ref² + 0.01)) is printed, Penumbra's
+over Mitsuba's: the noise at equal samples. `--check` exits 1 when any
+scene fails or is refused. Renders go to DIR (default
 bench/.work/mitsuba-tests).
 """
 
@@ -86,6 +90,20 @@ def judge(img, ref, ref_var, spp):
     return passed >= 0.9975 * pixels, passed / pixels, float(p.min()), level
 
 
+def rel_mse(img, ref):
+    return float(((img - ref) ** 2 / (ref**2 + 0.01)).mean())
+
+
+def mitsuba_image(scene, spp, integrator):
+    """Mitsuba 3's render of `scene` at `spp` (scalar_rgb, seed 1), RGB."""
+    import mitsuba as mi
+
+    mi.set_variant("scalar_rgb")
+    loaded = mi.load_file(str(scene), spp=spp, integrator=integrator)
+    img = np.asarray(mi.render(loaded, spp=spp, seed=1), dtype=np.float64)
+    return img[..., :3]
+
+
 def scenes(data, filters):
     root = Path(data) / "tests" / "scenes"
     found = sorted(root.glob("*/*.xml"))
@@ -105,6 +123,7 @@ def main():
     ap.add_argument("--penumbra", default=str(HERE.parent / "target" / "release" / "penumbra"))
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--check", action="store_true")
+    ap.add_argument("--noise", action="store_true", help="relative MSE against Mitsuba's at equal samples")
     ap.add_argument("--out", default=str(HERE / ".work" / "mitsuba-tests"))
     a = ap.parse_args()
     out = Path(a.out)
@@ -141,10 +160,14 @@ def main():
         ok, fraction, p_min, level = judge(img, ref, ref_var, spp)
         failed += not ok
         mean = img.mean(axis=(0, 1)) / np.maximum(ref.mean(axis=(0, 1)), 1e-12)
+        noise = ""
+        if a.noise:
+            ours, theirs = rel_mse(img, ref), rel_mse(mitsuba_image(scene, spp, integrator), ref)
+            noise = f", relMSE {ours:.2e} / Mitsuba's {theirs:.2e} = {ours / theirs:.2f}"
         rows.append(
             f"{label:60} {'pass' if ok else 'FAIL':9} {100 * fraction:7.3f}% channels, "
             f"min p {p_min:.2e} (level {level:.1e}), mean/ref "
-            f"{' '.join(f'{m:.4f}' for m in mean)}, {spp} spp, {seconds:.1f} s"
+            f"{' '.join(f'{m:.4f}' for m in mean)}, {spp} spp, {seconds:.1f} s{noise}"
         )
         print(rows[-1], flush=True)
     total = len(rows)
