@@ -193,6 +193,17 @@ pub fn p_value(observed: &[f64], expected: &[f64]) -> Result<f64, String> {
     Ok(chi.sf(stat))
 }
 
+/// Four views of the shading frame's local space: along the normal, two
+/// oblique from outside (one grazing) and one from inside.
+pub fn views() -> [Vec3; 4] {
+    [
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.6, 0.2, 0.77).normalize(),
+        Vec3::new(-0.3, 0.9, 0.15).normalize(),
+        Vec3::new(0.5, -0.1, -0.8).normalize(),
+    ]
+}
+
 /// The model `M` of the parameters `text` (TOML keys of a material).
 pub fn build<M: BsdfModel>(text: &str) -> Result<M, Invalid> {
     build_in(text, &HashMap::new())

@@ -482,17 +482,10 @@ impl BsdfModel for PrincipledThin {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{self, albedo, build, check_weights, interaction, model_p_value};
+    use crate::bsdf::chi2::{
+        self, albedo, build, check_weights, interaction, model_p_value, views,
+    };
     use crate::bsdf::principled::Principled;
-
-    fn views() -> [Vec3; 4] {
-        [
-            Vec3::new(0.0, 0.0, 1.0),
-            Vec3::new(0.6, 0.2, 0.77).normalize(),
-            Vec3::new(-0.3, 0.9, 0.15).normalize(),
-            Vec3::new(0.5, -0.1, -0.8).normalize(),
-        ]
-    }
 
     const SETS: [&str; 6] = [
         "",

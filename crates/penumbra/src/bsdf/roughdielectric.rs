@@ -313,7 +313,9 @@ impl BsdfModel for RoughDielectric {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{self, albedo, build, check_weights, interaction, model_p_value};
+    use crate::bsdf::chi2::{
+        self, albedo, build, check_weights, interaction, model_p_value, views,
+    };
 
     fn models() -> Vec<(String, RoughDielectric)> {
         let mut all = Vec::new();
@@ -326,15 +328,6 @@ mod tests {
             }
         }
         all
-    }
-
-    fn views() -> [Vec3; 4] {
-        [
-            Vec3::new(0.0, 0.0, 1.0),
-            Vec3::new(0.6, 0.2, 0.77).normalize(),
-            Vec3::new(-0.3, 0.9, 0.15).normalize(),
-            Vec3::new(0.5, -0.1, -0.8).normalize(),
-        ]
     }
 
     /// The sampler's directions (reflected and transmitted, both sides)
