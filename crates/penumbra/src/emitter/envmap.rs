@@ -664,7 +664,6 @@ pub(crate) mod tests {
     /// off, the test fails.
     #[test]
     fn samples_follow_the_bilinear_pdf() {
-        use statrs::distribution::{ChiSquared, ContinuousCDF};
         let (w, h) = (12, 6);
         for compensated in [false, true] {
             let e = Envmap::new(w, h, sky(w, h), turned(35.0), compensated);
@@ -699,32 +698,7 @@ pub(crate) mod tests {
                     f64::from(dist.pdf(c)) * n as f64 / (bx * by) as f64
                 })
                 .collect();
-            let chi2 = |expected: &[f64]| {
-                let (mut stat, mut cells) = (0.0, 0usize);
-                let (mut pool_e, mut pool_o) = (0.0, 0.0);
-                for (&c, &x) in counts.iter().zip(expected) {
-                    if x < 5.0 {
-                        pool_e += x;
-                        pool_o += f64::from(c);
-                    } else {
-                        stat += (f64::from(c) - x).powi(2) / x;
-                        cells += 1;
-                    }
-                }
-                if pool_e >= 5.0 {
-                    stat += (pool_o - pool_e).powi(2) / pool_e;
-                    cells += 1;
-                } else {
-                    assert!(
-                        pool_o <= 10.0,
-                        "{pool_o} samples where {pool_e} were expected"
-                    );
-                }
-                let q = ChiSquared::new((cells - 1) as f64)
-                    .unwrap()
-                    .inverse_cdf(0.999);
-                (stat, q)
-            };
+            let chi2 = |expected: &[f64]| pooled_chi2(&counts, expected);
             let (good, q) = chi2(&expected);
             let likeliest = (0..expected.len())
                 .max_by(|&a, &b| expected[a].total_cmp(&expected[b]))
@@ -947,7 +921,6 @@ pub(crate) mod tests {
         sub: usize,
         off: Option<usize>,
     ) -> (f64, f64) {
-        use statrs::distribution::{ChiSquared, ContinuousCDF};
         let (w, h) = (e.map.width, e.map.height);
         let sw = sub * w;
         let mut probs: Vec<f64> = (0..counts.len())
@@ -963,8 +936,16 @@ pub(crate) mod tests {
             .collect();
         let total: f64 = probs.iter().sum();
         probs.iter_mut().for_each(|p| *p *= n as f64 / total);
+        pooled_chi2(counts, &probs)
+    }
+
+    /// Pearson's χ² of `counts` against `expected`, the cells expecting
+    /// fewer than 5 samples pooled into one (too few to count: then they
+    /// may hold no more than 10); the statistic and its 0.999 quantile.
+    fn pooled_chi2(counts: &[u32], expected: &[f64]) -> (f64, f64) {
+        use statrs::distribution::{ChiSquared, ContinuousCDF};
         let (mut stat, mut cells, mut pool_e, mut pool_o) = (0.0, 0usize, 0.0, 0.0);
-        for (&c, &expect) in counts.iter().zip(&probs) {
+        for (&c, &expect) in counts.iter().zip(expected) {
             if expect < 5.0 {
                 pool_e += expect;
                 pool_o += f64::from(c);
