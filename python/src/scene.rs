@@ -282,8 +282,10 @@ impl Scene {
 
     /// Validates the scene with these render options, exactly as `render`
     /// would (loading meshes and building the BVH, which is then cached), and
-    /// returns the settings in force: width, height, crop (the part of the
-    /// frame rendered, `[x0, y0, x1, y1]`), seed, spp, max_depth,
+    /// returns the settings in force: width, height (of the frame sampled:
+    /// the film and, with `sample_border`, the filter's reach beyond it),
+    /// crop (the part of that frame rendered and returned, `[x0, y0, x1,
+    /// y1]`), seed, spp, max_depth,
     /// primitives, build_s and warnings. Raises SceneError for an invalid
     /// scene. Use it to fail early, before sending work to a cluster.
     #[pyo3(signature = (**options))]

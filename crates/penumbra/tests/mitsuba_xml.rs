@@ -2670,52 +2670,110 @@ fn a_projector_is_placed_by_its_lookat_and_takes_a_nested_texture() {
     assert!(e.contains("must be a rotation and a translation"), "{e}");
 }
 
-/// Mitsuba's crop window: the image written is the crop of the film, its
-/// pixels those of the whole film's render; one that leaves the film is
-/// refused at its key.
+/// A perspective sensor framing a unit emitting sphere on a `width` ×
+/// `height` film (Mitsuba's default Gaussian filter, splatting) with
+/// `film` inside the film's element.
+fn lit_sphere(width: u32, height: u32, film: &str) -> String {
+    format!(
+        r#"<integrator type="path"/>
+        <sensor type="perspective"><float name="fov" value="40"/>
+          <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+          <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+          <film type="hdrfilm"><integer name="width" value="{width}"/><integer name="height" value="{height}"/>{film}</film>
+        </sensor>
+        <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 0.5, 0.25"/></emitter></shape>"#
+    )
+}
+
+fn render_xml(body: &str) -> penumbra::render::Image {
+    let d = one(body);
+    let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+    let opts = penumbra::render::RenderOptions {
+        threads: Some(2),
+        region: None,
+    };
+    penumbra::render::render(&scene, &opts, &|_, _| {}, None)
+        .unwrap()
+        .0
+}
+
+const CROP: &str = r#"<integer name="crop_offset_x" value="7"/><integer name="crop_offset_y" value="11"/>
+    <integer name="crop_width" value="20"/><integer name="crop_height" value="9"/>"#;
+
+/// Mitsuba's crop window: the image written is the crop of the film; its
+/// samples are its own pixels' (Mitsuba's image block is the crop), so the
+/// pixels farther than the filter's reach (2 for the Gaussian) from its
+/// edges are the whole film's, and those along its edges miss the samples
+/// from beyond it. One that leaves the film is refused at its key.
 #[test]
 fn a_films_crop_window_is_the_image_written() {
-    let film = |crop: &str| {
-        format!(
-            r#"<integrator type="path"/>
-            <sensor type="perspective"><float name="fov" value="40"/>
-              <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-              <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
-              <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>{crop}</film>
-            </sensor>
-            <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1, 0.5, 0.25"/></emitter></shape>"#
-        )
-    };
-    let render = |body: &str| {
-        let d = one(body);
-        let scene = build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
-        let opts = penumbra::render::RenderOptions {
-            threads: Some(2),
-            region: None,
-        };
-        penumbra::render::render(&scene, &opts, &|_, _| {}, None)
-            .unwrap()
-            .0
-    };
-    let full = render(&film(""));
-    let part = render(&film(
-        r#"<integer name="crop_offset_x" value="7"/><integer name="crop_offset_y" value="11"/>
-        <integer name="crop_width" value="20"/><integer name="crop_height" value="9"/>"#,
-    ));
+    let full = render_xml(&lit_sphere(40, 30, ""));
+    let part = render_xml(&lit_sphere(40, 30, CROP));
     assert_eq!((part.width, part.height), (20, 9));
+    let mut edges_differ = 0;
     for y in 0..9 {
         for x in 0..20 {
-            assert_eq!(part.get(x, y), full.get(x + 7, y + 11), "({x}, {y})");
+            let (a, b) = (part.get(x, y), full.get(x + 7, y + 11));
+            if (2..18).contains(&x) && (2..7).contains(&y) {
+                assert_eq!(a, b, "({x}, {y})");
+            } else if a != b {
+                edges_differ += 1;
+            }
         }
     }
+    assert!(edges_differ > 20, "{edges_differ}");
     assert!(part.mean().r > 0.0);
-    let d = one(&film(
+    let d = one(&lit_sphere(
+        40,
+        30,
         r#"<integer name="crop_offset_y" value="25"/><integer name="crop_height" value="6"/>"#,
     ));
     let e = build_whitted(&d).err().unwrap().to_string();
     assert!(
         e.contains("scene.xml:") && e.contains("leaves the image"),
         "{e}"
+    );
+}
+
+/// `sample_border`: the pixels within the filter's reach beyond the film
+/// or its crop are sampled too, so a crop's pixels are all the whole film's
+/// (both with a border), and the image does not move: the sphere's centre
+/// stays where it is without a border.
+#[test]
+fn a_sample_border_samples_beyond_the_film_and_its_crop() {
+    let border = r#"<boolean name="sample_border" value="true"/>"#;
+    let full = render_xml(&lit_sphere(40, 30, border));
+    let part = render_xml(&lit_sphere(40, 30, &format!("{border}{CROP}")));
+    assert_eq!((full.width, full.height), (40, 30));
+    assert_eq!((part.width, part.height), (20, 9));
+    for y in 0..9 {
+        for x in 0..20 {
+            assert_eq!(part.get(x, y), full.get(x + 7, y + 11), "({x}, {y})");
+        }
+    }
+    // The centroid of the sphere's image, with and without a border, on a
+    // film whose centre is at (20.5, 15).
+    let centroid = |film: &str| {
+        let image = render_xml(&lit_sphere(41, 30, film));
+        let (mut m, mut mx, mut my) = (0.0, 0.0, 0.0);
+        for y in 0..image.height {
+            for x in 0..image.width {
+                let v = f64::from(image.get(x, y).r);
+                m += v;
+                mx += v * (f64::from(x) + 0.5);
+                my += v * (f64::from(y) + 0.5);
+            }
+        }
+        (mx / m, my / m)
+    };
+    let with = centroid(border);
+    let without = centroid("");
+    for (a, b) in [(with.0, without.0), (with.1, without.1)] {
+        assert!((a - b).abs() < 0.05, "{with:?} {without:?}");
+    }
+    assert!(
+        (with.0 - 20.5).abs() < 0.05 && (with.1 - 15.0).abs() < 0.05,
+        "{with:?}"
     );
 }
 

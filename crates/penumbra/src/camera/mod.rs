@@ -60,8 +60,12 @@ pub struct CameraSpec {
     pub aperture: f32,
     pub focal_distance: f32,
     pub shutter: [f32; 2],
+    /// The film's size in pixels.
     pub width: u32,
     pub height: u32,
+    /// The pixels sampled beyond the film on each side: the camera's
+    /// film point `p` is the film's `p − (border, border)`.
+    pub border: u32,
 }
 
 /// The camera's orthonormal view basis at one instant.
@@ -99,7 +103,8 @@ impl Camera {
             Projection::Perspective => Vec2::new(tan * aspect, tan),
             Projection::Orthographic => 0.5 * spec.view_size,
         };
-        let shift = spec.principal_point * Vec2::new(spec.width as f32, spec.height as f32);
+        let shift = spec.principal_point * Vec2::new(spec.width as f32, spec.height as f32)
+            - Vec2::splat(spec.border as f32);
         Camera {
             spec,
             still,
@@ -272,6 +277,7 @@ mod tests {
             shutter: [0.0, 1.0],
             width: 200,
             height: 100,
+            border: 0,
         })
     }
 

@@ -49,8 +49,11 @@ pub type Sums = [i128; 4];
 #[derive(Clone, Debug, PartialEq)]
 pub struct Splatting {
     pub filter: PixelFilter,
-    /// The frame's size: pixels beyond it are never written.
-    pub frame: (u32, u32),
+    /// The pixels sampled, columns and rows: the film's crop window (the
+    /// whole film without one) and its sample border. Pixels beyond it are
+    /// neither sampled nor written, as Mitsuba's film, whose image block is
+    /// the crop window.
+    pub window: (Range<u32>, Range<u32>),
 }
 
 impl Splatting {
@@ -62,13 +65,15 @@ impl Splatting {
         (self.filter.radius() + 0.5).floor() as u32
     }
 
-    /// `xs × ys` grown by the border on every side, within the frame.
+    /// `xs × ys` grown by the border on every side, within the window
+    /// (empty where it lies outside it).
     pub fn grown(&self, xs: &Range<u32>, ys: &Range<u32>) -> (Range<u32>, Range<u32>) {
         let b = self.border();
-        (
-            xs.start.saturating_sub(b)..(xs.end + b).min(self.frame.0),
-            ys.start.saturating_sub(b)..(ys.end + b).min(self.frame.1),
-        )
+        let grow = |r: &Range<u32>, w: &Range<u32>| {
+            let start = r.start.saturating_sub(b).max(w.start);
+            start..(r.end + b).min(w.end).max(start)
+        };
+        (grow(xs, &self.window.0), grow(ys, &self.window.1))
     }
 }
 
@@ -189,7 +194,7 @@ mod tests {
     fn gaussian(frame: (u32, u32)) -> Splatting {
         Splatting {
             filter: PixelFilter::of(Filter::Gaussian),
-            frame,
+            window: (0..frame.0, 0..frame.1),
         }
     }
 
@@ -203,9 +208,17 @@ mod tests {
         assert_eq!(how.grown(&(8..10), &(6..8)), (6..10, 4..8));
         let tent = Splatting {
             filter: PixelFilter::of(Filter::Tent),
-            frame: (10, 8),
+            window: (0..10, 0..8),
         };
         assert_eq!(tent.border(), 1);
+        // A crop window: nothing beyond it, nothing of a part outside it.
+        let crop = Splatting {
+            window: (3..9, 2..5),
+            ..gaussian((10, 8))
+        };
+        assert_eq!(crop.grown(&(4..6), &(2..3)), (3..8, 2..5));
+        assert_eq!(crop.grown(&(0..1), &(7..8)).0, 3..3);
+        assert!(crop.grown(&(0..1), &(7..8)).1.is_empty());
     }
 
     /// A sample reaches exactly the pixels whose centres are within the

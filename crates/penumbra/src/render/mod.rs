@@ -167,9 +167,20 @@ pub fn render_with<I: Integrator>(
         .max(1);
     let pool = pool(threads)?;
     let tile = integrator.tile();
+    // The pixels sampled: the crop window and its sample border, grown to
+    // hold a region beyond them.
+    let window = {
+        let (f, b) = (frame(s), s.border);
+        Region {
+            x0: (f.x0 - b).min(region.x0),
+            y0: (f.y0 - b).min(region.y0),
+            x1: (f.x1 + b).max(region.x1),
+            y1: (f.y1 + b).max(region.y1),
+        }
+    };
     let splatting = s.splat.then(|| Splatting {
         filter: s.filter.clone(),
-        frame: (s.width, s.height),
+        window: (window.x0..window.x1, window.y0..window.y1),
     });
     let sampled = match &splatting {
         Some(how) => {

@@ -19,8 +19,9 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
     };
     json!({
         "scene": scene_name,
-        "width": s.width,
-        "height": s.height,
+        // The film's size, without the border sampled beyond it.
+        "width": s.width - 2 * s.border,
+        "height": s.height - 2 * s.border,
         "threads": stats.threads,
         "seed": s.seed,
         "spp": s.spp,

@@ -173,8 +173,8 @@ pub const PLUGINS: [Plugin; 3] = [
         &["thinlens"],
         Mitsuba {
             differences: "as `perspective`, without a principal point offset (Mitsuba's has \
-                none); `aperture_radius` and `focus_distance` (both required) as `aperture` \
-                and `focal_distance`",
+                none); `aperture_radius` (required) and `focus_distance` (the far clip plane \
+                where not given, as Mitsuba's) as `aperture` and `focal_distance`",
             reads: &[
                 "fov",
                 "fov_axis",
@@ -206,6 +206,7 @@ pub const PLUGINS: [Plugin; 3] = [
 
 /// The camera of the sensor's parameters `p`, for an image of `s`.
 pub fn build(p: &Props, s: &Settings) -> Result<Camera, Invalid> {
+    let film = (s.width - 2 * s.border, s.height - 2 * s.border);
     let position = finite3(p, "position", [0.0, 1.0, 5.0])?;
     let look_at = finite3(p, "look_at", [0.0, 0.0, 0.0])?;
     let up = nonzero3(p, "up", [0.0, 1.0, 0.0])?;
@@ -236,11 +237,7 @@ pub fn build(p: &Props, s: &Settings) -> Result<Camera, Invalid> {
         return Err(p.error("aperture", "an orthographic camera has no lens"));
     }
     let view_width = positive(p, "view_width", 2.0)?;
-    let view_height = positive(
-        p,
-        "view_height",
-        view_width * s.height as f32 / s.width as f32,
-    )?;
+    let view_height = positive(p, "view_height", view_width * film.1 as f32 / film.0 as f32)?;
     let near_clip = range(p, "near_clip", 0.0, 0.0, f32::MAX)?;
     let far_clip = match p.f32("far_clip")? {
         None => f32::INFINITY,
@@ -286,7 +283,8 @@ pub fn build(p: &Props, s: &Settings) -> Result<Camera, Invalid> {
         aperture,
         focal_distance,
         shutter: [open, close],
-        width: s.width,
-        height: s.height,
+        width: film.0,
+        height: film.1,
+        border: s.border,
     }))
 }

@@ -544,9 +544,25 @@ pub const OPTIONS: &[RenderOption] = &[
               hdrfilm, the default for its scenes), rather than film points drawn from the filter \
               each adding to its own pixel; the box filter is the same either way",
         table: Some(Table::Render),
-        flag: Flag::PLAIN,
+        flag: Flag::with_off(
+            "add each sample to its own pixel, its film point drawn from the filter (a Mitsuba \
+             scene splats unless told so)",
+        ),
         python: true,
         set: Some(|c, v| c.overrides.splat = v.switch()),
+    },
+    RenderOption {
+        name: "sample_border",
+        kind: Kind::Switch,
+        default: switch(false),
+        doc: "with `splat`, the pixels within the filter's reach beyond the image (or its crop \
+              window) are sampled too, so that the pixels along its edges get the samples the \
+              pixels inside do (Mitsuba's hdrfilm `sample_border`); without it an edge pixel gets \
+              only the samples from inside",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
     },
     RenderOption {
         name: "crop_offset_x",

@@ -89,6 +89,12 @@ pub struct Settings {
     /// The part of the `width` × `height` image that is rendered and
     /// written (the camera frames the whole); `None` for the whole.
     pub crop: Option<Crop>,
+    /// The pixels sampled beyond the film on each side (`sample_border`
+    /// with a splatting filter; else 0). `width`, `height` and `crop` are
+    /// those of the frame sampled, the film grown by it: the film's pixel
+    /// `(x, y)` is the frame's `(x + border, y + border)`, and the crop
+    /// window is never `None` when it is not 0.
+    pub border: u32,
 }
 
 /// A crop window: the `width` × `height` pixels from column `x`, row `y`
@@ -172,6 +178,7 @@ pub const FILM: Schema = Schema {
         param("filter_c", Type::Number).penumbra_only(),
         param("filter_lobes", Type::Int).penumbra_only(),
         param("splat", Type::Bool).penumbra_only(),
+        param("sample_border", Type::Bool),
         param("crop_offset_x", Type::Int),
         param("crop_offset_y", Type::Int),
         param("crop_width", Type::Int),
@@ -187,7 +194,8 @@ pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
             window (`crop_offset_x`, `crop_offset_y`, `crop_width`, `crop_height`) as Mitsuba's: \
             the image written is the crop, the camera frames the whole film; its \
             `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys, each sample \
-            splatted by it (`splat`) as Mitsuba's film develops; \
+            splatted by it (`splat`) as Mitsuba's film develops, only the samples of the crop \
+            window's pixels (and of the border beyond it with `sample_border`) reaching it; \
             `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
             the output's extension chooses the format",
         reads: &["file_format", "pixel_format", "component_format"],
@@ -280,8 +288,9 @@ pub const SAMPLER_PLUGINS: [Plugin; 5] = [
     sampler(
         &["orthogonal"],
         "`sample_count` is 4 unless given; the camera sample `pmj02`, the bounces \
-         `render.path_sampler = \"pmj02\"`: the nearest, with a warning",
-        &[],
+         `render.path_sampler = \"pmj02\"`: the nearest, with a warning, whatever its \
+         `jitter` and `strength`",
+        &["jitter", "strength"],
         Adapt::Held(sensors::orthogonal),
     ),
 ];
@@ -314,6 +323,31 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
     let filter = pixel_filter(film)?;
     let splat = film.bool("splat")?.unwrap_or(false) && filter.filter() != Filter::Box;
     let crop = crop(film, width, height)?;
+    let bordered = film.bool("sample_border")?.unwrap_or(false);
+    let border = if splat && bordered {
+        sample_border(filter.radius())
+    } else {
+        0
+    };
+    // The frame sampled: the film grown by the border on each side, its
+    // crop window (the whole film where none is given) moved with it.
+    let crop = match (border, crop) {
+        (0, crop) => crop,
+        (b, crop) => Some(crop.map_or(
+            Crop {
+                x: b,
+                y: b,
+                width,
+                height,
+            },
+            |c| Crop {
+                x: c.x + b,
+                y: c.y + b,
+                ..c
+            },
+        )),
+    };
+    let (width, height) = (width + 2 * border, height + 2 * border);
     let sets = sets(sampler)?;
     let d = sampler
         .distribution("distribution")?
@@ -336,7 +370,17 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         filter,
         splat,
         crop,
+        border,
     })
+}
+
+/// The pixels beyond the film a splatting filter of radius `r` needs
+/// sampled, as Mitsuba's reconstruction filters count them: ⌈r − 1/2 − 2ε⌉
+/// with Mitsuba's ray epsilon ε = 1500 · 2⁻²⁴, so that a radius ending on a
+/// pixel's edge does not count the pixel beyond.
+fn sample_border(r: f32) -> u32 {
+    const RAY_EPSILON: f32 = 1500.0 / 16_777_216.0;
+    (r - 0.5 - 2.0 * RAY_EPSILON).ceil().max(0.0) as u32
 }
 
 /// The film's crop window (Mitsuba's): the whole `width` × `height` image

@@ -211,9 +211,11 @@ impl Bitmap {
 impl TextureModel for Bitmap {
     const NAME: &'static str = "bitmap";
     const SCHEMA: Schema = SCHEMA;
-    const MITSUBA: Mitsuba = Mitsuba::differs(
-        "`accel` is refused; an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it); `format=\"auto\"` keeps a 16-bit file at 32 bits (Mitsuba: half precision)",
-    );
+    const MITSUBA: Mitsuba = Mitsuba {
+        differences: "`accel` is read with no effect (it asks for a GPU's texture units, which Mitsuba's CPU variants do not use either); an image smaller than 2 × 2 is read as it is (Mitsuba enlarges it); `format=\"auto\"` keeps a 16-bit file at 32 bits (Mitsuba: half precision)",
+        reads: &["accel"],
+        adapt: None,
+    };
 
     /// The texture of a scene's parameters, its file relative to `base_dir`.
     fn build(p: &Props, textures: &Textures) -> Result<Bitmap, Invalid> {

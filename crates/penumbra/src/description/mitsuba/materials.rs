@@ -249,7 +249,8 @@ impl Out<'_> {
     ) -> Result<Located<Value>, SceneError> {
         let plugin = plugin_of((self.registry)(Kind::Texture), obj, "texture")?;
         let schema = plugin.schema;
-        let known = mitsuba_keys(schema);
+        let mut known = mitsuba_keys(schema);
+        known.extend(plugin.mitsuba.reads);
         for p in &obj.props {
             if !known.contains(&p.name.as_str()) {
                 return Err(error_at(

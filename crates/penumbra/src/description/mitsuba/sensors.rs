@@ -50,9 +50,10 @@ pub fn perspective(
     sensor(m, obj, node, base, Model::Pinhole)
 }
 
-/// Mitsuba's `thinlens`: a `perspective` whose `aperture_radius` and
-/// `focus_distance` (both required) are the camera's `aperture` and
-/// `focal_distance`, without a principal point offset.
+/// Mitsuba's `thinlens`: a `perspective` whose `aperture_radius`
+/// (required) and `focus_distance` (the far clip plane where not given)
+/// are the camera's `aperture` and `focal_distance`, without a principal
+/// point offset.
 pub fn thinlens(
     m: &mut dyn Mapper,
     obj: &Object,
@@ -225,9 +226,8 @@ fn sensor(
             return Err(error_at(&obj.at, "thinlens: missing `aperture_radius`"));
         };
         set(node, base, "aperture", r_at, |p, at| float(radius, p, at));
-        let Some((focus, f_at)) = get_float(obj, "focus_distance")? else {
-            return Err(error_at(&obj.at, "thinlens: missing `focus_distance`"));
-        };
+        // Mitsuba focuses on the far clip plane where not told.
+        let (focus, f_at) = get_float(obj, "focus_distance")?.unwrap_or((far, &clip_at));
         set(node, base, "focal_distance", f_at, |p, at| {
             float(focus, p, at)
         });
@@ -506,13 +506,17 @@ pub fn ldsampler(
     sampler(m, obj, node, base, ("sobol", Some("sobol")))
 }
 
-/// Mitsuba's `orthogonal`: the camera sample and the bounces `pmj02`.
+/// Mitsuba's `orthogonal`: the camera sample and the bounces `pmj02`
+/// (its `jitter` and `strength` read, the nearest being the same for
+/// every value).
 pub fn orthogonal(
     m: &mut dyn Mapper,
     obj: &Object,
     node: &mut Node,
     base: &KeyPath,
 ) -> Result<(), SceneError> {
+    get_bool(obj, "jitter")?;
+    get_int(obj, "strength")?;
     sampler(m, obj, node, base, ("pmj02", Some("pmj02")))
 }
 

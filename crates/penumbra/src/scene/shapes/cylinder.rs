@@ -45,7 +45,9 @@ pub const SCHEMA: Schema = Schema {
 
 /// How Mitsuba's `cylinder` maps onto it.
 pub const MITSUBA: Mitsuba =
-    Mitsuba::differs("only uniform scale outside a group (Mitsuba also takes an elliptic tube)");
+    super::analytic(
+    "only uniform scale outside a group (Mitsuba also takes an elliptic tube); `silhouette_sampling_weight` is read with no effect (it weights Mitsuba's sampling of derivatives)",
+);
 
 /// The tube of the parameters `p`, placed by `at`.
 pub(super) fn build(p: &Props, at: &Placing, _: &mut Loading) -> Result<Shape, BuildError> {

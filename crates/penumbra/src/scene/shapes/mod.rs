@@ -11,7 +11,7 @@ use super::context::BuildContext;
 use super::error::BuildError;
 use super::transform;
 use crate::accel::world::{mesh_bvh, Object};
-use crate::description::mitsuba::Plugin;
+use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Param, Props, Schema, Type};
 use crate::geometry::{Mesh, Shape, ShapeModel};
 use crate::math::Mat4;
@@ -30,6 +30,18 @@ pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
 pub const INSTANCING_FACTOR: u64 = 16;
 
 /// The keys every object has besides its shape's.
+/// How Mitsuba's analytic shapes map: through the schema, with
+/// `differences`, reading `silhouette_sampling_weight`, which weights
+/// Mitsuba's projective sampling of derivatives only and changes nothing in
+/// a rendered image.
+const fn analytic(differences: &'static str) -> Mitsuba {
+    Mitsuba {
+        differences,
+        reads: &["silhouette_sampling_weight"],
+        adapt: None,
+    }
+}
+
 const COMMON: [Param; 5] = [
     Param::new(
         "material",

@@ -37,8 +37,8 @@ pub const SCHEMA: Schema = Schema {
 
 /// How Mitsuba's `rectangle` maps onto it.
 pub const MITSUBA: Mitsuba = Mitsuba {
-    differences: "the square [−1, 1]² at z = 0 through `to_world` as `origin`, `edge_u`, `edge_v`, ordered so that `edge_u × edge_v` is Mitsuba's normal",
-    reads: &["to_world"],
+    differences: "the square [−1, 1]² at z = 0 through `to_world` as `origin`, `edge_u`, `edge_v`, ordered so that `edge_u × edge_v` is Mitsuba's normal; `silhouette_sampling_weight` is read with no effect (it weights Mitsuba's sampling of derivatives)",
+    reads: &["to_world", "silhouette_sampling_weight"],
     adapt: Some(Adapt::Node(adapt::rectangle)),
 };
 

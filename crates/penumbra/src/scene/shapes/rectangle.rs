@@ -19,7 +19,9 @@ pub const SCHEMA: Schema = Schema {
 };
 
 /// Read as Mitsuba writes it.
-pub const MITSUBA: Mitsuba = Mitsuba::SAME;
+pub const MITSUBA: Mitsuba = super::analytic(
+    "`silhouette_sampling_weight` is read with no effect (it weights Mitsuba's sampling of derivatives)",
+);
 
 /// The rectangle placed by `at`.
 pub(super) fn build(_: &Props, at: &Placing, _: &mut Loading) -> Result<Shape, BuildError> {

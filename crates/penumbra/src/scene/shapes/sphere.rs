@@ -38,7 +38,9 @@ pub const SCHEMA: Schema = Schema {
 };
 
 /// How Mitsuba's `sphere` maps onto it.
-pub const MITSUBA: Mitsuba = Mitsuba::differs("only uniform scale outside a group");
+pub const MITSUBA: Mitsuba = super::analytic(
+    "only uniform scale outside a group; `silhouette_sampling_weight` is read with no effect (it weights Mitsuba's sampling of derivatives)",
+);
 
 /// The sphere of the parameters `p`, placed by `at`.
 pub(super) fn build(p: &Props, at: &Placing, _: &mut Loading) -> Result<Shape, BuildError> {
