@@ -560,9 +560,9 @@ pub const OPTIONS: &[RenderOption] = &[
               pixels inside do (Mitsuba's hdrfilm `sample_border`); without it an edge pixel gets \
               only the samples from inside",
         table: Some(Table::Render),
-        flag: None,
-        python: false,
-        set: None,
+        flag: Flag::with_off("sample only the film's pixels (or its crop window's)"),
+        python: true,
+        set: Some(|c, v| c.overrides.sample_border = v.switch()),
     },
     RenderOption {
         name: "crop_offset_x",

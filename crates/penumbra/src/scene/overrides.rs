@@ -50,6 +50,9 @@ pub struct Overrides {
     pub filter_lobes: Option<u32>,
     /// Whether samples are splatted by the filter.
     pub splat: Option<bool>,
+    /// Whether the pixels within the filter's reach beyond the film are
+    /// sampled.
+    pub sample_border: Option<bool>,
     pub lens_distribution: Option<Distribution>,
     pub time_distribution: Option<Distribution>,
     pub shadow_distribution: Option<Distribution>,
@@ -169,6 +172,7 @@ impl Overrides {
         set(root, "filter_c", num(self.filter_c));
         set(root, "filter_lobes", int(self.filter_lobes));
         set(root, "splat", flag(self.splat));
+        set(root, "sample_border", flag(self.sample_border));
         set(root, "lens_distribution", dist(self.lens_distribution));
         set(root, "time_distribution", dist(self.time_distribution));
         set(root, "shadow_distribution", dist(shadow_d));
