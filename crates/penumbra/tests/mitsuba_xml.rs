@@ -194,6 +194,7 @@ width = 64
 height = 48
 filter = "box"
 splat = true
+filter_steps = 31
 spp = 4
 seed = 7
 distribution = "random"

@@ -47,6 +47,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("filter_c", Kind::Film),
     ("filter_lobes", Kind::Film),
     ("splat", Kind::Film),
+    ("filter_steps", Kind::Film),
     ("sample_border", Kind::Film),
     ("crop_offset_x", Kind::Film),
     ("crop_offset_y", Kind::Film),

@@ -54,9 +54,45 @@ pub struct Splatting {
     /// neither sampled nor written, as Mitsuba's film, whose image block is
     /// the crop window.
     pub window: (Range<u32>, Range<u32>),
+    /// The filter tabulated, `filter_steps` values over its radius and a
+    /// 0 (Mitsuba's `eval_discretized`); empty where it is evaluated
+    /// exactly.
+    table: Vec<f32>,
 }
 
 impl Splatting {
+    /// Splatting by `filter` the samples of the pixels in `window`,
+    /// weighted by the filter tabulated at `steps` steps over its radius
+    /// (0: evaluated exactly).
+    pub fn new(filter: PixelFilter, window: (Range<u32>, Range<u32>), steps: u32) -> Splatting {
+        let r = filter.radius();
+        let table = match steps {
+            0 => Vec::new(),
+            n => (0..n)
+                .map(|i| filter.eval(r * i as f32 / n as f32))
+                .chain([0.0])
+                .collect(),
+        };
+        Splatting {
+            filter,
+            window,
+            table,
+        }
+    }
+
+    /// The filter's weight at offset `x` from a pixel's centre along one
+    /// axis: its value, or that of the step of the table `x` falls in
+    /// (the last, 0, from the radius on).
+    #[inline]
+    pub fn weight(&self, x: f32) -> f32 {
+        if self.table.is_empty() {
+            return self.filter.eval(x);
+        }
+        let steps = self.table.len() - 1;
+        let scale = steps as f32 / self.filter.radius();
+        self.table[((x.abs() * scale) as usize).min(steps)]
+    }
+
     /// How many pixels beyond its own a sample can reach, on each side: a
     /// sample of pixel `x` lies in `[x, x + 1)`, and reaches the pixels
     /// whose centre `q + 1/2` is within the radius `r` of it, so `|q − x| ≤
@@ -106,8 +142,8 @@ impl SplatFilm {
     /// axes, weighted by the filter: Mitsuba's splat. The pixels range
     /// from `⌈p − 1/2 − r⌉` to `⌊p − 1/2 + r⌋` on each axis.
     pub fn put(&mut self, p: Vec2, l: Rgb) {
-        let f = &self.how.filter;
-        let r = f.radius();
+        let how = &self.how;
+        let r = how.filter.radius();
         // Pixel centres are at integer + 1/2: in index units the sample is
         // at `p − 1/2`.
         let (cx, cy) = (p.x - 0.5, p.y - 0.5);
@@ -124,18 +160,21 @@ impl SplatFilm {
         // 16 pixels are evaluated where used).
         let mut wx = [0f32; 16];
         for (i, w) in wx.iter_mut().take(xs.len()).enumerate() {
-            *w = f.eval((xs.start + i as u32) as f32 - cx);
+            *w = how.weight((xs.start + i as u32) as f32 - cx);
         }
         let l = l.to_array().map(f64::from);
         let stride = self.xs.len();
         for y in ys {
-            let wy = f.eval(y as f32 - cy);
+            let wy = how.weight(y as f32 - cy);
             if wy == 0.0 {
                 continue;
             }
             let row = (y - self.ys.start) as usize * stride;
             for (i, x) in xs.clone().enumerate() {
-                let wx = wx.get(i).copied().unwrap_or_else(|| f.eval(x as f32 - cx));
+                let wx = wx
+                    .get(i)
+                    .copied()
+                    .unwrap_or_else(|| how.weight(x as f32 - cx));
                 let w = wx * wy;
                 if w == 0.0 {
                     continue;
@@ -192,10 +231,11 @@ mod tests {
     use crate::sampling::filter::{Filter, PixelFilter};
 
     fn gaussian(frame: (u32, u32)) -> Splatting {
-        Splatting {
-            filter: PixelFilter::of(Filter::Gaussian),
-            window: (0..frame.0, 0..frame.1),
-        }
+        Splatting::new(
+            PixelFilter::of(Filter::Gaussian),
+            (0..frame.0, 0..frame.1),
+            0,
+        )
     }
 
     /// Mitsuba's default Gaussian (σ = 0.5, radius 2) reaches two pixels
@@ -206,19 +246,39 @@ mod tests {
         assert_eq!(how.border(), 2);
         assert_eq!(how.grown(&(0..4), &(3..5)), (0..6, 1..7));
         assert_eq!(how.grown(&(8..10), &(6..8)), (6..10, 4..8));
-        let tent = Splatting {
-            filter: PixelFilter::of(Filter::Tent),
-            window: (0..10, 0..8),
-        };
+        let tent = Splatting::new(PixelFilter::of(Filter::Tent), (0..10, 0..8), 0);
         assert_eq!(tent.border(), 1);
         // A crop window: nothing beyond it, nothing of a part outside it.
-        let crop = Splatting {
-            window: (3..9, 2..5),
-            ..gaussian((10, 8))
-        };
+        let crop = Splatting::new(PixelFilter::of(Filter::Gaussian), (3..9, 2..5), 0);
         assert_eq!(crop.grown(&(4..6), &(2..3)), (3..8, 2..5));
         assert_eq!(crop.grown(&(0..1), &(7..8)).0, 3..3);
         assert!(crop.grown(&(0..1), &(7..8)).1.is_empty());
+    }
+
+    /// Tabulated as Mitsuba's CPU variants do (31 steps over the radius),
+    /// a weight is the filter's value at the start of the step its offset
+    /// falls in, on either side, and 0 from the radius on; without steps it
+    /// is the filter's own value.
+    #[test]
+    fn a_tabulated_filter_weighs_by_its_steps() {
+        let filter = PixelFilter::of(Filter::Gaussian);
+        let r = filter.radius();
+        let table = Splatting::new(filter.clone(), (0..4, 0..4), 31);
+        let exact = Splatting::new(filter.clone(), (0..4, 0..4), 0);
+        for k in 0..=400 {
+            let x = r * 1.1 * k as f32 / 400.0;
+            let step = (x * 31.0 / r) as u32;
+            let want = if step >= 31 {
+                0.0
+            } else {
+                filter.eval(r * step as f32 / 31.0)
+            };
+            assert_eq!(table.weight(x), want, "{x}");
+            assert_eq!(table.weight(-x), want, "{x}");
+            assert_eq!(exact.weight(x), filter.eval(x), "{x}");
+        }
+        assert_eq!(table.weight(0.0), filter.eval(0.0));
+        assert!(table.weight(0.5 * r) > exact.weight(0.5 * r));
     }
 
     /// A sample reaches exactly the pixels whose centres are within the

@@ -178,9 +178,12 @@ pub fn render_with<I: Integrator>(
             y1: (f.y1 + b).max(region.y1),
         }
     };
-    let splatting = s.splat.then(|| Splatting {
-        filter: s.filter.clone(),
-        window: (window.x0..window.x1, window.y0..window.y1),
+    let splatting = s.splat.then(|| {
+        Splatting::new(
+            s.filter.clone(),
+            (window.x0..window.x1, window.y0..window.y1),
+            s.filter_steps,
+        )
     });
     let sampled = match &splatting {
         Some(how) => {

@@ -552,6 +552,18 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.splat = v.switch()),
     },
     RenderOption {
+        name: "filter_steps",
+        kind: Kind::Int { min: 0, max: 1024 },
+        default: int(0),
+        doc: "with `splat`, the filter is tabulated at this many steps over its radius and each \
+              sample weighted by the step it falls in, as Mitsuba's CPU variants weight it (31 \
+              steps, set for its scenes); 0 evaluates the filter exactly",
+        table: Some(Table::Render),
+        flag: Flag::metavar("N"),
+        python: true,
+        set: Some(|c, v| c.overrides.filter_steps = v.int()),
+    },
+    RenderOption {
         name: "sample_border",
         kind: Kind::Switch,
         default: switch(false),

@@ -50,6 +50,8 @@ pub struct Overrides {
     pub filter_lobes: Option<u32>,
     /// Whether samples are splatted by the filter.
     pub splat: Option<bool>,
+    /// The steps the splatting filter is tabulated at.
+    pub filter_steps: Option<u32>,
     /// Whether the pixels within the filter's reach beyond the film are
     /// sampled.
     pub sample_border: Option<bool>,
@@ -172,6 +174,7 @@ impl Overrides {
         set(root, "filter_c", num(self.filter_c));
         set(root, "filter_lobes", int(self.filter_lobes));
         set(root, "splat", flag(self.splat));
+        set(root, "filter_steps", int(self.filter_steps));
         set(root, "sample_border", flag(self.sample_border));
         set(root, "lens_distribution", dist(self.lens_distribution));
         set(root, "time_distribution", dist(self.time_distribution));

@@ -86,6 +86,9 @@ pub struct Settings {
     /// (`splat`, with a filter other than the box) rather
     /// than drawn from it.
     pub splat: bool,
+    /// The steps the splatting filter is tabulated at (`filter_steps`; 0:
+    /// evaluated exactly).
+    pub filter_steps: u32,
     /// The part of the `width` × `height` image that is rendered and
     /// written (the camera frames the whole); `None` for the whole.
     pub crop: Option<Crop>,
@@ -178,6 +181,7 @@ pub const FILM: Schema = Schema {
         param("filter_c", Type::Number).penumbra_only(),
         param("filter_lobes", Type::Int).penumbra_only(),
         param("splat", Type::Bool).penumbra_only(),
+        param("filter_steps", Type::Int).penumbra_only(),
         param("sample_border", Type::Bool),
         param("crop_offset_x", Type::Int),
         param("crop_offset_y", Type::Int),
@@ -194,7 +198,8 @@ pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
             window (`crop_offset_x`, `crop_offset_y`, `crop_width`, `crop_height`) as Mitsuba's: \
             the image written is the crop, the camera frames the whole film; its \
             `<rfilter>` (`gaussian` without one) as `filter` and the `filter_*` keys, each sample \
-            splatted by it (`splat`) as Mitsuba's film develops, only the samples of the crop \
+            splatted by it (`splat`) as Mitsuba's film develops, weighted by the filter \
+            tabulated at 31 steps (`filter_steps`) as Mitsuba's CPU variants weight them, only the samples of the crop \
             window's pixels (and of the border beyond it with `sample_border`) reaching it; \
             `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
             the output's extension chooses the format",
@@ -323,6 +328,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
     let filter = pixel_filter(film)?;
     let splat = film.bool("splat")?.unwrap_or(false) && filter.filter() != Filter::Box;
     let crop = crop(film, width, height)?;
+    let filter_steps = int(film, "filter_steps", 0, 0, 1024)?;
     let bordered = film.bool("sample_border")?.unwrap_or(false);
     let border = if splat && bordered {
         sample_border(filter.radius())
@@ -369,6 +375,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         points: Arc::new(PointTable::NONE),
         filter,
         splat,
+        filter_steps,
         crop,
         border,
     })

@@ -344,6 +344,10 @@ fn vertical_fov(obj: &Object, aspect: f64) -> Result<(f64, Place), SceneError> {
     Ok((vertical, at))
 }
 
+/// The steps Mitsuba's CPU variants tabulate a reconstruction filter at
+/// (`MI_FILTER_RESOLUTION`).
+const FILTER_STEPS: i64 = 31;
+
 /// Mitsuba's `hdrfilm`: `width` and `height` at least 1, Mitsuba's
 /// 768 × 576 where not given; its `<rfilter>` (Mitsuba's `gaussian`
 /// without one) as `filter` and the `filter_*` keys of the parameters it
@@ -379,6 +383,9 @@ pub fn hdrfilm(
     }
     set(node, base, "splat", &obj.at, |p, at| {
         located(Value::Bool(true), p, at)
+    });
+    set(node, base, "filter_steps", &obj.at, |p, at| {
+        located(Value::Int(FILTER_STEPS), p, at)
     });
     let mut filter = None;
     for c in m.held(obj)? {
