@@ -52,15 +52,47 @@ fn toml_volumes_are_built_with_the_scene() {
     std::fs::write(d.path().join("short.vol"), &vol([4, 3, 2], 1)[..60]).unwrap();
     std::fs::create_dir(d.path().join("dir.vol")).unwrap();
     for (body, line, want) in [
-        ("type = \"gridvolume\"\nfilename = \"short.vol\"\n", 3, "short.vol: the header says 4 × 3 × 2 voxels"),
-        ("type = \"gridvolume\"\nfilename = \"dir.vol\"\n", 3, "dir.vol: is a directory"),
-        ("type = \"gridvolume\"\nfilename = \"none.vol\"\n", 3, "none.vol"),
+        (
+            "type = \"gridvolume\"\nfilename = \"short.vol\"\n",
+            3,
+            "short.vol: the header says 4 × 3 × 2 voxels",
+        ),
+        (
+            "type = \"gridvolume\"\nfilename = \"dir.vol\"\n",
+            3,
+            "dir.vol: is a directory",
+        ),
+        (
+            "type = \"gridvolume\"\nfilename = \"none.vol\"\n",
+            3,
+            "none.vol",
+        ),
         ("type = \"gridvolume\"\n", 1, "missing field `filename`"),
-        ("type = \"gridvolume\"\nfilename = \"smoke.vol\"\nwrap_mode = \"wrap\"\n", 4, "wrap_mode"),
-        ("type = \"gridvolume\"\nfilename = \"smoke.vol\"\nmax_value = -1\n", 4, "max_value"),
-        ("type = \"gridvolume\"\nfilename = \"smoke.vol\"\naccel = true\n", 4, "accel"),
-        ("type = \"constvolume\"\nvalue = -1\n", 3, "must be finite and ≥ 0"),
-        ("type = \"smoke\"\n", 2, "unknown volume `smoke`; valid choices are: gridvolume, constvolume"),
+        (
+            "type = \"gridvolume\"\nfilename = \"smoke.vol\"\nwrap_mode = \"wrap\"\n",
+            4,
+            "wrap_mode",
+        ),
+        (
+            "type = \"gridvolume\"\nfilename = \"smoke.vol\"\nmax_value = -1\n",
+            4,
+            "max_value",
+        ),
+        (
+            "type = \"gridvolume\"\nfilename = \"smoke.vol\"\naccel = true\n",
+            4,
+            "accel",
+        ),
+        (
+            "type = \"constvolume\"\nvalue = -1\n",
+            3,
+            "must be finite and ≥ 0",
+        ),
+        (
+            "type = \"smoke\"\n",
+            2,
+            "unknown volume `smoke`; valid choices are: gridvolume, constvolume",
+        ),
     ] {
         let text = format!("{CAMERA}\n[volumes.v]\n{body}");
         std::fs::write(d.path().join("bad.toml"), &text).unwrap();
@@ -108,7 +140,11 @@ fn mitsuba_volumes_are_read_and_convert_to_toml() {
     assert_eq!(t[0].name, "matrix");
     src.build().unwrap();
     let text = convert::to_toml(&src, d.path()).unwrap();
-    assert!(text.contains("[volumes]\nsmoke = {") && text.contains("filename = \"textures/sigmat.vol\""), "{text}");
+    assert!(
+        text.contains("[volumes]\nsmoke = {")
+            && text.contains("filename = \"textures/sigmat.vol\""),
+        "{text}"
+    );
     std::fs::write(d.path().join("scene.toml"), &text).unwrap();
     let back = SceneSource::open(d.path().join("scene.toml").to_str().unwrap(), &opts).unwrap();
     assert!(back.root.same_as(&src.root), "{text}");

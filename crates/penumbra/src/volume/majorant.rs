@@ -99,7 +99,13 @@ impl MajorantGrid {
 
 /// The stretch `[t0, t1]` of `origin + t · direction` inside `bounds` and
 /// within `[tmin, tmax]`; `None` when there is none (or it is empty).
-pub fn clip_to_box(bounds: &Aabb, origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> Option<(f32, f32)> {
+pub fn clip_to_box(
+    bounds: &Aabb,
+    origin: Vec3,
+    direction: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<(f32, f32)> {
     let (mut t0, mut t1) = (tmin, tmax);
     for a in 0..3 {
         let (o, d) = (origin[a], direction[a]);
@@ -137,7 +143,13 @@ pub struct Segments<'a> {
 }
 
 impl<'a> Segments<'a> {
-    fn new(grid: &'a MajorantGrid, origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> Segments<'a> {
+    fn new(
+        grid: &'a MajorantGrid,
+        origin: Vec3,
+        direction: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Segments<'a> {
         let n = Vec3::from_array(grid.resolution.map(|n| n as f32));
         let extent = grid.bounds.max - grid.bounds.min;
         let o = (origin - grid.bounds.min) * n / extent;
@@ -225,11 +237,17 @@ impl Iterator for Segments<'_> {
             if t1 > segment.t0 {
                 if self.done {
                     // The last stretch ends where the ray leaves the box.
-                    return Some(Segment { t1: self.end, ..segment });
+                    return Some(Segment {
+                        t1: self.end,
+                        ..segment
+                    });
                 }
                 return Some(segment);
             } else if self.done && self.end > segment.t0 {
-                return Some(Segment { t1: self.end, ..segment });
+                return Some(Segment {
+                    t1: self.end,
+                    ..segment
+                });
             }
         }
         None

@@ -288,7 +288,10 @@ impl Volumes {
             }),
             Value::Table(props) => {
                 let Some(i) = props.iter().position(|p| p.name == "type") else {
-                    return Err(Invalid::at(&v.origin, "missing field `type` (the volume's plugin)"));
+                    return Err(Invalid::at(
+                        &v.origin,
+                        "missing field `type` (the volume's plugin)",
+                    ));
                 };
                 let ty = &props[i].value;
                 let plugin = crate::description::props::string(ty)?;

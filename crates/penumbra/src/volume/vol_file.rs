@@ -57,7 +57,13 @@ impl VolGrid {
             b.extend_from_slice(&(n as i32).to_le_bytes());
         }
         b.extend_from_slice(&(self.channels as i32).to_le_bytes());
-        for x in self.bbox.min.to_array().into_iter().chain(self.bbox.max.to_array()) {
+        for x in self
+            .bbox
+            .min
+            .to_array()
+            .into_iter()
+            .chain(self.bbox.max.to_array())
+        {
             b.extend_from_slice(&x.to_le_bytes());
         }
         for x in &self.data {
@@ -112,7 +118,11 @@ pub fn read_vol(path: &Path) -> Result<VolGrid, VolError> {
         let voxel = i / channels;
         let [nx, ny, _] = header.resolution.map(|n| n as usize);
         let (x, y, z) = (voxel % nx, voxel / nx % ny, voxel / (nx * ny));
-        let what = if data[i].is_finite() { "negative" } else { "not finite" };
+        let what = if data[i].is_finite() {
+            "negative"
+        } else {
+            "not finite"
+        };
         return Err(bad(format!(
             "the value of voxel ({x}, {y}, {z}), channel {}, is {what} ({}); a volume's values must be finite and ≥ 0",
             i % channels,
@@ -163,7 +173,9 @@ fn parse_header(head: &[u8], size: u64) -> Result<Header, String> {
     for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
         let n = int(8 + 4 * k);
         if n < 1 {
-            return Err(format!("the resolution along {axis} is {n}; it must be at least 1"));
+            return Err(format!(
+                "the resolution along {axis} is {n}; it must be at least 1"
+            ));
         }
         resolution[k] = n as u32;
     }
@@ -180,9 +192,7 @@ fn parse_header(head: &[u8], size: u64) -> Result<Header, String> {
     }
     let corners: Vec<f32> = (0..6).map(|k| float(24 + 4 * k)).collect();
     if corners.iter().any(|x| !x.is_finite()) {
-        return Err(format!(
-            "the bounding box {corners:?} is not finite"
-        ));
+        return Err(format!("the bounding box {corners:?} is not finite"));
     }
     let values = resolution
         .iter()
@@ -262,27 +272,60 @@ mod tests {
         longer.extend_from_slice(&[0; 4]);
         let cases: Vec<(&str, Vec<u8>, &str)> = vec![
             ("empty", vec![], "shorter than the 48-byte header"),
-            ("short header", good[..20].to_vec(), "shorter than the 48-byte header"),
+            (
+                "short header",
+                good[..20].to_vec(),
+                "shorter than the 48-byte header",
+            ),
             ("magic", with(0, b"VOX"), "does not start with `VOL`"),
             ("version", with(3, &[2]), "version 2"),
             ("encoding", with(4, &2i32.to_le_bytes()), "encoding 2"),
-            ("zero resolution", with(12, &0i32.to_le_bytes()), "along y is 0"),
-            ("negative resolution", with(16, &(-5i32).to_le_bytes()), "along z is -5"),
+            (
+                "zero resolution",
+                with(12, &0i32.to_le_bytes()),
+                "along y is 0",
+            ),
+            (
+                "negative resolution",
+                with(16, &(-5i32).to_le_bytes()),
+                "along z is -5",
+            ),
             ("channels 2", with(20, &2i32.to_le_bytes()), "2 channels"),
             ("channels 6", with(20, &6i32.to_le_bytes()), "SGGX"),
-            ("channels lie", with(20, &3i32.to_le_bytes()), "but the file has 80 bytes"),
-            ("size lies", with(8, &3i32.to_le_bytes()), "3 × 2 × 2 voxels"),
+            (
+                "channels lie",
+                with(20, &3i32.to_le_bytes()),
+                "but the file has 80 bytes",
+            ),
+            (
+                "size lies",
+                with(8, &3i32.to_le_bytes()),
+                "3 × 2 × 2 voxels",
+            ),
             (
                 "absurd",
-                with(8, &[0xff, 0xff, 0xff, 0x7f, 0xff, 0xff, 0xff, 0x7f, 0xff, 0xff, 0xff, 0x7f]),
+                with(
+                    8,
+                    &[
+                        0xff, 0xff, 0xff, 0x7f, 0xff, 0xff, 0xff, 0x7f, 0xff, 0xff, 0xff, 0x7f,
+                    ],
+                ),
                 "2147483647 × 2147483647 × 2147483647",
             ),
-            ("truncated", good[..good.len() - 3].to_vec(), "but the file has 77 bytes"),
+            (
+                "truncated",
+                good[..good.len() - 3].to_vec(),
+                "but the file has 77 bytes",
+            ),
             ("trailing", longer, "but the file has 84 bytes"),
             ("bbox", with(28, &f32::NAN.to_le_bytes()), "bounding box"),
             ("nan", nan, "voxel (1, 0, 1), channel 0, is not finite"),
             ("inf", inf, "voxel (0, 0, 0), channel 0, is not finite"),
-            ("negative", negative, "voxel (1, 1, 1), channel 0, is negative"),
+            (
+                "negative",
+                negative,
+                "voxel (1, 1, 1), channel 0, is negative",
+            ),
         ];
         for (name, bytes, want) in cases {
             let path = write(dir.path(), &format!("{name}.vol"), &bytes);
@@ -299,12 +342,20 @@ mod tests {
             let made = std::process::Command::new("mkfifo").arg(&fifo).status();
             if made.is_ok_and(|s| s.success()) {
                 let e = read_vol(&fifo).unwrap_err().to_string();
-                assert!(e.starts_with(&fifo.display().to_string()) && e.contains("FIFO"), "{e}");
+                assert!(
+                    e.starts_with(&fifo.display().to_string()) && e.contains("FIFO"),
+                    "{e}"
+                );
             }
             let e = read_vol(Path::new("/dev/zero")).unwrap_err().to_string();
-            assert!(e.starts_with("/dev/zero") && e.contains("character device"), "{e}");
+            assert!(
+                e.starts_with("/dev/zero") && e.contains("character device"),
+                "{e}"
+            );
         }
-        let e = read_vol(&dir.path().join("none.vol")).unwrap_err().to_string();
+        let e = read_vol(&dir.path().join("none.vol"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("none.vol"), "{e}");
     }
 }

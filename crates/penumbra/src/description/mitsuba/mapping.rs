@@ -165,8 +165,9 @@ impl Out<'_> {
                 Some(PropValue::Int(_) | PropValue::Float(_)) => {
                     get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
                 }
-                Some(_) => get_color(obj, key, Use::Unbounded)?
-                    .map(|(c, a)| (vec3(c, path, a), at(a))),
+                Some(_) => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+                }
             },
             Type::Int => get_int(obj, key)?.map(|(i, a)| (located(Value::Int(i), path, a), at(a))),
             Type::Bool => {
@@ -214,8 +215,9 @@ impl Out<'_> {
                 }
                 // `constvolume`'s value, a colour as Mitsuba's texture
                 // getter reads it, unbounded.
-                Some(_) if kind == Kind::Volume => get_color(obj, key, Use::Unbounded)?
-                    .map(|(c, a)| (vec3(c, path, a), at(a))),
+                Some(_) if kind == Kind::Volume => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+                }
                 Some(_) => {
                     let p = obj.prop(key).expect("given");
                     return Err(type_error(p, "a float or a 3D vector"));

@@ -23,7 +23,8 @@ impl Out<'_> {
             None => (1..)
                 .map(|n| format!("volume_{n}"))
                 .find(|n| {
-                    !self.ids.map.contains_key(n) && self.volumes.iter().all(|v| v.id.as_deref() != Some(n))
+                    !self.ids.map.contains_key(n)
+                        && self.volumes.iter().all(|v| v.id.as_deref() != Some(n))
                 })
                 .expect("a free name"),
         };
@@ -123,14 +124,21 @@ impl Out<'_> {
                         clip(name.as_deref().unwrap_or("")),
                         obj.tag,
                         clip(&obj.plugin),
-                        if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                        if names.is_empty() {
+                            "none".to_string()
+                        } else {
+                            names.join(", ")
+                        }
                     ),
                 ));
             };
             if node.prop(param.name).is_some() {
                 return Err(error_at(
                     at,
-                    format!("`{}` is given twice", param.mitsuba_name().unwrap_or(param.name)),
+                    format!(
+                        "`{}` is given twice",
+                        param.mitsuba_name().unwrap_or(param.name)
+                    ),
                 ));
             }
             let path = base.key(param.name);
