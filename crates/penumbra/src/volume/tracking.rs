@@ -15,7 +15,8 @@
 //! A density above its segment's majorant breaks the estimators' premise:
 //! delta tracking then takes every tentative collision as real, and ratio
 //! tracking's weight may turn negative. The majorants of a
-//! [`MajorantGrid`] bound the density they were made from.
+//! [`MajorantGrid`] bound the density they were made from. A segment
+//! whose majorant is not finite and positive holds nothing and is skipped.
 //!
 //! [`MajorantGrid`]: super::MajorantGrid
 
@@ -65,7 +66,7 @@ pub fn delta_track(
 ) -> Flight {
     let mut nulls = 0;
     for s in segments {
-        if !(s.majorant > 0.0) {
+        if !s.majorant.is_finite() || s.majorant <= 0.0 {
             continue;
         }
         let mut t = s.t0;
@@ -102,7 +103,7 @@ pub fn ratio_track(
     let mut value = 1.0f32;
     let mut nulls = 0;
     for s in segments {
-        if !(s.majorant > 0.0) {
+        if !s.majorant.is_finite() || s.majorant <= 0.0 {
             continue;
         }
         let mut t = s.t0;
