@@ -14,8 +14,7 @@
 //! box counts. Interpolation weights are not negative, so no value inside
 //! exceeds it.
 
-use super::Volume;
-use crate::math::{Aabb, Vec3};
+use crate::math::{Aabb, Mat4, Vec3};
 
 /// The cells along each axis unless a caller asks for others: the grid
 /// pbrt-v4 uses, 16³.
@@ -41,16 +40,23 @@ pub struct MajorantGrid {
 }
 
 impl MajorantGrid {
-    /// The grid of `scale` times `volume`'s values over the volume's world
-    /// box, `resolution` cells along each axis (each at least 1).
-    pub fn new(volume: &Volume, scale: f32, resolution: [u32; 3]) -> MajorantGrid {
+    /// The grid of `scale` times a volume's values over the world box
+    /// `bounds`, `resolution` cells along each axis (each at least 1):
+    /// `to_local` maps world points to the volume's unit cube, `max_in`
+    /// bounds its values over a box of unit-cube coordinates
+    /// ([`Volume::majorant_grid`](super::Volume::majorant_grid) gives them).
+    pub fn new(
+        bounds: Aabb,
+        to_local: &Mat4,
+        max_in: impl Fn(Vec3, Vec3) -> f32,
+        scale: f32,
+        resolution: [u32; 3],
+    ) -> MajorantGrid {
         let resolution = resolution.map(|n| n.max(1));
-        let bounds = volume.bbox();
-        let to_local = volume.to_local();
         let [nx, ny, nz] = resolution;
         let n = Vec3::new(nx as f32, ny as f32, nz as f32);
         let extent = bounds.max - bounds.min;
-        let mut cells = Vec::with_capacity((nx * ny * nz) as usize);
+        let mut cells = Vec::with_capacity(nx as usize * ny as usize * nz as usize);
         for z in 0..nz {
             for y in 0..ny {
                 for x in 0..nx {
@@ -65,7 +71,7 @@ impl MajorantGrid {
                         );
                         to_local.transform_point3(corner)
                     }));
-                    cells.push(scale * volume.max_in(local.min, local.max));
+                    cells.push(scale * max_in(local.min, local.max));
                 }
             }
         }

@@ -188,7 +188,13 @@ impl Volume {
     /// The majorant grid of `scale` times this volume's values over its
     /// world box, `resolution` cells along each axis.
     pub fn majorant_grid(&self, scale: f32, resolution: [u32; 3]) -> MajorantGrid {
-        MajorantGrid::new(self, scale, resolution)
+        MajorantGrid::new(
+            self.bbox(),
+            &self.to_local(),
+            |lo, hi| self.max_in(lo, hi),
+            scale,
+            resolution,
+        )
     }
 }
 
