@@ -163,3 +163,37 @@ fn mitsuba_volumes_are_read_and_convert_to_toml() {
         .to_string();
     assert!(e.contains("bad.xml:9:") && e.contains("`accel`"), "{e}");
 }
+
+/// A Python dict's volumes make the tree its XML makes.
+#[test]
+fn a_dict_s_volumes_are_the_xml_s() {
+    use penumbra::description::mitsuba::dict::DictValue;
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("sigmat.vol"), vol([4, 4, 4], 1)).unwrap();
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="45"/></sensor>
+    <volume id="smoke" type="gridvolume">
+        <transform name="to_world"><scale value="2"/></transform>
+        <string name="filename" value="sigmat.vol"/>
+        <string name="wrap_mode" value="mirror"/>
+    </volume>
+    <volume id="haze" type="constvolume"><rgb name="value" value="0.9, 0.5, 0.25"/></volume>
+</scene>"#;
+    let json = r#"{"type": "scene",
+        "sensor": {"type": "perspective", "fov": 45},
+        "smoke": {"type": "gridvolume", "filename": "sigmat.vol", "wrap_mode": "mirror",
+                  "to_world": [[2, 0, 0, 0], [0, 2, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]},
+        "haze": {"type": "constvolume", "value": {"type": "rgb", "value": [0.9, 0.5, 0.25]}}}"#;
+    std::fs::write(d.path().join("scene.xml"), xml).unwrap();
+    let opts = LoadOptions::default();
+    let from_xml = SceneSource::open(d.path().join("scene.xml").to_str().unwrap(), &opts).unwrap();
+    let dict = DictValue::from_json(json).unwrap();
+    let from_dict = SceneSource::from_mitsuba_dict(&dict, d.path(), &opts).unwrap();
+    assert!(
+        from_xml.root.same_as(&from_dict.root),
+        "XML:\n{}\ndict:\n{}",
+        from_xml.root.fingerprint(),
+        from_dict.root.fingerprint()
+    );
+    from_dict.build().unwrap();
+}
