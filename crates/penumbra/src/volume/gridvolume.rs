@@ -37,6 +37,11 @@ use crate::math::{Aabb, Mat4, Rgb, Vec3};
 use crate::texture::bitmap::Wrap;
 
 const FILTERS: &[&str] = &["trilinear", "nearest"];
+
+/// Voxel coordinates are kept within ±2³⁰ (far outside any grid, where
+/// every wrap mode still answers), so that a point at infinity neither
+/// overflows an index nor reads out of range.
+const LIMIT: Vec3 = Vec3::splat((1u32 << 30) as f32);
 const WRAPS: &[&str] = &["clamp", "repeat", "mirror"];
 
 /// Its parameters.
@@ -143,13 +148,16 @@ impl GridVolume {
         let n = Vec3::from_array(self.grid.resolution.map(|n| n as f32));
         match self.filter {
             Filter::Nearest => {
-                let q = (p * n).floor();
+                let q = (p * n).floor().clamp(-LIMIT, LIMIT);
                 self.voxel(q.x as i64, q.y as i64, q.z as i64)
             }
             Filter::Trilinear => {
                 let q = p * n - 0.5;
                 let f = q.floor();
-                let w1 = q - f;
+                // At a point far away (or not a number) the weights of the
+                // first corner: its fraction is lost to rounding anyway.
+                let w1 = (q - f).clamp(Vec3::ZERO, Vec3::ONE);
+                let f = f.clamp(-LIMIT, LIMIT);
                 let w0 = Vec3::ONE - w1;
                 let (i, j, k) = (f.x as i64, f.y as i64, f.z as i64);
                 let mut out = [0.0f32; 3];
@@ -382,6 +390,16 @@ mod tests {
             assert!((at(&v, 0.5) - 25.0).abs() < 1e-5);
             // A quarter of the way from centre 2 to centre 3.
             assert!((at(&v, 0.6875) - 32.5).abs() < 1e-4, "{}", at(&v, 0.6875));
+        }
+        // Points far away, at infinity or not numbers: an answer, no panic.
+        for wrap in [Wrap::Clamp, Wrap::Repeat, Wrap::Mirror] {
+            for filter in [Filter::Nearest, Filter::Trilinear] {
+                let v = make(filter, wrap);
+                for x in [1e30, -1e30, f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+                    let y = at(&v, x);
+                    assert!((10.0..=40.0).contains(&y), "{wrap:?} {filter:?} at {x}: {y}");
+                }
+            }
         }
         // Three channels read as one: their luminance.
         let c = volume([1, 1, 1], 3, |_, _, _, c| [1.0, 0.0, 0.0][c], Filter::Nearest, Wrap::Clamp, Mat4::IDENTITY);

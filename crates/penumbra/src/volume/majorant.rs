@@ -104,7 +104,8 @@ impl MajorantGrid {
 }
 
 /// The stretch `[t0, t1]` of `origin + t · direction` inside `bounds` and
-/// within `[tmin, tmax]`; `None` when there is none (or it is empty).
+/// within `[tmin, tmax]`; `None` when there is none (or it is empty), and
+/// for a direction of length 0.
 pub fn clip_to_box(
     bounds: &Aabb,
     origin: Vec3,
@@ -112,6 +113,10 @@ pub fn clip_to_box(
     tmin: f32,
     tmax: f32,
 ) -> Option<(f32, f32)> {
+    if direction == Vec3::ZERO {
+        // Not a ray: it would stay in the box for ever.
+        return None;
+    }
     let (mut t0, mut t1) = (tmin, tmax);
     for a in 0..3 {
         let (o, d) = (origin[a], direction[a]);

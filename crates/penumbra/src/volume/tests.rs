@@ -224,6 +224,8 @@ fn segments_tile_the_ray_inside_the_box() {
     for (what, o, d, tmin, tmax) in rays {
         assert_tiles(&g, o, d, tmin, tmax, what);
     }
+    // A direction of length 0 is no ray: no segments.
+    assert_eq!(g.segments(c, Vec3::ZERO, 0.0, f32::INFINITY).count(), 0);
 }
 
 /// Voxel values `a + b · z` at the centres, along z: the trilinear
