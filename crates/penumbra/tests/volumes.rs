@@ -197,3 +197,58 @@ fn a_dict_s_volumes_are_the_xml_s() {
     );
     from_dict.build().unwrap();
 }
+
+/// A `<float>` or a colour where a volume is expected is a plain value (a
+/// constant volume): read through a plugin whose schema takes a volume (a
+/// stand-in texture here, until a medium takes one).
+#[test]
+fn a_float_or_a_colour_where_a_volume_is_expected_is_a_plain_value() {
+    use penumbra::description::mitsuba::{self, Mitsuba, Plugin};
+    use penumbra::description::{Param, Schema, Type};
+    const FOG: Schema = Schema {
+        kind: Kind::Texture,
+        plugin: "fog",
+        what: "stand-in",
+        doc: "",
+        mitsuba: &["fog"],
+        params: &[
+            Param::new("sigma_t", Type::Volume, "1", ""),
+            Param::new("albedo", Type::Volume, "1", ""),
+        ],
+    };
+    const TEXTURES: &[Plugin] = &[Plugin::new(&FOG, Mitsuba::SAME)];
+    fn registry(kind: Kind) -> &'static [Plugin] {
+        match kind {
+            Kind::Texture => TEXTURES,
+            k => penumbra::integrator::plugins::registry(k),
+        }
+    }
+    let d = tempfile::tempdir().unwrap();
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="45"/></sensor>
+    <texture id="f" type="fog">
+        <float name="sigma_t" value="2.5"/>
+        <rgb name="albedo" value="0.9, 0.5, 1.5"/>
+    </texture>
+</scene>"#;
+    let path = d.path().join("scene.xml");
+    std::fs::write(&path, xml).unwrap();
+    let loaded = mitsuba::from_xml_file(&path, &[], 1 << 20, registry).unwrap();
+    let fog = loaded.root.children_of(Kind::Texture).next().unwrap();
+    assert_eq!(fog.prop("sigma_t").unwrap().value.value, Value::Float(2.5));
+    let Value::Array(c) = &fog.prop("albedo").unwrap().value.value else {
+        panic!("{fog:?}")
+    };
+    let c: Vec<f64> = c
+        .iter()
+        .map(|x| match x.value {
+            Value::Float(f) => f,
+            _ => panic!("{x:?}"),
+        })
+        .collect();
+    // Unbounded: the 1.5 is kept.
+    assert!(
+        (c[0] - 0.9).abs() < 1e-6 && (c[1] - 0.5).abs() < 1e-6 && (c[2] - 1.5).abs() < 1e-6,
+        "{c:?}"
+    );
+}
