@@ -16,6 +16,10 @@
 //! voxel's), `repeat` (the grid tiled), `mirror` (tiled, flipped every other
 //! time).
 //!
+//! `max_value` replaces the largest value a medium's single majorant is
+//! made of (as Mitsuba's); a [`MajorantGrid`](super::MajorantGrid) bounds
+//! the values themselves ([`VolumeModel::max_in`]).
+//!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `filename` | path | **required** | the `.vol` file |
