@@ -737,6 +737,7 @@ fn corpus() -> Vec<Case> {
         }
     }
     texture_cases(&mut cases);
+    volume_cases(&mut cases);
     let object = "[[objects]]\ntype = \"mesh\"\npath = \"grid.obj\"\n";
     xml_cases(&mut cases);
     envmap_cases(&mut cases);
@@ -870,6 +871,144 @@ fn texture_cases(cases: &mut Vec<Case>) {
         Some(good),
         SceneLine,
     );
+}
+
+/// A `.vol` file's bytes: a header of `resolution` voxels of `channels`
+/// values and a box, then `values`.
+fn vol_bytes(resolution: [i32; 3], channels: i32, values: &[f32]) -> Vec<u8> {
+    let mut b = b"VOL\x03".to_vec();
+    b.extend_from_slice(&1i32.to_le_bytes());
+    for n in resolution.into_iter().chain([channels]) {
+        b.extend_from_slice(&n.to_le_bytes());
+    }
+    for x in [0f32, 0., 0., 1., 1., 1.]
+        .into_iter()
+        .chain(values.iter().copied())
+    {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    b
+}
+
+/// Volume files (`[volumes.NAME]`, read when the scene is loaded): headers
+/// that lie about the size or the channels, files that end early, values
+/// that are not densities, absurd resolutions, and files that are not files.
+fn volume_cases(cases: &mut Vec<Case>) {
+    use Expect::*;
+    let scene = "[camera]\nposition = [0, 0, 3]\n\n[volumes.smoke]\ntype = \"gridvolume\"\n\
+                 filename = \"v.vol\"\n\n[[objects]]\ntype = \"sphere\"\nradius = 1\n\n\
+                 [[lights]]\ntype = \"point\"\nposition = [0, 2, 3]\nintensity = [5, 5, 5]\n";
+    let mut case = |name: &str, entry: Entry, expect: Expect, limit: u64| {
+        cases.push(Case {
+            name: format!("volume: {name}"),
+            entries: vec![
+                ("scene.toml", Entry::Bytes(scene.as_bytes().to_vec())),
+                ("v.vol", entry),
+            ],
+            expect,
+            bare: false,
+            limit,
+        });
+    };
+    let ones = vec![1.0f32; 8];
+    let good = vol_bytes([2, 2, 2], 1, &ones);
+    case("valid grid", Entry::Bytes(good.clone()), Valid, 20);
+    case(
+        "valid grid of 3 channels",
+        Entry::Bytes(vol_bytes([2, 2, 2], 3, &[0.5; 24])),
+        Valid,
+        20,
+    );
+    let v = Mesh("v.vol");
+    case(
+        "header lies about the size",
+        Entry::Bytes(vol_bytes([2, 2, 3], 1, &ones)),
+        v,
+        20,
+    );
+    case(
+        "header lies about the channels",
+        Entry::Bytes(vol_bytes([2, 2, 2], 3, &ones)),
+        v,
+        20,
+    );
+    case(
+        "6 channels",
+        Entry::Bytes(vol_bytes([1, 1, 1], 6, &[0.1; 6])),
+        v,
+        20,
+    );
+    case(
+        "truncated data",
+        Entry::Bytes(good[..good.len() - 5].to_vec()),
+        v,
+        20,
+    );
+    case("truncated header", Entry::Bytes(good[..30].to_vec()), v, 20);
+    case(
+        "trailing bytes",
+        Entry::Bytes([good.as_slice(), &[0; 16]].concat()),
+        v,
+        20,
+    );
+    let mut nan = ones.clone();
+    nan[3] = f32::NAN;
+    case(
+        "NaN density",
+        Entry::Bytes(vol_bytes([2, 2, 2], 1, &nan)),
+        v,
+        20,
+    );
+    let mut inf = ones.clone();
+    inf[7] = f32::INFINITY;
+    case(
+        "infinite density",
+        Entry::Bytes(vol_bytes([2, 2, 2], 1, &inf)),
+        v,
+        20,
+    );
+    let mut negative = ones.clone();
+    negative[0] = -0.5;
+    case(
+        "negative density",
+        Entry::Bytes(vol_bytes([2, 2, 2], 1, &negative)),
+        v,
+        20,
+    );
+    case(
+        "absurd resolution",
+        Entry::Bytes(vol_bytes([i32::MAX, i32::MAX, i32::MAX], 3, &ones)),
+        v,
+        20,
+    );
+    case(
+        "zero resolution",
+        Entry::Bytes(vol_bytes([0, 2, 2], 1, &[])),
+        v,
+        20,
+    );
+    case(
+        "negative resolution",
+        Entry::Bytes(vol_bytes([2, -2, 2], 1, &ones)),
+        v,
+        20,
+    );
+    case(
+        "resolution matching a sparse 3 GiB file",
+        Entry::Sparse(3 << 30),
+        v,
+        20,
+    );
+    case(
+        "not a volume file",
+        Entry::Bytes(b"VOX this is no volume".to_vec()),
+        v,
+        20,
+    );
+    case("empty file", Entry::Bytes(Vec::new()), v, 20);
+    case("a FIFO", Entry::Fifo, v, 1);
+    case("/dev/zero", Entry::Link("/dev/zero"), v, 1);
+    case("a directory", Entry::Dir, v, 20);
 }
 
 /// Environment maps: image files that lie about their size, end early, are

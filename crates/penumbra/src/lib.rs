@@ -50,3 +50,4 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod texture;
+pub mod volume;

@@ -79,6 +79,7 @@ pub const ROOT_KEYS: &[&str] = &[
     "lights",
     "groups",
     "textures",
+    "volumes",
 ];
 
 /// The plugins a scene gets when its input names none.
@@ -136,7 +137,7 @@ fn lower<V>(
     read: impl Fn(V, KeyPath) -> Result<Located<Value>, Invalid>,
 ) -> Result<Node, Invalid> {
     let root = Origin::new(KeyPath::root(), at);
-    let mut parts: [Option<Located<Value>>; 7] = Default::default();
+    let mut parts: [Option<Located<Value>>; 8] = Default::default();
     for entry in entries {
         let Some(i) = ROOT_KEYS.iter().position(|k| *k == entry.key) else {
             let at = Origin::new(KeyPath::root(), entry.key_at);
@@ -148,7 +149,7 @@ fn lower<V>(
         };
         parts[i] = Some(read(entry.value, root.path.key(&entry.key))?);
     }
-    let [render, camera, materials, objects, lights, groups, textures] = parts;
+    let [render, camera, materials, objects, lights, groups, textures, volumes] = parts;
 
     let mut scene = Node::new(Kind::Scene, "scene", root.clone());
     let render = route_render(render, &root)?;
@@ -167,6 +168,18 @@ fn lower<V>(
             let (origin, props) = table(t.value)?;
             let mut node = plugin_node(Kind::Texture, origin, props, None)?;
             node.id = Some(t.name);
+            nodes.push(node);
+        }
+        nodes.sort_by(|a, b| a.id.cmp(&b.id));
+        scene.children.extend(nodes);
+    }
+    if let Some(volumes) = volumes {
+        // `[volumes.NAME]`, in name order; each names its plugin by `type`.
+        let mut nodes = Vec::new();
+        for v in table(volumes)?.1 {
+            let (origin, props) = table(v.value)?;
+            let mut node = plugin_node(Kind::Volume, origin, props, None)?;
+            node.id = Some(v.name);
             nodes.push(node);
         }
         nodes.sort_by(|a, b| a.id.cmp(&b.id));
@@ -397,11 +410,11 @@ mod tests {
         assert_eq!(
             err("[render]\nwidth = 3\n\n[renders]\nwidth = 3\n"),
             "test.toml:4:2: unknown field `renders`, expected one of `render`, `camera`, \
-             `materials`, `objects`, `lights`, `groups`, `textures`"
+             `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`"
         );
         assert_eq!(
             json_err(r#"{"foo": 1}"#),
-            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`, `textures`"
+            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`"
         );
         // A dict has no lines: the path names the key.
         assert!(

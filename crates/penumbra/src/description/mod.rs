@@ -87,6 +87,7 @@ pub mod error;
 pub mod lower;
 pub mod mitsuba;
 mod nesting;
+pub mod placement;
 pub mod props;
 pub mod schema;
 pub mod source;

@@ -179,6 +179,9 @@ pub enum Type {
     /// A number, a texture's table or a texture's name (a texture read as
     /// one value).
     NumberTexture,
+    /// A number or 3 numbers (a constant volume), a volume's table or the
+    /// name of a volume of the scene (what a medium reads through space).
+    Volume,
 }
 
 impl Type {
@@ -204,6 +207,7 @@ impl Type {
             Type::Material => "material name".into(),
             Type::ColourTexture => "colour or texture".into(),
             Type::NumberTexture => "number or texture".into(),
+            Type::Volume => "number, colour or volume".into(),
         }
     }
 }
@@ -294,6 +298,13 @@ fn check_value(v: &Located<Value>, ty: &Type) -> Result<(), Invalid> {
             _ => props::number(v)
                 .map(drop)
                 .map_err(|_| v.type_error("a number, a texture table or a texture's name")),
+        },
+        Type::Volume => match v.value {
+            Value::Table(_) | Value::String(_) => Ok(()),
+            Value::Array(_) => props::numbers(v, 3).map(drop),
+            _ => props::number(v).map(drop).map_err(|_| {
+                v.type_error("a number, 3 numbers, a volume table or a volume's name")
+            }),
         },
         Type::String | Type::Path | Type::Material => props::string(v).map(drop),
         Type::Distribution => props::distribution(v).map(drop),

@@ -21,11 +21,13 @@ pub enum Kind {
     Bsdf,
     Emitter,
     Texture,
+    /// Values through space that a participating medium reads.
+    Volume,
 }
 
 impl Kind {
     /// Every kind, in the order of the enum.
-    pub const ALL: [Kind; 10] = [
+    pub const ALL: [Kind; 11] = [
         Kind::Scene,
         Kind::Integrator,
         Kind::Sensor,
@@ -36,6 +38,7 @@ impl Kind {
         Kind::Bsdf,
         Kind::Emitter,
         Kind::Texture,
+        Kind::Volume,
     ];
 
     /// The kind's name in lower case, as messages and XML tags write it.
@@ -51,6 +54,7 @@ impl Kind {
             Kind::Bsdf => "bsdf",
             Kind::Emitter => "emitter",
             Kind::Texture => "texture",
+            Kind::Volume => "volume",
         }
     }
 }

@@ -31,6 +31,7 @@ use crate::math::{Mat4, Rgb, Vec3};
 use crate::sampling::{EffectSpec, PointTable};
 use crate::texture::mesh_attribute::Bound;
 use crate::texture::{AttributeUse, Textures};
+use crate::volume::Volumes;
 
 pub use super::error::BuildError;
 pub use super::settings::MAX_PIXELS;
@@ -73,6 +74,9 @@ pub fn build(
     fp.finish("film")?;
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
+    // Read when the scene is loaded, so that a broken volume file is
+    // reported whether a medium reads it or not.
+    let _volumes = Volumes::of_scene(root, &ctx.base_dir)?;
     let (bsdfs, emission, names, lobes) = materials(root, &sets, &textures)?;
     // A world whose meshes' attributes are read is built anew (its
     // attributes are bound to its objects).

@@ -12,10 +12,11 @@ use crate::description::{Kind, MitsubaKey, Param, Range, Schema, Type};
 
 /// The kinds whose plugins the scene-format reference documents one by one
 /// (the integrators, the film and the sampler are the `[render]` table's).
-pub const DOCUMENTED: [Kind; 5] = [
+pub const DOCUMENTED: [Kind; 6] = [
     Kind::Sensor,
     Kind::Bsdf,
     Kind::Texture,
+    Kind::Volume,
     Kind::Shape,
     Kind::Emitter,
 ];
@@ -52,6 +53,7 @@ pub fn type_text(p: &Param) -> String {
         Type::ColourTexture => format!("colour{range} or texture"),
         Type::Number => format!("number{range}"),
         Type::NumberTexture => format!("number{range} or texture"),
+        Type::Volume => format!("number or colour{range}, or volume"),
         Type::Int => format!("integer{range}"),
         Type::NumberOrChoice(what, _) => format!("number{range} or {what} name"),
         ref ty => format!("{}{range}", ty.markdown_name()),

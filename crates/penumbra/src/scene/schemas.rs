@@ -11,12 +11,14 @@ use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Schema};
 use crate::emitter::{self, area};
 use crate::texture::Texture;
+use crate::volume::Volume;
 
 /// The plugins of a kind a scene names by itself.
 pub fn of(kind: Kind) -> &'static [&'static Schema] {
     match kind {
         Kind::Scene => &[],
         Kind::Texture => Texture::SCHEMAS,
+        Kind::Volume => Volume::SCHEMAS,
         Kind::Integrator => &[],
         Kind::Sensor => &[&camera::PERSPECTIVE],
         Kind::Film => &[&settings::FILM],
@@ -45,6 +47,7 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
         Kind::Sampler => &settings::SAMPLER_PLUGINS,
         Kind::Bsdf => Bsdf::PLUGINS,
         Kind::Texture => Texture::PLUGINS,
+        Kind::Volume => Volume::PLUGINS,
         Kind::Shape => shapes::PLUGINS,
         Kind::Emitter => emitter::PLUGINS,
         Kind::Scene | Kind::Integrator => &[],
@@ -77,6 +80,7 @@ fn what(kind: Kind) -> &'static str {
         Kind::Filter => "pixel filter",
         Kind::Sampler => "sampler",
         Kind::Texture => "texture",
+        Kind::Volume => "volume",
         Kind::Scene => "scene",
     }
 }

@@ -181,7 +181,7 @@ impl<'de> Visitor<'de> for DictVisitor {
 }
 
 /// Every plugin the mapping reads, by tag, in the order messages list them.
-fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
+fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 10] {
     let of = |kind| mitsuba_names(registry(kind));
     [
         ("integrator", of(Kind::Integrator)),
@@ -193,6 +193,7 @@ fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 9] {
         ("bsdf", of(Kind::Bsdf)),
         ("emitter", of(Kind::Emitter)),
         ("texture", of(Kind::Texture)),
+        ("volume", of(Kind::Volume)),
     ]
 }
 

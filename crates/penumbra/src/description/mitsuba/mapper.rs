@@ -39,6 +39,8 @@ pub(super) struct Out<'a> {
     /// in the scene, which a `<ref>` names rather than copies.
     pub textures: Vec<Node>,
     pub texture_ids: HashSet<String>,
+    /// The scene's volumes (`volumes.ID`).
+    pub volumes: Vec<Node>,
     /// The ids the scene's shapes (and those of its groups) refer to by
     /// `<ref>`: an `area` emitter declared in the scene under one of them
     /// lights those shapes.

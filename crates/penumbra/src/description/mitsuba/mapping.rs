@@ -156,6 +156,19 @@ impl Out<'_> {
             Type::Number | Type::NumberTexture => {
                 get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
             }
+            // A `<float>` or a colour where a volume is expected: a
+            // constant volume (Mitsuba's `constvolume` made for it), the
+            // colour unbounded; a nested `<volume>` is a child's
+            // (`volume_children`).
+            Type::Volume => match obj.prop(key).map(|p| &p.value) {
+                None => None,
+                Some(PropValue::Int(_) | PropValue::Float(_)) => {
+                    get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
+                }
+                Some(_) => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+                }
+            },
             Type::Int => get_int(obj, key)?.map(|(i, a)| (located(Value::Int(i), path, a), at(a))),
             Type::Bool => {
                 get_bool(obj, key)?.map(|(b, a)| (located(Value::Bool(b), path, a), at(a)))
@@ -199,6 +212,11 @@ impl Out<'_> {
                 }
                 Some(PropValue::Int(_) | PropValue::Float(_)) => {
                     get_float(obj, key)?.map(|(x, a)| (float(x, path, a), at(a)))
+                }
+                // `constvolume`'s value, a colour as Mitsuba's texture
+                // getter reads it, unbounded.
+                Some(_) if kind == Kind::Volume => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
                 }
                 Some(_) => {
                     let p = obj.prop(key).expect("given");

@@ -66,6 +66,7 @@ pub mod spectrum;
 pub mod transform;
 pub mod upgrade;
 pub mod values;
+mod volumes;
 
 use std::path::{Path, PathBuf};
 

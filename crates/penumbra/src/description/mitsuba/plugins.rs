@@ -67,6 +67,7 @@ pub fn scene(
         background: None,
         bsdfs: Vec::new(),
         textures: Vec::new(),
+        volumes: Vec::new(),
         texture_ids: root
             .children
             .iter()
@@ -101,12 +102,13 @@ pub fn scene(
             }
             "emitter" => out.emitter(obj)?,
             "texture" => out.texture(obj)?,
+            "volume" => out.volume(obj)?,
             other => {
                 return Err(error_at(
                     &obj.at,
                     format!(
                         "<{other}> is not supported in a scene; Penumbra reads <integrator>, <sensor>, \
-                         <shape>, <bsdf>, <emitter> and <texture>"
+                         <shape>, <bsdf>, <emitter>, <texture> and <volume>"
                     ),
                 ))
             }
@@ -142,6 +144,8 @@ pub fn scene(
     node.children.extend(out.background.take());
     out.textures.sort_by(|a, b| a.id.cmp(&b.id));
     node.children.append(&mut out.textures);
+    out.volumes.sort_by(|a, b| a.id.cmp(&b.id));
+    node.children.append(&mut out.volumes);
     out.bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
     node.children.append(&mut out.bsdfs);
     // The groups (`groups.ID`, in name order) before the objects, where a
