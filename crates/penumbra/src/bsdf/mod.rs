@@ -34,6 +34,7 @@
 //! | [`bumpmap`](bumpmap::BumpMap) | a material seen through the normal of a height field (Mitsuba 3's `bumpmap`) |
 //! | [`principled`](principled::Principled) | Burley's principled (Disney) material: a diffuse base with sheen, GGX metal and dielectric reflection and transmission, a clearcoat (Mitsuba 3's `principled`) |
 //! | [`principledthin`](principledthin::PrincipledThin) | the principled material of a thin sheet: diffuse reflection and transmission, GGX reflection and straight transmission (Mitsuba 3's `principledthin`) |
+//! | [`null`](null::Null) | a surface light passes straight through: the boundary of a medium (Mitsuba 3's `null`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
@@ -45,7 +46,7 @@
 //! (`chi2.rs`, Mitsuba 3's method).
 
 #[cfg(test)]
-mod chi2;
+pub(crate) mod chi2;
 pub mod fresnel;
 pub mod ior;
 pub mod microfacet;
@@ -312,6 +313,7 @@ models! {
     bumpmap::BumpMap,
     principled::Principled,
     principledthin::PrincipledThin,
+    null::Null,
 }
 
 #[cfg(test)]

@@ -21,11 +21,16 @@ pub enum Kind {
     Bsdf,
     Emitter,
     Texture,
+    /// A participating medium (Mitsuba's `<medium>`).
+    Medium,
+    /// A medium's phase function (Mitsuba's `<phase>`), which only a
+    /// medium holds.
+    Phase,
 }
 
 impl Kind {
     /// Every kind, in the order of the enum.
-    pub const ALL: [Kind; 10] = [
+    pub const ALL: [Kind; 12] = [
         Kind::Scene,
         Kind::Integrator,
         Kind::Sensor,
@@ -36,6 +41,8 @@ impl Kind {
         Kind::Bsdf,
         Kind::Emitter,
         Kind::Texture,
+        Kind::Medium,
+        Kind::Phase,
     ];
 
     /// The kind's name in lower case, as messages and XML tags write it.
@@ -51,6 +58,8 @@ impl Kind {
             Kind::Bsdf => "bsdf",
             Kind::Emitter => "emitter",
             Kind::Texture => "texture",
+            Kind::Medium => "medium",
+            Kind::Phase => "phase",
         }
     }
 }

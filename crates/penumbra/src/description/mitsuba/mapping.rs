@@ -194,6 +194,11 @@ impl Out<'_> {
             // point or vector, as Mitsuba takes it.
             Type::Scale => match obj.prop(key).map(|p| &p.value) {
                 None => None,
+                // A medium's coefficient: a float, an RGB or a spectrum,
+                // unbounded.
+                Some(PropValue::Rgb(_) | PropValue::Spectrum(_)) if kind == Kind::Medium => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+                }
                 Some(PropValue::Vector(_)) => {
                     get_vector(obj, key)?.map(|(v, a)| (vec3(v, path, a), at(a)))
                 }
@@ -274,6 +279,10 @@ impl Mapper for Out<'_> {
 
     fn no_children(&self, obj: &Object) -> Result<(), SceneError> {
         Out::no_children(self, obj)
+    }
+
+    fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
+        Out::medium(self, obj)
     }
 
     fn warn(&mut self, message: String) {

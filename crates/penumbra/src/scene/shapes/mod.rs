@@ -30,7 +30,7 @@ pub const INSTANCED_TRIANGLES: u64 = 1 << 22;
 pub const INSTANCING_FACTOR: u64 = 16;
 
 /// The keys every object has besides its shape's.
-const COMMON: [Param; 5] = [
+const COMMON: [Param; 7] = [
     Param::new(
         "material",
         Type::Material,
@@ -62,6 +62,21 @@ const COMMON: [Param; 5] = [
         Type::Bool,
         "true",
         "whether it blocks shadow rays; `false` lets light through it, as through a `[[lights]]` light's surface (Cycles' shadow visibility)",
+    )
+    .penumbra_only(),
+    Param::new(
+        "interior",
+        Type::String,
+        "none",
+        "name of the `[media.NAME]` medium inside the shape (Mitsuba's nested `interior` medium); \
+         its surface should then be a `null` material where the medium has no visible boundary",
+    )
+    .penumbra_only(),
+    Param::new(
+        "exterior",
+        Type::String,
+        "none",
+        "name of the `[media.NAME]` medium outside the shape (Mitsuba's nested `exterior` medium)",
     )
     .penumbra_only(),
 ];
