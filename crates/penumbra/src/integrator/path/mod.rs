@@ -94,10 +94,11 @@ mod config;
 pub mod plugins;
 mod sets;
 mod vertex;
+mod volume;
 mod wavefront;
 
 pub use config::{PathSettings, PLUGINS};
-pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin};
+pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
