@@ -138,6 +138,16 @@ pub trait BsdfModel: Sized {
         0.0
     }
 
+    /// The light a ray crossing the surface at `si` straight along `d`
+    /// keeps, colour by colour, where the crossing is a pass-through
+    /// (Mitsuba's `eval_null_transmission`): what the volumetric path
+    /// tracer's shadow rays keep crossing it. By default the
+    /// [`shadow_transmittance`](Self::shadow_transmittance); a thin sheet
+    /// passes what it transmits.
+    fn null_transmission(&self, si: &SurfaceInteraction, _d: Vec3) -> Rgb {
+        Rgb::splat(self.shadow_transmittance(si))
+    }
+
     /// [`shadow_transmittance`](Self::shadow_transmittance) where it is the
     /// same all over the surface; `None` where a texture makes it vary, so
     /// that a shadow ray must read it at each point it crosses.
@@ -265,6 +275,14 @@ macro_rules! models {
             pub fn shadow_transmittance(&self, si: &SurfaceInteraction) -> f32 {
                 match self {
                     $(Bsdf::$variant(m) => m.shadow_transmittance(si),)*
+                }
+            }
+
+            /// See [`BsdfModel::null_transmission`].
+            #[inline]
+            pub fn null_transmission(&self, si: &SurfaceInteraction, d: Vec3) -> Rgb {
+                match self {
+                    $(Bsdf::$variant(m) => m.null_transmission(si, d),)*
                 }
             }
 

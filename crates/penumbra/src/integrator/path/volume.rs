@@ -477,8 +477,10 @@ impl Wavefront<'_> {
 
 /// The fraction of light passing along the shadow segment `ray` (from its
 /// origin to `origin + dir`, short of the end by [`SHADOW_END`]), starting
-/// in `medium`: each surface crossed multiplies it by its shadow
-/// transmittance (1 for `null`, 0 for an opaque one, which stops it) and
+/// in `medium`: each surface crossed multiplies it by what it lets through
+/// (its [null transmission](crate::bsdf::BsdfModel::null_transmission): 1
+/// for `null`, what a thin sheet transmits, 0 for an opaque surface, which
+/// stops it) and
 /// changes the medium where the surface bounds media; each stretch in a
 /// medium multiplies it by the medium's transmittance (drawing from `rng`
 /// where tracking needs numbers). Objects that cast no shadows are passed.
@@ -505,8 +507,7 @@ pub(super) fn shadow_transmittance(scene: &Scene, ray: Ray, mut medium: u32, rng
         };
         let object = &scene.world.objects[h.object as usize];
         if object.casts_shadows {
-            let pass = scene.bsdfs[h.material as usize].shadow_transmittance(&h);
-            tr *= pass;
+            tr *= scene.bsdfs[h.material as usize].null_transmission(&h, dir);
         }
         if tr.max_element() <= 0.0 {
             return Rgb::ZERO;
