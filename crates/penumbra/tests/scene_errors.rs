@@ -502,17 +502,30 @@ fn media_errors_point_at_the_value() {
     ));
     assert!(e.starts_with("test.toml:7:12:"), "{e}");
     assert!(
-        e.contains("objects[0].interior") && e.contains("no medium named `smoke`; defined media: fog"),
+        e.contains("objects[0].interior")
+            && e.contains("no medium named `smoke`; defined media: fog"),
         "{e}"
     );
     let e = err(&format!("[camera]\nmedium = \"mist\"\n\n{media}"));
-    assert!(e.starts_with("test.toml:2:10:") && e.contains("no medium named `mist`"), "{e}");
+    assert!(
+        e.starts_with("test.toml:2:10:") && e.contains("no medium named `mist`"),
+        "{e}"
+    );
     let e = err("[media.fog]\ntype = \"heterogeneous\"\n");
-    assert!(e.starts_with("test.toml:2:8:") && e.contains("homogeneous"), "{e}");
+    assert!(
+        e.starts_with("test.toml:2:8:") && e.contains("homogeneous"),
+        "{e}"
+    );
     let e = err(&format!("{media}phase = {{ type = \"rayleigh\" }}\n"));
-    assert!(e.starts_with("test.toml:3:18:") && e.contains("isotropic, hg"), "{e}");
+    assert!(
+        e.starts_with("test.toml:3:18:") && e.contains("isotropic, hg"),
+        "{e}"
+    );
     let e = err(&format!("{media}albedo = {{ type = \"gridvolume\" }}\n"));
-    assert!(e.starts_with("test.toml:3:10:") && e.contains("media.fog.albedo"), "{e}");
+    assert!(
+        e.starts_with("test.toml:3:10:") && e.contains("media.fog.albedo"),
+        "{e}"
+    );
     let e = err("[media.fog]\nsigma_t = 1\n");
     assert!(e.starts_with("test.toml:1:1:") && e.contains("type"), "{e}");
 }

@@ -161,7 +161,7 @@ pub trait MediumModel: Sized {
         let majorant = self.majorant(o + d * mint);
         let m = channel_of(majorant, channel);
         let t = mint - (1.0 - u).ln() / m;
-        if !(t <= maxt) {
+        if t.is_nan() || t > maxt {
             return none(mint, majorant);
         }
         let p = o + d * t;
@@ -201,7 +201,7 @@ pub trait MediumModel: Sized {
             }
             let m0 = channel_of(mi.majorant, 0);
             tr *= rescale(mi.majorant, mi.t - mi.mint) * mi.sigma.sigma_n / m0;
-            if !(tr.max_element() > 0.0) {
+            if tr.max_element().is_nan() || tr.max_element() <= 0.0 {
                 return Rgb::ZERO;
             }
             from += mi.t;

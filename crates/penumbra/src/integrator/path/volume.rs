@@ -22,7 +22,7 @@
 //! [`Medium::sample_interaction`]: crate::medium::Medium::sample_interaction
 //! [`Medium::transmittance`]: crate::medium::Medium::transmittance
 
-use super::vertex::{emission_weight, power_heuristic, sample_emitter, Nee};
+use super::vertex::{emission_weight, power_heuristic, sample_emitter, Nee, VolState, Volume};
 use super::wavefront::Wavefront;
 use crate::bsdf::BsdfFlags;
 use crate::emitter::Reference;
@@ -54,87 +54,6 @@ const NULL_CHOICE: u64 = 2;
 const EMITTER_CHOICE: u64 = 3;
 const EMITTER_POINT: u64 = 4;
 const DIRECTION: u64 = 6;
-
-/// What a volumetric path carries besides its ray, sample and throughput.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct VolState {
-    /// The medium the ray travels in ([`NO_MEDIUM`]: none).
-    medium: u32,
-    /// Scatterings so far (surfaces other than `null` and real collisions
-    /// in media): Mitsuba's depth.
-    depth: u32,
-    /// Steps so far (every event).
-    step: u32,
-    /// The colour channel distances are drawn by.
-    channel: u8,
-    /// The emission met next counts whole (Mitsuba's `specular_chain`,
-    /// or the camera ray).
-    direct: bool,
-    /// The product of the relative indices crossed (for roulette).
-    eta: f32,
-    /// The last scattering point and its shading normal (zero in a
-    /// medium), and the density of the direction drawn there.
-    last: (Vec3, Vec3),
-    last_pdf: f32,
-}
-
-/// The live volumetric paths of a wave.
-#[derive(Default)]
-pub(super) struct VolPaths {
-    ray: Vec<Ray>,
-    slot: Vec<u32>,
-    beta: Vec<Rgb>,
-    rng: Vec<Rng>,
-    state: Vec<VolState>,
-}
-
-impl VolPaths {
-    fn clear(&mut self) {
-        self.ray.clear();
-        self.slot.clear();
-        self.beta.clear();
-        self.rng.clear();
-        self.state.clear();
-    }
-
-    fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, state: VolState) {
-        self.ray.push(ray);
-        self.slot.push(slot);
-        self.beta.push(beta);
-        self.rng.push(rng);
-        self.state.push(state);
-    }
-}
-
-/// Shadow rays through media: each from its origin to its target (the
-/// ray's direction is the whole segment), the medium it starts in, the
-/// stream its tracking reads, and what it brings if it passes whole.
-#[derive(Default)]
-pub(super) struct VolShadows {
-    ray: Vec<Ray>,
-    slot: Vec<u32>,
-    value: Vec<Rgb>,
-    medium: Vec<u32>,
-    rng: Vec<Rng>,
-}
-
-impl VolShadows {
-    fn clear(&mut self) {
-        self.ray.clear();
-        self.slot.clear();
-        self.value.clear();
-        self.medium.clear();
-        self.rng.clear();
-    }
-}
-
-/// A worker's volumetric buffers, kept from wave to wave.
-#[derive(Default)]
-pub(super) struct Volume {
-    paths: VolPaths,
-    next: VolPaths,
-    shadows: VolShadows,
-}
 
 /// The medium a ray leaving a surface of `media` (`[interior, exterior]`)
 /// in direction `d` enters, beside geometric normal `ng`; `current` where
@@ -246,6 +165,7 @@ impl Wavefront<'_> {
             rays: 1,
             distribution: Distribution::Jitter,
         };
+        #[allow(clippy::needless_range_loop)]
         for i in 0..paths.ray.len() {
             let (ray, slot, mut beta, rng) =
                 (paths.ray[i], paths.slot[i], paths.beta[i], paths.rng[i]);
@@ -491,7 +411,7 @@ pub(super) fn shadow_transmittance(scene: &Scene, ray: Ray, mut medium: u32, rng
     for _ in 0..MAX_CROSSINGS {
         let to = target - origin;
         let length = to.length();
-        if !(length > 0.0) {
+        if length.is_nan() || length <= 0.0 {
             return tr;
         }
         let dir = to / length;

@@ -24,9 +24,8 @@ use crate::scene::Scene;
 use super::sets::{set_member, thesis_sets, LightBuffers, Member, Out, PendingSet};
 use super::vertex::{
     count_bounce, count_saved, emission_weight, go_through, light_sample, Escape, Material, Nee,
-    Paths, Shadows, Vertex,
+    Paths, Shadows, Vertex, Volume,
 };
-use super::volume::Volume;
 
 /// The most paths a wave holds, unless one row of a tile's samples holds
 /// more (a wave is whole rows).
