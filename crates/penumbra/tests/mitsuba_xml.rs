@@ -1702,7 +1702,7 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "integrator `volpathmis` is not supported; supported: path, volpath, direct",
         ),
         (
-            r#"<medium type="heterogeneous"/>"#,
+            r#"<medium type="heterogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,
             "medium `heterogeneous` is not supported; supported: homogeneous",
         ),
         (

@@ -289,6 +289,8 @@ impl Out<'_> {
                 .expect("a free name"),
         };
         let base = KeyPath::root().key("media").key(&name);
+        // The plugin first: an unknown medium is refused as such.
+        super::mapping::plugin_of((self.registry)(Kind::Medium), obj, "medium")?;
         let mut phase = None;
         for c in children(self.ids, obj)? {
             match c.tag.as_str() {
