@@ -200,3 +200,47 @@ fn path_ignores_media() {
     }
     assert_eq!(mean_and_error(&a).0, Rgb::ONE);
 }
+
+/// Without media `volpath` is the path tracer on surfaces, counting depth
+/// as Mitsuba's volpath does: in a closed box whose walls emit 1 and
+/// reflect ρ diffusely, a path of at most `d` scatterings gathers
+/// `1 + ρ + … + ρ^(d−1)`, unbounded `1 / (1 − ρ)`; a `null` wall inside
+/// the box (a crossing, not a scattering) changes nothing.
+#[test]
+fn without_media_volpath_holds_the_closed_box_radiance_of_each_depth() {
+    let rho = 0.5f32;
+    let walls = [
+        ([-1, -1, -1], [0, 0, 2], [2, 0, 0]),
+        ([-1, 1, -1], [2, 0, 0], [0, 0, 2]),
+        ([-1, -1, -1], [0, 2, 0], [0, 0, 2]),
+        ([1, -1, -1], [0, 0, 2], [0, 2, 0]),
+        ([-1, -1, -1], [2, 0, 0], [0, 2, 0]),
+        ([-1, -1, 1], [0, 2, 0], [2, 0, 0]),
+    ];
+    let scene = |render: &str| {
+        let mut s = format!(
+            "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nseed = 3\n{render}\n\
+             [camera]\nposition = [0.1, 0.2, 0.5]\nlook_at = [0.0, 0.0, -1.0]\nfov = 70\n\n\
+             [materials.wall]\ntype = \"diffuse\"\nreflectance = [{rho}, {rho}, {rho}]\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"boundary\"\norigin = [-1, -1, -0.3]\n\
+             edge_u = [2, 0, 0]\nedge_v = [0, 2, 0]\n"
+        );
+        for (o, u, v) in walls {
+            s += &format!(
+                "\n[[objects]]\ntype = \"quad\"\nmaterial = \"wall\"\norigin = {o:?}\n\
+                 edge_u = {u:?}\nedge_v = {v:?}\nemitter = {{ radiance = [1, 1, 1] }}\n"
+            );
+        }
+        s
+    };
+    for (d, spp) in [(1, 1), (2, 64), (3, 64)] {
+        let (img, _) = render_toml(&scene(&format!("spp = {spp}\nmax_depth = {d}")));
+        let (got, err) = mean_and_error(&img);
+        let want = (1.0 - rho.powi(d)) / (1.0 - rho);
+        assert_within(got, err, Rgb::splat(want), &format!("max_depth = {d}"));
+    }
+    let (img, _) = render_toml(&scene("spp = 128"));
+    let (got, err) = mean_and_error(&img);
+    assert_within(got, err, Rgb::splat(1.0 / (1.0 - rho)), "unbounded");
+}
