@@ -244,3 +244,22 @@ fn without_media_volpath_holds_the_closed_box_radiance_of_each_depth() {
     let (got, err) = mean_and_error(&img);
     assert_within(got, err, Rgb::splat(1.0 / (1.0 - rho)), "unbounded");
 }
+
+/// A camera sitting in a medium (its `medium`) sees through it from its
+/// near clip plane on, as Mitsuba's camera rays start there: an emitter 4
+/// away behind an absorbing medium filling space, the near plane at 1,
+/// keeps `exp(−3 σt)`.
+#[test]
+fn a_camera_in_a_medium_sees_through_it_from_its_near_plane() {
+    let toml = "[render]\nwidth = 8\nheight = 8\nintegrator = \"volpath\"\nspp = 256\nseed = 4\n\n\
+                [camera]\nprojection = \"orthographic\"\nview_width = 1\nposition = [0, 0, 2]\n\
+                look_at = [0, 0, 0]\nnear_clip = 1\nmedium = \"air\"\n\n\
+                [materials.black]\ntype = \"diffuse\"\nreflectance = [0, 0, 0]\n\n\
+                [media.air]\ntype = \"homogeneous\"\nsigma_t = [0.2, 0.4, 0.6]\nalbedo = 0\n\n\
+                [[objects]]\ntype = \"quad\"\nmaterial = \"black\"\norigin = [-5, -5, -2]\n\
+                edge_u = [10, 0, 0]\nedge_v = [0, 10, 0]\nemitter = { radiance = [1, 1, 1] }\n";
+    let (img, _) = render_toml(toml);
+    let (got, err) = mean_and_error(&img);
+    let want = Rgb::from_array([0.2f32, 0.4, 0.6].map(|s| (-3.0 * s).exp()));
+    assert_within(got, err, want, "camera in a medium");
+}

@@ -396,6 +396,9 @@ pub(super) struct VolState {
     /// medium), and the density of the direction drawn there.
     pub(super) last: (Vec3, Vec3),
     pub(super) last_pdf: f32,
+    /// How far along the ray the medium begins: a camera ray's near clip
+    /// plane (Mitsuba's camera rays start there), else 0.
+    pub(super) skip: f32,
 }
 
 /// The live volumetric paths of a wave.

@@ -103,7 +103,12 @@ impl Wavefront<'_> {
         for (k, (ray, &rng)) in self.paths.ray.iter().zip(&self.paths.rng).enumerate() {
             let channel = (rng.derive(streams::CHANNEL).next_f32() * 3.0).min(2.0) as u8;
             let ray = Ray::new(ray.origin, ray.dir.normalize(), ray.time);
+            let skip = scene
+                .camera
+                .clip(&ray)
+                .map_or(0.0, |(near, _)| near.max(0.0));
             let state = VolState {
+                skip,
                 medium: camera_medium,
                 depth: 0,
                 step: 0,
@@ -170,6 +175,7 @@ impl Wavefront<'_> {
             let (ray, slot, mut beta, rng) =
                 (paths.ray[i], paths.slot[i], paths.beta[i], paths.rng[i]);
             let mut st = paths.state[i];
+            let skip = std::mem::take(&mut st.skip);
             let acc = &mut radiance[slot as usize];
             if st.step >= MAX_STEPS || beta.max_element() <= 0.0 || beta.max_element().is_nan() {
                 continue;
@@ -198,8 +204,11 @@ impl Wavefront<'_> {
             if st.medium != NO_MEDIUM {
                 let medium = &scene.media[st.medium as usize];
                 let channel = usize::from(st.channel);
+                // From the near clip plane on, for a camera ray.
+                let skip = skip.min(t_surface);
+                let t_surface = t_surface - skip;
                 let mi = medium.sample_interaction(
-                    (ray.origin, ray.dir),
+                    (ray.origin + ray.dir * skip, ray.dir),
                     t_surface,
                     u.value(DISTANCE),
                     channel,
