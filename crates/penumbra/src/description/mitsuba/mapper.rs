@@ -12,7 +12,7 @@ use super::spectrum::{self, Use};
 use super::transform::Mat4;
 use super::values::PropValue;
 use crate::description::error::{KeyPath, SceneError};
-use crate::description::tree::{Kind, Located, Node, Prop, Value};
+use crate::description::tree::{Located, Node, Prop, Value};
 
 pub(super) fn render() -> KeyPath {
     KeyPath::root().key("render")
@@ -265,63 +265,6 @@ impl Out<'_> {
                 ),
             )),
         }
-    }
-
-    /// The medium `obj` as a node of the scene's media (`media.ID`, its id
-    /// or `medium_N` for one without), mapped once however often shapes
-    /// and sensors refer to it: its name. Its phase function is the
-    /// `<phase>` it holds (`isotropic` without one); a volume in place of
-    /// a coefficient is refused.
-    pub(super) fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
-        if let Some(id) = &obj.id {
-            if self.media.iter().any(|m| m.id.as_ref() == Some(id)) {
-                return Ok(id.clone());
-            }
-        }
-        let name = match &obj.id {
-            Some(id) => id.clone(),
-            None => (1..)
-                .map(|n| format!("medium_{n}"))
-                .find(|n| {
-                    !self.ids.map.contains_key(n)
-                        && !self.media.iter().any(|m| m.id.as_ref() == Some(n))
-                })
-                .expect("a free name"),
-        };
-        let base = KeyPath::root().key("media").key(&name);
-        // The plugin first: an unknown medium is refused as such.
-        super::mapping::plugin_of((self.registry)(Kind::Medium), obj, "medium")?;
-        let mut phase = None;
-        for c in children(self.ids, obj)? {
-            match c.tag.as_str() {
-                "phase" if phase.is_none() => phase = Some(c),
-                "phase" => return Err(error_at(&c.at, "a second <phase> in the medium: a medium has one phase function")),
-                "volume" => {
-                    return Err(error_at(
-                        &c.at,
-                        format!(
-                            "a <volume> in the medium `{}` is not supported yet: give its coefficients as a float or an RGB",
-                            clip(&obj.plugin)
-                        ),
-                    ))
-                }
-                other => {
-                    return Err(error_at(
-                        &c.at,
-                        format!("a <{other}> inside a medium is not supported (a medium holds a phase function)"),
-                    ))
-                }
-            }
-        }
-        let mut node = self.mapped(Kind::Medium, obj, base.clone())?;
-        if let Some(ph) = phase {
-            self.no_children(ph)?;
-            node.children
-                .push(self.mapped(Kind::Phase, ph, base.key("phase"))?);
-        }
-        node.id = Some(name.clone());
-        self.media.push(node);
-        Ok(name)
     }
 
     /// `bsdf_N`, the first such name that is neither an id nor taken.

@@ -12,7 +12,7 @@
 use std::rc::Rc;
 
 use super::mapper::{
-    file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
+    children, file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
     get_vector, located, matrix, rows, type_error, unsupported, vec3, Out,
 };
 use super::objects::{error_at, Child, Object, Place};
@@ -103,6 +103,63 @@ impl Out<'_> {
         }
         required(obj, schema, &node)?;
         Ok(node)
+    }
+
+    /// The medium `obj` as a node of the scene's media (`media.ID`, its id
+    /// or `medium_N` for one without), mapped once however often shapes
+    /// and sensors refer to it: its name. Its phase function is the
+    /// `<phase>` it holds (`isotropic` without one); a volume in place of
+    /// a coefficient is refused.
+    pub(super) fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
+        if let Some(id) = &obj.id {
+            if self.media.iter().any(|m| m.id.as_ref() == Some(id)) {
+                return Ok(id.clone());
+            }
+        }
+        let name = match &obj.id {
+            Some(id) => id.clone(),
+            None => (1..)
+                .map(|n| format!("medium_{n}"))
+                .find(|n| {
+                    !self.ids.map.contains_key(n)
+                        && !self.media.iter().any(|m| m.id.as_ref() == Some(n))
+                })
+                .expect("a free name"),
+        };
+        let base = KeyPath::root().key("media").key(&name);
+        // The plugin first: an unknown medium is refused as such.
+        plugin_of((self.registry)(Kind::Medium), obj, "medium")?;
+        let mut phase = None;
+        for c in children(self.ids, obj)? {
+            match c.tag.as_str() {
+                "phase" if phase.is_none() => phase = Some(c),
+                "phase" => return Err(error_at(&c.at, "a second <phase> in the medium: a medium has one phase function")),
+                "volume" => {
+                    return Err(error_at(
+                        &c.at,
+                        format!(
+                            "a <volume> in the medium `{}` is not supported yet: give its coefficients as a float or an RGB",
+                            clip(&obj.plugin)
+                        ),
+                    ))
+                }
+                other => {
+                    return Err(error_at(
+                        &c.at,
+                        format!("a <{other}> inside a medium is not supported (a medium holds a phase function)"),
+                    ))
+                }
+            }
+        }
+        let mut node = self.mapped(Kind::Medium, obj, base.clone())?;
+        if let Some(ph) = phase {
+            self.no_children(ph)?;
+            node.children
+                .push(self.mapped(Kind::Phase, ph, base.key("phase"))?);
+        }
+        node.id = Some(name.clone());
+        self.media.push(node);
+        Ok(name)
     }
 
     /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
