@@ -349,7 +349,7 @@ mod tests {
                         .iter()
                         .map(|n| n.to_string())
                         .collect(),
-                    vec!["volpath".into()],
+                    vec!["volpathmis".into()],
                 ),
                 Kind::PathSampler => (
                     PathSampler::NAMES.iter().map(|n| n.to_string()).collect(),

@@ -10,7 +10,7 @@
 //! before it: [`math`] (with the colour type [`math::Rgb`]) and [`input`]
 //! (every input file read bounded, every quoted value cut) → [`sampling`] →
 //! [`geometry`], [`accel`] and [`camera`] → [`description`] → [`texture`]
-//! → [`bsdf`] and [`emitter`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
+//! → [`bsdf`], [`emitter`] and [`medium`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
 //! goes:
 //!
 //! * [`description`] reads a TOML scene (or a Python dict) into a tree of
@@ -46,6 +46,7 @@ pub mod input;
 pub mod integrator;
 pub mod io;
 pub mod math;
+pub mod medium;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -43,16 +43,12 @@ const MISSING: &[&str] = &[
     "blendphase",
     "bsplinecurve",
     "circular",
-    "constvolume",
     "directionalarea",
     "distant",
     "ellipsoids",
     "ellipsoidsmesh",
-    "gridvolume",
     "hair",
     "heterogeneous",
-    "hg",
-    "homogeneous",
     "irradiancemeter",
     "linearcurve",
     "measured",
@@ -71,7 +67,6 @@ const MISSING: &[&str] = &[
     "sunsky",
     "tabphase",
     "timed_sunsky",
-    "volpath",
     "volpathmis",
     "volume",
 ];
@@ -238,9 +233,7 @@ fn scene(kind: &str, plugin: &str, body: &str) -> String {
         "phase" => sphere(format!(
             r#"<bsdf type="dielectric"/><medium type="homogeneous" name="interior"><phase type="{plugin}">{body}</phase></medium>"#
         )),
-        "volumes" => sphere(format!(
-            r#"<bsdf type="dielectric"/><medium type="heterogeneous" name="interior"><volume type="{plugin}" name="sigma_t">{body}</volume></medium>"#
-        )),
+        "volumes" => format!(r#"<volume type="{plugin}" id="v">{body}</volume>"#),
         other => panic!("a kind of Mitsuba plugin the test does not know: {other}"),
     };
     let sensor = match kind {
@@ -292,6 +285,9 @@ fn kind_of(folder: &str) -> Option<Kind> {
         "samplers" => Kind::Sampler,
         "integrators" => Kind::Integrator,
         "textures" => Kind::Texture,
+        "media" => Kind::Medium,
+        "phase" => Kind::Phase,
+        "volumes" => Kind::Volume,
         _ => return None,
     })
 }

@@ -193,7 +193,7 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .iter()
                 .map(|i| format!("\"{}\"", i.name()))
                 .collect(),
-            vec!["\"volpath\"".into()],
+            vec!["\"volpathmis\"".into()],
         ),
         Kind::PathSampler => (
             PathSampler::NAMES

@@ -56,6 +56,7 @@ fn every_plugin_and_parameter_is_described() {
             let numeric = matches!(
                 p.ty,
                 Type::Number
+                    | Type::Scale
                     | Type::NumberTexture
                     | Type::Int
                     | Type::Colour
@@ -186,6 +187,17 @@ fn builders_refuse_what_the_schemas_ranges_exclude() {
                 Kind::Emitter => (
                     format!("[[lights]]\ntype = \"{ty}\"\n{keys}"),
                     format!("lights[0].{}", p.name),
+                ),
+                Kind::Medium => (
+                    format!("[media.m]\ntype = \"{ty}\"\n{keys}"),
+                    format!("media.m.{}", p.name),
+                ),
+                Kind::Phase => (
+                    format!(
+                        "[media.m]\ntype = \"homogeneous\"\nphase = {{ type = \"{ty}\", {} }}\n",
+                        keys.trim_end().replace('\n', ", ")
+                    ),
+                    format!("media.m.phase.{}", p.name),
                 ),
                 _ => continue,
             };

@@ -489,3 +489,43 @@ fn held_materials_are_named_and_loops_refused() {
         "{e}"
     );
 }
+
+/// Media: a name no medium has is refused at the value that names it (an
+/// object's side, the camera's medium), listing the media there are; an
+/// unknown medium or phase function type at its `type`; a table where a
+/// coefficient goes (a volume) at the value.
+#[test]
+fn media_errors_point_at_the_value() {
+    let media = "[media.fog]\ntype = \"homogeneous\"\n";
+    let e = err(&format!(
+        "{media}\n[[objects]]\ntype = \"sphere\"\nradius = 1\ninterior = \"smoke\"\n"
+    ));
+    assert!(e.starts_with("test.toml:7:12:"), "{e}");
+    assert!(
+        e.contains("objects[0].interior")
+            && e.contains("no medium named `smoke`; defined media: fog"),
+        "{e}"
+    );
+    let e = err(&format!("[camera]\nmedium = \"mist\"\n\n{media}"));
+    assert!(
+        e.starts_with("test.toml:2:10:") && e.contains("no medium named `mist`"),
+        "{e}"
+    );
+    let e = err("[media.fog]\ntype = \"heterogeneous\"\n");
+    assert!(
+        e.starts_with("test.toml:2:8:") && e.contains("homogeneous"),
+        "{e}"
+    );
+    let e = err(&format!("{media}phase = {{ type = \"rayleigh\" }}\n"));
+    assert!(
+        e.starts_with("test.toml:3:18:") && e.contains("isotropic, hg"),
+        "{e}"
+    );
+    let e = err(&format!("{media}albedo = {{ type = \"gridvolume\" }}\n"));
+    assert!(
+        e.starts_with("test.toml:3:10:") && e.contains("media.fog.albedo"),
+        "{e}"
+    );
+    let e = err("[media.fog]\nsigma_t = 1\n");
+    assert!(e.starts_with("test.toml:1:1:") && e.contains("type"), "{e}");
+}

@@ -153,7 +153,7 @@ fn mitsuba_volumes_are_read_and_convert_to_toml() {
     // A parameter gridvolume does not read, at its line.
     let bad = xml.replace(
         r#"<boolean name="use_grid_bbox" value="false"/>"#,
-        r#"<boolean name="accel" value="false"/>"#,
+        r#"<boolean name="dx" value="false"/>"#,
     );
     std::fs::write(d.path().join("bad.xml"), bad).unwrap();
     let e = SceneSource::open(d.path().join("bad.xml").to_str().unwrap(), &opts)
@@ -161,7 +161,7 @@ fn mitsuba_volumes_are_read_and_convert_to_toml() {
         .map(drop)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("bad.xml:9:") && e.contains("`accel`"), "{e}");
+    assert!(e.contains("bad.xml:9:") && e.contains("`dx`"), "{e}");
 }
 
 /// A Python dict's volumes make the tree its XML makes.

@@ -42,7 +42,9 @@ pub struct Mask {
 }
 
 /// The pass-through lobe's kind.
-pub const NULL: BsdfFlags = BsdfFlags::DELTA.union(BsdfFlags::TRANSMISSION);
+pub const NULL: BsdfFlags = BsdfFlags::DELTA
+    .union(BsdfFlags::TRANSMISSION)
+    .union(BsdfFlags::NULL);
 
 impl Mask {
     /// The mask of `opacity` around `bsdf`; `Err` if the held material's

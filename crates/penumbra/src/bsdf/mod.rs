@@ -34,6 +34,7 @@
 //! | [`bumpmap`](bumpmap::BumpMap) | a material seen through the normal of a height field (Mitsuba 3's `bumpmap`) |
 //! | [`principled`](principled::Principled) | Burley's principled (Disney) material: a diffuse base with sheen, GGX metal and dielectric reflection and transmission, a clearcoat (Mitsuba 3's `principled`) |
 //! | [`principledthin`](principledthin::PrincipledThin) | the principled material of a thin sheet: diffuse reflection and transmission, GGX reflection and straight transmission (Mitsuba 3's `principledthin`) |
+//! | [`null`](null::Null) | a surface light passes straight through: the boundary of a medium (Mitsuba 3's `null`) |
 //!
 //! Beside the models: [`microfacet`] (the Beckmann and GGX distributions
 //! and their samplers), [`fresnel`] (dielectric and conductor
@@ -45,7 +46,7 @@
 //! (`chi2.rs`, Mitsuba 3's method).
 
 #[cfg(test)]
-mod chi2;
+pub(crate) mod chi2;
 pub mod fresnel;
 pub mod ior;
 pub mod microfacet;
@@ -135,6 +136,16 @@ pub trait BsdfModel: Sized {
     /// 0 for an opaque surface.
     fn shadow_transmittance(&self, _si: &SurfaceInteraction) -> f32 {
         0.0
+    }
+
+    /// The light a ray crossing the surface at `si` straight along `d`
+    /// keeps, colour by colour, where the crossing is a pass-through
+    /// (Mitsuba's `eval_null_transmission`): what the volumetric path
+    /// tracer's shadow rays keep crossing it. By default the
+    /// [`shadow_transmittance`](Self::shadow_transmittance); a thin sheet
+    /// passes what it transmits.
+    fn null_transmission(&self, si: &SurfaceInteraction, _d: Vec3) -> Rgb {
+        Rgb::splat(self.shadow_transmittance(si))
     }
 
     /// [`shadow_transmittance`](Self::shadow_transmittance) where it is the
@@ -267,6 +278,14 @@ macro_rules! models {
                 }
             }
 
+            /// See [`BsdfModel::null_transmission`].
+            #[inline]
+            pub fn null_transmission(&self, si: &SurfaceInteraction, d: Vec3) -> Rgb {
+                match self {
+                    $(Bsdf::$variant(m) => m.null_transmission(si, d),)*
+                }
+            }
+
             /// The shadow transmittance where it is the same all over the
             /// surface; `None` where it varies.
             #[inline]
@@ -312,6 +331,7 @@ models! {
     bumpmap::BumpMap,
     principled::Principled,
     principledthin::PrincipledThin,
+    null::Null,
 }
 
 #[cfg(test)]

@@ -20,6 +20,10 @@ impl BsdfFlags {
     pub const DELTA: BsdfFlags = BsdfFlags(4);
     pub const REFLECTION: BsdfFlags = BsdfFlags(8);
     pub const TRANSMISSION: BsdfFlags = BsdfFlags(16);
+    /// With `DELTA | TRANSMISSION`: passes straight on, unbent and whole
+    /// (Mitsuba's `Null`): the `null` material and a mask's pass-through,
+    /// which the volumetric path tracer does not count as a scattering.
+    pub const NULL: BsdfFlags = BsdfFlags(32);
 
     pub const fn empty() -> BsdfFlags {
         BsdfFlags(0)

@@ -21,10 +21,12 @@
 //! | 0 | delta reflection about the shading normal | `specular_reflectance · R'` |
 //! | 1 | delta transmission straight through (`wi = −wo`) | `specular_transmittance · (1 − R')` |
 //!
-//! With no lobe asked for, `sample` reflects with probability R'. Mitsuba
-//! marks the transmission a null lobe that its volumetric integrators let
-//! shadow rays through; here shadow rays stop at the sheet (the
-//! transmission is seen along traced rays only), as in Mitsuba's `path`.
+//! With no lobe asked for, `sample` reflects with probability R'. The
+//! transmission is a pass-through lobe ([`BsdfFlags::NULL`]), as Mitsuba
+//! marks it: `volpath`'s shadow rays cross the sheet keeping what it
+//! transmits, and its crossings are not scatterings there; the other
+//! integrators' shadow rays stop at the sheet (the transmission is seen
+//! along traced rays only), as in Mitsuba's `path`.
 
 use super::conductor::SPECULAR_REFLECTANCE;
 use super::dielectric::{read_interface, IOR_PARAMS, SPECULAR_TRANSMITTANCE};
@@ -47,7 +49,11 @@ pub struct ThinDielectric {
 }
 
 const REFLECTION: BsdfFlags = BsdfFlags::DELTA.union(BsdfFlags::REFLECTION);
-const TRANSMISSION: BsdfFlags = BsdfFlags::DELTA.union(BsdfFlags::TRANSMISSION);
+/// A pass-through, as Mitsuba marks it: the volumetric path tracer does
+/// not count it as a scattering.
+const TRANSMISSION: BsdfFlags = BsdfFlags::DELTA
+    .union(BsdfFlags::TRANSMISSION)
+    .union(BsdfFlags::NULL);
 
 impl ThinDielectric {
     /// The reflectance of the sheet at the cosine `cos` (either side).
@@ -79,7 +85,10 @@ impl BsdfModel for ThinDielectric {
     }
 
     fn lobes(&self) -> Lobes {
-        Lobes::reflection_and_transmission(BsdfFlags::DELTA)
+        let mut l = Lobes::default();
+        l.flags[0] = REFLECTION;
+        l.flags[1] = TRANSMISSION;
+        l
     }
 
     fn eval(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> Rgb {
@@ -118,6 +127,12 @@ impl BsdfModel for ThinDielectric {
 
     fn pdf(&self, _: &SurfaceInteraction, _: Vec3, _: Vec3) -> f32 {
         0.0
+    }
+
+    /// What the sheet transmits straight through along `d`.
+    fn null_transmission(&self, si: &SurfaceInteraction, d: Vec3) -> Rgb {
+        let r = self.reflectance(d.dot(si.n).abs());
+        self.specular_transmittance.eval(si) * (1.0 - r)
     }
 }
 

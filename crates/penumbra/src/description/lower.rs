@@ -1,5 +1,5 @@
 //! Lowering: a scene file's parts (`[render]`, `[camera]`,
-//! `[textures.NAME]`, `[materials.NAME]`, `[[objects]]`, `[[lights]]`) into the tree of
+//! `[textures.NAME]`, `[materials.NAME]`, `[media.NAME]`, `[[objects]]`, `[[lights]]`) into the tree of
 //! plugins, the same way for a TOML file and a dict. The tree's shape is
 //! described in the [module docs](super).
 
@@ -80,6 +80,7 @@ pub const ROOT_KEYS: &[&str] = &[
     "groups",
     "textures",
     "volumes",
+    "media",
 ];
 
 /// The plugins a scene gets when its input names none.
@@ -94,6 +95,8 @@ pub const BACKGROUND_EMITTER: &str = "constant";
 pub const GROUP_SHAPE: &str = "shapegroup";
 /// The emitter an object's `emitter` table is when it names no `type`.
 pub const CARRIED_EMITTER: &str = "area";
+/// The phase function of a medium whose `phase` table names no `type`.
+pub const DEFAULT_PHASE: &str = "isotropic";
 
 /// Reads a TOML scene: `file` names it in errors. Syntax errors and keys
 /// nested too deeply are located as the parser reports them; everything
@@ -137,7 +140,7 @@ fn lower<V>(
     read: impl Fn(V, KeyPath) -> Result<Located<Value>, Invalid>,
 ) -> Result<Node, Invalid> {
     let root = Origin::new(KeyPath::root(), at);
-    let mut parts: [Option<Located<Value>>; 8] = Default::default();
+    let mut parts: [Option<Located<Value>>; 9] = Default::default();
     for entry in entries {
         let Some(i) = ROOT_KEYS.iter().position(|k| *k == entry.key) else {
             let at = Origin::new(KeyPath::root(), entry.key_at);
@@ -149,7 +152,7 @@ fn lower<V>(
         };
         parts[i] = Some(read(entry.value, root.path.key(&entry.key))?);
     }
-    let [render, camera, materials, objects, lights, groups, textures, volumes] = parts;
+    let [render, camera, materials, objects, lights, groups, textures, volumes, media] = parts;
 
     let mut scene = Node::new(Kind::Scene, "scene", root.clone());
     let render = route_render(render, &root)?;
@@ -196,6 +199,27 @@ fn lower<V>(
         }
         bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
         scene.children.extend(bsdfs);
+    }
+    if let Some(media) = media {
+        // `[media.NAME]`, in name order; its `phase` table is the phase
+        // function it holds.
+        let mut nodes = Vec::new();
+        for m in table(media)?.1 {
+            let (origin, mut props) = table(m.value)?;
+            let phase = match props.iter().position(|p| p.name == "phase") {
+                Some(i) => {
+                    let (at, inner) = table(props.remove(i).value)?;
+                    Some(plugin_node(Kind::Phase, at, inner, Some(DEFAULT_PHASE))?)
+                }
+                None => None,
+            };
+            let mut node = plugin_node(Kind::Medium, origin, props, None)?;
+            node.id = Some(m.name);
+            node.children.extend(phase);
+            nodes.push(node);
+        }
+        nodes.sort_by(|a, b| a.id.cmp(&b.id));
+        scene.children.extend(nodes);
     }
     if let Some(groups) = groups {
         // `[groups.NAME]` with its `[[groups.NAME.objects]]`: a shape
@@ -410,11 +434,11 @@ mod tests {
         assert_eq!(
             err("[render]\nwidth = 3\n\n[renders]\nwidth = 3\n"),
             "test.toml:4:2: unknown field `renders`, expected one of `render`, `camera`, \
-             `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`"
+             `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`, `media`"
         );
         assert_eq!(
             json_err(r#"{"foo": 1}"#),
-            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`"
+            "foo: unknown field `foo`, expected one of `render`, `camera`, `materials`, `objects`, `lights`, `groups`, `textures`, `volumes`, `media`"
         );
         // A dict has no lines: the path names the key.
         assert!(

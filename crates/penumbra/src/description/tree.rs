@@ -23,11 +23,16 @@ pub enum Kind {
     Texture,
     /// Values through space that a participating medium reads.
     Volume,
+    /// A participating medium (Mitsuba's `<medium>`).
+    Medium,
+    /// A medium's phase function (Mitsuba's `<phase>`), which only a
+    /// medium holds.
+    Phase,
 }
 
 impl Kind {
     /// Every kind, in the order of the enum.
-    pub const ALL: [Kind; 11] = [
+    pub const ALL: [Kind; 13] = [
         Kind::Scene,
         Kind::Integrator,
         Kind::Sensor,
@@ -39,6 +44,8 @@ impl Kind {
         Kind::Emitter,
         Kind::Texture,
         Kind::Volume,
+        Kind::Medium,
+        Kind::Phase,
     ];
 
     /// The kind's name in lower case, as messages and XML tags write it.
@@ -55,6 +62,8 @@ impl Kind {
             Kind::Emitter => "emitter",
             Kind::Texture => "texture",
             Kind::Volume => "volume",
+            Kind::Medium => "medium",
+            Kind::Phase => "phase",
         }
     }
 }

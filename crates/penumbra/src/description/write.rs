@@ -57,7 +57,7 @@ fn text(doc: &toml::Table) -> String {
     };
     for part in ROOT_KEYS {
         match doc.get(*part) {
-            Some(toml::Value::Table(t)) if *part == "materials" => {
+            Some(toml::Value::Table(t)) if matches!(*part, "materials" | "media") => {
                 for (name, m) in t {
                     if let toml::Value::Table(m) = m {
                         section(format!("[{part}.{}]", key(name)), m);

@@ -31,6 +31,9 @@
 //! | the `k`-th of a first vertex's `n` BSDF samples, going on as a path | `path`, `direct`, `distributed` | `path.child(k, n)` |
 //! | set of BSDF samples at a vertex drawing the thesis's sets | `distributed` | `path.derive(SHADOW − 1)`, its `i`-th path `path.child(i, n)` |
 //! | Russian roulette of a path that set starts | `distributed` | `path.child(i, n).derive(SHADOW − 2)` |
+//! | step `s` of a path (a scattering, a null collision or a crossing of a `null` surface; read through the path sampler) | `volpath` | `path.derive(s)` |
+//! | the colour channel distances in media are drawn by | `volpath` | `path.derive(SHADOW − 3)` |
+//! | ratio tracking of the shadow ray of step `s` through media | `volpath` | `path.derive(2³¹ + s)` |
 //!
 //! The keys are the constants and functions of [`streams`]. (The
 //! thesis's material keeps its lobes in slots 0 to 2 — mirror, refraction,
@@ -71,11 +74,14 @@ pub use film::FilmTile;
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use model::IntegratorModel;
-pub use path::{DirectPlugin, DistributedPlugin, Path, PathPlugin, PathSettings, PathWorker, WAVE};
+pub use path::{
+    DirectPlugin, DistributedPlugin, Path, PathPlugin, PathSettings, PathWorker, VolpathPlugin,
+    WAVE,
+};
 pub use plugins::{Config, RenderWith, SCHEMAS};
 pub use ray_sets::{RaySets, ONE_RAY};
 pub use shading::ShadingPoint;
 pub use splat::{SplatFilm, Splatting};
-pub use stats::{Batches, RayCounts, RayStats, StageBatches};
+pub use stats::{Batches, MediumEvents, RayCounts, RayStats, StageBatches};
 pub use stopping::Stopping;
 pub use whitted::{Tracer, Whitted, WhittedPlugin, WhittedSettings, WhittedWorker};

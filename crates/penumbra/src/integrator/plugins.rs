@@ -17,7 +17,7 @@
 use super::interface::Integrator;
 use super::metric::Metric;
 use super::model::IntegratorModel;
-use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin};
+use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
 use super::whitted::WhittedPlugin;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Origin, Props, SceneError, Schema};
@@ -134,6 +134,7 @@ integrators! {
     Path => PathPlugin,
     Direct => DirectPlugin,
     Distributed => DistributedPlugin,
+    Volpath => VolpathPlugin,
 }
 
 impl Config {

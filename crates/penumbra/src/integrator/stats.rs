@@ -39,6 +39,18 @@ pub struct RayStats {
     /// Rays a set would have traced but the metric stopped (direct members of
     /// the set only: what their descendants would have cost is unknowable).
     pub saved: RayCounts,
+    /// The collisions paths met in participating media (`volpath`).
+    pub media: MediumEvents,
+}
+
+/// The collisions drawn in participating media: real ones (a path
+/// scattered, or was absorbed) and null ones (a collision against the
+/// majorant that changed nothing: where the majorant exceeds the
+/// extinction).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MediumEvents {
+    pub scatterings: u64,
+    pub null_collisions: u64,
 }
 
 impl RayStats {
@@ -54,6 +66,8 @@ impl AddAssign for RayStats {
         self.reflection += o.reflection;
         self.refraction += o.refraction;
         self.saved += o.saved;
+        self.media.scatterings += o.media.scatterings;
+        self.media.null_collisions += o.media.null_collisions;
     }
 }
 

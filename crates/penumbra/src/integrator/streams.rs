@@ -45,3 +45,19 @@ pub fn lobe(k: usize) -> (u64, u64) {
 pub fn bounce(b: u32) -> u64 {
     u64::from(b)
 }
+
+/// The branch of the shadow rays of step `s` of a volumetric path
+/// (`volpath`): their tracking through media (ratio tracking) reads it.
+/// Steps (a path's scatterings, null collisions and crossings of `null`
+/// surfaces, each one step) stay far below it.
+#[inline]
+pub fn tracking(s: u32) -> u64 {
+    TRACKING + u64::from(s)
+}
+
+/// The first branch of [`tracking`].
+pub const TRACKING: u64 = 1 << 31;
+
+/// The branch a volumetric path (`volpath`) draws its colour channel from:
+/// the channel its distances in media are drawn by (Mitsuba's).
+pub const CHANNEL: u64 = SHADOW - 3;

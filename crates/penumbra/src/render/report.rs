@@ -43,6 +43,10 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
             "refraction": r.saved.refraction,
             "total": r.saved.total(),
         },
+        "media": {
+            "scatterings": r.media.scatterings,
+            "null_collisions": r.media.null_collisions,
+        },
         "batches": {
             "closest_hit": batches(&stats.batches.closest_hit),
             "occlusion": batches(&stats.batches.occlusion),

@@ -28,6 +28,7 @@ use crate::emitter::{self, area, Area, Emitter, PenumbraModel};
 use crate::geometry::instance::Placement;
 use crate::geometry::{Mesh, Place, Surface, SurfaceError};
 use crate::math::{Mat4, Rgb, Vec3};
+use crate::medium::{Medium, Phase};
 use crate::sampling::{EffectSpec, PointTable};
 use crate::texture::mesh_attribute::Bound;
 use crate::texture::{AttributeUse, Textures};
@@ -68,8 +69,10 @@ pub fn build(
         reflection: settings.reflection,
         refraction: settings.refraction,
     };
+    let (media, media_names) = media(root)?;
     let cp = Props::new(&sensor);
     let camera = camera::build(&cp, &settings)?;
+    let camera_medium = medium_index(&cp, "medium", &media_names)?;
     cp.finish("camera")?;
     fp.finish("film")?;
 
@@ -100,6 +103,7 @@ pub fn build(
     // names it, an emitting shape's where the shape is, then those of the
     // instances' shapes; those at infinity come last.
     let carried = shape_emitters(root, &names, &emission, &sets)?;
+    let object_media = object_media(root, &media_names)?;
     // A reused world's objects are copied to give the emitting ones their
     // emitters again (in the order they were given them when it was built).
     let mut copied;
@@ -198,6 +202,9 @@ pub fn build(
         settings,
         integrator,
         transparency,
+        media,
+        object_media,
+        camera_medium,
         warnings,
         build_time: start.elapsed(),
     })
@@ -487,6 +494,9 @@ fn objects(
         }
         let p = Props::new(node);
         let material = material_index(&p, names)?;
+        // Read (and checked) by `object_media`.
+        p.get("interior");
+        p.get("exterior");
         objects.push(shapes::object(
             &node.plugin,
             &p,
@@ -558,6 +568,8 @@ fn group(
         }
         let p = Props::new(child);
         let material = material_index(&p, names)?;
+        p.get("interior");
+        p.get("exterior");
         if p.has("transform_end") {
             return Err(p
                 .error(
@@ -635,6 +647,96 @@ fn shape_emitters(
             _ => "",
         };
         out.extend(groups.get(name).into_iter().flatten().cloned());
+    }
+    Ok(out)
+}
+
+/// The scene's media in the tree's order, and their indices by name.
+fn media(root: &Node) -> Result<(Vec<Medium>, HashMap<String, u32>), Invalid> {
+    let (mut media, mut names) = (Vec::new(), HashMap::new());
+    for node in root.children_of(Kind::Medium) {
+        let phase = match node.child(Kind::Phase) {
+            Some(ph) => {
+                let pp = Props::new(ph);
+                let phase = Phase::build(&ph.plugin, &pp).unwrap_or_else(|| {
+                    Err(pp.node_error(format!("unknown phase function `{}`", ph.plugin)))
+                })?;
+                pp.finish("phase function")?;
+                phase
+            }
+            None => Phase::default(),
+        };
+        let p = Props::new(node);
+        let Some(medium) = Medium::build(&node.plugin, &p, phase) else {
+            return Err(schemas::schema(node)
+                .err()
+                .unwrap_or_else(|| p.node_error("unknown medium type")));
+        };
+        let medium = medium?;
+        p.finish(schemas::schema(node)?.what)?;
+        if let Some(id) = &node.id {
+            names.insert(id.clone(), media.len() as u32);
+        }
+        media.push(medium);
+    }
+    Ok((media, names))
+}
+
+/// The index of the medium the string `key` of `p` names, if any; an
+/// unknown name is refused at the value, naming the media there are.
+fn medium_index(
+    p: &Props,
+    key: &str,
+    names: &HashMap<String, u32>,
+) -> Result<Option<u32>, Invalid> {
+    let Some(name) = p.string(key)? else {
+        return Ok(None);
+    };
+    match names.get(name) {
+        Some(&i) => Ok(Some(i)),
+        None => {
+            let mut known: Vec<&str> = names.keys().map(String::as_str).collect();
+            known.sort_unstable();
+            let list = if known.is_empty() {
+                "the scene has none".to_string()
+            } else {
+                format!("defined media: {}", known.join(", "))
+            };
+            Err(p.error(key, format!("no medium named `{name}`; {list}")))
+        }
+    }
+}
+
+/// The media on either side of each object of the world, `[interior,
+/// exterior]` ([`NO_MEDIUM`](crate::scene::NO_MEDIUM) where none), in the
+/// order of [`shape_emitters`]: the plain shapes, then the shapes of the
+/// instances' groups.
+fn object_media(root: &Node, names: &HashMap<String, u32>) -> Result<Vec<[u32; 2]>, Invalid> {
+    let of = |shape: &Node| -> Result<[u32; 2], Invalid> {
+        let p = Props::new(shape);
+        let side =
+            |key| Ok::<_, Invalid>(medium_index(&p, key, names)?.unwrap_or(super::NO_MEDIUM));
+        Ok([side("interior")?, side("exterior")?])
+    };
+    let shapes = || root.children_of(Kind::Shape);
+    let mut out = Vec::new();
+    for shape in shapes().filter(|s| !matches!(s.plugin.as_str(), "shapegroup" | "instance")) {
+        out.push(of(shape)?);
+    }
+    let mut groups: HashMap<&str, Vec<[u32; 2]>> = HashMap::new();
+    for group in shapes().filter(|s| s.plugin == "shapegroup") {
+        let media = group
+            .children_of(Kind::Shape)
+            .map(of)
+            .collect::<Result<_, _>>()?;
+        groups.insert(group.id.as_deref().unwrap_or_default(), media);
+    }
+    for instance in shapes().filter(|s| s.plugin == "instance") {
+        let name = match instance.prop("group").map(|p| &p.value.value) {
+            Some(Value::String(name)) => name.as_str(),
+            _ => "",
+        };
+        out.extend(groups.get(name).into_iter().flatten().copied());
     }
     Ok(out)
 }

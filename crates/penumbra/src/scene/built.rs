@@ -10,6 +10,10 @@ use crate::bsdf::Bsdf;
 use crate::camera::Camera;
 use crate::description::Node;
 use crate::emitter::Emitter;
+use crate::medium::Medium;
+
+/// No medium on that side of a shape (see [`Scene::object_media`]).
+pub const NO_MEDIUM: u32 = u32::MAX;
 
 /// A validated scene ready to render. Immutable: rendering only reads it.
 pub struct Scene {
@@ -39,6 +43,14 @@ pub struct Scene {
     /// where it varies over the surface (read from the material at each
     /// crossing by the integrators' transparent shadows).
     pub transparency: Vec<f32>,
+    /// The participating media, by index (the scene's `[media.NAME]`).
+    pub media: Vec<Medium>,
+    /// The media on either side of each object of the world, by object:
+    /// `[interior, exterior]`, [`NO_MEDIUM`] where the shape names none.
+    /// Only the volumetric integrators read them.
+    pub object_media: Vec<[u32; 2]>,
+    /// The medium the camera sits in.
+    pub camera_medium: Option<u32>,
     /// Things worth telling the user once (non-square ray counts).
     pub warnings: Vec<String>,
     /// Time to validate the scene, load meshes and build the BVH.

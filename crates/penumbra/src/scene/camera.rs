@@ -131,6 +131,14 @@ pub const PERSPECTIVE: Schema = Schema {
             "target at frame time 1",
         )
         .penumbra_only(),
+        Param::new(
+            "medium",
+            Type::String,
+            "none",
+            "name of the `[media.NAME]` medium the camera sits in (Mitsuba's sensor's nested \
+             medium); read by `volpath`",
+        )
+        .penumbra_only(),
     ],
 };
 

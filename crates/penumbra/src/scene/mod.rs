@@ -27,7 +27,7 @@ mod transform;
 
 pub use crate::description::SceneError;
 pub use build::{BuildError, INSTANCED_TRIANGLES, INSTANCING_FACTOR, MAX_PIXELS};
-pub use built::Scene;
+pub use built::{Scene, NO_MEDIUM};
 pub use context::BuildContext;
 pub use load::{default_bunny_path, LoadOptions, SceneSource, MAX_SCENE_FILE_SIZE};
 pub(crate) use load::{is_xml, read_text};

@@ -317,8 +317,9 @@ pub const OPTIONS: &[RenderOption] = &[
         default: DefaultValue::Fixed(Value::Integrator(IntegratorChoice::Whitted)),
         doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer), \
               path (a path tracer with next-event estimation, as Mitsuba 3's `path`), direct \
-              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`) or distributed \
-              (the path tracer drawing the thesis's sets at its first vertices)",
+              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`), distributed \
+              (the path tracer drawing the thesis's sets at its first vertices) or volpath (the path tracer \
+              through participating media, as Mitsuba 3's `volpath`)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,

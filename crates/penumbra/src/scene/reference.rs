@@ -9,26 +9,31 @@
 use super::schemas;
 use crate::description::mitsuba::{Plugin, Registry};
 use crate::description::{Kind, MitsubaKey, Param, Range, Schema, Type};
+use crate::medium::Phase;
 
 /// The kinds whose plugins the scene-format reference documents one by one
 /// (the integrators, the film and the sampler are the `[render]` table's).
-pub const DOCUMENTED: [Kind; 6] = [
+pub const DOCUMENTED: [Kind; 7] = [
     Kind::Sensor,
     Kind::Bsdf,
     Kind::Texture,
     Kind::Volume,
     Kind::Shape,
     Kind::Emitter,
+    Kind::Medium,
 ];
 
 /// Every plugin documented, as (kind, schema): the scene's plugins of each
-/// kind of [`DOCUMENTED`] and the `area` emitter shapes carry.
+/// kind of [`DOCUMENTED`], the `area` emitter shapes carry and the phase
+/// functions media hold.
 pub fn documented() -> Vec<(Kind, &'static Schema)> {
     let mut all: Vec<(Kind, &'static Schema)> = DOCUMENTED
         .iter()
         .flat_map(|&k| schemas::of(k).iter().map(move |&s| (k, s)))
         .collect();
     all.push((Kind::Emitter, schemas::area_schema()));
+    // The phase functions media hold.
+    all.extend(Phase::SCHEMAS.iter().map(|&s| (Kind::Phase, s)));
     all
 }
 

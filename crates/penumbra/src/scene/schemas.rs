@@ -10,6 +10,7 @@ use crate::bsdf::Bsdf;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Schema};
 use crate::emitter::{self, area};
+use crate::medium::{Medium, Phase};
 use crate::texture::Texture;
 use crate::volume::Volume;
 
@@ -28,6 +29,9 @@ pub fn of(kind: Kind) -> &'static [&'static Schema] {
         Kind::Bsdf => Bsdf::SCHEMAS,
         Kind::Shape => shapes::SCHEMAS,
         Kind::Emitter => emitter::SCHEMAS,
+        Kind::Medium => Medium::SCHEMAS,
+        // A medium's.
+        Kind::Phase => &[],
     }
 }
 
@@ -50,13 +54,15 @@ pub fn plugins(kind: Kind) -> &'static [Plugin] {
         Kind::Volume => Volume::PLUGINS,
         Kind::Shape => shapes::PLUGINS,
         Kind::Emitter => emitter::PLUGINS,
+        Kind::Medium => Medium::PLUGINS,
+        Kind::Phase => Phase::PLUGINS,
         Kind::Scene | Kind::Integrator => &[],
     }
 }
 
 /// The plugins a node of `kind` may hold as its children, of kind `child`:
 /// the scene's are [`of`] their kind, the sensor's its film and sampler,
-/// a shape's the `area` emitter it carries.
+/// a shape's the `area` emitter it carries, a medium's its phase function.
 fn children(parent: Kind, child: Kind) -> &'static [&'static Schema] {
     match (parent, child) {
         (Kind::Scene, kind) => of(kind),
@@ -64,6 +70,7 @@ fn children(parent: Kind, child: Kind) -> &'static [&'static Schema] {
         (Kind::Shape, Kind::Emitter) => &[&area::SCHEMA],
         // The shapes of a group.
         (Kind::Shape, Kind::Shape) => of(Kind::Shape),
+        (Kind::Medium, Kind::Phase) => Phase::SCHEMAS,
         _ => &[],
     }
 }
@@ -81,6 +88,8 @@ fn what(kind: Kind) -> &'static str {
         Kind::Sampler => "sampler",
         Kind::Texture => "texture",
         Kind::Volume => "volume",
+        Kind::Medium => "medium type",
+        Kind::Phase => "phase function",
         Kind::Scene => "scene",
     }
 }

@@ -38,16 +38,20 @@ pub enum IntegratorChoice {
     Direct,
     /// The thesis's sets at the first vertices of a path tracer.
     Distributed,
+    /// The path tracer through participating media (Mitsuba 3's
+    /// `volpath`).
+    Volpath,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 4] = [
+    pub const ALL: [IntegratorChoice; 5] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
+        IntegratorChoice::Volpath,
     ];
-    pub const NAMES: [&'static str; 4] = ["whitted", "path", "direct", "distributed"];
+    pub const NAMES: [&'static str; 5] = ["whitted", "path", "direct", "distributed", "volpath"];
 
     /// The name scenes select it by: its integrator's schema's (the
     /// integrators' list checks they agree).

@@ -197,9 +197,11 @@ impl GridVolume {
 impl VolumeModel for GridVolume {
     const NAME: &'static str = "gridvolume";
     const SCHEMA: Schema = SCHEMA;
-    const MITSUBA: Mitsuba = Mitsuba::differs(
-        "1 or 3 channels (Mitsuba also reads 6, for the SGGX phase function); values must be finite and ≥ 0; `accel` is refused",
-    );
+    const MITSUBA: Mitsuba = Mitsuba {
+        differences: "1 or 3 channels (Mitsuba also reads 6, for the SGGX phase function); values must be finite and ≥ 0; `accel` is read with no effect (it asks for a GPU's texture units, which Mitsuba's CPU variants do not use either)",
+        reads: &["accel"],
+        adapt: None,
+    };
 
     fn build(p: &Props, volumes: &Volumes) -> Result<GridVolume, Invalid> {
         let Some(file) = p.string("filename")? else {

@@ -35,6 +35,8 @@ pub(super) struct Out<'a> {
     pub path_sampler: Option<(&'static str, Place)>,
     pub background: Option<Node>,
     pub bsdfs: Vec<Node>,
+    /// The scene's media (`media.ID`), each mapped once.
+    pub media: Vec<Node>,
     /// The scene's textures (`textures.ID`), and the ids of those declared
     /// in the scene, which a `<ref>` names rather than copies.
     pub textures: Vec<Node>,

@@ -12,7 +12,7 @@
 use std::rc::Rc;
 
 use super::mapper::{
-    file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
+    children, file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
     get_vector, located, matrix, rows, type_error, unsupported, vec3, Out,
 };
 use super::objects::{error_at, Child, Object, Place};
@@ -43,6 +43,25 @@ pub(super) fn plugin_of(
         .iter()
         .find(|p| p.reads(&obj.plugin))
         .ok_or_else(|| unsupported(obj, what, &mitsuba_names(plugins)))
+}
+
+/// Refuses a property of `obj`, a plugin of kind `what` held as a table,
+/// that `plugin` does not read (through its schema or its mapping).
+pub(super) fn table_props(obj: &Object, plugin: &Plugin, what: &str) -> Result<(), SceneError> {
+    let mut known = mitsuba_keys(plugin.schema);
+    known.extend(plugin.mitsuba.reads);
+    match obj.props.iter().find(|p| !known.contains(&p.name.as_str())) {
+        None => Ok(()),
+        Some(p) => Err(error_at(
+            &p.at,
+            format!(
+                "`{}` is not a parameter of the {what} `{}` that Penumbra reads (it reads {})",
+                clip(&p.name),
+                clip(&obj.plugin),
+                known.join(", ")
+            ),
+        )),
+    }
 }
 
 /// The Mitsuba properties a schema reads: every parameter's Mitsuba name
@@ -103,6 +122,63 @@ impl Out<'_> {
         }
         required(obj, schema, &node)?;
         Ok(node)
+    }
+
+    /// The medium `obj` as a node of the scene's media (`media.ID`, its id
+    /// or `medium_N` for one without), mapped once however often shapes
+    /// and sensors refer to it: its name. Its phase function is the
+    /// `<phase>` it holds (`isotropic` without one); a volume in place of
+    /// a coefficient is refused.
+    pub(super) fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
+        if let Some(id) = &obj.id {
+            if self.media.iter().any(|m| m.id.as_ref() == Some(id)) {
+                return Ok(id.clone());
+            }
+        }
+        let name = match &obj.id {
+            Some(id) => id.clone(),
+            None => (1..)
+                .map(|n| format!("medium_{n}"))
+                .find(|n| {
+                    !self.ids.map.contains_key(n)
+                        && !self.media.iter().any(|m| m.id.as_ref() == Some(n))
+                })
+                .expect("a free name"),
+        };
+        let base = KeyPath::root().key("media").key(&name);
+        // The plugin first: an unknown medium is refused as such.
+        plugin_of((self.registry)(Kind::Medium), obj, "medium")?;
+        let mut phase = None;
+        for c in children(self.ids, obj)? {
+            match c.tag.as_str() {
+                "phase" if phase.is_none() => phase = Some(c),
+                "phase" => return Err(error_at(&c.at, "a second <phase> in the medium: a medium has one phase function")),
+                "volume" => {
+                    return Err(error_at(
+                        &c.at,
+                        format!(
+                            "a <volume> in the medium `{}` is not supported yet: give its coefficients as a float or an RGB",
+                            clip(&obj.plugin)
+                        ),
+                    ))
+                }
+                other => {
+                    return Err(error_at(
+                        &c.at,
+                        format!("a <{other}> inside a medium is not supported (a medium holds a phase function)"),
+                    ))
+                }
+            }
+        }
+        let mut node = self.mapped(Kind::Medium, obj, base.clone())?;
+        if let Some(ph) = phase {
+            self.no_children(ph)?;
+            node.children
+                .push(self.mapped(Kind::Phase, ph, base.key("phase"))?);
+        }
+        node.id = Some(name.clone());
+        self.media.push(node);
+        Ok(name)
     }
 
     /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
@@ -207,6 +283,11 @@ impl Out<'_> {
             // point or vector, as Mitsuba takes it.
             Type::Scale => match obj.prop(key).map(|p| &p.value) {
                 None => None,
+                // A medium's coefficient: a float, an RGB or a spectrum,
+                // unbounded.
+                Some(PropValue::Rgb(_) | PropValue::Spectrum(_)) if kind == Kind::Medium => {
+                    get_color(obj, key, Use::Unbounded)?.map(|(c, a)| (vec3(c, path, a), at(a)))
+                }
                 Some(PropValue::Vector(_)) => {
                     get_vector(obj, key)?.map(|(v, a)| (vec3(v, path, a), at(a)))
                 }
@@ -292,6 +373,10 @@ impl Mapper for Out<'_> {
 
     fn no_children(&self, obj: &Object) -> Result<(), SceneError> {
         Out::no_children(self, obj)
+    }
+
+    fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
+        Out::medium(self, obj)
     }
 
     fn warn(&mut self, message: String) {

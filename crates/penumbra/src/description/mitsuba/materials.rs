@@ -11,7 +11,7 @@
 use std::rc::Rc;
 
 use super::mapper::{located, obj_has, set, vec3, Out};
-use super::mapping::{mitsuba_keys, plugin_of, required};
+use super::mapping::{mitsuba_keys, plugin_of, required, table_props};
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
 use super::registry::{Adapt, Mapper};
@@ -249,21 +249,7 @@ impl Out<'_> {
     ) -> Result<Located<Value>, SceneError> {
         let plugin = plugin_of((self.registry)(Kind::Texture), obj, "texture")?;
         let schema = plugin.schema;
-        let mut known = mitsuba_keys(schema);
-        known.extend(plugin.mitsuba.reads);
-        for p in &obj.props {
-            if !known.contains(&p.name.as_str()) {
-                return Err(error_at(
-                    &p.at,
-                    format!(
-                        "`{}` is not a parameter of the texture `{}` that Penumbra reads (it reads {})",
-                        clip(&p.name),
-                        clip(&obj.plugin),
-                        known.join(", ")
-                    ),
-                ));
-            }
-        }
+        table_props(obj, plugin, "texture")?;
         let mut table = Node::new(Kind::Texture, "", at.origin(path.clone()));
         set(&mut table, &path, "type", &obj.plugin_at, |p, at| {
             located(Value::String(schema.plugin.to_string()), p, at)

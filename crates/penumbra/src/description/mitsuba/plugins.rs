@@ -66,6 +66,7 @@ pub fn scene(
         path_sampler: None,
         background: None,
         bsdfs: Vec::new(),
+        media: Vec::new(),
         textures: Vec::new(),
         volumes: Vec::new(),
         texture_ids: root
@@ -103,12 +104,15 @@ pub fn scene(
             "emitter" => out.emitter(obj)?,
             "texture" => out.texture(obj)?,
             "volume" => out.volume(obj)?,
+            "medium" => {
+                out.medium(obj)?;
+            }
             other => {
                 return Err(error_at(
                     &obj.at,
                     format!(
                         "<{other}> is not supported in a scene; Penumbra reads <integrator>, <sensor>, \
-                         <shape>, <bsdf>, <emitter>, <texture> and <volume>"
+                         <shape>, <bsdf>, <emitter>, <texture>, <volume> and <medium>"
                     ),
                 ))
             }
@@ -148,6 +152,8 @@ pub fn scene(
     node.children.append(&mut out.volumes);
     out.bsdfs.sort_by(|a, b| a.id.cmp(&b.id));
     node.children.append(&mut out.bsdfs);
+    out.media.sort_by(|a, b| a.id.cmp(&b.id));
+    node.children.append(&mut out.media);
     // The groups (`groups.ID`, in name order) before the objects, where a
     // scene file's lowering puts them.
     let (mut groups, mut objects): (Vec<Node>, Vec<Node>) =
@@ -374,8 +380,45 @@ impl Out<'_> {
         let mut node = self.mapped(Kind::Shape, obj, base.clone())?;
         let mut material = None;
         let mut emitter = None;
+        let mut media: [Option<String>; 2] = [None, None];
+        for (name, child) in &obj.children {
+            let c = match child {
+                Child::Object(o) => o.as_ref(),
+                Child::Ref { id, at } => self.ids.get(id, at)?,
+            };
+            if c.tag != "medium" {
+                continue;
+            }
+            let side =
+                match name.as_deref() {
+                    Some("interior") => 0,
+                    Some("exterior") => 1,
+                    _ => return Err(error_at(
+                        &c.at,
+                        "a shape's medium is named `interior` or `exterior` (name=\"interior\")",
+                    )),
+                };
+            if media[side].is_some() {
+                return Err(error_at(
+                    &c.at,
+                    format!(
+                        "a second {} medium in the shape",
+                        ["interior", "exterior"][side]
+                    ),
+                ));
+            }
+            media[side] = Some(self.medium(c)?);
+        }
+        for (key, medium) in ["interior", "exterior"].into_iter().zip(media) {
+            if let Some(m) = medium {
+                set(&mut node, &base, key, &obj.at, |p, at| {
+                    located(Value::String(m), p, at)
+                });
+            }
+        }
         for c in children(self.ids, obj)? {
             match c.tag.as_str() {
+                "medium" => {}
                 "bsdf" if material.is_none() => material = Some(self.material(c)?),
                 "emitter" if emitter.is_none() => {
                     if c.plugin != "area" {
@@ -390,7 +433,7 @@ impl Out<'_> {
                     return Err(error_at(&c.at, format!("a second <{}> in the shape", c.tag)))
                 }
                 other => {
-                    return Err(error_at(&c.at, format!("a <{other}> inside a shape is not supported (a shape holds a bsdf and an area emitter)")))
+                    return Err(error_at(&c.at, format!("a <{other}> inside a shape is not supported (a shape holds a bsdf, an area emitter and media)")))
                 }
             }
         }

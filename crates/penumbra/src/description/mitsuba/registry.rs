@@ -129,6 +129,10 @@ pub trait Mapper {
     /// the plugin of that kind that reads it, at the key path `base`.
     fn node(&mut self, kind: Kind, obj: &Object, base: KeyPath) -> Result<Node, SceneError>;
 
+    /// Maps `obj`, a medium (nested or declared with an id), into the
+    /// scene's media once: its name there.
+    fn medium(&mut self, obj: &Object) -> Result<String, SceneError>;
+
     /// Refuses a child of `obj`, which holds none.
     fn no_children(&self, obj: &Object) -> Result<(), SceneError>;
 

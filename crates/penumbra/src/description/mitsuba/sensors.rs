@@ -16,7 +16,7 @@ use super::parse::clip;
 use super::registry::Mapper;
 use super::transform;
 use crate::description::error::{KeyPath, SceneError};
-use crate::description::tree::{Kind, Node, Value};
+use crate::description::tree::{Kind, Located, Node, Prop, Value};
 use crate::sampling::filter::{Filter, FilterParams, PixelFilter, FILTER_KEYS};
 
 /// Mitsuba's film size when the film gives none.
@@ -102,9 +102,13 @@ fn sensor(
     base: &KeyPath,
     model: Model,
 ) -> Result<(), SceneError> {
-    let (mut film, mut sampler) = (None, None);
+    let (mut film, mut sampler, mut medium) = (None, None, None);
     for c in m.held(obj)? {
         match c.tag.as_str() {
+            "medium" if medium.is_none() => medium = Some(m.medium(&c)?),
+            "medium" => {
+                return Err(error_at(&c.at, "a second <medium> in the sensor: the camera sits in one"))
+            }
             "film" if film.is_none() => film = Some(c),
             "sampler" if sampler.is_none() => sampler = Some(c),
             "film" | "sampler" => {
@@ -117,7 +121,7 @@ fn sensor(
                 return Err(error_at(
                     &c.at,
                     format!(
-                    "a <{}> inside a sensor is not supported (a sensor holds a film and a sampler)",
+                    "a <{}> inside a sensor is not supported (a sensor holds a film, a sampler and a medium)",
                     c.tag
                 ),
                 ))
@@ -134,6 +138,14 @@ fn sensor(
     };
     let aspect = side("width") as f64 / side("height") as f64;
     node.children = vec![film, sampler];
+    if let Some(name) = medium {
+        let path = base.key("medium");
+        node.props.push(Prop::new(
+            "medium",
+            obj.at.origin(path.clone()),
+            Located::new(Value::String(name), obj.at.origin(path)),
+        ));
+    }
 
     let (m4, m_at) = match get_transform(obj, "to_world")? {
         Some((m4, at)) => (m4, at.clone()),

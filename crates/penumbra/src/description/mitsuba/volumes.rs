@@ -7,7 +7,7 @@
 //! Mitsuba makes a `constvolume` of it; see `mapping.rs`).
 
 use super::mapper::{located, set, Out};
-use super::mapping::{mitsuba_keys, plugin_of, required};
+use super::mapping::{plugin_of, required, table_props};
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
 use crate::description::error::{KeyPath, SceneError};
@@ -52,20 +52,7 @@ impl Out<'_> {
     ) -> Result<Located<Value>, SceneError> {
         let plugin = plugin_of((self.registry)(Kind::Volume), obj, "volume")?;
         let schema = plugin.schema;
-        let known = mitsuba_keys(schema);
-        for p in &obj.props {
-            if !known.contains(&p.name.as_str()) {
-                return Err(error_at(
-                    &p.at,
-                    format!(
-                        "`{}` is not a parameter of the volume `{}` that Penumbra reads (it reads {})",
-                        clip(&p.name),
-                        clip(&obj.plugin),
-                        known.join(", ")
-                    ),
-                ));
-            }
-        }
+        table_props(obj, plugin, "volume")?;
         if let Some((_, child)) = obj.children.first() {
             let at = match child {
                 Child::Object(o) => &o.at,

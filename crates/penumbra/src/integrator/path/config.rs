@@ -82,10 +82,37 @@ pub const DIRECT: Schema = Schema {
     ],
 };
 
+/// The volumetric path tracer's parameters (Mitsuba 3's `volpath`, whose
+/// names and defaults they keep).
+pub const VOLPATH: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "volpath",
+    what: "volpath integrator",
+    doc: "the path tracer through participating media: delta tracking, phase functions, \
+          next-event estimation through media and null surfaces",
+    mitsuba: &["volpath"],
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        param("path_sampler", PATH_SAMPLER).penumbra_only(),
+        param("light_sampler", LIGHT_SAMPLER).penumbra_only(),
+        param("passes", Type::Int).penumbra_only(),
+    ],
+};
+
 /// How Mitsuba 3's `path` and `direct` map onto Penumbra's: their
 /// parameters under the same names, read as their types say.
-pub const PLUGINS: [Plugin; 2] = [
+pub const PLUGINS: [Plugin; 3] = [
     Plugin::new(&PATH, Mitsuba::SAME),
+    Plugin::new(
+        &VOLPATH,
+        Mitsuba::differs(
+            "a homogeneous medium's shadow rays take its exact transmittance (Mitsuba's tracks \
+             them, which has the same mean); an area emitter hidden by `hide_emitters` still \
+             blocks camera rays",
+        ),
+    ),
     Plugin::new(
         &DIRECT,
         Mitsuba::differs(
@@ -125,6 +152,8 @@ pub struct PathSettings {
     pub metric: Option<Metric>,
     /// Passes the samples are cut into.
     pub passes: u32,
+    /// Paths are tracked through participating media (`volpath`).
+    pub volumetric: bool,
 }
 
 impl Default for PathSettings {
@@ -140,6 +169,7 @@ impl Default for PathSettings {
             light_sampler: LightChoice::Bvh,
             metric: None,
             passes: 1,
+            volumetric: false,
         }
     }
 }
@@ -197,6 +227,14 @@ pub(super) fn path(i: &Props) -> Result<PathSettings, Invalid> {
         rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
         hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
         ..d
+    })
+}
+
+/// The `volpath` integrator's settings: `path`'s, tracked through media.
+pub(super) fn volpath(i: &Props) -> Result<PathSettings, Invalid> {
+    Ok(PathSettings {
+        volumetric: true,
+        ..path(i)?
     })
 }
 

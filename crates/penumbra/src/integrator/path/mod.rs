@@ -63,6 +63,28 @@
 //! under the thesis's penumbra model has no density over its surface, so it
 //! is lit by its shadow rays alone (BSDF samples that meet it add nothing).
 //!
+//! # Volumetric paths (`volpath`)
+//!
+//! `volpath` is this estimator carried through participating media, as
+//! Mitsuba 3's `volpath` (its stages in `volume.rs`): each path carries
+//! the medium it is in (the camera's first), entering an object's
+//! `interior` or `exterior` as it crosses its surface. In a medium, a
+//! collision is drawn against the medium's majorant before the surface the
+//! ray meets, by one colour channel chosen per path (Mitsuba's); with
+//! `has_spectral_extinction` the throughput is weighed by the
+//! transmittance over its density in that channel. A null collision moves
+//! the path on unchanged; a real one scatters it by the phase function,
+//! after next-event estimation toward an emitter (weighed against the
+//! phase function's density by the power heuristic). Surfaces are
+//! shaded as above; a pass-through (`null`, a thin sheet's transmission)
+//! is not a scattering. `max_depth` and `rr_depth` count scatterings
+//! (surface and medium alike), roulette playing from `rr_depth`
+//! scatterings on at every step. Shadow rays cross pass-throughs, keeping
+//! what they transmit, and take each medium's transmittance on the way
+//! (exact in a homogeneous medium; Mitsuba's tracks it, with the same
+//! mean). Null collisions and scatterings are counted in the ray
+//! statistics (`media`). `volpathmis` (spectral MIS) is not implemented.
+//!
 //! # Random numbers
 //!
 //! Each path draws from the stream of its primary sample (the
@@ -94,10 +116,11 @@ mod config;
 pub mod plugins;
 mod sets;
 mod vertex;
+mod volume;
 mod wavefront;
 
 pub use config::{PathSettings, PLUGINS};
-pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin};
+pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};

@@ -1,4 +1,4 @@
-//! The path tracers as plugins: `path`, `direct` and `distributed`, one
+//! The path tracers as plugins: `path`, `direct`, `distributed` and `volpath`, one
 //! integrator ([`Path`]) and one kind of settings ([`PathSettings`]), each
 //! its own schema and reading.
 
@@ -7,7 +7,9 @@ use crate::integrator::metric::Metric;
 use crate::integrator::model::IntegratorModel;
 use crate::scene::Scene;
 
-use super::config::{direct, distributed, path, PathSettings, DIRECT, DISTRIBUTED, PATH};
+use super::config::{
+    direct, distributed, path, volpath, PathSettings, DIRECT, DISTRIBUTED, PATH, VOLPATH,
+};
 use super::Path;
 
 /// The `path` integrator as a plugin: its parameters read into its settings.
@@ -19,6 +21,10 @@ pub struct DirectPlugin;
 /// The `distributed` integrator as a plugin: its parameters read into its
 /// settings.
 pub struct DistributedPlugin;
+
+/// The `volpath` integrator as a plugin: its parameters read into its
+/// settings.
+pub struct VolpathPlugin;
 
 /// The three as plugins: the same settings and integrator, each its own
 /// schema and reading.
@@ -57,4 +63,5 @@ path_plugins! {
     PathPlugin: PATH, path;
     DirectPlugin: DIRECT, direct;
     DistributedPlugin: DISTRIBUTED, distributed;
+    VolpathPlugin: VOLPATH, volpath;
 }

@@ -373,3 +373,88 @@ pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
         0.0
     }
 }
+
+/// What a volumetric path (`volpath`, see `volume.rs`) carries besides its
+/// ray, sample and throughput.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct VolState {
+    /// The medium the ray travels in ([`NO_MEDIUM`](crate::scene::NO_MEDIUM): none).
+    pub(super) medium: u32,
+    /// Scatterings so far (surfaces other than `null` and real collisions
+    /// in media): Mitsuba's depth.
+    pub(super) depth: u32,
+    /// Steps so far (every event).
+    pub(super) step: u32,
+    /// The colour channel distances are drawn by.
+    pub(super) channel: u8,
+    /// The emission met next counts whole (Mitsuba's `specular_chain`,
+    /// or the camera ray).
+    pub(super) direct: bool,
+    /// The product of the relative indices crossed (for roulette).
+    pub(super) eta: f32,
+    /// The last scattering point and its shading normal (zero in a
+    /// medium), and the density of the direction drawn there.
+    pub(super) last: (Vec3, Vec3),
+    pub(super) last_pdf: f32,
+    /// How far along the ray the medium begins: a camera ray's near clip
+    /// plane (Mitsuba's camera rays start there), else 0.
+    pub(super) skip: f32,
+}
+
+/// The live volumetric paths of a wave.
+#[derive(Default)]
+pub(super) struct VolPaths {
+    pub(super) ray: Vec<Ray>,
+    pub(super) slot: Vec<u32>,
+    pub(super) beta: Vec<Rgb>,
+    pub(super) rng: Vec<Rng>,
+    pub(super) state: Vec<VolState>,
+}
+
+impl VolPaths {
+    pub(super) fn clear(&mut self) {
+        self.ray.clear();
+        self.slot.clear();
+        self.beta.clear();
+        self.rng.clear();
+        self.state.clear();
+    }
+
+    pub(super) fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, state: VolState) {
+        self.ray.push(ray);
+        self.slot.push(slot);
+        self.beta.push(beta);
+        self.rng.push(rng);
+        self.state.push(state);
+    }
+}
+
+/// Shadow rays through media: each from its origin to its target (the
+/// ray's direction is the whole segment), the medium it starts in, the
+/// stream its tracking reads, and what it brings if it passes whole.
+#[derive(Default)]
+pub(super) struct VolShadows {
+    pub(super) ray: Vec<Ray>,
+    pub(super) slot: Vec<u32>,
+    pub(super) value: Vec<Rgb>,
+    pub(super) medium: Vec<u32>,
+    pub(super) rng: Vec<Rng>,
+}
+
+impl VolShadows {
+    pub(super) fn clear(&mut self) {
+        self.ray.clear();
+        self.slot.clear();
+        self.value.clear();
+        self.medium.clear();
+        self.rng.clear();
+    }
+}
+
+/// A worker's volumetric buffers, kept from wave to wave.
+#[derive(Default)]
+pub(super) struct Volume {
+    pub(super) paths: VolPaths,
+    pub(super) next: VolPaths,
+    pub(super) shadows: VolShadows,
+}

@@ -24,7 +24,7 @@ use crate::scene::Scene;
 use super::sets::{set_member, thesis_sets, LightBuffers, Member, Out, PendingSet};
 use super::vertex::{
     count_bounce, count_saved, emission_weight, go_through, light_sample, Escape, Material, Nee,
-    Paths, Shadows, Vertex,
+    Paths, Shadows, Vertex, Volume,
 };
 
 /// The most paths a wave holds, unless one row of a tile's samples holds
@@ -37,10 +37,10 @@ const SHADOW_END: f32 = 1.0 - 1e-4;
 
 /// A worker's wavefront: its buffers, kept from wave to wave.
 pub(super) struct Wavefront<'s> {
-    scene: &'s Scene,
-    settings: PathSettings,
+    pub(super) scene: &'s Scene,
+    pub(super) settings: PathSettings,
     /// How next-event estimation chooses its emitter.
-    lights: &'s LightSampler,
+    pub(super) lights: &'s LightSampler,
     /// The shadow set of each emitter, for the vertices drawing the
     /// thesis's sets.
     shadow_sets: &'s [EffectSpec],
@@ -48,13 +48,13 @@ pub(super) struct Wavefront<'s> {
     /// The calls of each stage and the items they took.
     pub(super) batches: StageBatches,
     /// Per material, what its vertices need of its lobes (found once).
-    materials: Vec<Material>,
+    pub(super) materials: Vec<Material>,
     /// How to reach the emitters at infinity from a point (see [`Escape`]).
-    escape: Escape,
-    paths: Paths,
+    pub(super) escape: Escape,
+    pub(super) paths: Paths,
     next: Paths,
-    hits: Vec<Option<Hit>>,
-    packet: PacketScratch,
+    pub(super) hits: Vec<Option<Hit>>,
+    pub(super) packet: PacketScratch,
     /// The paths of a bounce grouped for shading: those that met nothing,
     /// then those on each material in turn (see [`group_by_material`]).
     order: Vec<u32>,
@@ -64,7 +64,7 @@ pub(super) struct Wavefront<'s> {
     /// What each shadow ray of the bounce lets through (`None`: blocked).
     passed: Vec<Option<f32>>,
     /// Per sample of the wave, the radiance its path gathered.
-    radiance: Vec<Rgb>,
+    pub(super) radiance: Vec<Rgb>,
     /// Per sample of the wave, its pixel-filter weight.
     weights: Vec<f32>,
     /// Each primary sample's film offset from its pixel's centre.
@@ -76,6 +76,8 @@ pub(super) struct Wavefront<'s> {
     set_lights: LightBuffers,
     /// The sets the reflection metric judges, of the wave's first vertices.
     pending: Vec<PendingSet>,
+    /// The buffers of volumetric paths (`volpath`).
+    pub(super) volume: Volume,
 }
 
 impl<'s> Wavefront<'s> {
@@ -119,6 +121,7 @@ impl<'s> Wavefront<'s> {
             points: Vec::new(),
             set_lights: LightBuffers::default(),
             pending: Vec::new(),
+            volume: Volume::default(),
         }
     }
 
@@ -182,6 +185,10 @@ impl<'s> Wavefront<'s> {
         self.radiance.clear();
         self.radiance.resize(n, Rgb::ZERO);
         self.stats.primary += n as u64;
+        if self.settings.volumetric {
+            self.volume_wave();
+            return;
+        }
         self.pending.clear();
         let max_depth = self.settings.max_depth.unwrap_or(u32::MAX);
         let mut depth = 0;

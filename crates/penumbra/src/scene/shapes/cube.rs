@@ -14,7 +14,7 @@ pub const SCHEMA: Schema = Schema {
     what: "cube",
     doc: "Mitsuba's cube: the 24-vertex mesh of [−1, 1]³ placed by the transform",
     mitsuba: &["cube"],
-    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4]],
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4], COMMON[5], COMMON[6]],
 };
 
 /// Read as Mitsuba writes it.

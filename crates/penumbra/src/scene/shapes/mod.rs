@@ -42,7 +42,7 @@ const fn analytic(differences: &'static str) -> Mitsuba {
     }
 }
 
-const COMMON: [Param; 5] = [
+const COMMON: [Param; 7] = [
     Param::new(
         "material",
         Type::Material,
@@ -74,6 +74,21 @@ const COMMON: [Param; 5] = [
         Type::Bool,
         "true",
         "whether it blocks shadow rays; `false` lets light through it, as through a `[[lights]]` light's surface (Cycles' shadow visibility)",
+    )
+    .penumbra_only(),
+    Param::new(
+        "interior",
+        Type::String,
+        "none",
+        "name of the `[media.NAME]` medium inside the shape (Mitsuba's nested `interior` medium); \
+         its surface should then be a `null` material where the medium has no visible boundary",
+    )
+    .penumbra_only(),
+    Param::new(
+        "exterior",
+        Type::String,
+        "none",
+        "name of the `[media.NAME]` medium outside the shape (Mitsuba's nested `exterior` medium)",
     )
     .penumbra_only(),
 ];

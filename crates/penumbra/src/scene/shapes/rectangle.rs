@@ -15,7 +15,7 @@ pub const SCHEMA: Schema = Schema {
     what: "rectangle",
     doc: "Mitsuba's rectangle: the square [−1, 1]² at z = 0 placed by the transform, facing +z",
     mitsuba: &[],
-    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4]],
+    params: &[COMMON[0], COMMON[1], COMMON[2], COMMON[3], COMMON[4], COMMON[5], COMMON[6]],
 };
 
 /// Read as Mitsuba writes it.

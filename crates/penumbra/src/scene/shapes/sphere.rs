@@ -34,6 +34,8 @@ pub const SCHEMA: Schema = Schema {
         COMMON[2],
         COMMON[3],
         COMMON[4],
+        COMMON[5],
+        COMMON[6],
     ],
 };
 

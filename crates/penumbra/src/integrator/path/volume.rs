@@ -1,0 +1,448 @@
+//! `volpath`: the path tracer's wavefront tracking paths through
+//! participating media, as Mitsuba 3's `volpath` (see the
+//! [module docs](super) for the estimator).
+//!
+//! Each path carries the medium it is in (the camera's to start with),
+//! its scattering depth, its step (every event, null ones included, is a
+//! step: its random numbers are those of `path.derive(step)`), the colour
+//! channel its distances are drawn by, and what the emission it meets
+//! next is weighed by. A step of the wave: one closest-hit call for every
+//! live path; then for each, in a medium, a tentative collision drawn
+//! against the medium's majorant before the surface met
+//! ([`Medium::sample_interaction`]): a null one moves the path on
+//! unchanged, a real one scatters it by the phase function, with
+//! next-event estimation from the collision; otherwise (no medium, or no
+//! collision before the surface) the surface: its emission, next-event
+//! estimation on its smooth lobes, and a BSDF sample, a `null` surface's
+//! pass-through changing the path's medium without counting as a
+//! scattering. Then every shadow ray is traced through the surfaces that
+//! let light through (their shadow transmittance: 1 for `null`) and the
+//! media it crosses ([`Medium::transmittance`]).
+//!
+//! [`Medium::sample_interaction`]: crate::medium::Medium::sample_interaction
+//! [`Medium::transmittance`]: crate::medium::Medium::transmittance
+
+use super::vertex::{emission_weight, power_heuristic, sample_emitter, Nee, VolState, Volume};
+use super::wavefront::Wavefront;
+use crate::bsdf::BsdfFlags;
+use crate::emitter::Reference;
+use crate::integrator::clip::clip_camera_hits;
+use crate::integrator::shading::ShadingPoint;
+use crate::integrator::streams::{self, LOBE_DIMENSION};
+use crate::math::{Ray, Rgb, Vec3};
+use crate::medium::channel_of;
+use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
+use crate::scene::{Scene, NO_MEDIUM};
+
+/// Where a shadow ray ends, as a fraction of the way to its target.
+const SHADOW_END: f32 = 1.0 - 1e-4;
+
+/// The most surfaces a shadow ray crosses before it is taken as blocked.
+const MAX_CROSSINGS: u32 = 1024;
+
+/// The most steps a path takes: a bound on null collisions and crossings
+/// of `null` surfaces, which do not count toward `max_depth`.
+const MAX_STEPS: u32 = 1 << 20;
+
+/// The largest probability with which Russian roulette keeps a path.
+const RR_MAX: f32 = 0.95;
+
+/// The dimensions of a step's numbers.
+const ROULETTE: u64 = 0;
+const DISTANCE: u64 = 1;
+const NULL_CHOICE: u64 = 2;
+const EMITTER_CHOICE: u64 = 3;
+const EMITTER_POINT: u64 = 4;
+const DIRECTION: u64 = 6;
+
+/// The medium a ray leaving a surface of `media` (`[interior, exterior]`)
+/// in direction `d` enters, beside geometric normal `ng`; `current` where
+/// the surface bounds none (Mitsuba's `target_medium`).
+#[inline]
+fn target_medium(media: Option<&[u32; 2]>, ng: Vec3, d: Vec3, current: u32) -> u32 {
+    match media {
+        Some(&[interior, exterior]) if interior != NO_MEDIUM || exterior != NO_MEDIUM => {
+            if d.dot(ng) > 0.0 {
+                exterior
+            } else {
+                interior
+            }
+        }
+        _ => current,
+    }
+}
+
+/// The mean of a colour's channels.
+#[inline]
+fn mean(c: Rgb) -> f32 {
+    c.element_sum() / 3.0
+}
+
+/// `a / b` channel by channel, 0 where `b` is 0.
+#[inline]
+fn ratio(a: Rgb, b: Rgb) -> Rgb {
+    let (a, b) = (a.to_array(), b.to_array());
+    Rgb::from_array(std::array::from_fn(|i| {
+        if b[i] != 0.0 {
+            a[i] / b[i]
+        } else {
+            0.0
+        }
+    }))
+}
+
+impl Wavefront<'_> {
+    /// Traces the camera rays in `self.paths` (their streams beside them)
+    /// through surfaces and media to their ends, adding what they gather
+    /// to `self.radiance`, sample by sample.
+    pub(super) fn volume_wave(&mut self) {
+        let scene = self.scene;
+        let camera_medium = scene.camera_medium.unwrap_or(NO_MEDIUM);
+        let vol = &mut self.volume;
+        vol.paths.clear();
+        for (k, (ray, &rng)) in self.paths.ray.iter().zip(&self.paths.rng).enumerate() {
+            let channel = (rng.derive(streams::CHANNEL).next_f32() * 3.0).min(2.0) as u8;
+            let ray = Ray::new(ray.origin, ray.dir.normalize(), ray.time);
+            let skip = scene
+                .camera
+                .clip(&ray)
+                .map_or(0.0, |(near, _)| near.max(0.0));
+            let state = VolState {
+                skip,
+                medium: camera_medium,
+                depth: 0,
+                step: 0,
+                channel,
+                direct: !self.settings.hide_emitters,
+                eta: 1.0,
+                last: (ray.origin, Vec3::ZERO),
+                last_pdf: 1.0,
+            };
+            vol.paths.push(ray, k as u32, Rgb::ONE, rng, state);
+        }
+        let mut first = true;
+        while !self.volume.paths.ray.is_empty() {
+            self.batches.closest_hit.add(self.volume.paths.ray.len());
+            scene.world.intersect_all(
+                &self.volume.paths.ray,
+                0.0,
+                &mut self.packet,
+                &mut self.hits,
+            );
+            if first {
+                clip_camera_hits(scene, &self.volume.paths.ray, &mut self.hits);
+                first = false;
+            }
+            self.volume_step();
+            self.volume_occlude();
+            let vol = &mut self.volume;
+            std::mem::swap(&mut vol.paths, &mut vol.next);
+        }
+    }
+
+    /// One step of every live path (see the [module docs](self)): the
+    /// paths that go on into `self.volume.next`, their shadow rays into
+    /// `self.volume.shadows`.
+    fn volume_step(&mut self) {
+        let scene: &Scene = self.scene;
+        let Wavefront {
+            settings,
+            lights: chooser,
+            stats,
+            materials,
+            escape,
+            hits,
+            radiance,
+            volume,
+            ..
+        } = self;
+        let Volume {
+            paths,
+            next,
+            shadows,
+        } = volume;
+        next.clear();
+        shadows.clear();
+        let max_depth = settings.max_depth.unwrap_or(u32::MAX);
+        let lights = scene.emitters.len();
+        // Emission met is weighed as `path`'s is, one emitter sample taken.
+        let single = EffectSpec {
+            rays: 1,
+            distribution: Distribution::Jitter,
+        };
+        #[allow(clippy::needless_range_loop)]
+        for i in 0..paths.ray.len() {
+            let (ray, slot, mut beta, rng) =
+                (paths.ray[i], paths.slot[i], paths.beta[i], paths.rng[i]);
+            let mut st = paths.state[i];
+            let skip = std::mem::take(&mut st.skip);
+            let acc = &mut radiance[slot as usize];
+            if st.step >= MAX_STEPS || beta.max_element() <= 0.0 || beta.max_element().is_nan() {
+                continue;
+            }
+            let mut u = settings
+                .sampler
+                .bounce(rng.derive(streams::bounce(st.step)));
+            st.step += 1;
+            // Russian roulette, as Mitsuba's volpath plays it: past
+            // `rr_depth` scatterings, at every step.
+            let r = u.value(ROULETTE);
+            if st.depth > settings.rr_depth {
+                let q = (beta.max_element() * st.eta * st.eta).min(RR_MAX);
+                if r >= q || q.is_nan() {
+                    continue;
+                }
+                beta /= q;
+            }
+            if st.depth >= max_depth {
+                continue;
+            }
+            let hit = hits[i];
+            let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
+            let wo = -ray.dir;
+            // The medium: a tentative collision before the surface.
+            if st.medium != NO_MEDIUM {
+                let medium = &scene.media[st.medium as usize];
+                let channel = usize::from(st.channel);
+                // From the near clip plane on, for a camera ray.
+                let skip = skip.min(t_surface);
+                let t_surface = t_surface - skip;
+                let mi = medium.sample_interaction(
+                    (ray.origin + ray.dir * skip, ray.dir),
+                    t_surface,
+                    u.value(DISTANCE),
+                    channel,
+                );
+                let spectral = medium.has_spectral_extinction();
+                if spectral {
+                    // The transmittance over the stretch crossed, over the
+                    // density of drawing it by the channel.
+                    let t = mi.t.min(t_surface) - mi.mint;
+                    let tr = mi
+                        .majorant
+                        .map(|m| if m > 0.0 { (-t * m).exp() } else { 1.0 });
+                    let pdf = if mi.is_valid() { tr * mi.majorant } else { tr };
+                    let p = channel_of(pdf, channel);
+                    beta = if p > 0.0 { beta * tr / p } else { Rgb::ZERO };
+                }
+                let choice = u.value(NULL_CHOICE);
+                if mi.is_valid() {
+                    let s = mi.sigma;
+                    let null = mean(ratio(s.sigma_n, mi.majorant));
+                    if choice < null {
+                        // A null collision: on, unchanged.
+                        stats.media.null_collisions += 1;
+                        if spectral {
+                            beta *= s.sigma_n / null;
+                        }
+                        let on = Ray::new(mi.p, ray.dir, ray.time);
+                        next.push(on, slot, beta, rng, st);
+                        continue;
+                    }
+                    stats.media.scatterings += 1;
+                    st.depth += 1;
+                    if st.depth >= max_depth {
+                        continue;
+                    }
+                    beta *= if spectral {
+                        s.sigma_s / mean(ratio(s.sigma_t, mi.majorant))
+                    } else {
+                        ratio(s.sigma_s, s.sigma_t)
+                    };
+                    let phase = &medium.phase;
+                    // Next-event estimation from the collision.
+                    if medium.sample_emitters && lights > 0 {
+                        let pick = u.value(EMITTER_CHOICE);
+                        let point = u.point(EMITTER_POINT);
+                        if let Some((k, pmf)) = chooser.sample(mi.p, Vec3::ZERO, pick) {
+                            let emitter = &scene.emitters[k as usize];
+                            let p = SetPoint::uniform(point).native();
+                            let r = Reference::new(mi.p, ray.time);
+                            if let Some(ls) =
+                                sample_emitter(emitter, r, (p, Distribution::Jitter), *escape)
+                            {
+                                let f = phase.eval(wo, ls.dir);
+                                let w = if ls.pdf > 0.0 {
+                                    power_heuristic(pmf * ls.pdf, f)
+                                } else {
+                                    1.0
+                                };
+                                let value = beta * ls.weight * (f * w / pmf);
+                                if value.max_element() > 0.0 {
+                                    shadows.ray.push(Ray::new(mi.p, ls.target - mi.p, ray.time));
+                                    shadows.slot.push(slot);
+                                    shadows.value.push(value);
+                                    shadows.medium.push(st.medium);
+                                    shadows.rng.push(rng.derive(streams::tracking(st.step)));
+                                }
+                            }
+                        }
+                    }
+                    st.direct = !medium.sample_emitters;
+                    // The phase function's direction.
+                    let Some(ps) = phase.sample(wo, u.point(DIRECTION)) else {
+                        continue;
+                    };
+                    beta *= ps.weight;
+                    st.last = (mi.p, Vec3::ZERO);
+                    st.last_pdf = ps.pdf;
+                    next.push(Ray::new(mi.p, ps.wi, ray.time), slot, beta, rng, st);
+                    continue;
+                }
+            }
+            // The surface met, or what lies beyond everything.
+            let seen = !(settings.hide_emitters && st.depth == 0);
+            let prev = if st.direct {
+                (0.0, Nee::None)
+            } else {
+                (st.last_pdf, Nee::Choice(1.0))
+            };
+            let (from, from_n) = st.last;
+            let Some(hit) = hit else {
+                if seen {
+                    for &e in scene.far.iter() {
+                        let emitter = &scene.emitters[e as usize];
+                        let choice = || chooser.pmf(from, from_n, e);
+                        let w = emission_weight(single, prev, choice, || {
+                            emitter.pdf_direction(ray.dir)
+                        });
+                        *acc += beta * emitter.eval_miss(ray.dir) * w;
+                    }
+                }
+                continue;
+            };
+            if let (Some(e), true) = (hit.emitter, seen) {
+                let emitter = &scene.emitters[e as usize];
+                let choice = || chooser.pmf(from, from_n, e);
+                let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
+                let w = emission_weight(single, prev, choice, density);
+                if w > 0.0 {
+                    *acc += beta * emitter.eval(hit.ng, ray.dir) * w;
+                }
+            }
+            let bsdf = &scene.bsdfs[hit.material as usize];
+            let at = ShadingPoint::new(&ray, hit.p, hit.ng);
+            let media = scene.object_media.get(hit.object as usize);
+            // Next-event estimation on the smooth lobes.
+            let smooth = materials[hit.material as usize].smooth;
+            let pick = u.value(EMITTER_CHOICE);
+            let point = u.point(EMITTER_POINT);
+            if smooth && lights > 0 && st.depth + 1 < max_depth {
+                if let Some((k, pmf)) = chooser.sample(hit.p, hit.n, pick) {
+                    let emitter = &scene.emitters[k as usize];
+                    let p = SetPoint::uniform(point).native();
+                    let r = Reference::new(hit.p, ray.time);
+                    if let Some(ls) = sample_emitter(emitter, r, (p, Distribution::Jitter), *escape)
+                    {
+                        let f = bsdf.eval(&hit, wo, ls.dir);
+                        let cos = hit.n.dot(ls.dir).abs();
+                        if f != Rgb::ZERO && cos > 0.0 {
+                            let w = if ls.pdf > 0.0 {
+                                power_heuristic(pmf * ls.pdf, bsdf.pdf(&hit, wo, ls.dir))
+                            } else {
+                                1.0
+                            };
+                            let origin = at.origin(ls.dir);
+                            shadows.ray.push(at.spawn_ray_to(origin, ls.target));
+                            shadows.slot.push(slot);
+                            shadows.value.push(beta * f * ls.weight * (cos * w / pmf));
+                            shadows
+                                .medium
+                                .push(target_medium(media, hit.ng, ls.dir, st.medium));
+                            shadows.rng.push(rng.derive(streams::tracking(st.step)));
+                        }
+                    }
+                }
+            }
+            // The BSDF's direction.
+            let mut point = SetPoint::uniform(u.point(DIRECTION));
+            if bsdf.wants_third() {
+                point = point.with_third(u.value(LOBE_DIMENSION + DIRECTION));
+            }
+            let Some(s) = bsdf.sample(&hit, wo, None, point) else {
+                continue;
+            };
+            if !s.flags.is_delta() && (s.pdf <= 0.0 || s.pdf.is_nan()) {
+                continue;
+            }
+            beta *= s.weight;
+            st.eta *= s.eta;
+            if !s.flags.contains(BsdfFlags::NULL) {
+                st.depth += 1;
+                st.last = (hit.p, hit.n);
+                st.last_pdf = s.pdf;
+                if s.flags.is_delta() {
+                    st.direct = true;
+                } else if s.flags.is_smooth() {
+                    st.direct = false;
+                }
+                super::vertex::count_bounce(stats, s.flags);
+            }
+            st.medium = target_medium(media, hit.ng, s.wi, st.medium);
+            next.push(at.spawn_ray(s.wi), slot, beta, rng, st);
+        }
+    }
+
+    /// Traces every shadow ray of the step through the surfaces that let
+    /// light through and the media it crosses, adding what arrives to its
+    /// sample.
+    fn volume_occlude(&mut self) {
+        let scene = self.scene;
+        let sh = &mut self.volume.shadows;
+        if sh.ray.is_empty() {
+            return;
+        }
+        self.stats.shadow += sh.ray.len() as u64;
+        self.batches.occlusion.add(sh.ray.len());
+        for k in 0..sh.ray.len() {
+            let mut rng = sh.rng[k];
+            let tr = shadow_transmittance(scene, sh.ray[k], sh.medium[k], &mut rng);
+            if tr.max_element() > 0.0 {
+                self.radiance[sh.slot[k] as usize] += sh.value[k] * tr;
+            }
+        }
+    }
+}
+
+/// The fraction of light passing along the shadow segment `ray` (from its
+/// origin to `origin + dir`, short of the end by [`SHADOW_END`]), starting
+/// in `medium`: each surface crossed multiplies it by what it lets through
+/// (its [null transmission](crate::bsdf::BsdfModel::null_transmission): 1
+/// for `null`, what a thin sheet transmits, 0 for an opaque surface, which
+/// stops it) and
+/// changes the medium where the surface bounds media; each stretch in a
+/// medium multiplies it by the medium's transmittance (drawing from `rng`
+/// where tracking needs numbers). Objects that cast no shadows are passed.
+pub(super) fn shadow_transmittance(scene: &Scene, ray: Ray, mut medium: u32, rng: &mut Rng) -> Rgb {
+    let target = ray.origin + ray.dir;
+    let mut tr = Rgb::ONE;
+    let mut origin = ray.origin;
+    for _ in 0..MAX_CROSSINGS {
+        let to = target - origin;
+        let length = to.length();
+        if length.is_nan() || length <= 0.0 {
+            return tr;
+        }
+        let dir = to / length;
+        let end = length * SHADOW_END;
+        let r = Ray::new(origin, dir, ray.time);
+        let hit = scene.world.intersect(&r, 0.0, end);
+        let t = hit.map_or(end, |h| h.t);
+        if medium != NO_MEDIUM {
+            tr *= scene.media[medium as usize].transmittance((origin, dir), t, rng);
+        }
+        let Some(h) = hit else {
+            return tr;
+        };
+        let object = &scene.world.objects[h.object as usize];
+        if object.casts_shadows {
+            tr *= scene.bsdfs[h.material as usize].null_transmission(&h, dir);
+        }
+        if tr.max_element() <= 0.0 {
+            return Rgb::ZERO;
+        }
+        medium = target_medium(scene.object_media.get(h.object as usize), h.ng, dir, medium);
+        origin = ShadingPoint::new(&r, h.p, h.ng).origin(dir);
+    }
+    Rgb::ZERO
+}

@@ -1,0 +1,265 @@
+//! The volumetric path tracer (`volpath`) against closed-form answers,
+//! through its own tracking: transmittance through a slab, a volumetric
+//! furnace, single scattering against a quadrature; and its determinism.
+
+mod common;
+
+use common::*;
+use penumbra::math::Rgb;
+use penumbra::render::Image;
+
+/// The mean of every pixel, and the standard error of that mean from the
+/// spread of the pixels (each an independent estimate of the same value).
+fn mean_and_error(img: &Image) -> (Rgb, Rgb) {
+    let n = (img.width * img.height) as f32;
+    let (mut sum, mut sq) = (Rgb::ZERO, Rgb::ZERO);
+    for y in 0..img.height {
+        for x in 0..img.width {
+            let v = img.get(x, y);
+            assert!(v.is_finite(), "pixel ({x}, {y}) is {v:?}");
+            sum += v;
+            sq += v * v;
+        }
+    }
+    let mean = sum / n;
+    let var = (sq / n - mean * mean).map(|v| v.max(0.0)) * (n / (n - 1.0));
+    (mean, (var / n).map(f32::sqrt))
+}
+
+/// Holds each channel of `got` (with standard error `err`) to `want`
+/// within 3σ (and a relative 1e-4 for rounding).
+fn assert_within(got: Rgb, err: Rgb, want: Rgb, what: &str) {
+    for c in 0..3 {
+        let (g, e, w) = (got.to_array()[c], err.to_array()[c], want.to_array()[c]);
+        assert!(
+            (g - w).abs() <= 3.0 * e + 1e-4 * w.abs(),
+            "{what}, channel {c}: got {g} ± {e}, want {w}"
+        );
+    }
+}
+
+/// An orthographic camera at z = 2 looking down −z at a slab of
+/// `medium` (a `null` box, z from −1 to 0, wide in x and y), `behind`
+/// under it, rendered by `volpath` with `render` keys.
+fn slab(medium: &str, behind: &str, render: &str) -> String {
+    format!(
+        "[render]\nwidth = 24\nheight = 24\nintegrator = \"volpath\"\nseed = 5\n{render}\n\
+         [camera]\nprojection = \"orthographic\"\nview_width = 1\nposition = [0, 0, 2]\n\
+         look_at = [0, 0, 0]\n\n\
+         [materials.boundary]\ntype = \"null\"\n\n\
+         [materials.black]\ntype = \"diffuse\"\nreflectance = [0, 0, 0]\n\n\
+         [media.slab]\n{medium}\n\n\
+         [[objects]]\ntype = \"cube\"\nmaterial = \"boundary\"\ninterior = \"slab\"\n\
+         transform = {{ scale = [50, 50, 0.5], translate = [0, 0, -0.5] }}\n\n{behind}"
+    )
+}
+
+/// A slab of thickness 1 in front of a surface emitting radiance 1
+/// toward the camera, absorbing only (albedo 0), with an extinction that
+/// differs by channel: each channel keeps `exp(−σt)`, the distances drawn
+/// by one channel and weighed by all (and without spectral extinction,
+/// channel by channel too). Every collision in a homogeneous medium is
+/// real.
+#[test]
+fn an_absorbing_slab_transmits_exp_of_minus_its_optical_depth() {
+    let light = "[[objects]]\ntype = \"quad\"\nmaterial = \"black\"\n\
+                 origin = [-5, -5, -2]\nedge_u = [10, 0, 0]\nedge_v = [0, 10, 0]\n\
+                 emitter = { radiance = [1, 1, 1] }\n";
+    let sigma = [0.5f32, 1.0, 2.0];
+    let want = Rgb::from_array(sigma.map(|s| (-s).exp()));
+    for spectral in [true, false] {
+        let medium = format!(
+            "type = \"homogeneous\"\nsigma_t = [0.5, 1.0, 2.0]\nalbedo = 0\n\
+             has_spectral_extinction = {spectral}"
+        );
+        let (img, rays) = render_toml(&slab(&medium, light, "spp = 64"));
+        let (got, err) = mean_and_error(&img);
+        if spectral {
+            assert_within(got, err, want, "spectral extinction");
+        } else {
+            // Distances drawn by one channel and taken as grey: each
+            // channel's estimate is the chosen channel's, a third of the
+            // time each.
+            let grey = Rgb::splat(want.element_sum() / 3.0);
+            assert_within(got, err, grey, "grey extinction");
+        }
+        assert!(rays.media.scatterings > 1000, "{:?}", rays.media);
+        assert_eq!(rays.media.null_collisions, 0);
+    }
+}
+
+/// A sphere of a medium that scatters all it stops (albedo 1, a
+/// Henyey–Greenstein phase, an extinction that differs by channel),
+/// behind a `null` boundary, in an environment of radiance 1: it can
+/// neither add nor remove light, so every pixel is 1 within noise.
+#[test]
+fn a_scattering_sphere_in_a_uniform_environment_is_invisible() {
+    let toml = "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nspp = 256\n\
+                seed = 9\nbackground = [1, 1, 1]\n\n\
+                [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+                [materials.boundary]\ntype = \"null\"\n\n\
+                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 4]\nalbedo = 1\n\
+                phase = { type = \"hg\", g = 0.6 }\n\n\
+                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+                interior = \"fog\"\n";
+    let (img, rays) = render_toml(toml);
+    let (got, err) = mean_and_error(&img);
+    assert_within(got, err, Rgb::ONE, "volumetric furnace");
+    // The sphere fills most of the view and scatters many times.
+    assert!(rays.media.scatterings > 20_000, "{:?}", rays.media);
+    assert!(err.max_element() < 0.04, "noise {err:?}");
+}
+
+/// Single scattering (`max_depth = 2`: one scattering event) of a
+/// directional light through a slab of thickness 1, seen from above: at
+/// depth `s` the light has crossed `s / cos α` of the medium and the view
+/// `s`, so the radiance is `σs E p(θ) ∫₀¹ exp(−σt s (1 + 1/cos α)) ds`,
+/// θ the scattering angle; the integral by a midpoint rule.
+#[test]
+fn single_scattering_from_a_directional_light_matches_a_quadrature() {
+    let (sigma_t, albedo, g) = (1.5f64, 0.8f64, 0.3f64);
+    let alpha = 40f64.to_radians();
+    let (sa, ca) = alpha.sin_cos();
+    let light = format!(
+        "[[lights]]\ntype = \"directional\"\ndirection = [{sa}, 0, {}]\nirradiance = [2, 2, 2]\n",
+        -ca
+    );
+    let medium = format!(
+        "type = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = {albedo}\n\
+         phase = {{ type = \"hg\", g = {g} }}"
+    );
+    let (img, _) = render_toml(&slab(&medium, &light, "spp = 64\nmax_depth = 2"));
+    let (got, err) = mean_and_error(&img);
+    // Light travels along (sin α, 0, −cos α) and leaves toward +z.
+    let cos_theta = -ca;
+    let hg = (1.0 - g * g)
+        / (4.0 * std::f64::consts::PI * (1.0 + g * g - 2.0 * g * cos_theta).powf(1.5));
+    let n = 10_000;
+    let integral: f64 = (0..n)
+        .map(|i| {
+            let s = (i as f64 + 0.5) / n as f64;
+            (-sigma_t * s * (1.0 + 1.0 / ca)).exp() / n as f64
+        })
+        .sum();
+    let want = (sigma_t * albedo * 2.0 * hg * integral) as f32;
+    assert_within(got, err, Rgb::splat(want), "single scattering");
+    assert!(
+        want > 0.01 && err.max_element() < 0.05 * want,
+        "{want} ± {err:?}"
+    );
+}
+
+/// Every pixel's samples are a function of the seed, the pixel and the
+/// sample alone: the same bits on 1 and 3 threads and in 3 passes.
+#[test]
+fn volumetric_paths_are_the_same_on_any_threads_and_passes() {
+    let toml = "[render]\nwidth = 20\nheight = 12\nintegrator = \"volpath\"\nspp = 6\n\
+                seed = 2\nrr_depth = 2\nbackground = [0.5, 0.7, 1]\n\n\
+                [camera]\nposition = [0, 0.5, 4]\nlook_at = [0, 0, 0]\nfov = 40\n\n\
+                [materials.boundary]\ntype = \"null\"\n\n\
+                [materials.floor]\ntype = \"diffuse\"\n\n\
+                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 3]\nalbedo = 0.9\n\
+                phase = { type = \"hg\", g = -0.3 }\n\n\
+                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+                interior = \"fog\"\n\n\
+                [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-3, -1, 3]\n\
+                edge_u = [6, 0, 0]\nedge_v = [0, 0, -6]\n";
+    let s = scene(toml);
+    let (one, a) = render_scene(&s, 1);
+    let (three, b) = render_scene(&s, 3);
+    assert_eq!(a, b);
+    let passes = scene(&toml.replace("spp = 6\n", "spp = 6\npasses = 3\n"));
+    let (split, _) = render_scene(&passes, 2);
+    for y in 0..one.height {
+        for x in 0..one.width {
+            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
+            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
+            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
+        }
+    }
+    assert!(a.media.scatterings > 0 && a.shadow > 0);
+}
+
+/// `path` ignores media, as Mitsuba's does: a scene with a medium behind
+/// a `null` boundary renders under `path` as without the medium.
+#[test]
+fn path_ignores_media() {
+    let light = "[[objects]]\ntype = \"quad\"\nmaterial = \"black\"\n\
+                 origin = [-5, -5, -2]\nedge_u = [10, 0, 0]\nedge_v = [0, 10, 0]\n\
+                 emitter = { radiance = [1, 1, 1] }\n";
+    let medium = "type = \"homogeneous\"\nsigma_t = 3\nalbedo = 0";
+    let with = slab(medium, light, "spp = 4").replace("\"volpath\"", "\"path\"");
+    let without = with.replace("interior = \"slab\"\n", "");
+    let (a, ra) = render_toml(&with);
+    let (b, rb) = render_toml(&without);
+    assert_eq!(ra, rb);
+    for y in 0..a.height {
+        for x in 0..a.width {
+            assert_eq!(a.get(x, y).to_array(), b.get(x, y).to_array());
+        }
+    }
+    assert_eq!(mean_and_error(&a).0, Rgb::ONE);
+}
+
+/// Without media `volpath` is the path tracer on surfaces, counting depth
+/// as Mitsuba's volpath does: in a closed box whose walls emit 1 and
+/// reflect ρ diffusely, a path of at most `d` scatterings gathers
+/// `1 + ρ + … + ρ^(d−1)`, unbounded `1 / (1 − ρ)`; a `null` wall inside
+/// the box (a crossing, not a scattering) changes nothing.
+#[test]
+fn without_media_volpath_holds_the_closed_box_radiance_of_each_depth() {
+    let rho = 0.5f32;
+    let walls = [
+        ([-1, -1, -1], [0, 0, 2], [2, 0, 0]),
+        ([-1, 1, -1], [2, 0, 0], [0, 0, 2]),
+        ([-1, -1, -1], [0, 2, 0], [0, 0, 2]),
+        ([1, -1, -1], [0, 0, 2], [0, 2, 0]),
+        ([-1, -1, -1], [2, 0, 0], [0, 2, 0]),
+        ([-1, -1, 1], [0, 2, 0], [2, 0, 0]),
+    ];
+    let scene = |render: &str| {
+        let mut s = format!(
+            "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nseed = 3\n{render}\n\
+             [camera]\nposition = [0.1, 0.2, 0.5]\nlook_at = [0.0, 0.0, -1.0]\nfov = 70\n\n\
+             [materials.wall]\ntype = \"diffuse\"\nreflectance = [{rho}, {rho}, {rho}]\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"boundary\"\norigin = [-1, -1, -0.3]\n\
+             edge_u = [2, 0, 0]\nedge_v = [0, 2, 0]\n"
+        );
+        for (o, u, v) in walls {
+            s += &format!(
+                "\n[[objects]]\ntype = \"quad\"\nmaterial = \"wall\"\norigin = {o:?}\n\
+                 edge_u = {u:?}\nedge_v = {v:?}\nemitter = {{ radiance = [1, 1, 1] }}\n"
+            );
+        }
+        s
+    };
+    for (d, spp) in [(1, 1), (2, 64), (3, 64)] {
+        let (img, _) = render_toml(&scene(&format!("spp = {spp}\nmax_depth = {d}")));
+        let (got, err) = mean_and_error(&img);
+        let want = (1.0 - rho.powi(d)) / (1.0 - rho);
+        assert_within(got, err, Rgb::splat(want), &format!("max_depth = {d}"));
+    }
+    let (img, _) = render_toml(&scene("spp = 128"));
+    let (got, err) = mean_and_error(&img);
+    assert_within(got, err, Rgb::splat(1.0 / (1.0 - rho)), "unbounded");
+}
+
+/// A camera sitting in a medium (its `medium`) sees through it from its
+/// near clip plane on, as Mitsuba's camera rays start there: an emitter 4
+/// away behind an absorbing medium filling space, the near plane at 1,
+/// keeps `exp(−3 σt)`.
+#[test]
+fn a_camera_in_a_medium_sees_through_it_from_its_near_plane() {
+    let toml = "[render]\nwidth = 8\nheight = 8\nintegrator = \"volpath\"\nspp = 256\nseed = 4\n\n\
+                [camera]\nprojection = \"orthographic\"\nview_width = 1\nposition = [0, 0, 2]\n\
+                look_at = [0, 0, 0]\nnear_clip = 1\nmedium = \"air\"\n\n\
+                [materials.black]\ntype = \"diffuse\"\nreflectance = [0, 0, 0]\n\n\
+                [media.air]\ntype = \"homogeneous\"\nsigma_t = [0.2, 0.4, 0.6]\nalbedo = 0\n\n\
+                [[objects]]\ntype = \"quad\"\nmaterial = \"black\"\norigin = [-5, -5, -2]\n\
+                edge_u = [10, 0, 0]\nedge_v = [0, 10, 0]\nemitter = { radiance = [1, 1, 1] }\n";
+    let (img, _) = render_toml(toml);
+    let (got, err) = mean_and_error(&img);
+    let want = Rgb::from_array([0.2f32, 0.4, 0.6].map(|s| (-3.0 * s).exp()));
+    assert_within(got, err, want, "camera in a medium");
+}
