@@ -8,7 +8,10 @@
 //! ray reaches the target ([`Emitter::sample`]); [`Emitter::pdf`] gives the
 //! density it draws a target with, [`Emitter::eval`] the radiance a ray
 //! that hits its surface sees, [`Emitter::eval_miss`] what a ray that hits
-//! nothing sees of it.
+//! nothing sees of it. For light tracing, every emitter draws rays leaving
+//! it ([`Emitter::sample_ray`]: origin, direction and the power carried),
+//! and an emitter with a surface draws points of it
+//! ([`Emitter::sample_position`]).
 //!
 //! | emitter | where | what |
 //! |---|---|---|
@@ -45,7 +48,7 @@ pub use envmap::Envmap;
 pub use model::{EmitterModel, EmitterPlugin};
 pub use point::Point;
 pub use projector::Projector;
-pub use sample::{LightSample, Reference};
+pub use sample::{EmittedRay, LightSample, Reference, SurfacePoint};
 pub use sky::Sky;
 pub use spot::Spot;
 
@@ -175,6 +178,28 @@ macro_rules! emitters {
             pub fn pdf_direction(&self, dir: Vec3) -> f32 {
                 match self {
                     $(Emitter::$variant(e) => e.pdf_direction(dir),)*
+                }
+            }
+
+            /// A ray leaving the emitter, for light tracing (see
+            /// [`EmitterModel::sample_ray`]).
+            pub fn sample_ray(
+                &self,
+                u_pos: Vec2,
+                u_dir: Vec2,
+                time: f32,
+                sphere: (Vec3, f32),
+            ) -> Option<EmittedRay> {
+                match self {
+                    $(Emitter::$variant(e) => e.sample_ray(u_pos, u_dir, time, sphere),)*
+                }
+            }
+
+            /// A point of the emitter's surface (see
+            /// [`EmitterModel::sample_position`]).
+            pub fn sample_position(&self, u: Vec2, time: f32) -> Option<SurfacePoint> {
+                match self {
+                    $(Emitter::$variant(e) => e.sample_position(u, time),)*
                 }
             }
 

@@ -31,6 +31,10 @@
 //! | the `k`-th of a first vertex's `n` BSDF samples, going on as a path | `path`, `direct`, `distributed` | `path.child(k, n)` |
 //! | set of BSDF samples at a vertex drawing the thesis's sets | `distributed` | `path.derive(SHADOW − 1)`, its `i`-th path `path.child(i, n)` |
 //! | Russian roulette of a path that set starts | `distributed` | `path.child(i, n).derive(SHADOW − 2)` |
+//! | light path `(p, i)`: the path of primary sample `i` of pixel `p` | `ptracer` | the pixel's `path(i)`, as a camera sample's |
+//! | its emission: time, emitter choice, origin point, direction point (in that order) | `ptracer` | `path.derive(0)` |
+//! | its `b`-th surface (`b ≥ 1`): lens point, BSDF point, roulette, BSDF's third number | `ptracer` | `path.derive(b)` |
+//! | the emitter seen directly: emitter choice, surface point (or direction), lens point | `ptracer` | `path.derive(SHADOW − 3)` |
 //!
 //! The keys are the constants and functions of [`streams`]. (The
 //! thesis's material keeps its lobes in slots 0 to 2 — mirror, refraction,
@@ -57,6 +61,7 @@ mod metric;
 mod model;
 mod path;
 pub mod plugins;
+mod ptracer;
 mod ray_sets;
 mod shading;
 mod sources;
@@ -73,6 +78,7 @@ pub use metric::{change, Metric, RunningMean};
 pub use model::IntegratorModel;
 pub use path::{DirectPlugin, DistributedPlugin, Path, PathPlugin, PathSettings, PathWorker, WAVE};
 pub use plugins::{Config, RenderWith, SCHEMAS};
+pub use ptracer::{Ptracer, PtracerPlugin, PtracerSettings, PtracerWorker};
 pub use ray_sets::{RaySets, ONE_RAY};
 pub use shading::ShadingPoint;
 pub use splat::{SplatFilm, Splatting};

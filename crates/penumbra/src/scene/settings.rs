@@ -38,16 +38,20 @@ pub enum IntegratorChoice {
     Direct,
     /// The thesis's sets at the first vertices of a path tracer.
     Distributed,
+    /// A particle tracer: paths from the emitters connected to the camera
+    /// (Mitsuba 3's `ptracer`).
+    Ptracer,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 4] = [
+    pub const ALL: [IntegratorChoice; 5] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
+        IntegratorChoice::Ptracer,
     ];
-    pub const NAMES: [&'static str; 4] = ["whitted", "path", "direct", "distributed"];
+    pub const NAMES: [&'static str; 5] = ["whitted", "path", "direct", "distributed", "ptracer"];
 
     /// The name scenes select it by: its integrator's schema's (the
     /// integrators' list checks they agree).
