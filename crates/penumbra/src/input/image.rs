@@ -108,7 +108,7 @@ impl fmt::Display for ImageError {
             ImageError::Input(e) => e.fmt(f),
             ImageError::Format { path } => write!(
                 f,
-                "{}: not an image file that can be read (PNG, JPEG, OpenEXR or Radiance HDR)",
+                "{}: not an image file that can be read (PNG, JPEG, BMP, OpenEXR or Radiance HDR)",
                 path.display()
             ),
             ImageError::TooManyPixels {
@@ -169,7 +169,7 @@ fn decode(path: &Path, bytes: Vec<u8>, encoding: Encoding) -> Result<Image, Imag
     use image::ImageFormat as F;
     if !matches!(
         reader.format(),
-        Some(F::Png | F::Jpeg | F::OpenExr | F::Hdr)
+        Some(F::Png | F::Jpeg | F::Bmp | F::OpenExr | F::Hdr)
     ) {
         return Err(ImageError::Format {
             path: path.to_path_buf(),
