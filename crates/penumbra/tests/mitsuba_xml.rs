@@ -1699,7 +1699,7 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
         ),
         (
             r#"<integrator type="volpath"/>"#,
-            "integrator `volpath` is not supported; supported: path, direct",
+            "integrator `volpath` is not supported; supported: path, direct, ptracer",
         ),
         (
             r#"<texture type="gridtexture"/>"#,

@@ -274,8 +274,10 @@ pub fn render_with<I: Integrator>(
                         last,
                         &cancelled,
                     );
-                    if let Some(l) = tile.film.splat.take().filter(|_| anywhere) {
-                        lights.lock().unwrap_or_else(|e| e.into_inner()).push(l);
+                    if anywhere {
+                        if let Some(l) = tile.film.splat.take() {
+                            lights.lock().unwrap_or_else(|e| e.into_inner()).push(l);
+                        }
                     }
                     if !rendered {
                         return None;

@@ -102,7 +102,7 @@ impl IntegratorModel for PtracerPlugin {
         };
         let samples_per_pass = match i.int("samples_per_pass")? {
             None => None,
-            Some(_) => Some(int(i, "samples_per_pass", 1, 1, i64::from(u32::MAX))?),
+            Some(_) => Some(int(i, "samples_per_pass", 1, 1, i64::from(MAX_RAYS))?),
         };
         Ok(PtracerSettings {
             max_depth,
