@@ -98,6 +98,19 @@ fn the_particle_tracer_agrees_through_rough_glass() {
     agree(glass, 128, 64);
 }
 
+/// The same seen through a thin lens focused on the back wall: each
+/// connection goes to a point of the aperture.
+#[test]
+fn the_particle_tracer_agrees_through_a_thin_lens() {
+    let lens = |toml: String| {
+        toml.replace(
+            "fov = 80\n",
+            "fov = 80\naperture = 0.05\nfocal_distance = 1.9\n",
+        )
+    };
+    agree(lens, 64, 32);
+}
+
 /// The z-test of both integrators on the box `edit` makes of [`cornell`],
 /// at `spp_pt` and `spp_path` samples.
 fn agree(edit: impl Fn(String) -> String, spp_pt: u32, spp_path: u32) {

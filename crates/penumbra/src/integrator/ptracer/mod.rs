@@ -85,6 +85,7 @@ use super::streams;
 use crate::bsdf::BsdfFlags;
 use crate::camera::Seen;
 use crate::math::{reach, Ray, Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_disk_concentric;
 use crate::sampling::{Rng, Sampler, SetPoint};
 use crate::scene::Scene;
 
@@ -284,7 +285,7 @@ impl PtracerWorker<'_> {
                 return;
             };
             let mut u = path.derive(streams::bounce(depth));
-            let lens = point(&mut u);
+            let lens = square_to_disk_concentric(point(&mut u));
             let bsdf = &scene.bsdfs[hit.material as usize];
             // Toward the light the particle came from.
             let wl = -r.dir.normalize();
@@ -374,7 +375,8 @@ impl PtracerWorker<'_> {
         let scene = self.scene;
         let cam = &scene.camera;
         let (k, pick) = choose(stream.next_f32(), scene.emitters.len());
-        let (u, lens) = (point(&mut stream), point(&mut stream));
+        let u = point(&mut stream);
+        let lens = square_to_disk_concentric(point(&mut stream));
         let emitter = &scene.emitters[k];
         if emitter.is_delta() {
             return;
