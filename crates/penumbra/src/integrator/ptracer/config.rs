@@ -4,12 +4,7 @@
 use crate::description::check::int;
 use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
-use crate::integrator::metric::Metric;
-use crate::integrator::model::IntegratorModel;
 use crate::sampling::MAX_RAYS;
-use crate::scene::Scene;
-
-use super::Ptracer;
 
 /// A parameter documented with the render options.
 const fn param(name: &'static str, ty: Type) -> Param {
@@ -78,54 +73,32 @@ impl PtracerSettings {
     }
 }
 
-/// The `ptracer` integrator as a plugin.
-pub struct PtracerPlugin;
-
-impl IntegratorModel for PtracerPlugin {
-    const SCHEMA: &'static Schema = &PTRACER;
-    type Settings = PtracerSettings;
-    type Integrator = Ptracer;
-
-    fn read(i: &Props) -> Result<PtracerSettings, Invalid> {
-        let d = PtracerSettings::default();
-        let max_depth = match i.int("max_depth")? {
-            None | Some(-1) => None,
-            Some(v) => Some(u32::try_from(v).map_err(|_| {
-                i.error(
-                    "max_depth",
-                    format!(
-                        "must be -1 (no bound) or an integer from 0 to {}, got {v}",
-                        u32::MAX
-                    ),
-                )
-            })?),
-        };
-        let samples_per_pass = match i.int("samples_per_pass")? {
-            None => None,
-            Some(_) => Some(int(i, "samples_per_pass", 1, 1, i64::from(MAX_RAYS))?),
-        };
-        Ok(PtracerSettings {
-            max_depth,
-            rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
-            hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
-            samples_per_pass,
-            passes: int(i, "passes", 1, 1, i64::from(MAX_RAYS))?,
-        })
-    }
-
-    fn depth(s: &PtracerSettings) -> i64 {
-        s.max_depth.map_or(-1, i64::from)
-    }
-
-    fn metric(_: &PtracerSettings) -> Option<Metric> {
-        None
-    }
-
-    fn passes(s: &PtracerSettings) -> u32 {
-        s.passes
-    }
-
-    fn integrator(scene: &Scene, s: PtracerSettings) -> Ptracer {
-        Ptracer::new(scene, s)
-    }
+/// The `ptracer` integrator's settings: Mitsuba's `max_depth` (−1 for no
+/// bound), `rr_depth` (≥ 1), `hide_emitters` and `samples_per_pass`, and
+/// `passes`.
+pub(super) fn read(i: &Props) -> Result<PtracerSettings, Invalid> {
+    let d = PtracerSettings::default();
+    let max_depth = match i.int("max_depth")? {
+        None | Some(-1) => None,
+        Some(v) => Some(u32::try_from(v).map_err(|_| {
+            i.error(
+                "max_depth",
+                format!(
+                    "must be -1 (no bound) or an integer from 0 to {}, got {v}",
+                    u32::MAX
+                ),
+            )
+        })?),
+    };
+    let samples_per_pass = match i.int("samples_per_pass")? {
+        None => None,
+        Some(_) => Some(int(i, "samples_per_pass", 1, 1, i64::from(MAX_RAYS))?),
+    };
+    Ok(PtracerSettings {
+        max_depth,
+        rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,
+        hide_emitters: i.bool("hide_emitters")?.unwrap_or(d.hide_emitters),
+        samples_per_pass,
+        passes: int(i, "passes", 1, 1, i64::from(MAX_RAYS))?,
+    })
 }

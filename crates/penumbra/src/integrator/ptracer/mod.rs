@@ -73,8 +73,10 @@
 //! light paths, and a frame cut into `k` Dask tiles costs `k` frames.
 
 mod config;
+pub mod plugin;
 
-pub use config::{PtracerPlugin, PtracerSettings, PLUGINS};
+pub use config::{PtracerSettings, PLUGINS};
+pub use plugin::PtracerPlugin;
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
