@@ -261,7 +261,7 @@ impl Camera {
         let view = self.still.unwrap_or_else(|| self.view(time));
         let d = p - view.eye;
         let z = d.dot(view.forward);
-        if !(z > 0.0) || z < c.near_clip || z > c.far_clip {
+        if (z <= 0.0 || z.is_nan()) || z < c.near_clip || z > c.far_clip {
             return None;
         }
         if c.projection == Projection::Orthographic {
@@ -290,7 +290,7 @@ impl Camera {
         let to = p - at;
         let r2 = to.length_squared();
         let cos = to.dot(view.forward) / r2.sqrt();
-        if !(cos > 0.0) {
+        if cos <= 0.0 || cos.is_nan() {
             return None;
         }
         Some(Seen {
@@ -311,7 +311,7 @@ impl Camera {
         }
         let view = self.still.unwrap_or_else(|| self.view(time));
         let z = dir.dot(view.forward);
-        if !(z > 0.0) {
+        if z <= 0.0 || z.is_nan() {
             return None;
         }
         let film = self.film_of(dir.dot(view.right), dir.dot(view.up), z)?;

@@ -146,7 +146,7 @@ impl EmitterModel for Directional {
     /// of the scene's bounding sphere facing it: `E · π r²`.
     fn sample_ray(&self, u_pos: Vec2, _: Vec2, _: f32, sphere: (Vec3, f32)) -> Option<EmittedRay> {
         let (center, radius) = sphere;
-        if !(radius > 0.0) {
+        if radius <= 0.0 || radius.is_nan() {
             return None;
         }
         let d = square_to_disk_concentric(u_pos) * radius;

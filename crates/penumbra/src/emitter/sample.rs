@@ -132,7 +132,7 @@ pub(super) fn ray_from_infinity(
     u: Vec2,
     (center, radius): (Vec3, f32),
 ) -> Option<EmittedRay> {
-    if !(pdf > 0.0) || !(radius > 0.0) {
+    if (pdf <= 0.0 || pdf.is_nan()) || (radius <= 0.0 || radius.is_nan()) {
         return None;
     }
     let d = square_to_disk_concentric(u) * radius;

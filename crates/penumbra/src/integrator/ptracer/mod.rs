@@ -262,7 +262,7 @@ impl PtracerWorker<'_> {
             return;
         };
         let mut beta = ray.weight * pick;
-        if !(beta.max_element() > 0.0) {
+        if beta.max_element() <= 0.0 || beta.max_element().is_nan() {
             return;
         }
         let origin = match ray.normal {
@@ -318,7 +318,7 @@ impl PtracerWorker<'_> {
             let Some(s) = bsdf.sample(&hit, wl, None, sp) else {
                 return;
             };
-            if !s.flags.is_delta() && !(s.pdf > 0.0) {
+            if !s.flags.is_delta() && (s.pdf <= 0.0 || s.pdf.is_nan()) {
                 return;
             }
             let wn = s.wi;
@@ -331,7 +331,7 @@ impl PtracerWorker<'_> {
             // The adjoint: the radiance scaling of a refraction undone.
             beta *= s.weight * (s.eta * s.eta * correction);
             eta2 *= s.eta * s.eta;
-            if !(beta.max_element() > 0.0) {
+            if beta.max_element() <= 0.0 || beta.max_element().is_nan() {
                 return;
             }
             if s.flags.contains(BsdfFlags::TRANSMISSION) {
@@ -342,7 +342,7 @@ impl PtracerWorker<'_> {
             depth += 1;
             if depth > set.rr_depth {
                 let q = (beta.max_element() * eta2).min(RR_MAX);
-                if !(roulette < q) {
+                if roulette >= q || q.is_nan() {
                     return;
                 }
                 beta /= q;
@@ -390,7 +390,7 @@ impl PtracerWorker<'_> {
             let Some((film, w)) = cam.see_direction(to, time) else {
                 return;
             };
-            if !(pdf > 0.0) {
+            if pdf <= 0.0 || pdf.is_nan() {
                 return;
             }
             let ray = Ray::new(cam.eye(time), to, time);
@@ -412,7 +412,7 @@ impl PtracerWorker<'_> {
         let le = emitter.eval(sp.n, -wc);
         let cos = sp.n.dot(wc).abs();
         let v = le * (pick * sp.inv_pdf * cos * seen.weight);
-        if !(v.max_element() > 0.0) {
+        if v.max_element() <= 0.0 || v.max_element().is_nan() {
             return;
         }
         let at = ShadingPoint {
