@@ -317,7 +317,7 @@ pub const OPTIONS: &[RenderOption] = &[
         default: DefaultValue::Fixed(Value::Integrator(IntegratorChoice::Whitted)),
         doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer), \
               path (a path tracer with next-event estimation, as Mitsuba 3's `path`), direct \
-              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`) or distributed \
+              (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`), distributed \
               (the path tracer drawing the thesis's sets at its first vertices) or ptracer (a \
               particle tracer: paths from the emitters connected to the camera, as Mitsuba 3's \
               `ptracer`)",
