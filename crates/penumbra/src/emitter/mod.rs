@@ -367,6 +367,92 @@ mod tests {
         }
     }
 
+    /// The rays an emitter draws for light tracing carry its power: the
+    /// mean of their weights (mean over the colour channels) is what
+    /// `power` says, for every emitter (a projector's weight is its
+    /// image's value times a constant), and every ray leaves toward the
+    /// side the emitter lights: an area light along its normal, a spot
+    /// inside its cone, a light at infinity from beyond the scene's sphere
+    /// into it.
+    #[test]
+    fn rays_carry_the_power() {
+        let sphere = (Vec3::new(0.5, -1.0, 2.0), 3.0);
+        let spot = Spot::new(
+            Vec3::ZERO,
+            Vec3::new(0.0, -1.0, 0.2),
+            Rgb::splat(2.0),
+            40.0,
+            25.0,
+        );
+        let mut directional = Directional::new(Vec3::new(0.3, -1.0, 0.1), Rgb::new(1.0, 2.0, 3.0));
+        directional.fit(sphere.0, sphere.1);
+        let map: Vec<Rgb> = (0..32 * 16)
+            .map(|i| Rgb::splat(0.2 + (i % 7) as f32 + 0.1 * (i / 32) as f32))
+            .collect();
+        let envmap = Envmap::new(32, 16, map, crate::math::Mat3::IDENTITY, false);
+        let emitters = [
+            Emitter::Point(Point {
+                position: Vec3::ONE,
+                intensity: Rgb::new(1.0, 2.0, 0.5),
+            }),
+            Emitter::Spot(spot),
+            Emitter::Directional(directional),
+            Emitter::Constant(Constant {
+                radiance: Rgb::splat(0.7),
+            }),
+            Emitter::Envmap(envmap),
+            area(still(Shape::Quad(Quad::new(
+                Vec3::new(-0.5, 2.0, -0.5),
+                Vec3::X,
+                Vec3::Z,
+            )))),
+            area(still(Shape::Sphere(Sphere::new(
+                Vec3::new(0.5, 2.5, 0.0),
+                0.5,
+            )))),
+            area(still(Shape::Disk(Disk::new(
+                Vec3::new(0.0, 2.0, 0.0),
+                Frame::from_normal(-Vec3::Y),
+                0.6,
+            )))),
+        ];
+        let n = 256;
+        for e in &emitters {
+            let mut sum = 0f64;
+            let mut rng = Rng::new(9);
+            for i in 0..n * n {
+                // Stratified directions, random origins.
+                let u_dir = Vec2::new(
+                    ((i % n) as f32 + rng.next_f32()) / n as f32,
+                    ((i / n) as f32 + rng.next_f32()) / n as f32,
+                );
+                let u_pos = Vec2::new(rng.next_f32(), rng.next_f32());
+                let Some(r) = e.sample_ray(u_pos, u_dir, 0.0, sphere) else {
+                    continue;
+                };
+                assert!((r.dir.length() - 1.0).abs() < 1e-4, "{e:?}");
+                if let Some(nl) = r.normal {
+                    assert!(r.dir.dot(nl) >= 0.0, "{e:?}");
+                }
+                if let Emitter::Spot(s) = e {
+                    assert!(s.falloff(r.dir) > 0.0);
+                }
+                if e.is_infinite() || matches!(e, Emitter::Directional(_)) {
+                    let from = r.origin - sphere.0;
+                    assert!(from.length() >= sphere.1 * 0.999, "{e:?}");
+                    assert!(from.dot(r.dir) < 0.0, "{e:?}");
+                }
+                sum += f64::from(bounds::mean(r.weight));
+            }
+            let mean = sum / f64::from(n * n);
+            let want = f64::from(e.power(sphere.1));
+            assert!(
+                (mean - want).abs() < 0.01 * want,
+                "{e:?}: rays carry {mean}, power {want}"
+            );
+        }
+    }
+
     /// A batch's samples are, one by one, the portable samples bit for bit:
     /// where there is a kernel (a rectangle under the surface model, every
     /// square distribution), and elsewhere. Batches of 0 to 9 points (so
