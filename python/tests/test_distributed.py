@@ -83,6 +83,19 @@ def test_path_traced_tiles_on_two_workers_give_exactly_the_local_image(client, i
         assert merged["mean"] == pytest.approx(merged["items"] / merged["calls"])
 
 
+def test_light_traced_tiles_on_two_workers_give_exactly_the_local_image(client):
+    # A particle tracer's tile traces every light path of the frame and
+    # keeps its own pixels: the tiles assemble into the local image's bits.
+    scene = penumbra.load_scene("cornell-box")
+    opts = {"width": 40, "height": 40, "spp": 4, "integrator": "ptracer", "max_depth": 6, "seed": 5}
+    local, local_stats = penumbra.render(scene, **opts)
+    image, stats = pd.render(scene, client, tile=13, **opts)
+    assert local.mean() > 0.01
+    assert np.array_equal(image, local)
+    tiles = len(pd.tiles(40, 40, 13))
+    assert stats["rays"]["primary"] == tiles * local_stats["rays"]["primary"] > 0
+
+
 def test_progress_counts_tiles(client, small):
     calls = []
     pd.render(penumbra.load_scene("showcase"), client, tile=16,

@@ -57,7 +57,6 @@ const MISSING: &[&str] = &[
     "batch",
     "polarizer",
     "pplastic",
-    "ptracer",
     "radiancemeter",
     "retarder",
     "sdfgrid",

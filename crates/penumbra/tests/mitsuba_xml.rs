@@ -1700,7 +1700,7 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
         ),
         (
             r#"<integrator type="volpathmis"/>"#,
-            "integrator `volpathmis` is not supported; supported: path, volpath, direct",
+            "integrator `volpathmis` is not supported; supported: path, volpath, direct, ptracer",
         ),
         (
             r#"<medium type="heterogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,

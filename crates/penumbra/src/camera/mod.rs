@@ -213,6 +213,123 @@ impl Camera {
     }
 }
 
+/// A point seen by the camera, for light tracing (Mitsuba's
+/// `sample_direction` of a sensor): where on the film it is seen, the
+/// point of the camera it is seen from, and the importance carried to it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seen {
+    /// The film position, in pixels (continuous, `[0, width] × [0, height]`).
+    pub film: Vec2,
+    /// The camera's point the connection ends at (the eye, a point of the
+    /// lens, or of an orthographic camera's view plane).
+    pub at: Vec3,
+    /// The importance `W · cos θ_camera / r²` of the connection (for an
+    /// orthographic camera, `1 / view area`): a particle's power times the
+    /// scattering toward the camera, times this, is what it adds to the
+    /// film, normalised so that a pixel's value is the radiance its camera
+    /// rays see.
+    pub weight: f32,
+}
+
+impl Camera {
+    /// The area of the image at distance 1 from a perspective camera's eye
+    /// (of the view plane for an orthographic camera).
+    fn image_area(&self) -> f32 {
+        4.0 * self.scale.x * self.scale.y
+    }
+
+    /// The film position of the point at `(x, y, z)` from the eye along the
+    /// view's right, up and forward axes; `None` off the film.
+    fn film_of(&self, x: f32, y: f32, z: f32) -> Option<Vec2> {
+        let c = &self.spec;
+        let (ndc_x, ndc_y) = match c.projection {
+            Projection::Perspective => (x / (z * self.scale.x), y / (z * self.scale.y)),
+            Projection::Orthographic => (x / self.scale.x, y / self.scale.y),
+        };
+        let (w, h) = (c.width as f32, c.height as f32);
+        let film = Vec2::new(
+            0.5 * (ndc_x + 1.0) * w - self.shift.x,
+            0.5 * (1.0 - ndc_y) * h - self.shift.y,
+        );
+        let inside = (0.0..=w).contains(&film.x) && (0.0..=h).contains(&film.y);
+        inside.then_some(film)
+    }
+
+    /// How the camera sees the point `p` at `time` (Mitsuba's
+    /// `sample_direction`): a pinhole from its eye; a thin lens from the
+    /// point of its aperture the point `lens` of the unit disk gives (drawn
+    /// uniformly, which cancels the aperture's density); an orthographic
+    /// camera along its axis. `None` where the point is behind the camera,
+    /// outside its clip planes or off the film.
+    pub fn see(&self, p: Vec3, time: f32, lens: Vec2) -> Option<Seen> {
+        let c = &self.spec;
+        let view = self.still.unwrap_or_else(|| self.view(time));
+        let d = p - view.eye;
+        let z = d.dot(view.forward);
+        if (z <= 0.0 || z.is_nan()) || z < c.near_clip || z > c.far_clip {
+            return None;
+        }
+        if c.projection == Projection::Orthographic {
+            let (x, y) = (d.dot(view.right), d.dot(view.up));
+            let film = self.film_of(x, y, z)?;
+            return Some(Seen {
+                film,
+                at: view.eye + x * view.right + y * view.up,
+                weight: 1.0 / self.image_area(),
+            });
+        }
+        let (at, seen) = if c.aperture > 0.0 {
+            // The lens ray through `p` meets the focal plane where the
+            // pinhole ray of its film position does.
+            let at = view.eye + c.aperture * (lens.x * view.right + lens.y * view.up);
+            let focus = at + (p - at) * (c.focal_distance / z);
+            (at, focus - view.eye)
+        } else {
+            (view.eye, d)
+        };
+        let film = self.film_of(
+            seen.dot(view.right),
+            seen.dot(view.up),
+            seen.dot(view.forward),
+        )?;
+        let to = p - at;
+        let r2 = to.length_squared();
+        let cos = to.dot(view.forward) / r2.sqrt();
+        if cos <= 0.0 || cos.is_nan() {
+            return None;
+        }
+        Some(Seen {
+            film,
+            at,
+            weight: 1.0 / (self.image_area() * cos * cos * cos * r2),
+        })
+    }
+
+    /// The film position and importance per solid angle (`W · cos θ`) of
+    /// the direction `dir` leaving a pinhole camera's eye at `time`; `None`
+    /// for other cameras (which see no direction from a single point) and
+    /// off the film.
+    pub fn see_direction(&self, dir: Vec3, time: f32) -> Option<(Vec2, f32)> {
+        let c = &self.spec;
+        if c.projection != Projection::Perspective || c.aperture > 0.0 {
+            return None;
+        }
+        let view = self.still.unwrap_or_else(|| self.view(time));
+        let z = dir.dot(view.forward);
+        if z <= 0.0 || z.is_nan() {
+            return None;
+        }
+        let film = self.film_of(dir.dot(view.right), dir.dot(view.up), z)?;
+        let cos = z / dir.length();
+        Some((film, 1.0 / (self.image_area() * cos * cos * cos)))
+    }
+
+    /// The eye at `time`.
+    pub fn eye(&self, time: f32) -> Vec3 {
+        self.still.unwrap_or_else(|| self.view(time)).eye
+    }
+}
+
 impl Camera {
     /// The four-wide form of [`ray`](Self::ray) for a still perspective
     /// pinhole camera (film positions and times; no lens), lane by lane the
@@ -349,6 +466,49 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A point a camera ray of film position `f` meets is seen at `f`, from
+    /// the ray's origin, by the pinhole, the thin lens (from the ray's lens
+    /// point) and the orthographic camera; and a perspective camera's
+    /// importance is `1 / (A cos³θ r²)`, `A` the image's area at distance 1
+    /// (Mitsuba's normalisation: uniform film points have the solid-angle
+    /// density `1 / (A cos³θ)`).
+    #[test]
+    fn points_are_seen_where_their_rays_leave() {
+        use crate::sampling::Rng;
+        let mut r = Rng::new(5);
+        let mut ortho = cam(0.0).spec.clone();
+        ortho.projection = Projection::Orthographic;
+        for c in [cam(0.0), cam(0.5), Camera::new(ortho)] {
+            for _ in 0..500 {
+                let s = CameraSample {
+                    film: Vec2::new(r.range(0.0, 200.0), r.range(0.0, 100.0)),
+                    lens: if c.has_lens() {
+                        Vec2::new(r.range(-0.6, 0.6), r.range(-0.6, 0.6))
+                    } else {
+                        Vec2::ZERO
+                    },
+                    time: 0.0,
+                };
+                let ray = c.ray(&s);
+                let p = ray.at(r.range(0.5, 9.0));
+                let seen = c.see(p, 0.0, s.lens).expect("seen");
+                let off = (seen.film - s.film).abs().max_element();
+                assert!(off < 2e-3, "{:?} {:?}", seen.film, s.film);
+                assert!((seen.at - ray.origin).length() < 1e-4);
+                if c.spec.projection == Projection::Perspective {
+                    let to = p - seen.at;
+                    let cos = to.normalize().dot(-Vec3::Z);
+                    let w = seen.weight * to.length_squared() * cos.powi(3) * c.image_area();
+                    assert!((w - 1.0).abs() < 1e-4, "{w}");
+                }
+            }
+        }
+        // Behind the camera, and off the film.
+        let c = cam(0.0);
+        assert!(c.see(Vec3::new(0.0, 0.0, 6.0), 0.0, Vec2::ZERO).is_none());
+        assert!(c.see(Vec3::new(0.0, 4.0, 0.0), 0.0, Vec2::ZERO).is_none());
     }
 
     #[test]

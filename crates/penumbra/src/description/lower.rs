@@ -68,6 +68,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("min_spp", Kind::Integrator),
     ("integrator", Kind::Integrator),
     ("passes", Kind::Integrator),
+    ("samples_per_pass", Kind::Integrator),
 ];
 
 /// The keys of a scene's root table.

@@ -11,6 +11,7 @@
 use crate::texture::Textures;
 
 use super::model::{EmitterModel, EmitterPlugin};
+use super::sample::{ray_from_infinity, EmittedRay};
 use crate::description::check::{nonneg3, required};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
@@ -107,6 +108,20 @@ impl EmitterModel for Constant {
 
     fn pdf_direction(&self, _dir: Vec3) -> f32 {
         Constant::pdf(self)
+    }
+
+    /// A ray from infinity: its direction drawn as
+    /// [`sample_direction`](EmitterModel::sample_direction) draws it, its
+    /// origin on the disk of the scene's bounding sphere facing it.
+    fn sample_ray(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        _: f32,
+        sphere: (Vec3, f32),
+    ) -> Option<EmittedRay> {
+        let (to, l, pdf) = self.sample_direction(u_dir)?;
+        ray_from_infinity(to, l, pdf, u_pos, sphere)
     }
 }
 

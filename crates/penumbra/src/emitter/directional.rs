@@ -15,13 +15,14 @@
 use crate::texture::Textures;
 
 use super::model::{EmitterModel, EmitterPlugin};
-use super::sample::{LightSample, Reference};
+use super::sample::{EmittedRay, LightSample, Reference};
 use crate::description::check::{nonneg3, nonzero3};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
-use crate::math::{Rgb, Vec3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_disk_concentric;
 use crate::sampling::Distribution;
 
 #[derive(Clone, Copy, Debug)]
@@ -139,6 +140,24 @@ impl EmitterModel for Directional {
     fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
         let p = r.p;
         Directional::sample(self, p)
+    }
+
+    /// A ray along the light's direction from a point uniform on the disk
+    /// of the scene's bounding sphere facing it: `E · π r²`.
+    fn sample_ray(&self, u_pos: Vec2, _: Vec2, _: f32, sphere: (Vec3, f32)) -> Option<EmittedRay> {
+        let (center, radius) = sphere;
+        if radius <= 0.0 || radius.is_nan() {
+            return None;
+        }
+        let d = square_to_disk_concentric(u_pos) * radius;
+        let frame = Frame::from_normal(self.direction);
+        let origin = center - self.direction * radius + frame.to_world(Vec3::new(d.x, d.y, 0.0));
+        Some(EmittedRay {
+            origin,
+            dir: self.direction,
+            weight: self.irradiance * (std::f32::consts::PI * radius * radius),
+            normal: None,
+        })
     }
 }
 

@@ -57,6 +57,7 @@ use crate::sampling::bilinear2d::Bilinear2D;
 use crate::sampling::piecewise2d::Piecewise2D;
 
 use super::model::{EmitterModel, EmitterPlugin};
+use super::sample::{ray_from_infinity, EmittedRay};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug)]
@@ -485,6 +486,20 @@ impl EmitterModel for Envmap {
 
     fn pdf_direction(&self, dir: Vec3) -> f32 {
         Envmap::pdf(self, dir)
+    }
+
+    /// A ray from infinity: its direction drawn as
+    /// [`sample_direction`](EmitterModel::sample_direction) draws it, its
+    /// origin on the disk of the scene's bounding sphere facing it.
+    fn sample_ray(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        _: f32,
+        sphere: (Vec3, f32),
+    ) -> Option<EmittedRay> {
+        let (to, l, pdf) = self.sample_direction(u_dir)?;
+        ray_from_infinity(to, l, pdf, u_pos, sphere)
     }
 }
 

@@ -8,7 +8,10 @@
 //! ray reaches the target ([`Emitter::sample`]); [`Emitter::pdf`] gives the
 //! density it draws a target with, [`Emitter::eval`] the radiance a ray
 //! that hits its surface sees, [`Emitter::eval_miss`] what a ray that hits
-//! nothing sees of it.
+//! nothing sees of it. For light tracing, every emitter draws rays leaving
+//! it ([`Emitter::sample_ray`]: origin, direction and the power carried),
+//! and an emitter with a surface draws points of it
+//! ([`Emitter::sample_position`]).
 //!
 //! | emitter | where | what |
 //! |---|---|---|
@@ -45,7 +48,7 @@ pub use envmap::Envmap;
 pub use model::{EmitterModel, EmitterPlugin};
 pub use point::Point;
 pub use projector::Projector;
-pub use sample::{LightSample, Reference};
+pub use sample::{EmittedRay, LightSample, Reference, SurfacePoint};
 pub use sky::Sky;
 pub use spot::Spot;
 
@@ -175,6 +178,28 @@ macro_rules! emitters {
             pub fn pdf_direction(&self, dir: Vec3) -> f32 {
                 match self {
                     $(Emitter::$variant(e) => e.pdf_direction(dir),)*
+                }
+            }
+
+            /// A ray leaving the emitter, for light tracing (see
+            /// [`EmitterModel::sample_ray`]).
+            pub fn sample_ray(
+                &self,
+                u_pos: Vec2,
+                u_dir: Vec2,
+                time: f32,
+                sphere: (Vec3, f32),
+            ) -> Option<EmittedRay> {
+                match self {
+                    $(Emitter::$variant(e) => e.sample_ray(u_pos, u_dir, time, sphere),)*
+                }
+            }
+
+            /// A point of the emitter's surface (see
+            /// [`EmitterModel::sample_position`]).
+            pub fn sample_position(&self, u: Vec2, time: f32) -> Option<SurfacePoint> {
+                match self {
+                    $(Emitter::$variant(e) => e.sample_position(u, time),)*
                 }
             }
 
@@ -339,6 +364,92 @@ mod tests {
             // Under half of a tube faces a point outside it.
             let tube = a.surface.shape().as_cylinder().is_some();
             assert!(found > if tube { 600 } else { 1000 }, "{found}");
+        }
+    }
+
+    /// The rays an emitter draws for light tracing carry its power: the
+    /// mean of their weights (mean over the colour channels) is what
+    /// `power` says, for every emitter (a projector's weight is its
+    /// image's value times a constant), and every ray leaves toward the
+    /// side the emitter lights: an area light along its normal, a spot
+    /// inside its cone, a light at infinity from beyond the scene's sphere
+    /// into it.
+    #[test]
+    fn rays_carry_the_power() {
+        let sphere = (Vec3::new(0.5, -1.0, 2.0), 3.0);
+        let spot = Spot::new(
+            Vec3::ZERO,
+            Vec3::new(0.0, -1.0, 0.2),
+            Rgb::splat(2.0),
+            40.0,
+            25.0,
+        );
+        let mut directional = Directional::new(Vec3::new(0.3, -1.0, 0.1), Rgb::new(1.0, 2.0, 3.0));
+        directional.fit(sphere.0, sphere.1);
+        let map: Vec<Rgb> = (0..32 * 16)
+            .map(|i| Rgb::splat(0.2 + (i % 7) as f32 + 0.1 * (i / 32) as f32))
+            .collect();
+        let envmap = Envmap::new(32, 16, map, crate::math::Mat3::IDENTITY, false);
+        let emitters = [
+            Emitter::Point(Point {
+                position: Vec3::ONE,
+                intensity: Rgb::new(1.0, 2.0, 0.5),
+            }),
+            Emitter::Spot(spot),
+            Emitter::Directional(directional),
+            Emitter::Constant(Constant {
+                radiance: Rgb::splat(0.7),
+            }),
+            Emitter::Envmap(envmap),
+            area(still(Shape::Quad(Quad::new(
+                Vec3::new(-0.5, 2.0, -0.5),
+                Vec3::X,
+                Vec3::Z,
+            )))),
+            area(still(Shape::Sphere(Sphere::new(
+                Vec3::new(0.5, 2.5, 0.0),
+                0.5,
+            )))),
+            area(still(Shape::Disk(Disk::new(
+                Vec3::new(0.0, 2.0, 0.0),
+                Frame::from_normal(-Vec3::Y),
+                0.6,
+            )))),
+        ];
+        let n = 256;
+        for e in &emitters {
+            let mut sum = 0f64;
+            let mut rng = Rng::new(9);
+            for i in 0..n * n {
+                // Stratified directions, random origins.
+                let u_dir = Vec2::new(
+                    ((i % n) as f32 + rng.next_f32()) / n as f32,
+                    ((i / n) as f32 + rng.next_f32()) / n as f32,
+                );
+                let u_pos = Vec2::new(rng.next_f32(), rng.next_f32());
+                let Some(r) = e.sample_ray(u_pos, u_dir, 0.0, sphere) else {
+                    continue;
+                };
+                assert!((r.dir.length() - 1.0).abs() < 1e-4, "{e:?}");
+                if let Some(nl) = r.normal {
+                    assert!(r.dir.dot(nl) >= 0.0, "{e:?}");
+                }
+                if let Emitter::Spot(s) = e {
+                    assert!(s.falloff(r.dir) > 0.0);
+                }
+                if e.is_infinite() || matches!(e, Emitter::Directional(_)) {
+                    let from = r.origin - sphere.0;
+                    assert!(from.length() >= sphere.1 * 0.999, "{e:?}");
+                    assert!(from.dot(r.dir) < 0.0, "{e:?}");
+                }
+                sum += f64::from(bounds::mean(r.weight));
+            }
+            let mean = sum / f64::from(n * n);
+            let want = f64::from(e.power(sphere.1));
+            assert!(
+                (mean - want).abs() < 0.01 * want,
+                "{e:?}: rays carry {mean}, power {want}"
+            );
         }
     }
 

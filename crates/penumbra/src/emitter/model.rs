@@ -4,7 +4,7 @@
 use crate::texture::Textures;
 
 use super::bounds::LightBounds;
-use super::sample::{LightSample, Reference};
+use super::sample::{EmittedRay, LightSample, Reference, SurfacePoint};
 use crate::description::{Invalid, Props};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution;
@@ -100,6 +100,26 @@ pub trait EmitterModel {
     /// [`sample_direction`](Self::sample_direction) draws `dir`.
     fn pdf_direction(&self, _dir: Vec3) -> f32 {
         0.0
+    }
+
+    /// A ray leaving the emitter, for light tracing: its origin drawn with
+    /// the point `u_pos` of the unit square, its direction with `u_dir`, at
+    /// `time`; `sphere` is the scene's bounding sphere (centre, radius),
+    /// which rays from infinity enter through. `None` where the numbers give
+    /// no ray. Every emitter draws rays: the particle tracer needs them all.
+    fn sample_ray(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        time: f32,
+        sphere: (Vec3, f32),
+    ) -> Option<EmittedRay>;
+
+    /// A point of the emitter's surface for the point `u` of the unit
+    /// square, at `time`: how a particle tracer connects an emitter seen
+    /// directly to the camera. `None` for an emitter without a surface.
+    fn sample_position(&self, _u: Vec2, _time: f32) -> Option<SurfacePoint> {
+        None
     }
 
     /// The solid-angle density with which [`sample`](Self::sample) draws

@@ -11,13 +11,14 @@ use crate::texture::Textures;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
-use super::sample::{LightSample, Reference};
+use super::sample::{EmittedRay, LightSample, Reference};
 use crate::description::check::{finite3_value, nonneg3, required};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
-use crate::math::{Aabb, Rgb, Vec3};
+use crate::math::{Aabb, Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_uniform_sphere;
 use crate::sampling::Distribution;
 
 #[derive(Clone, Copy, Debug)]
@@ -118,5 +119,15 @@ impl EmitterModel for Point {
     fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
         let p = r.p;
         Point::sample(self, p)
+    }
+
+    /// A ray in a direction uniform over the sphere: `I · 4π`.
+    fn sample_ray(&self, _: Vec2, u_dir: Vec2, _: f32, _: (Vec3, f32)) -> Option<EmittedRay> {
+        Some(EmittedRay {
+            origin: self.position,
+            dir: square_to_uniform_sphere(u_dir),
+            weight: self.intensity * (4.0 * std::f32::consts::PI),
+            normal: None,
+        })
     }
 }

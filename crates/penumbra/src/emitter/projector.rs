@@ -31,7 +31,7 @@ use std::f32::consts::PI;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
-use super::sample::{LightSample, Reference};
+use super::sample::{EmittedRay, LightSample, Reference};
 use crate::description::check::{finite3, range};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
@@ -291,6 +291,24 @@ impl EmitterModel for Projector {
     #[inline]
     fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
         Projector::sample(self, r.p)
+    }
+
+    /// A ray through a point uniform over the image (at distance 1 on the
+    /// axis, a rectangle of area `4 / (cot² · aspect)`): the irradiance
+    /// there, times `π · scale` and that area (the intensity `E π s / cos³`
+    /// over the direction's density `cos³ / area`).
+    fn sample_ray(&self, _: Vec2, u_dir: Vec2, _: f32, _: (Vec3, f32)) -> Option<EmittedRay> {
+        let (u, v) = (u_dir.x, u_dir.y);
+        let x = (1.0 - 2.0 * u) / self.cot;
+        let y = (1.0 - 2.0 * v) / (self.aspect * self.cot);
+        let dir = (self.axis + x * self.left + y * self.up).normalize();
+        let area = 4.0 / (self.cot * self.cot * self.aspect);
+        Some(EmittedRay {
+            origin: self.position,
+            dir,
+            weight: self.irradiance.eval_uv(Vec2::new(u, v)) * (PI * self.scale * area),
+            normal: None,
+        })
     }
 }
 

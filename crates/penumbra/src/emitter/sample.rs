@@ -3,7 +3,8 @@
 
 use glam::Vec4;
 
-use crate::math::{Rgb, Vec3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_disk_concentric;
 
 /// Where an emitter is sampled from: a shading point, and the time of the
 /// ray that reached it (a moving light is sampled where it is then).
@@ -90,5 +91,57 @@ pub(super) fn area_sample(
         dir: to * r.recip(),
         weight: power * (cos_l * area / r2),
         pdf: r2 / (cos_l * area),
+    })
+}
+
+/// A ray leaving an emitter, drawn for light tracing (Mitsuba's
+/// `sample_ray`): where it starts, where it goes, and the power it
+/// carries, `Le · cos θ / (p(origin) · p(direction))` per colour channel
+/// (the cosine at the surface it leaves, 1 for a point or from infinity).
+#[derive(Clone, Copy, Debug)]
+pub struct EmittedRay {
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+    pub weight: Rgb,
+    /// The normal of the surface it leaves (which the ray is offset
+    /// along); `None` for a point and from infinity.
+    pub normal: Option<Vec3>,
+}
+
+/// A point drawn on an emitter's surface (Mitsuba's `sample_position`):
+/// where, the side it emits toward, and the inverse of its area density.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    pub p: Vec3,
+    pub n: Vec3,
+    /// `1 / p(p)`: the area for a uniform draw.
+    pub inv_pdf: f32,
+}
+
+/// A ray arriving from infinity along `-to` (`to` the unit direction toward
+/// the emitter, drawn with solid-angle density `pdf`, bringing radiance
+/// `l`), entering the scene's bounding sphere `(center, radius)`: its origin
+/// drawn uniformly on the disk of the sphere's radius facing it, beyond the
+/// sphere, for the point `u` of the unit square (as Mitsuba's emitters at
+/// infinity draw their rays). The weight is `l / pdf · π r²`.
+pub(super) fn ray_from_infinity(
+    to: Vec3,
+    l: Rgb,
+    pdf: f32,
+    u: Vec2,
+    (center, radius): (Vec3, f32),
+) -> Option<EmittedRay> {
+    if (pdf <= 0.0 || pdf.is_nan()) || (radius <= 0.0 || radius.is_nan()) {
+        return None;
+    }
+    let d = square_to_disk_concentric(u) * radius;
+    let frame = Frame::from_normal(to);
+    let origin = center + to * radius + frame.to_world(Vec3::new(d.x, d.y, 0.0));
+    Some(EmittedRay {
+        origin,
+        dir: -to,
+        weight: l * (std::f32::consts::PI * radius * radius / pdf),
+        normal: None,
     })
 }

@@ -31,13 +31,15 @@ use crate::texture::Textures;
 
 use super::bounds::{mean, LightBounds};
 use super::model::{EmitterModel, EmitterPlugin};
-use super::sample::{LightSample, Reference};
+use super::sample::{EmittedRay, LightSample, Reference};
 use crate::description::check::{finite3, nonneg3, range};
 use crate::description::mitsuba::adapt;
 use crate::description::mitsuba::registry::Adapt;
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
+use crate::math::Frame;
 use crate::math::{Aabb, Rgb, Vec2, Vec3};
+use crate::sampling::warp::square_to_uniform_cone;
 use crate::sampling::Distribution;
 use crate::texture::Texture;
 
@@ -284,6 +286,30 @@ impl EmitterModel for Spot {
     fn sample_one(&self, r: Reference, _point: Vec3, _d: Distribution) -> Option<LightSample> {
         let p = r.p;
         Spot::sample(self, p)
+    }
+
+    /// A ray in a direction uniform over the cutoff's cone (as Mitsuba
+    /// draws it): the intensity along it, times its falloff and picture,
+    /// over the cone's density.
+    fn sample_ray(&self, _: Vec2, u_dir: Vec2, _: f32, _: (Vec3, f32)) -> Option<EmittedRay> {
+        let dir = Frame::from_normal(self.axis)
+            .to_world(square_to_uniform_cone(u_dir, self.cos_cutoff))
+            .normalize();
+        let falloff = self.falloff(dir);
+        if falloff <= 0.0 {
+            return None;
+        }
+        let intensity = match &self.projected {
+            None => self.intensity,
+            Some((t, x, y)) => self.intensity * t.eval_uv(self.uv(dir, *x, *y)),
+        };
+        let solid = 2.0 * std::f32::consts::PI * (1.0 - self.cos_cutoff);
+        Some(EmittedRay {
+            origin: self.position,
+            dir,
+            weight: intensity * (falloff * solid),
+            normal: None,
+        })
     }
 }
 

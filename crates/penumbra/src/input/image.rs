@@ -108,7 +108,7 @@ impl fmt::Display for ImageError {
             ImageError::Input(e) => e.fmt(f),
             ImageError::Format { path } => write!(
                 f,
-                "{}: not an image file that can be read (PNG, JPEG, OpenEXR or Radiance HDR)",
+                "{}: not an image file that can be read (PNG, JPEG, BMP, OpenEXR or Radiance HDR)",
                 path.display()
             ),
             ImageError::TooManyPixels {
@@ -169,7 +169,7 @@ fn decode(path: &Path, bytes: Vec<u8>, encoding: Encoding) -> Result<Image, Imag
     use image::ImageFormat as F;
     if !matches!(
         reader.format(),
-        Some(F::Png | F::Jpeg | F::OpenExr | F::Hdr)
+        Some(F::Png | F::Jpeg | F::Bmp | F::OpenExr | F::Hdr)
     ) {
         return Err(ImageError::Format {
             path: path.to_path_buf(),
@@ -496,9 +496,32 @@ mod tests {
         assert!(matches!(e, ImageError::Format { .. }), "{e:?}");
         let e = read_image(dir.path(), Encoding::Srgb).unwrap_err();
         assert!(matches!(e, ImageError::Input(_)), "{e:?}");
-        let bmp = dir.path().join("a.bmp");
-        std::fs::write(&bmp, b"BM\x00\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00").unwrap();
-        let e = read_image(&bmp, Encoding::Srgb).unwrap_err();
+        let gif = dir.path().join("a.gif");
+        std::fs::write(&gif, b"GIF89a\x01\x00\x01\x00\x00\x00\x00").unwrap();
+        let e = read_image(&gif, Encoding::Srgb).unwrap_err();
         assert!(matches!(e, ImageError::Format { .. }), "{e:?}");
+    }
+
+    /// A BMP (Mitsuba's test textures are) is read, its 8-bit values
+    /// decoded from sRGB: a 1 × 1 file of a red pixel.
+    #[test]
+    fn bmp_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bytes = b"BM".to_vec();
+        for v in [58u32, 0, 54, 40, 1, 1] {
+            bytes.extend(v.to_le_bytes());
+        }
+        bytes.extend(1u16.to_le_bytes());
+        bytes.extend(24u16.to_le_bytes());
+        for v in [0u32, 4, 2835, 2835, 0, 0] {
+            bytes.extend(v.to_le_bytes());
+        }
+        // Blue, green, red, and the row's padding.
+        bytes.extend([0u8, 0, 255, 0]);
+        let path = dir.path().join("red.bmp");
+        std::fs::write(&path, &bytes).unwrap();
+        let img = read_image(&path, Encoding::Srgb).unwrap();
+        assert_eq!((img.width, img.height), (1, 1));
+        assert_eq!(img.rgb(0, 0), [1.0, 0.0, 0.0]);
     }
 }

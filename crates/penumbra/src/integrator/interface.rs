@@ -58,6 +58,19 @@ pub trait Integrator: Sync {
     /// job. Fixed per integrator, so that the work split never depends on
     /// the thread count (the pixels would not anyway).
     fn tile(&self) -> u32;
+
+    /// True if a pixel's samples land anywhere on the frame (light
+    /// tracing): the driver then renders the samples of every pixel of the
+    /// frame whatever the region asked for, hands each job a light image
+    /// of the region in its film's [`splat`](FilmTile::splat) (a
+    /// [`SplatFilm`](super::splat::SplatFilm) of exactly the region's
+    /// pixels, added to with
+    /// [`put_light`](super::splat::SplatFilm::put_light)), sums the
+    /// images (in fixed point: in any order) and resolves each pixel as
+    /// its sum ([`light`](super::splat::light)).
+    fn splats_anywhere(&self) -> bool {
+        false
+    }
 }
 
 /// One worker of an [`Integrator`].

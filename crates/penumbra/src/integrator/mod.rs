@@ -34,6 +34,10 @@
 //! | step `s` of a path (a scattering, a null collision or a crossing of a `null` surface; read through the path sampler) | `volpath` | `path.derive(s)` |
 //! | the colour channel distances in media are drawn by | `volpath` | `path.derive(SHADOW − 3)` |
 //! | ratio tracking of the shadow ray of step `s` through media | `volpath` | `path.derive(2³¹ + s)` |
+//! | light path `(p, i)`: the path of primary sample `i` of pixel `p` | `ptracer` | the pixel's `path(i)`, as a camera sample's |
+//! | its emission: time, emitter choice, origin point, direction point (in that order) | `ptracer` | `path.derive(0)` |
+//! | its `b`-th surface (`b ≥ 1`): lens point, BSDF point, roulette, BSDF's third number | `ptracer` | `path.derive(b)` |
+//! | the emitter seen directly: emitter choice, surface point (or direction), lens point | `ptracer` | `path.derive(SHADOW − 3)` |
 //!
 //! The keys are the constants and functions of [`streams`]. (The
 //! thesis's material keeps its lobes in slots 0 to 2 — mirror, refraction,
@@ -60,6 +64,7 @@ mod metric;
 mod model;
 mod path;
 pub mod plugins;
+mod ptracer;
 mod ray_sets;
 mod shading;
 mod sources;
@@ -79,6 +84,7 @@ pub use path::{
     WAVE,
 };
 pub use plugins::{Config, RenderWith, SCHEMAS};
+pub use ptracer::{Ptracer, PtracerPlugin, PtracerSettings, PtracerWorker};
 pub use ray_sets::{RaySets, ONE_RAY};
 pub use shading::ShadingPoint;
 pub use splat::{SplatFilm, Splatting};

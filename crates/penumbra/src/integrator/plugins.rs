@@ -18,18 +18,28 @@ use super::interface::Integrator;
 use super::metric::Metric;
 use super::model::IntegratorModel;
 use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
+use super::ptracer::{self, PtracerPlugin};
 use super::whitted::WhittedPlugin;
 use crate::description::mitsuba::Plugin;
 use crate::description::{self, Invalid, Kind, Node, Origin, Props, SceneError, Schema};
 use crate::scene::{schemas, IntegratorChoice, Scene, SceneSource, WorldCache};
 
+/// The integrators Mitsuba 3 has, as its reader sees them: `path`,
+/// `direct` and `ptracer`.
+const MITSUBA_INTEGRATORS: [Plugin; 4] = [
+    path::PLUGINS[0],
+    path::PLUGINS[1],
+    path::PLUGINS[2],
+    ptracer::PLUGINS[0],
+];
+
 /// Every plugin as the Mitsuba reader sees it: the integrators Mitsuba 3
-/// has (`path`, `direct`) and the scene's plugins of every other kind
-/// ([`schemas::plugins`]). The scene layer, below the integrators, cannot
-/// name them: readers of Mitsuba scenes take this registry.
+/// has (`path`, `volpath`, `direct`, `ptracer`) and the scene's plugins of every other
+/// kind ([`schemas::plugins`]). The scene layer, below the integrators,
+/// cannot name them: readers of Mitsuba scenes take this registry.
 pub fn registry(kind: Kind) -> &'static [Plugin] {
     match kind {
-        Kind::Integrator => &path::PLUGINS,
+        Kind::Integrator => &MITSUBA_INTEGRATORS,
         _ => schemas::plugins(kind),
     }
 }
@@ -135,6 +145,7 @@ integrators! {
     Direct => DirectPlugin,
     Distributed => DistributedPlugin,
     Volpath => VolpathPlugin,
+    Ptracer => PtracerPlugin,
 }
 
 impl Config {

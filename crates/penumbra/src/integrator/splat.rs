@@ -190,6 +190,79 @@ impl SplatFilm {
         }
     }
 
+    /// A film of exactly the pixels `xs × ys`, with no border: the light
+    /// image of a region, which light paths reach from anywhere.
+    pub fn exact(how: Splatting, xs: Range<u32>, ys: Range<u32>) -> SplatFilm {
+        SplatFilm {
+            how,
+            sums: vec![[0; 4]; xs.len() * ys.len()],
+            xs,
+            ys,
+        }
+    }
+
+    /// Adds the value `v` a light path brings to film position `p`, shared
+    /// among the pixels whose centres are within the filter's radius by
+    /// their weights over the sum of the weights of the whole footprint
+    /// (pixels beyond the frame included, which keep their share): Mitsuba's
+    /// normalised splat of a particle tracer. Only the colour sums grow; a
+    /// pixel's value is its sum ([`light`]), not a weighted mean.
+    pub fn put_light(&mut self, p: Vec2, v: Rgb) {
+        let f = &self.how;
+        let r = f.filter.radius();
+        let (cx, cy) = (p.x - 0.5, p.y - 0.5);
+        // The footprint, unclamped, in pixel indices.
+        let span = |c: f32| ((c - r).ceil() as i64, (c + r).floor() as i64 + 1);
+        let ((x0, x1), (y0, y1)) = (span(cx), span(cy));
+        if x1 <= x0 || y1 <= y0 {
+            return;
+        }
+        let weights = |lo: i64, hi: i64, c: f32, out: &mut [f32; 16]| {
+            let mut sum = 0.0f32;
+            for i in lo..hi {
+                let w = f.weight(i as f32 - c);
+                if let Some(o) = out.get_mut((i - lo) as usize) {
+                    *o = w;
+                }
+                sum += w;
+            }
+            sum
+        };
+        let (mut wx, mut wy) = ([0f32; 16], [0f32; 16]);
+        let norm = weights(x0, x1, cx, &mut wx) * weights(y0, y1, cy, &mut wy);
+        if norm == 0.0 || !norm.is_finite() {
+            return;
+        }
+        let held =
+            |lo: i64, hi: i64, h: &Range<u32>| lo.max(i64::from(h.start))..hi.min(i64::from(h.end));
+        let (xs, ys) = (held(x0, x1, &self.xs), held(y0, y1, &self.ys));
+        let v = v.to_array().map(f64::from);
+        let stride = self.xs.len();
+        for y in ys {
+            let wy = wy
+                .get((y - y0) as usize)
+                .copied()
+                .unwrap_or_else(|| f.weight(y as f32 - cy));
+            for x in xs.clone() {
+                let wx = wx
+                    .get((x - x0) as usize)
+                    .copied()
+                    .unwrap_or_else(|| f.weight(x as f32 - cx));
+                let w = wx * wy / norm;
+                if w == 0.0 {
+                    continue;
+                }
+                let k = (y as usize - self.ys.start as usize) * stride
+                    + (x as usize - self.xs.start as usize);
+                let s = &mut self.sums[k];
+                let w64 = f64::from(w);
+                s[0] += fixed(v[0] * w64);
+                s[1] += fixed(v[1] * w64);
+                s[2] += fixed(v[2] * w64);
+            }
+        }
+    }
+
     /// Adds the sums held for the pixels of `into` (`xs × ys` of the frame,
     /// row by row) to `sums`.
     pub fn merge_into(&self, sums: &mut [Sums], xs: &Range<u32>, ys: &Range<u32>) {
@@ -223,6 +296,13 @@ pub fn resolve(s: &Sums) -> Rgb {
         (s[1] as f64 / w) as f32,
         (s[2] as f64 / w) as f32,
     )
+}
+
+/// A pixel's value in a light image ([`SplatFilm::put_light`]): the sum
+/// of what light paths brought it.
+pub fn light(s: &Sums) -> Rgb {
+    let v = |c: i128| (c as f64 / SCALE) as f32;
+    Rgb::new(v(s[0]), v(s[1]), v(s[2]))
 }
 
 #[cfg(test)]
@@ -355,6 +435,31 @@ mod tests {
             }
             assert_eq!(sums, whole.sums, "tiles of {tile}");
         }
+    }
+
+    /// A light path's value is shared among the pixels its footprint
+    /// reaches by their normalised weights: they add up to the value (within
+    /// the truncation of the fixed point) where the whole footprint is in the
+    /// frame, and to less at the frame's edge; the box gives it to one pixel.
+    #[test]
+    fn light_splats_share_the_value_by_normalised_weights() {
+        let how = gaussian((16, 16));
+        let all = (0..16, 0..16);
+        let mut film = SplatFilm::exact(how.clone(), all.0.clone(), all.1.clone());
+        film.put_light(Vec2::new(7.3, 8.9), Rgb::new(2.0, 1.0, 0.5));
+        let total = film.sums.iter().map(light).sum::<Rgb>();
+        assert!((total - Rgb::new(2.0, 1.0, 0.5)).abs().max_element() < 1e-5);
+        assert!(film.sums.iter().all(|s| s[3] == 0));
+        let mut edge = SplatFilm::exact(how, all.0.clone(), all.1.clone());
+        edge.put_light(Vec2::new(0.2, 8.0), Rgb::ONE);
+        let total = edge.sums.iter().map(light).sum::<Rgb>();
+        assert!(total.r < 0.95 && total.r > 0.3, "{total:?}");
+        let boxed = Splatting::new(PixelFilter::of(Filter::Box), (0..16, 0..16), 0);
+        let mut film = SplatFilm::exact(boxed, all.0, all.1);
+        film.put_light(Vec2::new(3.3, 4.6), Rgb::ONE);
+        let hit: Vec<usize> = (0..256).filter(|&k| film.sums[k] != [0; 4]).collect();
+        assert_eq!(hit, vec![4 * 16 + 3]);
+        assert_eq!(light(&film.sums[4 * 16 + 3]), Rgb::ONE);
     }
 
     #[test]

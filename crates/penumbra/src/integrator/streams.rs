@@ -6,6 +6,9 @@
 //! the same branch, `SHADOW + j`; the branches of the bounces of `path`
 //! (`b`) and of `whitted`'s lobe sets (`2k + 1`, `2k + 2`) lie far below
 //! it, and the distributed path tracer's BSDF set and roulette just below.
+//! `ptracer`'s light paths take the streams of the camera samples of the
+//! same index: their bounces the same branches as `path`'s, the
+//! connection of an emitter seen directly one just below those.
 
 /// The first shadow-set branch: the set toward emitter `j` takes
 /// `SHADOW + j`.
@@ -17,6 +20,10 @@ pub const BSDF_SET: u64 = SHADOW - 1;
 /// The branch of a set's path that its Russian roulette reads
 /// (`distributed`).
 pub const ROULETTE: u64 = SHADOW - 2;
+
+/// The branch of a light path that connects an emitter seen directly to
+/// the camera (`ptracer`).
+pub const SEEN_EMITTER: u64 = SHADOW - 3;
 
 /// The first path-sampler dimension of a BSDF's third number (the lobe
 /// choice of [`SetPoint::third`](crate::sampling::SetPoint::third)): the

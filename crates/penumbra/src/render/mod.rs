@@ -18,7 +18,7 @@ pub use region::Region;
 pub use report::stats_document;
 
 use crate::description::SceneError;
-use crate::integrator::splat::{resolve, Sums};
+use crate::integrator::splat::{light, resolve, SplatFilm, Sums};
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
     pass_samples, BadSample, Config, Integrator, RayStats, RenderWith, Splatting, StageBatches,
@@ -67,6 +67,16 @@ pub enum RenderError {
     /// the scene was built).
     #[error("{0}")]
     Integrator(SceneError),
+}
+
+/// The whole frame of `s`, crop window or not.
+fn frame_of(s: &crate::scene::Settings) -> Region {
+    Region {
+        x0: 0,
+        y0: 0,
+        x1: s.width,
+        y1: s.height,
+    }
 }
 
 /// The part of the frame a render makes unless told otherwise: the
@@ -145,6 +155,13 @@ impl RenderWith for Render<'_> {
 /// finished tile's sums are added to the region's (in fixed point, so in
 /// any order), and the image is resolved from them at the end. A region
 /// thus gets the pixels the whole frame has.
+///
+/// An integrator whose samples land anywhere ([`Integrator::splats_anywhere`],
+/// light tracing) renders the samples of the whole frame whatever the
+/// region; each job adds to a light image of the region, taken from a pool
+/// (at most one per job running) and given back after the job; the images
+/// are summed at the end (in fixed point, so in any order) and each pixel is
+/// its sum.
 pub fn render_with<I: Integrator>(
     integrator: &I,
     scene: &Scene,
@@ -178,14 +195,24 @@ pub fn render_with<I: Integrator>(
             y1: (f.y1 + b).max(region.y1),
         }
     };
-    let splatting = s.splat.then(|| {
+    let anywhere = integrator.splats_anywhere();
+    let splatting = (s.splat && !anywhere).then(|| {
         Splatting::new(
             s.filter.clone(),
             (window.x0..window.x1, window.y0..window.y1),
             s.filter_steps,
         )
     });
+    let lights: Mutex<Vec<SplatFilm>> = Mutex::new(Vec::new());
+    let light_film = || {
+        let pooled = lights.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        pooled.unwrap_or_else(|| {
+            let how = Splatting::new(s.filter.clone(), (0..s.width, 0..s.height), s.filter_steps);
+            SplatFilm::exact(how, region.x0..region.x1, region.y0..region.y1)
+        })
+    };
     let sampled = match &splatting {
+        _ if anywhere => frame_of(s),
         Some(how) => {
             let (xs, ys) = how.grown(&(region.x0..region.x1), &(region.y0..region.y1));
             Region {
@@ -247,14 +274,23 @@ pub fn render_with<I: Integrator>(
                     };
                     let tile =
                         slot.get_or_insert_with(|| TileSlot::new(*t, block, splatting.as_ref()));
-                    if !film::render_pass(
+                    if anywhere {
+                        tile.film.splat = Some(light_film());
+                    }
+                    let rendered = film::render_pass(
                         integrator,
                         scene,
                         tile,
                         samples.clone(),
                         last,
                         &cancelled,
-                    ) {
+                    );
+                    if anywhere {
+                        if let Some(l) = tile.film.splat.take() {
+                            lights.lock().unwrap_or_else(|e| e.into_inner()).push(l);
+                        }
+                    }
+                    if !rendered {
                         return None;
                     }
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, work);
@@ -262,7 +298,9 @@ pub fn render_with<I: Integrator>(
                         return Some(None);
                     }
                     let tile = film::finish(slot.take()?);
-                    if let Some(splat) = &tile.splat {
+                    if anywhere {
+                        // The light images are summed at the end.
+                    } else if let Some(splat) = &tile.splat {
                         let mut sums = splatted.lock().unwrap_or_else(|e| e.into_inner());
                         splat.merge_into(
                             &mut sums,
@@ -294,7 +332,16 @@ pub fn render_with<I: Integrator>(
     }
     drop(bands);
     let splatted = splatted.into_inner().unwrap_or_else(|e| e.into_inner());
-    if !splatted.is_empty() {
+    if anywhere {
+        let mut sums = vec![[0; 4]; region.width() as usize * region.height() as usize];
+        let (xs, ys) = (region.x0..region.x1, region.y0..region.y1);
+        for l in lights.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            l.merge_into(&mut sums, &xs, &ys);
+        }
+        for (p, s) in image.pixels.iter_mut().zip(&sums) {
+            *p = light(s);
+        }
+    } else if !splatted.is_empty() {
         for (p, s) in image.pixels.iter_mut().zip(&splatted) {
             *p = resolve(s);
         }

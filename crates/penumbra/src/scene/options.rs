@@ -318,8 +318,9 @@ pub const OPTIONS: &[RenderOption] = &[
         doc: "the light-transport algorithm: whitted (the thesis's distributed Whitted ray tracer), \
               path (a path tracer with next-event estimation, as Mitsuba 3's `path`), direct \
               (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`), distributed \
-              (the path tracer drawing the thesis's sets at its first vertices) or volpath (the path tracer \
-              through participating media, as Mitsuba 3's `volpath`)",
+              (the path tracer drawing the thesis's sets at its first vertices), volpath (the path \
+              tracer through participating media, as Mitsuba 3's `volpath`) or ptracer (a particle \
+              tracer: paths from the emitters connected to the camera, as Mitsuba 3's `ptracer`)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
@@ -364,6 +365,17 @@ pub const OPTIONS: &[RenderOption] = &[
         flag: Flag::PLAIN,
         python: true,
         set: Some(|c, v| c.overrides.passes = v.int()),
+    },
+    RenderOption {
+        name: "samples_per_pass",
+        kind: RAYS,
+        default: DefaultValue::Computed("`spp`"),
+        doc: "ptracer: light paths per pixel in each pass (Mitsuba's), the passes at least \
+              `spp / samples_per_pass`; the image is the same for any number",
+        table: Some(Table::Render),
+        flag: None,
+        python: false,
+        set: None,
     },
     RenderOption {
         name: "shadow_rays",
@@ -643,7 +655,7 @@ pub const OPTIONS: &[RenderOption] = &[
         kind: Kind::Int { min: 0, max: 64 },
         default: int(3),
         doc: "whitted: levels of reflection/refraction rays (the thesis's recursion depth), 0 \
-              disables them; path: the longest path in vertices, as Mitsuba counts them (1: \
+              disables them; path and ptracer: the longest path in vertices, as Mitsuba counts them (1: \
               emitters seen, 2: direct light; default and -1 in a scene file: no bound)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
@@ -654,7 +666,7 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "rr_depth",
         kind: RAYS,
         default: int(5),
-        doc: "path and distributed: the depth from which Russian roulette may end a path",
+        doc: "path, distributed and ptracer: the depth from which Russian roulette may end a path",
         table: Some(Table::Render),
         flag: Flag::PLAIN,
         python: true,
@@ -664,7 +676,7 @@ pub const OPTIONS: &[RenderOption] = &[
         name: "hide_emitters",
         kind: Kind::Switch,
         default: switch(false),
-        doc: "path, direct and distributed: emitters seen directly by camera rays are black (what \
+        doc: "path, direct, distributed and ptracer: emitters seen directly are black (what \
               they light is not)",
         table: Some(Table::Render),
         flag: Flag::PLAIN,

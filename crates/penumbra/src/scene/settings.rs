@@ -41,17 +41,28 @@ pub enum IntegratorChoice {
     /// The path tracer through participating media (Mitsuba 3's
     /// `volpath`).
     Volpath,
+    /// A particle tracer: paths from the emitters connected to the camera
+    /// (Mitsuba 3's `ptracer`).
+    Ptracer,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 5] = [
+    pub const ALL: [IntegratorChoice; 6] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
         IntegratorChoice::Volpath,
+        IntegratorChoice::Ptracer,
     ];
-    pub const NAMES: [&'static str; 5] = ["whitted", "path", "direct", "distributed", "volpath"];
+    pub const NAMES: [&'static str; 6] = [
+        "whitted",
+        "path",
+        "direct",
+        "distributed",
+        "volpath",
+        "ptracer",
+    ];
 
     /// The name scenes select it by: its integrator's schema's (the
     /// integrators' list checks they agree).

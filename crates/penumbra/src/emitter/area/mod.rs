@@ -37,11 +37,13 @@ use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::model::EmitterModel;
-use crate::emitter::sample::{area_sample, LightSample, Reference};
+use crate::emitter::sample::{area_sample, EmittedRay, LightSample, Reference, SurfacePoint};
 use crate::geometry::quad::Quad;
 use crate::geometry::{Density, Surface};
-use crate::math::{Rgb, Vec3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::points::{end_point, unit_square};
+use crate::sampling::warp::square_to_cosine_hemisphere;
+use crate::sampling::SetPoint;
 use crate::sampling::{Distribution, Domain, EffectSpec, MAX_RAYS};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
@@ -253,6 +255,32 @@ impl Area {
         }
     }
 
+    /// A point uniform over the surface at `time` for the point `u` of the
+    /// unit square, with the normal of the side it emits toward (a sphere
+    /// outward), whatever the penumbra model (both emit the same light
+    /// from the same surface).
+    pub fn sample_position(&self, u: Vec2, time: f32) -> Option<SurfacePoint> {
+        // Seen from the shape's centre, every shape is drawn uniformly in
+        // area (a sphere from outside would be drawn in its cone).
+        let c = self.center();
+        let from = self
+            .surface
+            .similarity(time)
+            .map_or(c, |s| s.point_to_world(c));
+        let point = SetPoint::uniform(u).native();
+        let s = self
+            .surface
+            .sample(from, time, point, Distribution::Jitter)?;
+        match s.density {
+            Density::Area { area, .. } if area > 0.0 => Some(SurfacePoint {
+                p: s.p,
+                n: s.n,
+                inv_pdf: area,
+            }),
+            _ => None,
+        }
+    }
+
     /// The solid-angle density with which the surface model draws `target`
     /// (a point of the light with outward normal `n`) from `r`; 0 under
     /// the thesis model, whose rays are not drawn from the light's surface.
@@ -337,5 +365,28 @@ impl EmitterModel for Area {
 
     fn pdf(&self, r: Reference, target: Vec3, n: Vec3) -> f32 {
         Area::pdf(self, r, target, n)
+    }
+
+    fn sample_position(&self, u: Vec2, time: f32) -> Option<SurfacePoint> {
+        Area::sample_position(self, u, time)
+    }
+
+    /// A ray from a point uniform over the surface in a cosine-weighted
+    /// direction about its normal: `L · π · A`.
+    fn sample_ray(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        time: f32,
+        _: (Vec3, f32),
+    ) -> Option<EmittedRay> {
+        let s = Area::sample_position(self, u_pos, time)?;
+        let dir = Frame::from_normal(s.n).to_world(square_to_cosine_hemisphere(u_dir));
+        Some(EmittedRay {
+            origin: s.p,
+            dir,
+            weight: self.radiance * (std::f32::consts::PI * s.inv_pdf),
+            normal: Some(s.n),
+        })
     }
 }
