@@ -66,6 +66,8 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("min_spp", Kind::Integrator),
     ("integrator", Kind::Integrator),
     ("passes", Kind::Integrator),
+    ("aovs", Kind::Integrator),
+    ("nested", Kind::Integrator),
 ];
 
 /// The keys of a scene's root table.
@@ -85,6 +87,9 @@ pub const DEFAULT_SENSOR: &str = "perspective";
 pub const DEFAULT_FILM: &str = "hdrfilm";
 pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
+/// The key of `[render]` whose table is the integrator `aov` or `moment`
+/// holds (its `type`, its parameters, and its `name`, the node's id).
+pub const NESTED_INTEGRATOR: &str = "nested";
 /// The emitter `render.background` becomes; its one property is `radiance`.
 pub const BACKGROUND_EMITTER: &str = "constant";
 /// The plugin of a `[groups.NAME]` table's node.
@@ -255,6 +260,16 @@ fn route_render(render: Option<Located<Value>>, root: &Origin) -> Result<RenderN
             ("integrator", _) => {
                 nodes.integrator.plugin_origin = p.value.origin.clone();
                 nodes.integrator.plugin = string(p.value)?;
+            }
+            (NESTED_INTEGRATOR, _) => {
+                let (origin, mut props) = table(p.value)?;
+                let name = match props.iter().position(|p| p.name == "name") {
+                    Some(i) => Some(string(props.remove(i).value)?),
+                    None => None,
+                };
+                let mut held = plugin_node(Kind::Integrator, origin, props, None)?;
+                held.id = name;
+                nodes.integrator.children.push(held);
             }
             ("background", _) => {
                 let mut emitter = Node::new(Kind::Emitter, BACKGROUND_EMITTER, p.key.clone());

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use serde::Serialize;
 
-use super::film::FilmTile;
+use super::film::{Channels, FilmTile};
 use super::stats::{RayStats, StageBatches};
 use super::stopping::PixelSamples;
 use crate::scene::Scene;
@@ -58,6 +58,12 @@ pub trait Integrator: Sync {
     /// job. Fixed per integrator, so that the work split never depends on
     /// the thread count (the pixels would not anyway).
     fn tile(&self) -> u32;
+
+    /// The channels its films hold beside the image (Mitsuba's AOVs):
+    /// none unless it writes some.
+    fn channels(&self) -> Channels {
+        Channels::none()
+    }
 }
 
 /// One worker of an [`Integrator`].

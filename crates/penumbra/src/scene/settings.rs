@@ -38,16 +38,35 @@ pub enum IntegratorChoice {
     Direct,
     /// The thesis's sets at the first vertices of a path tracer.
     Distributed,
+    /// The distance to the first hit (Mitsuba 3's `depth`).
+    Depth,
+    /// Arbitrary output variables of the first hit beside a held
+    /// integrator's image (Mitsuba 3's `aov`).
+    Aov,
+    /// A held integrator's image with the first and second moments of its
+    /// samples (Mitsuba 3's `moment`).
+    Moment,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 4] = [
+    pub const ALL: [IntegratorChoice; 7] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
+        IntegratorChoice::Depth,
+        IntegratorChoice::Aov,
+        IntegratorChoice::Moment,
     ];
-    pub const NAMES: [&'static str; 4] = ["whitted", "path", "direct", "distributed"];
+    pub const NAMES: [&'static str; 7] = [
+        "whitted",
+        "path",
+        "direct",
+        "distributed",
+        "depth",
+        "aov",
+        "moment",
+    ];
 
     /// The name scenes select it by: its integrator's schema's (the
     /// integrators' list checks they agree).
