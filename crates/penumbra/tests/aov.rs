@@ -182,7 +182,8 @@ fn moment_variance_equals_the_variance_of_the_samples() {
                 [[objects]]\ntype = \"quad\"\nmaterial = \"white\"\norigin = [-3, 0, -3]\n\
                 edge_u = [6, 0, 0]\nedge_v = [0, 0, 6]\n\n\
                 [[objects]]\ntype = \"sphere\"\nmaterial = \"white\"\ncenter = [0, 0.6, 0]\nradius = 0.6\n\n\
-                [[lights]]\ntype = \"sphere\"\nposition = [1, 3, 1]\nradius = 0.5\nintensity = [20, 20, 20]\n";
+                [[lights]]\ntype = \"rect\"\norigin = [0.5, 3, 0.5]\nedge_u = [1, 0, 0]\n\
+         edge_v = [0, 0, 1]\nradiance = [20, 20, 20]\n";
     let head = |integrator: &str| {
         format!("[render]\nwidth = 12\nheight = 10\nspp = 16\nfilter = \"box\"\n{integrator}\n\n")
     };
@@ -256,7 +257,8 @@ fn splatted(integrator: &str, passes: u32) -> Scene {
          [[objects]]\ntype = \"quad\"\nmaterial = \"white\"\norigin = [-3, 0, -3]\n\
          edge_u = [6, 0, 0]\nedge_v = [0, 0, 6]\n\n\
          [[objects]]\ntype = \"sphere\"\nmaterial = \"white\"\ncenter = [0, 0.6, 0]\nradius = 0.6\n\n\
-         [[lights]]\ntype = \"sphere\"\nposition = [1, 3, 1]\nradius = 0.5\nintensity = [20, 20, 20]\n"
+         [[lights]]\ntype = \"rect\"\norigin = [0.5, 3, 0.5]\nedge_u = [1, 0, 0]\n\
+         edge_v = [0, 0, 1]\nradiance = [20, 20, 20]\n"
     )
     .replace("PASSES", &passes.to_string());
     scene(&toml)
@@ -348,7 +350,8 @@ fn the_held_image_is_the_integrators_own() {
     assert_eq!(channel(&a, "img.R"), red);
     let alpha = channel(&a, "img.A");
     assert!(alpha.iter().all(|&v| (0.0..=1.0).contains(&v)));
-    assert!(alpha.iter().filter(|&&v| v == 1.0).count() > 500);
+    let covered = alpha.iter().filter(|&&v| v > 0.999).count();
+    assert!(covered > 300 && covered < alpha.len(), "{covered} pixels covered");
 }
 
 /// Mistakes in the description are refused at their place.
