@@ -70,7 +70,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let scene = source.build().map_err(input)?;
     // Channels beside the image (`aov`, `moment`) need an EXR output.
     if let Ok(config) = Config::of(&scene) {
-        check_channels(&args.output, &config.channels()).map_err(input)?;
+        let channels = config.channels();
+        check_channels(&args.output, &channels).map_err(input)?;
+        let name = config.choice().name();
+        if channels.is_empty() && matches!(name, "aov" | "moment") {
+            eprintln!(
+                "warning: the `{name}` integrator has no variables (`aovs`) or held integrator \
+                 (`nested`): the image is black and no channel is written"
+            );
+        }
     }
     for w in &scene.warnings {
         eprintln!("warning: {w}");

@@ -87,6 +87,10 @@ pub const DEFAULT_SENSOR: &str = "perspective";
 pub const DEFAULT_FILM: &str = "hdrfilm";
 pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
+/// The keys of `[render]` that are not render options: the `aov` and
+/// `moment` integrators' own, documented with them.
+pub const INTEGRATOR_KEYS: &[&str] = &["aovs", NESTED_INTEGRATOR];
+
 /// The key of `[render]` whose table is the integrator `aov` or `moment`
 /// holds (its `type`, its parameters, and its `name`, the node's id).
 pub const NESTED_INTEGRATOR: &str = "nested";
@@ -482,6 +486,7 @@ mod tests {
             let value = match key {
                 "integrator" => "\"whitted\"",
                 "background" => "[0, 0, 0]",
+                NESTED_INTEGRATOR => "{ type = \"path\", name = \"img\" }",
                 _ => "1",
             };
             let root = scene(&format!("[render]\n{key} = {value}\n"));
@@ -496,6 +501,20 @@ mod tests {
                 .collect();
             match key {
                 "integrator" => assert!(holders.is_empty()),
+                // The integrator a holder holds: a child of the integrator.
+                NESTED_INTEGRATOR => {
+                    assert!(holders.is_empty());
+                    let held = root
+                        .child(Kind::Integrator)
+                        .unwrap()
+                        .child(Kind::Integrator);
+                    let held = held.expect("a held integrator");
+                    assert_eq!(
+                        (held.plugin.as_str(), held.id.as_deref()),
+                        ("path", Some("img"))
+                    );
+                    assert_eq!(held.origin.path.to_string(), "render.nested");
+                }
                 _ => {
                     assert_eq!(holders.len(), 1, "{key}");
                     assert_eq!(holders[0].kind, kind, "{key}");

@@ -7,7 +7,7 @@
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
 //! | `aovs` | string | `""` | `aov`: the variables, `name:type` pairs separated by commas (or spaces), Mitsuba's syntax |
-//! | `nested` | table | none | `aov` (optional) and `moment` (required): the integrator held, a table with its `type`, its parameters and an optional `name` (default `_arg_0`, the name Mitsuba gives an unnamed child) |
+//! | `nested` | table | none | `aov` and `moment`: the integrator held, a table with its `type`, its parameters and an optional `name` (default `_arg_0`, the name Mitsuba gives an unnamed child); without it (and, for `aov`, without `aovs`) the image is black and no channel is written, as in Mitsuba |
 //!
 //! # Channels
 //!

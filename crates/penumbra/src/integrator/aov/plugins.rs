@@ -55,6 +55,10 @@ pub const MOMENT: Schema = Schema {
     params: &[],
 };
 
+/// The three schemas, which the scene-format reference documents one by
+/// one (their keys are not render options).
+pub const SCHEMAS: [&Schema; 3] = [&DEPTH, &AOV, &MOMENT];
+
 /// How Mitsuba 3's `depth`, `aov` and `moment` map onto Penumbra's: their
 /// parameters under the same names; the integrators `aov` and `moment`
 /// hold are read as their children (`render.nested`).
@@ -64,8 +68,8 @@ pub const PLUGINS: [Plugin; 3] = [
         &AOV,
         Mitsuba::differs(
             "one held integrator (Mitsuba takes several); `sh_normal` is the interpolated \
-             normal, not one a `normalmap` or `bumpmap` perturbs; no alpha channel beside the \
-             image's RGB",
+             normal, not one a `normalmap` or `bumpmap` perturbs; `prim_index` is 0 on analytic \
+             shapes",
         ),
     ),
     Plugin::new(
@@ -170,16 +174,14 @@ impl<C: Nested> IntegratorModel for AovPlugin<C> {
         Ok(AovSettings { spec, held: None })
     }
 
+    /// Without variables or a held integrator it renders black and
+    /// writes no channel, as Mitsuba's (which warns).
     fn read_node(node: &Node, p: &Props) -> Result<AovSettings<C>, Invalid> {
         let held = Held::of(node)?;
-        let s = Self::read(p)?;
-        if s.spec.items.is_empty() && held.is_none() {
-            return Err(p.node_error(
-                "an `aov` integrator without `aovs` or a held integrator writes nothing; \
-                 give `aovs` (as \"dd:depth,nn:sh_normal\")",
-            ));
-        }
-        Ok(AovSettings { held, ..s })
+        Ok(AovSettings {
+            held,
+            ..Self::read(p)?
+        })
     }
 
     fn depth(s: &AovSettings<C>) -> i64 {
@@ -231,10 +233,11 @@ impl<R: RenderWith> RenderWith for WithAov<'_, R> {
     }
 }
 
-/// The settings of `moment`: the integrator it holds.
+/// The settings of `moment`: the integrator it holds (without one it
+/// renders black and writes no channel, as Mitsuba's).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MomentSettings<C> {
-    pub held: Held<C>,
+    pub held: Option<Held<C>>,
 }
 
 /// The `moment` integrator as a plugin, holding any of the plugins `C`.
@@ -244,39 +247,42 @@ impl<C: Nested> IntegratorModel for MomentPlugin<C> {
     const SCHEMA: &'static Schema = &MOMENT;
     type Settings = MomentSettings<C>;
 
-    fn read(p: &Props) -> Result<MomentSettings<C>, Invalid> {
-        Err(p.node_error("`moment` holds an integrator"))
+    fn read(_: &Props) -> Result<MomentSettings<C>, Invalid> {
+        Ok(MomentSettings { held: None })
     }
 
-    fn read_node(node: &Node, p: &Props) -> Result<MomentSettings<C>, Invalid> {
-        match Held::of(node)? {
-            Some(held) => Ok(MomentSettings { held }),
-            None => Err(p.node_error(
-                "`moment` holds no integrator: give the one whose samples' moments it takes \
-                 (in TOML `nested = { type = \"path\" }`)",
-            )),
-        }
+    fn read_node(node: &Node, _: &Props) -> Result<MomentSettings<C>, Invalid> {
+        Ok(MomentSettings {
+            held: Held::of(node)?,
+        })
     }
 
     fn depth(s: &MomentSettings<C>) -> i64 {
-        s.held.config.depth()
+        s.held.as_ref().map_or(1, |h| h.config.depth())
     }
 
     fn metric(s: &MomentSettings<C>) -> Option<Metric> {
-        s.held.config.metric()
+        s.held.as_ref().and_then(|h| h.config.metric())
     }
 
     fn passes(s: &MomentSettings<C>) -> u32 {
-        s.held.config.passes()
+        s.held.as_ref().map_or(1, |h| h.config.passes())
     }
 
     fn channels(s: &MomentSettings<C>) -> Vec<String> {
-        super::moment::channel_names(&s.held.name)
+        s.held
+            .as_ref()
+            .map_or_else(Vec::new, |h| super::moment::channel_names(&h.name))
     }
 
     fn render_with<R: RenderWith>(scene: &Scene, s: MomentSettings<C>, run: R) -> R::Output {
-        let name = s.held.name;
-        s.held.config.render_with(scene, WithMoment { run, name })
+        match s.held {
+            Some(held) => {
+                let name = held.name;
+                held.config.render_with(scene, WithMoment { run, name })
+            }
+            None => run.render(&Aov::<Depth>::new(scene, None, AovSpec::default())),
+        }
     }
 }
 
