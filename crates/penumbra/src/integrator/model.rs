@@ -5,7 +5,7 @@
 
 use std::fmt::Debug;
 
-use crate::description::{Invalid, Node, Props, Schema};
+use crate::description::{Invalid, Kind, Node, Props, Schema};
 use crate::scene::Scene;
 
 use super::interface::Integrator;
@@ -36,7 +36,7 @@ pub trait IntegratorModel {
     /// unless the plugin also reads the node's children (an integrator it
     /// holds).
     fn read_node(node: &Node, p: &Props) -> Result<Self::Settings, Invalid> {
-        super::aov::plugins::holds_none(node)?;
+        holds_none(node)?;
         Self::read(p)
     }
 
@@ -80,4 +80,18 @@ pub trait Nested: Clone + Debug + PartialEq {
 
     /// Makes the integrator for `scene` and hands it to `run`.
     fn render_with<R: RenderWith>(self, scene: &Scene, run: R) -> R::Output;
+}
+
+/// The error for an integrator child of a plugin that holds none.
+pub fn holds_none(node: &Node) -> Result<(), Invalid> {
+    match node.children.iter().find(|c| c.kind == Kind::Integrator) {
+        Some(child) => Err(Invalid::at(
+            &child.origin,
+            format!(
+                "the `{}` integrator holds no integrator (`aov` and `moment` do)",
+                node.plugin
+            ),
+        )),
+        None => Ok(()),
+    }
 }

@@ -284,7 +284,7 @@ mod tests {
     #[test]
     fn channels_round_trip_through_exr_by_name() {
         use crate::render::ExtraChannels;
-        use exr::prelude::{read_all_flat_layers_from_file, FlatSamples, Text};
+        use exr::prelude::{read_all_flat_layers_from_file, FlatSamples};
         let dir = tempfile::tempdir().unwrap();
         let mut img = Image::new(3, 2);
         img.pixels[4] = Rgb::new(0.25, 0.5, 2.0);
@@ -305,7 +305,7 @@ mod tests {
                 .channel_data
                 .list
                 .iter()
-                .find(|c| c.name == Text::from(name))
+                .find(|c| c.name == *name)
                 .unwrap_or_else(|| panic!("no channel {name}"));
             match &c.sample_data {
                 FlatSamples::F32(v) => v.clone(),

@@ -3,8 +3,8 @@
 //! distance is measured from where the ray starts, the camera's near clip
 //! plane, as Mitsuba's camera rays start there.
 
-use super::first_hits;
 use crate::accel::Hit;
+use crate::integrator::clip::first_hits;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, Integrator, PixelWorker, TileJob};
 use crate::integrator::stats::RayStats;

@@ -70,7 +70,7 @@ pub use plugins::{AovPlugin, AovSettings, DepthPlugin, Held, MomentPlugin, Momen
 
 use std::ops::Range;
 
-use super::clip::clip_camera_hits;
+use super::clip::first_hits;
 use super::film::{Channels, FilmTile};
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::{RayStats, StageBatches};
@@ -478,22 +478,11 @@ impl<'s> Probe<'s> {
     }
 }
 
-/// The first hits of camera rays `rays`, clipped to the camera's planes,
-/// into `hits`: what every integrator's camera rays meet.
-fn first_hits(scene: &Scene, rays: &[Ray], hits: &mut Vec<Option<Hit>>) {
-    hits.clear();
-    hits.extend(
-        rays.iter()
-            .map(|r| scene.world.intersect(r, 0.0, f32::INFINITY)),
-    );
-    clip_camera_hits(scene, rays, hits);
-}
-
 /// The change of `uv` at the hit `si` toward the rays `rx` and `ry`
 /// (through the neighbouring film points), which meet the tangent plane
-/// of the shading normal: the least-squares solution of `dp = dp/du · du
-/// + dp/dv · dv` for each, as Mitsuba's `compute_uv_partials`. Zero where
-/// the tangents are degenerate.
+/// of the shading normal: for each, the least-squares solution of
+/// `dp = dp/du · du + dp/dv · dv`, as Mitsuba's `compute_uv_partials`.
+/// Zero where the tangents are degenerate.
 fn uv_partials(si: &Hit, rx: &Ray, ry: &Ray) -> (Vec2, Vec2) {
     let n = si.n;
     let d = n.dot(si.p);

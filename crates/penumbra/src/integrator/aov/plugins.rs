@@ -110,20 +110,6 @@ impl<C: Nested> Held<C> {
     }
 }
 
-/// The error for an integrator child of a plugin that holds none.
-pub fn holds_none(node: &Node) -> Result<(), Invalid> {
-    match node.children.iter().find(|c| c.kind == Kind::Integrator) {
-        Some(child) => Err(Invalid::at(
-            &child.origin,
-            format!(
-                "the `{}` integrator holds no integrator (`aov` and `moment` do)",
-                node.plugin
-            ),
-        )),
-        None => Ok(()),
-    }
-}
-
 /// The `depth` integrator as a plugin.
 pub struct DepthPlugin;
 
