@@ -63,15 +63,29 @@ fn depth_position_uv_and_normal_of_a_plane_are_analytic() {
     assert!(img.extra.is_none());
     let aov = scene(
         &(frame(
-            "integrator = \"aov\"\naovs = \"dd:depth,pp:position,uv:uv,ng:geo_normal,nn:sh_normal,al:albedo\"",
+            "integrator = \"aov\"\naovs = \"dd:depth,pp:position,uv:uv,ng:geo_normal,nn:sh_normal,al:albedo,dx:duv_dx,dy:duv_dy\"",
         ) + quad),
     );
     let a = run(&aov, 2, None);
     let names = &a.extra.as_ref().unwrap().names;
     assert_eq!(
         names.join(" "),
-        "dd.T pp.X pp.Y pp.Z uv.U uv.V ng.X ng.Y ng.Z nn.X nn.Y nn.Z al.R al.G al.B"
+        "dd.T pp.X pp.Y pp.Z uv.U uv.V ng.X ng.Y ng.Z nn.X nn.Y nn.Z al.R al.G al.B \
+         dx.U dx.V dy.U dy.V"
     );
+    // A pixel's step on the plane at distance 3 (one camera ray per pixel,
+    // so unscaled), over the quad's edges.
+    let step = 2.0 * 3.0 * (FOV.to_radians() * 0.5).tan() / H as f32;
+    for (name, want) in [
+        ("dx.U", step / 20.0),
+        ("dx.V", 0.0),
+        ("dy.U", 0.0),
+        ("dy.V", -step / 16.0),
+    ] {
+        for got in channel(&a, name) {
+            assert!((got - want).abs() < 1e-5, "{name}: {got} vs {want}");
+        }
+    }
     let dd = channel(&a, "dd.T");
     let (u, v) = (channel(&a, "uv.U"), channel(&a, "uv.V"));
     let (px, py, pz) = (
