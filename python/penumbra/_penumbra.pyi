@@ -38,7 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian", "mitchell", "catmullrom", "lanczos"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
-IntegratorName = Literal["whitted", "path", "direct", "distributed", "volpath", "ptracer"]
+IntegratorName = Literal["whitted", "path", "direct", "distributed", "volpath", "ptracer", "depth", "aov", "moment"]
 PathSamplerName = Literal["independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"]
 LightSamplerName = Literal["uniform", "power", "bvh"]
 StrPath = str | os.PathLike[str]
@@ -308,7 +308,13 @@ def render(
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> tuple[Image, Stats]:
-    """Renders the frame: a float32 (height, width, 3) linear-RGB image and the stats document."""
+    """Renders the frame: a float32 (height, width, 3) linear-RGB image and the stats document.
+
+    With an integrator that writes channels beside the image (``aov``,
+    ``moment``) the image is (height, width, 3 + C): RGB, then the channels
+    in Mitsuba's order, their names in ``stats["channels"]`` (``R``, ``G``,
+    ``B`` first).
+    """
 
 def render_region(
     scene: Scene,

@@ -127,14 +127,19 @@ def render(
         )
         for i, region in enumerate(regions)
     ]
-    image = np.zeros((cy1 - cy0, cx1 - cx0, 3), dtype=np.float32)
+    image: np.ndarray | None = None
     parts: list[tuple[dict[str, Any], tuple[str, int]]] = []
     for (x0, y0, x1, y1), tile_image, stats, worker in _collect(client, futures, progress):
+        if image is None:
+            # RGB, and the channels an `aov` or `moment` integrator writes.
+            channels = tile_image.shape[2]
+            image = np.zeros((cy1 - cy0, cx1 - cx0, channels), dtype=np.float32)
         image[y0 - cy0 : y1 - cy0, x0 - cx0 : x1 - cx0] = tile_image
         parts.append((stats, worker))
     wall = time.perf_counter() - started
     merged = merge_stats(parts, wall_s=wall)
     merged["tile"] = tile
+    assert image is not None
     return image, merged
 
 

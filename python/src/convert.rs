@@ -280,8 +280,32 @@ fn show(path: &str) -> &str {
 
 /// An image as a float32 numpy array of shape (height, width, 3).
 pub fn image_to_numpy<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyArray3<f32>>> {
-    let flat: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
-    PyArray1::from_vec(py, flat).reshape([image.height as usize, image.width as usize, 3])
+    let (h, w) = (image.height as usize, image.width as usize);
+    let Some(extra) = &image.extra else {
+        let flat: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+        return PyArray1::from_vec(py, flat).reshape([h, w, 3]);
+    };
+    // RGB, then the channels beside it, pixel by pixel.
+    let c = extra.names.len();
+    let mut flat = Vec::with_capacity(h * w * (3 + c));
+    for (p, v) in image.pixels.iter().zip(extra.values.chunks_exact(c.max(1))) {
+        flat.extend(p.to_array());
+        flat.extend_from_slice(&v[..c]);
+    }
+    PyArray1::from_vec(py, flat).reshape([h, w, 3 + c])
+}
+
+/// The names of an image's channels as [`image_to_numpy`] orders them:
+/// `R`, `G`, `B`, then those beside the image (Mitsuba's names); `None`
+/// without any beside it.
+pub fn channel_names(image: &Image) -> Option<Vec<String>> {
+    image.extra.as_ref().map(|e| {
+        ["R", "G", "B"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain(e.names.iter().cloned())
+            .collect()
+    })
 }
 
 /// Issues a Python `UserWarning` (the CLI prints `warning: ...` instead).

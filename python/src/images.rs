@@ -48,10 +48,12 @@ pub fn save_image(py: Python<'_>, path: PathBuf, image: &Bound<'_, PyAny>) -> Py
         width: w as u32,
         height: h as u32,
         pixels,
+        extra: None,
     };
     py.detach(|| write_image(&path, &img)).map_err(|e| match e {
         OutputError::Format(_) => PyValueError::new_err(e.to_string()),
         OutputError::Write { .. } => PyOSError::new_err(e.to_string()),
+        OutputError::Channels { .. } => PyValueError::new_err(e.to_string()),
     })
 }
 

@@ -27,7 +27,7 @@ use std::sync::Arc;
 use penumbra::sampling::{Distribution, PointTable, Rng};
 use penumbra::scene::{read_points, Points};
 
-use crate::convert::{image_to_numpy, json_to_py, warn};
+use crate::convert::{channel_names, image_to_numpy, json_to_py, warn};
 use crate::error::SceneError;
 use crate::options::{parse_distribution, parse_options, positive_f32, ranged_int, Options};
 use crate::scene::Scene;
@@ -39,7 +39,10 @@ const MAX_SAMPLES: i64 = 100_000;
 ///
 /// The image is a float32 numpy array of shape (height, width, 3), linear RGB,
 /// top row first; the stats are the document `penumbra render --stats`
-/// writes. Options override the scene's values exactly as the command line's
+/// writes. An integrator that writes channels beside the image (`aov`,
+/// `moment`) makes it (height, width, 3 + C): RGB, then the channels in
+/// Mitsuba's order, their names in `stats["channels"]` (`R`, `G`, `B`
+/// first). Options override the scene's values exactly as the command line's
 /// do. The GIL is released while rendering; Ctrl-C stops the render and
 /// raises KeyboardInterrupt.
 #[pyfunction]
@@ -146,6 +149,9 @@ fn render_impl<'py>(
     let mut doc = stats_document(scene.name(), &built, &stats);
     if let (Some(r), Some(map)) = (region, doc.as_object_mut()) {
         map.insert("region".into(), serde_json::json!([r.x0, r.y0, r.x1, r.y1]));
+    }
+    if let (Some(names), Some(map)) = (channel_names(&image), doc.as_object_mut()) {
+        map.insert("channels".into(), serde_json::json!(names));
     }
     let stats = json_to_py(py, &doc)?.cast_into::<PyDict>()?;
     Ok((image_to_numpy(py, &image)?, stats))

@@ -13,8 +13,8 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyTuple};
 
-use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::emitter::choice::LightChoice;
+use penumbra::input::quote::{bounded, clip, MAX_QUOTED_CHARS};
 use penumbra::sampling::{Distribution, Filter, PathSampler, PointTable};
 use penumbra::scene::options::markdown::{default_text, View};
 use penumbra::scene::options::{Kind, Value};
@@ -165,7 +165,11 @@ fn parse_value(o: &RenderOption, v: &Bound<'_, PyAny>) -> PyResult<Value> {
                 "{name} is set in the scene, not as a render option"
             )))
         }
-        Kind::File => return Err(PyTypeError::new_err(format!("{name} is read by parse_points"))),
+        Kind::File => {
+            return Err(PyTypeError::new_err(format!(
+                "{name} is read by parse_points"
+            )))
+        }
     })
 }
 
@@ -186,8 +190,10 @@ pub fn ranged_int(name: &str, v: &Bound<'_, PyAny>, lo: i64, hi: i64) -> PyResul
         Ok(n) if (lo..=hi).contains(&n) => Ok(n),
         _ => Err(value_error(format!(
             "{name} must be an integer in {lo}..={hi}, got {}",
-            v.repr()
-                .map_or_else(|_| "?".to_string(), |r| clip(&r.to_string(), MAX_QUOTED_CHARS).into_owned())
+            v.repr().map_or_else(
+                |_| "?".to_string(),
+                |r| clip(&r.to_string(), MAX_QUOTED_CHARS).into_owned()
+            )
         ))),
     }
 }
@@ -265,7 +271,14 @@ fn between_f32(name: &str, v: &Bound<'_, PyAny>, lo: f32, hi: f32) -> PyResult<f
 /// A distribution by name, with the CLI's message for an unknown one.
 pub fn parse_distribution(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Distribution> {
     let from = Distribution::from_name;
-    by_name(name, "distribution", v, from, &Distribution::SELECTABLE, Distribution::name)
+    by_name(
+        name,
+        "distribution",
+        v,
+        from,
+        &Distribution::SELECTABLE,
+        Distribution::name,
+    )
 }
 
 /// An adaptive sampling rule by name, with the CLI's message for an unknown one.
@@ -277,24 +290,52 @@ pub fn parse_stop_rule(name: &str, v: &Bound<'_, PyAny>) -> PyResult<StopRule> {
 /// An integrator by name, with the CLI's message for an unknown one.
 pub fn parse_integrator(name: &str, v: &Bound<'_, PyAny>) -> PyResult<IntegratorChoice> {
     let from = IntegratorChoice::from_name;
-    by_name(name, "integrator", v, from, &IntegratorChoice::ALL, IntegratorChoice::name)
+    by_name(
+        name,
+        "integrator",
+        v,
+        from,
+        &IntegratorChoice::ALL,
+        IntegratorChoice::name,
+    )
 }
 
 /// A path sampler by name, with the CLI's message for an unknown one.
 pub fn parse_path_sampler(name: &str, v: &Bound<'_, PyAny>) -> PyResult<PathSampler> {
     let from = PathSampler::from_name;
-    by_name(name, "path sampler", v, from, &PathSampler::ALL, PathSampler::name)
+    by_name(
+        name,
+        "path sampler",
+        v,
+        from,
+        &PathSampler::ALL,
+        PathSampler::name,
+    )
 }
 
 /// A light sampler by name, with the CLI's message for an unknown one.
 pub fn parse_light_sampler(name: &str, v: &Bound<'_, PyAny>) -> PyResult<LightChoice> {
     let from = LightChoice::from_name;
-    by_name(name, "light sampler", v, from, &LightChoice::ALL, LightChoice::name)
+    by_name(
+        name,
+        "light sampler",
+        v,
+        from,
+        &LightChoice::ALL,
+        LightChoice::name,
+    )
 }
 
 /// A pixel filter by name, with the CLI's message for an unknown one.
 pub fn parse_filter(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Filter> {
-    by_name(name, "filter", v, Filter::from_name, &Filter::ALL, Filter::name)
+    by_name(
+        name,
+        "filter",
+        v,
+        Filter::from_name,
+        &Filter::ALL,
+        Filter::name,
+    )
 }
 
 /// The `what` (a distribution, a filter) that keyword `name` names.

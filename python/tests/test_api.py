@@ -491,3 +491,37 @@ def test_bad_custom_points_are_refused(points, error, match, small):
     scene = penumbra.load_scene("showcase")
     with pytest.raises(error, match=match):
         penumbra.render(scene, distribution="custom", points=points, **small)
+
+
+def test_aov_channels_follow_the_image_with_their_names(mesh_scene: Path):
+    """An `aov` integrator's channels come after RGB, named as Mitsuba names
+    them; the RGB is the held integrator's image, and a region holds the
+    whole frame's channels."""
+    d = tomllib.loads(mesh_scene.read_text())
+    d["render"].update(
+        integrator="aov",
+        aovs="dd:depth,nn:geo_normal",
+        nested={"type": "path", "name": "img", "max_depth": 3},
+        spp=4,
+    )
+    scene = penumbra.scene_from_dict(d, base_dir=str(mesh_scene.parent))
+    image, stats = penumbra.render(scene, threads=2)
+    names = ["R", "G", "B", "img.R", "img.G", "img.B", "img.A", "dd.T", "nn.X", "nn.Y", "nn.Z"]
+    assert stats["channels"] == names
+    assert image.shape == (30, 40, len(names)) and image.dtype == np.float32
+    plain = dict(d)
+    plain["render"] = {k: v for k, v in d["render"].items() if k not in ("aovs", "nested")}
+    plain["render"].update(integrator="path", max_depth=3)
+    plain_scene = penumbra.scene_from_dict(plain, base_dir=str(mesh_scene.parent))
+    rgb, plain_stats = penumbra.render(plain_scene, threads=2)
+    assert "channels" not in plain_stats and rgb.shape == (30, 40, 3)
+    assert np.array_equal(image[..., :3], rgb)
+    assert np.array_equal(image[..., 3:6], rgb)
+    depth = image[..., names.index("dd.T")]
+    assert depth.max() > 1.0 and depth.min() >= 0.0
+    normal = image[..., 8:11]
+    lengths = np.linalg.norm(normal, axis=-1)
+    assert (np.abs(lengths[depth > 0] - 1.0) < 0.05).mean() > 0.9
+    part, part_stats = penumbra.render_region(scene, 10, 5, 30, 25, threads=1)
+    assert part_stats["channels"] == names
+    assert np.array_equal(part, image[5:25, 10:30])

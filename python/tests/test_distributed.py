@@ -96,6 +96,31 @@ def test_light_traced_tiles_on_two_workers_give_exactly_the_local_image(client):
     assert stats["rays"]["primary"] == tiles * local_stats["rays"]["primary"] > 0
 
 
+def test_channels_of_tiles_on_two_workers_are_the_local_ones(client):
+    """A `moment` render's channels (splatted by Mitsuba's default Gaussian)
+    stitch from tiles into exactly the local render's."""
+    d = tomllib.loads(penumbra.load_scene("cornell-box").text)
+    d["render"] = {
+        "width": 40,
+        "height": 40,
+        "spp": 4,
+        "seed": 5,
+        "filter": "gaussian",
+        "splat": True,
+        "integrator": "moment",
+        "nested": {"type": "path", "max_depth": 4},
+    }
+    scene = penumbra.scene_from_dict(d)
+    local, local_stats = penumbra.render(scene)
+    image, stats = pd.render(scene, client, tile=13)
+    assert local.shape == (40, 40, 9)
+    assert stats["channels"] == local_stats["channels"]
+    assert stats["channels"][3:] == [
+        "_arg_0.X", "_arg_0.Y", "_arg_0.Z", "m2__arg_0.X", "m2__arg_0.Y", "m2__arg_0.Z"
+    ]
+    assert np.array_equal(image, local)
+
+
 def test_progress_counts_tiles(client, small):
     calls = []
     pd.render(penumbra.load_scene("showcase"), client, tile=16,

@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use penumbra::io::output::{write_bytes, write_image, Format};
+use penumbra::integrator::Config;
+use penumbra::io::output::{check_channels, write_bytes, write_image, Format};
 use penumbra::render::{render, stats_document, RenderOptions};
 use penumbra::scene::{default_bunny_path, SceneSource};
 
@@ -67,6 +68,18 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let choices = &args.options.0;
     choices.overrides.apply(&mut source);
     let scene = source.build().map_err(input)?;
+    // Channels beside the image (`aov`, `moment`) need an EXR output.
+    if let Ok(config) = Config::of(&scene) {
+        let channels = config.channels();
+        check_channels(&args.output, &channels).map_err(input)?;
+        let name = config.choice().name();
+        if channels.is_empty() && matches!(name, "aov" | "moment") {
+            eprintln!(
+                "warning: the `{name}` integrator has no variables (`aovs`) or held integrator \
+                 (`nested`): the image is black and no channel is written"
+            );
+        }
+    }
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }

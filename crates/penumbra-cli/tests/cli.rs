@@ -84,6 +84,42 @@ fn a_bad_scene_exits_2_and_leaves_the_old_image_alone() {
     );
 }
 
+/// An `aov` render's channels need an EXR: a PNG output is refused before
+/// rendering, and the EXR holds every channel by name.
+#[test]
+fn aov_channels_are_written_to_exr_and_refused_for_png() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("aov.toml"),
+        "[render]\nwidth = 8\nheight = 6\nintegrator = \"aov\"\naovs = \"dd:depth,nn:geo_normal\"\n\
+         nested = { type = \"path\", name = \"img\" }\n\n\
+         [[objects]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
+    )
+    .unwrap();
+    let o = penumbra(&["render", "aov.toml", "-o", "out.png", "-q"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("out.png") && e.contains("img.R, img.G") && e.contains(".exr"),
+        "{e}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+    let o = penumbra(&["render", "aov.toml", "-o", "out.exr", "-q"], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let exr = exr::prelude::read_all_flat_layers_from_file(dir.path().join("out.exr")).unwrap();
+    let mut names: Vec<String> = exr.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names.join(" "),
+        "B G R dd.T img.A img.B img.G img.R nn.X nn.Y nn.Z"
+    );
+}
+
 #[test]
 fn malformed_meshes_exit_2_with_their_location() {
     let dir = tempfile::tempdir().unwrap();

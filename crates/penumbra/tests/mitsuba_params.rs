@@ -53,7 +53,6 @@ const MISSING: &[&str] = &[
     "linearcurve",
     "measured",
     "measured_polarized",
-    "aov",
     "batch",
     "polarizer",
     "pplastic",

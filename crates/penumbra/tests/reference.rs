@@ -28,7 +28,9 @@ fn the_docs_tables_are_the_schemas() {
         }
     };
     let (format, mitsuba) = (
-        fresh(reference::scene_format),
+        fresh(|text| {
+            reference::scene_format_with(text, &penumbra::integrator::aov::plugins::SCHEMAS)
+        }),
         fresh(|text| reference::mitsuba(text, registry)),
     );
     let stale = common::stale_docs(&[

@@ -94,6 +94,13 @@ impl BsdfModel for BlendBsdf {
         BlendBsdf::new(weight, b0, b1).map_err(|e| p.node_error(e))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the held models' blended by the weight.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
+        let w = self.weight(si);
+        self.bsdf_0.diffuse_reflectance(si, wo) * (1.0 - w)
+            + self.bsdf_1.diffuse_reflectance(si, wo) * w
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = self.bsdf_0.lobes();
         self.bsdf_1.lobes().place(&mut l, self.offset());

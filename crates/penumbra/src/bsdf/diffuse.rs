@@ -75,6 +75,11 @@ impl BsdfModel for Diffuse {
         })
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the reflectance.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, _wo: Vec3) -> Rgb {
+        self.reflectance.eval(si)
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();
         l.flags[0] = BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION;

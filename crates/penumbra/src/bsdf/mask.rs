@@ -96,6 +96,11 @@ impl BsdfModel for Mask {
         Mask::new(opacity, bsdf).map_err(|e| p.error("bsdf", e))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the held model's.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
+        self.bsdf.diffuse_reflectance(si, wo)
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = self.bsdf.lobes();
         l.flags[self.null_slot()] = NULL;

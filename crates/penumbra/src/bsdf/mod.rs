@@ -131,6 +131,15 @@ pub trait BsdfModel: Sized {
     /// drawing `wi`; 0 for delta lobes.
     fn pdf(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> f32;
 
+    /// The reflectance of the surface at `si` seen from `wo` as a diffuse
+    /// one (Mitsuba's `eval_diffuse_reflectance`, its `aov` integrator's
+    /// `albedo`): a model with a diffuse reflectance or base colour gives
+    /// it; any other, π times its value for light arriving along the
+    /// shading normal (0 for a model of delta lobes alone).
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
+        self.eval(si, wo, si.n) * std::f32::consts::PI
+    }
+
     /// The fraction of light a shadow ray keeps when it crosses the
     /// surface at `si` without bending (the thesis's transparent shadows);
     /// 0 for an opaque surface.
@@ -234,6 +243,13 @@ macro_rules! models {
             pub fn eval(&self, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Rgb {
                 match self {
                     $(Bsdf::$variant(m) => m.eval(si, wo, wi),)*
+                }
+            }
+
+            /// See [`BsdfModel::diffuse_reflectance`].
+            pub fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
+                match self {
+                    $(Bsdf::$variant(m) => m.diffuse_reflectance(si, wo),)*
                 }
             }
 

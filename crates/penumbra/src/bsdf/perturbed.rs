@@ -185,6 +185,16 @@ pub fn sample(
 /// shadow rays pass it as they pass the held model.
 macro_rules! through_perturbed_normal {
     () => {
+        /// Mitsuba's `eval_diffuse_reflectance`: the held model's, at the
+        /// unperturbed interaction.
+        fn diffuse_reflectance(
+            &self,
+            si: &$crate::geometry::SurfaceInteraction,
+            wo: $crate::math::Vec3,
+        ) -> $crate::math::Rgb {
+            self.bsdf.diffuse_reflectance(si, wo)
+        }
+
         fn lobes(&self) -> $crate::bsdf::Lobes {
             self.bsdf.lobes()
         }

@@ -634,6 +634,11 @@ impl BsdfModel for Principled {
         })))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the base colour.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, _wo: Vec3) -> Rgb {
+        self.base_color.eval(si)
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();
         l.flags[BASE] = DIFFUSE;

@@ -371,6 +371,11 @@ impl BsdfModel for PrincipledThin {
         })))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the base colour.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, _wo: Vec3) -> Rgb {
+        self.base_color.eval(si)
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();
         l.flags[DIFFUSE_REFLECTION] = FLAGS[DIFFUSE_REFLECTION];

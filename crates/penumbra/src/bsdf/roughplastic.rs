@@ -250,6 +250,11 @@ impl BsdfModel for RoughPlastic {
         Ok(RoughPlastic::new(distribution, read_common(p, d.textures)?))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: the diffuse reflectance under the coating.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, _wo: Vec3) -> Rgb {
+        self.diffuse_reflectance.eval(si)
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = Lobes::default();
         l.flags[0] = GLOSSY;

@@ -135,6 +135,14 @@ impl BsdfModel for TwoSided {
         TwoSided::new(front, back).map_err(|e| p.node_error(e))
     }
 
+    /// Mitsuba's `eval_diffuse_reflectance`: that of the side `wo` leaves from.
+    fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
+        match self.side(si, wo) {
+            Some((m, s, _)) => m.diffuse_reflectance(&s, wo),
+            None => Rgb::ZERO,
+        }
+    }
+
     fn lobes(&self) -> Lobes {
         let mut l = self.front.lobes();
         if let Some(b) = &self.back {

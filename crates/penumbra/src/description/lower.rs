@@ -69,6 +69,8 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("integrator", Kind::Integrator),
     ("passes", Kind::Integrator),
     ("samples_per_pass", Kind::Integrator),
+    ("aovs", Kind::Integrator),
+    ("nested", Kind::Integrator),
 ];
 
 /// The keys of a scene's root table.
@@ -90,6 +92,13 @@ pub const DEFAULT_SENSOR: &str = "perspective";
 pub const DEFAULT_FILM: &str = "hdrfilm";
 pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
+/// The keys of `[render]` that are not render options: the `aov` and
+/// `moment` integrators' own, documented with them.
+pub const INTEGRATOR_KEYS: &[&str] = &["aovs", NESTED_INTEGRATOR];
+
+/// The key of `[render]` whose table is the integrator `aov` or `moment`
+/// holds (its `type`, its parameters, and its `name`, the node's id).
+pub const NESTED_INTEGRATOR: &str = "nested";
 /// The emitter `render.background` becomes; its one property is `radiance`.
 pub const BACKGROUND_EMITTER: &str = "constant";
 /// The plugin of a `[groups.NAME]` table's node.
@@ -295,6 +304,16 @@ fn route_render(render: Option<Located<Value>>, root: &Origin) -> Result<RenderN
             ("integrator", _) => {
                 nodes.integrator.plugin_origin = p.value.origin.clone();
                 nodes.integrator.plugin = string(p.value)?;
+            }
+            (NESTED_INTEGRATOR, _) => {
+                let (origin, mut props) = table(p.value)?;
+                let name = match props.iter().position(|p| p.name == "name") {
+                    Some(i) => Some(string(props.remove(i).value)?),
+                    None => None,
+                };
+                let mut held = plugin_node(Kind::Integrator, origin, props, None)?;
+                held.id = name;
+                nodes.integrator.children.push(held);
             }
             ("background", _) => {
                 let mut emitter = Node::new(Kind::Emitter, BACKGROUND_EMITTER, p.key.clone());
@@ -507,6 +526,7 @@ mod tests {
             let value = match key {
                 "integrator" => "\"whitted\"",
                 "background" => "[0, 0, 0]",
+                NESTED_INTEGRATOR => "{ type = \"path\", name = \"img\" }",
                 _ => "1",
             };
             let root = scene(&format!("[render]\n{key} = {value}\n"));
@@ -521,6 +541,20 @@ mod tests {
                 .collect();
             match key {
                 "integrator" => assert!(holders.is_empty()),
+                // The integrator a holder holds: a child of the integrator.
+                NESTED_INTEGRATOR => {
+                    assert!(holders.is_empty());
+                    let held = root
+                        .child(Kind::Integrator)
+                        .unwrap()
+                        .child(Kind::Integrator);
+                    let held = held.expect("a held integrator");
+                    assert_eq!(
+                        (held.plugin.as_str(), held.id.as_deref()),
+                        ("path", Some("img"))
+                    );
+                    assert_eq!(held.origin.path.to_string(), "render.nested");
+                }
                 _ => {
                     assert_eq!(holders.len(), 1, "{key}");
                     assert_eq!(holders[0].kind, kind, "{key}");

@@ -95,7 +95,7 @@ pub mod tree;
 pub mod write;
 
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
-pub use lower::{from_json, from_toml, toml_to_json, RENDER_KEYS};
+pub use lower::{from_json, from_toml, toml_to_json, INTEGRATOR_KEYS, RENDER_KEYS};
 pub use props::{NumberOr, Props, Scale};
 pub use schema::{check, MitsubaKey, Param, Range, Schema, Type};
 pub use source::Source;

@@ -9,6 +9,7 @@
 //! | node | its plugin name |
 //! |---|---|
 //! | integrator | `render.integrator` |
+//! | integrator held by `aov` or `moment` | `render.nested.type` (its id at `render.nested.name`) |
 //! | sensor, film, sampler | not written: it must be the one lowering makes (`perspective`, `hdrfilm`, `sets`) |
 //! | emitter at `render.background` | not written: it must be `constant` |
 //! | shape group at `groups.NAME` | not written: its table is the group |
@@ -22,7 +23,8 @@
 
 use super::error::{Invalid, KeyPath, KeySeg, Origin};
 use super::lower::{
-    BACKGROUND_EMITTER, DEFAULT_FILM, DEFAULT_SAMPLER, DEFAULT_SENSOR, GROUP_SHAPE, ROOT_KEYS,
+    BACKGROUND_EMITTER, DEFAULT_FILM, DEFAULT_SAMPLER, DEFAULT_SENSOR, GROUP_SHAPE,
+    NESTED_INTEGRATOR, ROOT_KEYS,
 };
 use super::tree::{Kind, Node, Prop, Value};
 
@@ -107,7 +109,26 @@ fn write_node(doc: &mut toml::Table, node: &Node) -> Result<(), Invalid> {
         }
     };
     let background = KeyPath::root().key("render").key("background");
+    let nested = KeyPath::root().key("render").key(NESTED_INTEGRATOR);
     match node.kind {
+        // The integrator `aov` or `moment` holds: `render.nested`, its
+        // id its `name`.
+        Kind::Integrator if node.origin.path == nested => {
+            insert(
+                doc,
+                &nested.key("type"),
+                toml::Value::String(node.plugin.clone()),
+                node,
+            )?;
+            if let Some(id) = &node.id {
+                insert(
+                    doc,
+                    &nested.key("name"),
+                    toml::Value::String(id.clone()),
+                    node,
+                )?;
+            }
+        }
         Kind::Integrator => {
             let path = KeyPath::root().key("render").key("integrator");
             insert(doc, &path, toml::Value::String(node.plugin.clone()), node)?;

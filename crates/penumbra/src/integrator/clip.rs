@@ -31,3 +31,14 @@ pub(in crate::integrator) fn clip_camera_hits(
         }
     }
 }
+
+/// The first hits of camera rays `rays`, clipped to the camera's planes,
+/// into `hits`: what every integrator's camera rays meet.
+pub(in crate::integrator) fn first_hits(scene: &Scene, rays: &[Ray], hits: &mut Vec<Option<Hit>>) {
+    hits.clear();
+    hits.extend(
+        rays.iter()
+            .map(|r| scene.world.intersect(r, 0.0, f32::INFINITY)),
+    );
+    clip_camera_hits(scene, rays, hits);
+}

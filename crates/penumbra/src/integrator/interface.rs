@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use serde::Serialize;
 
-use super::film::FilmTile;
+use super::film::{Channels, FilmTile};
 use super::stats::{RayStats, StageBatches};
 use super::stopping::PixelSamples;
 use crate::scene::Scene;
@@ -70,6 +70,12 @@ pub trait Integrator: Sync {
     /// its sum ([`light`](super::splat::light)).
     fn splats_anywhere(&self) -> bool {
         false
+    }
+
+    /// The channels its films hold beside the image (Mitsuba's AOVs):
+    /// none unless it writes some.
+    fn channels(&self) -> Channels {
+        Channels::none()
     }
 }
 

@@ -57,6 +57,7 @@
 //!   refraction budget and `translucency` radius (a rough interface blurs both),
 //!   and its rays are counted as reflection rays.
 
+pub mod aov;
 mod clip;
 mod film;
 mod interface;
@@ -75,7 +76,7 @@ pub mod streams;
 pub mod transmittance;
 mod whitted;
 
-pub use film::FilmTile;
+pub use film::{srgb_to_xyz, Channels, ExtraFilm, FilmTile};
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use model::IntegratorModel;

@@ -14,9 +14,10 @@
 //! description into the integrator's own settings, when the scene is built
 //! (to check it) and when a render starts.
 
-use super::interface::Integrator;
+use super::aov::{self, AovPlugin, DepthPlugin, MomentPlugin};
 use super::metric::Metric;
-use super::model::IntegratorModel;
+pub use super::model::RenderWith;
+use super::model::{IntegratorModel, Nested};
 use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
 use super::ptracer::{self, PtracerPlugin};
 use super::whitted::WhittedPlugin;
@@ -26,44 +27,94 @@ use crate::scene::{schemas, IntegratorChoice, Scene, SceneSource, WorldCache};
 
 /// The integrators Mitsuba 3 has, as its reader sees them: `path`,
 /// `direct` and `ptracer`.
-const MITSUBA_INTEGRATORS: [Plugin; 4] = [
-    path::PLUGINS[0],
-    path::PLUGINS[1],
-    path::PLUGINS[2],
-    ptracer::PLUGINS[0],
-];
-
 /// Every plugin as the Mitsuba reader sees it: the integrators Mitsuba 3
-/// has (`path`, `volpath`, `direct`, `ptracer`) and the scene's plugins of every other
+/// has (`path`, `volpath`, `direct`, `ptracer`, `depth`, `aov`, `moment`) and the scene's plugins of every other
 /// kind ([`schemas::plugins`]). The scene layer, below the integrators,
 /// cannot name them: readers of Mitsuba scenes take this registry.
 pub fn registry(kind: Kind) -> &'static [Plugin] {
     match kind {
-        Kind::Integrator => &MITSUBA_INTEGRATORS,
+        Kind::Integrator => &MITSUBA,
         _ => schemas::plugins(kind),
     }
 }
 
-/// What a caller does with the integrator a [`Config`] makes
-/// ([`Config::render_with`]): a render, generic over the integrator.
-pub trait RenderWith {
-    type Output;
-
-    fn render<I: Integrator>(self, integrator: &I) -> Self::Output;
-}
+/// The integrators Mitsuba 3 has.
+const MITSUBA: [Plugin; 7] = {
+    let (p, t, a) = (path::PLUGINS, ptracer::PLUGINS, aov::plugins::PLUGINS);
+    [p[0], p[1], p[2], t[0], a[0], a[1], a[2]]
+};
 
 /// Makes [`Config`] (an integrator listed, `Variant => Model` with the
 /// model implementing [`IntegratorModel`], with its settings), the list
-/// of their schemas and the dispatch.
+/// of their schemas and the dispatch; and [`HeldConfig`], the integrators
+/// listed under `images` (those that make an image of their own),
+/// which the `holders` hold.
 macro_rules! integrators {
-    ($($variant:ident => $model:ty,)*) => {
+    (images { $($plain:ident => $plain_model:ty,)* } holders { $($holder:ident => $holder_model:ty,)* }) => {
+        integrators!(@all $($plain => $plain_model,)* $($holder => $holder_model,)*);
+
+        /// An integrator that makes an image of its own (any but the
+        /// holders), held by `aov` or `moment`, with its settings.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum HeldConfig {
+            $($plain(<$plain_model as IntegratorModel>::Settings),)*
+        }
+
+        impl Nested for HeldConfig {
+            fn read(node: &Node) -> Result<HeldConfig, Invalid> {
+                match Config::read(node)? {
+                    $(Config::$plain(s) => Ok(HeldConfig::$plain(s)),)*
+                    _ => Err(Invalid::at(
+                        &node.plugin_origin,
+                        format!(
+                            "`{}` cannot be held: `aov` and `moment` hold an integrator that \
+                             makes an image ({})",
+                            node.plugin,
+                            [$(IntegratorChoice::$plain.name(),)*].join(", ")
+                        ),
+                    )),
+                }
+            }
+
+            fn plugin(&self) -> &'static str {
+                match self {
+                    $(HeldConfig::$plain(_) => IntegratorChoice::$plain.name(),)*
+                }
+            }
+
+            fn depth(&self) -> i64 {
+                match self {
+                    $(HeldConfig::$plain(s) => <$plain_model as IntegratorModel>::depth(s),)*
+                }
+            }
+
+            fn metric(&self) -> Option<Metric> {
+                match self {
+                    $(HeldConfig::$plain(s) => <$plain_model as IntegratorModel>::metric(s),)*
+                }
+            }
+
+            fn passes(&self) -> u32 {
+                match self {
+                    $(HeldConfig::$plain(s) => <$plain_model as IntegratorModel>::passes(s),)*
+                }
+            }
+
+            fn render_with<R: RenderWith>(self, scene: &Scene, run: R) -> R::Output {
+                match self {
+                    $(HeldConfig::$plain(s) => <$plain_model as IntegratorModel>::render_with(scene, s, run),)*
+                }
+            }
+        }
+    };
+    (@all $($variant:ident => $model:ty,)*) => {
         /// The schemas of the integrators, in the list's order (that of
         /// [`IntegratorChoice::ALL`]).
         pub const SCHEMAS: [&Schema; [$(IntegratorChoice::$variant,)*].len()] =
             [$(<$model as IntegratorModel>::SCHEMA,)*];
 
         /// An integrator and its settings, read from its description.
-        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[derive(Clone, Debug, PartialEq)]
         pub enum Config {
             $($variant(<$model as IntegratorModel>::Settings),)*
         }
@@ -94,7 +145,7 @@ macro_rules! integrators {
                 description::check(node, schema, &others)?;
                 let p = Props::new(node);
                 let config = match choice {
-                    $(IntegratorChoice::$variant => Config::$variant(<$model as IntegratorModel>::read(&p)?),)*
+                    $(IntegratorChoice::$variant => Config::$variant(<$model as IntegratorModel>::read_node(node, &p)?),)*
                 };
                 p.finish("integrator")?;
                 Ok(config)
@@ -129,10 +180,19 @@ macro_rules! integrators {
                 }
             }
 
+            /// The names of the channels it writes beside the image
+            /// (Mitsuba's AOVs, in Mitsuba's order; none for most): what a
+            /// caller checks its output can hold before it renders.
+            pub fn channels(&self) -> Vec<String> {
+                match self {
+                    $(Config::$variant(s) => <$model as IntegratorModel>::channels(s),)*
+                }
+            }
+
             /// Makes the integrator for `scene` and hands it to `run`.
             pub fn render_with<R: RenderWith>(self, scene: &Scene, run: R) -> R::Output {
                 match self {
-                    $(Config::$variant(s) => run.render(&<$model as IntegratorModel>::integrator(scene, s)),)*
+                    $(Config::$variant(s) => <$model as IntegratorModel>::render_with(scene, s, run),)*
                 }
             }
         }
@@ -140,12 +200,19 @@ macro_rules! integrators {
 }
 
 integrators! {
-    Whitted => WhittedPlugin,
-    Path => PathPlugin,
-    Direct => DirectPlugin,
-    Distributed => DistributedPlugin,
-    Volpath => VolpathPlugin,
-    Ptracer => PtracerPlugin,
+    images {
+        Whitted => WhittedPlugin,
+        Path => PathPlugin,
+        Direct => DirectPlugin,
+        Distributed => DistributedPlugin,
+        Volpath => VolpathPlugin,
+        Ptracer => PtracerPlugin,
+        Depth => DepthPlugin,
+    }
+    holders {
+        Aov => AovPlugin<HeldConfig>,
+        Moment => MomentPlugin<HeldConfig>,
+    }
 }
 
 impl Config {

@@ -123,15 +123,37 @@ pub struct SplatFilm {
     pub ys: Range<u32>,
     /// Their sums, row by row.
     pub sums: Vec<Sums>,
+    /// The extra channels splatted (AOVs, moments): per pixel, row by
+    /// row, `channels` weighted sums and the sum of their weights, in the
+    /// same fixed point.
+    pub channels: usize,
+    pub extra: Vec<i128>,
 }
 
 impl SplatFilm {
     /// The film of the samples of pixels `xs × ys`.
     pub fn new(how: Splatting, xs: &Range<u32>, ys: &Range<u32>) -> SplatFilm {
+        SplatFilm::with_channels(how, xs, ys, 0)
+    }
+
+    /// [`new`](Self::new), with `channels` extra channels.
+    pub fn with_channels(
+        how: Splatting,
+        xs: &Range<u32>,
+        ys: &Range<u32>,
+        channels: usize,
+    ) -> SplatFilm {
         let (xs, ys) = how.grown(xs, ys);
+        let n = xs.len() * ys.len();
         SplatFilm {
             how,
-            sums: vec![[0; 4]; xs.len() * ys.len()],
+            sums: vec![[0; 4]; n],
+            channels,
+            extra: if channels == 0 {
+                Vec::new()
+            } else {
+                vec![0; n * (channels + 1)]
+            },
             xs,
             ys,
         }
@@ -142,50 +164,54 @@ impl SplatFilm {
     /// axes, weighted by the filter: Mitsuba's splat. The pixels range
     /// from `⌈p − 1/2 − r⌉` to `⌊p − 1/2 + r⌋` on each axis.
     pub fn put(&mut self, p: Vec2, l: Rgb) {
-        let how = &self.how;
-        let r = how.filter.radius();
-        // Pixel centres are at integer + 1/2: in index units the sample is
-        // at `p − 1/2`.
-        let (cx, cy) = (p.x - 0.5, p.y - 0.5);
-        let span = |c: f32, held: &Range<u32>| {
-            let lo = (c - r).ceil().max(held.start as f32) as u32;
-            let hi = ((c + r).floor() + 1.0).clamp(0.0, held.end as f32) as u32;
-            lo..hi.max(lo)
-        };
-        let (xs, ys) = (span(cx, &self.xs), span(cy, &self.ys));
-        if xs.is_empty() || ys.is_empty() {
+        let l = l.to_array().map(f64::from);
+        let sums = &mut self.sums;
+        reach(&self.how, &self.xs, &self.ys, p, |k, w64| {
+            let s = &mut sums[k];
+            s[0] += fixed(l[0] * w64);
+            s[1] += fixed(l[1] * w64);
+            s[2] += fixed(l[2] * w64);
+            s[3] += fixed(w64);
+        });
+    }
+
+    /// Adds a sample of the extra channels, `values`, at film position
+    /// `p`, as [`put`](Self::put) adds the image's: to the same pixels by
+    /// the same weights, in the same fixed point.
+    pub fn put_channels(&mut self, p: Vec2, values: &[f32]) {
+        let c = self.channels;
+        if c == 0 {
             return;
         }
-        // The weights along x, each evaluated once (a wide filter's past
-        // 16 pixels are evaluated where used).
-        let mut wx = [0f32; 16];
-        for (i, w) in wx.iter_mut().take(xs.len()).enumerate() {
-            *w = how.weight((xs.start + i as u32) as f32 - cx);
-        }
-        let l = l.to_array().map(f64::from);
-        let stride = self.xs.len();
-        for y in ys {
-            let wy = how.weight(y as f32 - cy);
-            if wy == 0.0 {
-                continue;
+        let extra = &mut self.extra;
+        reach(&self.how, &self.xs, &self.ys, p, |k, w64| {
+            let s = &mut extra[k * (c + 1)..(k + 1) * (c + 1)];
+            for (s, v) in s.iter_mut().zip(values) {
+                *s += fixed(f64::from(*v) * w64);
             }
-            let row = (y - self.ys.start) as usize * stride;
-            for (i, x) in xs.clone().enumerate() {
-                let wx = wx
-                    .get(i)
-                    .copied()
-                    .unwrap_or_else(|| how.weight(x as f32 - cx));
-                let w = wx * wy;
-                if w == 0.0 {
-                    continue;
+            s[c] += fixed(w64);
+        });
+    }
+
+    /// Adds the sums of the extra channels held for the pixels `xs × ys`
+    /// of the frame to `sums` (theirs, row by row, as [`extra`](Self::extra)
+    /// holds them).
+    pub fn merge_channels_into(&self, sums: &mut [i128], xs: &Range<u32>, ys: &Range<u32>) {
+        let c = self.channels + 1;
+        if self.channels == 0 {
+            return;
+        }
+        let (x0, x1) = (self.xs.start.max(xs.start), self.xs.end.min(xs.end));
+        let (y0, y1) = (self.ys.start.max(ys.start), self.ys.end.min(ys.end));
+        for y in y0..y1 {
+            let from = (y - self.ys.start) as usize * self.xs.len();
+            let to = (y - ys.start) as usize * xs.len();
+            for x in x0..x1 {
+                let a = (from + (x - self.xs.start) as usize) * c;
+                let b = (to + (x - xs.start) as usize) * c;
+                for (t, f) in sums[b..b + c].iter_mut().zip(&self.extra[a..a + c]) {
+                    *t += f;
                 }
-                let k = row + (x - self.xs.start) as usize;
-                let s = &mut self.sums[k];
-                let w64 = f64::from(w);
-                s[0] += fixed(l[0] * w64);
-                s[1] += fixed(l[1] * w64);
-                s[2] += fixed(l[2] * w64);
-                s[3] += fixed(w64);
             }
         }
     }
@@ -198,6 +224,8 @@ impl SplatFilm {
             sums: vec![[0; 4]; xs.len() * ys.len()],
             xs,
             ys,
+            channels: 0,
+            extra: Vec::new(),
         }
     }
 
@@ -282,6 +310,73 @@ impl SplatFilm {
             }
         }
     }
+}
+
+/// Calls `add` with the index (among the pixels `xs × ys`, row by row)
+/// and the filter weight of every pixel held whose centre is within the
+/// filter's radius of `p` on both axes, the weight nonzero: where a
+/// sample at `p` is splatted. The pixels range from `⌈p − 1/2 − r⌉` to
+/// `⌊p − 1/2 + r⌋` on each axis.
+#[inline]
+fn reach(
+    how: &Splatting,
+    held_xs: &Range<u32>,
+    held_ys: &Range<u32>,
+    p: Vec2,
+    mut add: impl FnMut(usize, f64),
+) {
+    let r = how.filter.radius();
+    // Pixel centres are at integer + 1/2: in index units the sample is
+    // at `p − 1/2`.
+    let (cx, cy) = (p.x - 0.5, p.y - 0.5);
+    let span = |c: f32, held: &Range<u32>| {
+        let lo = (c - r).ceil().max(held.start as f32) as u32;
+        let hi = ((c + r).floor() + 1.0).clamp(0.0, held.end as f32) as u32;
+        lo..hi.max(lo)
+    };
+    let (xs, ys) = (span(cx, held_xs), span(cy, held_ys));
+    if xs.is_empty() || ys.is_empty() {
+        return;
+    }
+    // The weights along x, each evaluated once (a wide filter's past
+    // 16 pixels are evaluated where used).
+    let mut wx = [0f32; 16];
+    for (i, w) in wx.iter_mut().take(xs.len()).enumerate() {
+        *w = how.weight((xs.start + i as u32) as f32 - cx);
+    }
+    let stride = held_xs.len();
+    for y in ys {
+        let wy = how.weight(y as f32 - cy);
+        if wy == 0.0 {
+            continue;
+        }
+        let row = (y - held_ys.start) as usize * stride;
+        for (i, x) in xs.clone().enumerate() {
+            let wx = wx
+                .get(i)
+                .copied()
+                .unwrap_or_else(|| how.weight(x as f32 - cx));
+            let w = wx * wy;
+            if w == 0.0 {
+                continue;
+            }
+            add(row + (x - held_xs.start) as usize, f64::from(w));
+        }
+    }
+}
+
+/// The extra channels of a pixel from their sums (`channels` of them and
+/// the weight), into `out`: zeros where nothing reached it.
+pub fn resolve_channels(s: &[i128], out: &mut Vec<f32>) {
+    let (values, w) = s.split_at(s.len() - 1);
+    let w = w[0];
+    out.extend(values.iter().map(|v| {
+        if w == 0 {
+            0.0
+        } else {
+            (*v as f64 / w as f64) as f32
+        }
+    }));
 }
 
 /// A pixel's value from its sums: the weighted mean of what reached it

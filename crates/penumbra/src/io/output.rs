@@ -15,6 +15,17 @@ pub enum OutputError {
     Format(PathBuf),
     #[error("{}: {message}", path.display())]
     Write { path: PathBuf, message: String },
+    /// The image has channels beside its RGB that the format cannot hold.
+    #[error(
+        "{}: the integrator writes {count} channels beside the image ({names}), which only \
+         EXR holds; write to a .exr file",
+        path.display()
+    )]
+    Channels {
+        path: PathBuf,
+        count: usize,
+        names: String,
+    },
 }
 
 /// Output formats, chosen by file extension.
@@ -40,12 +51,37 @@ impl Format {
     }
 }
 
-/// Writes an image in the format its extension names.
+/// Writes an image in the format its extension names. An image with
+/// channels beside its RGB (an `aov` or `moment` integrator's) is written
+/// to EXR only: a PNG is refused ([`check_channels`]) rather than written
+/// without them.
 pub fn write_image(path: &Path, image: &Image) -> Result<(), OutputError> {
     match Format::of(path)? {
-        Format::Png => write_atomic(path, |file| write_png(file, image)),
+        Format::Png => {
+            if let Some(extra) = &image.extra {
+                check_channels(path, &extra.names)?;
+            }
+            write_atomic(path, |file| write_png(file, image))
+        }
         Format::Exr => write_atomic(path, |file| write_exr(file, image)),
     }
+}
+
+/// Refuses to write channels `names` beside the image to `path` unless
+/// its format holds them (EXR): what a caller checks before it renders.
+pub fn check_channels(path: &Path, names: &[String]) -> Result<(), OutputError> {
+    if names.is_empty() || Format::of(path)? == Format::Exr {
+        return Ok(());
+    }
+    let mut shown: Vec<&str> = names.iter().take(6).map(String::as_str).collect();
+    if names.len() > shown.len() {
+        shown.push("…");
+    }
+    Err(OutputError::Channels {
+        path: path.to_path_buf(),
+        count: names.len(),
+        names: shown.join(", "),
+    })
 }
 
 /// Writes bytes (e.g. a JSON document) atomically.
@@ -126,8 +162,42 @@ fn write_png(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
         .map_err(|e| e.to_string())
 }
 
+/// An image with channels beside its RGB: `R`, `G`, `B` and each channel
+/// under its name (Mitsuba's), 32-bit float. OpenEXR lists a file's
+/// channels sorted by name, so readers see them in that order.
+fn write_exr_channels(
+    file: &mut std::fs::File,
+    image: &Image,
+    extra: &crate::render::ExtraChannels,
+) -> Result<(), String> {
+    use exr::prelude::*;
+    let (w, h) = (image.width as usize, image.height as usize);
+    let mut list: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        let v = image.pixels.iter().map(|p| p.to_array()[c]).collect();
+        list.push(AnyChannel::new(*name, FlatSamples::F32(v)));
+    }
+    for (c, name) in extra.names.iter().enumerate() {
+        let v = extra.channel(c).collect();
+        list.push(AnyChannel::new(name.as_str(), FlatSamples::F32(v)));
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(list.into()),
+    );
+    exr::image::Image::from_layer(layer)
+        .write()
+        .to_buffered(std::io::BufWriter::new(file))
+        .map_err(|e| e.to_string())
+}
+
 fn write_exr(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
     use exr::prelude::*;
+    if let Some(extra) = &image.extra {
+        return write_exr_channels(file, image, extra);
+    }
     let (w, h) = (image.width as usize, image.height as usize);
     let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
         let c = image.pixels[p.1 * w + p.0];
@@ -207,5 +277,67 @@ mod tests {
             write_image(&dir.path().join("a.jpg"), &img),
             Err(OutputError::Format(_))
         ));
+    }
+
+    /// An image with channels beside its RGB is written to EXR with every
+    /// channel under its name, and read back the same; a PNG is refused.
+    #[test]
+    fn channels_round_trip_through_exr_by_name() {
+        use crate::render::ExtraChannels;
+        use exr::prelude::{read_all_flat_layers_from_file, FlatSamples};
+        let dir = tempfile::tempdir().unwrap();
+        let mut img = Image::new(3, 2);
+        img.pixels[4] = Rgb::new(0.25, 0.5, 2.0);
+        let names: Vec<String> = ["dd.T", "nn.X", "nn.Y", "nn.Z", "m2_img.Y"]
+            .map(String::from)
+            .into();
+        let values: Vec<f32> = (0..6 * names.len()).map(|i| i as f32 * 0.5 - 3.0).collect();
+        img.extra = Some(ExtraChannels {
+            names: names.clone(),
+            values: values.clone(),
+        });
+        let path = dir.path().join("aov.exr");
+        write_image(&path, &img).unwrap();
+        let read = read_all_flat_layers_from_file(&path).unwrap();
+        let layer = &read.layer_data[0];
+        let channel = |name: &str| -> Vec<f32> {
+            let c = layer
+                .channel_data
+                .list
+                .iter()
+                .find(|c| c.name == *name)
+                .unwrap_or_else(|| panic!("no channel {name}"));
+            match &c.sample_data {
+                FlatSamples::F32(v) => v.clone(),
+                other => panic!("{name}: {other:?}"),
+            }
+        };
+        let mut got: Vec<String> = layer
+            .channel_data
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        got.sort();
+        let mut want = names.clone();
+        want.extend(["R", "G", "B"].map(String::from));
+        want.sort();
+        assert_eq!(got, want);
+        assert_eq!(channel("R")[4], 0.25);
+        assert_eq!(channel("B")[4], 2.0);
+        for (c, name) in names.iter().enumerate() {
+            let want: Vec<f32> = values
+                .iter()
+                .skip(c)
+                .step_by(names.len())
+                .copied()
+                .collect();
+            assert_eq!(channel(name), want, "{name}");
+        }
+        let png = dir.path().join("aov.png");
+        let e = write_image(&png, &img).unwrap_err();
+        assert!(matches!(e, OutputError::Channels { count: 5, .. }), "{e}");
+        assert!(e.to_string().contains("dd.T, nn.X"), "{e}");
+        assert!(!png.exists());
     }
 }

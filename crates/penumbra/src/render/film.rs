@@ -1,19 +1,48 @@
 use std::ops::Range;
+use std::sync::Arc;
 
 use super::region::Region;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
-    BadSample, FilmTile, Integrator, PixelWorker, RayStats, SplatFilm, Splatting, StageBatches,
+    BadSample, Channels, FilmTile, Integrator, PixelWorker, RayStats, SplatFilm, Splatting,
+    StageBatches,
 };
 use crate::math::Rgb;
 use crate::scene::Scene;
 
-/// A linear-RGB float image, row-major, top row first.
+/// A linear-RGB float image, row-major, top row first, with the channels
+/// an integrator writes beside it (Mitsuba's AOVs), if any.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Rgb>,
+    pub extra: Option<ExtraChannels>,
+}
+
+/// Channels beside an image's RGB: their names, in Mitsuba's order, and
+/// their values, pixel after pixel (every channel of a pixel together),
+/// row by row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtraChannels {
+    pub names: Vec<String>,
+    pub values: Vec<f32>,
+}
+
+impl ExtraChannels {
+    /// The values of channel `c`, pixel by pixel.
+    pub fn channel(&self, c: usize) -> impl Iterator<Item = f32> + '_ {
+        self.values
+            .iter()
+            .skip(c)
+            .step_by(self.names.len().max(1))
+            .copied()
+    }
+
+    /// The index of the channel named `name`.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
 }
 
 impl Image {
@@ -22,6 +51,7 @@ impl Image {
             width,
             height,
             pixels: vec![Rgb::ZERO; width as usize * height as usize],
+            extra: None,
         }
     }
 
@@ -40,6 +70,9 @@ pub(super) struct Tile {
     pub region: Region,
     /// Its pixels resolved, row by row; empty with a splatting film.
     pub pixels: Vec<Rgb>,
+    /// Its extra channels resolved, pixel after pixel, row by row; empty
+    /// with a splatting film or none.
+    pub channels: Vec<f32>,
     /// With a splatting film, the sums of what its samples splatted (to be
     /// merged with the other tiles').
     pub splat: Option<SplatFilm>,
@@ -56,15 +89,27 @@ impl Tile {
     /// rendered region, in frame coordinates) that holds the tile's rows,
     /// starting with its first.
     pub(super) fn copy_into(&self, rows: &mut [Rgb], frame: Region) {
-        let (w, stride) = (self.region.width() as usize, frame.width() as usize);
-        let x = (self.region.x0 - frame.x0) as usize;
-        for (src, dst) in self
-            .pixels
-            .chunks_exact(w)
-            .zip(rows.chunks_exact_mut(stride))
-        {
-            dst[x..x + w].copy_from_slice(src);
-        }
+        copy_rows(&self.pixels, self.region, rows, frame, 1);
+    }
+
+    /// Copies the tile's extra channels (`c` per pixel) into `rows`, as
+    /// [`copy_into`](Self::copy_into) copies its pixels.
+    pub(super) fn copy_channels_into(&self, rows: &mut [f32], frame: Region, c: usize) {
+        copy_rows(&self.channels, self.region, rows, frame, c);
+    }
+}
+
+/// Copies `values` (`c` per pixel of `region`, row by row) into `rows`,
+/// the band of the image of `frame` that holds the region's rows,
+/// starting with its first.
+fn copy_rows<T: Copy>(values: &[T], region: Region, rows: &mut [T], frame: Region, c: usize) {
+    if c == 0 {
+        return;
+    }
+    let (w, stride) = (region.width() as usize * c, frame.width() as usize * c);
+    let x = (region.x0 - frame.x0) as usize * c;
+    for (src, dst) in values.chunks_exact(w).zip(rows.chunks_exact_mut(stride)) {
+        dst[x..x + w].copy_from_slice(src);
     }
 }
 
@@ -88,11 +133,16 @@ pub(super) struct TileSlot<S> {
 impl<S: Default> TileSlot<S> {
     /// A tile of `region` rendered as part of `block`, its samples splatted
     /// as `splat` says where it says so.
-    pub(super) fn new(region: Region, block: Region, splat: Option<&Splatting>) -> Self {
+    pub(super) fn new(
+        region: Region,
+        block: Region,
+        splat: Option<&Splatting>,
+        channels: Option<&Arc<Channels>>,
+    ) -> Self {
         TileSlot {
             region,
             samples: Vec::new(),
-            film: FilmTile::with(block.x0..block.x1, block.y0..block.y1, splat),
+            film: FilmTile::with_channels(block.x0..block.x1, block.y0..block.y1, splat, channels),
             block,
             state: S::default(),
             rays: RayStats::default(),
@@ -152,14 +202,19 @@ pub(super) fn finish<S>(mut slot: TileSlot<S>) -> Tile {
         crop(&samples, block, region)
     };
     let splat = slot.film.splat.take();
-    let pixels = match splat {
-        Some(_) => Vec::new(),
-        None => slot.film.values(region.x0..region.x1, region.y0..region.y1),
+    let (pixels, channels) = match splat {
+        Some(_) => (Vec::new(), Vec::new()),
+        None => (
+            slot.film.values(region.x0..region.x1, region.y0..region.y1),
+            slot.film
+                .channel_values_of(region.x0..region.x1, region.y0..region.y1),
+        ),
     };
     Tile {
         region,
         splat,
         pixels,
+        channels,
         rays: slot.rays,
         batches: slot.batches,
         bad: slot.bad,
@@ -201,7 +256,7 @@ mod tests {
             checks.get() > 3
         };
         let whitted = Whitted::of(&scene);
-        let mut slot = TileSlot::new(region, region, None);
+        let mut slot = TileSlot::new(region, region, None, None);
         assert!(!render_pass(
             &whitted,
             &scene,
@@ -212,7 +267,7 @@ mod tests {
         ));
         assert_eq!(checks.get(), 4);
         let never = || false;
-        let mut slot = TileSlot::new(region, region, None);
+        let mut slot = TileSlot::new(region, region, None, None);
         assert!(render_pass(&whitted, &scene, &mut slot, 0..4, true, &never));
         let tile = finish(slot);
         assert_eq!(tile.pixels.len(), 64);

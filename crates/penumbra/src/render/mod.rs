@@ -12,13 +12,13 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 use serde::Serialize;
 
-pub use film::Image;
 use film::TileSlot;
+pub use film::{ExtraChannels, Image};
 pub use region::Region;
 pub use report::stats_document;
 
 use crate::description::SceneError;
-use crate::integrator::splat::{light, resolve, SplatFilm, Sums};
+use crate::integrator::splat::{light, resolve, resolve_channels, SplatFilm, Sums};
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
     pass_samples, BadSample, Config, Integrator, RayStats, RenderWith, Splatting, StageBatches,
@@ -225,9 +225,16 @@ pub fn render_with<I: Integrator>(
         None => region,
     };
     let tiles = tiles(sampled, tile);
-    let splatted: Mutex<Vec<Sums>> = Mutex::new(match splatting {
-        Some(_) => vec![[0; 4]; region.width() as usize * region.height() as usize],
-        None => Vec::new(),
+    let channels = integrator.channels();
+    let c = channels.names.len();
+    let channels = (c > 0).then(|| Arc::new(channels));
+    let pixels = region.width() as usize * region.height() as usize;
+    let splatted: Mutex<(Vec<Sums>, Vec<i128>)> = Mutex::new(match splatting {
+        Some(_) => (
+            vec![[0; 4]; pixels],
+            vec![0; pixels * (c + 1) * usize::from(c > 0)],
+        ),
+        None => (Vec::new(), Vec::new()),
     });
     let done = AtomicUsize::new(0);
     let start = Instant::now();
@@ -236,13 +243,16 @@ pub fn render_with<I: Integrator>(
     // tiles) while the other workers go on: copying the whole image after
     // the last tile would take a few percent of a Whitted frame on two threads.
     let cuts = cuts(region.y0, region.y1, tile);
-    let mut bands: Vec<Mutex<&mut [Rgb]>> = Vec::new();
-    let mut rest = &mut image.pixels[..];
+    let mut values = vec![0f32; pixels * c];
+    let mut bands: Vec<Mutex<(&mut [Rgb], &mut [f32])>> = Vec::new();
+    let (mut rest, mut rest_values) = (&mut image.pixels[..], &mut values[..]);
     for rows in cuts.windows(2) {
-        let (band, after) =
-            rest.split_at_mut((rows[1] - rows[0]) as usize * region.width() as usize);
-        bands.push(Mutex::new(band));
+        let n = (rows[1] - rows[0]) as usize * region.width() as usize;
+        let (band, after) = rest.split_at_mut(n);
+        let (band_values, after_values) = rest_values.split_at_mut(n * c);
+        bands.push(Mutex::new((band, band_values)));
         rest = after;
+        rest_values = after_values;
     }
     let passes = integrator.passes().max(1);
     let work = tiles.len() * passes as usize;
@@ -272,8 +282,9 @@ pub fn render_with<I: Integrator>(
                     } else {
                         *t
                     };
-                    let tile =
-                        slot.get_or_insert_with(|| TileSlot::new(*t, block, splatting.as_ref()));
+                    let tile = slot.get_or_insert_with(|| {
+                        TileSlot::new(*t, block, splatting.as_ref(), channels.as_ref())
+                    });
                     if anywhere {
                         tile.film.splat = Some(light_film());
                     }
@@ -302,16 +313,15 @@ pub fn render_with<I: Integrator>(
                         // The light images are summed at the end.
                     } else if let Some(splat) = &tile.splat {
                         let mut sums = splatted.lock().unwrap_or_else(|e| e.into_inner());
-                        splat.merge_into(
-                            &mut sums,
-                            &(region.x0..region.x1),
-                            &(region.y0..region.y1),
-                        );
+                        let (xs, ys) = (region.x0..region.x1, region.y0..region.y1);
+                        splat.merge_into(&mut sums.0, &xs, &ys);
+                        splat.merge_channels_into(&mut sums.1, &xs, &ys);
                     } else {
                         let band = cuts.partition_point(|&y| y < t.y0);
                         let rows = &bands[band];
                         let mut rows = rows.lock().unwrap_or_else(|e| e.into_inner());
-                        tile.copy_into(&mut rows, region);
+                        tile.copy_into(rows.0, region);
+                        tile.copy_channels_into(rows.1, region, c);
                     }
                     Some(Some((
                         tile.rays,
@@ -331,7 +341,7 @@ pub fn render_with<I: Integrator>(
         }
     }
     drop(bands);
-    let splatted = splatted.into_inner().unwrap_or_else(|e| e.into_inner());
+    let (splatted, splatted_channels) = splatted.into_inner().unwrap_or_else(|e| e.into_inner());
     if anywhere {
         let mut sums = vec![[0; 4]; region.width() as usize * region.height() as usize];
         let (xs, ys) = (region.x0..region.x1, region.y0..region.y1);
@@ -345,6 +355,23 @@ pub fn render_with<I: Integrator>(
         for (p, s) in image.pixels.iter_mut().zip(&splatted) {
             *p = resolve(s);
         }
+        if c > 0 {
+            values.clear();
+            for s in splatted_channels.chunks_exact(c + 1) {
+                resolve_channels(s, &mut values);
+            }
+        }
+    }
+    if let Some(channels) = channels {
+        if let Some(at) = channels.image {
+            for (p, v) in image.pixels.iter().zip(values.chunks_exact_mut(c)) {
+                v[at..at + 3].copy_from_slice(&p.to_array());
+            }
+        }
+        image.extra = Some(ExtraChannels {
+            names: channels.names.clone(),
+            values,
+        });
     }
     let mut stats = RenderStats {
         threads,

@@ -25,9 +25,9 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "threads": stats.threads,
         "seed": s.seed,
         "spp": s.spp,
-        "max_depth": config.map(|c| c.depth()),
-        "integrator": config.map(|c| c.choice().name()),
-        "passes": config.map(|c| c.passes()),
+        "max_depth": config.as_ref().map(|c| c.depth()),
+        "integrator": config.as_ref().map(|c| c.choice().name()),
+        "passes": config.as_ref().map(|c| c.passes()),
         "primitives": scene.world.primitive_count(),
         "rays": {
             "primary": r.primary,

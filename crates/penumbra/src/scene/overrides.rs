@@ -256,6 +256,16 @@ fn node<'a>(root: &'a mut Node, key: &str) -> Option<&'a mut Node> {
         .map_or(Kind::Sensor, |(_, kind)| *kind);
     match kind {
         Kind::Film | Kind::Sampler => root.child_mut(Kind::Sensor)?.child_mut(kind),
+        // An integrator that holds another (`aov`, `moment`): the held
+        // one's parameters (`max_depth`, `passes`, ...).
+        Kind::Integrator => {
+            let n = root.child_mut(kind)?;
+            if n.child(kind).is_some() {
+                n.child_mut(kind)
+            } else {
+                Some(n)
+            }
+        }
         kind => root.child_mut(kind),
     }
 }

@@ -206,9 +206,17 @@ pub fn replace_block(text: &str, id: &str, body: &str) -> Option<String> {
 /// The scene-format reference `text` with every plugin's block written
 /// afresh, and the blocks it lacks (by marker name).
 pub fn scene_format(text: &str) -> (String, Vec<String>) {
+    scene_format_with(text, &[])
+}
+
+/// [`scene_format`], with the blocks of `integrators` too: those whose
+/// keys are not render options, whose schemas the integrator layer (above
+/// this one) hands over.
+pub fn scene_format_with(text: &str, integrators: &[&'static Schema]) -> (String, Vec<String>) {
     let mut out = text.to_string();
     let mut missing = Vec::new();
-    for (kind, schema) in documented() {
+    let held = integrators.iter().map(|&s| (Kind::Integrator, s));
+    for (kind, schema) in documented().into_iter().chain(held) {
         let id = format!("plugin:{}", block_id(kind, schema));
         match replace_block(&out, &id, &block(kind, schema)) {
             Some(t) => out = t,

@@ -44,24 +44,38 @@ pub enum IntegratorChoice {
     /// A particle tracer: paths from the emitters connected to the camera
     /// (Mitsuba 3's `ptracer`).
     Ptracer,
+    /// The distance to the first hit (Mitsuba 3's `depth`).
+    Depth,
+    /// Arbitrary output variables of the first hit beside a held
+    /// integrator's image (Mitsuba 3's `aov`).
+    Aov,
+    /// A held integrator's image with the first and second moments of its
+    /// samples (Mitsuba 3's `moment`).
+    Moment,
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 6] = [
+    pub const ALL: [IntegratorChoice; 9] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
         IntegratorChoice::Volpath,
         IntegratorChoice::Ptracer,
+        IntegratorChoice::Depth,
+        IntegratorChoice::Aov,
+        IntegratorChoice::Moment,
     ];
-    pub const NAMES: [&'static str; 6] = [
+    pub const NAMES: [&'static str; 9] = [
         "whitted",
         "path",
         "direct",
         "distributed",
         "volpath",
         "ptracer",
+        "depth",
+        "aov",
+        "moment",
     ];
 
     /// The name scenes select it by: its integrator's schema's (the

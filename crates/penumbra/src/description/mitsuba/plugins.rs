@@ -172,47 +172,47 @@ impl Out<'_> {
         if self.integrator.is_some() {
             return Err(error_at(&obj.at, "a second <integrator>: a scene has one"));
         }
-        if obj.plugin == "moment" {
-            return self.moment(obj);
-        }
         let mut node = self.mapped(Kind::Integrator, obj, render())?;
-        self.no_children(obj)?;
+        if matches!(obj.plugin.as_str(), "aov" | "moment") {
+            node.children = self.held_integrators(obj)?;
+        } else {
+            self.no_children(obj)?;
+        }
         node.plugin_origin = obj.plugin_at.origin(render().key("integrator"));
         self.integrator = Some(node);
         Ok(())
     }
 
-    /// Mitsuba's `moment`: the image of the one integrator it holds, which
-    /// is what Mitsuba's film shows of it; the first and second moments it
-    /// adds as channels are not written (a warning says so).
-    fn moment(&mut self, obj: &Object) -> Result<(), SceneError> {
-        self.no_props(obj, &[])?;
-        let nested = children(self.ids, obj)?;
-        let inner = match nested.as_slice() {
-            [one] if one.tag == "integrator" => *one,
-            [_, second, ..] if second.tag == "integrator" => {
+    /// The integrators `aov` or `moment` holds, at `render.nested`, each
+    /// with its name as its id: its `name`, else `_arg_N` (the `N`-th
+    /// unnamed child), as Mitsuba names the channels of an unnamed child.
+    fn held_integrators(&mut self, obj: &Object) -> Result<Vec<Node>, SceneError> {
+        let mut unnamed = 0;
+        let mut held = Vec::new();
+        for (name, child) in &obj.children {
+            let o = match child {
+                Child::Object(o) => o.as_ref(),
+                Child::Ref { id, at } => self.ids.get(id, at)?,
+            };
+            if o.tag != "integrator" {
                 return Err(error_at(
-                    &second.at,
-                    "a second integrator inside `moment`: Penumbra renders one integrator",
-                ))
-            }
-            [] => return Err(error_at(&obj.at, "`moment` holds no <integrator>")),
-            [other, ..] => {
-                return Err(error_at(
-                    &other.at,
+                    &o.at,
                     format!(
-                        "a <{}> inside the integrator `moment` is not supported",
-                        other.tag
+                        "a <{}> inside the integrator `{}` is not supported: it holds integrators",
+                        o.tag, obj.plugin
                     ),
-                ))
+                ));
             }
-        };
-        self.warnings.push(
-            "the `moment` integrator's image is its nested integrator's; its moment channels \
-             are not written"
-                .into(),
-        );
-        self.integrator(inner)
+            let name = name.clone().unwrap_or_else(|| {
+                unnamed += 1;
+                format!("_arg_{}", unnamed - 1)
+            });
+            let mut node = self.mapped(Kind::Integrator, o, render().key("nested"))?;
+            self.no_children(o)?;
+            node.id = Some(name);
+            held.push(node);
+        }
+        Ok(held)
     }
 
     /// The sensor, through the plugin that reads it: the camera, holding

@@ -4,7 +4,7 @@
 
 use crate::description::{Invalid, Props, Schema};
 use crate::integrator::metric::Metric;
-use crate::integrator::model::IntegratorModel;
+use crate::integrator::model::{IntegratorModel, RenderWith};
 use crate::scene::Scene;
 
 use super::config::{
@@ -33,7 +33,6 @@ macro_rules! path_plugins {
         impl IntegratorModel for $plugin {
             const SCHEMA: &'static Schema = &$schema;
             type Settings = PathSettings;
-            type Integrator = Path;
 
             fn read(i: &Props) -> Result<PathSettings, Invalid> {
                 let read: fn(&Props) -> Result<PathSettings, Invalid> = $read;
@@ -52,8 +51,8 @@ macro_rules! path_plugins {
                 s.passes
             }
 
-            fn integrator(scene: &Scene, s: PathSettings) -> Path {
-                Path::new(scene, s)
+            fn render_with<R: RenderWith>(scene: &Scene, s: PathSettings, run: R) -> R::Output {
+                run.render(&Path::new(scene, s))
             }
         }
     )*};

@@ -3,7 +3,7 @@
 
 use crate::description::{Invalid, Props, Schema};
 use crate::integrator::metric::Metric;
-use crate::integrator::model::IntegratorModel;
+use crate::integrator::model::{IntegratorModel, RenderWith};
 use crate::scene::Scene;
 
 use super::config::{read, PtracerSettings, PTRACER};
@@ -15,7 +15,6 @@ pub struct PtracerPlugin;
 impl IntegratorModel for PtracerPlugin {
     const SCHEMA: &'static Schema = &PTRACER;
     type Settings = PtracerSettings;
-    type Integrator = Ptracer;
 
     fn read(i: &Props) -> Result<PtracerSettings, Invalid> {
         read(i)
@@ -33,7 +32,7 @@ impl IntegratorModel for PtracerPlugin {
         s.passes
     }
 
-    fn integrator(scene: &Scene, s: PtracerSettings) -> Ptracer {
-        Ptracer::new(scene, s)
+    fn render_with<R: RenderWith>(scene: &Scene, s: PtracerSettings, run: R) -> R::Output {
+        run.render(&Ptracer::new(scene, s))
     }
 }

@@ -3,7 +3,7 @@
 use crate::description::check::int;
 use crate::description::{Invalid, Kind, Param, Props, Schema, Type};
 use crate::integrator::metric::{self, Metric};
-use crate::integrator::model::IntegratorModel;
+use crate::integrator::model::{IntegratorModel, RenderWith};
 use crate::integrator::ray_sets::RaySets;
 use crate::integrator::stopping::{self, Stopping, STOP_RULES};
 use crate::sampling::MAX_RAYS;
@@ -75,7 +75,6 @@ pub struct WhittedPlugin;
 impl IntegratorModel for WhittedPlugin {
     const SCHEMA: &'static Schema = &SCHEMA;
     type Settings = WhittedSettings;
-    type Integrator = Whitted;
 
     fn read(p: &Props) -> Result<WhittedSettings, Invalid> {
         WhittedSettings::read(p)
@@ -93,8 +92,8 @@ impl IntegratorModel for WhittedPlugin {
         s.passes
     }
 
-    fn integrator(scene: &Scene, s: WhittedSettings) -> Whitted {
-        Whitted::new(scene, s)
+    fn render_with<R: RenderWith>(scene: &Scene, s: WhittedSettings, run: R) -> R::Output {
+        run.render(&Whitted::new(scene, s))
     }
 }
 

@@ -14,7 +14,7 @@ mod state;
 mod tracer;
 
 pub use config::{Whitted, WhittedPlugin, WhittedSettings};
-pub(super) use pixel::{guard, primary_rays};
+pub(super) use pixel::{camera_samples_of, guard, primary_rays, CameraRays};
 pub use state::TileState;
 pub use tracer::Tracer;
 

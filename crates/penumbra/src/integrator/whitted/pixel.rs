@@ -197,6 +197,42 @@ pub(in crate::integrator) fn primary_rays(
     })
 }
 
+/// The camera rays every integrator traces for samples `keep` of the
+/// pixels `xs` of row `y`, pixel by pixel, appended to `out`: the camera
+/// samples, their rays, pixel-filter weights and film offsets.
+pub(in crate::integrator) fn camera_samples_of(
+    scene: &Scene,
+    (xs, y): (Range<u32>, u32),
+    keep: Range<usize>,
+    out: &mut CameraRays,
+) {
+    with_scratch(|buf| {
+        camera_rays((scene, false), xs, y, keep, buf);
+        out.samples.extend_from_slice(&buf.samples);
+        out.rays.extend_from_slice(&buf.rays);
+        out.weights.extend_from_slice(&buf.weights);
+        out.offsets.extend_from_slice(&buf.offsets);
+    })
+}
+
+/// Camera samples with their rays, filter weights and film offsets.
+#[derive(Clone, Debug, Default)]
+pub(in crate::integrator) struct CameraRays {
+    pub samples: Vec<CameraSample>,
+    pub rays: Vec<Ray>,
+    pub weights: Vec<f32>,
+    pub offsets: Vec<Vec2>,
+}
+
+impl CameraRays {
+    pub fn clear(&mut self) {
+        self.samples.clear();
+        self.rays.clear();
+        self.weights.clear();
+        self.offsets.clear();
+    }
+}
+
 /// Samples `range` of pixel `(x, y)` under the pixel metric, continuing
 /// the running mean of its earlier samples (its film); true if the metric
 /// stopped it.
