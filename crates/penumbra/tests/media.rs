@@ -285,10 +285,7 @@ fn write_vol(
     let grid = penumbra::volume::vol_file::VolGrid {
         resolution,
         channels,
-        bbox: penumbra::math::Aabb::new(
-            penumbra::math::Vec3::ZERO,
-            penumbra::math::Vec3::ONE,
-        ),
+        bbox: penumbra::math::Aabb::new(penumbra::math::Vec3::ZERO, penumbra::math::Vec3::ONE),
         data,
     };
     std::fs::write(dir.join(name), grid.to_bytes()).unwrap();
@@ -333,13 +330,21 @@ fn a_heterogeneous_slab_transmits_exp_of_minus_its_optical_depth() {
         let s = scene_in(d.path(), &slab(&medium, light, "spp = 64"));
         let (img, rays) = render_scene(&s, 2);
         let (got, err) = mean_and_error(&img);
-        assert_within(got, err, want, &format!("majorant_resolution = {resolution}"));
+        assert_within(
+            got,
+            err,
+            want,
+            &format!("majorant_resolution = {resolution}"),
+        );
         assert!(err.max_element() < 0.01, "noise {err:?}");
         nulls.push(rays.media.null_collisions);
     }
     // Against the one majorant (3) about half the collisions are null;
     // against each cell's, a few.
-    assert!(nulls[0] * 3 < nulls[1], "null collisions, grid vs one: {nulls:?}");
+    assert!(
+        nulls[0] * 3 < nulls[1],
+        "null collisions, grid vs one: {nulls:?}"
+    );
 }
 
 /// A cube of heterogeneous medium that scatters all it stops (albedo 1),
@@ -354,10 +359,10 @@ fn a_scattering_heterogeneous_cube_in_a_uniform_environment_is_invisible() {
         let v = ((x * 7 + y * 3 + z * 5) % 11) as f32 / 10.0;
         (c + 1) as f32 * 2.0 * v * v
     });
-    for resolution in [16, 1] {
+    for resolution in [1, 16] {
         let toml = format!(
-            "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nspp = 128\n\
-             seed = 9\nbackground = [1, 1, 1]\n\n\
+            "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nspp = 1024\n\
+             seed = 19\nbackground = [1, 1, 1]\n\n\
              [camera]\nposition = [0.3, 0.2, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
              [materials.boundary]\ntype = \"null\"\n\n\
              [volumes.smoke]\ntype = \"gridvolume\"\nfilename = \"smoke.vol\"\n\
@@ -368,10 +373,15 @@ fn a_scattering_heterogeneous_cube_in_a_uniform_environment_is_invisible() {
         );
         let (img, rays) = render_scene(&scene_in(d.path(), &toml), 2);
         let (got, err) = mean_and_error(&img);
-        assert_within(got, err, Rgb::ONE, &format!("furnace, resolution {resolution}"));
+        assert_within(
+            got,
+            err,
+            Rgb::ONE,
+            &format!("furnace, resolution {resolution}"),
+        );
         assert!(rays.media.scatterings > 10_000, "{:?}", rays.media);
         assert!(rays.media.null_collisions > 0, "{:?}", rays.media);
-        assert!(err.max_element() < 0.04, "noise {err:?}");
+        assert!(err.max_element() < 0.03, "noise {err:?}");
     }
 }
 
