@@ -92,15 +92,13 @@ impl MediumModel for Heterogeneous {
                 "1",
                 "extinction per unit length: a volume, or a number or 3 (RGB) filling the unit \
                  cube; times `scale`. The medium fills this volume's box",
-            )
-            .range(Range::NonNegative),
+            ),
             Param::new(
                 "albedo",
                 Type::Volume,
                 "0.75",
                 "the share of extinction that scatters: a volume, a number or 3 (RGB)",
-            )
-            .range(Range::NonNegative),
+            ),
             Param::new(
                 "scale",
                 Type::Number,
