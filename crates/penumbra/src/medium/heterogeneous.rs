@@ -39,10 +39,11 @@ pub enum Majorant {
 /// The heterogeneous medium (see the [module docs](self)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Heterogeneous {
-    /// The extinction before `scale`.
-    pub sigma_t: Volume,
+    /// The extinction before `scale` (boxed, as volumes are large beside
+    /// the other media).
+    pub sigma_t: Box<Volume>,
     /// The single-scattering albedo.
-    pub albedo: Volume,
+    pub albedo: Box<Volume>,
     /// Multiplies `sigma_t`.
     pub scale: f32,
     /// The extinction differs between channels and is sampled so.
@@ -157,8 +158,8 @@ impl MediumModel for Heterogeneous {
         };
         Ok(Heterogeneous {
             bbox: sigma_t.bbox(),
-            sigma_t,
-            albedo,
+            sigma_t: Box::new(sigma_t),
+            albedo: Box::new(albedo),
             scale,
             spectral,
             majorant,
@@ -316,8 +317,8 @@ mod tests {
         };
         Heterogeneous {
             bbox: sigma_t.bbox(),
-            sigma_t,
-            albedo: Volume::constant(Rgb::splat(0.5)),
+            sigma_t: Box::new(sigma_t),
+            albedo: Box::new(Volume::constant(Rgb::splat(0.5))),
             scale: 1.0,
             spectral: true,
             majorant,
