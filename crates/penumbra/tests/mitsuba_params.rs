@@ -48,7 +48,6 @@ const MISSING: &[&str] = &[
     "ellipsoids",
     "ellipsoidsmesh",
     "hair",
-    "heterogeneous",
     "irradiancemeter",
     "linearcurve",
     "measured",

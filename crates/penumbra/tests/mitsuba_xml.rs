@@ -1703,12 +1703,16 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "integrator `volpathmis` is not supported; supported: path, volpath, direct, ptracer",
         ),
         (
-            r#"<medium type="heterogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,
-            "medium `heterogeneous` is not supported; supported: homogeneous",
+            r#"<medium type="heterogeneous"><volume type="gridvolume" name="density"/></medium>"#,
+            "a <volume> named `density` is not a volume the medium `heterogeneous` reads (it reads sigma_t, albedo)",
         ),
         (
             r#"<medium type="homogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,
-            "a <volume> in the medium `homogeneous` is not supported yet",
+            "a <volume> named `albedo` is not a volume the medium `homogeneous` reads (it reads none)",
+        ),
+        (
+            r#"<medium type="rainbow"/>"#,
+            "medium `rainbow` is not supported; supported: homogeneous, heterogeneous",
         ),
         (
             r#"<medium type="homogeneous"><phase type="rayleigh"/></medium>"#,

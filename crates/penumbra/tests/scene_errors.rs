@@ -511,9 +511,9 @@ fn media_errors_point_at_the_value() {
         e.starts_with("test.toml:2:10:") && e.contains("no medium named `mist`"),
         "{e}"
     );
-    let e = err("[media.fog]\ntype = \"heterogeneous\"\n");
+    let e = err("[media.fog]\ntype = \"inhomogeneous\"\n");
     assert!(
-        e.starts_with("test.toml:2:8:") && e.contains("homogeneous"),
+        e.starts_with("test.toml:2:8:") && e.contains("homogeneous, heterogeneous"),
         "{e}"
     );
     let e = err(&format!("{media}phase = {{ type = \"rayleigh\" }}\n"));

@@ -252,3 +252,41 @@ fn a_float_or_a_colour_where_a_volume_is_expected_is_a_plain_value() {
         "{c:?}"
     );
 }
+
+/// A heterogeneous medium's volumes in Mitsuba XML, nested or referred
+/// to: its `sigma_t` the nested volume's table and its `albedo` the
+/// declared volume's name; the scene builds. (The dict reader does not
+/// read media yet.)
+#[test]
+fn a_medium_s_volumes_are_read_from_xml() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("sigmat.vol"), vol([4, 4, 4], 1)).unwrap();
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="45"/></sensor>
+    <volume id="haze" type="constvolume"><rgb name="value" value="0.9, 0.5, 0.25"/></volume>
+    <medium id="fog" type="heterogeneous">
+        <volume name="sigma_t" type="gridvolume">
+            <string name="filename" value="sigmat.vol"/>
+        </volume>
+        <ref name="albedo" id="haze"/>
+        <float name="scale" value="2"/>
+    </medium>
+    <shape type="sphere">
+        <bsdf type="null"/>
+        <ref name="interior" id="fog"/>
+    </shape>
+</scene>"#;
+    std::fs::write(d.path().join("scene.xml"), xml).unwrap();
+    let opts = LoadOptions::default();
+    let from_xml = SceneSource::open(d.path().join("scene.xml").to_str().unwrap(), &opts).unwrap();
+    let fog = from_xml.root.children_of(Kind::Medium).next().unwrap();
+    assert!(
+        matches!(&fog.prop("sigma_t").unwrap().value.value, Value::Table(_)),
+        "{fog:?}"
+    );
+    assert_eq!(
+        fog.prop("albedo").unwrap().value.value,
+        Value::String("haze".into())
+    );
+    from_xml.build().unwrap();
+}

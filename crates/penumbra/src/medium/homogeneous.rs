@@ -11,6 +11,7 @@ use crate::description::props::Scale;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::Rng;
+use crate::volume::Volumes;
 
 /// The homogeneous medium (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,7 +89,7 @@ impl MediumModel for Homogeneous {
          read yet",
     );
 
-    fn build(p: &Props) -> Result<Homogeneous, Invalid> {
+    fn build(p: &Props, _volumes: &Volumes) -> Result<Homogeneous, Invalid> {
         let sigma_t = colour(p, "sigma_t", 1.0)?;
         let albedo = colour(p, "albedo", 0.75)?;
         let scale = p.f32("scale")?.unwrap_or(1.0);

@@ -31,6 +31,7 @@
 //! | model | what |
 //! |---|---|
 //! | [`homogeneous`](homogeneous::Homogeneous) | the same extinction and albedo everywhere (Mitsuba 3's `homogeneous`) |
+//! | [`heterogeneous`](heterogeneous::Heterogeneous) | extinction and albedo read from volumes, tracked through a grid of majorants (Mitsuba 3's `heterogeneous`) |
 //!
 //! Shapes bound media (their `interior` and `exterior`), and the camera
 //! may sit in one (its `medium`); the `volpath` integrator tracks paths
@@ -42,6 +43,7 @@ use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Param, Props, Schema, Type};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::Rng;
+use crate::volume::Volumes;
 
 pub use phase::{Phase, PhaseModel, PhaseSample};
 
@@ -111,8 +113,9 @@ pub trait MediumModel: Sized {
     const MITSUBA: Mitsuba = Mitsuba::SAME;
 
     /// The model of a scene's parameters (but [`COMMON`]'s, which the
-    /// medium reads), checked for range, defaulted.
-    fn build(p: &Props) -> Result<Self, Invalid>;
+    /// medium reads), checked for range, defaulted; its volume parameters
+    /// read through `volumes` (the scene's named volumes, its folder).
+    fn build(p: &Props, volumes: &Volumes) -> Result<Self, Invalid>;
 
     /// The same extinction everywhere: a tentative collision is always a
     /// real one, and transmittance is exact.
@@ -233,9 +236,9 @@ macro_rules! media {
 
             /// The model `name` of the parameters `p`; `None` for a name
             /// that is not a model's.
-            pub fn build(name: &str, p: &Props) -> Option<Result<Model, Invalid>> {
+            pub fn build(name: &str, p: &Props, volumes: &Volumes) -> Option<Result<Model, Invalid>> {
                 match name {
-                    $(<$module::$variant as MediumModel>::NAME => Some(<$module::$variant>::build(p).map(Model::$variant)),)*
+                    $(<$module::$variant as MediumModel>::NAME => Some(<$module::$variant>::build(p, volumes).map(Model::$variant)),)*
                     _ => None,
                 }
             }
@@ -281,6 +284,7 @@ macro_rules! media {
 // The models: one line each.
 media! {
     homogeneous::Homogeneous,
+    heterogeneous::Heterogeneous,
 }
 
 /// A medium of the scene: its model, its phase function and whether its
@@ -300,9 +304,15 @@ impl Medium {
     pub const PLUGINS: &'static [Plugin] = Model::PLUGINS;
 
     /// The medium `name` of the parameters `p` with the phase function
-    /// `phase`; `None` for a name that is not a model's.
-    pub fn build(name: &str, p: &Props, phase: Phase) -> Option<Result<Medium, Invalid>> {
-        let model = Model::build(name, p)?;
+    /// `phase`, its volumes read through `volumes`; `None` for a name that
+    /// is not a model's.
+    pub fn build(
+        name: &str,
+        p: &Props,
+        phase: Phase,
+        volumes: &Volumes,
+    ) -> Option<Result<Medium, Invalid>> {
+        let model = Model::build(name, p, volumes)?;
         Some(model.and_then(|model| {
             Ok(Medium {
                 model,
@@ -368,7 +378,7 @@ mod tests {
             params: &[],
         };
 
-        fn build(_: &Props) -> Result<Ramp, Invalid> {
+        fn build(_: &Props, _: &Volumes) -> Result<Ramp, Invalid> {
             unreachable!()
         }
 

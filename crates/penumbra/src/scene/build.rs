@@ -69,7 +69,10 @@ pub fn build(
         reflection: settings.reflection,
         refraction: settings.refraction,
     };
-    let (media, media_names) = media(root)?;
+    // Read when the scene is loaded, so that a broken volume file is
+    // reported whether a medium reads it or not.
+    let volumes = Volumes::of_scene(root, &ctx.base_dir)?;
+    let (media, media_names) = media(root, &volumes)?;
     let cp = Props::new(&sensor);
     let camera = camera::build(&cp, &settings)?;
     let camera_medium = medium_index(&cp, "medium", &media_names)?;
@@ -77,9 +80,6 @@ pub fn build(
     fp.finish("film")?;
 
     let textures = Textures::of_scene(root, &ctx.base_dir)?;
-    // Read when the scene is loaded, so that a broken volume file is
-    // reported whether a medium reads it or not.
-    let _volumes = Volumes::of_scene(root, &ctx.base_dir)?;
     let (bsdfs, emission, names, lobes) = materials(root, &sets, &textures)?;
     // A world whose meshes' attributes are read is built anew (its
     // attributes are bound to its objects).
@@ -652,7 +652,7 @@ fn shape_emitters(
 }
 
 /// The scene's media in the tree's order, and their indices by name.
-fn media(root: &Node) -> Result<(Vec<Medium>, HashMap<String, u32>), Invalid> {
+fn media(root: &Node, volumes: &Volumes) -> Result<(Vec<Medium>, HashMap<String, u32>), Invalid> {
     let (mut media, mut names) = (Vec::new(), HashMap::new());
     for node in root.children_of(Kind::Medium) {
         let phase = match node.child(Kind::Phase) {
@@ -667,7 +667,7 @@ fn media(root: &Node) -> Result<(Vec<Medium>, HashMap<String, u32>), Invalid> {
             None => Phase::default(),
         };
         let p = Props::new(node);
-        let Some(medium) = Medium::build(&node.plugin, &p, phase) else {
+        let Some(medium) = Medium::build(&node.plugin, &p, phase, volumes) else {
             return Err(schemas::schema(node)
                 .err()
                 .unwrap_or_else(|| p.node_error("unknown medium type")));

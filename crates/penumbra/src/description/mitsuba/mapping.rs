@@ -127,8 +127,9 @@ impl Out<'_> {
     /// The medium `obj` as a node of the scene's media (`media.ID`, its id
     /// or `medium_N` for one without), mapped once however often shapes
     /// and sensors refer to it: its name. Its phase function is the
-    /// `<phase>` it holds (`isotropic` without one); a volume in place of
-    /// a coefficient is refused.
+    /// `<phase>` it holds (`isotropic` without one); a `<volume>` it holds
+    /// or refers to sets the coefficient of its name (`sigma_t`, `albedo`),
+    /// refused for a medium that reads none.
     pub(super) fn medium(&mut self, obj: &Object) -> Result<String, SceneError> {
         if let Some(id) = &obj.id {
             if self.media.iter().any(|m| m.id.as_ref() == Some(id)) {
@@ -147,21 +148,14 @@ impl Out<'_> {
         };
         let base = KeyPath::root().key("media").key(&name);
         // The plugin first: an unknown medium is refused as such.
-        plugin_of((self.registry)(Kind::Medium), obj, "medium")?;
+        let schema = plugin_of((self.registry)(Kind::Medium), obj, "medium")?.schema;
         let mut phase = None;
         for c in children(self.ids, obj)? {
             match c.tag.as_str() {
                 "phase" if phase.is_none() => phase = Some(c),
                 "phase" => return Err(error_at(&c.at, "a second <phase> in the medium: a medium has one phase function")),
-                "volume" => {
-                    return Err(error_at(
-                        &c.at,
-                        format!(
-                            "a <volume> in the medium `{}` is not supported yet: give its coefficients as a float or an RGB",
-                            clip(&obj.plugin)
-                        ),
-                    ))
-                }
+                // The volumes it reads its coefficients from: below.
+                "volume" => {}
                 other => {
                     return Err(error_at(
                         &c.at,
@@ -171,6 +165,7 @@ impl Out<'_> {
             }
         }
         let mut node = self.mapped(Kind::Medium, obj, base.clone())?;
+        self.volume_children(obj, schema, &mut node, &base)?;
         if let Some(ph) = phase {
             self.no_children(ph)?;
             node.children

@@ -76,7 +76,6 @@ impl Out<'_> {
     /// name=... id=...>` to one the scene declares) as the volume-typed
     /// parameters of `schema` Mitsuba calls by their names, set on `node`
     /// at `base`. Other children are left to the caller.
-    #[allow(dead_code)] // The heterogeneous medium's mapping reads its volumes with it.
     pub(super) fn volume_children(
         &self,
         obj: &Object,
