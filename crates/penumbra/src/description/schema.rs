@@ -266,6 +266,40 @@ pub fn check(node: &Node, schema: &Schema, others: &[&Schema]) -> Result<(), Inv
     Ok(())
 }
 
+/// The node of a plugin held as a table (a texture or a volume where a
+/// parameter takes one): `plugin` (at `plugin_at`) one of `schemas`, the
+/// plugins of `kind`, its properties `props` checked against its schema,
+/// with the schema.
+pub fn checked_table(
+    kind: Kind,
+    schemas: &[&'static Schema],
+    (plugin, plugin_at): (&str, &Origin),
+    props: &[Prop],
+    origin: &Origin,
+) -> Result<(Node, &'static Schema), Invalid> {
+    let Some(schema) = schemas.iter().copied().find(|s| s.plugin == plugin) else {
+        let names: Vec<&str> = schemas.iter().map(|s| s.plugin).collect();
+        return Err(Invalid::at(
+            plugin_at,
+            format!(
+                "unknown {} `{}`; valid choices are: {}",
+                kind.name(),
+                crate::input::quote::clip(plugin, crate::input::quote::MAX_QUOTED_CHARS),
+                names.join(", ")
+            ),
+        ));
+    };
+    let mut node = Node::new(kind, plugin, origin.clone());
+    node.props = props.to_vec();
+    let others: Vec<&Schema> = schemas
+        .iter()
+        .copied()
+        .filter(|s| s.plugin != plugin)
+        .collect();
+    check(&node, schema, &others)?;
+    Ok((node, schema))
+}
+
 /// serde's message for an unknown key, at the key, naming its table.
 fn unknown(table: &KeyPath, p: &Prop, params: &[Param]) -> Invalid {
     let at = Origin::new(table.clone(), p.key.at.clone());

@@ -44,7 +44,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{check, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
+use crate::description::{checked_table, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2};
 
@@ -339,24 +339,13 @@ impl Textures {
         props: &[Prop],
         origin: &Origin,
     ) -> Result<Texture, Invalid> {
-        let Some(schema) = Texture::SCHEMAS.iter().find(|s| s.plugin == plugin) else {
-            return Err(Invalid::at(
-                plugin_at,
-                format!(
-                    "unknown texture `{}`; valid choices are: {}",
-                    crate::input::quote::clip(plugin, crate::input::quote::MAX_QUOTED_CHARS),
-                    Texture::NAMES.join(", ")
-                ),
-            ));
-        };
-        let mut node = Node::new(Kind::Texture, plugin, origin.clone());
-        node.props = props.to_vec();
-        let others: Vec<&Schema> = Texture::SCHEMAS
-            .iter()
-            .copied()
-            .filter(|s| s.plugin != plugin)
-            .collect();
-        check(&node, schema, &others)?;
+        let (node, schema) = checked_table(
+            Kind::Texture,
+            Texture::SCHEMAS,
+            (plugin, plugin_at),
+            props,
+            origin,
+        )?;
         let p = Props::new(&node);
         let texture =
             Texture::build_model(plugin, &p, self).expect("every schema has a builder")?;

@@ -35,7 +35,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{check, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
+use crate::description::{checked_table, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
 use crate::math::{Aabb, Mat4, Rgb, Vec3};
 
 pub use majorant::{MajorantGrid, Segment, Segments};
@@ -243,24 +243,13 @@ impl Volumes {
         props: &[Prop],
         origin: &Origin,
     ) -> Result<Volume, Invalid> {
-        let Some(schema) = Volume::SCHEMAS.iter().find(|s| s.plugin == plugin) else {
-            return Err(Invalid::at(
-                plugin_at,
-                format!(
-                    "unknown volume `{}`; valid choices are: {}",
-                    crate::input::quote::clip(plugin, crate::input::quote::MAX_QUOTED_CHARS),
-                    Volume::NAMES.join(", ")
-                ),
-            ));
-        };
-        let mut node = Node::new(Kind::Volume, plugin, origin.clone());
-        node.props = props.to_vec();
-        let others: Vec<&Schema> = Volume::SCHEMAS
-            .iter()
-            .copied()
-            .filter(|s| s.plugin != plugin)
-            .collect();
-        check(&node, schema, &others)?;
+        let (node, schema) = checked_table(
+            Kind::Volume,
+            Volume::SCHEMAS,
+            (plugin, plugin_at),
+            props,
+            origin,
+        )?;
         let p = Props::new(&node);
         let volume = Volume::build_model(plugin, &p, self).expect("every schema has a builder")?;
         p.finish(schema.what)?;
