@@ -97,7 +97,9 @@ pub mod write;
 pub use error::{Invalid, KeyPath, KeySeg, Location, Origin, SceneError};
 pub use lower::{from_json, from_toml, toml_to_json, INTEGRATOR_KEYS, RENDER_KEYS};
 pub use props::{NumberOr, Props, Scale};
-pub use schema::{check, checked_table, MitsubaKey, Param, Range, Schema, Type};
+pub use schema::{
+    check, checked_table, no_such_name, typed_table, MitsubaKey, Param, Range, Schema, Type,
+};
 pub use source::Source;
 pub use tree::{Kind, Located, Node, Prop, Value};
 pub use write::to_toml;

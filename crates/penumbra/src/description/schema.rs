@@ -300,6 +300,55 @@ pub fn checked_table(
     Ok((node, schema))
 }
 
+/// A plugin's table as a parameter's value (`{ type = "...", ... }`):
+/// the plugin its `type` names, where, and its other properties.
+pub fn typed_table<'a>(
+    props: &'a [Prop],
+    origin: &Origin,
+    kind: Kind,
+) -> Result<(&'a str, &'a Origin, Vec<Prop>), Invalid> {
+    let Some(i) = props.iter().position(|p| p.name == "type") else {
+        return Err(Invalid::at(
+            origin,
+            format!("missing field `type` (the {}'s plugin)", kind.name()),
+        ));
+    };
+    let ty = &props[i].value;
+    let plugin = props::string(ty)?;
+    let rest = props
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != i)
+        .map(|(_, p)| p.clone())
+        .collect();
+    Ok((plugin, &ty.origin, rest))
+}
+
+/// The error of a parameter naming a `kind` the scene does not declare
+/// (`declared` names those it does), at `at`.
+pub fn no_such_name<'a>(
+    kind: Kind,
+    name: &str,
+    declared: impl Iterator<Item = &'a String>,
+    at: &Origin,
+) -> Invalid {
+    let mut names: Vec<&str> = declared.map(String::as_str).collect();
+    names.sort_unstable();
+    let known = if names.is_empty() {
+        "the scene declares none".to_string()
+    } else {
+        format!("the scene's {}s are: {}", kind.name(), names.join(", "))
+    };
+    Invalid::at(
+        at,
+        format!(
+            "no {} named `{}`; {known}",
+            kind.name(),
+            crate::input::quote::clip(name, crate::input::quote::MAX_QUOTED_CHARS)
+        ),
+    )
+}
+
 /// serde's message for an unknown key, at the key, naming its table.
 fn unknown(table: &KeyPath, p: &Prop, params: &[Param]) -> Invalid {
     let at = Origin::new(table.clone(), p.key.at.clone());

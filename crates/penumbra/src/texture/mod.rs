@@ -44,7 +44,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{checked_table, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
+use crate::description::{
+    checked_table, no_such_name, typed_table, Invalid, Kind, Node, Origin, Prop, Props, Schema,
+    Value,
+};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec2};
 
@@ -366,39 +369,16 @@ impl Textures {
                     }
                     Ok(Some(t.clone()))
                 }
-                None => {
-                    let mut names: Vec<&str> = self.named.keys().map(String::as_str).collect();
-                    names.sort_unstable();
-                    let known = if names.is_empty() {
-                        "the scene declares none".to_string()
-                    } else {
-                        format!("the scene's textures are: {}", names.join(", "))
-                    };
-                    Err(Invalid::at(
-                        &v.origin,
-                        format!(
-                            "no texture named `{}`; {known}",
-                            crate::input::quote::clip(name, crate::input::quote::MAX_QUOTED_CHARS)
-                        ),
-                    ))
-                }
+                None => Err(no_such_name(
+                    Kind::Texture,
+                    name,
+                    self.named.keys(),
+                    &v.origin,
+                )),
             },
             Value::Table(props) => {
-                let Some(i) = props.iter().position(|p| p.name == "type") else {
-                    return Err(Invalid::at(
-                        &v.origin,
-                        "missing field `type` (the texture's plugin)",
-                    ));
-                };
-                let ty = &props[i].value;
-                let plugin = crate::description::props::string(ty)?;
-                let rest: Vec<Prop> = props
-                    .iter()
-                    .enumerate()
-                    .filter(|&(j, _)| j != i)
-                    .map(|(_, p)| p.clone())
-                    .collect();
-                self.build(plugin, &ty.origin, &rest, &v.origin).map(Some)
+                let (plugin, at, rest) = typed_table(props, &v.origin, Kind::Texture)?;
+                self.build(plugin, at, &rest, &v.origin).map(Some)
             }
             _ => Ok(None),
         }

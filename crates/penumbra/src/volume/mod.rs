@@ -35,7 +35,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{checked_table, Invalid, Kind, Node, Origin, Prop, Props, Schema, Value};
+use crate::description::{
+    checked_table, no_such_name, typed_table, Invalid, Kind, Node, Origin, Prop, Props, Schema,
+    Value,
+};
 use crate::math::{Aabb, Mat4, Rgb, Vec3};
 
 pub use majorant::{MajorantGrid, Segment, Segments};
@@ -265,38 +268,14 @@ impl Volumes {
         };
         let v = &prop.value;
         match &v.value {
-            Value::String(id) => self.named.get(id).cloned().ok_or_else(|| {
-                let mut names: Vec<&str> = self.named.keys().map(String::as_str).collect();
-                names.sort_unstable();
-                let known = if names.is_empty() {
-                    "the scene declares none".to_string()
-                } else {
-                    format!("the scene's volumes are: {}", names.join(", "))
-                };
-                Invalid::at(
-                    &v.origin,
-                    format!(
-                        "no volume named `{}`; {known}",
-                        crate::input::quote::clip(id, crate::input::quote::MAX_QUOTED_CHARS)
-                    ),
-                )
-            }),
+            Value::String(id) => self
+                .named
+                .get(id)
+                .cloned()
+                .ok_or_else(|| no_such_name(Kind::Volume, id, self.named.keys(), &v.origin)),
             Value::Table(props) => {
-                let Some(i) = props.iter().position(|p| p.name == "type") else {
-                    return Err(Invalid::at(
-                        &v.origin,
-                        "missing field `type` (the volume's plugin)",
-                    ));
-                };
-                let ty = &props[i].value;
-                let plugin = crate::description::props::string(ty)?;
-                let rest: Vec<Prop> = props
-                    .iter()
-                    .enumerate()
-                    .filter(|&(j, _)| j != i)
-                    .map(|(_, p)| p.clone())
-                    .collect();
-                self.build(plugin, &ty.origin, &rest, &v.origin)
+                let (plugin, at, rest) = typed_table(props, &v.origin, Kind::Volume)?;
+                self.build(plugin, at, &rest, &v.origin)
             }
             Value::Array(_) => {
                 let xs = crate::description::props::numbers(v, 3)?;
