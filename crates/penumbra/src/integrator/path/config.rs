@@ -206,11 +206,10 @@ pub(super) fn distributed(i: &Props) -> Result<PathSettings, Invalid> {
     })
 }
 
-/// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
-/// bound), `rr_depth` (≥ 1) and `hide_emitters`.
-pub(super) fn path(i: &Props) -> Result<PathSettings, Invalid> {
-    let d = PathSettings::default();
-    let max_depth = match i.int("max_depth")? {
+/// Mitsuba's `max_depth` of an integrator's parameters `i`: `None` for
+/// no bound (−1, or not given), else at most `u32::MAX`.
+pub(crate) fn max_depth(i: &Props) -> Result<Option<u32>, Invalid> {
+    Ok(match i.int("max_depth")? {
         None | Some(-1) => None,
         Some(v) => Some(u32::try_from(v).map_err(|_| {
             i.error(
@@ -221,7 +220,14 @@ pub(super) fn path(i: &Props) -> Result<PathSettings, Invalid> {
                 ),
             )
         })?),
-    };
+    })
+}
+
+/// The `path` integrator's settings: Mitsuba's `max_depth` (−1 for no
+/// bound), `rr_depth` (≥ 1) and `hide_emitters`.
+pub(super) fn path(i: &Props) -> Result<PathSettings, Invalid> {
+    let d = PathSettings::default();
+    let max_depth = max_depth(i)?;
     Ok(PathSettings {
         max_depth,
         rr_depth: int(i, "rr_depth", i64::from(d.rr_depth), 1, i64::from(MAX_RAYS))?,

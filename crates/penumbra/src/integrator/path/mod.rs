@@ -119,6 +119,7 @@ mod vertex;
 mod volume;
 mod wavefront;
 
+pub(crate) use config::max_depth;
 pub use config::{PathSettings, PLUGINS};
 pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
 

@@ -78,18 +78,7 @@ impl PtracerSettings {
 /// `passes`.
 pub(super) fn read(i: &Props) -> Result<PtracerSettings, Invalid> {
     let d = PtracerSettings::default();
-    let max_depth = match i.int("max_depth")? {
-        None | Some(-1) => None,
-        Some(v) => Some(u32::try_from(v).map_err(|_| {
-            i.error(
-                "max_depth",
-                format!(
-                    "must be -1 (no bound) or an integer from 0 to {}, got {v}",
-                    u32::MAX
-                ),
-            )
-        })?),
-    };
+    let max_depth = crate::integrator::path::max_depth(i)?;
     let samples_per_pass = match i.int("samples_per_pass")? {
         None => None,
         Some(_) => Some(int(i, "samples_per_pass", 1, 1, i64::from(MAX_RAYS))?),
