@@ -116,11 +116,11 @@ macro_rules! emitters {
             }
 
             /// Radiance leaving the emitter's surface toward `-dir` at a
-            /// point with geometric normal `n`.
+            /// point with geometric normal `n` and surface coordinates `uv`.
             #[inline]
-            pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
+            pub fn eval(&self, n: Vec3, uv: Vec2, dir: Vec3) -> Rgb {
                 match self {
-                    $(Emitter::$variant(e) => EmitterModel::eval(e, n, dir),)*
+                    $(Emitter::$variant(e) => EmitterModel::eval(e, n, uv, dir),)*
                 }
             }
 
@@ -276,7 +276,7 @@ mod tests {
     fn area(surface: Surface) -> Emitter {
         Emitter::Area(Area {
             surface,
-            radiance: Rgb::splat(2.0),
+            radiance: crate::texture::Texture::Constant(Rgb::splat(2.0)),
             model: PenumbraModel::Surface,
         })
     }
