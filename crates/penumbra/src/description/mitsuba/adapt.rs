@@ -138,7 +138,10 @@ pub fn directional(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), 
 
 /// Mitsuba's `area`: `radiance` 1 unless given (as a value or a texture).
 pub fn area(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
-    let textured = obj.children.iter().any(|(n, _)| n.as_deref() == Some("radiance"));
+    let textured = obj
+        .children
+        .iter()
+        .any(|(n, _)| n.as_deref() == Some("radiance"));
     if !textured {
         unit_colour(obj, node, base, "radiance");
     }

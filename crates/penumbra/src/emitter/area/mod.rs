@@ -50,11 +50,11 @@ use crate::emitter::sample::{area_sample, EmittedRay, LightSample, Reference, Su
 use crate::geometry::quad::Quad;
 use crate::geometry::{Density, ShapeSample, Surface};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
-use crate::texture::{Texture, Textures};
 use crate::sampling::points::{end_point, unit_square};
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::sampling::SetPoint;
 use crate::sampling::{Distribution, Domain, EffectSpec, MAX_RAYS};
+use crate::texture::{Texture, Textures};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
 /// [module docs](self)).
@@ -201,7 +201,11 @@ impl Area {
             }
         }
         let m = (n * n) as f64;
-        Rgb::new((sum[0] / m) as f32, (sum[1] / m) as f32, (sum[2] / m) as f32)
+        Rgb::new(
+            (sum[0] / m) as f32,
+            (sum[1] / m) as f32,
+            (sum[2] / m) as f32,
+        )
     }
 
     /// The light's centre in the shape's own space, which the thesis model
@@ -470,3 +474,6 @@ impl EmitterModel for Area {
         })
     }
 }
+
+#[cfg(test)]
+mod tests;
