@@ -97,7 +97,7 @@ pub const SCHEMA: Schema = Schema {
 
 /// How Mitsuba's `area` maps onto it.
 pub const MITSUBA: Mitsuba = Mitsuba {
-    differences: "`radiance` is 1 when not given, as in Mitsuba",
+    differences: "`radiance` is 1 when not given, as in Mitsuba; a textured `radiance` is looked up at the `(u, v)` of the point of the light, whose points are drawn as a plain light's (uniformly in area, or in a sphere's cone) where Mitsuba draws them by the texture's luminance: the same mean, other noise",
     reads: &[],
     adapt: Some(Adapt::Node(adapt::area)),
 };
