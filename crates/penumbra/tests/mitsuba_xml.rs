@@ -2993,7 +2993,10 @@ fn an_area_emitter_takes_a_textured_radiance() {
     let root = d.tree("scene.xml");
     let shape = shapes(&root)[0];
     let emitter = shape.child(Kind::Emitter).unwrap();
-    assert!(matches!(prop(emitter, "radiance"), Value::Table(_)), "{emitter:?}");
+    assert!(
+        matches!(prop(emitter, "radiance"), Value::Table(_)),
+        "{emitter:?}"
+    );
     build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
 
     let d = with_sensor(&format!(
@@ -3003,7 +3006,10 @@ fn an_area_emitter_takes_a_textured_radiance() {
     ));
     let root = d.tree("scene.xml");
     let emitter = shapes(&root)[0].child(Kind::Emitter).unwrap();
-    assert!(matches!(prop(emitter, "radiance"), Value::String(s) if s == "board"), "{emitter:?}");
+    assert!(
+        matches!(prop(emitter, "radiance"), Value::String(s) if s == "board"),
+        "{emitter:?}"
+    );
     build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
 
     let d = with_sensor(&format!(
