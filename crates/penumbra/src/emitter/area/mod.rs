@@ -115,7 +115,7 @@ pub fn read(
         Some(_) => textures.colour(p, "radiance", Rgb::ZERO)?,
         None => {
             required(p, p.numbers::<3>("radiance")?, "radiance", what)?;
-            Texture::Constant(Rgb::from(nonneg3(p, "radiance", [0.0; 3])?))
+            Texture::Constant(nonneg3(p, "radiance", [0.0; 3])?)
         }
     };
     if matches!(radiance, Texture::MeshAttribute(_)) {
