@@ -18,7 +18,7 @@
 //! | [`point`] | at a position | intensity in every direction; no surface |
 //! | [`spot`] | at a position | intensity in a cone, falling off toward its edge; no surface |
 //! | [`directional`] | at infinity, one direction | irradiance along one direction (a sun); not seen by rays |
-//! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | uniform radiance from the surface; two penumbra models |
+//! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | radiance from the surface, uniform or a texture looked up at its `(u, v)`; two penumbra models |
 //! | [`constant`] | at infinity | the background: radiance from every direction |
 //! | [`envmap`] | at infinity | radiance from every direction, read from an equirectangular image; importance-sampled |
 //! | [`sky`] | at infinity | a gradient sky and a sun disc, computed into an `envmap` when the scene is built |
