@@ -2985,3 +2985,40 @@ fn media_map_onto_the_scene_s_media_and_the_shapes_sides() {
     assert!(a.pixels == b.pixels);
     assert!(rays.media.scatterings > 0);
 }
+
+/// An `area` emitter's `radiance` takes a texture, nested or by `<ref>` to
+/// one declared in the scene (as Mitsuba's), and not twice.
+#[test]
+fn an_area_emitter_takes_a_textured_radiance() {
+    let checker = r#"<texture type="checkerboard" name="radiance"><rgb name="color0" value="0.2"/><rgb name="color1" value="3"/></texture>"#;
+    let d = with_sensor(&format!(
+        r#"<shape type="rectangle"><emitter type="area">{checker}</emitter></shape>"#
+    ));
+    let root = d.tree("scene.xml");
+    let shape = shapes(&root)[0];
+    let emitter = shape.child(Kind::Emitter).unwrap();
+    assert!(
+        matches!(prop(emitter, "radiance"), Value::Table(_)),
+        "{emitter:?}"
+    );
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+
+    let d = with_sensor(&format!(
+        r#"{}
+        <shape type="sphere"><emitter type="area"><ref name="radiance" id="board"/></emitter></shape>"#,
+        checker.replace(r#"name="radiance""#, r#"id="board""#)
+    ));
+    let root = d.tree("scene.xml");
+    let emitter = shapes(&root)[0].child(Kind::Emitter).unwrap();
+    assert!(
+        matches!(prop(emitter, "radiance"), Value::String(s) if s == "board"),
+        "{emitter:?}"
+    );
+    build_whitted(&d).unwrap_or_else(|e| panic!("{e}"));
+
+    let d = with_sensor(&format!(
+        r#"<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/>{checker}</emitter></shape>"#
+    ));
+    let e = build_whitted(&d).err().expect("refused");
+    assert!(e.to_string().contains("`radiance` is given twice"), "{e}");
+}

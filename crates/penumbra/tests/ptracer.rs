@@ -1,6 +1,6 @@
 //! The particle tracer (`ptracer`): against the path tracer on a diffuse
-//! box, against the closed-form irradiance of a point light, and the same
-//! bits however the work is cut.
+//! box (under a plain and a textured light), against the closed-form
+//! irradiance of a point light, and the same bits however the work is cut.
 
 mod common;
 
@@ -109,6 +109,21 @@ fn the_particle_tracer_agrees_through_a_thin_lens() {
         )
     };
     agree(lens, 64, 32);
+}
+
+/// The same under a textured light: a checker of two colours (the
+/// particle tracer draws its rays' origins uniformly on the light and
+/// weighs them by the texture there; the path tracer sees the texture
+/// where its rays hit the light and where its shadow rays end).
+#[test]
+fn the_particle_tracer_agrees_under_a_textured_light() {
+    let checker = |toml: String| {
+        toml.replace(
+            "radiance = [6, 6, 6]",
+            "radiance = { type = \"checkerboard\", color0 = [2, 2, 2], color1 = [12, 6, 3] }",
+        )
+    };
+    agree(checker, 64, 32);
 }
 
 /// The z-test of both integrators on the box `edit` makes of [`cornell`],

@@ -529,3 +529,28 @@ fn media_errors_point_at_the_value() {
     let e = err("[media.fog]\nsigma_t = 1\n");
     assert!(e.starts_with("test.toml:1:1:") && e.contains("type"), "{e}");
 }
+
+/// A textured area light's radiance is looked up at surface coordinates:
+/// the thesis model, which collapses the light to a point, and a mesh
+/// attribute are refused, naming where the radiance is written.
+#[test]
+fn a_textured_light_refuses_the_thesis_model_and_mesh_attributes() {
+    let rect = "[[lights]]\ntype = \"rect\"\norigin = [0.0, 1.0, 0.0]\nedge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\n";
+    let board = "radiance = { type = \"checkerboard\", color0 = [1, 1, 1], color1 = [2, 2, 2] }\n";
+    let e = err(&format!("{rect}{board}model = \"thesis\"\n"));
+    assert!(
+        e.starts_with("test.toml:6:") && e.contains("takes a constant radiance"),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{rect}radiance = {{ type = \"mesh_attribute\", name = \"vertex_color\" }}\n"
+    ));
+    assert!(
+        e.starts_with("test.toml:6:") && e.contains("not a mesh attribute"),
+        "{e}"
+    );
+    // Taken otherwise.
+    if let Err(e) = try_scene(&format!("{rect}{board}")) {
+        panic!("a textured rect light is refused: {e}");
+    }
+}

@@ -18,7 +18,7 @@
 //! | [`point`] | at a position | intensity in every direction; no surface |
 //! | [`spot`] | at a position | intensity in a cone, falling off toward its edge; no surface |
 //! | [`directional`] | at infinity, one direction | irradiance along one direction (a sun); not seen by rays |
-//! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | uniform radiance from the surface; two penumbra models |
+//! | [`area`] | on a shape (rectangle, sphere, disk, mesh) | radiance from the surface, uniform or a texture looked up at its `(u, v)`; two penumbra models |
 //! | [`constant`] | at infinity | the background: radiance from every direction |
 //! | [`envmap`] | at infinity | radiance from every direction, read from an equirectangular image; importance-sampled |
 //! | [`sky`] | at infinity | a gradient sky and a sun disc, computed into an `envmap` when the scene is built |
@@ -116,11 +116,11 @@ macro_rules! emitters {
             }
 
             /// Radiance leaving the emitter's surface toward `-dir` at a
-            /// point with geometric normal `n`.
+            /// point with geometric normal `n` and surface coordinates `uv`.
             #[inline]
-            pub fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
+            pub fn eval(&self, n: Vec3, uv: Vec2, dir: Vec3) -> Rgb {
                 match self {
-                    $(Emitter::$variant(e) => EmitterModel::eval(e, n, dir),)*
+                    $(Emitter::$variant(e) => EmitterModel::eval(e, n, uv, dir),)*
                 }
             }
 
@@ -276,7 +276,7 @@ mod tests {
     fn area(surface: Surface) -> Emitter {
         Emitter::Area(Area {
             surface,
-            radiance: Rgb::splat(2.0),
+            radiance: crate::texture::Texture::Constant(Rgb::splat(2.0)),
             model: PenumbraModel::Surface,
         })
     }

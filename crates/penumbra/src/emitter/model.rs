@@ -55,9 +55,10 @@ pub trait EmitterModel {
     }
 
     /// Radiance leaving the emitter's surface toward `-dir` at a point with
-    /// geometric normal `n`; zero for emitters without a surface.
+    /// geometric normal `n` and surface coordinates `uv`; zero for emitters
+    /// without a surface.
     #[inline]
-    fn eval(&self, _n: Vec3, _dir: Vec3) -> Rgb {
+    fn eval(&self, _n: Vec3, _uv: Vec2, _dir: Vec3) -> Rgb {
         Rgb::ZERO
     }
 

@@ -115,6 +115,8 @@ pub struct EmittedRay {
 pub struct SurfacePoint {
     pub p: Vec3,
     pub n: Vec3,
+    /// Its surface coordinates (what a textured emitter is looked up at).
+    pub uv: Vec2,
     /// `1 / p(p)`: the area for a uniform draw.
     pub inv_pdf: f32,
 }

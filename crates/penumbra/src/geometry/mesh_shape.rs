@@ -158,11 +158,14 @@ fn sample_mesh(m: &Mesh, triangles: &Discrete, area: f32, u: Vec2) -> Option<Sha
     let (b0, b1) = square_to_triangle(Vec2::new(rest, u.y));
     let [a, b, c] = m.vertices(i);
     let p = b0 * a + b1 * b + (1.0 - b0 - b1) * c;
-    Some(ShapeSample::on_area(
-        p,
-        (b - a).cross(c - a).normalize_or_zero(),
-        area,
-    ))
+    let s = ShapeSample::on_area(p, (b - a).cross(c - a).normalize_or_zero(), area);
+    // `b1`, `b2`: the weights of the second and third corners, as a hit's.
+    Some(s.with_hit(ShapeHit {
+        t: 0.0,
+        b1,
+        b2: 1.0 - b0 - b1,
+        inner: i as u32,
+    }))
 }
 
 /// `dp/du` and `dp/dv` of the triangle `p` with texture coordinates `uv`

@@ -46,12 +46,21 @@ pub enum Density {
 }
 
 /// A point drawn on a surface: where, its unit normal (the side the
-/// surface faces), and how it was drawn.
+/// surface faces), and how it was drawn; and what finds its surface
+/// coordinates as a ray's hit there would ([`ShapeModel::geometry`] of
+/// `hit` at `local`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeSample {
     pub p: Vec3,
     pub n: Vec3,
     pub density: Density,
+    /// The surface coordinates a hit at the point would carry (a
+    /// rectangle's `(s, t)`, a mesh's triangle and barycentrics; nothing
+    /// for the shapes whose geometry follows from the point).
+    pub hit: ShapeHit,
+    /// The point in the shape's own space (where `p` is before a
+    /// placement or motion carries it to the world).
+    pub local: Vec3,
 }
 
 impl ShapeSample {
@@ -65,7 +74,15 @@ impl ShapeSample {
                 area,
                 two_sided: false,
             },
+            hit: ShapeHit::default(),
+            local: p,
         }
+    }
+
+    /// The same point with the surface coordinates `hit`.
+    #[inline(always)]
+    pub fn with_hit(self, hit: ShapeHit) -> ShapeSample {
+        ShapeSample { hit, ..self }
     }
 }
 

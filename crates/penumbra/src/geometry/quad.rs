@@ -177,11 +177,12 @@ impl ShapeModel for Quad {
         d: Distribution,
     ) -> Option<ShapeSample> {
         let u = unit_square(point, d);
-        Some(ShapeSample::on_area(
-            self.point(u.x, u.y),
-            self.normal,
-            self.area,
-        ))
+        let s = ShapeSample::on_area(self.point(u.x, u.y), self.normal, self.area);
+        Some(s.with_hit(ShapeHit {
+            b1: u.x,
+            b2: u.y,
+            ..ShapeHit::default()
+        }))
     }
 }
 

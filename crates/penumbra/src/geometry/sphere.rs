@@ -137,6 +137,8 @@ fn sample_sphere(c: Vec3, r: f32, from: Vec3, u: Vec2) -> ShapeSample {
                 area: 4.0 * PI * r * r,
                 two_sided: true,
             },
+            hit: ShapeHit::default(),
+            local: c + r * n,
         };
     }
     let d = d2.sqrt();
@@ -152,6 +154,8 @@ fn sample_sphere(c: Vec3, r: f32, from: Vec3, u: Vec2) -> ShapeSample {
         p,
         n: (p - c) / r,
         density: Density::Cone(2.0 * PI * (1.0 - cos_max)),
+        hit: ShapeHit::default(),
+        local: p,
     }
 }
 

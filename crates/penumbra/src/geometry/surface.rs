@@ -24,7 +24,7 @@ use super::mesh::Mesh;
 pub use super::model::{area_pdf, Density, ShapeSample};
 use super::motion::{Motion, Similarity};
 use super::shape::Shape;
-use crate::math::{Aabb, Vec3};
+use crate::math::{Aabb, Vec2, Vec3};
 use crate::sampling::{Discrete, Distribution};
 
 /// Where a surface is.
@@ -241,6 +241,7 @@ impl Surface {
                         area: self.area,
                         two_sided: false,
                     },
+                    ..s
                 });
             }
         }
@@ -260,7 +261,15 @@ impl Surface {
             p: sim.point_to_world(s.p),
             n: face(sim.normal_to_world(s.n)),
             density,
+            ..s
         })
+    }
+
+    /// The surface coordinates `(u, v)` of a point `s` drawn by
+    /// [`sample`](Self::sample): those a ray hitting the surface there
+    /// would find.
+    pub fn uv(&self, s: &ShapeSample) -> Vec2 {
+        self.shape.geometry(&self.meshes, &s.hit, s.local).uv
     }
 
     /// The solid-angle density with which [`sample`](Self::sample) draws

@@ -31,7 +31,7 @@ use crate::math::{Mat4, Rgb, Vec3};
 use crate::medium::{Medium, Phase};
 use crate::sampling::{EffectSpec, PointTable};
 use crate::texture::mesh_attribute::Bound;
-use crate::texture::{AttributeUse, Textures};
+use crate::texture::{AttributeUse, Texture, Textures};
 use crate::volume::Volumes;
 
 pub use super::error::BuildError;
@@ -102,7 +102,7 @@ pub fn build(
     // The emitters in the tree's order: a light of its own where the tree
     // names it, an emitting shape's where the shape is, then those of the
     // instances' shapes; those at infinity come last.
-    let carried = shape_emitters(root, &names, &emission, &sets)?;
+    let carried = shape_emitters(root, &names, &emission, &sets, &textures)?;
     let object_media = object_media(root, &media_names)?;
     // A reused world's objects are copied to give the emitting ones their
     // emitters again (in the order they were given them when it was built).
@@ -611,7 +611,7 @@ fn material_index(p: &Props, names: &HashMap<String, u32>) -> Result<u32, Invali
 /// set, and where it is described.
 #[derive(Clone)]
 struct Carried {
-    radiance: Rgb,
+    radiance: Texture,
     model: PenumbraModel,
     shadow: EffectSpec,
     at: Origin,
@@ -627,17 +627,18 @@ fn shape_emitters(
     names: &HashMap<String, u32>,
     emission: &[(Rgb, Origin)],
     sets: &Sets,
+    textures: &Textures,
 ) -> Result<Vec<Option<Carried>>, Invalid> {
     let shapes = || root.children_of(Kind::Shape);
     let mut out = Vec::new();
     for shape in shapes().filter(|s| !matches!(s.plugin.as_str(), "shapegroup" | "instance")) {
-        out.push(carried(shape, names, emission, sets)?);
+        out.push(carried(shape, names, emission, sets, textures)?);
     }
     let mut groups: HashMap<&str, Vec<Option<Carried>>> = HashMap::new();
     for group in shapes().filter(|s| s.plugin == "shapegroup") {
         let carried = group
             .children_of(Kind::Shape)
-            .map(|s| carried(s, names, emission, sets))
+            .map(|s| carried(s, names, emission, sets, textures))
             .collect::<Result<_, _>>()?;
         groups.insert(group.id.as_deref().unwrap_or_default(), carried);
     }
@@ -747,10 +748,11 @@ fn carried(
     names: &HashMap<String, u32>,
     emission: &[(Rgb, Origin)],
     sets: &Sets,
+    textures: &Textures,
 ) -> Result<Option<Carried>, Invalid> {
     if let Some(child) = shape.child(Kind::Emitter) {
         let p = Props::new(child);
-        let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow)?;
+        let (radiance, model, shadow) = area::read(&p, "area emitter", sets.shadow, textures)?;
         p.finish("area emitter")?;
         let at = child.origin.clone();
         return Ok(Some(Carried {
@@ -766,7 +768,7 @@ fn carried(
     };
     let (radiance, at) = &emission[material as usize];
     Ok((*radiance != Rgb::ZERO).then(|| Carried {
-        radiance: *radiance,
+        radiance: Texture::Constant(*radiance),
         model: PenumbraModel::Surface,
         shadow: sets.shadow,
         at: at.clone(),
@@ -815,7 +817,7 @@ fn emitter(o: &Object, meshes: &Arc<[Mesh]>, c: &Carried) -> Result<Area, Invali
     }
     Ok(Area {
         surface,
-        radiance: c.radiance,
+        radiance: c.radiance.clone(),
         model: c.model,
     })
 }

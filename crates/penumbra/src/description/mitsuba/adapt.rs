@@ -136,9 +136,15 @@ pub fn directional(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), 
     placed(obj, node, base, ("direction", "directional light"), z, None)
 }
 
-/// Mitsuba's `area`: `radiance` 1 unless given.
+/// Mitsuba's `area`: `radiance` 1 unless given (as a value or a texture).
 pub fn area(obj: &Object, node: &mut Node, base: &KeyPath) -> Result<(), SceneError> {
-    unit_colour(obj, node, base, "radiance");
+    let textured = obj
+        .children
+        .iter()
+        .any(|(n, _)| n.as_deref() == Some("radiance"));
+    if !textured {
+        unit_colour(obj, node, base, "radiance");
+    }
     Ok(())
 }
 

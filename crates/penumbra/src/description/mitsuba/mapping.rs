@@ -78,12 +78,19 @@ pub(super) fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
 /// Refuses `node`, made of `obj` through `schema`, without a parameter the
 /// schema requires (but the materials a schema holds, counted apart):
 /// `plugin: missing `key``, at the object, under Mitsuba's name.
+/// True if `obj` holds a texture as the parameter `p` (which the reader
+/// sets from its texture children after the parameters).
+pub(super) fn texture_child(obj: &Object, p: &Param) -> bool {
+    let key = p.mitsuba_name().unwrap_or(p.name);
+    p.texturable() && obj.children.iter().any(|(n, _)| n.as_deref() == Some(key))
+}
+
 pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(), SceneError> {
     let missing = schema
         .params
         .iter()
         .filter(|p| p.default == "required" && p.ty != Type::Material)
-        .find(|p| node.prop(p.name).is_none());
+        .find(|p| node.prop(p.name).is_none() && !texture_child(obj, p));
     match missing {
         None => Ok(()),
         Some(p) => Err(error_at(

@@ -424,8 +424,10 @@ impl Out<'_> {
                     if c.plugin != "area" {
                         return Err(error_at(&c.plugin_at, format!("a shape carries an `area` emitter, not `{}`", clip(&c.plugin))));
                     }
-                    self.no_children(c)?;
-                    let mut e = self.mapped(Kind::Emitter, c, base.key("emitter"))?;
+                    let at = base.key("emitter");
+                    let schema = plugin_of((self.registry)(Kind::Emitter), c, "emitter")?.schema;
+                    let mut e = self.mapped(Kind::Emitter, c, at.clone())?;
+                    self.texture_children(c, schema, &mut e, &at)?;
                     e.plugin_origin = e.origin.clone();
                     emitter = Some(e);
                 }

@@ -1,5 +1,5 @@
-//! `area`: a surface emitting uniform radiance, carried by a shape (Mitsuba
-//! 3's `area` emitter): a rectangle, sphere, disk, cylinder or triangle
+//! `area`: a surface emitting radiance, uniform or a texture, carried by a
+//! shape (Mitsuba 3's `area` emitter): a rectangle, sphere, disk, cylinder or triangle
 //! mesh (cubes included), still, placed by an instance or moving. What a
 //! ray that hits the shape sees, and what a shading point is lit by. The
 //! emitter holds the shape's [`Surface`] and samples it through
@@ -7,8 +7,16 @@
 //! it is at the ray's time); a mesh's triangles stay the scene's.
 //!
 //! One-sided (emitting along the shape's geometric normal), but for
-//! spheres, which emit outward from their whole surface. A shading point
-//! samples it by one of two penumbra models:
+//! spheres, which emit outward from their whole surface. The radiance may
+//! be a texture, looked up at the surface coordinates `(u, v)` of the
+//! point of the light (where a ray hits it, or the point drawn on it),
+//! which a ray hitting the shape there would find. The points are drawn as
+//! for a uniform light (uniformly in area, or in a sphere's cone) whatever
+//! the texture, so that [`Area::pdf`] is the density of the draw for any
+//! parameterisation of the shape (Mitsuba draws `(u, v)` by the texture's
+//! luminance instead and maps them onto the shape: less noise where the
+//! texture is uneven, but it needs a shape whose `(u, v)` map is one to
+//! one). A shading point samples it by one of two penumbra models:
 //!
 //! * `surface`: the shadow ray's target lies on the light's real surface
 //!   (uniform in area, or in the solid angle a sphere subtends from
@@ -19,11 +27,12 @@
 //!   facing the shading point by the distribution point (radius: the
 //!   light's size), and each ray is shaded as if the light's whole power
 //!   came from that point. With one grid ray this is the classic Whitted
-//!   shadow ray to the centre. Rectangles, spheres and disks only.
+//!   shadow ray to the centre. Rectangles, spheres and disks only, of a
+//!   constant radiance.
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `radiance` | colour ≥ 0 | **required** | emitted radiance |
+//! | `radiance` | colour ≥ 0 or texture | **required** | emitted radiance |
 //! | `model` | `"surface"` or `"thesis"` | `"surface"` | the penumbra model |
 //! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
 //! | `shadow_distribution` | distribution | the render's | |
@@ -39,12 +48,13 @@ use crate::emitter::bounds::{mean, LightBounds};
 use crate::emitter::model::EmitterModel;
 use crate::emitter::sample::{area_sample, EmittedRay, LightSample, Reference, SurfacePoint};
 use crate::geometry::quad::Quad;
-use crate::geometry::{Density, Surface};
+use crate::geometry::{Density, ShapeSample, Surface};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::points::{end_point, unit_square};
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::sampling::SetPoint;
 use crate::sampling::{Distribution, Domain, EffectSpec, MAX_RAYS};
+use crate::texture::{Texture, Textures};
 
 /// How shadow rays toward an area light are aimed and weighted (see the
 /// [module docs](self)).
@@ -69,7 +79,7 @@ impl PenumbraModel {
 /// The parameters of an area emitter (and of the lights that are shapes
 /// carrying one).
 pub const PARAMS: [Param; 4] = [
-    Param::new("radiance", Type::Colour, "required", "emitted radiance, ≥ 0").range(Range::NonNegative),
+    Param::new("radiance", Type::ColourTexture, "required", "emitted radiance, ≥ 0: a colour or a texture looked up at the surface coordinates of the point of the light").range(Range::NonNegative),
     Param::new("model", Type::Choice("penumbra model", &PenumbraModel::NAMES), "\"surface\"", "penumbra model: `surface` samples the light's real surface with the geometry term and converges to the exact direct illumination; `thesis` distributes shadow-ray end points over a disk/square of the light's size facing the shading point (§3.3) and shades each as if the light's power came from there").penumbra_only(),
     Param::new("shadow_rays", Type::Int, "render.shadow_rays", "shadow rays per shading point, 1–65536").penumbra_only().range(Range::Between(1.0, 65536.0)),
     Param::new("shadow_distribution", Type::Distribution, "render.shadow_distribution", "").penumbra_only(),
@@ -80,31 +90,52 @@ pub const SCHEMA: Schema = Schema {
     kind: Kind::Emitter,
     plugin: "area",
     what: "area emitter",
-    doc: "uniform radiance from the surface of the shape that carries it, sampled by one of two penumbra models",
+    doc: "radiance, uniform or a texture, from the surface of the shape that carries it, sampled by one of two penumbra models",
     mitsuba: &["area"],
     params: &PARAMS,
 };
 
 /// How Mitsuba's `area` maps onto it.
 pub const MITSUBA: Mitsuba = Mitsuba {
-    differences: "`radiance` is 1 when not given, as in Mitsuba",
+    differences: "`radiance` is 1 when not given, as in Mitsuba; a textured `radiance` is looked up at the `(u, v)` of the point of the light, whose points are drawn as a plain light's (uniformly in area, or in a sphere's cone) where Mitsuba draws them by the texture's luminance: the same mean, other noise",
     reads: &[],
     adapt: Some(Adapt::Node(adapt::area)),
 };
 
 /// What an area emitter's parameters say, read and checked; `what` names
-/// the light in messages, `shadow` is the render's shadow set.
+/// the light in messages, `shadow` is the render's shadow set, `textures`
+/// reads a textured radiance.
 pub fn read(
     p: &Props,
     what: &str,
     shadow: EffectSpec,
-) -> Result<(Rgb, PenumbraModel, EffectSpec), Invalid> {
-    required(p, p.numbers::<3>("radiance")?, "radiance", what)?;
-    let radiance = nonneg3(p, "radiance", [0.0; 3])?;
+    textures: &Textures,
+) -> Result<(Texture, PenumbraModel, EffectSpec), Invalid> {
+    let radiance = match p.get("radiance") {
+        Some(_) => textures.colour(p, "radiance", Rgb::ZERO)?,
+        None => {
+            required(p, p.numbers::<3>("radiance")?, "radiance", what)?;
+            Texture::Constant(nonneg3(p, "radiance", [0.0; 3])?)
+        }
+    };
+    if matches!(radiance, Texture::MeshAttribute(_)) {
+        return Err(p.error(
+            "radiance",
+            "an area light's radiance takes a texture looked up at surface coordinates (u, v), \
+             not a mesh attribute",
+        ));
+    }
     let model = match p.choice("model", "penumbra model", &PenumbraModel::NAMES)? {
         Some("thesis") => PenumbraModel::Thesis,
         _ => PenumbraModel::Surface,
     };
+    if model == PenumbraModel::Thesis && !matches!(radiance, Texture::Constant(_)) {
+        return Err(p.error(
+            "radiance",
+            "the thesis penumbra model collapses the light to a point: it takes a constant \
+             radiance, not a texture",
+        ));
+    }
     let shadow = EffectSpec {
         rays: int(
             p,
@@ -126,11 +157,57 @@ pub fn read(
 #[derive(Clone, Debug)]
 pub struct Area {
     pub surface: Surface,
-    pub radiance: Rgb,
+    /// The radiance, at the surface coordinates of the point of the light.
+    pub radiance: Texture,
     pub model: PenumbraModel,
 }
 
+/// Points per side of the grid in `(u, v)` over which a texture's mean
+/// radiance is taken, for the light's power.
+const MEAN_GRID: usize = 64;
+
 impl Area {
+    /// The radiance where it is the same everywhere.
+    #[inline(always)]
+    fn constant(&self) -> Option<Rgb> {
+        match self.radiance {
+            Texture::Constant(c) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// The radiance at the point `s` drawn on the surface.
+    #[inline(always)]
+    fn radiance_at(&self, s: &ShapeSample) -> Rgb {
+        self.constant()
+            .unwrap_or_else(|| self.radiance.eval_uv(self.surface.uv(s)))
+    }
+
+    /// The mean radiance over the unit square of `(u, v)` (of a texture,
+    /// on a grid of [`MEAN_GRID`]² points): what the light's power counts.
+    pub fn mean_radiance(&self) -> Rgb {
+        if let Some(c) = self.constant() {
+            return c;
+        }
+        let n = MEAN_GRID;
+        let mut sum = [0.0f64; 3];
+        for j in 0..n {
+            for i in 0..n {
+                let uv = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let c = self.radiance.eval_uv(uv).to_array();
+                for k in 0..3 {
+                    sum[k] += f64::from(c[k]);
+                }
+            }
+        }
+        let m = (n * n) as f64;
+        Rgb::new(
+            (sum[0] / m) as f32,
+            (sum[1] / m) as f32,
+            (sum[2] / m) as f32,
+        )
+    }
+
     /// The light's centre in the shape's own space, which the thesis model
     /// aims around.
     fn center(&self) -> Vec3 {
@@ -152,8 +229,10 @@ impl Area {
 
     /// The power it emits, `π · A · L` (one-sided: a sphere outward), the
     /// mean over the colour channels: the same under either penumbra model.
+    /// A texture counts its [mean](Self::mean_radiance) over `(u, v)`
+    /// (the power of a shape whose `(u, v)` cover it evenly).
     pub fn power(&self) -> f32 {
-        std::f32::consts::PI * self.area() * mean(self.radiance)
+        std::f32::consts::PI * self.area() * mean(self.mean_radiance())
     }
 
     /// What a light BVH knows of it: the box around the surface over the
@@ -166,31 +245,31 @@ impl Area {
     }
 
     /// Radiance leaving the light's surface toward `-dir` at a point with
-    /// geometric normal `n` (one-sided but for spheres).
+    /// geometric normal `n` and surface coordinates `uv` (one-sided but for
+    /// spheres).
     #[inline]
-    pub fn emitted(&self, n: Vec3, dir: Vec3) -> Rgb {
+    pub fn emitted(&self, n: Vec3, uv: Vec2, dir: Vec3) -> Rgb {
         if self.surface.shape().as_sphere().is_some() || n.dot(dir) < 0.0 {
-            self.radiance
+            self.radiance.eval_uv(uv)
         } else {
             Rgb::ZERO
         }
     }
 
     /// The rectangle in world space facing its normal that the light is, if
-    /// it is one.
+    /// it is one of a constant radiance.
     #[inline(always)]
-    fn plain_rect(&self) -> Option<&Quad> {
-        self.surface
-            .shape()
-            .as_quad()
-            .filter(|_| self.surface.is_plain())
+    fn plain_rect(&self) -> Option<(&Quad, Rgb)> {
+        let q = self.surface.shape().as_quad();
+        let q = q.filter(|_| self.surface.is_plain());
+        Some((q?, self.constant()?))
     }
 
     /// The rectangle that [`sample`](Self::sample) takes points of `d`
     /// four at a time for through a kernel: a rectangle in world space
     /// sampled on its surface by a square distribution.
     #[inline]
-    pub(super) fn four_wide(&self, d: Distribution) -> Option<&Quad> {
+    pub(super) fn four_wide(&self, d: Distribution) -> Option<(&Quad, Rgb)> {
         let surface = self.model == PenumbraModel::Surface && d.domain() != Domain::Disk;
         self.plain_rect().filter(|_| surface)
     }
@@ -207,12 +286,12 @@ impl Area {
         out: &mut Vec<Option<LightSample>>,
     ) {
         let wide = match self.four_wide(d) {
-            Some(q) => {
+            Some((q, radiance)) => {
                 let fours = points.chunks_exact(4);
                 for (g, four) in fours.enumerate() {
                     let p = std::array::from_fn(|l| at(4 * g + l).p);
                     let four = four.try_into().expect("chunks of four");
-                    out.extend(rect::sample4(self.radiance, q, &p, four).lanes());
+                    out.extend(rect::sample4(radiance, q, &p, four).lanes());
                 }
                 points.len() / 4 * 4
             }
@@ -233,21 +312,22 @@ impl Area {
         match self.model {
             PenumbraModel::Thesis => self.sample_thesis(r, point, d),
             PenumbraModel::Surface => {
-                if let Some(q) = self.plain_rect() {
+                if let Some((q, radiance)) = self.plain_rect() {
                     // The rectangle's own path, which its kernel repeats.
                     let u = unit_square(point, d);
                     let target = q.point(u.x, u.y);
-                    return area_sample(self.radiance, r.p, target, q.normal, q.area(), false);
+                    return area_sample(radiance, r.p, target, q.normal, q.area(), false);
                 }
                 let s = self.surface.sample(r.p, r.time, point, d)?;
+                let radiance = self.radiance_at(&s);
                 match s.density {
                     Density::Area { area, two_sided } => {
-                        area_sample(self.radiance, r.p, s.p, s.n, area, two_sided)
+                        area_sample(radiance, r.p, s.p, s.n, area, two_sided)
                     }
                     Density::Cone(solid_angle) => Some(LightSample {
                         target: s.p,
                         dir: (s.p - r.p).normalize_or_zero(),
-                        weight: self.radiance * solid_angle,
+                        weight: radiance * solid_angle,
                         pdf: 1.0 / solid_angle,
                     }),
                 }
@@ -275,6 +355,7 @@ impl Area {
             Density::Area { area, .. } if area > 0.0 => Some(SurfacePoint {
                 p: s.p,
                 n: s.n,
+                uv: self.surface.uv(&s),
                 inv_pdf: area,
             }),
             _ => None,
@@ -323,12 +404,15 @@ impl Area {
         // `L · A⊥`: the area the shape shows toward `w` (a flipped shape
         // shows its other side).
         let w = if self.surface.is_flipped() { -w } else { w };
+        // The thesis model takes a constant radiance (a texture is refused
+        // when the scene is read): its mean is it.
+        let radiance = self.mean_radiance();
         match self.surface.shape().projected_area(w) {
-            Some(area) => self.radiance * area,
+            Some(area) => radiance * area,
             // Not reached: the thesis model is refused on shapes without
             // one when the scene is built; a flat light of the shape's
             // area facing `w`.
-            None => self.radiance * self.area(),
+            None => radiance * self.area(),
         }
     }
 }
@@ -343,8 +427,8 @@ impl EmitterModel for Area {
     }
 
     #[inline]
-    fn eval(&self, n: Vec3, dir: Vec3) -> Rgb {
-        self.emitted(n, dir)
+    fn eval(&self, n: Vec3, uv: Vec2, dir: Vec3) -> Rgb {
+        self.emitted(n, uv, dir)
     }
 
     #[inline(always)]
@@ -372,7 +456,7 @@ impl EmitterModel for Area {
     }
 
     /// A ray from a point uniform over the surface in a cosine-weighted
-    /// direction about its normal: `L · π · A`.
+    /// direction about its normal: `L · π · A`, `L` at the point.
     fn sample_ray(
         &self,
         u_pos: Vec2,
@@ -385,8 +469,11 @@ impl EmitterModel for Area {
         Some(EmittedRay {
             origin: s.p,
             dir,
-            weight: self.radiance * (std::f32::consts::PI * s.inv_pdf),
+            weight: self.radiance.eval_uv(s.uv) * (std::f32::consts::PI * s.inv_pdf),
             normal: Some(s.n),
         })
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,6 +1,7 @@
 //! A rectangle light (a parallelogram), one-sided, emitting along its normal
-//! with uniform radiance. Sampled uniformly over its area; a four-wide kernel
-//! prepares four samples at once with the portable path's operations.
+//! with uniform radiance (a textured one goes through the portable path).
+//! Sampled uniformly over its area; a four-wide kernel prepares four
+//! samples at once with the portable path's operations.
 
 use glam::Vec4;
 

@@ -117,7 +117,7 @@ pub(crate) mod tests {
     pub(crate) fn surface_area(surface: Surface, radiance: f32) -> Emitter {
         Emitter::Area(Area {
             surface,
-            radiance: Rgb::splat(radiance),
+            radiance: crate::texture::Texture::Constant(Rgb::splat(radiance)),
             model: PenumbraModel::Surface,
         })
     }

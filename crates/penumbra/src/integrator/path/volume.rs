@@ -317,7 +317,7 @@ impl Wavefront<'_> {
                 let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
                 let w = emission_weight(single, prev, choice, density);
                 if w > 0.0 {
-                    *acc += beta * emitter.eval(hit.ng, ray.dir) * w;
+                    *acc += beta * emitter.eval(hit.ng, hit.uv, ray.dir) * w;
                 }
             }
             let bsdf = &scene.bsdfs[hit.material as usize];

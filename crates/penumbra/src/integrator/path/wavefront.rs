@@ -339,7 +339,7 @@ impl<'s> Wavefront<'s> {
                 let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
                 let w = emission_weight(shadow_sets[e as usize], prev, choice, density);
                 if w > 0.0 {
-                    let le = scene.emitters[e as usize].eval(hit.ng, ray.dir);
+                    let le = scene.emitters[e as usize].eval(hit.ng, hit.uv, ray.dir);
                     *acc += beta * le * w;
                 }
             }

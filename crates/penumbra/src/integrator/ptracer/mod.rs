@@ -409,7 +409,7 @@ impl PtracerWorker<'_> {
         };
         let wc = (seen.at - sp.p).normalize_or_zero();
         // The radiance leaving toward the camera (a camera ray's `-wc`).
-        let le = emitter.eval(sp.n, -wc);
+        let le = emitter.eval(sp.n, sp.uv, -wc);
         let cos = sp.n.dot(wc).abs();
         let v = le * (pick * sp.inv_pdf * cos * seen.weight);
         if v.max_element() <= 0.0 || v.max_element().is_nan() {

@@ -405,7 +405,7 @@ impl<'a> Tracer<'a> {
         rng: Rng,
         direct: impl Fn(usize) -> Rgb,
     ) -> Rgb {
-        let emitted = |e: u32| self.scene.emitters[e as usize].eval(hit.ng, ray.dir);
+        let emitted = |e: u32| self.scene.emitters[e as usize].eval(hit.ng, hit.uv, ray.dir);
         let mut l = hit.emitter.map_or(Rgb::ZERO, emitted);
         let (_, lit, scatters) = self.lobes[hit.material as usize];
         if !lit && !scatters {
