@@ -45,6 +45,28 @@ pub(super) fn plugin_of(
         .ok_or_else(|| unsupported(obj, what, &mitsuba_names(plugins)))
 }
 
+/// The node of `obj`, a plugin of `kind` declared in the scene as `id`,
+/// from its table at `base` (made by the kind's table mapping): the
+/// table's `type` becomes the node's plugin, its other keys the node's.
+pub(super) fn declared(
+    kind: Kind,
+    id: String,
+    obj: &Object,
+    table: Located<Value>,
+    base: KeyPath,
+) -> Node {
+    let Value::Table(mut props) = table.value else {
+        unreachable!("a plugin's mapping makes a table")
+    };
+    let mut node = Node::new(kind, obj.plugin.clone(), obj.at.origin(base));
+    if let Some(i) = props.iter().position(|p| p.name == "type") {
+        node.plugin_origin = props.remove(i).value.origin;
+    }
+    node.id = Some(id);
+    node.props = props;
+    node
+}
+
 /// Refuses a property of `obj`, a plugin of kind `what` held as a table,
 /// that `plugin` does not read (through its schema or its mapping).
 pub(super) fn table_props(obj: &Object, plugin: &Plugin, what: &str) -> Result<(), SceneError> {

@@ -11,7 +11,7 @@
 use std::rc::Rc;
 
 use super::mapper::{located, obj_has, set, vec3, Out};
-use super::mapping::{mitsuba_keys, plugin_of, required, table_props};
+use super::mapping::{declared, mitsuba_keys, plugin_of, required, table_props};
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
 use super::registry::{Adapt, Mapper};
@@ -225,17 +225,10 @@ impl Out<'_> {
                 .expect("a free name"),
         };
         let base = KeyPath::root().key("textures").key(&id);
-        let Value::Table(mut props) = self.texture_table(obj, base.clone(), &obj.at)?.value else {
-            unreachable!("a texture is a table")
-        };
-        let i = props.iter().position(|p| p.name == "type").expect("a type");
-        let ty = props.remove(i);
-        let mut node = Node::new(Kind::Texture, obj.plugin.clone(), obj.at.origin(base));
-        node.plugin_origin = ty.value.origin;
-        node.id = Some(id.clone());
-        node.props = props;
-        self.texture_ids.insert(id);
-        self.textures.push(node);
+        let table = self.texture_table(obj, base.clone(), &obj.at)?;
+        self.texture_ids.insert(id.clone());
+        self.textures
+            .push(declared(Kind::Texture, id, obj, table, base));
         Ok(())
     }
 

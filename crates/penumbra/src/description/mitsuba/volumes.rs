@@ -7,7 +7,7 @@
 //! Mitsuba makes a `constvolume` of it; see `mapping.rs`).
 
 use super::mapper::{located, set, Out};
-use super::mapping::{plugin_of, required, table_props};
+use super::mapping::{declared, plugin_of, required, table_props};
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
 use crate::description::error::{KeyPath, SceneError};
@@ -29,16 +29,9 @@ impl Out<'_> {
                 .expect("a free name"),
         };
         let base = KeyPath::root().key("volumes").key(&id);
-        let Value::Table(mut props) = self.volume_table(obj, base.clone(), &obj.at)?.value else {
-            unreachable!("a volume is a table")
-        };
-        let i = props.iter().position(|p| p.name == "type").expect("a type");
-        let ty = props.remove(i);
-        let mut node = Node::new(Kind::Volume, obj.plugin.clone(), obj.at.origin(base));
-        node.plugin_origin = ty.value.origin;
-        node.id = Some(id);
-        node.props = props;
-        self.volumes.push(node);
+        let table = self.volume_table(obj, base.clone(), &obj.at)?;
+        self.volumes
+            .push(declared(Kind::Volume, id, obj, table, base));
         Ok(())
     }
 
