@@ -184,7 +184,7 @@ impl Area {
     }
 
     /// The mean radiance over the unit square of `(u, v)` (of a texture,
-    /// on a grid of [`MEAN_GRID`]² points): what the light's power counts.
+    /// on a grid of `MEAN_GRID`² points): what the light's power counts.
     pub fn mean_radiance(&self) -> Rgb {
         if let Some(c) = self.constant() {
             return c;

@@ -1,6 +1,6 @@
 //! `depth`, `aov` and `moment` as plugins: their schemas, the settings
 //! they are read into (the integrator a holder holds, read through
-//! [`Nested`]), and the renders they make.
+//! `Nested`), and the renders they make.
 
 use std::marker::PhantomData;
 
