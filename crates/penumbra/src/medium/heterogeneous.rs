@@ -18,7 +18,7 @@
 //! segment (a segment's majorant times its length) until it runs out
 //! inside one, or the ray leaves the medium or reaches its end.
 
-use super::{channel_of, Coefficients, Interaction, MediumModel, COMMON};
+use super::{channel_of, Coefficients, Interaction, MediumModel, COMMON, SCALE, SPECTRAL_EXTINCTION};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Aabb, Rgb, Vec3};
@@ -100,20 +100,8 @@ impl MediumModel for Heterogeneous {
                 "0.75",
                 "the share of extinction that scatters: a volume, a number or 3 (RGB)",
             ),
-            Param::new(
-                "scale",
-                Type::Number,
-                "1",
-                "multiplies `sigma_t` (a change of length unit)",
-            )
-            .range(Range::NonNegative),
-            Param::new(
-                "has_spectral_extinction",
-                Type::Bool,
-                "true",
-                "distances are drawn by one colour channel and weighed by all (off: the \
-                 extinction is taken as grey, channel by channel ratios kept)",
-            ),
+            SCALE,
+            SPECTRAL_EXTINCTION,
             Param::new(
                 "majorant_resolution",
                 Type::Int,

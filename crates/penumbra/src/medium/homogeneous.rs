@@ -5,7 +5,7 @@
 //! it is real. `sigma_t` and `albedo` are a number or an RGB triple; a
 //! volume (a spatially varying albedo) is not read yet.
 
-use super::{Coefficients, MediumModel, COMMON};
+use super::{Coefficients, MediumModel, COMMON, SCALE, SPECTRAL_EXTINCTION};
 use crate::description::mitsuba::Mitsuba;
 use crate::description::props::Scale;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
@@ -66,20 +66,8 @@ impl MediumModel for Homogeneous {
                 "the share of extinction that scatters: a number or 3 (RGB)",
             )
             .range(Range::NonNegative),
-            Param::new(
-                "scale",
-                Type::Number,
-                "1",
-                "multiplies `sigma_t` (a change of length unit)",
-            )
-            .range(Range::NonNegative),
-            Param::new(
-                "has_spectral_extinction",
-                Type::Bool,
-                "true",
-                "distances are drawn by one colour channel and weighed by all (off: the \
-                 extinction is taken as grey, channel by channel ratios kept)",
-            ),
+            SCALE,
+            SPECTRAL_EXTINCTION,
             COMMON[0],
         ],
     };

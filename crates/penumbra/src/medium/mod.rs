@@ -40,7 +40,7 @@
 pub mod phase;
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
-use crate::description::{Invalid, Param, Props, Schema, Type};
+use crate::description::{Invalid, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::Rng;
 use crate::volume::Volumes;
@@ -54,6 +54,24 @@ pub const COMMON: [Param; 1] = [Param::new(
     "true",
     "next-event estimation at the medium's scattering points",
 )];
+
+/// `scale`, a parameter of every medium its model reads.
+pub(super) const SCALE: Param = Param::new(
+    "scale",
+    Type::Number,
+    "1",
+    "multiplies `sigma_t` (a change of length unit)",
+)
+.range(Range::NonNegative);
+
+/// `has_spectral_extinction`, a parameter of every medium its model reads.
+pub(super) const SPECTRAL_EXTINCTION: Param = Param::new(
+    "has_spectral_extinction",
+    Type::Bool,
+    "true",
+    "distances are drawn by one colour channel and weighed by all (off: the extinction is \
+     taken as grey, channel by channel ratios kept)",
+);
 
 /// A tentative collision of a ray in a medium, drawn by
 /// [`Medium::sample_interaction`] (Mitsuba's `MediumInteraction3f`).
