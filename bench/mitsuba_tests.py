@@ -28,7 +28,9 @@ and the render time; or why Penumbra refused the scene. With `--noise`,
 Mitsuba 3 (`scalar_rgb`, from bench/requirements.txt) renders the scene
 too at the same sample count, and the relative MSE of each image against
 the reference (mean of (x − ref)² / (ref² + 0.01)) is printed, Penumbra's
-over Mitsuba's: the noise at equal samples. `--check` exits 1 when any
+over Mitsuba's: the noise at equal samples, each averaged over `--seeds N`
+renders (default 1; the relative MSE of one render swings by a factor of
+two from seed to seed where a few pixels dominate it). `--check` exits 1 when any
 scene fails or is refused. Renders go to DIR (default
 bench/.work/mitsuba-tests).
 """
@@ -94,13 +96,13 @@ def rel_mse(img, ref):
     return float(((img - ref) ** 2 / (ref**2 + 0.01)).mean())
 
 
-def mitsuba_image(scene, spp, integrator):
-    """Mitsuba 3's render of `scene` at `spp` (scalar_rgb, seed 1), RGB."""
+def mitsuba_image(scene, spp, integrator, seed=1):
+    """Mitsuba 3's render of `scene` at `spp` (scalar_rgb), RGB."""
     import mitsuba as mi
 
     mi.set_variant("scalar_rgb")
     loaded = mi.load_file(str(scene), spp=spp, integrator=integrator)
-    img = np.asarray(mi.render(loaded, spp=spp, seed=1), dtype=np.float64)
+    img = np.asarray(mi.render(loaded, spp=spp, seed=seed), dtype=np.float64)
     return img[..., :3]
 
 
@@ -124,6 +126,8 @@ def main():
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--noise", action="store_true", help="relative MSE against Mitsuba's at equal samples")
+    ap.add_argument("--seeds", type=int, default=1,
+                    help="with --noise: seeds each renderer's relative MSE is averaged over")
     ap.add_argument("--out", default=str(HERE / ".work" / "mitsuba-tests"))
     a = ap.parse_args()
     out = Path(a.out)
@@ -162,7 +166,17 @@ def main():
         mean = img.mean(axis=(0, 1)) / np.maximum(ref.mean(axis=(0, 1)), 1e-12)
         noise = ""
         if a.noise:
-            ours, theirs = rel_mse(img, ref), rel_mse(mitsuba_image(scene, spp, integrator), ref)
+            ours, theirs = [rel_mse(img, ref)], []
+            for seed in range(1, a.seeds):
+                again = out / f"{scene.parent.name}-{scene.stem}-seed{seed}.exr"
+                more = [a.penumbra, "render", str(scene), "-o", str(again), "--quiet",
+                        "--threads", str(a.threads), "-D", f"spp={spp}",
+                        "-D", f"integrator={integrator}", "--seed", str(seed)]
+                subprocess.run(more, capture_output=True, check=True)
+                ours.append(rel_mse(read_exr(again), ref))
+            for seed in range(1, a.seeds + 1):
+                theirs.append(rel_mse(mitsuba_image(scene, spp, integrator, seed), ref))
+            ours, theirs = float(np.mean(ours)), float(np.mean(theirs))
             noise = f", relMSE {ours:.2e} / Mitsuba's {theirs:.2e} = {ours / theirs:.2f}"
         rows.append(
             f"{label:60} {'pass' if ok else 'FAIL':9} {100 * fraction:7.3f}% channels, "

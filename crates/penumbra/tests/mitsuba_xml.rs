@@ -190,6 +190,7 @@ const TOML_SCENE: &str = r#"
 [render]
 integrator = "path"
 max_depth = 3
+light_sampler = "uniform"
 width = 64
 height = 48
 filter = "box"
@@ -252,7 +253,7 @@ intensity = [20.0, 20.0, 20.0]
 fn toml_tree(integrator: Option<&str>) -> Node {
     let text = match integrator {
         Some(i) => TOML_SCENE.replace(
-            "integrator = \"path\"\nmax_depth = 3\n",
+            "integrator = \"path\"\nmax_depth = 3\nlight_sampler = \"uniform\"\n",
             &format!("integrator = \"{i}\"\n"),
         ),
         None => TOML_SCENE.to_string(),
@@ -2292,8 +2293,9 @@ fn lenient_reading_warns_of_unknown_parameters_and_refuses_unknown_plugins() {
     assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
     assert!(loaded.warnings[1].contains("scene.xml:5:") && loaded.warnings[1].contains("`glow`"));
     assert!(loaded.warnings[1].ends_with("ignored (--lenient)"));
+    // `max_depth`, and the light sampler of Mitsuba's integrators.
     let integrator = loaded.root.child(Kind::Integrator).unwrap();
-    assert_eq!(integrator.props.len(), 1);
+    assert_eq!(integrator.props.len(), 2);
     assert_eq!(prop(shapes(&loaded.root)[0], "radius"), &Value::Float(2.0));
     assert!(shapes(&loaded.root)[0].prop("glow").is_none());
     // The lenient tree loads and builds.

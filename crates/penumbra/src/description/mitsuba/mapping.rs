@@ -13,7 +13,7 @@ use std::rc::Rc;
 
 use super::mapper::{
     children, file_dir, float, get_bool, get_color, get_float, get_int, get_string, get_transform,
-    get_vector, located, matrix, rows, type_error, unsupported, vec3, Out,
+    get_vector, located, matrix, rows, set, type_error, unsupported, vec3, Out,
 };
 use super::objects::{error_at, Child, Object, Place};
 use super::parse::clip;
@@ -126,6 +126,9 @@ pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(),
     }
 }
 
+/// The integrators' choice of emitter for next-event estimation.
+const LIGHT_SAMPLER: &str = "light_sampler";
+
 impl Out<'_> {
     /// The node of an object of `kind` at `base`, through the schema of
     /// the plugin of that kind that reads its plugin and the plugin's own
@@ -144,6 +147,13 @@ impl Out<'_> {
         let mut node = Node::new(kind, schema.plugin, obj.at.origin(base.clone()));
         node.plugin_origin = obj.plugin_at.origin(base.key("type"));
         self.params(obj, schema, &mut node, &base)?;
+        if kind == Kind::Integrator && schema.params.iter().any(|p| p.name == LIGHT_SAMPLER) {
+            // Mitsuba chooses the emitter of next-event estimation
+            // uniformly.
+            set(&mut node, &base, LIGHT_SAMPLER, &obj.at, |p, at| {
+                located(Value::String("uniform".into()), p, at)
+            });
+        }
         match plugin.mitsuba.adapt {
             Some(Adapt::Node(adapt)) => adapt(obj, &mut node, &base)?,
             Some(Adapt::Held(adapt)) => adapt(self, obj, &mut node, &base)?,
