@@ -237,6 +237,51 @@ fn a_scattering_sphere_is_invisible_with_each_phase_function() {
     }
 }
 
+/// A homogeneous medium's albedo as a constant volume (a table, or a
+/// volume of the scene by name) renders the same bits as the same albedo
+/// written as a number or 3 numbers.
+#[test]
+fn a_constant_albedo_volume_renders_the_plain_albedo_s_bits() {
+    let toml = |albedo: &str| {
+        format!(
+            "[render]\nwidth = 16\nheight = 10\nintegrator = \"volpath\"\nspp = 8\n\
+             seed = 3\nbackground = [0.5, 0.7, 1]\n\n\
+             [camera]\nposition = [0, 0.5, 4]\nlook_at = [0, 0, 0]\nfov = 40\n\n\
+             [volumes.haze]\ntype = \"constvolume\"\nvalue = [0.9, 0.5, 0.2]\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [materials.floor]\ntype = \"diffuse\"\n\n\
+             [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 3]\nalbedo = {albedo}\n\n\
+             [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+             interior = \"fog\"\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-3, -1, 3]\n\
+             edge_u = [6, 0, 0]\nedge_v = [0, 0, -6]\n"
+        )
+    };
+    for (plain, volumes) in [
+        ("0.6", &["{ type = \"constvolume\", value = 0.6 }"][..]),
+        (
+            "[0.9, 0.5, 0.2]",
+            &[
+                "{ type = \"constvolume\", value = [0.9, 0.5, 0.2] }",
+                "\"haze\"",
+            ][..],
+        ),
+    ] {
+        let (want, rays) = render_scene(&scene(&toml(plain)), 2);
+        assert!(rays.media.scatterings > 0);
+        for v in volumes {
+            let (got, r) = render_scene(&scene(&toml(v)), 2);
+            assert_eq!(r, rays, "{v}");
+            for y in 0..want.height {
+                for x in 0..want.width {
+                    let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
+                    assert_eq!(bits(&got), bits(&want), "pixel ({x}, {y}): {v} vs {plain}");
+                }
+            }
+        }
+    }
+}
+
 /// Every pixel's samples are a function of the seed, the pixel and the
 /// sample alone: the same bits on 1 and 3 threads and in 3 passes.
 #[test]

@@ -1707,8 +1707,8 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a <volume> named `density` is not a volume the medium `heterogeneous` reads (it reads sigma_t, albedo)",
         ),
         (
-            r#"<medium type="homogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,
-            "a <volume> named `albedo` is not a volume the medium `homogeneous` reads (it reads none)",
+            r#"<medium type="homogeneous"><volume type="gridvolume" name="sigma_t"/></medium>"#,
+            "a <volume> named `sigma_t` is not a volume the medium `homogeneous` reads (it reads albedo)",
         ),
         (
             r#"<medium type="rainbow"/>"#,
