@@ -149,6 +149,139 @@ fn single_scattering_from_a_directional_light_matches_a_quadrature() {
     );
 }
 
+/// Single scattering as above for the phase functions beyond `hg`, each
+/// against its closed form at the scattering angle: `rayleigh`, an
+/// asymmetric `tabphase` (whose last value is straight on: read the other
+/// way round its value here would be 5 times larger) and a `blendphase`
+/// of the two.
+#[test]
+fn single_scattering_follows_each_phase_function() {
+    let (sigma_t, albedo) = (1.5f64, 0.8f64);
+    let alpha = 40f64.to_radians();
+    let (sa, ca) = alpha.sin_cos();
+    let light = format!(
+        "[[lights]]\ntype = \"directional\"\ndirection = [{sa}, 0, {}]\nirradiance = [2, 2, 2]\n",
+        -ca
+    );
+    let pi = std::f64::consts::PI;
+    let cos_theta = -ca;
+    let rayleigh = 3.0 / (16.0 * pi) * (1.0 + cos_theta * cos_theta);
+    // Values 0.5, 1, 4 at cos θ = −1, 0, 1: an integral of 3.25 over cos θ.
+    let table = (0.5 + 0.5 * (cos_theta + 1.0)) / 3.25 / (2.0 * pi);
+    let n = 10_000;
+    let integral: f64 = (0..n)
+        .map(|i| {
+            let s = (i as f64 + 0.5) / n as f64;
+            (-sigma_t * s * (1.0 + 1.0 / ca)).exp() / n as f64
+        })
+        .sum();
+    for (phase, value) in [
+        ("{ type = \"rayleigh\" }", rayleigh),
+        ("{ type = \"tabphase\", values = \"0.5, 1, 4\" }", table),
+        (
+            "{ type = \"blendphase\", weight = 0.25, phase_0 = { type = \"rayleigh\" }, \
+             phase_1 = { type = \"tabphase\", values = \"0.5, 1, 4\" } }",
+            0.75 * rayleigh + 0.25 * table,
+        ),
+    ] {
+        let medium = format!(
+            "type = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = {albedo}\nphase = {phase}"
+        );
+        let (img, _) = render_toml(&slab(&medium, &light, "spp = 64\nmax_depth = 2"));
+        let (got, err) = mean_and_error(&img);
+        let want = (sigma_t * albedo * 2.0 * value * integral) as f32;
+        assert_within(got, err, Rgb::splat(want), phase);
+        assert!(
+            want > 0.005 && err.max_element() < 0.05 * want,
+            "{phase}: {want} ± {err:?}"
+        );
+    }
+}
+
+/// A sphere that scatters all it stops, in an environment of radiance 1,
+/// is invisible whatever its phase function: each new one, and a blend
+/// whose weight is a volume varying through the sphere. (A grey
+/// extinction: the test is of the phase functions, not of the weights
+/// of spectral tracking.)
+#[test]
+fn a_scattering_sphere_is_invisible_with_each_phase_function() {
+    let dir = tempfile::tempdir().unwrap();
+    // A 2×1×1 grid over the unit cube, clamped beyond it: weight 0.1 in
+    // the sphere's left half and a little more, 0.9 beyond x = 0.5.
+    write_vol(dir.path(), "weight.vol", [2, 1, 1], 1, |x, _, _, _| {
+        [0.1, 0.9][x as usize]
+    });
+    for phase in [
+        "{ type = \"rayleigh\" }",
+        "{ type = \"tabphase\", values = \"4, 0, 0.5, 1, 8\" }",
+        "{ type = \"blendphase\", weight = { type = \"gridvolume\", filename = \"weight.vol\", \
+         filter_type = \"nearest\" }, phase_0 = { type = \"hg\", g = -0.7 }, \
+         phase_1 = { type = \"rayleigh\" } }",
+    ] {
+        let toml = format!(
+            "[render]\nwidth = 12\nheight = 12\nintegrator = \"volpath\"\nspp = 128\n\
+             seed = 9\nbackground = [1, 1, 1]\n\n\
+             [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [media.fog]\ntype = \"homogeneous\"\nsigma_t = 3\nalbedo = 1\n\
+             phase = {phase}\n\n\
+             [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+             interior = \"fog\"\n"
+        );
+        let s = scene_in(dir.path(), &toml);
+        let (img, rays) = render_scene(&s, 2);
+        let (got, err) = mean_and_error(&img);
+        assert_within(got, err, Rgb::ONE, phase);
+        assert!(rays.media.scatterings > 5_000, "{phase}: {:?}", rays.media);
+        assert!(err.max_element() < 0.05, "{phase}: noise {err:?}");
+    }
+}
+
+/// A homogeneous medium's albedo as a constant volume (a table, or a
+/// volume of the scene by name) renders the same bits as the same albedo
+/// written as a number or 3 numbers.
+#[test]
+fn a_constant_albedo_volume_renders_the_plain_albedo_s_bits() {
+    let toml = |albedo: &str| {
+        format!(
+            "[render]\nwidth = 16\nheight = 10\nintegrator = \"volpath\"\nspp = 8\n\
+             seed = 3\nbackground = [0.5, 0.7, 1]\n\n\
+             [camera]\nposition = [0, 0.5, 4]\nlook_at = [0, 0, 0]\nfov = 40\n\n\
+             [volumes.haze]\ntype = \"constvolume\"\nvalue = [0.9, 0.5, 0.2]\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [materials.floor]\ntype = \"diffuse\"\n\n\
+             [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 3]\nalbedo = {albedo}\n\n\
+             [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+             interior = \"fog\"\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-3, -1, 3]\n\
+             edge_u = [6, 0, 0]\nedge_v = [0, 0, -6]\n"
+        )
+    };
+    for (plain, volumes) in [
+        ("0.6", &["{ type = \"constvolume\", value = 0.6 }"][..]),
+        (
+            "[0.9, 0.5, 0.2]",
+            &[
+                "{ type = \"constvolume\", value = [0.9, 0.5, 0.2] }",
+                "\"haze\"",
+            ][..],
+        ),
+    ] {
+        let (want, rays) = render_scene(&scene(&toml(plain)), 2);
+        assert!(rays.media.scatterings > 0);
+        for v in volumes {
+            let (got, r) = render_scene(&scene(&toml(v)), 2);
+            assert_eq!(r, rays, "{v}");
+            for y in 0..want.height {
+                for x in 0..want.width {
+                    let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
+                    assert_eq!(bits(&got), bits(&want), "pixel ({x}, {y}): {v} vs {plain}");
+                }
+            }
+        }
+    }
+}
+
 /// Every pixel's samples are a function of the seed, the pixel and the
 /// sample alone: the same bits on 1 and 3 threads and in 3 passes.
 #[test]

@@ -40,7 +40,6 @@ const MISSING: &[&str] = &[
     "irregular",
     "rawconstant",
     "blackbody",
-    "blendphase",
     "bsplinecurve",
     "circular",
     "directionalarea",
@@ -62,7 +61,6 @@ const MISSING: &[&str] = &[
     "specfilm",
     "stokes",
     "sunsky",
-    "tabphase",
     "timed_sunsky",
     "volpathmis",
     "volume",
@@ -172,6 +170,7 @@ fn required(plugin: &str, param: &str) -> String {
         "twosided" | "mask" => r#"<bsdf type="diffuse"/>"#,
         "bumpmap" => r#"<texture type="checkerboard"/><bsdf type="diffuse"/>"#,
         "normalmap" => r#"<bsdf type="diffuse"/>"#,
+        "blendphase" => r#"<phase type="isotropic"/><phase type="hg"/>"#,
         _ => "",
     };
     let mut xml: String = needs

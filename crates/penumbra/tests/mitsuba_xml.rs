@@ -1708,16 +1708,16 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "a <volume> named `density` is not a volume the medium `heterogeneous` reads (it reads sigma_t, albedo)",
         ),
         (
-            r#"<medium type="homogeneous"><volume type="gridvolume" name="albedo"/></medium>"#,
-            "a <volume> named `albedo` is not a volume the medium `homogeneous` reads (it reads none)",
+            r#"<medium type="homogeneous"><volume type="gridvolume" name="sigma_t"/></medium>"#,
+            "a <volume> named `sigma_t` is not a volume the medium `homogeneous` reads (it reads albedo)",
         ),
         (
             r#"<medium type="rainbow"/>"#,
             "medium `rainbow` is not supported; supported: homogeneous, heterogeneous",
         ),
         (
-            r#"<medium type="homogeneous"><phase type="rayleigh"/></medium>"#,
-            "phase `rayleigh` is not supported; supported: isotropic, hg",
+            r#"<medium type="homogeneous"><phase type="sggx"/></medium>"#,
+            "phase `sggx` is not supported; supported: isotropic, hg, rayleigh, tabphase, blendphase",
         ),
         (
             r#"<shape type="sphere"><medium type="homogeneous" name="inside"/></shape>"#,
@@ -2986,6 +2986,104 @@ fn media_map_onto_the_scene_s_media_and_the_shapes_sides() {
     let (b, _) = common::render_scene(&toml.build().unwrap(), 2);
     assert!(a.pixels == b.pixels);
     assert!(rays.media.scatterings > 0);
+}
+
+/// Phase functions holding phase functions: a `blendphase`'s nested
+/// `<phase>`s are its `phase_0` and `phase_1` in the order written, each a
+/// table (a blend nested in a blend too), its `<volume name="weight">` its
+/// weight; `tabphase` keeps its `values` string. The scene converts to
+/// TOML and reads back to the same tree, and renders the same pixels from
+/// both files. A blend of one `<phase>`, a `<phase>` inside an `hg` and a
+/// table of one value are refused.
+#[test]
+fn nested_phase_functions_map_onto_tables() {
+    let medium = |phase: &str| {
+        format!(
+            r#"<integrator type="volpath"/>
+        <sensor type="perspective"><float name="fov" value="45"/>
+            <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+            <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+        </sensor>
+        <emitter type="constant"/>
+        <shape type="sphere"><bsdf type="null"/>
+            <medium type="homogeneous" name="interior"><float name="sigma_t" value="2"/>{phase}</medium>
+        </shape>"#
+        )
+    };
+    let d = one(&medium(
+        r#"<phase type="blendphase">
+            <volume name="weight" type="constvolume"><float name="value" value="0.25"/></volume>
+            <phase name="b" type="rayleigh"/>
+            <phase name="a" type="blendphase">
+                <float name="weight" value="0.5"/>
+                <phase type="tabphase"><string name="values" value="1, 2, 3"/></phase>
+                <phase type="hg"><float name="g" value="0.4"/></phase>
+            </phase>
+        </phase>"#,
+    ));
+    let root = d.tree("scene.xml");
+    let fog = root.children_of(Kind::Medium).next().unwrap();
+    let phase = fog.child(Kind::Phase).unwrap();
+    assert_eq!(phase.plugin, "blendphase");
+    assert!(
+        matches!(prop(phase, "weight"), Value::Table(_)),
+        "{phase:?}"
+    );
+    let table = |v: &Value| match v {
+        Value::Table(props) => props.clone(),
+        other => panic!("not a table: {other:?}"),
+    };
+    let field = |props: &[penumbra::description::Prop], name: &str| {
+        props
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("no `{name}` in {props:?}"))
+            .value
+            .value
+            .clone()
+    };
+    let first = table(prop(phase, "phase_0"));
+    assert_eq!(field(&first, "type"), Value::String("rayleigh".into()));
+    let second = table(prop(phase, "phase_1"));
+    assert_eq!(field(&second, "type"), Value::String("blendphase".into()));
+    let inner = table(&field(&second, "phase_0"));
+    assert_eq!(field(&inner, "type"), Value::String("tabphase".into()));
+    assert_eq!(field(&inner, "values"), Value::String("1, 2, 3".into()));
+    let inner = table(&field(&second, "phase_1"));
+    assert_eq!(numbers(&field(&inner, "g")), [0.4]);
+
+    let opts = LoadOptions::default();
+    let xml = SceneSource::open(d.path("scene.xml").to_str().unwrap(), &opts).unwrap();
+    let text = convert::to_toml(&xml, d.0.path()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(text.contains("phase_0"), "{text}");
+    d.write("scene.toml", text.as_bytes());
+    let toml = SceneSource::open(d.path("scene.toml").to_str().unwrap(), &opts).unwrap();
+    assert!(xml.root.same_as(&toml.root), "{text}");
+    let built = xml.build().unwrap();
+    assert_eq!(built.media[0].phase.name(), "blendphase");
+    let (a, rays) = common::render_scene(&built, 2);
+    let (b, _) = common::render_scene(&toml.build().unwrap(), 2);
+    assert!(a.pixels == b.pixels);
+    assert!(rays.media.scatterings > 0);
+
+    let refused = |phase: &str| {
+        let d = one(&medium(phase));
+        let path = d.path("scene.xml");
+        match SceneSource::open(path.to_str().unwrap(), &opts).and_then(|s| s.build()) {
+            Ok(_) => panic!("{phase} accepted"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let e = refused(r#"<phase type="blendphase"><phase type="hg"/></phase>"#);
+    assert!(e.contains("a `blendphase` holds 2 <phase>s, not 1"), "{e}");
+    let e = refused(r#"<phase type="hg"><phase type="isotropic"/></phase>"#);
+    assert!(
+        e.contains("a <phase> inside the phase `hg` is not supported"),
+        "{e}"
+    );
+    let e = refused(r#"<phase type="tabphase"><string name="values" value="2"/></phase>"#);
+    assert!(e.contains("values") && e.contains("at least 2"), "{e}");
 }
 
 /// An `area` emitter's `radiance` takes a texture, nested or by `<ref>` to

@@ -492,8 +492,9 @@ fn held_materials_are_named_and_loops_refused() {
 
 /// Media: a name no medium has is refused at the value that names it (an
 /// object's side, the camera's medium), listing the media there are; an
-/// unknown medium or phase function type at its `type`; a table where a
-/// coefficient goes (a volume) at the value.
+/// unknown medium or phase function type at its `type` (a blend's held
+/// one too); a table where a coefficient goes (a volume) at the value; a
+/// tabulated phase function's bad table at its values.
 #[test]
 fn media_errors_point_at_the_value() {
     let media = "[media.fog]\ntype = \"homogeneous\"\n";
@@ -516,11 +517,34 @@ fn media_errors_point_at_the_value() {
         e.starts_with("test.toml:2:8:") && e.contains("homogeneous, heterogeneous"),
         "{e}"
     );
-    let e = err(&format!("{media}phase = {{ type = \"rayleigh\" }}\n"));
+    let e = err(&format!("{media}phase = {{ type = \"sggx\" }}\n"));
     assert!(
-        e.starts_with("test.toml:3:18:") && e.contains("isotropic, hg"),
+        e.starts_with("test.toml:3:18:")
+            && e.contains("isotropic, hg, rayleigh, tabphase, blendphase"),
         "{e}"
     );
+    // Inside a blend: the held phase function's type, and a bad table's
+    // values, at their own place.
+    let blend = |inner: &str| {
+        format!(
+            "{media}phase = {{ type = \"blendphase\", phase_0 = {{ type = \"isotropic\" }}, \
+             phase_1 = {inner} }}\n"
+        )
+    };
+    let e = err(&blend("{ type = \"sggx\" }"));
+    assert!(
+        e.starts_with("test.toml:3:85:") && e.contains("unknown phase `sggx`"),
+        "{e}"
+    );
+    let e = err(&blend("{ type = \"tabphase\", values = \"1, -1\" }"));
+    assert!(
+        e.contains("media.fog.phase.phase_1.values") && e.contains("value 2 is -1"),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{media}phase = {{ type = \"blendphase\", phase_0 = {{ type = \"hg\" }} }}\n"
+    ));
+    assert!(e.contains("missing field `phase_1`"), "{e}");
     let e = err(&format!("{media}albedo = {{ type = \"gridvolume\" }}\n"));
     assert!(
         e.starts_with("test.toml:3:10:") && e.contains("media.fog.albedo"),

@@ -182,9 +182,18 @@ pub enum Type {
     /// A number or 3 numbers (a constant volume), a volume's table or the
     /// name of a volume of the scene (what a medium reads through space).
     Volume,
+    /// A phase function's table (its `type` and parameters), one a phase
+    /// function holds; its own keys are its builder's to check.
+    Phase,
 }
 
 impl Type {
+    /// A parameter holding another plugin (a material, a phase function),
+    /// which Mitsuba XML sets from a nested object rather than a property.
+    pub fn is_held(&self) -> bool {
+        matches!(self, Type::Material | Type::Phase)
+    }
+
     /// The type as the docs' tables name it.
     pub fn markdown_name(&self) -> String {
         match self {
@@ -208,6 +217,7 @@ impl Type {
             Type::ColourTexture => "colour or texture".into(),
             Type::NumberTexture => "number or texture".into(),
             Type::Volume => "number, colour or volume".into(),
+            Type::Phase => "phase function table".into(),
         }
     }
 }
@@ -390,6 +400,7 @@ fn check_value(v: &Located<Value>, ty: &Type) -> Result<(), Invalid> {
             }),
         },
         Type::String | Type::Path | Type::Material => props::string(v).map(drop),
+        Type::Phase => props::table(v).map(drop),
         Type::Distribution => props::distribution(v).map(drop),
         Type::Choice(what, choices) => props::choice(v, what, choices).map(drop),
         Type::NumberOrChoice(what, choices) => props::number_or_choice(v, what, choices).map(drop),

@@ -1,9 +1,10 @@
-//! `homogeneous`: a medium of the same extinction and albedo everywhere
-//! (Mitsuba 3's `homogeneous`). Its extinction is `scale · sigma_t`, its
+//! `homogeneous`: a medium of the same extinction everywhere (Mitsuba 3's
+//! `homogeneous`). Its extinction is `scale · sigma_t`, its
 //! scattering `albedo` times that; it fills all space its boundaries
 //! enclose, its majorant is its extinction, and every collision drawn in
-//! it is real. `sigma_t` and `albedo` are a number or an RGB triple; a
-//! volume (a spatially varying albedo) is not read yet.
+//! it is real. `sigma_t` is a number or an RGB triple; `albedo` may also
+//! be a volume (as Mitsuba's), looked up at each collision: a medium of
+//! one extinction whose scattering varies through space.
 
 use super::{Coefficients, MediumModel, COMMON, SCALE, SPECTRAL_EXTINCTION};
 use crate::description::mitsuba::Mitsuba;
@@ -11,15 +12,16 @@ use crate::description::props::Scale;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::Rng;
-use crate::volume::Volumes;
+use crate::volume::{Volume, Volumes};
 
 /// The homogeneous medium (see the [module docs](self)).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Homogeneous {
     /// The extinction, `scale · sigma_t`.
     pub sigma_t: Rgb,
-    /// The single-scattering albedo.
-    pub albedo: Rgb,
+    /// The single-scattering albedo (boxed, as volumes are large beside
+    /// the rest).
+    pub albedo: Box<Volume>,
     /// The extinction differs between channels and is sampled so.
     pub spectral: bool,
 }
@@ -49,7 +51,7 @@ impl MediumModel for Homogeneous {
         kind: Kind::Medium,
         plugin: "homogeneous",
         what: "homogeneous medium",
-        doc: "the same extinction and albedo everywhere",
+        doc: "the same extinction everywhere, the albedo a number, a colour or a volume",
         mitsuba: &["homogeneous"],
         params: &[
             Param::new(
@@ -61,11 +63,11 @@ impl MediumModel for Homogeneous {
             .range(Range::NonNegative),
             Param::new(
                 "albedo",
-                Type::Scale,
+                Type::Volume,
                 "0.75",
-                "the share of extinction that scatters: a number or 3 (RGB)",
-            )
-            .range(Range::NonNegative),
+                "the share of extinction that scatters: a number or 3 (RGB), or a volume looked \
+                 up at each collision",
+            ),
             SCALE,
             SPECTRAL_EXTINCTION,
             COMMON[0],
@@ -73,13 +75,13 @@ impl MediumModel for Homogeneous {
     };
 
     const MITSUBA: Mitsuba = Mitsuba::differs(
-        "`sigma_t` and `albedo` are a float, an RGB or a spectrum (as RGB); a volume is not \
-         read yet",
+        "`sigma_t` is a float, an RGB or a spectrum (as RGB), not a volume; `albedo` is also a \
+         volume",
     );
 
-    fn build(p: &Props, _volumes: &Volumes) -> Result<Homogeneous, Invalid> {
+    fn build(p: &Props, volumes: &Volumes) -> Result<Homogeneous, Invalid> {
         let sigma_t = colour(p, "sigma_t", 1.0)?;
-        let albedo = colour(p, "albedo", 0.75)?;
+        let albedo = Box::new(volumes.volume(p, "albedo", Rgb::splat(0.75))?);
         let scale = p.f32("scale")?.unwrap_or(1.0);
         if !(scale.is_finite() && scale >= 0.0) {
             return Err(p.error("scale", format!("must be a finite number ≥ 0, got {scale}")));
@@ -113,9 +115,9 @@ impl MediumModel for Homogeneous {
     }
 
     #[inline]
-    fn coefficients(&self, _p: Vec3) -> Coefficients {
+    fn coefficients(&self, p: Vec3) -> Coefficients {
         Coefficients {
-            sigma_s: self.sigma_t * self.albedo,
+            sigma_s: self.sigma_t * self.albedo.eval(p),
             sigma_n: Rgb::ZERO,
             sigma_t: self.sigma_t,
         }
@@ -141,10 +143,10 @@ mod tests {
     fn distances_follow_the_exponential_law() {
         let m = Homogeneous {
             sigma_t: Rgb::new(0.5, 1.0, 2.0),
-            albedo: Rgb::splat(0.6),
+            albedo: Box::new(Volume::constant(Rgb::splat(0.6))),
             spectral: true,
         };
-        let model = Model::Homogeneous(m);
+        let model = Model::Homogeneous(m.clone());
         let (o, d) = (Vec3::new(1.0, 2.0, 3.0), Vec3::Z);
         let mut rng = Rng::new(11);
         for channel in 0..3 {

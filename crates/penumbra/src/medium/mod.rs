@@ -30,7 +30,7 @@
 //!
 //! | model | what |
 //! |---|---|
-//! | [`homogeneous`](homogeneous::Homogeneous) | the same extinction and albedo everywhere (Mitsuba 3's `homogeneous`) |
+//! | [`homogeneous`](homogeneous::Homogeneous) | the same extinction everywhere, the albedo a number, a colour or a volume (Mitsuba 3's `homogeneous`) |
 //! | [`heterogeneous`](heterogeneous::Heterogeneous) | extinction and albedo read from volumes, tracked through a grid of majorants (Mitsuba 3's `heterogeneous`) |
 //!
 //! Shapes bound media (their `interior` and `exterior`), and the camera

@@ -12,6 +12,7 @@
 //! linear density. The density of a point is the interpolant there over its
 //! integral, the same whichever way it is computed: sampled or looked up.
 
+use super::linear1d::{lerp, linear};
 use super::Discrete;
 use crate::math::Vec2;
 
@@ -122,25 +123,6 @@ impl Bilinear2D {
         let (tx, ty) = (x - i as f32, y - j as f32);
         let (v00, v10, v01, v11) = self.corners(i, j);
         lerp(lerp(v00, v10, tx), lerp(v01, v11, tx), ty)
-    }
-}
-
-#[inline]
-fn lerp(a: f32, b: f32, t: f32) -> f32 {
-    a + (b - a) * t
-}
-
-/// The point `t` of [0, 1] where the density proportional to
-/// `lerp(a, b, t)` (`a`, `b` ≥ 0) has the cumulative probability `s`: the
-/// root of the quadratic written without dividing by `b − a`, so that it
-/// holds for equal ends and for an end at 0. Uniform if both ends are 0.
-#[inline]
-fn linear(a: f32, b: f32, s: f32) -> f32 {
-    let denom = a + (a * a + s * (b * b - a * a)).max(0.0).sqrt();
-    if denom > 0.0 {
-        (s * (a + b) / denom).clamp(0.0, 1.0)
-    } else {
-        s
     }
 }
 

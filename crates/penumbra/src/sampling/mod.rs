@@ -9,6 +9,7 @@ pub mod discrete;
 pub mod distribution;
 pub mod filter;
 pub mod halton;
+pub mod linear1d;
 mod order;
 pub mod path_sampler;
 pub mod piecewise2d;
@@ -29,6 +30,7 @@ pub use distribution::{
     poisson_min_distance, poisson_min_distance_1d, shuffle, square_side, Distribution, Domain,
 };
 pub use filter::{Filter, FilterParams, PixelFilter};
+pub use linear1d::Linear1D;
 pub use path_sampler::{BounceNumbers, PathSampler};
 pub use piecewise2d::Piecewise2D;
 pub use points::{EffectSpec, SetPoint, MAX_RAYS};

@@ -659,7 +659,7 @@ fn media(root: &Node, volumes: &Volumes) -> Result<(Vec<Medium>, HashMap<String,
         let phase = match node.child(Kind::Phase) {
             Some(ph) => {
                 let pp = Props::new(ph);
-                let phase = Phase::build(&ph.plugin, &pp).unwrap_or_else(|| {
+                let phase = Phase::build(&ph.plugin, &pp, volumes).unwrap_or_else(|| {
                     Err(pp.node_error(format!("unknown phase function `{}`", ph.plugin)))
                 })?;
                 pp.finish("phase function")?;

@@ -136,10 +136,22 @@ fn mitsuba_note(kind: Kind, schema: &Schema) -> Option<String> {
             held.join(", ")
         ));
     }
+    let phases: Vec<String> = schema
+        .params
+        .iter()
+        .filter(|p| p.ty == Type::Phase)
+        .map(|p| format!("`{}`", p.name))
+        .collect();
+    if !phases.is_empty() {
+        parts.push(format!(
+            "sets {} from its nested `<phase>`s, in order",
+            phases.join(", ")
+        ));
+    }
     let own: Vec<String> = schema
         .params
         .iter()
-        .filter(|p| p.mitsuba == MitsubaKey::None && p.ty != Type::Material)
+        .filter(|p| p.mitsuba == MitsubaKey::None && !p.ty.is_held())
         .map(|p| format!("`{}`", p.name))
         .collect();
     let mut reads: Vec<String> = Vec::new();
@@ -251,6 +263,7 @@ pub fn mitsuba_table(kind: Kind, registry: Registry) -> String {
                 let name = match p.mitsuba {
                     MitsubaKey::Any => "any nested texture".to_string(),
                     _ if p.ty == Type::Material => format!("a nested `<bsdf>` as `{}`", p.name),
+                    _ if p.ty == Type::Phase => format!("a nested `<phase>` as `{}`", p.name),
                     _ => format!("`{}`", p.mitsuba_name()?),
                 };
                 // Required in Penumbra, and in Mitsuba unless the

@@ -92,7 +92,7 @@ pub(super) fn mitsuba_keys(schema: &Schema) -> Vec<&'static str> {
     schema
         .params
         .iter()
-        .filter(|p| p.ty != Type::Material && p.mitsuba != MitsubaKey::Any)
+        .filter(|p| !p.ty.is_held() && p.mitsuba != MitsubaKey::Any)
         .filter_map(|p| p.mitsuba_name())
         .collect()
 }
@@ -111,7 +111,7 @@ pub(super) fn required(obj: &Object, schema: &Schema, node: &Node) -> Result<(),
     let missing = schema
         .params
         .iter()
-        .filter(|p| p.default == "required" && p.ty != Type::Material)
+        .filter(|p| p.default == "required" && !p.ty.is_held())
         .find(|p| node.prop(p.name).is_none() && !texture_child(obj, p));
     match missing {
         None => Ok(()),
@@ -206,13 +206,68 @@ impl Out<'_> {
         let mut node = self.mapped(Kind::Medium, obj, base.clone())?;
         self.volume_children(obj, schema, &mut node, &base)?;
         if let Some(ph) = phase {
-            self.no_children(ph)?;
-            node.children
-                .push(self.mapped(Kind::Phase, ph, base.key("phase"))?);
+            node.children.push(self.phase(ph, base.key("phase"))?);
         }
         node.id = Some(name.clone());
         self.media.push(node);
         Ok(name)
+    }
+
+    /// The phase function `obj` as a node at `base`. A phase function
+    /// holding others (`blendphase`) takes them from its nested `<phase>`s
+    /// in order, each as the table of a phase-typed parameter (made the
+    /// same way, nesting as deep as the file does), and a nested `<volume>`
+    /// as its volume-typed parameter of that name; others hold nothing.
+    fn phase(&mut self, obj: &Object, base: KeyPath) -> Result<Node, SceneError> {
+        let schema = plugin_of((self.registry)(Kind::Phase), obj, "phase")?.schema;
+        let slots: Vec<&Param> = schema
+            .params
+            .iter()
+            .filter(|p| p.ty == Type::Phase)
+            .collect();
+        let mut held = Vec::new();
+        for c in children(self.ids, obj)? {
+            match c.tag.as_str() {
+                "phase" if !slots.is_empty() => held.push(c),
+                "volume" if schema.params.iter().any(|p| p.ty == Type::Volume) => {}
+                other => {
+                    return Err(error_at(
+                        &c.at,
+                        format!(
+                            "a <{other}> inside the phase `{}` is not supported",
+                            clip(&obj.plugin)
+                        ),
+                    ))
+                }
+            }
+        }
+        if held.len() != slots.len() {
+            let at = held.get(slots.len()).map_or(&obj.at, |c| &c.at);
+            return Err(error_at(
+                at,
+                format!(
+                    "a `{}` holds {} <phase>s, not {}",
+                    clip(&obj.plugin),
+                    slots.len(),
+                    held.len()
+                ),
+            ));
+        }
+        let mut node = self.mapped(Kind::Phase, obj, base.clone())?;
+        self.volume_children(obj, schema, &mut node, &base)?;
+        for (param, child) in slots.iter().zip(held) {
+            let path = base.key(param.name);
+            let inner = self.phase(child, path.clone())?;
+            let mut table = Node::new(Kind::Phase, "", child.at.origin(path.clone()));
+            set(&mut table, &path, "type", &child.plugin_at, |p, at| {
+                located(Value::String(inner.plugin.clone()), p, at)
+            });
+            table.props.extend(inner.props);
+            set(&mut node, &base, param.name, &child.at, |p, at| {
+                located(Value::Table(table.props), p, at)
+            });
+        }
+        Ok(node)
     }
 
     /// Sets on `node` (at `base`) every parameter of `schema` that `obj`
@@ -338,7 +393,7 @@ impl Out<'_> {
                     return Err(type_error(p, "a float or a 3D vector"));
                 }
             },
-            Type::Numbers(_) | Type::Scale2 | Type::Matrix3 | Type::Material => {
+            Type::Numbers(_) | Type::Scale2 | Type::Matrix3 | Type::Material | Type::Phase => {
                 match obj.prop(key) {
                     None => None,
                     Some(p) => {

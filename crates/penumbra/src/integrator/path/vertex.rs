@@ -554,7 +554,7 @@ impl MediumVertex {
         stats: &mut RayStats,
     ) {
         let d = self.set.distribution;
-        let Some(ps) = phase.sample(self.wo, unit_square(point, d)) else {
+        let Some(ps) = phase.sample(self.p, self.wo, unit_square(point, d)) else {
             return;
         };
         if ps.pdf <= 0.0 || ps.pdf.is_nan() {

@@ -306,7 +306,7 @@ impl Wavefront<'_> {
                             if let Some(ls) =
                                 sample_emitter(emitter, r, (p, Distribution::Jitter), *escape)
                             {
-                                let f = phase.eval(wo, ls.dir);
+                                let f = phase.eval(mi.p, wo, ls.dir);
                                 let w = if ls.pdf > 0.0 {
                                     power_heuristic(pmf * ls.pdf, f)
                                 } else {
@@ -327,7 +327,7 @@ impl Wavefront<'_> {
                     st.direct = !medium.sample_emitters;
                     st.sets = false;
                     // The phase function's direction.
-                    let Some(ps) = phase.sample(wo, u.point(DIRECTION)) else {
+                    let Some(ps) = phase.sample(mi.p, wo, u.point(DIRECTION)) else {
                         continue;
                     };
                     beta *= ps.weight;

@@ -182,7 +182,7 @@ pub(super) fn medium_sets(
                 let Some(ls) = ls else {
                     continue;
                 };
-                let f = phase.eval(wo, ls.dir);
+                let f = phase.eval(p, wo, ls.dir);
                 if f <= 0.0 {
                     continue;
                 }

@@ -16,26 +16,32 @@ pub fn views() -> [Vec3; 3] {
 
 /// Holds `m`'s sampler for the view `wo` to its density by χ² (at the
 /// Šidák level of a family of 20 tests), its weights to `eval / pdf`, and
-/// the density to a total of 1 over the sphere.
+/// the density to a total of 1 over the sphere (by the χ² harness's
+/// quadrature of the density over its cells); at the origin.
 pub fn check_phase<M: PhaseModel>(m: &M, wo: Vec3) {
+    check_phase_at(m, Vec3::ZERO, wo);
+}
+
+/// [`check_phase`] at the point `p`.
+pub fn check_phase_at<M: PhaseModel>(m: &M, p: Vec3, wo: Vec3) {
     let chi2 = Chi2 {
         samples: 400_000,
         ..Chi2::default()
     };
     let sample = |u| {
-        let s = m.sample(wo, u)?;
-        let want = m.eval(wo, s.wi);
+        let s = m.sample(p, wo, u)?;
+        let want = m.eval(p, wo, s.wi);
         assert!(
             (s.pdf - want).abs() <= 1e-3 * want && (s.weight - 1.0).abs() < 1e-6,
             "{s:?} against eval {want}"
         );
         Some(s.wi)
     };
-    let p = chi2
-        .run(7, sample, |v| f64::from(m.eval(wo, v)))
+    let pv = chi2
+        .run(7, sample, |v| f64::from(m.eval(p, wo, v)))
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(p > sidak(20), "χ² p-value {p} for the view {wo:?}");
-    let total: f64 = chi2.expected(|v| f64::from(m.eval(wo, v))).iter().sum();
+    assert!(pv > sidak(20), "χ² p-value {pv} for the view {wo:?}");
+    let total: f64 = chi2.expected(|v| f64::from(m.eval(p, wo, v))).iter().sum();
     let total = total / chi2.samples as f64;
     assert!(
         (total - 1.0).abs() < 2e-3,

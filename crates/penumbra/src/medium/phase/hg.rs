@@ -4,10 +4,11 @@
 //! at scattering angle θ is `(1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})`,
 //! drawn exactly by inverting its distribution in `cos θ`.
 
-use super::{PhaseModel, PhaseSample};
+use super::{scattered, PhaseModel, PhaseSample};
 use crate::description::check::range;
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
-use crate::math::{Frame, Vec2, Vec3};
+use crate::math::{Vec2, Vec3};
+use crate::volume::Volumes;
 
 /// The Henyey–Greenstein phase function (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,18 +49,18 @@ impl PhaseModel for Hg {
         .range(Range::Between(-G_MAX, G_MAX))],
     };
 
-    fn build(p: &Props) -> Result<Hg, Invalid> {
+    fn build(p: &Props, _: &Volumes) -> Result<Hg, Invalid> {
         let g = range(p, "g", 0.8, -G_MAX as f32, G_MAX as f32)?;
         Ok(Hg { g })
     }
 
     #[inline]
-    fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn eval(&self, _p: Vec3, wo: Vec3, wi: Vec3) -> f32 {
         self.value(-wo.dot(wi))
     }
 
     #[inline]
-    fn sample(&self, wo: Vec3, u: Vec2) -> Option<PhaseSample> {
+    fn sample(&self, _p: Vec3, wo: Vec3, u: Vec2) -> Option<PhaseSample> {
         let g = self.g;
         let cos_theta = if g.abs() < 1e-3 {
             1.0 - 2.0 * u.x
@@ -67,16 +68,7 @@ impl PhaseModel for Hg {
             let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u.x);
             ((1.0 + g * g - s * s) / (2.0 * g)).clamp(-1.0, 1.0)
         };
-        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-        let (sin_phi, cos_phi) = (2.0 * std::f32::consts::PI * u.y).sin_cos();
-        let frame = Frame::from_normal(-wo);
-        let wi = frame
-            .to_world(Vec3::new(
-                sin_theta * cos_phi,
-                sin_theta * sin_phi,
-                cos_theta,
-            ))
-            .normalize();
+        let wi = scattered(wo, cos_theta, u.y);
         let pdf = self.value(cos_theta);
         (pdf > 0.0).then_some(PhaseSample {
             wi,

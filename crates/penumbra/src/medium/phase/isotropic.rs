@@ -5,6 +5,7 @@
 use super::{PhaseModel, PhaseSample};
 use crate::description::{Invalid, Kind, Props, Schema};
 use crate::math::{Vec2, Vec3};
+use crate::volume::Volumes;
 use crate::sampling::warp::{square_to_uniform_sphere, square_to_uniform_sphere_pdf};
 
 /// The isotropic phase function (see the [module docs](self)).
@@ -23,17 +24,17 @@ impl PhaseModel for Isotropic {
         params: &[],
     };
 
-    fn build(_: &Props) -> Result<Isotropic, Invalid> {
+    fn build(_: &Props, _: &Volumes) -> Result<Isotropic, Invalid> {
         Ok(Isotropic)
     }
 
     #[inline]
-    fn eval(&self, _wo: Vec3, wi: Vec3) -> f32 {
+    fn eval(&self, _p: Vec3, _wo: Vec3, wi: Vec3) -> f32 {
         square_to_uniform_sphere_pdf(wi)
     }
 
     #[inline]
-    fn sample(&self, _wo: Vec3, u: Vec2) -> Option<PhaseSample> {
+    fn sample(&self, _p: Vec3, _wo: Vec3, u: Vec2) -> Option<PhaseSample> {
         let wi = square_to_uniform_sphere(u);
         Some(PhaseSample {
             wi,

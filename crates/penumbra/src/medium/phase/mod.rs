@@ -4,7 +4,9 @@
 //! Every model answers through [`PhaseModel`], taking its random numbers as
 //! arguments: its value for a pair of directions (`eval`, which is also the
 //! density of `sample` drawing the second: the models here are sampled
-//! exactly), and a direction drawn from a point of the unit square. The
+//! exactly), and a direction drawn from a point of the unit square. Both
+//! are asked at the scattering point `p` (world space), where a model
+//! that varies through space (`blendphase`'s weight) looks itself up. The
 //! directions are world vectors: `wo` points back along the ray that
 //! reached the point (toward the viewer), `wi` is the direction the path
 //! goes on in; the angle θ between the ray's direction `−wo` and `wi` is
@@ -17,10 +19,14 @@
 //! |---|---|
 //! | [`isotropic`](isotropic::Isotropic) | every direction alike, `1/4π` (Mitsuba 3's `isotropic`) |
 //! | [`hg`](hg::Hg) | Henyey and Greenstein's lobe of mean cosine `g` (Mitsuba 3's `hg`) |
+//! | [`rayleigh`](rayleigh::Rayleigh) | scattering by particles much smaller than the wavelength, `3 (1 + cos² θ) / 16π` (Mitsuba 3's `rayleigh`) |
+//! | [`tabphase`](tabphase::TabPhase) | a table of values over `cos θ`, linear between them, normalised (Mitsuba 3's `tabphase`) |
+//! | [`blendphase`](blendphase::BlendPhase) | `(1 − weight) · phase_0 + weight · phase_1`, the weight a number or a volume (Mitsuba 3's `blendphase`) |
 
 use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Props, Schema};
-use crate::math::{Vec2, Vec3};
+use crate::math::{Frame, Vec2, Vec3};
+use crate::volume::Volumes;
 
 #[cfg(test)]
 mod chi2;
@@ -47,16 +53,36 @@ pub trait PhaseModel: Sized {
     /// How Mitsuba's plugin of its name maps onto it.
     const MITSUBA: Mitsuba = Mitsuba::SAME;
 
-    /// The model of a scene's parameters, checked for range, defaulted.
-    fn build(p: &Props) -> Result<Self, Invalid>;
+    /// The model of a scene's parameters, checked for range, defaulted;
+    /// its volume parameters read through `volumes` (the scene's named
+    /// volumes, its folder).
+    fn build(p: &Props, volumes: &Volumes) -> Result<Self, Invalid>;
 
-    /// The value for light arriving along `−wo`'s ray and leaving toward
-    /// `wi` (both unit), per steradian: also the density of
+    /// The value at the point `p` for light arriving along `−wo`'s ray and
+    /// leaving toward `wi` (both unit), per steradian: also the density of
     /// [`sample`](Self::sample) drawing `wi`.
-    fn eval(&self, wo: Vec3, wi: Vec3) -> f32;
+    fn eval(&self, p: Vec3, wo: Vec3, wi: Vec3) -> f32;
 
-    /// A direction drawn with the point `u` of the unit square.
-    fn sample(&self, wo: Vec3, u: Vec2) -> Option<PhaseSample>;
+    /// A direction drawn at the point `p` with the point `u` of the unit
+    /// square.
+    fn sample(&self, p: Vec3, wo: Vec3, u: Vec2) -> Option<PhaseSample>;
+}
+
+/// The unit direction at the scattering angle of cosine `cos_theta` from
+/// the ray's direction `−wo`, at the azimuth `2π u_phi` about it: how the
+/// models turn a drawn angle into a direction.
+#[inline]
+pub(crate) fn scattered(wo: Vec3, cos_theta: f32, u_phi: f32) -> Vec3 {
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let (sin_phi, cos_phi) = (2.0 * std::f32::consts::PI * u_phi).sin_cos();
+    let frame = Frame::from_normal(-wo);
+    frame
+        .to_world(Vec3::new(
+            sin_theta * cos_phi,
+            sin_theta * sin_phi,
+            cos_theta,
+        ))
+        .normalize()
 }
 
 /// Declares the models' modules, and makes [`Phase`] and its dispatch.
@@ -82,9 +108,9 @@ macro_rules! phases {
 
             /// The model `name` of the parameters `p`; `None` for a name
             /// that is not a model's.
-            pub fn build(name: &str, p: &Props) -> Option<Result<Phase, Invalid>> {
+            pub fn build(name: &str, p: &Props, volumes: &Volumes) -> Option<Result<Phase, Invalid>> {
                 match name {
-                    $(<$module::$variant as PhaseModel>::NAME => Some(<$module::$variant>::build(p).map(Phase::$variant)),)*
+                    $(<$module::$variant as PhaseModel>::NAME => Some(<$module::$variant>::build(p, volumes).map(Phase::$variant)),)*
                     _ => None,
                 }
             }
@@ -98,17 +124,17 @@ macro_rules! phases {
 
             /// See [`PhaseModel::eval`].
             #[inline]
-            pub fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+            pub fn eval(&self, p: Vec3, wo: Vec3, wi: Vec3) -> f32 {
                 match self {
-                    $(Phase::$variant(m) => m.eval(wo, wi),)*
+                    $(Phase::$variant(m) => m.eval(p, wo, wi),)*
                 }
             }
 
             /// See [`PhaseModel::sample`].
             #[inline]
-            pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<PhaseSample> {
+            pub fn sample(&self, p: Vec3, wo: Vec3, u: Vec2) -> Option<PhaseSample> {
                 match self {
-                    $(Phase::$variant(m) => m.sample(wo, u),)*
+                    $(Phase::$variant(m) => m.sample(p, wo, u),)*
                 }
             }
         }
@@ -128,4 +154,7 @@ impl Default for Phase {
 phases! {
     isotropic::Isotropic,
     hg::Hg,
+    rayleigh::Rayleigh,
+    tabphase::TabPhase,
+    blendphase::BlendPhase,
 }
