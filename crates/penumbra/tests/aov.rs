@@ -445,3 +445,28 @@ fn mitsuba_scenes_name_the_channels_as_mitsuba() {
         "_arg_0.X _arg_0.Y _arg_0.Z m2__arg_0.X m2__arg_0.Y m2__arg_0.Z"
     );
 }
+
+/// `sh_normal` is the normal the material shades by, as Mitsuba's
+/// `BSDF::sh_frame`: a normal map tilts it (here by a constant map, the
+/// same tilt everywhere on a plane facing the camera), `geo_normal` stays.
+#[test]
+fn the_shading_normal_is_the_one_a_normal_map_gives() {
+    let quad = "[materials.tilted]\ntype = \"normalmap\"\nnormalmap = [0.75, 0.5, 1.0]\n\
+                bsdf = \"white\"\n\n\
+                [[objects]]\ntype = \"quad\"\nmaterial = \"tilted\"\norigin = [-10, -8, -3]\n\
+                edge_u = [20, 0, 0]\nedge_v = [0, 16, 0]\n";
+    let aov = scene(&(frame("integrator = \"aov\"\naovs = \"ng:geo_normal,nn:sh_normal\"") + quad));
+    let a = run(&aov, 2, None);
+    // (2·0.75 − 1, 0, 1) in the frame of tangent +x and normal +z.
+    let want = Vec3::new(0.5, 0.0, 1.0).normalize();
+    for (name, w) in [
+        ("nn.X", want.x),
+        ("nn.Y", want.y),
+        ("nn.Z", want.z),
+        ("ng.Z", 1.0),
+    ] {
+        for got in channel(&a, name) {
+            assert!((got - w).abs() < 1e-5, "{name}: {got} vs {w}");
+        }
+    }
+}

@@ -140,6 +140,14 @@ pub trait BsdfModel: Sized {
         self.eval(si, wo, si.n) * std::f32::consts::PI
     }
 
+    /// The shading normal the model shades by at `si` seen from `wo` (the
+    /// `aov` integrator's `sh_normal`): the interaction's own, but for a
+    /// model that perturbs it (`normalmap`, `bumpmap`), as Mitsuba's
+    /// `BSDF::sh_frame`.
+    fn shading_normal(&self, si: &SurfaceInteraction, _wo: Vec3) -> Vec3 {
+        si.n
+    }
+
     /// The fraction of light a shadow ray keeps when it crosses the
     /// surface at `si` without bending (the thesis's transparent shadows);
     /// 0 for an opaque surface.
@@ -250,6 +258,13 @@ macro_rules! models {
             pub fn diffuse_reflectance(&self, si: &SurfaceInteraction, wo: Vec3) -> Rgb {
                 match self {
                     $(Bsdf::$variant(m) => m.diffuse_reflectance(si, wo),)*
+                }
+            }
+
+            /// See [`BsdfModel::shading_normal`].
+            pub fn shading_normal(&self, si: &SurfaceInteraction, wo: Vec3) -> Vec3 {
+                match self {
+                    $(Bsdf::$variant(m) => m.shading_normal(si, wo),)*
                 }
             }
 

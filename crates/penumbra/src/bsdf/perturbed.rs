@@ -199,6 +199,15 @@ macro_rules! through_perturbed_normal {
             self.bsdf.lobes()
         }
 
+        /// The perturbed normal (Mitsuba's `sh_frame`).
+        fn shading_normal(
+            &self,
+            si: &$crate::geometry::SurfaceInteraction,
+            wo: $crate::math::Vec3,
+        ) -> $crate::math::Vec3 {
+            self.normal(si, wo).world
+        }
+
         fn eval(
             &self,
             si: &$crate::geometry::SurfaceInteraction,

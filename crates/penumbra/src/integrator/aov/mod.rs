@@ -40,9 +40,9 @@
 //! [`SurfaceInteraction`](crate::geometry::SurfaceInteraction): `depth`
 //! is the distance from where the camera ray starts (its near clip plane,
 //! as Mitsuba's rays start there) to the hit; `position` the point;
-//! `geo_normal` the shape's geometric normal; `sh_normal` the
-//! interpolated shading normal (not the normal a `normalmap` or
-//! `bumpmap` perturbs it to, which Mitsuba gives); `uv`, `dp_du`,
+//! `geo_normal` the shape's geometric normal; `sh_normal` the normal the
+//! material shades by (the interpolated shading normal, or the one a
+//! `normalmap` or `bumpmap` perturbs it to, as Mitsuba's `sh_frame`); `uv`, `dp_du`,
 //! `dp_dv` the shape's parameterisation; `duv_dx`, `duv_dy` the change
 //! of `uv` over a pixel's step scaled by `1/√spp`, from the rays through
 //! the neighbouring film points meeting the hit's tangent plane
@@ -463,7 +463,10 @@ impl<'s> Probe<'s> {
                 AovType::Position => v3(out, si.p),
                 AovType::Uv => out.extend([si.uv.x, si.uv.y]),
                 AovType::GeoNormal => v3(out, si.ng),
-                AovType::ShNormal => v3(out, si.n),
+                AovType::ShNormal => {
+                    let bsdf = &self.scene.bsdfs[si.material as usize];
+                    v3(out, bsdf.shading_normal(si, -ray.dir.normalize()));
+                }
                 AovType::DpDu => v3(out, si.dpdu),
                 AovType::DpDv => v3(out, si.dpdv),
                 AovType::DuvDx | AovType::DuvDy => {

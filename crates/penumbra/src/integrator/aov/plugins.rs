@@ -67,9 +67,7 @@ pub const PLUGINS: [Plugin; 3] = [
     Plugin::new(
         &AOV,
         Mitsuba::differs(
-            "one held integrator (Mitsuba takes several); `sh_normal` is the interpolated \
-             normal, not one a `normalmap` or `bumpmap` perturbs; `prim_index` is 0 on analytic \
-             shapes",
+            "one held integrator (Mitsuba takes several); `prim_index` is 0 on analytic shapes",
         ),
     ),
     Plugin::new(
