@@ -64,7 +64,6 @@ const MISSING: &[&str] = &[
     "sunsky",
     "tabphase",
     "timed_sunsky",
-    "volpathmis",
     "volume",
 ];
 

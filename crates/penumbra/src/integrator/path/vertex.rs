@@ -399,7 +399,19 @@ pub(super) struct VolState {
     /// How far along the ray the medium begins: a camera ray's near clip
     /// plane (Mitsuba's camera rays start there), else 0.
     pub(super) skip: f32,
+    /// The last step was a null collision (`volpathmis` plays no roulette
+    /// after one).
+    pub(super) last_null: bool,
 }
+
+/// A `volpathmis` path's densities over its contributions (Mitsuba's
+/// `p_over_f`), per colour channel `i` of the contribution: with spectral
+/// MIS, row `i` holds, for each channel `j`, the density of the path when
+/// its distances are drawn by channel `j` over the contribution in channel
+/// `i`; without it, row 0 alone holds, for each `i`, the density by the
+/// path's channel over the contribution in `i`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Densities(pub(super) [Rgb; 3]);
 
 /// The live volumetric paths of a wave.
 #[derive(Default)]
@@ -409,6 +421,9 @@ pub(super) struct VolPaths {
     pub(super) beta: Vec<Rgb>,
     pub(super) rng: Vec<Rng>,
     pub(super) state: Vec<VolState>,
+    /// `volpathmis`: each path's densities, by the path's own sampling and
+    /// by next-event estimation from its last scattering.
+    pub(super) densities: Vec<[Densities; 2]>,
 }
 
 impl VolPaths {
@@ -418,6 +433,7 @@ impl VolPaths {
         self.beta.clear();
         self.rng.clear();
         self.state.clear();
+        self.densities.clear();
     }
 
     pub(super) fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, state: VolState) {
@@ -431,7 +447,8 @@ impl VolPaths {
 
 /// Shadow rays through media: each from its origin to its target (the
 /// ray's direction is the whole segment), the medium it starts in, the
-/// stream its tracking reads, and what it brings if it passes whole.
+/// stream its tracking reads, and what it brings if it passes whole
+/// (`volpathmis`: the emitted radiance, weighed by its densities).
 #[derive(Default)]
 pub(super) struct VolShadows {
     pub(super) ray: Vec<Ray>,
@@ -439,6 +456,12 @@ pub(super) struct VolShadows {
     pub(super) value: Vec<Rgb>,
     pub(super) medium: Vec<u32>,
     pub(super) rng: Vec<Rng>,
+    /// `volpathmis`: the densities of the path ending at the emitter by
+    /// next-event estimation and by the path's own sampling.
+    pub(super) densities: Vec<[Densities; 2]>,
+    /// `volpathmis`: the channel of the path, which its tracking draws
+    /// distances by.
+    pub(super) channel: Vec<u8>,
 }
 
 impl VolShadows {
@@ -448,6 +471,8 @@ impl VolShadows {
         self.value.clear();
         self.medium.clear();
         self.rng.clear();
+        self.densities.clear();
+        self.channel.clear();
     }
 }
 
