@@ -374,7 +374,7 @@ pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// What a volumetric path (`volpath`, see `volume.rs`) carries besides its
+/// What a volumetric path (`volpath` and `volpathmis`, see `volume.rs`) carries besides its
 /// ray, sample and throughput.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct VolState {
