@@ -417,3 +417,155 @@ fn heterogeneous_paths_are_the_same_on_any_threads() {
     }
     assert!(a.media.scatterings > 0 && a.media.null_collisions > 0 && a.shadow > 0);
 }
+
+/// `distributed` tracks its paths through media, drawing the thesis's
+/// sets at surface and medium vertices alike: the volumetric furnace holds
+/// with sets of phase directions at the first two vertices.
+#[test]
+fn distributed_sets_in_a_scattering_sphere_leave_a_uniform_environment_unchanged() {
+    let toml = "[render]\nwidth = 16\nheight = 16\nintegrator = \"distributed\"\nspp = 32\n\
+                seed = 9\nbackground = [1, 1, 1]\nsets_depth = 2\nreflection_rays = 4\n\
+                shadow_rays = 3\ndistribution = \"jitter\"\n\n\
+                [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+                [materials.boundary]\ntype = \"null\"\n\n\
+                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 4]\nalbedo = 1\n\
+                phase = { type = \"hg\", g = 0.6 }\n\n\
+                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+                interior = \"fog\"\n";
+    let (img, rays) = render_toml(toml);
+    let (got, err) = mean_and_error(&img);
+    assert_within(got, err, Rgb::ONE, "volumetric furnace under distributed");
+    // Every collision sends one direction on, those below sets_depth a
+    // set of 4.
+    assert!(
+        rays.media.scattered > rays.media.scatterings,
+        "{:?}",
+        rays.media
+    );
+    assert!(rays.shadow > 0);
+    assert!(err.max_element() < 0.04, "noise {err:?}");
+    // The reflection metric, judging the first collision's set of phase
+    // directions on its members' paths, stops sets and keeps the furnace.
+    let judged = toml.replace(
+        "reflection_rays = 4\n",
+        "reflection_rays = 8\nmetric = true\nshadow_metric = false\nmetric_threshold = 0.1\n",
+    );
+    let (img, rays) = render_toml(&judged);
+    let (got, err) = mean_and_error(&img);
+    assert_within(
+        got,
+        err,
+        Rgb::ONE,
+        "volumetric furnace under the reflection metric",
+    );
+    assert!(rays.media.saved > 0, "{:?}", rays.media);
+}
+
+/// A lit fog sphere over a floor: `distributed`'s sets (at surface and
+/// medium vertices, each of its shadow and phase sets weighed against the
+/// other by the power heuristic) converge to `volpath`'s image. Each is
+/// rendered with two seeds, whose difference gives each pixel's variance;
+/// blocks of 4 × 4 pixels are compared, each block's z within 4.
+#[test]
+fn distributed_sets_in_media_agree_with_volpath() {
+    let scene_of = |render: &str, seed: u32| {
+        format!(
+            "[render]\nwidth = 24\nheight = 16\nseed = {seed}\n{render}\n\n\
+             [camera]\nposition = [0, 0.6, 4]\nlook_at = [0, -0.2, 0]\nfov = 45\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n\
+             [materials.floor]\ntype = \"diffuse\"\nreflectance = [0.6, 0.5, 0.4]\n\n\
+             [materials.black]\ntype = \"diffuse\"\nreflectance = [0, 0, 0]\n\n\
+             [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1.5, 2, 3]\nalbedo = [0.9, 0.7, 0.8]\n\
+             phase = {{ type = \"hg\", g = 0.4 }}\n\n\
+             [[objects]]\ntype = \"sphere\"\nradius = 0.8\nmaterial = \"boundary\"\n\
+             interior = \"fog\"\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-4, -0.8, 4]\n\
+             edge_u = [8, 0, 0]\nedge_v = [0, 0, -8]\n\n\
+             [[objects]]\ntype = \"quad\"\nmaterial = \"black\"\norigin = [-1, 2.5, -1]\n\
+             edge_u = [2, 0, 0]\nedge_v = [0, 0, 2]\nemitter = {{ radiance = [4, 4, 4] }}\n"
+        )
+    };
+    // Per pixel, the mean of two seeds' renders and its variance.
+    let pair = |render: &str| {
+        let (one, rays) = render_toml(&scene_of(render, 11));
+        let (two, _) = render_toml(&scene_of(render, 12));
+        let at = move |x: u32, y: u32| {
+            let (a, b) = (one.get(x, y), two.get(x, y));
+            ((a + b) * 0.5, (a - b) * (a - b) * 0.25)
+        };
+        (at, rays)
+    };
+    let (a, _) = pair("integrator = \"volpath\"\nspp = 512\nmax_depth = 6");
+    let (b, rays) = pair(
+        "integrator = \"distributed\"\nspp = 32\nmax_depth = 6\nsets_depth = 2\n\
+         reflection_rays = 4\nshadow_rays = 4\ndistribution = \"jitter\"",
+    );
+    assert!(rays.media.scattered > rays.media.scatterings && rays.shadow > 0);
+    let (block, mut worst, mut lit) = (4, 0f32, 0f32);
+    for by in 0..16 / block {
+        for bx in 0..24 / block {
+            let mut sum = [(Rgb::ZERO, Rgb::ZERO); 2];
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    for (s, f) in sum.iter_mut().zip([&a, &b]) {
+                        let (m, v) = f(x, y);
+                        s.0 += m;
+                        s.1 += v;
+                    }
+                }
+            }
+            let n = (block * block) as f32;
+            let d = (sum[0].0 - sum[1].0) / n;
+            let s = ((sum[0].1 + sum[1].1) / (n * n)).map(f32::sqrt);
+            lit = lit.max(sum[0].0.min_element() / n);
+            for c in 0..3 {
+                worst = worst.max(d.to_array()[c].abs() / (s.to_array()[c] + 1e-5));
+            }
+        }
+    }
+    assert!(lit > 0.05, "the scene is lit: {lit}");
+    assert!(worst < 4.0, "largest block z {worst}");
+}
+
+/// `distributed` through media is a function of the seed, the pixel and
+/// the sample alone: the same bits on 1 and 3 threads and in 3 passes,
+/// with the thesis's metrics judging its sets. The shadow metric stops
+/// sets whose first rays all let light through (here most: the fog only
+/// dims them); the reflection metric judges the first vertex's set of
+/// BSDF samples or phase directions on its members' whole paths.
+#[test]
+fn distributed_paths_in_media_are_the_same_on_any_threads_and_passes() {
+    let toml = "[render]\nwidth = 20\nheight = 12\nintegrator = \"distributed\"\nspp = 3\n\
+                seed = 2\nrr_depth = 2\nsets_depth = 2\nreflection_rays = 6\nshadow_rays = 8\n\
+                metric = true\nmetric_min_rays = 2\nmetric_threshold = 0.2\nshadow_metric_rays = 2\n\n\
+                [camera]\nposition = [0, 0.5, 4]\nlook_at = [0, 0, 0]\nfov = 40\n\n\
+                [materials.boundary]\ntype = \"null\"\n\n\
+                [materials.floor]\ntype = \"diffuse\"\n\n\
+                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 3]\nalbedo = 0.9\n\
+                phase = { type = \"hg\", g = -0.3 }\n\n\
+                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+                interior = \"fog\"\n\n\
+                [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-3, -1, 3]\n\
+                edge_u = [6, 0, 0]\nedge_v = [0, 0, -6]\n\n\
+                [[lights]]\ntype = \"point\"\nposition = [0.5, 2.5, 0.5]\nintensity = [5, 5, 5]\n\n\
+                [[lights]]\ntype = \"rect\"\norigin = [-1.5, 2.5, 0]\nedge_u = [0.5, 0, 0]\n\
+                edge_v = [0, 0, 0.5]\nradiance = [3, 3, 3]\n";
+    let s = scene(toml);
+    let (one, a) = render_scene(&s, 1);
+    let (three, b) = render_scene(&s, 3);
+    assert_eq!(a, b);
+    let passes = scene(&toml.replace("spp = 3\n", "spp = 3\npasses = 3\n"));
+    let (split, _) = render_scene(&passes, 2);
+    for y in 0..one.height {
+        for x in 0..one.width {
+            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
+            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
+            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
+        }
+    }
+    assert!(a.media.scatterings > 0 && a.media.scattered > 0);
+    // Both metrics stop sets: shadow sets, the floor's BSDF sets and the
+    // fog's sets of phase directions.
+    assert!(a.saved.shadow > 0 && a.shadow > 0, "{a:?}");
+    assert!(a.saved.reflection > 0 && a.media.saved > 0, "{a:?}");
+}

@@ -51,6 +51,13 @@ pub struct RayStats {
 pub struct MediumEvents {
     pub scatterings: u64,
     pub null_collisions: u64,
+    /// The rays leaving real collisions in directions drawn from the
+    /// phase function: one per scattering under `volpath`, a set under
+    /// `distributed`.
+    pub scattered: u64,
+    /// The phase directions of sets the reflection metric stopped, left
+    /// untraced (`distributed`).
+    pub saved: u64,
 }
 
 impl RayStats {
@@ -68,6 +75,8 @@ impl AddAssign for RayStats {
         self.saved += o.saved;
         self.media.scatterings += o.media.scatterings;
         self.media.null_collisions += o.media.null_collisions;
+        self.media.scattered += o.media.scattered;
+        self.media.saved += o.media.saved;
     }
 }
 

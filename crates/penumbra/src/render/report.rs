@@ -46,6 +46,8 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "media": {
             "scatterings": r.media.scatterings,
             "null_collisions": r.media.null_collisions,
+            "scattered": r.media.scattered,
+            "saved": r.media.saved,
         },
         "batches": {
             "closest_hit": batches(&stats.batches.closest_hit),

@@ -45,7 +45,8 @@ pub const DISTRIBUTED: Schema = Schema {
     kind: Kind::Integrator,
     plugin: "distributed",
     what: "distributed integrator",
-    doc: "the path tracer drawing the thesis's sets at its first vertices",
+    doc:
+        "the path tracer drawing the thesis's sets at its first vertices, through media as volpath",
     mitsuba: &[],
     params: &[
         param("max_depth", Type::Int),

@@ -85,6 +85,16 @@
 //! mean). Null collisions and scatterings are counted in the ray
 //! statistics (`media`).
 //!
+//! In a scene with media, `distributed` runs this volumetric wave, its
+//! vertices within `sets_depth` drawing the thesis's sets (`volume_sets.rs`):
+//! at a surface the sets above, their shadow rays tracked through media;
+//! at a real collision a shadow set toward every emitter weighed by the
+//! phase function and a set of phase directions of the render's reflection
+//! set, each a path of its own. The metrics judge them as at surfaces: a
+//! shadow ray "reaches" its emitter when it lets some light through, and
+//! the first vertex's set of directions is judged on its members' paths,
+//! the wave running again from the members still owed.
+//!
 //! # Spectral MIS (`volpathmis`)
 //!
 //! `volpathmis` is `volpath` weighed by multiple importance sampling, as
@@ -142,6 +152,7 @@ mod sets;
 mod vertex;
 mod volume;
 mod volume_mis;
+mod volume_sets;
 mod wavefront;
 
 pub(crate) use config::max_depth;
@@ -175,7 +186,9 @@ pub struct Path {
 
 impl Path {
     /// The integrator of `settings` for `scene`.
-    pub fn new(scene: &Scene, settings: PathSettings) -> Path {
+    pub fn new(scene: &Scene, mut settings: PathSettings) -> Path {
+        // `distributed` tracks its paths through the scene's media.
+        settings.volumetric |= settings.sets_depth > 0 && !scene.media.is_empty();
         // Emitters at infinity are measured through the world's bounding
         // sphere.
         let b = scene.world.bounds();

@@ -8,13 +8,13 @@ use super::vertex::{
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
-use crate::emitter::{LightSample, Reference};
+use crate::emitter::{Emitter, LightSample, Reference};
 use crate::integrator::metric::{Metric, RunningMean, ShadowTally};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::integrator::streams;
 use crate::math::{Rgb, Vec3};
-use crate::sampling::{EffectSpec, Rng, SetPoint};
+use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
 use crate::scene::Scene;
 
 /// Where a vertex's work goes: its shadow rays, the paths it starts, the
@@ -82,19 +82,12 @@ pub(super) fn thesis_sets(
             d.generate_in(table, n as usize, 1.0, &mut rng, out.points);
             // The set's samples and the BSDF toward them, each a batch.
             let at = Reference::new(v.hit.p, v.hit.time);
+            set_light_samples(emitter, at, (out.points, d), out.escape, out.lights);
             let LightBuffers {
                 samples,
                 dirs,
                 values,
             } = &mut *out.lights;
-            samples.clear();
-            if emitter.is_infinite() {
-                let escape = out.escape;
-                let each = |&point: &Vec3| sample_emitter(emitter, at, (point, d), escape);
-                samples.extend(out.points.iter().map(each));
-            } else {
-                emitter.sample(|_| at, out.points, d, samples);
-            }
             dirs.clear();
             dirs.extend(samples.iter().flatten().map(|ls| ls.dir));
             bsdf.eval_all(v.hit, v.wo, dirs, values);
@@ -162,6 +155,27 @@ pub(super) fn thesis_sets(
         };
         set_member(v, bsdf, (path, rr), member, out.next, out.stats);
     }
+}
+
+/// The samples of `emitter` seen from `at` for the points `points` of
+/// distribution `d` (a shadow set), drawn as one batch into `lights`.
+#[inline]
+pub(super) fn set_light_samples<'b>(
+    emitter: &Emitter,
+    at: Reference,
+    (points, d): (&[Vec3], Distribution),
+    escape: Escape,
+    lights: &'b mut LightBuffers,
+) -> &'b [Option<LightSample>] {
+    let samples = &mut lights.samples;
+    samples.clear();
+    if emitter.is_infinite() {
+        let each = |&point: &Vec3| sample_emitter(emitter, at, (point, d), escape);
+        samples.extend(points.iter().map(each));
+    } else {
+        emitter.sample(|_| at, points, d, samples);
+    }
+    samples
 }
 
 /// A member of a vertex's set of BSDF samples: the `k`th of `set`, at

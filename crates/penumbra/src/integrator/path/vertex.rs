@@ -5,12 +5,14 @@
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
-use crate::integrator::metric::ShadowTally;
+use crate::integrator::metric::{RunningMean, ShadowTally};
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::RayStats;
 use crate::math::{Ray, Rgb, Vec2, Vec3};
+use crate::medium::Phase;
 use crate::sampling::points::unit_square;
 use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
+use crate::scene::NO_MEDIUM;
 
 /// The largest probability with which Russian roulette keeps a path.
 const RR_MAX: f32 = 0.95;
@@ -279,6 +281,9 @@ pub(super) fn light_sample(
 pub(super) struct Material {
     /// It has a smooth lobe: emitter samples can light it.
     pub(super) smooth: bool,
+    /// Its lobes are all pass-throughs (`null`): a volumetric path crosses
+    /// it without a scattering.
+    pub(super) pass: bool,
     /// The set of BSDF samples a vertex drawing the thesis's sets takes:
     /// the largest set its lobes ask for, else the render's reflection set.
     pub(super) set: EffectSpec,
@@ -295,6 +300,10 @@ impl Material {
         let largest = sets.iter().flatten().max_by_key(|s| s.rays);
         Material {
             smooth: bsdf.lobes().any_smooth(),
+            pass: bsdf
+                .lobes()
+                .iter()
+                .all(|(_, f)| f.contains(BsdfFlags::NULL)),
             set: largest.copied().unwrap_or(reflection),
         }
     }
@@ -390,6 +399,10 @@ pub(super) struct VolState {
     /// The emission met next counts whole (Mitsuba's `specular_chain`,
     /// or the camera ray).
     pub(super) direct: bool,
+    /// The last scattering drew the thesis's sets (`distributed`): the
+    /// emission met next is weighed against its emitter's shadow set, and
+    /// `last_pdf` is the density of the set of directions drawn there.
+    pub(super) sets: bool,
     /// The product of the relative indices crossed (for roulette).
     pub(super) eta: f32,
     /// The last scattering point and its shading normal (zero in a
@@ -447,8 +460,9 @@ impl VolPaths {
 
 /// Shadow rays through media: each from its origin to its target (the
 /// ray's direction is the whole segment), the medium it starts in, the
-/// stream its tracking reads, and what it brings if it passes whole
-/// (`volpathmis`: the emitted radiance, weighed by its densities).
+/// stream its tracking reads, what it brings if it passes whole
+/// (`volpathmis`: the emitted radiance, weighed by its densities), and the
+/// shadow set whose metric judges it ([`NO_SET`]: none).
 #[derive(Default)]
 pub(super) struct VolShadows {
     pub(super) ray: Vec<Ray>,
@@ -456,6 +470,7 @@ pub(super) struct VolShadows {
     pub(super) value: Vec<Rgb>,
     pub(super) medium: Vec<u32>,
     pub(super) rng: Vec<Rng>,
+    pub(super) set: Vec<u32>,
     /// `volpathmis`: the densities of the path ending at the emitter by
     /// next-event estimation and by the path's own sampling.
     pub(super) densities: Vec<[Densities; 2]>,
@@ -473,6 +488,23 @@ impl VolShadows {
         self.rng.clear();
         self.densities.clear();
         self.channel.clear();
+        self.set.clear();
+    }
+
+    #[inline]
+    pub(super) fn push(
+        &mut self,
+        ray: Ray,
+        (slot, value): (u32, Rgb),
+        (medium, rng): (u32, Rng),
+        set: u32,
+    ) {
+        self.ray.push(ray);
+        self.slot.push(slot);
+        self.value.push(value);
+        self.medium.push(medium);
+        self.rng.push(rng);
+        self.set.push(set);
     }
 }
 
@@ -481,5 +513,101 @@ impl VolShadows {
 pub(super) struct Volume {
     pub(super) paths: VolPaths,
     pub(super) next: VolPaths,
+    /// The step's shadow rays traced first, and the members past the first
+    /// `k` of the sets the shadow metric judges (traced only for the sets
+    /// it does not stop), with the sets' tallies.
     pub(super) shadows: VolShadows,
+    pub(super) later: VolShadows,
+    pub(super) tallies: Vec<ShadowTally>,
+    /// What each shadow ray of `shadows` lets through.
+    pub(super) passed: Vec<Rgb>,
+    /// A surface vertex's sets as the path tracer draws them, before they
+    /// take their media (see `volume_sets.rs`).
+    pub(super) set_paths: Paths,
+    pub(super) set_shadows: Shadows,
+    /// Beside each of the wavefront's judged sets (at surfaces), the state
+    /// of the path at its vertex and the media its object bounds.
+    pub(super) pending_state: Vec<(VolState, Option<[u32; 2]>)>,
+    /// The judged sets of phase directions (at medium collisions).
+    pub(super) medium_pending: Vec<MediumPending>,
+}
+
+/// The medium a ray leaving a surface of `media` (`[interior, exterior]`)
+/// in direction `d` enters, beside geometric normal `ng`; `current` where
+/// the surface bounds none (Mitsuba's `target_medium`).
+#[inline]
+pub(super) fn target_medium(media: Option<&[u32; 2]>, ng: Vec3, d: Vec3, current: u32) -> u32 {
+    match media {
+        Some(&[interior, exterior]) if interior != NO_MEDIUM || exterior != NO_MEDIUM => {
+            if d.dot(ng) > 0.0 {
+                exterior
+            } else {
+                interior
+            }
+        }
+        _ => current,
+    }
+}
+
+/// A medium collision drawing a set of phase directions: where, in which
+/// medium, the path arriving (its throughput with the albedo applied, its
+/// sample, stream and state, that of the paths its set starts) and the set.
+#[derive(Clone, Copy)]
+pub(super) struct MediumVertex {
+    pub(super) p: Vec3,
+    pub(super) wo: Vec3,
+    pub(super) time: f32,
+    pub(super) medium: u32,
+    pub(super) beta: Rgb,
+    pub(super) slot: u32,
+    pub(super) rng: Rng,
+    pub(super) st: VolState,
+    pub(super) set: EffectSpec,
+}
+
+impl MediumVertex {
+    /// Starts the path of member `k` of the set, at `point`, adding to
+    /// sample `slot` with `1 / share` of the throughput, unless its
+    /// direction has no density or carries nothing.
+    #[inline]
+    pub(super) fn member(
+        &self,
+        phase: &Phase,
+        (k, point): (u32, Vec3),
+        (slot, share): (u32, f32),
+        next: &mut VolPaths,
+        stats: &mut RayStats,
+    ) {
+        let d = self.set.distribution;
+        let Some(ps) = phase.sample(self.wo, unit_square(point, d)) else {
+            return;
+        };
+        if ps.pdf <= 0.0 || ps.pdf.is_nan() {
+            return;
+        }
+        let through = self.beta * (ps.weight / share);
+        if through.max_element() <= 0.0 {
+            return;
+        }
+        let n = self.set.rays;
+        let state = VolState {
+            last: (self.p, Vec3::ZERO),
+            last_pdf: n as f32 * ps.pdf,
+            ..self.st
+        };
+        let stream = self.rng.child(k as usize, n as usize);
+        let ray = Ray::new(self.p, ps.wi, self.time);
+        next.push(ray, slot, through, stream, state);
+        stats.media.scattered += 1;
+    }
+}
+
+/// A set of phase directions the reflection metric judges, at a first
+/// collision: the vertex, the samples `acc..acc + batch` its latest members
+/// add to, and the running mean of the members traced so far.
+pub(super) struct MediumPending {
+    pub(super) vertex: MediumVertex,
+    pub(super) acc: u32,
+    pub(super) batch: u32,
+    pub(super) mean: RunningMean,
 }

@@ -23,8 +23,10 @@
 //! [`Medium::transmittance`]: crate::medium::Medium::transmittance
 
 use super::vertex::{
-    emission_weight, power_heuristic, sample_emitter, Densities, Nee, VolState, Volume,
+    emission_weight, power_heuristic, sample_emitter, target_medium, Densities, Nee, Vertex,
+    VolState, Volume, NO_SET,
 };
+use super::volume_sets::{medium_sets, surface_sets, SetsContext, VolOut};
 use super::wavefront::Wavefront;
 use crate::bsdf::BsdfFlags;
 use crate::emitter::Reference;
@@ -56,23 +58,6 @@ pub(super) const NULL_CHOICE: u64 = 2;
 pub(super) const EMITTER_CHOICE: u64 = 3;
 pub(super) const EMITTER_POINT: u64 = 4;
 pub(super) const DIRECTION: u64 = 6;
-
-/// The medium a ray leaving a surface of `media` (`[interior, exterior]`)
-/// in direction `d` enters, beside geometric normal `ng`; `current` where
-/// the surface bounds none (Mitsuba's `target_medium`).
-#[inline]
-pub(super) fn target_medium(media: Option<&[u32; 2]>, ng: Vec3, d: Vec3, current: u32) -> u32 {
-    match media {
-        Some(&[interior, exterior]) if interior != NO_MEDIUM || exterior != NO_MEDIUM => {
-            if d.dot(ng) > 0.0 {
-                exterior
-            } else {
-                interior
-            }
-        }
-        _ => current,
-    }
-}
 
 /// The mean of a colour's channels.
 #[inline]
@@ -116,6 +101,7 @@ impl Wavefront<'_> {
                 step: 0,
                 channel,
                 direct: !self.settings.hide_emitters,
+                sets: false,
                 eta: 1.0,
                 last: (ray.origin, Vec3::ZERO),
                 last_pdf: 1.0,
@@ -126,28 +112,37 @@ impl Wavefront<'_> {
                 vol.paths.densities.push([Densities::ONE; 2]);
             }
         }
+        self.pending.clear();
+        self.volume.pending_state.clear();
+        self.volume.medium_pending.clear();
         let mut first = true;
-        while !self.volume.paths.ray.is_empty() {
-            self.batches.closest_hit.add(self.volume.paths.ray.len());
-            scene.world.intersect_all(
-                &self.volume.paths.ray,
-                0.0,
-                &mut self.packet,
-                &mut self.hits,
-            );
-            if first {
-                clip_camera_hits(scene, &self.volume.paths.ray, &mut self.hits);
-                first = false;
+        loop {
+            while !self.volume.paths.ray.is_empty() {
+                self.batches.closest_hit.add(self.volume.paths.ray.len());
+                scene.world.intersect_all(
+                    &self.volume.paths.ray,
+                    0.0,
+                    &mut self.packet,
+                    &mut self.hits,
+                );
+                if first {
+                    clip_camera_hits(scene, &self.volume.paths.ray, &mut self.hits);
+                    first = false;
+                }
+                if let Some(spectral) = self.settings.spectral_mis {
+                    self.volume_mis_step(spectral);
+                    self.volume_mis_occlude(spectral);
+                } else {
+                    self.volume_step();
+                    self.volume_occlude();
+                }
+                let vol = &mut self.volume;
+                std::mem::swap(&mut vol.paths, &mut vol.next);
             }
-            if let Some(spectral) = self.settings.spectral_mis {
-                self.volume_mis_step(spectral);
-                self.volume_mis_occlude(spectral);
-            } else {
-                self.volume_step();
-                self.volume_occlude();
+            // The judged sets' next members.
+            if !self.volume_judge() {
+                break;
             }
-            let vol = &mut self.volume;
-            std::mem::swap(&mut vol.paths, &mut vol.next);
         }
     }
 
@@ -159,11 +154,15 @@ impl Wavefront<'_> {
         let Wavefront {
             settings,
             lights: chooser,
+            shadow_sets,
             stats,
             materials,
             escape,
             hits,
             radiance,
+            points,
+            set_lights,
+            pending,
             volume,
             ..
         } = self;
@@ -171,9 +170,47 @@ impl Wavefront<'_> {
             paths,
             next,
             shadows,
+            later,
+            tallies,
+            set_paths,
+            set_shadows,
+            pending_state,
+            medium_pending,
+            ..
         } = volume;
         next.clear();
         shadows.clear();
+        later.clear();
+        tallies.clear();
+        let cx = SetsContext {
+            scene,
+            shadow: shadow_sets,
+            metric: settings.metric,
+        };
+        // Where a vertex drawing sets writes; `first`: it is a path's first
+        // vertex, whose set the reflection metric judges.
+        macro_rules! sets_out {
+            ($first:expr) => {
+                VolOut {
+                    next: &mut *next,
+                    shadows: &mut *shadows,
+                    later: &mut *later,
+                    tallies: &mut *tallies,
+                    stats: &mut *stats,
+                    points: &mut *points,
+                    lights: &mut *set_lights,
+                    escape: *escape,
+                    judge: settings
+                        .metric
+                        .filter(|m| m.reflections && $first)
+                        .map(|m| m.min_rays.max(2)),
+                    radiance: &mut *radiance,
+                    pending: &mut *pending,
+                    pending_state: &mut *pending_state,
+                    medium_pending: &mut *medium_pending,
+                }
+            };
+        }
         let max_depth = settings.max_depth.unwrap_or(u32::MAX);
         let lights = scene.emitters.len();
         // Emission met is weighed as `path`'s is, one emitter sample taken.
@@ -187,7 +224,6 @@ impl Wavefront<'_> {
                 (paths.ray[i], paths.slot[i], paths.beta[i], paths.rng[i]);
             let mut st = paths.state[i];
             let skip = std::mem::take(&mut st.skip);
-            let acc = &mut radiance[slot as usize];
             if st.step >= MAX_STEPS || beta.max_element() <= 0.0 || beta.max_element().is_nan() {
                 continue;
             }
@@ -261,6 +297,13 @@ impl Wavefront<'_> {
                         ratio(s.sigma_s, s.sigma_t)
                     };
                     let phase = &medium.phase;
+                    if st.depth <= settings.sets_depth {
+                        // The collision is vertex `depth − 1`: it draws sets.
+                        let mut out = sets_out!(st.depth == 1);
+                        let at = (mi.p, wo, ray.time);
+                        medium_sets(cx, at, (st.medium, medium), (beta, slot, rng, st), &mut out);
+                        continue;
+                    }
                     // Next-event estimation from the collision.
                     if medium.sample_emitters && lights > 0 {
                         let pick = u.value(EMITTER_CHOICE);
@@ -280,21 +323,24 @@ impl Wavefront<'_> {
                                 };
                                 let value = beta * ls.weight * (f * w / pmf);
                                 if value.max_element() > 0.0 {
-                                    shadows.ray.push(Ray::new(mi.p, ls.target - mi.p, ray.time));
-                                    shadows.slot.push(slot);
-                                    shadows.value.push(value);
-                                    shadows.medium.push(st.medium);
-                                    shadows.rng.push(rng.derive(streams::tracking(st.step)));
+                                    shadows.push(
+                                        Ray::new(mi.p, ls.target - mi.p, ray.time),
+                                        (slot, value),
+                                        (st.medium, rng.derive(streams::tracking(st.step))),
+                                        NO_SET,
+                                    );
                                 }
                             }
                         }
                     }
                     st.direct = !medium.sample_emitters;
+                    st.sets = false;
                     // The phase function's direction.
                     let Some(ps) = phase.sample(wo, u.point(DIRECTION)) else {
                         continue;
                     };
                     beta *= ps.weight;
+                    stats.media.scattered += 1;
                     st.last = (mi.p, Vec3::ZERO);
                     st.last_pdf = ps.pdf;
                     next.push(Ray::new(mi.p, ps.wi, ray.time), slot, beta, rng, st);
@@ -305,8 +351,18 @@ impl Wavefront<'_> {
             let seen = !(settings.hide_emitters && st.depth == 0);
             let prev = if st.direct {
                 (0.0, Nee::None)
+            } else if st.sets {
+                (st.last_pdf, Nee::Sets)
             } else {
                 (st.last_pdf, Nee::Choice(1.0))
+            };
+            // The emitter samples emission met is weighed against.
+            let taken = |e: u32| {
+                if st.sets {
+                    shadow_sets[e as usize]
+                } else {
+                    single
+                }
             };
             let (from, from_n) = st.last;
             let Some(hit) = hit else {
@@ -314,10 +370,10 @@ impl Wavefront<'_> {
                     for &e in scene.far.iter() {
                         let emitter = &scene.emitters[e as usize];
                         let choice = || chooser.pmf(from, from_n, e);
-                        let w = emission_weight(single, prev, choice, || {
+                        let w = emission_weight(taken(e), prev, choice, || {
                             emitter.pdf_direction(ray.dir)
                         });
-                        *acc += beta * emitter.eval_miss(ray.dir) * w;
+                        radiance[slot as usize] += beta * emitter.eval_miss(ray.dir) * w;
                     }
                 }
                 continue;
@@ -326,16 +382,37 @@ impl Wavefront<'_> {
                 let emitter = &scene.emitters[e as usize];
                 let choice = || chooser.pmf(from, from_n, e);
                 let density = || emitter.pdf(Reference::new(from, ray.time), hit.p, hit.ng);
-                let w = emission_weight(single, prev, choice, density);
+                let w = emission_weight(taken(e), prev, choice, density);
                 if w > 0.0 {
-                    *acc += beta * emitter.eval(hit.ng, hit.uv, ray.dir) * w;
+                    radiance[slot as usize] += beta * emitter.eval(hit.ng, hit.uv, ray.dir) * w;
                 }
             }
             let bsdf = &scene.bsdfs[hit.material as usize];
             let at = ShadingPoint::new(&ray, hit.p, hit.ng);
             let media = scene.object_media.get(hit.object as usize);
+            let material = &materials[hit.material as usize];
+            if st.depth < settings.sets_depth && st.depth + 1 < max_depth && !material.pass {
+                let v = Vertex {
+                    hit: &hit,
+                    at,
+                    wo,
+                    beta,
+                    eta2: st.eta * st.eta,
+                    slot,
+                };
+                let mut out = sets_out!(st.depth == 0);
+                surface_sets(
+                    cx,
+                    &v,
+                    (bsdf, material),
+                    (rng, st, media),
+                    (set_paths, set_shadows),
+                    &mut out,
+                );
+                continue;
+            }
             // Next-event estimation on the smooth lobes.
-            let smooth = materials[hit.material as usize].smooth;
+            let smooth = material.smooth;
             let pick = u.value(EMITTER_CHOICE);
             let point = u.point(EMITTER_POINT);
             if smooth && lights > 0 && st.depth + 1 < max_depth {
@@ -354,13 +431,15 @@ impl Wavefront<'_> {
                                 1.0
                             };
                             let origin = at.origin(ls.dir);
-                            shadows.ray.push(at.spawn_ray_to(origin, ls.target));
-                            shadows.slot.push(slot);
-                            shadows.value.push(beta * f * ls.weight * (cos * w / pmf));
-                            shadows
-                                .medium
-                                .push(target_medium(media, hit.ng, ls.dir, st.medium));
-                            shadows.rng.push(rng.derive(streams::tracking(st.step)));
+                            shadows.push(
+                                at.spawn_ray_to(origin, ls.target),
+                                (slot, beta * f * ls.weight * (cos * w / pmf)),
+                                (
+                                    target_medium(media, hit.ng, ls.dir, st.medium),
+                                    rng.derive(streams::tracking(st.step)),
+                                ),
+                                NO_SET,
+                            );
                         }
                     }
                 }
@@ -382,6 +461,7 @@ impl Wavefront<'_> {
                 st.depth += 1;
                 st.last = (hit.p, hit.n);
                 st.last_pdf = s.pdf;
+                st.sets = false;
                 if s.flags.is_delta() {
                     st.direct = true;
                 } else if s.flags.is_smooth() {
@@ -396,20 +476,54 @@ impl Wavefront<'_> {
 
     /// Traces every shadow ray of the step through the surfaces that let
     /// light through and the media it crosses, adding what arrives to its
-    /// sample.
+    /// sample. A set the shadow metric judges whose first `k` members all
+    /// let some light through, or were all blocked, stops there: their
+    /// mean is its value (each of its rays counts `n / k` times) and the
+    /// rest are never traced; the rest of the other sets are traced after.
     fn volume_occlude(&mut self) {
         let scene = self.scene;
-        let sh = &mut self.volume.shadows;
-        if sh.ray.is_empty() {
-            return;
+        let Volume {
+            shadows,
+            later,
+            tallies,
+            passed,
+            ..
+        } = &mut self.volume;
+        if !shadows.ray.is_empty() {
+            self.stats.shadow += shadows.ray.len() as u64;
+            self.batches.occlusion.add(shadows.ray.len());
+            passed.clear();
+            for k in 0..shadows.ray.len() {
+                let mut rng = shadows.rng[k];
+                let tr = shadow_transmittance(scene, shadows.ray[k], shadows.medium[k], &mut rng);
+                if let Some(t) = tallies.get_mut(shadows.set[k] as usize) {
+                    t.count(tr.max_element() > 0.0);
+                }
+                passed.push(tr);
+            }
+            for (k, &tr) in passed.iter().enumerate() {
+                if tr.max_element() <= 0.0 {
+                    continue;
+                }
+                let scale = match tallies.get(shadows.set[k] as usize) {
+                    Some(t) if t.stops() => t.n as f32 / t.k as f32,
+                    _ => 1.0,
+                };
+                self.radiance[shadows.slot[k] as usize] += shadows.value[k] * tr * scale;
+            }
         }
-        self.stats.shadow += sh.ray.len() as u64;
-        self.batches.occlusion.add(sh.ray.len());
-        for k in 0..sh.ray.len() {
-            let mut rng = sh.rng[k];
-            let tr = shadow_transmittance(scene, sh.ray[k], sh.medium[k], &mut rng);
+        for t in tallies.iter().filter(|t| t.stops()) {
+            self.stats.saved.shadow += u64::from(t.n - t.k);
+        }
+        for k in 0..later.ray.len() {
+            if tallies[later.set[k] as usize].stops() {
+                continue;
+            }
+            self.stats.shadow += 1;
+            let mut rng = later.rng[k];
+            let tr = shadow_transmittance(scene, later.ray[k], later.medium[k], &mut rng);
             if tr.max_element() > 0.0 {
-                self.radiance[sh.slot[k] as usize] += sh.value[k] * tr;
+                self.radiance[later.slot[k] as usize] += later.value[k] * tr;
             }
         }
     }

@@ -30,10 +30,10 @@
 //! for Mitsuba's differences: Russian roulette is not played right after
 //! a null collision, and paths end where a BSDF sample has no density.
 
-use super::vertex::{sample_emitter, Densities, VolShadows};
+use super::vertex::{sample_emitter, target_medium, Densities, VolShadows, NO_SET};
 use super::volume::{
-    mean, ratio, target_medium, DIRECTION, DISTANCE, EMITTER_CHOICE, EMITTER_POINT, MAX_CROSSINGS,
-    MAX_STEPS, NULL_CHOICE, ROULETTE, RR_MAX, SHADOW_END,
+    mean, ratio, DIRECTION, DISTANCE, EMITTER_CHOICE, EMITTER_POINT, MAX_CROSSINGS, MAX_STEPS,
+    NULL_CHOICE, ROULETTE, RR_MAX, SHADOW_END,
 };
 use super::wavefront::Wavefront;
 use crate::bsdf::BsdfFlags;
@@ -308,6 +308,7 @@ impl Wavefront<'_> {
                     let Some(ps) = phase.sample(wo, u.point(DIRECTION)) else {
                         continue;
                     };
+                    stats.media.scattered += 1;
                     let f = Rgb::splat(ps.weight * ps.pdf);
                     pf.scale(ps.pdf, f, mode);
                     pn.scale(1.0, f, mode);
@@ -484,11 +485,7 @@ fn push_shadow(
     if value.max_element() <= 0.0 {
         return;
     }
-    shadows.ray.push(ray);
-    shadows.slot.push(slot);
-    shadows.value.push(value);
-    shadows.medium.push(medium);
-    shadows.rng.push(rng);
+    shadows.push(ray, (slot, value), (medium, rng), NO_SET);
     shadows.densities.push(densities);
     shadows.channel.push(mode.channel as u8);
 }

@@ -43,7 +43,7 @@ pub(super) struct Wavefront<'s> {
     pub(super) lights: &'s LightSampler,
     /// The shadow set of each emitter, for the vertices drawing the
     /// thesis's sets.
-    shadow_sets: &'s [EffectSpec],
+    pub(super) shadow_sets: &'s [EffectSpec],
     pub(super) stats: RayStats,
     /// The calls of each stage and the items they took.
     pub(super) batches: StageBatches,
@@ -70,12 +70,12 @@ pub(super) struct Wavefront<'s> {
     /// Each primary sample's film offset from its pixel's centre.
     offsets: Vec<Vec2>,
     /// The points of a set being drawn.
-    points: Vec<Vec3>,
+    pub(super) points: Vec<Vec3>,
     /// A shadow set's emitter samples, their directions and the BSDF
     /// toward each.
-    set_lights: LightBuffers,
+    pub(super) set_lights: LightBuffers,
     /// The sets the reflection metric judges, of the wave's first vertices.
-    pending: Vec<PendingSet>,
+    pub(super) pending: Vec<PendingSet>,
     /// The buffers of volumetric paths (`volpath`).
     pub(super) volume: Volume,
 }
@@ -187,6 +187,7 @@ impl<'s> Wavefront<'s> {
         self.stats.primary += n as u64;
         if self.settings.volumetric {
             self.volume_wave();
+            self.radiance.truncate(n);
             return;
         }
         self.pending.clear();
@@ -222,7 +223,7 @@ impl<'s> Wavefront<'s> {
     /// less than the threshold, or that has traced all its members, adds
     /// its mean to its sample and counts the members left as saved; every
     /// other set starts the path of its next member. True if any did.
-    fn judge_sets(&mut self) -> bool {
+    pub(super) fn judge_sets(&mut self) -> bool {
         let Some(metric) = self.settings.metric else {
             return false;
         };
