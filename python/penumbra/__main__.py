@@ -194,7 +194,7 @@ def _add_render_options(r: argparse.ArgumentParser) -> None:
             choices = ("calibrated", "cycles", "povray", "dammertz")
             r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)
         elif o["kind"] == "integrator":
-            r.add_argument(o["flag"], dest=name, choices=("whitted", "path", "direct", "distributed", "volpath", "ptracer", "depth", "aov", "moment"), metavar=o["metavar"], help=help)
+            r.add_argument(o["flag"], dest=name, choices=("whitted", "path", "direct", "distributed", "volpath", "volpathmis", "ptracer", "depth", "aov", "moment"), metavar=o["metavar"], help=help)
         elif o["kind"] == "path_sampler":
             choices = ("independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2")
             r.add_argument(o["flag"], dest=name, choices=choices, metavar=o["metavar"], help=help)

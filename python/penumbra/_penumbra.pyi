@@ -38,7 +38,7 @@ DistributionName = Literal[
 #: The pixel filters, by name.
 FilterName = Literal["box", "tent", "gaussian", "mitchell", "catmullrom", "lanczos"]
 StopRuleName = Literal["calibrated", "cycles", "povray", "dammertz"]
-IntegratorName = Literal["whitted", "path", "direct", "distributed", "volpath", "ptracer", "depth", "aov", "moment"]
+IntegratorName = Literal["whitted", "path", "direct", "distributed", "volpath", "volpathmis", "ptracer", "depth", "aov", "moment"]
 PathSamplerName = Literal["independent", "sobol", "zsobol", "pmj02", "pmj02bn", "halton", "r2"]
 LightSamplerName = Literal["uniform", "power", "bvh"]
 StrPath = str | os.PathLike[str]

@@ -198,7 +198,7 @@ def test_a_dict_in_mitsubas_form_is_the_xml_scene_that_says_the_same(folder: Pat
 @pytest.mark.parametrize(
     "change, message",
     [
-        (lambda d: d["ball"].update(type="hairy"), "ball.type: `hairy` is not a plugin Penumbra reads; it reads integrator: path, volpath, direct, ptracer, depth, aov, moment; sensor:"),
+        (lambda d: d["ball"].update(type="hairy"), "ball.type: `hairy` is not a plugin Penumbra reads; it reads integrator: path, volpath, volpathmis, direct, ptracer, depth, aov, moment; sensor:"),
         (lambda d: d["red"].update(type="pplastic"), "red.type: `pplastic` is not a plugin"),
         (lambda d: d["ball"].update(radius="big"), "ball.radius: `radius` must be a float, got a string"),
         (lambda d: d["ball"].update(center=[0, 1]), "ball.center: expected 3 numbers (a point or vector)"),

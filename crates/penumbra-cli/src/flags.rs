@@ -349,7 +349,7 @@ mod tests {
                         .iter()
                         .map(|n| n.to_string())
                         .collect(),
-                    vec!["volpathmis".into()],
+                    vec!["prbvolpath".into()],
                 ),
                 Kind::PathSampler => (
                     PathSampler::NAMES.iter().map(|n| n.to_string()).collect(),

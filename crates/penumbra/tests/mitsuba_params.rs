@@ -62,7 +62,6 @@ const MISSING: &[&str] = &[
     "stokes",
     "sunsky",
     "timed_sunsky",
-    "volpathmis",
     "volume",
 ];
 

@@ -1700,8 +1700,9 @@ fn unsupported_plugins_are_refused_naming_what_is_supported() {
             "`direction` or `to_world`, not both",
         ),
         (
-            r#"<integrator type="volpathmis"/>"#,
-            "integrator `volpathmis` is not supported; supported: path, volpath, direct, ptracer",
+            r#"<integrator type="prbvolpath"/>"#,
+            "integrator `prbvolpath` is not supported; supported: path, volpath, volpathmis, direct, \
+             ptracer",
         ),
         (
             r#"<medium type="heterogeneous"><volume type="gridvolume" name="density"/></medium>"#,

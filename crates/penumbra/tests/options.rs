@@ -198,7 +198,7 @@ fn boundaries(o: &RenderOption) -> (Vec<String>, Vec<String>) {
                 .iter()
                 .map(|i| format!("\"{}\"", i.name()))
                 .collect(),
-            vec!["\"volpathmis\"".into()],
+            vec!["\"prbvolpath\"".into()],
         ),
         Kind::PathSampler => (
             PathSampler::NAMES

@@ -70,6 +70,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("passes", Kind::Integrator),
     ("samples_per_pass", Kind::Integrator),
     ("aovs", Kind::Integrator),
+    ("use_spectral_mis", Kind::Integrator),
     ("nested", Kind::Integrator),
 ];
 
@@ -92,9 +93,9 @@ pub const DEFAULT_SENSOR: &str = "perspective";
 pub const DEFAULT_FILM: &str = "hdrfilm";
 pub const DEFAULT_SAMPLER: &str = "sets";
 pub const DEFAULT_BSDF: &str = "thesis";
-/// The keys of `[render]` that are not render options: the `aov` and
-/// `moment` integrators' own, documented with them.
-pub const INTEGRATOR_KEYS: &[&str] = &["aovs", NESTED_INTEGRATOR];
+/// The keys of `[render]` that are not render options: the `aov`,
+/// `moment` and `volpathmis` integrators' own, documented with them.
+pub const INTEGRATOR_KEYS: &[&str] = &["aovs", "use_spectral_mis", NESTED_INTEGRATOR];
 
 /// The key of `[render]` whose table is the integrator `aov` or `moment`
 /// holds (its `type`, its parameters, and its `name`, the node's id).

@@ -31,9 +31,9 @@
 //! | the `k`-th of a first vertex's `n` BSDF samples, going on as a path | `path`, `direct`, `distributed` | `path.child(k, n)` |
 //! | set of BSDF samples at a vertex drawing the thesis's sets | `distributed` | `path.derive(SHADOW − 1)`, its `i`-th path `path.child(i, n)` |
 //! | Russian roulette of a path that set starts | `distributed` | `path.child(i, n).derive(SHADOW − 2)` |
-//! | step `s` of a path (a scattering, a null collision or a crossing of a `null` surface; read through the path sampler) | `volpath` | `path.derive(s)` |
-//! | the colour channel distances in media are drawn by | `volpath` | `path.derive(SHADOW − 3)` |
-//! | ratio tracking of the shadow ray of step `s` through media | `volpath` | `path.derive(2³¹ + s)` |
+//! | step `s` of a path (a scattering, a null collision or a crossing of a `null` surface; read through the path sampler) | `volpath`, `volpathmis` | `path.derive(s)` |
+//! | the colour channel distances in media are drawn by | `volpath`, `volpathmis` | `path.derive(SHADOW − 3)` |
+//! | ratio tracking of the shadow ray of step `s` through media | `volpath`, `volpathmis` | `path.derive(2³¹ + s)` |
 //! | light path `(p, i)`: the path of primary sample `i` of pixel `p` | `ptracer` | the pixel's `path(i)`, as a camera sample's |
 //! | its emission: time, emitter choice, origin point, direction point (in that order) | `ptracer` | `path.derive(0)` |
 //! | its `b`-th surface (`b ≥ 1`): lens point, BSDF point, roulette, BSDF's third number | `ptracer` | `path.derive(b)` |
@@ -82,7 +82,7 @@ pub use metric::{change, Metric, RunningMean};
 pub use model::IntegratorModel;
 pub use path::{
     DirectPlugin, DistributedPlugin, Path, PathPlugin, PathSettings, PathWorker, VolpathPlugin,
-    WAVE,
+    VolpathmisPlugin, WAVE,
 };
 pub use plugins::{Config, RenderWith, SCHEMAS};
 pub use ptracer::{Ptracer, PtracerPlugin, PtracerSettings, PtracerWorker};

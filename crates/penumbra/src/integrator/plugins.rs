@@ -18,7 +18,9 @@ use super::aov::{self, AovPlugin, DepthPlugin, MomentPlugin};
 use super::metric::Metric;
 pub use super::model::RenderWith;
 use super::model::{IntegratorModel, Nested};
-use super::path::{self, DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
+use super::path::{
+    self, DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin, VolpathmisPlugin,
+};
 use super::ptracer::{self, PtracerPlugin};
 use super::whitted::WhittedPlugin;
 use crate::description::mitsuba::Plugin;
@@ -28,7 +30,7 @@ use crate::scene::{schemas, IntegratorChoice, Scene, SceneSource, WorldCache};
 /// The integrators Mitsuba 3 has, as its reader sees them: `path`,
 /// `direct` and `ptracer`.
 /// Every plugin as the Mitsuba reader sees it: the integrators Mitsuba 3
-/// has (`path`, `volpath`, `direct`, `ptracer`, `depth`, `aov`, `moment`) and the scene's plugins of every other
+/// has (`path`, `volpath`, `volpathmis`, `direct`, `ptracer`, `depth`, `aov`, `moment`) and the scene's plugins of every other
 /// kind ([`schemas::plugins`]). The scene layer, below the integrators,
 /// cannot name them: readers of Mitsuba scenes take this registry.
 pub fn registry(kind: Kind) -> &'static [Plugin] {
@@ -39,9 +41,9 @@ pub fn registry(kind: Kind) -> &'static [Plugin] {
 }
 
 /// The integrators Mitsuba 3 has.
-const MITSUBA: [Plugin; 7] = {
+const MITSUBA: [Plugin; 8] = {
     let (p, t, a) = (path::PLUGINS, ptracer::PLUGINS, aov::plugins::PLUGINS);
-    [p[0], p[1], p[2], t[0], a[0], a[1], a[2]]
+    [p[0], p[1], p[2], p[3], t[0], a[0], a[1], a[2]]
 };
 
 /// Makes [`Config`] (an integrator listed, `Variant => Model` with the
@@ -206,6 +208,7 @@ integrators! {
         Direct => DirectPlugin,
         Distributed => DistributedPlugin,
         Volpath => VolpathPlugin,
+        Volpathmis => VolpathmisPlugin,
         Ptracer => PtracerPlugin,
         Depth => DepthPlugin,
     }

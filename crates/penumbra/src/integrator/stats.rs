@@ -39,7 +39,7 @@ pub struct RayStats {
     /// Rays a set would have traced but the metric stopped (direct members of
     /// the set only: what their descendants would have cost is unknowable).
     pub saved: RayCounts,
-    /// The collisions paths met in participating media (`volpath`).
+    /// The collisions paths met in participating media (`volpath`, `volpathmis`).
     pub media: MediumEvents,
 }
 

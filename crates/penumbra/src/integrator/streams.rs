@@ -65,6 +65,6 @@ pub fn tracking(s: u32) -> u64 {
 /// The first branch of [`tracking`].
 pub const TRACKING: u64 = 1 << 31;
 
-/// The branch a volumetric path (`volpath`) draws its colour channel from:
+/// The branch a volumetric path (`volpath`, `volpathmis`) draws its colour channel from:
 /// the channel its distances in media are drawn by (Mitsuba's).
 pub const CHANNEL: u64 = SHADOW - 3;

@@ -136,7 +136,7 @@ pub const PERSPECTIVE: Schema = Schema {
             Type::String,
             "none",
             "name of the `[media.NAME]` medium the camera sits in (Mitsuba's sensor's nested \
-             medium); read by `volpath`",
+             medium); read by `volpath` and `volpathmis`",
         )
         .penumbra_only(),
     ],

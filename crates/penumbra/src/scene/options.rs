@@ -319,7 +319,9 @@ pub const OPTIONS: &[RenderOption] = &[
               path (a path tracer with next-event estimation, as Mitsuba 3's `path`), direct \
               (direct light by emitter and BSDF samples, as Mitsuba 3's `direct`), distributed \
               (the path tracer drawing the thesis's sets at its first vertices, through media as \
-              volpath), volpath (the path tracer through participating media, as Mitsuba 3's `volpath`), ptracer (a particle \
+              volpath), volpath (the path tracer through participating media, as Mitsuba 3's `volpath`), \
+              volpathmis (volpath with spectral MIS of distances and MIS of emission met through \
+              media, as Mitsuba 3's `volpathmis`), ptracer (a particle \
               tracer: paths from the emitters connected to the camera, as Mitsuba 3's `ptracer`), \
               depth (the distance to the first hit, as Mitsuba 3's `depth`), aov (variables of the \
               first hit as channels beside a held integrator's image, as Mitsuba 3's `aov`) or \

@@ -41,6 +41,9 @@ pub enum IntegratorChoice {
     /// The path tracer through participating media (Mitsuba 3's
     /// `volpath`).
     Volpath,
+    /// The volumetric path tracer with spectral MIS (Mitsuba 3's
+    /// `volpathmis`).
+    Volpathmis,
     /// A particle tracer: paths from the emitters connected to the camera
     /// (Mitsuba 3's `ptracer`).
     Ptracer,
@@ -55,23 +58,25 @@ pub enum IntegratorChoice {
 }
 
 impl IntegratorChoice {
-    pub const ALL: [IntegratorChoice; 9] = [
+    pub const ALL: [IntegratorChoice; 10] = [
         IntegratorChoice::Whitted,
         IntegratorChoice::Path,
         IntegratorChoice::Direct,
         IntegratorChoice::Distributed,
         IntegratorChoice::Volpath,
+        IntegratorChoice::Volpathmis,
         IntegratorChoice::Ptracer,
         IntegratorChoice::Depth,
         IntegratorChoice::Aov,
         IntegratorChoice::Moment,
     ];
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 10] = [
         "whitted",
         "path",
         "direct",
         "distributed",
         "volpath",
+        "volpathmis",
         "ptracer",
         "depth",
         "aov",

@@ -102,9 +102,36 @@ pub const VOLPATH: Schema = Schema {
     ],
 };
 
-/// How Mitsuba 3's `path` and `direct` map onto Penumbra's: their
-/// parameters under the same names, read as their types say.
-pub const PLUGINS: [Plugin; 3] = [
+/// The volumetric path tracer with spectral MIS (Mitsuba 3's
+/// `volpathmis`, whose names and defaults they keep).
+pub const VOLPATHMIS: Schema = Schema {
+    kind: Kind::Integrator,
+    plugin: "volpathmis",
+    what: "volpathmis integrator",
+    doc: "the volumetric path tracer with multiple importance sampling of distances (spectral \
+          MIS over the colour channels) and of emission met through media",
+    mitsuba: &["volpathmis"],
+    params: &[
+        param("max_depth", Type::Int),
+        param("rr_depth", Type::Int),
+        param("hide_emitters", Type::Bool),
+        Param::new(
+            "use_spectral_mis",
+            Type::Bool,
+            "true",
+            "distances drawn by one colour channel are weighed by the mean of every channel's \
+             density (off: by the path's channel alone, as `volpath`)",
+        ),
+        param("path_sampler", PATH_SAMPLER).penumbra_only(),
+        param("light_sampler", LIGHT_SAMPLER).penumbra_only(),
+        param("passes", Type::Int).penumbra_only(),
+    ],
+};
+
+/// How Mitsuba 3's `path`, `volpath`, `volpathmis` and `direct` map onto
+/// Penumbra's: their parameters under the same names, read as their types
+/// say.
+pub const PLUGINS: [Plugin; 4] = [
     Plugin::new(&PATH, Mitsuba::SAME),
     Plugin::new(
         &VOLPATH,
@@ -112,6 +139,14 @@ pub const PLUGINS: [Plugin; 3] = [
             "a homogeneous medium's shadow rays take its exact transmittance (Mitsuba's tracks \
              them, which has the same mean); an area emitter hidden by `hide_emitters` still \
              blocks camera rays",
+        ),
+    ),
+    Plugin::new(
+        &VOLPATHMIS,
+        Mitsuba::differs(
+            "an area emitter hidden by `hide_emitters` still blocks camera rays; with \
+             `use_spectral_mis = false` a channel whose contribution vanishes is 0 and the others \
+             go on (Mitsuba's path ends)",
         ),
     ),
     Plugin::new(
@@ -155,6 +190,11 @@ pub struct PathSettings {
     pub passes: u32,
     /// Paths are tracked through participating media (`volpath`).
     pub volumetric: bool,
+    /// `volpathmis`: paths through media weighed by multiple importance
+    /// sampling of their distances and of emission; `Some(true)` weighs
+    /// the distances drawn by each colour channel (Mitsuba's
+    /// `use_spectral_mis`). `None` for the other integrators.
+    pub spectral_mis: Option<bool>,
 }
 
 impl Default for PathSettings {
@@ -171,6 +211,7 @@ impl Default for PathSettings {
             metric: None,
             passes: 1,
             volumetric: false,
+            spectral_mis: None,
         }
     }
 }
@@ -242,6 +283,15 @@ pub(super) fn volpath(i: &Props) -> Result<PathSettings, Invalid> {
     Ok(PathSettings {
         volumetric: true,
         ..path(i)?
+    })
+}
+
+/// The `volpathmis` integrator's settings: `volpath`'s and
+/// `use_spectral_mis` (default true).
+pub(super) fn volpathmis(i: &Props) -> Result<PathSettings, Invalid> {
+    Ok(PathSettings {
+        spectral_mis: Some(i.bool("use_spectral_mis")?.unwrap_or(true)),
+        ..volpath(i)?
     })
 }
 

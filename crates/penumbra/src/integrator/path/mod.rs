@@ -83,7 +83,7 @@
 //! what they transmit, and take each medium's transmittance on the way
 //! (exact in a homogeneous medium; Mitsuba's tracks it, with the same
 //! mean). Null collisions and scatterings are counted in the ray
-//! statistics (`media`). `volpathmis` (spectral MIS) is not implemented.
+//! statistics (`media`).
 //!
 //! In a scene with media, `distributed` runs this volumetric wave, its
 //! vertices within `sets_depth` drawing the thesis's sets (`volume_sets.rs`):
@@ -94,6 +94,30 @@
 //! shadow ray "reaches" its emitter when it lets some light through, and
 //! the first vertex's set of directions is judged on its members' paths,
 //! the wave running again from the members still owed.
+//!
+//! # Spectral MIS (`volpathmis`)
+//!
+//! `volpathmis` is `volpath` weighed by multiple importance sampling, as
+//! Mitsuba 3's `volpathmis` (Miller et al. 2019; its stages in
+//! `volume_mis.rs`). A path keeps, instead of its throughput, the
+//! densities with which it could have been drawn over its contribution,
+//! per colour channel of the contribution: with `use_spectral_mis` (the
+//! default) the densities of drawing its distances by each of the three
+//! channels side by side, its contribution in channel `i` being `fᵢ` over
+//! their mean (the balance heuristic over the channels: a distance drawn
+//! by the red channel in a medium far denser in blue is not weighed by the
+//! red density alone); without it, by the path's own channel, as `volpath`.
+//! Next-event estimation from a scattering traces its shadow ray through
+//! media by ratio tracking, drawn by the path's channel, and keeps the
+//! densities of the path it makes under both strategies (next-event
+//! estimation, and the path's own sampling choosing each null collision
+//! with its probability); emission a path meets after a scattering is
+//! weighed likewise against next-event estimation from that scattering.
+//! Both are combined by the balance heuristic over strategies and
+//! channels. `max_depth`, `rr_depth` and `hide_emitters` are `volpath`'s,
+//! but roulette is not played right after a null collision (Mitsuba's).
+//! Where a channel's contribution vanishes, `use_spectral_mis = false`
+//! gives that channel 0 and keeps the others (Mitsuba's ends the path).
 //!
 //! # Random numbers
 //!
@@ -127,12 +151,13 @@ pub mod plugins;
 mod sets;
 mod vertex;
 mod volume;
+mod volume_mis;
 mod volume_sets;
 mod wavefront;
 
 pub(crate) use config::max_depth;
 pub use config::{PathSettings, PLUGINS};
-pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin};
+pub use plugins::{DirectPlugin, DistributedPlugin, PathPlugin, VolpathPlugin, VolpathmisPlugin};
 
 use super::film::FilmTile;
 use super::interface::{BadSample, Integrator, PixelWorker, TileJob};

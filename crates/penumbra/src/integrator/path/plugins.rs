@@ -1,4 +1,5 @@
-//! The path tracers as plugins: `path`, `direct`, `distributed` and `volpath`, one
+//! The path tracers as plugins: `path`, `direct`, `distributed`, `volpath` and
+//! `volpathmis`, one
 //! integrator ([`Path`]) and one kind of settings ([`PathSettings`]), each
 //! its own schema and reading.
 
@@ -8,7 +9,8 @@ use crate::integrator::model::{IntegratorModel, RenderWith};
 use crate::scene::Scene;
 
 use super::config::{
-    direct, distributed, path, volpath, PathSettings, DIRECT, DISTRIBUTED, PATH, VOLPATH,
+    direct, distributed, path, volpath, volpathmis, PathSettings, DIRECT, DISTRIBUTED, PATH,
+    VOLPATH, VOLPATHMIS,
 };
 use super::Path;
 
@@ -26,7 +28,11 @@ pub struct DistributedPlugin;
 /// settings.
 pub struct VolpathPlugin;
 
-/// The three as plugins: the same settings and integrator, each its own
+/// The `volpathmis` integrator as a plugin: its parameters read into its
+/// settings.
+pub struct VolpathmisPlugin;
+
+/// The five as plugins: the same settings and integrator, each its own
 /// schema and reading.
 macro_rules! path_plugins {
     ($($plugin:ident: $schema:ident, $read:expr;)*) => {$(
@@ -63,4 +69,5 @@ path_plugins! {
     DirectPlugin: DIRECT, direct;
     DistributedPlugin: DISTRIBUTED, distributed;
     VolpathPlugin: VOLPATH, volpath;
+    VolpathmisPlugin: VOLPATHMIS, volpathmis;
 }

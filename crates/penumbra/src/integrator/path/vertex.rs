@@ -383,7 +383,7 @@ pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// What a volumetric path (`volpath`, see `volume.rs`) carries besides its
+/// What a volumetric path (`volpath` and `volpathmis`, see `volume.rs`) carries besides its
 /// ray, sample and throughput.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct VolState {
@@ -412,7 +412,19 @@ pub(super) struct VolState {
     /// How far along the ray the medium begins: a camera ray's near clip
     /// plane (Mitsuba's camera rays start there), else 0.
     pub(super) skip: f32,
+    /// The last step was a null collision (`volpathmis` plays no roulette
+    /// after one).
+    pub(super) last_null: bool,
 }
+
+/// A `volpathmis` path's densities over its contributions (Mitsuba's
+/// `p_over_f`), per colour channel `i` of the contribution: with spectral
+/// MIS, row `i` holds, for each channel `j`, the density of the path when
+/// its distances are drawn by channel `j` over the contribution in channel
+/// `i`; without it, row 0 alone holds, for each `i`, the density by the
+/// path's channel over the contribution in `i`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Densities(pub(super) [Rgb; 3]);
 
 /// The live volumetric paths of a wave.
 #[derive(Default)]
@@ -422,6 +434,9 @@ pub(super) struct VolPaths {
     pub(super) beta: Vec<Rgb>,
     pub(super) rng: Vec<Rng>,
     pub(super) state: Vec<VolState>,
+    /// `volpathmis`: each path's densities, by the path's own sampling and
+    /// by next-event estimation from its last scattering.
+    pub(super) densities: Vec<[Densities; 2]>,
 }
 
 impl VolPaths {
@@ -431,6 +446,7 @@ impl VolPaths {
         self.beta.clear();
         self.rng.clear();
         self.state.clear();
+        self.densities.clear();
     }
 
     pub(super) fn push(&mut self, ray: Ray, slot: u32, beta: Rgb, rng: Rng, state: VolState) {
@@ -444,7 +460,8 @@ impl VolPaths {
 
 /// Shadow rays through media: each from its origin to its target (the
 /// ray's direction is the whole segment), the medium it starts in, the
-/// stream its tracking reads, what it brings if it passes whole, and the
+/// stream its tracking reads, what it brings if it passes whole
+/// (`volpathmis`: the emitted radiance, weighed by its densities), and the
 /// shadow set whose metric judges it ([`NO_SET`]: none).
 #[derive(Default)]
 pub(super) struct VolShadows {
@@ -454,6 +471,12 @@ pub(super) struct VolShadows {
     pub(super) medium: Vec<u32>,
     pub(super) rng: Vec<Rng>,
     pub(super) set: Vec<u32>,
+    /// `volpathmis`: the densities of the path ending at the emitter by
+    /// next-event estimation and by the path's own sampling.
+    pub(super) densities: Vec<[Densities; 2]>,
+    /// `volpathmis`: the channel of the path, which its tracking draws
+    /// distances by.
+    pub(super) channel: Vec<u8>,
 }
 
 impl VolShadows {
@@ -463,6 +486,8 @@ impl VolShadows {
         self.value.clear();
         self.medium.clear();
         self.rng.clear();
+        self.densities.clear();
+        self.channel.clear();
         self.set.clear();
     }
 

@@ -23,8 +23,8 @@
 //! [`Medium::transmittance`]: crate::medium::Medium::transmittance
 
 use super::vertex::{
-    emission_weight, power_heuristic, sample_emitter, target_medium, Nee, Vertex, VolState, Volume,
-    NO_SET,
+    emission_weight, power_heuristic, sample_emitter, target_medium, Densities, Nee, Vertex,
+    VolState, Volume, NO_SET,
 };
 use super::volume_sets::{medium_sets, surface_sets, SetsContext, VolOut};
 use super::wavefront::Wavefront;
@@ -39,35 +39,35 @@ use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
 use crate::scene::{Scene, NO_MEDIUM};
 
 /// Where a shadow ray ends, as a fraction of the way to its target.
-const SHADOW_END: f32 = 1.0 - 1e-4;
+pub(super) const SHADOW_END: f32 = 1.0 - 1e-4;
 
 /// The most surfaces a shadow ray crosses before it is taken as blocked.
-const MAX_CROSSINGS: u32 = 1024;
+pub(super) const MAX_CROSSINGS: u32 = 1024;
 
 /// The most steps a path takes: a bound on null collisions and crossings
 /// of `null` surfaces, which do not count toward `max_depth`.
-const MAX_STEPS: u32 = 1 << 20;
+pub(super) const MAX_STEPS: u32 = 1 << 20;
 
 /// The largest probability with which Russian roulette keeps a path.
-const RR_MAX: f32 = 0.95;
+pub(super) const RR_MAX: f32 = 0.95;
 
 /// The dimensions of a step's numbers.
-const ROULETTE: u64 = 0;
-const DISTANCE: u64 = 1;
-const NULL_CHOICE: u64 = 2;
-const EMITTER_CHOICE: u64 = 3;
-const EMITTER_POINT: u64 = 4;
-const DIRECTION: u64 = 6;
+pub(super) const ROULETTE: u64 = 0;
+pub(super) const DISTANCE: u64 = 1;
+pub(super) const NULL_CHOICE: u64 = 2;
+pub(super) const EMITTER_CHOICE: u64 = 3;
+pub(super) const EMITTER_POINT: u64 = 4;
+pub(super) const DIRECTION: u64 = 6;
 
 /// The mean of a colour's channels.
 #[inline]
-fn mean(c: Rgb) -> f32 {
+pub(super) fn mean(c: Rgb) -> f32 {
     c.element_sum() / 3.0
 }
 
 /// `a / b` channel by channel, 0 where `b` is 0.
 #[inline]
-fn ratio(a: Rgb, b: Rgb) -> Rgb {
+pub(super) fn ratio(a: Rgb, b: Rgb) -> Rgb {
     let (a, b) = (a.to_array(), b.to_array());
     Rgb::from_array(std::array::from_fn(|i| {
         if b[i] != 0.0 {
@@ -105,8 +105,12 @@ impl Wavefront<'_> {
                 eta: 1.0,
                 last: (ray.origin, Vec3::ZERO),
                 last_pdf: 1.0,
+                last_null: false,
             };
             vol.paths.push(ray, k as u32, Rgb::ONE, rng, state);
+            if self.settings.spectral_mis.is_some() {
+                vol.paths.densities.push([Densities::ONE; 2]);
+            }
         }
         self.pending.clear();
         self.volume.pending_state.clear();
@@ -125,8 +129,13 @@ impl Wavefront<'_> {
                     clip_camera_hits(scene, &self.volume.paths.ray, &mut self.hits);
                     first = false;
                 }
-                self.volume_step();
-                self.volume_occlude();
+                if let Some(spectral) = self.settings.spectral_mis {
+                    self.volume_mis_step(spectral);
+                    self.volume_mis_occlude(spectral);
+                } else {
+                    self.volume_step();
+                    self.volume_occlude();
+                }
                 let vol = &mut self.volume;
                 std::mem::swap(&mut vol.paths, &mut vol.next);
             }
