@@ -148,21 +148,24 @@ fn an_emitter_at_infinity_covers_the_background_unless_hidden() {
     assert_eq!(hidden[0], 1.0);
 }
 
-/// Integrators that cannot carry the film's alpha refuse it, saying why.
+/// `ptracer`, whose samples land anywhere, refuses the film's alpha,
+/// saying why; `aov` writes its own channels (its `N.A` is the alpha)
+/// without it.
 #[test]
-fn integrators_with_channels_of_their_own_refuse_alpha() {
-    for integrator in [
-        "integrator = \"aov\"\naovs = \"dd:depth\"",
-        "integrator = \"ptracer\"",
-    ] {
-        let s = try_scene(&edge_scene(integrator)).expect("the scene builds");
-        let opts = RenderOptions {
-            threads: Some(1),
-            region: None,
-        };
-        let e = render(&s, &opts, &|_, _| {}, None).unwrap_err();
-        assert!(e.to_string().contains("`alpha`"), "{integrator}: {e}");
-    }
+fn ptracer_refuses_alpha_and_aov_writes_its_own() {
+    let opts = RenderOptions {
+        threads: Some(1),
+        region: None,
+    };
+    let s = try_scene(&edge_scene("integrator = \"ptracer\"")).expect("the scene builds");
+    let e = render(&s, &opts, &|_, _| {}, None).unwrap_err();
+    assert!(e.to_string().contains("`alpha`"), "{e}");
+    let s = scene(&edge_scene(
+        "integrator = \"aov\"\naovs = \"dd:depth\"\nnested = { type = \"path\", name = \"img\" }",
+    ));
+    let img = run(&s, 1, None);
+    let names = &img.extra.as_ref().unwrap().names;
+    assert_eq!(names.join(" "), "img.R img.G img.B img.A dd.T");
 }
 
 /// Mitsuba's `pixel_format`: `rgba` gives the alpha channel, `rgb` none,

@@ -137,7 +137,9 @@ impl RenderWith for Render<'_> {
     type Output = Result<(Image, RenderStats), RenderError>;
 
     fn render<I: Integrator>(self, integrator: &I) -> Self::Output {
-        if self.scene.settings.alpha {
+        // An integrator writing channels of its own (`aov`, whose `N.A` is
+        // the alpha, `moment`) writes them without the film's alpha.
+        if self.scene.settings.alpha && integrator.channels().is_empty() {
             alpha_refused(integrator)?;
             return render_with(
                 &Aov::alpha(self.scene, integrator),
@@ -158,17 +160,14 @@ impl RenderWith for Render<'_> {
 }
 
 /// Refuses the film's alpha channel with an integrator that cannot carry
-/// it: one that writes channels of its own (`aov`, whose `N.A` is the
-/// alpha, and `moment`) or whose samples land anywhere (`ptracer`).
+/// it: one whose samples land anywhere (`ptracer`).
 fn alpha_refused<I: Integrator>(integrator: &I) -> Result<(), RenderError> {
-    let why = if integrator.splats_anywhere() {
-        "its samples land anywhere on the film, not in the pixel of a camera ray"
-    } else if !integrator.channels().is_empty() {
-        "it writes channels of its own (an `aov` holding an integrator writes its alpha as `N.A`)"
-    } else {
-        return Ok(());
-    };
-    Err(RenderError::Alpha(why))
+    if integrator.splats_anywhere() {
+        return Err(RenderError::Alpha(
+            "its samples land anywhere on the film, not in the pixel of a camera ray",
+        ));
+    }
+    Ok(())
 }
 
 /// Renders the scene (or a region of it) with `integrator`, in its passes:

@@ -600,7 +600,8 @@ pub const OPTIONS: &[RenderOption] = &[
         doc: "the image carries an alpha channel `A`: the share of a pixel's samples whose \
               camera ray meets a surface (or any, with a visible emitter at infinity), filtered \
               as the colour is (Mitsuba's hdrfilm `pixel_format` `rgba`); written to EXR as \
-              `A`, to PNG as 8-bit RGBA",
+              `A`, to PNG as 8-bit RGBA; aov and moment write their own channels instead, \
+              ptracer refuses it",
         table: Some(Table::Render),
         flag: Flag::with_off("write RGB only"),
         python: true,
