@@ -51,7 +51,7 @@ const MAX_SAMPLES: i64 = 100_000;
     text_signature = "(scene, *, integrator=None, width=None, height=None, spp=None, passes=None, shadow_rays=None, \
 reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
 lens_distribution=None, time_distribution=None, shadow_distribution=None, \
-reflection_distribution=None, refraction_distribution=None, points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, aperture=None, \
+reflection_distribution=None, refraction_distribution=None, points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, alpha=None, aperture=None, \
 focal_distance=None, max_depth=None, rr_depth=None, hide_emitters=None, sets_depth=None, path_sampler=None, light_sampler=None, emitter_samples=None, bsdf_samples=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
@@ -78,7 +78,7 @@ fn render<'py>(
 shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
 pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
-points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, aperture=None, focal_distance=None, max_depth=None, rr_depth=None, hide_emitters=None, sets_depth=None, path_sampler=None, light_sampler=None, emitter_samples=None, bsdf_samples=None, seed=None, metric=None, reflection_metric=None, \
+points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, alpha=None, aperture=None, focal_distance=None, max_depth=None, rr_depth=None, hide_emitters=None, sets_depth=None, path_sampler=None, light_sampler=None, emitter_samples=None, bsdf_samples=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
 metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
 )]

@@ -525,3 +525,22 @@ def test_aov_channels_follow_the_image_with_their_names(mesh_scene: Path):
     part, part_stats = penumbra.render_region(scene, 10, 5, 30, 25, threads=1)
     assert part_stats["channels"] == names
     assert np.array_equal(part, image[5:25, 10:30])
+
+
+def test_alpha_is_a_fourth_channel_of_the_covered_share(mesh_scene: Path):
+    """`alpha=True` adds the film's alpha `A` after RGB: 1 where the camera
+    sees the mesh, 0 where it sees nothing, the same in a region and on any
+    number of threads."""
+    scene = penumbra.load_scene(mesh_scene)
+    image, stats = penumbra.render(scene, alpha=True, spp=4, threads=2)
+    assert stats["channels"] == ["R", "G", "B", "A"]
+    assert image.shape == (30, 40, 4)
+    a = image[..., 3]
+    assert a.min() >= 0.0 and a.max() <= 1.0
+    assert (a == 1.0).any()
+    rgb, _ = penumbra.render(scene, spp=4, threads=2)
+    assert np.array_equal(image[..., :3], rgb)
+    again, _ = penumbra.render(scene, alpha=True, spp=4, threads=1)
+    assert np.array_equal(again, image)
+    part, _ = penumbra.render_region(scene, 10, 5, 30, 25, alpha=True, spp=4, threads=1)
+    assert np.array_equal(part, image[5:25, 10:30])

@@ -121,6 +121,29 @@ def test_channels_of_tiles_on_two_workers_are_the_local_ones(client):
     assert np.array_equal(image, local)
 
 
+def test_alpha_of_tiles_on_two_workers_is_the_local_one(client):
+    """The film's alpha (splatted by a Gaussian, in two passes) stitches
+    from tiles into exactly the local render's."""
+    d = tomllib.loads(penumbra.load_scene("cornell-box").text)
+    d["render"] = {
+        "width": 40,
+        "height": 40,
+        "spp": 4,
+        "seed": 5,
+        "filter": "gaussian",
+        "splat": True,
+        "alpha": True,
+        "integrator": "path",
+        "passes": 2,
+    }
+    scene = penumbra.scene_from_dict(d)
+    local, local_stats = penumbra.render(scene)
+    image, stats = pd.render(scene, client, tile=13)
+    assert local.shape == (40, 40, 4)
+    assert stats["channels"] == local_stats["channels"] == ["R", "G", "B", "A"]
+    assert np.array_equal(image, local)
+
+
 def test_progress_counts_tiles(client, small):
     calls = []
     pd.render(penumbra.load_scene("showcase"), client, tile=16,

@@ -49,6 +49,7 @@ pub const RENDER_KEYS: &[(&str, Kind)] = &[
     ("splat", Kind::Film),
     ("filter_steps", Kind::Film),
     ("sample_border", Kind::Film),
+    ("alpha", Kind::Film),
     ("crop_offset_x", Kind::Film),
     ("crop_offset_y", Kind::Film),
     ("crop_width", Kind::Film),

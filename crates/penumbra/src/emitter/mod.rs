@@ -274,11 +274,11 @@ mod tests {
     use crate::sampling::Rng;
 
     fn area(surface: Surface) -> Emitter {
-        Emitter::Area(Area {
+        Emitter::Area(Area::new(
             surface,
-            radiance: crate::texture::Texture::Constant(Rgb::splat(2.0)),
-            model: PenumbraModel::Surface,
-        })
+            crate::texture::Texture::Constant(Rgb::splat(2.0)),
+            PenumbraModel::Surface,
+        ))
     }
 
     /// For each area light, every sample's weight is `L / pdf` at its target

@@ -54,23 +54,29 @@ impl Format {
 /// Writes an image in the format its extension names. An image with
 /// channels beside its RGB (an `aov` or `moment` integrator's) is written
 /// to EXR only: a PNG is refused ([`check_channels`]) rather than written
-/// without them.
+/// without them. The film's alpha channel `A` alone is written to PNG as
+/// 8-bit RGBA with straight alpha ([`to_srgba8`]), and to EXR as a
+/// channel `A` beside the premultiplied RGB, as OpenEXR holds it.
 pub fn write_image(path: &Path, image: &Image) -> Result<(), OutputError> {
     match Format::of(path)? {
         Format::Png => {
             if let Some(extra) = &image.extra {
                 check_channels(path, &extra.names)?;
             }
-            write_atomic(path, |file| write_png(file, image))
+            match alpha_of(image) {
+                Some(alpha) => write_atomic(path, |file| write_png_alpha(file, image, &alpha)),
+                None => write_atomic(path, |file| write_png(file, image)),
+            }
         }
         Format::Exr => write_atomic(path, |file| write_exr(file, image)),
     }
 }
 
 /// Refuses to write channels `names` beside the image to `path` unless
-/// its format holds them (EXR): what a caller checks before it renders.
+/// its format holds them (EXR; PNG holds the alpha channel `A` alone):
+/// what a caller checks before it renders.
 pub fn check_channels(path: &Path, names: &[String]) -> Result<(), OutputError> {
-    if names.is_empty() || Format::of(path)? == Format::Exr {
+    if names.is_empty() || names == [ALPHA] || Format::of(path)? == Format::Exr {
         return Ok(());
     }
     let mut shown: Vec<&str> = names.iter().take(6).map(String::as_str).collect();
@@ -146,6 +152,58 @@ pub fn to_srgb8(image: &Image) -> Vec<u8> {
         .flat_map(|p| p.to_array())
         .map(|v| (srgb_encode(v) * 255.0 + 0.5) as u8)
         .collect()
+}
+
+/// The name of the film's alpha channel.
+const ALPHA: &str = "A";
+
+/// The alpha channel of an image whose one channel beside its RGB is the
+/// film's alpha `A`.
+fn alpha_of(image: &Image) -> Option<Vec<f32>> {
+    let extra = image.extra.as_ref()?;
+    (extra.names == [ALPHA]).then(|| extra.channel(0).collect())
+}
+
+/// 8-bit sRGB bytes with straight alpha, row-major RGBA, of an image
+/// whose colour is premultiplied by `alpha` (as a film develops it: a
+/// pixel half covered holds half its surface's colour): the colour is
+/// divided by the alpha (where it is not 0) before it is encoded, as PNG
+/// readers expect.
+pub fn to_srgba8(image: &Image, alpha: &[f32]) -> Vec<u8> {
+    let byte = |v: f32| (v * 255.0 + 0.5) as u8;
+    image
+        .pixels
+        .iter()
+        .zip(alpha)
+        .flat_map(|(p, &a)| {
+            let a = if a.is_finite() {
+                a.clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let c = p.to_array().map(|v| if a > 0.0 { v / a } else { v });
+            [
+                byte(srgb_encode(c[0])),
+                byte(srgb_encode(c[1])),
+                byte(srgb_encode(c[2])),
+                byte(a),
+            ]
+        })
+        .collect()
+}
+
+fn write_png_alpha(file: &mut std::fs::File, image: &Image, alpha: &[f32]) -> Result<(), String> {
+    use image::ImageEncoder;
+    let bytes = to_srgba8(image, alpha);
+    let w = std::io::BufWriter::new(file);
+    image::codecs::png::PngEncoder::new(w)
+        .write_image(
+            &bytes,
+            image.width,
+            image.height,
+            image::ExtendedColorType::Rgba8,
+        )
+        .map_err(|e| e.to_string())
 }
 
 fn write_png(file: &mut std::fs::File, image: &Image) -> Result<(), String> {
@@ -277,6 +335,39 @@ mod tests {
             write_image(&dir.path().join("a.jpg"), &img),
             Err(OutputError::Format(_))
         ));
+    }
+
+    /// The film's alpha alone goes to PNG as straight 8-bit alpha, and to
+    /// EXR as the channel `A`.
+    #[test]
+    fn alpha_goes_to_png_and_exr() {
+        use crate::render::ExtraChannels;
+        let dir = tempfile::tempdir().unwrap();
+        let mut img = Image::new(2, 1);
+        img.pixels[0] = Rgb::new(0.5, 0.25, 0.0);
+        img.pixels[1] = Rgb::new(0.3, 0.3, 0.3);
+        img.extra = Some(ExtraChannels {
+            names: vec!["A".into()],
+            values: vec![0.5, 0.0],
+        });
+        let png = dir.path().join("a.png");
+        write_image(&png, &img).unwrap();
+        let read = image::open(&png).unwrap().to_rgba8();
+        // The colour unpremultiplied: 0.5 / 0.5 = 1, 0.25 / 0.5 = 0.5.
+        assert_eq!(read.get_pixel(0, 0).0, [255, 188, 0, 128]);
+        assert_eq!(read.get_pixel(1, 0).0[3], 0);
+        let exr = dir.path().join("a.exr");
+        write_image(&exr, &img).unwrap();
+        let layers = exr::prelude::read_all_flat_layers_from_file(&exr).unwrap();
+        let a = layers.layer_data[0]
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name == *"A")
+            .expect("an A channel");
+        assert!(matches!(&a.sample_data, exr::prelude::FlatSamples::F32(v) if v == &[0.5, 0.0]));
+        assert!(check_channels(&png, &["A".to_string()]).is_ok());
+        assert!(check_channels(&png, &["A".to_string(), "B2".to_string()]).is_err());
     }
 
     /// An image with channels beside its RGB is written to EXR with every

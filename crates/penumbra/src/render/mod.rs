@@ -18,6 +18,7 @@ pub use region::Region;
 pub use report::stats_document;
 
 use crate::description::SceneError;
+use crate::integrator::aov::Aov;
 use crate::integrator::splat::{light, resolve, resolve_channels, SplatFilm, Sums};
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
@@ -67,6 +68,9 @@ pub enum RenderError {
     /// the scene was built).
     #[error("{0}")]
     Integrator(SceneError),
+    /// The film asks for an alpha channel the integrator cannot give.
+    #[error("the film's `alpha` (Mitsuba's `pixel_format` `rgba`) is not supported with this integrator: {0}")]
+    Alpha(&'static str),
 }
 
 /// The whole frame of `s`, crop window or not.
@@ -133,6 +137,18 @@ impl RenderWith for Render<'_> {
     type Output = Result<(Image, RenderStats), RenderError>;
 
     fn render<I: Integrator>(self, integrator: &I) -> Self::Output {
+        // An integrator writing channels of its own (`aov`, whose `N.A` is
+        // the alpha, `moment`) writes them without the film's alpha.
+        if self.scene.settings.alpha && integrator.channels().is_empty() {
+            alpha_refused(integrator)?;
+            return render_with(
+                &Aov::alpha(self.scene, integrator),
+                self.scene,
+                self.opts,
+                self.progress,
+                self.cancel,
+            );
+        }
         render_with(
             integrator,
             self.scene,
@@ -141,6 +157,17 @@ impl RenderWith for Render<'_> {
             self.cancel,
         )
     }
+}
+
+/// Refuses the film's alpha channel with an integrator that cannot carry
+/// it: one whose samples land anywhere (`ptracer`).
+fn alpha_refused<I: Integrator>(integrator: &I) -> Result<(), RenderError> {
+    if integrator.splats_anywhere() {
+        return Err(RenderError::Alpha(
+            "its samples land anywhere on the film, not in the pixel of a camera ray",
+        ));
+    }
+    Ok(())
 }
 
 /// Renders the scene (or a region of it) with `integrator`, in its passes:

@@ -815,11 +815,7 @@ fn emitter(o: &Object, meshes: &Arc<[Mesh]>, c: &Carried) -> Result<Area, Invali
              instance may rotate, translate and scale it uniformly",
         ));
     }
-    Ok(Area {
-        surface,
-        radiance: c.radiance.clone(),
-        model: c.model,
-    })
+    Ok(Area::new(surface, c.radiance.clone(), c.model))
 }
 
 /// The objects of a reused world, to give the emitting ones their

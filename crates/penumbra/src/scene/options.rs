@@ -596,6 +596,20 @@ pub const OPTIONS: &[RenderOption] = &[
         set: Some(|c, v| c.overrides.sample_border = v.switch()),
     },
     RenderOption {
+        name: "alpha",
+        kind: Kind::Switch,
+        default: switch(false),
+        doc: "the image carries an alpha channel `A`: the share of a pixel's samples whose \
+              camera ray meets a surface (or any, with a visible emitter at infinity), filtered \
+              as the colour is (Mitsuba's hdrfilm `pixel_format` `rgba`); written to EXR as \
+              `A`, to PNG as 8-bit RGBA; aov and moment write their own channels instead, \
+              ptracer refuses it",
+        table: Some(Table::Render),
+        flag: Flag::with_off("write RGB only"),
+        python: true,
+        set: Some(|c, v| c.overrides.alpha = v.switch()),
+    },
+    RenderOption {
         name: "crop_offset_x",
         kind: CROP_OFFSET,
         default: int(0),

@@ -55,6 +55,8 @@ pub struct Overrides {
     /// Whether the pixels within the filter's reach beyond the film are
     /// sampled.
     pub sample_border: Option<bool>,
+    /// Whether the image carries an alpha channel.
+    pub alpha: Option<bool>,
     pub lens_distribution: Option<Distribution>,
     pub time_distribution: Option<Distribution>,
     pub shadow_distribution: Option<Distribution>,
@@ -176,6 +178,7 @@ impl Overrides {
         set(root, "splat", flag(self.splat));
         set(root, "filter_steps", int(self.filter_steps));
         set(root, "sample_border", flag(self.sample_border));
+        set(root, "alpha", flag(self.alpha));
         set(root, "lens_distribution", dist(self.lens_distribution));
         set(root, "time_distribution", dist(self.time_distribution));
         set(root, "shadow_distribution", dist(shadow_d));

@@ -132,6 +132,11 @@ pub struct Settings {
     /// `(x, y)` is the frame's `(x + border, y + border)`, and the crop
     /// window is never `None` when it is not 0.
     pub border: u32,
+    /// Whether the image carries an alpha channel `A` (`alpha`, Mitsuba's
+    /// `pixel_format` `rgba`): per sample 1 where the camera ray meets a
+    /// surface (or anywhere with a visible emitter at infinity), filtered
+    /// as the colour is.
+    pub alpha: bool,
 }
 
 /// A crop window: the `width` × `height` pixels from column `x`, row `y`
@@ -217,6 +222,7 @@ pub const FILM: Schema = Schema {
         param("splat", Type::Bool).penumbra_only(),
         param("filter_steps", Type::Int).penumbra_only(),
         param("sample_border", Type::Bool),
+        param("alpha", Type::Bool).penumbra_only(),
         param("crop_offset_x", Type::Int),
         param("crop_offset_y", Type::Int),
         param("crop_width", Type::Int),
@@ -235,7 +241,9 @@ pub const FILM_PLUGINS: [Plugin; 1] = [Plugin::new(
             splatted by it (`splat`) as Mitsuba's film develops, weighted by the filter \
             tabulated at 31 steps (`filter_steps`) as Mitsuba's CPU variants weight them, only the samples of the crop \
             window's pixels (and of the border beyond it with `sample_border`) reaching it; \
-            `file_format`, `pixel_format` and `component_format` are ignored with a warning: \
+            `pixel_format` `rgba` (and `luminance_alpha`, `xyza`) as `alpha`: an `A` channel \
+            written beside the RGB; the luminance and XYZ formats are written as RGB, with a \
+            warning; `file_format` and `component_format` are ignored with a warning: \
             the output's extension chooses the format",
         reads: &["file_format", "pixel_format", "component_format"],
         adapt: Some(Adapt::Held(sensors::hdrfilm)),
@@ -412,6 +420,7 @@ pub fn read(film: &Props, sampler: &Props) -> Result<Settings, Invalid> {
         filter_steps,
         crop,
         border,
+        alpha: film.bool("alpha")?.unwrap_or(false),
     })
 }
 

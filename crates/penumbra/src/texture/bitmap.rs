@@ -200,6 +200,40 @@ impl Bitmap {
         }
     }
 
+    /// Weights over the texel grid, row by row (`width` × `height`), that
+    /// a distribution of surface coordinates drawn in proportion to the
+    /// texture may take (an area light drawing its points by its
+    /// radiance): a texel's value read as one ([`one`]), and, with the
+    /// bilinear filter, the largest of it and its eight neighbours (wrapped
+    /// as the lookups wrap them), so that a texel is never weighed 0 where
+    /// the interpolation reaches a neighbour that is not. `None` unless
+    /// `to_uv` is the identity: only then is texel `(x, y)` the square
+    /// `[x / width, (x + 1) / width) × [y / height, (y + 1) / height)` of
+    /// surface coordinates.
+    pub fn sampling_weights(&self) -> Option<(usize, usize, Vec<f32>)> {
+        if self.to_uv != UvTransform::IDENTITY {
+            return None;
+        }
+        let (w, h) = (self.image.width, self.image.height);
+        let reach: i64 = match self.filter {
+            Filter::Nearest => 0,
+            Filter::Bilinear => 1,
+        };
+        let mut weights = Vec::with_capacity(w as usize * h as usize);
+        for y in 0..i64::from(h) {
+            for x in 0..i64::from(w) {
+                let mut most = 0.0f32;
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        most = most.max(one(self.texel(x + dx, y + dy)).max(0.0));
+                    }
+                }
+                weights.push(most);
+            }
+        }
+        Some((w as usize, h as usize, weights))
+    }
+
     /// The texel at column `x`, row `y` (any integers; wrapped).
     #[inline]
     fn texel(&self, x: i64, y: i64) -> Rgb {

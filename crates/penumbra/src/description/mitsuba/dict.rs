@@ -12,7 +12,7 @@
 //! | `{"type": "rgb", "value": [r, g, b]}` (or one number) | `<rgb>` |
 //! | `{"type": "spectrum", "value": x}` or `[[nm, x], ...]` | `<spectrum>` |
 //! | `{"type": "ref", "id": "name"}` | `<ref id="name">` |
-//! | any other dict with a `type` | a nested object, its tag (`shape`, `bsdf`...) the one of its plugin |
+//! | any other dict with a `type` | a nested object, its tag (`shape`, `bsdf`, `medium`, `phase`, `volume`...) the one of its plugin |
 //!
 //! As in Mitsuba, an object of the scene's own dict takes its key as its
 //! id unless it gives `id`, so that a `ref` names it by its key; a nested
@@ -181,7 +181,7 @@ impl<'de> Visitor<'de> for DictVisitor {
 }
 
 /// Every plugin the mapping reads, by tag, in the order messages list them.
-fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 10] {
+fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 12] {
     let of = |kind| mitsuba_names(registry(kind));
     [
         ("integrator", of(Kind::Integrator)),
@@ -194,6 +194,8 @@ fn plugin_tags(registry: Registry) -> [(&'static str, Vec<&'static str>); 10] {
         ("emitter", of(Kind::Emitter)),
         ("texture", of(Kind::Texture)),
         ("volume", of(Kind::Volume)),
+        ("medium", of(Kind::Medium)),
+        ("phase", of(Kind::Phase)),
     ]
 }
 

@@ -364,8 +364,10 @@ const FILTER_STEPS: i64 = 31;
 /// 768 × 576 where not given; its `<rfilter>` (Mitsuba's `gaussian`
 /// without one) as `filter` and the `filter_*` keys of the parameters it
 /// gives, each sample splatted by it (`splat`), as Mitsuba develops its
-/// film. The output file's format is its extension's, so the formats
-/// the film names are ignored, with a warning.
+/// film; `pixel_format` with alpha as `alpha`. The output file's format
+/// is its extension's, so the file and component formats the film names
+/// are ignored, with a warning, and so are its luminance and XYZ pixel
+/// formats (written as RGB).
 pub fn hdrfilm(
     m: &mut dyn Mapper,
     obj: &Object,
@@ -386,7 +388,38 @@ pub fn hdrfilm(
             }),
         }
     }
-    for name in ["file_format", "pixel_format", "component_format"] {
+    if let Some((format, at)) = get_string(obj, "pixel_format")? {
+        let format = format.to_ascii_lowercase();
+        let alpha = match format.as_str() {
+            "rgb" => false,
+            "rgba" => true,
+            "luminance" | "xyz" => false,
+            "luminance_alpha" | "xyza" => true,
+            other => {
+                return Err(error_at(
+                    at,
+                    format!(
+                        "`pixel_format` `{}` is not one of rgb, rgba, luminance, \
+                         luminance_alpha, xyz, xyza",
+                        clip(other)
+                    ),
+                ))
+            }
+        };
+        if !matches!(format.as_str(), "rgb" | "rgba") {
+            m.warn(format!(
+                "the film's `pixel_format` `{format}` is written as RGB{}: Penumbra writes \
+                 linear RGB only",
+                if alpha { " with alpha" } else { "" }
+            ));
+        }
+        if alpha {
+            set(node, base, "alpha", at, |p, at| {
+                located(Value::Bool(true), p, at)
+            });
+        }
+    }
+    for name in ["file_format", "component_format"] {
         if obj_has(obj, name) {
             m.warn(format!(
                 "the film's `{name}` is ignored: the output file's extension chooses the format"

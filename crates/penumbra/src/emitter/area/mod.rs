@@ -10,13 +10,13 @@
 //! spheres, which emit outward from their whole surface. The radiance may
 //! be a texture, looked up at the surface coordinates `(u, v)` of the
 //! point of the light (where a ray hits it, or the point drawn on it),
-//! which a ray hitting the shape there would find. The points are drawn as
-//! for a uniform light (uniformly in area, or in a sphere's cone) whatever
-//! the texture, so that [`Area::pdf`] is the density of the draw for any
-//! parameterisation of the shape (Mitsuba draws `(u, v)` by the texture's
-//! luminance instead and maps them onto the shape: less noise where the
-//! texture is uneven, but it needs a shape whose `(u, v)` map is one to
-//! one). A shading point samples it by one of two penumbra models:
+//! which a ray hitting the shape there would find. A rectangle of a
+//! `bitmap` radiance draws its points by the texture ([`ByTexture`]:
+//! `(u, v)` in proportion to the texels, as Mitsuba draws them, less
+//! noise where the texture is uneven); any other light draws them as a
+//! uniform light does (uniformly in area, or in a sphere's cone), so that
+//! [`Area::pdf`] is the density of the draw for any parameterisation of
+//! the shape. A shading point samples it by one of two penumbra models:
 //!
 //! * `surface`: the shadow ray's target lies on the light's real surface
 //!   (uniform in area, or in the solid angle a sphere subtends from
@@ -37,7 +37,12 @@
 //! | `shadow_rays` | integer 1–65536 | the render's | shadow rays per shading point |
 //! | `shadow_distribution` | distribution | the render's | |
 
+pub mod by_texture;
 mod rect;
+
+use std::sync::Arc;
+
+pub use by_texture::{ByTexture, TexturePoint};
 
 use crate::description::check::{int, nonneg3, required};
 use crate::description::mitsuba::adapt;
@@ -97,7 +102,7 @@ pub const SCHEMA: Schema = Schema {
 
 /// How Mitsuba's `area` maps onto it.
 pub const MITSUBA: Mitsuba = Mitsuba {
-    differences: "`radiance` is 1 when not given, as in Mitsuba; a textured `radiance` is looked up at the `(u, v)` of the point of the light, whose points are drawn as a plain light's (uniformly in area, or in a sphere's cone) where Mitsuba draws them by the texture's luminance: the same mean, other noise",
+    differences: "`radiance` is 1 when not given, as in Mitsuba; a textured `radiance` is looked up at the `(u, v)` of the point of the light; a rectangle's points are drawn by its `bitmap` texture (without `to_uv`) as Mitsuba draws them, in proportion to the texels (a bilinear texel weighed as the brightest of it and its neighbours); the points of other textured lights are drawn as a plain light's (uniformly in area, or in a sphere's cone) where Mitsuba draws them by the texture: the same mean, other noise",
     reads: &[],
     adapt: Some(Adapt::Node(adapt::area)),
 };
@@ -160,6 +165,9 @@ pub struct Area {
     /// The radiance, at the surface coordinates of the point of the light.
     pub radiance: Texture,
     pub model: PenumbraModel,
+    /// The draw of its points by its texture, where the texture and the
+    /// shape allow one ([`ByTexture`]); `None`: drawn uniformly.
+    pub by_texture: Option<Arc<ByTexture>>,
 }
 
 /// Points per side of the grid in `(u, v)` over which a texture's mean
@@ -167,6 +175,44 @@ pub struct Area {
 const MEAN_GRID: usize = 64;
 
 impl Area {
+    /// The light of `surface` emitting `radiance`, its points drawn by its
+    /// texture where the texture and the shape allow it ([`ByTexture`]).
+    pub fn new(surface: Surface, radiance: Texture, model: PenumbraModel) -> Area {
+        let by_texture = match model {
+            PenumbraModel::Surface => ByTexture::new(&surface, &radiance).map(Arc::new),
+            PenumbraModel::Thesis => None,
+        };
+        Area {
+            surface,
+            radiance,
+            model,
+            by_texture,
+        }
+    }
+
+    /// The light drawn uniformly whatever its texture (the draw that
+    /// [`ByTexture`] replaces, kept to compare them).
+    pub fn uniform(self) -> Area {
+        Area {
+            by_texture: None,
+            ..self
+        }
+    }
+
+    /// A sample toward `r` of a point drawn by the texture for the
+    /// distribution point `point` of `d`.
+    fn sample_by_texture(
+        &self,
+        by: &ByTexture,
+        r: Reference,
+        point: Vec3,
+        d: Distribution,
+    ) -> Option<LightSample> {
+        let t = by.sample(unit_square(point, d))?;
+        let radiance = self.radiance.eval_uv(t.uv);
+        area_sample(radiance, r.p, t.p, t.n, 1.0 / t.pdf_area, false)
+    }
+
     /// The radiance where it is the same everywhere.
     #[inline(always)]
     fn constant(&self) -> Option<Rgb> {
@@ -318,6 +364,9 @@ impl Area {
                     let target = q.point(u.x, u.y);
                     return area_sample(radiance, r.p, target, q.normal, q.area(), false);
                 }
+                if let Some(by) = &self.by_texture {
+                    return self.sample_by_texture(by, r, point, d);
+                }
                 let s = self.surface.sample(r.p, r.time, point, d)?;
                 let radiance = self.radiance_at(&s);
                 match s.density {
@@ -335,11 +384,21 @@ impl Area {
         }
     }
 
-    /// A point uniform over the surface at `time` for the point `u` of the
-    /// unit square, with the normal of the side it emits toward (a sphere
+    /// A point over the surface at `time` for the point `u` of the unit
+    /// square (uniform, or drawn by the texture where [`ByTexture`] draws
+    /// them), with the normal of the side it emits toward (a sphere
     /// outward), whatever the penumbra model (both emit the same light
     /// from the same surface).
     pub fn sample_position(&self, u: Vec2, time: f32) -> Option<SurfacePoint> {
+        if let Some(by) = &self.by_texture {
+            let t = by.sample(u)?;
+            return Some(SurfacePoint {
+                p: t.p,
+                n: t.n,
+                uv: t.uv,
+                inv_pdf: 1.0 / t.pdf_area,
+            });
+        }
         // Seen from the shape's centre, every shape is drawn uniformly in
         // area (a sphere from outside would be drawn in its cone).
         let c = self.center();
@@ -368,6 +427,15 @@ impl Area {
     pub fn pdf(&self, r: Reference, target: Vec3, n: Vec3) -> f32 {
         if self.model == PenumbraModel::Thesis {
             return 0.0;
+        }
+        if let Some(by) = &self.by_texture {
+            let to = target - r.p;
+            let r2 = to.length_squared();
+            let cos_l = n.dot(-to) / r2.sqrt();
+            if !(cos_l > 0.0 && r2 > 0.0) {
+                return 0.0;
+            }
+            return by.pdf_area(target) * r2 / cos_l;
         }
         self.surface.density(r.p, r.time, target, n)
     }

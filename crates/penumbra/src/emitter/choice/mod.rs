@@ -115,11 +115,11 @@ pub(crate) mod tests {
     }
 
     pub(crate) fn surface_area(surface: Surface, radiance: f32) -> Emitter {
-        Emitter::Area(Area {
+        Emitter::Area(Area::new(
             surface,
-            radiance: crate::texture::Texture::Constant(Rgb::splat(radiance)),
-            model: PenumbraModel::Surface,
-        })
+            crate::texture::Texture::Constant(Rgb::splat(radiance)),
+            PenumbraModel::Surface,
+        ))
     }
 
     /// Emitters of every kind, of powers over four orders of magnitude,

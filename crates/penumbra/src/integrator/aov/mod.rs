@@ -16,7 +16,8 @@
 //!
 //! * `aov` holding an integrator named `N`: `N.R`, `N.G`, `N.B` (its
 //!   image again) and `N.A` (1 where the camera ray meets a surface, or
-//!   anywhere when the scene has an emitter at infinity), then each
+//!   anywhere when the scene has an emitter at infinity the integrator
+//!   does not hide with `hide_emitters`, as Mitsuba's), then each
 //!   variable's channels; without one, the variables' channels alone (the
 //!   image is black, as Mitsuba's).
 //! * a variable `name:type` gives, by type, `name.R`/`.G`/`.B`
@@ -78,6 +79,7 @@ use super::stopping::PixelSamples;
 use super::whitted::{camera_samples_of, CameraRays};
 use crate::accel::Hit;
 use crate::camera::CameraSample;
+use crate::description::tree::{Kind, Node, Value as TreeValue};
 use crate::math::{Ray, Rgb, Vec2, Vec3};
 use crate::scene::Scene;
 
@@ -220,10 +222,13 @@ pub struct Aov<'a, I> {
     pub inner: Option<&'a I>,
     pub spec: AovSpec,
     /// Every channel's name: the held integrator's `N.R`, `N.G`, `N.B`,
-    /// `N.A` (with one), then the variables'.
+    /// `N.A` (with one), then the variables'; the film's `A` alone for
+    /// [`Aov::alpha`].
     pub names: Vec<String>,
     /// Camera rays per pixel without a held integrator.
     pub spp: u32,
+    /// The one channel is the film's alpha `A` ([`Aov::alpha`]).
+    pub alpha_only: bool,
 }
 
 impl<'a, I: Integrator> Aov<'a, I> {
@@ -236,8 +241,39 @@ impl<'a, I: Integrator> Aov<'a, I> {
             spec,
             names,
             spp: scene.settings.spp,
+            alpha_only: false,
         }
     }
+
+    /// The image of `inner` with the film's alpha channel `A` beside it
+    /// (`alpha`, Mitsuba's `pixel_format` `rgba`): per sample 1 where its
+    /// camera ray meets a surface, or anywhere when the scene has an
+    /// emitter at infinity the integrator does not hide; filtered as the
+    /// image is.
+    pub fn alpha(scene: &Scene, inner: &'a I) -> Self {
+        Aov {
+            inner: Some(inner),
+            spec: AovSpec::default(),
+            names: vec![ALPHA_CHANNEL.to_string()],
+            spp: scene.settings.spp,
+            alpha_only: true,
+        }
+    }
+}
+
+/// The name of the film's alpha channel.
+pub const ALPHA_CHANNEL: &str = "A";
+
+/// Whether the integrator `node` describes (or the one it holds) hides
+/// the emitters a camera ray sees (`hide_emitters`): then a ray that
+/// meets nothing has alpha 0 even with an emitter at infinity, as in
+/// Mitsuba.
+fn hides_emitters(node: &Node) -> bool {
+    let hides = |n: &Node| {
+        n.prop("hide_emitters")
+            .is_some_and(|p| p.value.value == TreeValue::Bool(true))
+    };
+    hides(node) || node.child(Kind::Integrator).is_some_and(hides)
 }
 
 impl<'a, I: Integrator> Integrator for Aov<'a, I> {
@@ -250,7 +286,7 @@ impl<'a, I: Integrator> Integrator for Aov<'a, I> {
     fn worker<'s>(&'s self, scene: &'s Scene) -> Self::Worker<'s> {
         AovWorker {
             inner: self.inner.map(|i| i.worker(scene)),
-            probe: Probe::new(scene, &self.spec, self.inner.is_some()),
+            probe: Probe::new(scene, &self.spec, self.lead()),
             stats: RayStats::default(),
         }
     }
@@ -275,9 +311,32 @@ impl<'a, I: Integrator> Integrator for Aov<'a, I> {
         Channels {
             names: self.names.clone(),
             moments: false,
-            image: self.inner.map(|_| 0),
+            image: self.inner.filter(|_| !self.alpha_only).map(|_| 0),
         }
     }
+}
+
+impl<I> Aov<'_, I> {
+    /// What the probe writes before the variables.
+    fn lead(&self) -> Lead {
+        match (self.inner, self.alpha_only) {
+            (_, true) => Lead::Alpha,
+            (Some(_), false) => Lead::Image,
+            (None, false) => Lead::Black,
+        }
+    }
+}
+
+/// What a probe writes before the variables of a sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lead {
+    /// Nothing; it adds the black image's samples itself.
+    Black,
+    /// The held integrator's `N.R` to `N.A`: zeros (filled from its image)
+    /// and the alpha.
+    Image,
+    /// The film's alpha `A` alone.
+    Alpha,
 }
 
 /// An [`Aov`] worker: the held integrator's, and the probe of the first
@@ -344,11 +403,9 @@ impl<W: PixelWorker> PixelWorker for AovWorker<'_, W> {
 struct Probe<'s> {
     scene: &'s Scene,
     spec: &'s AovSpec,
-    /// A held integrator's image comes first (its channels `N.R` to `N.A`);
-    /// without one the probe adds the black image's samples itself.
-    held: bool,
-    /// Rays that meet nothing see an emitter at infinity (the alpha of a
-    /// miss).
+    lead: Lead,
+    /// Rays that meet nothing see an emitter at infinity the integrator
+    /// does not hide (the alpha of a miss).
     sees_far: bool,
     cam: CameraRays,
     hits: Vec<Option<Hit>>,
@@ -362,12 +419,12 @@ struct Probe<'s> {
 }
 
 impl<'s> Probe<'s> {
-    fn new(scene: &'s Scene, spec: &'s AovSpec, held: bool) -> Self {
+    fn new(scene: &'s Scene, spec: &'s AovSpec, lead: Lead) -> Self {
         Probe {
             scene,
             spec,
-            held,
-            sees_far: !scene.far.is_empty(),
+            lead,
+            sees_far: !scene.far.is_empty() && !hides_emitters(&scene.integrator),
             cam: CameraRays::default(),
             hits: Vec::new(),
             dx: Vec::new(),
@@ -422,7 +479,7 @@ impl<'s> Probe<'s> {
                 let (w, o) = (self.cam.weights[q], self.cam.offsets[q]);
                 self.values.clear();
                 self.variables(q);
-                if !self.held {
+                if self.lead == Lead::Black {
                     film.add(k, Rgb::ZERO, w, o);
                 }
                 film.add_channels(k, &self.values, w, o);
@@ -436,13 +493,15 @@ impl<'s> Probe<'s> {
         let ray = &self.cam.rays[q];
         let hit = self.hits[q].as_ref();
         let out = &mut self.values;
-        if self.held {
-            let alpha = if hit.is_some() || self.sees_far {
-                1.0
-            } else {
-                0.0
-            };
-            out.extend([0.0, 0.0, 0.0, alpha]);
+        let alpha = if hit.is_some() || self.sees_far {
+            1.0
+        } else {
+            0.0
+        };
+        match self.lead {
+            Lead::Black => {}
+            Lead::Image => out.extend([0.0, 0.0, 0.0, alpha]),
+            Lead::Alpha => out.push(alpha),
         }
         let v3 = |out: &mut Vec<f32>, v: Vec3| out.extend([v.x, v.y, v.z]);
         for (_, ty) in &self.spec.items {
