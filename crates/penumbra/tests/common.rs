@@ -107,3 +107,69 @@ pub fn stale_docs(files: &[(&str, Fresh)]) -> Vec<String> {
     }
     stale
 }
+
+/// The mean of the pixels of `img` in `x0..x1 × y0..y1`, and the standard
+/// error of that mean from their spread (each pixel an independent
+/// estimate of the same value).
+pub fn block_mean(
+    img: &Image,
+    (x0, x1): (u32, u32),
+    (y0, y1): (u32, u32),
+) -> (penumbra::math::Rgb, penumbra::math::Rgb) {
+    use penumbra::math::Rgb;
+    let n = ((x1 - x0) * (y1 - y0)) as f32;
+    let (mut sum, mut sq) = (Rgb::ZERO, Rgb::ZERO);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let v = img.get(x, y);
+            assert!(v.is_finite(), "pixel ({x}, {y}) is {v:?}");
+            sum += v;
+            sq += v * v;
+        }
+    }
+    let mean = sum / n;
+    let var = (sq / n - mean * mean).map(|v| v.max(0.0)) * (n / (n - 1.0));
+    (mean, (var / n).map(f32::sqrt))
+}
+
+/// [`block_mean`] over the whole image.
+pub fn mean_and_error(img: &Image) -> (penumbra::math::Rgb, penumbra::math::Rgb) {
+    block_mean(img, (0, img.width), (0, img.height))
+}
+
+/// Holds each channel of `got` (with standard error `err`) to `want`
+/// within 3σ (and a relative 1e-4 for rounding).
+pub fn assert_within(
+    got: penumbra::math::Rgb,
+    err: penumbra::math::Rgb,
+    want: penumbra::math::Rgb,
+    what: &str,
+) {
+    for c in 0..3 {
+        let (g, e, w) = (got.to_array()[c], err.to_array()[c], want.to_array()[c]);
+        assert!(
+            (g - w).abs() <= 3.0 * e + 1e-4 * w.abs(),
+            "{what}, channel {c}: got {g} ± {e}, want {w}"
+        );
+    }
+}
+
+/// Renders the TOML scene `toml` (whose `[render]` holds the line
+/// `spp_line`) on 1 and 3 threads and in 3 passes, holds every pixel to
+/// the same bits, and returns the ray counts (the same on any threads).
+pub fn same_bits_on_threads_and_passes(toml: &str, spp_line: &str) -> RayStats {
+    let s = scene(toml);
+    let (one, a) = render_scene(&s, 1);
+    let (three, b) = render_scene(&s, 3);
+    assert_eq!(a, b);
+    let passes = scene(&toml.replace(spp_line, &format!("{spp_line}passes = 3\n")));
+    let (split, _) = render_scene(&passes, 2);
+    for y in 0..one.height {
+        for x in 0..one.width {
+            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
+            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
+            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
+        }
+    }
+    a
+}

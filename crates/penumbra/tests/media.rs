@@ -8,36 +8,6 @@ use common::*;
 use penumbra::math::Rgb;
 use penumbra::render::Image;
 
-/// The mean of every pixel, and the standard error of that mean from the
-/// spread of the pixels (each an independent estimate of the same value).
-fn mean_and_error(img: &Image) -> (Rgb, Rgb) {
-    let n = (img.width * img.height) as f32;
-    let (mut sum, mut sq) = (Rgb::ZERO, Rgb::ZERO);
-    for y in 0..img.height {
-        for x in 0..img.width {
-            let v = img.get(x, y);
-            assert!(v.is_finite(), "pixel ({x}, {y}) is {v:?}");
-            sum += v;
-            sq += v * v;
-        }
-    }
-    let mean = sum / n;
-    let var = (sq / n - mean * mean).map(|v| v.max(0.0)) * (n / (n - 1.0));
-    (mean, (var / n).map(f32::sqrt))
-}
-
-/// Holds each channel of `got` (with standard error `err`) to `want`
-/// within 3σ (and a relative 1e-4 for rounding).
-fn assert_within(got: Rgb, err: Rgb, want: Rgb, what: &str) {
-    for c in 0..3 {
-        let (g, e, w) = (got.to_array()[c], err.to_array()[c], want.to_array()[c]);
-        assert!(
-            (g - w).abs() <= 3.0 * e + 1e-4 * w.abs(),
-            "{what}, channel {c}: got {g} ± {e}, want {w}"
-        );
-    }
-}
-
 /// An orthographic camera at z = 2 looking down −z at a slab of
 /// `medium` (a `null` box, z from −1 to 0, wide in x and y), `behind`
 /// under it, rendered by `volpath` with `render` keys.
@@ -297,19 +267,7 @@ fn volumetric_paths_are_the_same_on_any_threads_and_passes() {
                 interior = \"fog\"\n\n\
                 [[objects]]\ntype = \"quad\"\nmaterial = \"floor\"\norigin = [-3, -1, 3]\n\
                 edge_u = [6, 0, 0]\nedge_v = [0, 0, -6]\n";
-    let s = scene(toml);
-    let (one, a) = render_scene(&s, 1);
-    let (three, b) = render_scene(&s, 3);
-    assert_eq!(a, b);
-    let passes = scene(&toml.replace("spp = 6\n", "spp = 6\npasses = 3\n"));
-    let (split, _) = render_scene(&passes, 2);
-    for y in 0..one.height {
-        for x in 0..one.width {
-            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
-            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
-            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
-        }
-    }
+    let a = same_bits_on_threads_and_passes(toml, "spp = 6\n");
     assert!(a.media.scatterings > 0 && a.shadow > 0);
 }
 
@@ -683,19 +641,7 @@ fn distributed_paths_in_media_are_the_same_on_any_threads_and_passes() {
                 [[lights]]\ntype = \"point\"\nposition = [0.5, 2.5, 0.5]\nintensity = [5, 5, 5]\n\n\
                 [[lights]]\ntype = \"rect\"\norigin = [-1.5, 2.5, 0]\nedge_u = [0.5, 0, 0]\n\
                 edge_v = [0, 0, 0.5]\nradiance = [3, 3, 3]\n";
-    let s = scene(toml);
-    let (one, a) = render_scene(&s, 1);
-    let (three, b) = render_scene(&s, 3);
-    assert_eq!(a, b);
-    let passes = scene(&toml.replace("spp = 3\n", "spp = 3\npasses = 3\n"));
-    let (split, _) = render_scene(&passes, 2);
-    for y in 0..one.height {
-        for x in 0..one.width {
-            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
-            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
-            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
-        }
-    }
+    let a = same_bits_on_threads_and_passes(toml, "spp = 3\n");
     assert!(a.media.scatterings > 0 && a.media.scattered > 0);
     // Both metrics stop sets: shadow sets, the floor's BSDF sets and the
     // fog's sets of phase directions.

@@ -8,43 +8,6 @@ mod common;
 
 use common::*;
 use penumbra::math::Rgb;
-use penumbra::render::Image;
-
-/// The mean of the pixels of `img` in `x0..x1 × y0..y1`, and the standard
-/// error of that mean from their spread (each pixel an independent
-/// estimate of the same value).
-fn block(img: &Image, (x0, x1): (u32, u32), (y0, y1): (u32, u32)) -> (Rgb, Rgb) {
-    let n = ((x1 - x0) * (y1 - y0)) as f32;
-    let (mut sum, mut sq) = (Rgb::ZERO, Rgb::ZERO);
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let v = img.get(x, y);
-            assert!(v.is_finite(), "pixel ({x}, {y}) is {v:?}");
-            sum += v;
-            sq += v * v;
-        }
-    }
-    let mean = sum / n;
-    let var = (sq / n - mean * mean).map(|v| v.max(0.0)) * (n / (n - 1.0));
-    (mean, (var / n).map(f32::sqrt))
-}
-
-/// [`block`] over the whole image.
-fn mean_and_error(img: &Image) -> (Rgb, Rgb) {
-    block(img, (0, img.width), (0, img.height))
-}
-
-/// Holds each channel of `got` (with standard error `err`) to `want`
-/// within 3σ (and a relative 1e-4 for rounding).
-fn assert_within(got: Rgb, err: Rgb, want: Rgb, what: &str) {
-    for c in 0..3 {
-        let (g, e, w) = (got.to_array()[c], err.to_array()[c], want.to_array()[c]);
-        assert!(
-            (g - w).abs() <= 3.0 * e + 1e-4 * w.abs(),
-            "{what}, channel {c}: got {g} ± {e}, want {w}"
-        );
-    }
-}
 
 /// An orthographic camera at z = 2 looking down −z at a slab of `medium`
 /// (a `null` box, z from −1 to 0, wide in x and y) in front of a surface
@@ -222,7 +185,7 @@ fn replicated_blocks(toml: &str, replicas: u32) -> Vec<(Rgb, Rgb)> {
         let (img, _) = render_toml(&toml.replace("seed = 3\n", &format!("seed = {}\n", 100 + r)));
         for (k, (sum, sq)) in sums.iter_mut().enumerate() {
             let (bx, by) = (k as u32 % 6, k as u32 / 6);
-            let (m, _) = block(&img, (4 * bx, 4 * bx + 4), (4 * by, 4 * by + 4));
+            let (m, _) = block_mean(&img, (4 * bx, 4 * bx + 4), (4 * by, 4 * by + 4));
             *sum += m;
             *sq += m * m;
         }
@@ -273,18 +236,6 @@ fn volpathmis_agrees_with_volpath_block_by_block() {
 #[test]
 fn volpathmis_paths_are_the_same_on_any_threads_and_passes() {
     let toml = lit_fog("volpathmis", "spp = 6\nrr_depth = 2");
-    let s = scene(&toml);
-    let (one, a) = render_scene(&s, 1);
-    let (three, b) = render_scene(&s, 3);
-    assert_eq!(a, b);
-    let passes = scene(&toml.replace("spp = 6\n", "spp = 6\npasses = 3\n"));
-    let (split, _) = render_scene(&passes, 2);
-    for y in 0..one.height {
-        for x in 0..one.width {
-            let bits = |i: &Image| i.get(x, y).to_array().map(f32::to_bits);
-            assert_eq!(bits(&one), bits(&three), "pixel ({x}, {y}), 1 vs 3 threads");
-            assert_eq!(bits(&one), bits(&split), "pixel ({x}, {y}), 3 passes");
-        }
-    }
+    let a = same_bits_on_threads_and_passes(&toml, "spp = 6\n");
     assert!(a.media.scatterings > 0 && a.shadow > 0);
 }

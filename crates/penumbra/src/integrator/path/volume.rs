@@ -28,13 +28,16 @@ use super::vertex::{
 };
 use super::volume_sets::{medium_sets, surface_sets, SetsContext, VolOut};
 use super::wavefront::Wavefront;
+use crate::accel::Hit;
 use crate::bsdf::BsdfFlags;
+use crate::bsdf::{Bsdf, BsdfSample};
 use crate::emitter::Reference;
 use crate::integrator::clip::clip_camera_hits;
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::streams::{self, LOBE_DIMENSION};
 use crate::math::{Ray, Rgb, Vec3};
-use crate::medium::channel_of;
+use crate::medium::{channel_of, Interaction, Medium};
+use crate::sampling::BounceNumbers;
 use crate::sampling::{Distribution, EffectSpec, Rng, SetPoint};
 use crate::scene::{Scene, NO_MEDIUM};
 
@@ -58,6 +61,56 @@ pub(super) const NULL_CHOICE: u64 = 2;
 pub(super) const EMITTER_CHOICE: u64 = 3;
 pub(super) const EMITTER_POINT: u64 = 4;
 pub(super) const DIRECTION: u64 = 6;
+
+/// Per channel, the transmittance over the stretch `mi` covered and its
+/// density of being drawn so: `T·σ̄` where a collision was drawn, `T` where
+/// the stretch ends first (at `end`, from the ray's origin).
+#[inline]
+pub(super) fn free_flight(mi: &Interaction, end: f32) -> (Rgb, Rgb) {
+    let t = mi.t.min(end) - mi.mint;
+    let tr = mi
+        .majorant
+        .map(|m| if m > 0.0 { (-t * m).exp() } else { 1.0 });
+    let pdf = if mi.is_valid() { tr * mi.majorant } else { tr };
+    (tr, pdf)
+}
+
+/// A tentative collision in `medium` along `ray` before the surface at
+/// `t_surface`, from `skip` on (a camera ray's near clip plane), drawn by
+/// channel `channel` with the number `u`; and the distance to the surface
+/// from where the drawing started.
+#[inline]
+pub(super) fn tentative_collision(
+    medium: &Medium,
+    ray: &Ray,
+    (skip, t_surface): (f32, f32),
+    u: f32,
+    channel: usize,
+) -> (Interaction, f32) {
+    let skip = skip.min(t_surface);
+    let t_surface = t_surface - skip;
+    let from = (ray.origin + ray.dir * skip, ray.dir);
+    (
+        medium.sample_interaction(from, t_surface, u, channel),
+        t_surface,
+    )
+}
+
+/// The BSDF's direction at `hit` seen from `wo`, drawn with the step's
+/// numbers `u`.
+#[inline]
+pub(super) fn bsdf_direction(
+    bsdf: &Bsdf,
+    hit: &Hit,
+    wo: Vec3,
+    u: &mut BounceNumbers,
+) -> Option<BsdfSample> {
+    let mut point = SetPoint::uniform(u.point(DIRECTION));
+    if bsdf.wants_third() {
+        point = point.with_third(u.value(LOBE_DIMENSION + DIRECTION));
+    }
+    bsdf.sample(hit, wo, None, point)
+}
 
 /// The mean of a colour's channels.
 #[inline]
@@ -252,11 +305,10 @@ impl Wavefront<'_> {
                 let medium = &scene.media[st.medium as usize];
                 let channel = usize::from(st.channel);
                 // From the near clip plane on, for a camera ray.
-                let skip = skip.min(t_surface);
-                let t_surface = t_surface - skip;
-                let mi = medium.sample_interaction(
-                    (ray.origin + ray.dir * skip, ray.dir),
-                    t_surface,
+                let (mi, t_surface) = tentative_collision(
+                    medium,
+                    &ray,
+                    (skip, t_surface),
                     u.value(DISTANCE),
                     channel,
                 );
@@ -264,11 +316,7 @@ impl Wavefront<'_> {
                 if spectral {
                     // The transmittance over the stretch crossed, over the
                     // density of drawing it by the channel.
-                    let t = mi.t.min(t_surface) - mi.mint;
-                    let tr = mi
-                        .majorant
-                        .map(|m| if m > 0.0 { (-t * m).exp() } else { 1.0 });
-                    let pdf = if mi.is_valid() { tr * mi.majorant } else { tr };
+                    let (tr, pdf) = free_flight(&mi, t_surface);
                     let p = channel_of(pdf, channel);
                     beta = if p > 0.0 { beta * tr / p } else { Rgb::ZERO };
                 }
@@ -445,11 +493,7 @@ impl Wavefront<'_> {
                 }
             }
             // The BSDF's direction.
-            let mut point = SetPoint::uniform(u.point(DIRECTION));
-            if bsdf.wants_third() {
-                point = point.with_third(u.value(LOBE_DIMENSION + DIRECTION));
-            }
-            let Some(s) = bsdf.sample(&hit, wo, None, point) else {
+            let Some(s) = bsdf_direction(bsdf, &hit, wo, &mut u) else {
                 continue;
             };
             if !s.flags.is_delta() && (s.pdf <= 0.0 || s.pdf.is_nan()) {

@@ -32,16 +32,17 @@
 
 use super::vertex::{sample_emitter, target_medium, Densities, VolShadows, NO_SET};
 use super::volume::{
-    mean, ratio, DIRECTION, DISTANCE, EMITTER_CHOICE, EMITTER_POINT, MAX_CROSSINGS, MAX_STEPS,
-    NULL_CHOICE, ROULETTE, RR_MAX, SHADOW_END,
+    bsdf_direction, free_flight, mean, ratio, tentative_collision, DIRECTION, DISTANCE,
+    EMITTER_CHOICE, EMITTER_POINT, MAX_CROSSINGS, MAX_STEPS, NULL_CHOICE, ROULETTE, RR_MAX,
+    SHADOW_END,
 };
 use super::wavefront::Wavefront;
 use crate::bsdf::BsdfFlags;
 use crate::emitter::{LightSample, Reference};
 use crate::integrator::shading::ShadingPoint;
-use crate::integrator::streams::{self, LOBE_DIMENSION};
+use crate::integrator::streams;
 use crate::math::{Ray, Rgb, Vec3};
-use crate::medium::{channel_of, Interaction, Medium};
+use crate::medium::{channel_of, Medium};
 use crate::sampling::{Distribution, Rng, SetPoint};
 use crate::scene::{Scene, NO_MEDIUM};
 
@@ -141,19 +142,6 @@ impl Densities {
     }
 }
 
-/// Per channel, the transmittance over the stretch `mi` covered and its
-/// density of being drawn so: `T·σ̄` where a collision was drawn, `T` where
-/// the stretch ends first (at `end`, from the ray's origin).
-#[inline]
-fn free_flight(mi: &Interaction, end: f32) -> (Rgb, Rgb) {
-    let t = mi.t.min(end) - mi.mint;
-    let tr = mi
-        .majorant
-        .map(|m| if m > 0.0 { (-t * m).exp() } else { 1.0 });
-    let pdf = if mi.is_valid() { tr * mi.majorant } else { tr };
-    (tr, pdf)
-}
-
 /// The emitted radiance a light sample brings (its weight times its
 /// density: a point light's and the thesis's area lights' weights are
 /// their radiance), the density of next-event estimation having chosen it
@@ -229,11 +217,10 @@ impl Wavefront<'_> {
             if st.medium != NO_MEDIUM {
                 let medium = &scene.media[st.medium as usize];
                 // From the near clip plane on, for a camera ray.
-                let skip = skip.min(t_surface);
-                let t_surface = t_surface - skip;
-                let mi = medium.sample_interaction(
-                    (ray.origin + ray.dir * skip, ray.dir),
-                    t_surface,
+                let (mi, t_surface) = tentative_collision(
+                    medium,
+                    &ray,
+                    (skip, t_surface),
                     u.value(DISTANCE),
                     mode.channel,
                 );
@@ -411,11 +398,7 @@ impl Wavefront<'_> {
                 }
             }
             // The BSDF's direction.
-            let mut point = SetPoint::uniform(u.point(DIRECTION));
-            if bsdf.wants_third() {
-                point = point.with_third(u.value(LOBE_DIMENSION + DIRECTION));
-            }
-            let Some(s) = bsdf.sample(&hit, wo, None, point) else {
+            let Some(s) = bsdf_direction(bsdf, &hit, wo, &mut u) else {
                 continue;
             };
             if s.pdf <= 0.0 || s.pdf.is_nan() {
