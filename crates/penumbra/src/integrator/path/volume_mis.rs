@@ -196,8 +196,8 @@ impl Wavefront<'_> {
                 .sampler
                 .bounce(rng.derive(streams::bounce(st.step)));
             st.step += 1;
-            // Russian roulette past `rr_depth` scatterings, but right
-            // after a null collision.
+            // Russian roulette past `rr_depth` scatterings, but not
+            // right after a null collision.
             let r = u.value(ROULETTE);
             if !st.last_null && st.depth > settings.rr_depth {
                 let q = (pf.weight(None, mode).max_element() * st.eta * st.eta).min(RR_MAX);
