@@ -271,6 +271,7 @@ fn scenes_lists_every_built_in() {
         "bunny-motion",
         "cornell-box",
         "materials",
+        "fog",
     ] {
         assert!(out.contains(name), "{name} missing from:\n{out}");
     }
