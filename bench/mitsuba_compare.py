@@ -73,7 +73,6 @@ import hashlib
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 import time
@@ -269,10 +268,7 @@ def null_collisions(a, name, path, params, spp):
     for k, v in params.items():
         cmd += ["-D", f"{k}={v}"]
     subprocess.run(cmd, check=True, capture_output=True)
-    # `convert` keeps a volume's file name as the XML gives it, relative to
-    # the scene's folder: made absolute for the TOML written elsewhere.
-    text = re.sub(r'filename = "([^"/][^"]*)"', lambda m: f'filename = "{(path.parent / m[1]).resolve()}"',
-                  toml.read_text())
+    text = toml.read_text()
     lines = []
     for line in text.splitlines():
         lines.append(line)
