@@ -80,12 +80,12 @@ fn rebase_props(props: &mut [Prop], schema: &Schema, from: &Path) {
     for p in props {
         let is_path = schema.param(&p.name).is_some_and(|q| q.ty == Type::Path);
         match &mut p.value.value {
-            Value::String(s) if is_path => {
-                if !s.starts_with('@') && Path::new(s.as_str()).is_relative() {
-                    let joined: PathBuf = from.join(&*s);
-                    let absolute = std::path::absolute(&joined).unwrap_or(joined);
-                    *s = absolute.to_string_lossy().into_owned();
-                }
+            Value::String(s)
+                if is_path && !s.starts_with('@') && Path::new(s.as_str()).is_relative() =>
+            {
+                let joined: PathBuf = from.join(&*s);
+                let absolute = std::path::absolute(&joined).unwrap_or(joined);
+                *s = absolute.to_string_lossy().into_owned();
             }
             Value::Table(inner) => {
                 if let Some(nested) = inline_plugin(inner) {
