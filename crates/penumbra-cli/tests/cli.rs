@@ -271,6 +271,7 @@ fn scenes_lists_every_built_in() {
         "bunny-motion",
         "cornell-box",
         "materials",
+        "fog",
     ] {
         assert!(out.contains(name), "{name} missing from:\n{out}");
     }
@@ -677,6 +678,63 @@ fn converts_a_mitsuba_scene_to_toml() {
         names,
         ["bad.xml", "scene.toml", "scene.xml", "toml.png", "xml.png"]
     );
+}
+
+/// `penumbra convert` into another folder makes a volume's file name
+/// absolute, as it does a mesh's, though the `gridvolume` is nested in a
+/// medium: the TOML written elsewhere renders the XML file's pixels.
+#[test]
+fn a_scene_converted_into_another_folder_finds_its_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["scenes", "out"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    // A 2 × 2 × 2 grid of one channel (Mitsuba's `.vol`, version 3).
+    let mut vol = b"VOL\x03".to_vec();
+    for v in [1i32, 2, 2, 2, 1] {
+        vol.extend(v.to_le_bytes());
+    }
+    for v in [
+        0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0,
+    ] {
+        vol.extend(v.to_le_bytes());
+    }
+    std::fs::write(dir.path().join("scenes/smoke.vol"), vol).unwrap();
+    let scene = r#"<scene version="3.0.0">
+    <integrator type="volpath"/>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+    <emitter type="constant"/>
+    <medium type="heterogeneous" id="smoke">
+        <volume name="sigma_t" type="gridvolume">
+            <string name="filename" value="smoke.vol"/>
+            <transform name="to_world"><scale value="2"/><translate value="-1, -1, -1"/></transform>
+        </volume>
+        <float name="albedo" value="0.5"/>
+    </medium>
+    <shape type="cube"><bsdf type="null"/><ref name="interior" id="smoke"/></shape>
+</scene>
+"#;
+    std::fs::write(dir.path().join("scenes/smoke.xml"), scene).unwrap();
+    let o = penumbra(
+        &["convert", "scenes/smoke.xml", "-o", "out/smoke.toml"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let toml = std::fs::read_to_string(dir.path().join("out/smoke.toml")).unwrap();
+    assert!(!toml.contains("filename = \"smoke.vol\""), "{toml}");
+    for (input, image) in [
+        ("scenes/smoke.xml", "xml.png"),
+        ("out/smoke.toml", "toml.png"),
+    ] {
+        let o = penumbra(&["render", input, "-o", image, "--quiet"], dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let a = std::fs::read(dir.path().join("xml.png")).unwrap();
+    let b = std::fs::read(dir.path().join("toml.png")).unwrap();
+    assert!(a == b, "the TOML scene renders other pixels");
 }
 
 /// A Mitsuba scene in a folder below the working one finds its bitmap

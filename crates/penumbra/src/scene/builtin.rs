@@ -39,6 +39,11 @@ pub const SCENES: &[Builtin] = &[
         "every scattering model on a sphere, under a procedural sky, path traced"
     ),
     builtin!(
+        "fog",
+        false,
+        "the thesis's glass, mirror and diffuse spheres in fog under a spot light: light shafts, volpath"
+    ),
+    builtin!(
         "bunny",
         true,
         "the thesis's setting: Stanford bunny on a ground quad under a rectangle light"

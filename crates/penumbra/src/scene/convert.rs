@@ -3,7 +3,9 @@
 //!
 //! The text is [`description::to_toml`] of the scene's tree, with one
 //! change: file names (every parameter whose [`Schema`] type is
-//! [`Type::Path`], such as a mesh's `path`) are read relative to the scene
+//! [`Type::Path`], such as a mesh's `path`, in a plugin's node or in a
+//! texture or volume written inline, such as a medium's `gridvolume`) are
+//! read relative to the scene
 //! file's folder, so they stay as they are when the TOML file goes into
 //! the same folder and become absolute otherwise (`@` names, such as
 //! `@bunny`, are kept). Meshes are referenced, never copied.
@@ -17,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 use super::schemas;
 use super::SceneSource;
-use crate::description::{self, Node, SceneError, Schema, Type, Value};
+use crate::description::{self, Kind, Node, Prop, SceneError, Schema, Type, Value};
 
 /// The TOML text of `source`'s scene, to be written into the folder `out_dir`.
 pub fn to_toml(source: &SceneSource, out_dir: &Path) -> Result<String, SceneError> {
@@ -65,21 +67,44 @@ fn rebase(node: &mut Node, from: &Path) {
     let kind = node.kind;
     for child in &mut node.children {
         if let Ok(schema) = schemas::schema_in(kind, child) {
-            rebase_props(child, schema, from);
+            rebase_props(&mut child.props, schema, from);
         }
         rebase(child, from);
     }
 }
 
-fn rebase_props(node: &mut Node, schema: &Schema, from: &Path) {
-    for p in &mut node.props {
+/// The file names among `props`, read by `schema`, and those of the
+/// textures and volumes written inline in them (a `gridvolume` as a
+/// medium's `sigma_t`, a `bitmap` as a material's `reflectance`).
+fn rebase_props(props: &mut [Prop], schema: &Schema, from: &Path) {
+    for p in props {
         let is_path = schema.param(&p.name).is_some_and(|q| q.ty == Type::Path);
-        if let (true, Value::String(s)) = (is_path, &mut p.value.value) {
-            if !s.starts_with('@') && Path::new(s.as_str()).is_relative() {
+        match &mut p.value.value {
+            Value::String(s)
+                if is_path && !s.starts_with('@') && Path::new(s.as_str()).is_relative() =>
+            {
                 let joined: PathBuf = from.join(&*s);
                 let absolute = std::path::absolute(&joined).unwrap_or(joined);
                 *s = absolute.to_string_lossy().into_owned();
             }
+            Value::Table(inner) => {
+                if let Some(nested) = inline_plugin(inner) {
+                    rebase_props(inner, nested, from);
+                }
+            }
+            _ => {}
         }
     }
+}
+
+/// The schema of the texture or volume an inline table names by its `type`.
+fn inline_plugin(props: &[Prop]) -> Option<&'static Schema> {
+    let ty = props.iter().find(|p| p.name == "type")?;
+    let Value::String(name) = &ty.value.value else {
+        return None;
+    };
+    [Kind::Texture, Kind::Volume]
+        .into_iter()
+        .flat_map(|k| schemas::of(k).iter().copied())
+        .find(|s| s.plugin == name)
 }
