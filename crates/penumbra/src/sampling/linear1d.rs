@@ -7,7 +7,7 @@
 //! A segment is chosen by its integral through [`Discrete`] (which reuses
 //! the uniform number within the segment), and the point within it drawn
 //! from the segment's linear density by inverting its cumulative
-//! probability ([`linear`], also the step of [`Bilinear2D`](super::Bilinear2D)).
+//! probability (`linear`, also the step of [`Bilinear2D`](super::Bilinear2D)).
 //! The density of a point is the interpolant there over its integral,
 //! sampled or looked up alike.
 
