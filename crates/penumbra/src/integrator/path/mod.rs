@@ -23,8 +23,9 @@
 //! render's reflection set; points of its distribution), every BSDF ray
 //! going on as a path of its own with the set's share of the throughput.
 //! The distribution supplies the sample numbers of the light and the BSDF,
-//! so the estimator converges to `path`'s image; a distribution that is not
-//! uniform (`fast-random`) biases it as it biases the thesis's sets.
+//! so the estimator converges to `path`'s image for random, uniform sets;
+//! `grid`, whose sets are fixed points, and `fast-random`, which is not
+//! uniform, bias it as they bias the thesis's sets.
 //! Light and BSDF samples are weighed by the power heuristic on density
 //! times count. The thesis's shadow metric may stop a shadow set after its
 //! first `k` members (all reached the emitter, or all were blocked: their
