@@ -290,6 +290,17 @@ def null_collisions(a, name, path, params, spp):
     return counts
 
 
+def table(header, rows):
+    """Prints a Markdown table of `rows` under `header`, after a blank line;
+    nothing without rows."""
+    if not rows:
+        return
+    print()
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    print("\n".join(rows))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="*")
@@ -380,38 +391,22 @@ def main():
                              f"{rays(path_stats)} | {rays(stats)} | {'ok' if ok else '**differs**'} |")
             print(dist_rows[-1], flush=True)
 
-    if media_rows:
-        print()
-        print("| scene | spp | reference spp | result | pixel-channels passing | smallest p | "
-              "Mitsuba's own render: passing, smallest p | relMSE | mean / reference (R G B) by region |")
-        print("|---|---|---|---|---|---|---|---|---|")
-        print("\n".join(media_rows))
-    if speed_rows:
-        print()
-        print("| scene | spp | Penumbra relMSE | Penumbra s | Mitsuba relMSE | Mitsuba s | relMSE ratio | "
-              "time ratio | relMSE × time ratio |")
-        print("|---|---|---|---|---|---|---|---|---|")
-        print("\n".join(speed_rows))
-    if nulls:
-        print()
-        print("| scene | null collisions per camera ray, majorant grid 16³ | one majorant | ratio |")
-        print("|---|---|---|---|")
-        print("\n".join(nulls))
+    table(["scene", "spp", "reference spp", "result", "pixel-channels passing", "smallest p",
+           "Mitsuba's own render: passing, smallest p", "relMSE",
+           "mean / reference (R G B) by region"], media_rows)
+    table(["scene", "spp", "Penumbra relMSE", "Penumbra s", "Mitsuba relMSE", "Mitsuba s",
+           "relMSE ratio", "time ratio", "relMSE × time ratio"], speed_rows)
+    table(["scene", "null collisions per camera ray, majorant grid 16³", "one majorant", "ratio"],
+          nulls)
     if not rows:
         print(f"\n{failed} row(s) outside the limits")
         sys.exit(1 if failed and a.check else 0)
-    print()
-    print("| scene | integrator | region | spp | Mitsuba's run-to-run relMSE | Penumbra against Mitsuba | "
-          "mean Δ (R, G, B) | Mitsuba's own mean Δ | result |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    print("\n".join(rows))
-    if dist_rows:
-        print()
-        print("| scene | `path` spp | `distributed` spp | Mitsuba's run-to-run relMSE | `distributed` against `path` | "
-              "mean Δ (R, G, B) | `path` rays, M (primary / shadow / reflection / refraction) | "
-              "`distributed` rays, M | result |")
-        print("|---|---|---|---|---|---|---|---|---|")
-        print("\n".join(dist_rows))
+    table(["scene", "integrator", "region", "spp", "Mitsuba's run-to-run relMSE",
+           "Penumbra against Mitsuba", "mean Δ (R, G, B)", "Mitsuba's own mean Δ", "result"], rows)
+    table(["scene", "`path` spp", "`distributed` spp", "Mitsuba's run-to-run relMSE",
+           "`distributed` against `path`", "mean Δ (R, G, B)",
+           "`path` rays, M (primary / shadow / reflection / refraction)", "`distributed` rays, M",
+           "result"], dist_rows)
     print(f"\n{failed} row(s) outside the limits")
     sys.exit(1 if failed and a.check else 0)
 

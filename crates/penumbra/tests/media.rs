@@ -59,19 +59,28 @@ fn an_absorbing_slab_transmits_exp_of_minus_its_optical_depth() {
 }
 
 /// A sphere of a medium that scatters all it stops (albedo 1, a
+/// Henyey–Greenstein phase, an extinction that differs by channel), behind
+/// a `null` boundary, in an environment of radiance 1, 16 × 16 pixels,
+/// rendered with `render` keys.
+fn furnace_sphere(render: &str) -> String {
+    format!(
+        "[render]\nwidth = 16\nheight = 16\nseed = 9\nbackground = [1, 1, 1]\n{render}\n\n\
+         [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
+         [materials.boundary]\ntype = \"null\"\n\n\
+         [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 4]\nalbedo = 1\n\
+         phase = {{ type = \"hg\", g = 0.6 }}\n\n\
+         [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
+         interior = \"fog\"\n"
+    )
+}
+
+/// A sphere of a medium that scatters all it stops (albedo 1, a
 /// Henyey–Greenstein phase, an extinction that differs by channel),
 /// behind a `null` boundary, in an environment of radiance 1: it can
 /// neither add nor remove light, so every pixel is 1 within noise.
 #[test]
 fn a_scattering_sphere_in_a_uniform_environment_is_invisible() {
-    let toml = "[render]\nwidth = 16\nheight = 16\nintegrator = \"volpath\"\nspp = 256\n\
-                seed = 9\nbackground = [1, 1, 1]\n\n\
-                [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
-                [materials.boundary]\ntype = \"null\"\n\n\
-                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 4]\nalbedo = 1\n\
-                phase = { type = \"hg\", g = 0.6 }\n\n\
-                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
-                interior = \"fog\"\n";
+    let toml = &furnace_sphere("integrator = \"volpath\"\nspp = 256");
     let (img, rays) = render_toml(toml);
     let (got, err) = mean_and_error(&img);
     assert_within(got, err, Rgb::ONE, "volumetric furnace");
@@ -514,16 +523,11 @@ fn heterogeneous_paths_are_the_same_on_any_threads() {
 /// with sets of phase directions at the first two vertices.
 #[test]
 fn distributed_sets_in_a_scattering_sphere_leave_a_uniform_environment_unchanged() {
-    let toml = "[render]\nwidth = 16\nheight = 16\nintegrator = \"distributed\"\nspp = 32\n\
-                seed = 9\nbackground = [1, 1, 1]\nsets_depth = 2\nreflection_rays = 4\n\
-                shadow_rays = 3\ndistribution = \"jitter\"\n\n\
-                [camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 30\n\n\
-                [materials.boundary]\ntype = \"null\"\n\n\
-                [media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 2, 4]\nalbedo = 1\n\
-                phase = { type = \"hg\", g = 0.6 }\n\n\
-                [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"boundary\"\n\
-                interior = \"fog\"\n";
-    let (img, rays) = render_toml(toml);
+    let toml = furnace_sphere(
+        "integrator = \"distributed\"\nspp = 32\nsets_depth = 2\nreflection_rays = 4\n\
+         shadow_rays = 3\ndistribution = \"jitter\"",
+    );
+    let (img, rays) = render_toml(&toml);
     let (got, err) = mean_and_error(&img);
     assert_within(got, err, Rgb::ONE, "volumetric furnace under distributed");
     // Every collision sends one direction on, those below sets_depth a
