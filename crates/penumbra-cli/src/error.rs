@@ -7,6 +7,9 @@ pub enum CliError {
     Input(String),
     /// Anything else: exit status 1.
     Other(String),
+    /// Ended by a signal after writing what it had: 128 + the signal's
+    /// number (130 for SIGINT, 143 for SIGTERM).
+    Signal(u8, String),
 }
 
 impl CliError {
@@ -14,6 +17,7 @@ impl CliError {
         match self {
             CliError::Input(_) => 2,
             CliError::Other(_) => 1,
+            CliError::Signal(code, _) => *code,
         }
     }
 }
@@ -21,7 +25,7 @@ impl CliError {
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CliError::Input(m) | CliError::Other(m) => f.write_str(m),
+            CliError::Input(m) | CliError::Other(m) | CliError::Signal(_, m) => f.write_str(m),
         }
     }
 }

@@ -1,7 +1,8 @@
 //! The `penumbra` command line.
 //!
 //! Exit status: 0 on success, 2 for invalid input (arguments, scene, mesh,
-//! output path), 1 for anything else.
+//! output path, checkpoint), 130 or 143 for a render ended by SIGINT or
+//! SIGTERM (its image and checkpoint written), 1 for anything else.
 
 mod convert_cmd;
 mod error;

@@ -2,14 +2,19 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use penumbra::input::recording_reads;
 use penumbra::integrator::Config;
 use penumbra::io::output::{check_channels, write_bytes, write_image, Format};
-use penumbra::render::{render, stats_document, RenderOptions};
+use penumbra::render::{
+    render_digest, render_progressive, stats_document, CheckpointError, Checkpointing, Ended,
+    Progressive, RenderError, RenderOptions,
+};
 use penumbra::scene::{default_bunny_path, SceneSource};
 
 use crate::error::{input, other, CliError};
@@ -43,6 +48,25 @@ pub struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// End the render after this many seconds: no tile starts after it, the
+    /// image holds the samples so far (and the checkpoint, with
+    /// --checkpoint, the state to resume from).
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub time_limit: Option<f64>,
+    /// Save the render's state to this file every --checkpoint-interval
+    /// seconds, at the end, and on SIGINT or SIGTERM (then the image of
+    /// the samples so far is written too): --resume continues it to the
+    /// image an uninterrupted render makes, bit for bit.
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Seconds between checkpoints (saved as tiles finish).
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = positive_seconds)]
+    pub checkpoint_interval: f64,
+    /// Continue the render saved in this checkpoint: the same scene, files
+    /// and pixel-changing options (threads, time limit and interval may
+    /// differ); another render's checkpoint is refused.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
     /// How a Mitsuba XML scene is read (`-D`, `-a`, `--sensor`, `--lenient`).
     #[command(flatten)]
     pub xml: XmlFlags,
@@ -54,6 +78,14 @@ pub struct RenderArgs {
 /// Renders shorter than this never show a progress bar.
 const BAR_DELAY: Duration = Duration::from_secs(1);
 
+/// A number of seconds: finite and positive.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s.is_finite() && s > 0.0 && s < 1e12 => Ok(s),
+        _ => Err(format!("`{text}` is not a positive number of seconds")),
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // Check everything about the outputs before spending time on the render.
     Format::of(&args.output).map_err(input)?;
@@ -61,13 +93,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Some(stats) = &args.stats {
         check_parent(stats)?;
     }
+    if let Some(path) = &args.checkpoint {
+        check_parent(path)?;
+    }
     let opts = args
         .xml
         .load_options(args.bunny.clone().or_else(default_bunny_path));
-    let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
     let choices = &args.options.0;
-    choices.overrides.apply(&mut source);
-    let scene = source.build().map_err(input)?;
+    // The files the scene reads are part of what a checkpoint is tied to.
+    let (built, reads) = recording_reads(|| -> Result<_, CliError> {
+        let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
+        choices.overrides.apply(&mut source);
+        let scene = source.build().map_err(input)?;
+        Ok((source, scene))
+    });
+    let (source, scene) = built?;
     // Channels beside the image (`aov`, `moment`) need an EXR output.
     if let Ok(config) = Config::of(&scene) {
         let channels = config.channels();
@@ -97,8 +137,29 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         threads: choices.threads.map(|t| t as usize),
         region: None,
     };
-    let (image, stats) = render(&scene, &render_opts, &progress, None).map_err(other)?;
+    let signals = Signals::install()?;
+    let checkpoint = (args.checkpoint.is_some() || args.resume.is_some()).then(|| Checkpointing {
+        save: args.checkpoint.clone(),
+        interval: Duration::from_secs_f64(args.checkpoint_interval),
+        resume: args.resume.clone(),
+        digest: render_digest(&source, &reads, None),
+    });
+    let run = Progressive {
+        time_limit: args.time_limit.map(Duration::from_secs_f64),
+        interrupt: Some(&signals.either),
+        on_pass: None,
+        checkpoint,
+    };
+    let (image, stats) =
+        render_progressive(&scene, &render_opts, &progress, None, &run).map_err(|e| match e {
+            RenderError::Checkpoint(CheckpointError::Write { .. }) => other(e),
+            RenderError::Checkpoint(_) => input(e),
+            e => other(e),
+        })?;
     bar.finish_and_clear();
+    if let Some(e) = &stats.checkpoint_error {
+        eprintln!("warning: {e}");
+    }
     if stats.bad_samples > 0 {
         let first: Vec<String> = stats
             .first_bad_samples
@@ -120,7 +181,76 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if !args.quiet {
         print_summary(&args.output, &json);
     }
+    match stats.ended {
+        Ended::Complete => {}
+        Ended::TimeLimit => eprintln!(
+            "the render reached its time limit: the image holds the samples rendered so far{}",
+            resumable(args)
+        ),
+        Ended::Interrupted => {
+            let (code, name) = signals.which();
+            return Err(CliError::Signal(
+                code,
+                format!(
+                    "interrupted by {name}: the image holds the samples rendered so far{}",
+                    resumable(args)
+                ),
+            ));
+        }
+    }
+    if stats.checkpoint_error.is_some() {
+        return Err(other("the render's checkpoint could not be saved"));
+    }
     Ok(())
+}
+
+/// How to go on with a render ended early.
+fn resumable(args: &RenderArgs) -> String {
+    match &args.checkpoint {
+        Some(path) => format!(
+            "; continue it with --resume {}",
+            penumbra::input::quote::quote(&path.display().to_string())
+        ),
+        None => String::new(),
+    }
+}
+
+/// SIGINT and SIGTERM, caught: each ends the render cleanly (the image
+/// and the checkpoint written); a second one ends the process at once.
+struct Signals {
+    int: Arc<AtomicBool>,
+    term: Arc<AtomicBool>,
+    /// Set by either.
+    either: Arc<AtomicBool>,
+}
+
+impl Signals {
+    fn install() -> Result<Signals, CliError> {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        use signal_hook::flag;
+        let (int, term) = (
+            Arc::new(AtomicBool::new(false)),
+            Arc::new(AtomicBool::new(false)),
+        );
+        let either = Arc::new(AtomicBool::new(false));
+        for (signal, mine) in [(SIGINT, &int), (SIGTERM, &term)] {
+            // The second signal ends the process (with the signal's status).
+            flag::register_conditional_shutdown(signal, 128 + signal, Arc::clone(&either))
+                .and_then(|_| flag::register(signal, Arc::clone(mine)))
+                .and_then(|_| flag::register(signal, Arc::clone(&either)))
+                .map_err(other)?;
+        }
+        Ok(Signals { int, term, either })
+    }
+
+    /// The exit status and name of the signal that ended the render.
+    fn which(&self) -> (u8, &'static str) {
+        if self.term.load(Ordering::Relaxed) && !self.int.load(Ordering::Relaxed) {
+            (143, "SIGTERM")
+        } else {
+            (130, "SIGINT")
+        }
+    }
 }
 
 /// An output whose directory does not exist is an argument error.

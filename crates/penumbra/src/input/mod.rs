@@ -15,6 +15,7 @@
 pub mod image;
 pub mod quote;
 
+use std::cell::RefCell;
 use std::fmt;
 use std::fs::File;
 use std::io::Read;
@@ -29,6 +30,30 @@ pub const DEFAULT_MAX_FILE_SIZE: u64 = 4 << 30;
 /// The environment variable that sets the largest input file read, in bytes
 /// or with a binary suffix: `PENUMBRA_MAX_FILE_SIZE=16G`.
 pub const MAX_FILE_SIZE_VAR: &str = "PENUMBRA_MAX_FILE_SIZE";
+
+thread_local! {
+    /// The digests of the files read on this thread while recording.
+    static READS: RefCell<Option<Vec<[u8; 32]>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` and returns, with its result, the SHA-256 digest of every
+/// file it read on this thread, in the order read: what a render's
+/// checkpoint is tied to besides its description.
+pub fn recording_reads<R>(f: impl FnOnce() -> R) -> (R, Vec<[u8; 32]>) {
+    let outer = READS.with(|r| r.borrow_mut().replace(Vec::new()));
+    let result = f();
+    let reads = READS.with(|r| std::mem::replace(&mut *r.borrow_mut(), outer));
+    (result, reads.unwrap_or_default())
+}
+
+fn note_read(bytes: &[u8]) {
+    READS.with(|r| {
+        if let Some(reads) = r.borrow_mut().as_mut() {
+            use sha2::Digest as _;
+            reads.push(sha2::Sha256::digest(bytes).into());
+        }
+    });
+}
 
 /// The limit set in code (the command line's `--max-file-size`); 0: none set.
 static LIMIT_SET: AtomicU64 = AtomicU64::new(0);
@@ -234,6 +259,7 @@ impl InputFile {
             .take(rest)
             .read_to_end(&mut bytes)
             .map_err(|e| io_error(&self.path, e))?;
+        note_read(&bytes);
         Ok(bytes)
     }
 }
@@ -304,6 +330,26 @@ fn not_regular(t: &std::fs::FileType) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reads_are_recorded_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+        std::fs::write(&a, b"one").unwrap();
+        std::fs::write(&b, b"two").unwrap();
+        let ((), reads) = recording_reads(|| {
+            read_file_within(&a, 10).unwrap();
+            let ((), inner) = recording_reads(|| {
+                read_file_within(&b, 10).unwrap();
+            });
+            assert_eq!(inner.len(), 1);
+            read_file_within(&b, 10).unwrap();
+        });
+        use sha2::Digest as _;
+        let sha = |b: &[u8]| -> [u8; 32] { sha2::Sha256::digest(b).into() };
+        assert_eq!(reads, vec![sha(b"one"), sha(b"two")]);
+        read_file_within(&a, 10).unwrap();
+    }
 
     #[test]
     fn sizes_take_binary_suffixes() {

@@ -3,7 +3,9 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use super::splat::{SplatFilm, Splatting};
+use serde::{Deserialize, Serialize};
+
+use super::splat::{SplatFilm, Splatting, Sums};
 use crate::math::{Rgb, Vec2};
 
 /// The film of a tile: per pixel, the sum of its samples' weighted
@@ -81,7 +83,70 @@ pub fn srgb_to_xyz(c: Rgb) -> [f32; 3] {
     ]
 }
 
+/// What a tile's film has added up, without its layout (which the render
+/// makes again from the scene): how a checkpoint keeps it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FilmData {
+    sum: Vec<Rgb>,
+    weight: Vec<f32>,
+    /// The splatted sums and their extra channels.
+    splat: Option<(Vec<Sums>, Vec<i128>)>,
+    /// The extra channels' sums and weights.
+    extra: Option<(Vec<f32>, Vec<f32>)>,
+}
+
 impl FilmTile {
+    /// What the film has added up.
+    pub fn data(&self) -> FilmData {
+        FilmData {
+            sum: self.sum.clone(),
+            weight: self.weight.clone(),
+            splat: self
+                .splat
+                .as_ref()
+                .map(|s| (s.sums.clone(), s.extra.clone())),
+            extra: self
+                .extra
+                .as_ref()
+                .map(|e| (e.sum.clone(), e.weight.clone())),
+        }
+    }
+
+    /// Puts back what `data` holds into this film of the same layout;
+    /// `false`, the film unchanged, if the layouts differ.
+    pub fn restore(&mut self, data: FilmData) -> bool {
+        let fits = data.sum.len() == self.sum.len()
+            && data.weight.len() == self.weight.len()
+            && match (&data.splat, &self.splat) {
+                (Some((sums, extra)), Some(s)) => {
+                    sums.len() == s.sums.len() && extra.len() == s.extra.len()
+                }
+                (None, None) => true,
+                _ => false,
+            }
+            && match (&data.extra, &self.extra) {
+                (Some((sum, weight)), Some(e)) => {
+                    sum.len() == e.sum.len() && weight.len() == e.weight.len()
+                }
+                (None, None) => true,
+                _ => false,
+            };
+        if !fits {
+            return false;
+        }
+        self.sum = data.sum;
+        self.weight = data.weight;
+        if let (Some((sums, extra)), Some(s)) = (data.splat, &mut self.splat) {
+            s.sums = sums;
+            s.extra = extra;
+        }
+        if let (Some((sum, weight)), Some(e)) = (data.extra, &mut self.extra) {
+            e.sum = sum;
+            e.weight = weight;
+        }
+        true
+    }
+
     /// A tile of pixels `xs × ys` with nothing added.
     pub fn new(xs: Range<u32>, ys: Range<u32>) -> FilmTile {
         let n = xs.len() * ys.len();

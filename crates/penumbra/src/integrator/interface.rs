@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::film::{Channels, FilmTile};
 use super::stats::{RayStats, StageBatches};
@@ -12,7 +12,7 @@ use super::stopping::PixelSamples;
 use crate::scene::Scene;
 
 /// A non-finite sample: caught where it was made, replaced by black.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BadSample {
     pub x: u32,
     pub y: u32,
@@ -37,7 +37,7 @@ pub trait Integrator: Sync {
 
     /// What a tile keeps from one pass to the next besides its film (which
     /// pixels stopped, the tallies of adaptive sampling).
-    type TileState: Default + Send;
+    type TileState: Default + Send + Clone + Serialize + serde::de::DeserializeOwned;
 
     /// A worker for `scene`, made once per tile and pass.
     fn worker<'s>(&'s self, scene: &'s Scene) -> Self::Worker<'s>;

@@ -76,7 +76,7 @@ pub mod streams;
 pub mod transmittance;
 mod whitted;
 
-pub use film::{srgb_to_xyz, Channels, ExtraFilm, FilmTile};
+pub use film::{srgb_to_xyz, Channels, ExtraFilm, FilmData, FilmTile};
 pub use interface::{pass_samples, BadSample, Integrator, PixelWorker, TileJob};
 pub use metric::{change, Metric, RunningMean};
 pub use model::IntegratorModel;

@@ -1,9 +1,9 @@
 use std::ops::AddAssign;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Counts of rays by kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RayCounts {
     pub primary: u64,
     pub shadow: u64,
@@ -30,7 +30,7 @@ impl AddAssign for RayCounts {
 /// Counted in a per-worker value and merged with `+=` (never a shared counter
 /// in the hot path); the thesis evaluates everything by these counts
 /// (Tables 4.1–4.6).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RayStats {
     pub primary: u64,
     pub shadow: u64,
@@ -47,7 +47,7 @@ pub struct RayStats {
 /// scattered, or was absorbed) and null ones (a collision against the
 /// majorant that changed nothing: where the majorant exceeds the
 /// extinction).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct MediumEvents {
     pub scatterings: u64,
     pub null_collisions: u64,
@@ -81,7 +81,7 @@ impl AddAssign for RayStats {
 }
 
 /// Calls of one stage of the wavefront and the items they took.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Batches {
     pub calls: u64,
     pub items: u64,
@@ -117,7 +117,7 @@ impl AddAssign for Batches {
 /// material a bounce meets) and their vertices. They depend on the tiles
 /// and passes a frame is cut into, unlike the ray counts; all zero for an
 /// integrator that traces ray by ray (`whitted`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct StageBatches {
     pub closest_hit: Batches,
     pub occlusion: Batches,

@@ -6,10 +6,12 @@
 //! bits whatever the platform's vector width).
 
 use std::iter::Sum;
+
+use serde::{Deserialize, Serialize};
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Sub};
 
 /// Linear RGB (Rec. 709 primaries): radiance, reflectance or a weight.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Rgb {
     pub r: f32,
     pub g: f32,

@@ -116,6 +116,7 @@ fn copy_rows<T: Copy>(values: &[T], region: Region, rows: &mut [T], frame: Regio
 /// What a tile keeps from one pass to the next: its film (of `block`, the
 /// tile of the frame's grid that holds it), the integrator's state, and
 /// what it counted so far.
+#[derive(Clone)]
 pub(super) struct TileSlot<S> {
     /// The part of the frame asked for.
     pub region: Region,

@@ -41,13 +41,15 @@ pub use crate::scene::StopRule;
 pub use settings::{read, Stopping, STOP_RULES};
 pub use tally::{class_a, encode, Block, Rect, Tally};
 
+use serde::{Deserialize, Serialize};
+
 use crate::math::Rgb;
 
 /// How one pixel of an adaptive render ended: the camera rays it took and,
 /// under the calibrated rule, the half-width of the interval of its value
 /// it was last judged by (per channel; the rule compares the largest).
 /// Reported so that a rule's promises can be checked against a reference.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PixelSamples {
     pub count: u32,
     pub half_width: Option<Rgb>,

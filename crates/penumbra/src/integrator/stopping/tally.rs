@@ -1,10 +1,12 @@
 //! What a tile's pixels have gathered: the sums every rule reads, and
 //! the few definitions those sums are made by.
 
+use serde::{Deserialize, Serialize};
+
 use crate::math::Rgb;
 
 /// What one pixel's samples add up to.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
 pub struct Tally {
     /// Sum of the samples' radiance.
     pub sum: Rgb,
@@ -34,7 +36,7 @@ impl Tally {
 
 /// The tallies of a tile's pixels, row by row, and what a rule keeps
 /// between passes.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Block {
     pub width: usize,
     pub height: usize,
@@ -121,7 +123,7 @@ pub fn encode(l: Rgb) -> Rgb {
 }
 
 /// A rectangle of a tile's pixels, `[x0, x1) × [y0, y1)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Rect {
     pub x0: usize,
     pub y0: usize,

@@ -1,9 +1,11 @@
 //! What a tile keeps between the passes of a render.
 
+use serde::{Deserialize, Serialize};
+
 use crate::integrator::stopping::Block;
 
 /// What a tile keeps between passes.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub enum TileState {
     /// Nothing: every sample of every pixel is traced.
     #[default]
@@ -17,7 +19,7 @@ pub enum TileState {
 /// Where a tile is in the rule's schedule: its tallies, the rays of the
 /// schedule done, and the end of the rule's pass in progress when a range
 /// of the render ended within one.
-#[derive(Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Schedule {
     pub block: Block,
     pub(super) done: u32,
