@@ -84,7 +84,7 @@ impl Server {
             .replace("{{SCRIPT}}", PAGE_JS);
         let csp = format!(
             "default-src 'none'; script-src 'nonce-{nonce}'; style-src 'nonce-{nonce}'; \
-             connect-src 'self'; img-src 'self'; base-uri 'none'; form-action 'none'; \
+             connect-src 'self'; img-src data:; base-uri 'none'; form-action 'none'; \
              frame-ancestors 'none'"
         );
         let csp = HeaderValue::from_str(&csp).map_err(io::Error::other)?;
