@@ -24,6 +24,7 @@
   let fetching = false;
   let toneQueued = false;
   let ended = false;
+  let stopping = false;
 
   // ---- numbers ----
   const count = new Intl.NumberFormat("en-US");
@@ -233,6 +234,7 @@
     try {
       const r = await fetch("/stop?" + query, { method: "POST", headers: { "X-Penumbra-Token": token } });
       if (r.ok) {
+        stopping = true;
         setStatus("stopping after this pass", "stopped");
       } else {
         setStatus(`stop refused (${r.status})`, "lost");
@@ -246,7 +248,11 @@
 
   // ---- events ----
   const events = new EventSource("/events?" + query);
-  events.addEventListener("open", () => { if (!ended) setStatus("rendering", "rendering"); });
+  events.addEventListener("open", () => {
+    if (ended) return;
+    if (stopping) setStatus("stopping after this pass", "stopped");
+    else setStatus("rendering", "rendering");
+  });
   events.addEventListener("frame", (e) => {
     const d = JSON.parse(e.data);
     showProgress(d);
