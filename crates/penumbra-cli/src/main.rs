@@ -7,6 +7,9 @@
 mod convert_cmd;
 mod error;
 mod flags;
+// Reached only from tests until `render --preview` starts it.
+#[allow(dead_code)]
+mod preview;
 mod render_cmd;
 mod report;
 mod reproduce_cmd;

@@ -1,0 +1,329 @@
+//! The HTTP side of the preview: routes, the event stream, and the thread
+//! that runs them on a one-thread tokio runtime, so that the render keeps
+//! every core it was given.
+
+use std::convert::Infallible;
+use std::io;
+use std::net::{IpAddr, SocketAddr};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use axum::body::Bytes;
+use axum::extract::{Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use futures_util::stream::{self, Stream};
+use serde_json::json;
+use tokio::sync::watch;
+
+use super::frame::Frame;
+use super::security::{random_token, Access, BODY_LIMIT};
+
+const PAGE_HTML: &str = include_str!("page.html");
+const PAGE_CSS: &str = include_str!("page.css");
+const PAGE_JS: &str = include_str!("page.js");
+
+/// How long the server may take to close its connections once dropped.
+const GRACE: Duration = Duration::from_secs(2);
+
+/// The latest publication, which every viewer catches up to: a viewer that
+/// is slower than the passes skips frames rather than queueing them.
+#[derive(Clone, Default)]
+struct Latest {
+    /// Publications so far; 0 before the first frame.
+    seq: u64,
+    /// The last frame's event JSON.
+    event: Option<Arc<str>>,
+    /// The last frame's `/image` body.
+    image: Option<Bytes>,
+    /// The end event's JSON, once the render ended.
+    end: Option<Arc<str>>,
+}
+
+struct Shared {
+    access: Access,
+    page: String,
+    csp: HeaderValue,
+    stop: Arc<AtomicBool>,
+    latest: watch::Sender<Latest>,
+    closing: watch::Sender<bool>,
+}
+
+/// A running server; dropping it closes every connection and joins its thread.
+pub(super) struct Server {
+    shared: Arc<Shared>,
+    addr: SocketAddr,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Server {
+    /// Binds `bind:port` and serves on a thread of its own.
+    pub fn start(bind: IpAddr, port: u16) -> io::Result<Server> {
+        let token = random_token().map_err(io::Error::other)?;
+        let nonce = random_token().map_err(io::Error::other)?;
+        let std_listener = std::net::TcpListener::bind((bind, port))?;
+        std_listener.set_nonblocking(true)?;
+        let addr = std_listener.local_addr()?;
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_io()
+            .enable_time()
+            .build()?;
+        let listener = {
+            let _entered = runtime.enter();
+            tokio::net::TcpListener::from_std(std_listener)?
+        };
+        let page = PAGE_HTML
+            .replace("{{NONCE}}", &nonce)
+            .replace("{{STYLE}}", PAGE_CSS)
+            .replace("{{SCRIPT}}", PAGE_JS);
+        let csp = format!(
+            "default-src 'none'; script-src 'nonce-{nonce}'; style-src 'nonce-{nonce}'; \
+             connect-src 'self'; img-src data:; base-uri 'none'; form-action 'none'; \
+             frame-ancestors 'none'"
+        );
+        let csp = HeaderValue::from_str(&csp).map_err(io::Error::other)?;
+        let shared = Arc::new(Shared {
+            access: Access {
+                token,
+                bound: bind,
+                port: addr.port(),
+            },
+            page,
+            csp,
+            stop: Arc::new(AtomicBool::new(false)),
+            latest: watch::Sender::new(Latest::default()),
+            closing: watch::Sender::new(false),
+        });
+        let app = router(shared.clone());
+        let closing = shared.closing.subscribe();
+        let thread = std::thread::Builder::new()
+            .name("penumbra-preview".into())
+            .spawn(move || runtime.block_on(serve(listener, app, closing)))?;
+        Ok(Server {
+            shared,
+            addr,
+            thread: Some(thread),
+        })
+    }
+
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    pub fn token(&self) -> &str {
+        &self.shared.access.token
+    }
+
+    pub fn stop_flag(&self) -> Arc<AtomicBool> {
+        self.shared.stop.clone()
+    }
+
+    /// Makes `frame` the latest and wakes every viewer.
+    pub fn publish(&self, frame: &Frame) {
+        let image = frame.encode_image().map(Bytes::from);
+        self.shared.latest.send_modify(|latest| {
+            latest.seq += 1;
+            latest.event = Some(frame.event_json(latest.seq).into());
+            latest.image = image;
+        });
+    }
+
+    /// Tells every viewer, present and future, that the render ended.
+    pub fn finish(&self, message: &str) {
+        let stopped = self.shared.stop.load(Ordering::SeqCst);
+        let end = json!({ "message": message, "stopped": stopped }).to_string();
+        self.shared
+            .latest
+            .send_modify(|latest| latest.end = Some(end.into()));
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.shared.closing.send_replace(true);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Serves until `closing` turns true, then lets connections finish for at
+/// most `GRACE`.
+async fn serve(listener: tokio::net::TcpListener, app: Router, closing: watch::Receiver<bool>) {
+    let mut signal = closing.clone();
+    let server = axum::serve(listener, app).with_graceful_shutdown(async move {
+        let _ = signal.wait_for(|c| *c).await;
+    });
+    let mut deadline = closing;
+    let grace = async move {
+        let _ = deadline.wait_for(|c| *c).await;
+        tokio::time::sleep(GRACE).await;
+    };
+    tokio::select! {
+        _ = server => {}
+        _ = grace => {}
+    }
+}
+
+fn router(shared: Arc<Shared>) -> Router {
+    Router::new()
+        .route("/", get(page))
+        .route("/events", get(events))
+        .route("/image", get(image))
+        .route("/stop", post(stop))
+        .fallback(not_found)
+        .layer(middleware::from_fn_with_state(shared.clone(), guard))
+        .with_state(shared)
+}
+
+/// Runs before every route, the unknown ones included: host, token, body size.
+async fn guard(State(shared): State<Arc<Shared>>, request: Request, next: Next) -> Response {
+    let access = &shared.access;
+    if !access.host_allowed(request.headers()) {
+        return refuse(
+            StatusCode::FORBIDDEN,
+            "this server answers only to its own address",
+        );
+    }
+    if !access.token_given(request.headers(), request.uri()) {
+        return refuse(StatusCode::FORBIDDEN, "missing or wrong token");
+    }
+    if content_length(request.headers()).is_some_and(|n| n > BODY_LIMIT) {
+        return refuse(StatusCode::PAYLOAD_TOO_LARGE, "request body too large");
+    }
+    let mut response = next.run(request).await;
+    let headers = response.headers_mut();
+    headers.insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    headers.insert(
+        header::X_CONTENT_TYPE_OPTIONS,
+        HeaderValue::from_static("nosniff"),
+    );
+    headers.insert(
+        header::REFERRER_POLICY,
+        HeaderValue::from_static("no-referrer"),
+    );
+    response
+}
+
+fn content_length(headers: &HeaderMap) -> Option<u64> {
+    headers
+        .get(header::CONTENT_LENGTH)?
+        .to_str()
+        .ok()?
+        .parse()
+        .ok()
+}
+
+fn refuse(status: StatusCode, why: &'static str) -> Response {
+    (status, format!("{why}\n")).into_response()
+}
+
+async fn not_found() -> Response {
+    refuse(StatusCode::NOT_FOUND, "not found")
+}
+
+async fn page(State(shared): State<Arc<Shared>>) -> Response {
+    (
+        [
+            (
+                header::CONTENT_TYPE,
+                HeaderValue::from_static("text/html; charset=utf-8"),
+            ),
+            (header::CONTENT_SECURITY_POLICY, shared.csp.clone()),
+            (header::X_FRAME_OPTIONS, HeaderValue::from_static("DENY")),
+        ],
+        shared.page.clone(),
+    )
+        .into_response()
+}
+
+async fn image(State(shared): State<Arc<Shared>>) -> Response {
+    let body = shared.latest.borrow().image.clone();
+    match body {
+        Some(bytes) => {
+            ([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response()
+        }
+        None => StatusCode::NO_CONTENT.into_response(),
+    }
+}
+
+async fn stop(State(shared): State<Arc<Shared>>, request: Request) -> Response {
+    if !shared.access.stop_allowed(request.headers()) {
+        return refuse(StatusCode::FORBIDDEN, "cross-origin stop refused");
+    }
+    if axum::body::to_bytes(request.into_body(), BODY_LIMIT as usize)
+        .await
+        .is_err()
+    {
+        return refuse(StatusCode::PAYLOAD_TOO_LARGE, "request body too large");
+    }
+    shared.stop.store(true, Ordering::SeqCst);
+    (StatusCode::OK, "stopping after this pass\n").into_response()
+}
+
+/// One viewer's place in the stream of publications.
+struct Viewer {
+    latest: watch::Receiver<Latest>,
+    closing: watch::Receiver<bool>,
+    sent_seq: u64,
+    queue: Vec<Event>,
+    ended: bool,
+}
+
+async fn events(
+    State(shared): State<Arc<Shared>>,
+) -> Sse<impl Stream<Item = Result<Event, Infallible>>> {
+    let viewer = Viewer {
+        latest: shared.latest.subscribe(),
+        closing: shared.closing.subscribe(),
+        sent_seq: 0,
+        queue: Vec::new(),
+        ended: false,
+    };
+    Sse::new(stream::unfold(viewer, next_event)).keep_alive(KeepAlive::default())
+}
+
+/// The viewer's next event: the latest frame if it has not seen it, then the
+/// end event, after which the stream closes; it also closes when the server does.
+async fn next_event(mut v: Viewer) -> Option<(Result<Event, Infallible>, Viewer)> {
+    loop {
+        if !v.queue.is_empty() {
+            let event = v.queue.remove(0);
+            return Some((Ok(event), v));
+        }
+        if v.ended {
+            return None;
+        }
+        {
+            let latest = v.latest.borrow_and_update();
+            if let (Some(data), true) = (&latest.event, latest.seq != v.sent_seq) {
+                v.queue.push(Event::default().event("frame").data(&**data));
+                v.sent_seq = latest.seq;
+            }
+            if let Some(data) = &latest.end {
+                v.queue.push(Event::default().event("end").data(&**data));
+                v.ended = true;
+            }
+        }
+        if !v.queue.is_empty() {
+            continue;
+        }
+        if *v.closing.borrow() {
+            return None;
+        }
+        tokio::select! {
+            changed = v.latest.changed() => {
+                if changed.is_err() {
+                    return None;
+                }
+            }
+            _ = v.closing.changed() => {}
+        }
+    }
+}
