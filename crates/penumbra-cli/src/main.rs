@@ -7,8 +7,8 @@
 mod convert_cmd;
 mod error;
 mod flags;
+mod live;
 // Reached only from tests until `render --preview` starts it.
-#[allow(dead_code)]
 mod preview;
 mod render_cmd;
 mod report;

@@ -13,12 +13,13 @@ use penumbra::integrator::Config;
 use penumbra::io::output::{check_channels, write_bytes, write_image, Format};
 use penumbra::render::{
     render_digest, render_progressive, stats_document, CheckpointError, Checkpointing, Ended,
-    Progressive, RenderError, RenderOptions,
+    PassView, Progressive, RenderError, RenderOptions,
 };
 use penumbra::scene::{default_bunny_path, SceneSource};
 
 use crate::error::{input, other, CliError};
 use crate::flags::OptionFlags;
+use crate::live::{Live, LiveArgs};
 use crate::report::print_summary;
 use crate::xml_flags::XmlFlags;
 
@@ -67,6 +68,9 @@ pub struct RenderArgs {
     /// differ); another render's checkpoint is refused.
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
+    /// The live views (`--preview`).
+    #[command(flatten)]
+    pub live: LiveArgs,
     /// How a Mitsuba XML scene is read (`-D`, `-a`, `--sensor`, `--lenient`).
     #[command(flatten)]
     pub xml: XmlFlags,
@@ -138,6 +142,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         region: None,
     };
     let signals = Signals::install()?;
+    let live = Live::start(&args.live)?;
+    let interrupt = || signals.either.load(Ordering::Relaxed) || live.stop_requested();
+    let on_pass = |view: &PassView<'_>| live.pass(view);
     let checkpoint = (args.checkpoint.is_some() || args.resume.is_some()).then(|| Checkpointing {
         save: args.checkpoint.clone(),
         interval: Duration::from_secs_f64(args.checkpoint_interval),
@@ -146,8 +153,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     });
     let run = Progressive {
         time_limit: args.time_limit.map(Duration::from_secs_f64),
-        interrupt: Some(&signals.either),
-        on_pass: None,
+        interrupt: Some(&interrupt),
+        on_pass: live.wants_passes().then_some(&on_pass as _),
         checkpoint,
     };
     let (image, stats) =
@@ -157,6 +164,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             e => other(e),
         })?;
     bar.finish_and_clear();
+    live.finish(
+        &image,
+        &stats,
+        match stats.ended {
+            Ended::Complete => "finished",
+            Ended::TimeLimit => "ended at its time limit",
+            Ended::Interrupted => "stopped",
+        },
+    );
     if let Some(e) = &stats.checkpoint_error {
         eprintln!("warning: {e}");
     }
@@ -185,6 +201,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         Ended::Complete => {}
         Ended::TimeLimit => eprintln!(
             "the render reached its time limit: the image holds the samples rendered so far{}",
+            resumable(args)
+        ),
+        Ended::Interrupted if !signals.either.load(Ordering::Relaxed) => eprintln!(
+            "stopped from the preview: the image holds the samples rendered so far{}",
             resumable(args)
         ),
         Ended::Interrupted => {

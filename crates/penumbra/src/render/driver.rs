@@ -31,10 +31,10 @@ pub struct Progressive<'a> {
     /// No tile is started after this long; the tiles in flight finish and
     /// the image holds every pixel's samples so far.
     pub time_limit: Option<Duration>,
-    /// Set to end the render cleanly (a signal, a stop button): the tiles
-    /// in flight are abandoned within a row, the checkpoint is saved and
-    /// the image of the samples so far returned.
-    pub interrupt: Option<&'a AtomicBool>,
+    /// True to end the render cleanly (a signal, a stop button): the
+    /// tiles in flight are abandoned within a row, the checkpoint is saved
+    /// and the image of the samples so far returned.
+    pub interrupt: Option<&'a (dyn Fn() -> bool + Sync)>,
     /// Called after each pass with the image so far.
     pub on_pass: Option<&'a (dyn Fn(&PassView<'_>) + Sync)>,
     /// Where to save the render's state, and from where to resume it.
@@ -362,7 +362,7 @@ pub fn render_with<I: Integrator>(
             .sum::<usize>(),
     );
     let deadline = run.time_limit.map(|t| start + t);
-    let interrupted = || run.interrupt.is_some_and(|i| i.load(Ordering::Relaxed));
+    let interrupted = || run.interrupt.is_some_and(|i| i());
     let stop = || interrupted() || deadline.is_some_and(|d| Instant::now() >= d);
     let hard = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let cancelled = || hard() || interrupted();
