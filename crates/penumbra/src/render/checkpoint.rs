@@ -156,6 +156,9 @@ pub(super) struct SavedTile<S> {
 /// `None` for those not started, and the light image of a light tracer.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub(super) struct Saved<S> {
+    /// The region rendered and the tiles it was cut into.
+    pub region: super::Region,
+    pub tile_regions: Vec<super::Region>,
     pub passes: u32,
     pub tiles: Vec<Option<SavedTile<S>>>,
     pub light: Vec<Sums>,
@@ -305,6 +308,13 @@ mod tests {
 
     fn state() -> Saved<u32> {
         Saved {
+            region: crate::render::Region {
+                x0: 0,
+                y0: 0,
+                x1: 1,
+                y1: 1,
+            },
+            tile_regions: Vec::new(),
             passes: 3,
             tiles: vec![None],
             light: vec![[1, -2, 3, 4]],

@@ -282,7 +282,11 @@ pub fn render_with<I: Integrator>(
             path: path.clone(),
             what: what.to_string(),
         };
-        if saved.passes != passes || saved.tiles.len() != tiles.len() {
+        if saved.passes != passes
+            || saved.region != region
+            || saved.tile_regions != tiles
+            || saved.tiles.len() != tiles.len()
+        {
             return Err(damaged("its tiles or passes are not this render's").into());
         }
         if !saved.light.is_empty() && saved.light.len() != pixels {
@@ -383,6 +387,8 @@ pub fn render_with<I: Integrator>(
         let state = {
             let _commit = lock(&commit);
             Saved {
+                region,
+                tile_regions: tiles.clone(),
                 passes,
                 tiles: cells
                     .iter()

@@ -1,9 +1,9 @@
 //! The rectangles of pixels an image is cut into.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Region {
     pub x0: u32,
     pub y0: u32,
