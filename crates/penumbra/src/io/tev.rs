@@ -51,6 +51,7 @@ const CLOSE_IMAGE: u8 = 2;
 const CREATE_IMAGE: u8 = 4;
 const UPDATE_IMAGE_V3: u8 = 6;
 
+/// Why tev could not be reached or sent to; each names tev's address.
 #[derive(Debug, thiserror::Error)]
 pub enum TevError {
     #[error("tev at {addr}: cannot resolve the address: {source}")]
@@ -227,7 +228,7 @@ impl TevClient {
         if n == 0 {
             return Err(self.invalid(format!("update of image '{name}' names no channel")));
         }
-        let count = self.to_i32(n as u64, "channel count")?;
+        self.to_i32(n as u64, "channel count")?;
         self.to_i32(rect.x as u64 + rect.width as u64, "rectangle's right edge")?;
         self.to_i32(
             rect.y as u64 + rect.height as u64,
@@ -250,10 +251,27 @@ impl TevClient {
                 )));
             }
         }
+        self.send_pixels(name, grab_focus, rect, channels, |p, start, count| {
+            p.f32s(&values[start * n..(start + count) * n]);
+        })
+    }
+
+    /// Sends the pixels of `rect` in UpdateImage packets of at most
+    /// `max_packet_bytes`. `put(packet, start, count)` appends the values
+    /// of the rectangle's pixels `start..start + count` (counted row by row),
+    /// every channel of a pixel together. The arguments are checked.
+    fn send_pixels(
+        &mut self,
+        name: &str,
+        grab_focus: bool,
+        rect: Rect,
+        channels: &[&str],
+        put: impl Fn(&mut Packet, usize, usize),
+    ) -> Result<(), TevError> {
+        let (w, h, n) = (rect.width as usize, rect.height as usize, channels.len());
         if w == 0 || h == 0 {
             return Ok(());
         }
-
         // Everything of a packet but its values.
         let header = 4
             + 1
@@ -270,6 +288,7 @@ impl TevClient {
             (pixels_per_packet, 1)
         };
 
+        // In range of i32: the callers checked the rectangle and count.
         for ty in (0..h).step_by(tile_h) {
             let th = tile_h.min(h - ty);
             for tx in (0..w).step_by(tile_w) {
@@ -277,11 +296,10 @@ impl TevClient {
                 let mut p = Packet::begin(&mut self.packet, UPDATE_IMAGE_V3);
                 p.bool(grab_focus);
                 p.str(name);
-                p.i32(count);
+                p.i32(n as i32);
                 for c in channels {
                     p.str(c);
                 }
-                // In range: checked against i32::MAX above.
                 p.i32((rect.x as usize + tx) as i32);
                 p.i32((rect.y as usize + ty) as i32);
                 p.i32(tw as i32);
@@ -293,8 +311,7 @@ impl TevClient {
                     p.i64(n as i64);
                 }
                 for row in ty..ty + th {
-                    let start = (row * w + tx) * n;
-                    p.f32s(&values[start..start + tw * n]);
+                    put(&mut p, row * w + tx, tw);
                 }
                 self.send()?;
             }
@@ -349,18 +366,18 @@ impl TevClient {
             self.create_image(name, image.width, image.height, &channels, true)?;
         }
 
-        let mut values = Vec::with_capacity(pixels * channels.len());
-        for (p, rgb) in image.pixels.iter().enumerate() {
-            values.extend_from_slice(&rgb.to_array());
-            values.extend_from_slice(&extra_values[p * ne..(p + 1) * ne]);
-        }
         let rect = Rect {
             x: 0,
             y: 0,
             width: image.width,
             height: image.height,
         };
-        self.update_image(name, false, rect, &channels, &values)
+        self.send_pixels(name, false, rect, &channels, |p, start, count| {
+            for i in start..start + count {
+                p.f32s(&image.pixels[i].to_array());
+                p.f32s(&extra_values[i * ne..(i + 1) * ne]);
+            }
+        })
     }
 
     /// Writes the packet built in `self.packet`; after a failure the
@@ -750,6 +767,8 @@ mod tests {
         let first = test_image(37, 23, &extra, 1);
         let second = test_image(37, 23, &extra, 2);
         client.show("pass", &first).unwrap();
+        // The second pass in pieces of rows of 9 pixels.
+        client.max_packet_bytes = 500;
         client.show("pass", &second).unwrap();
         drop(client);
         let packets = parse_stream(&server.join().unwrap()).unwrap();
@@ -769,6 +788,8 @@ mod tests {
         assert_eq!((name.as_str(), *width, *height), ("pass", 37, 23));
         assert_eq!(channels.len(), 3 + extra.len());
         assert_shows(&packets[..2], "pass", &first);
+        assert!(packets.len() > 2 + 23 * 4, "{} packets", packets.len());
+        assert!(packets[2..].iter().all(|(len, _)| *len <= 500));
         assert_shows(&packets, "pass", &second);
     }
 
