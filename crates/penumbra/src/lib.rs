@@ -23,7 +23,8 @@
 //!   [`integrator::Integrator`] (the thesis's [`integrator::Whitted`]) to add
 //!   a range of every pixel's samples to the tile's film, and returns an
 //!   [`render::Image`] plus [`render::RenderStats`] (rays by kind, time).
-//! * [`io::output`] writes PNG or EXR atomically.
+//! * [`io::output`] writes PNG or EXR atomically; [`io::tev`] streams the
+//!   image to the tev viewer while passes come in.
 //!
 //! ```no_run
 //! use penumbra::scene::{LoadOptions, SceneSource};
