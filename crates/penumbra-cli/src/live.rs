@@ -1,16 +1,27 @@
 //! Where a render shows itself while it runs: the live preview page
 //! (`--preview`) and the tev viewer (`--display-server`), both fed the
-//! image after each pass and at the end.
+//! image after each pass and at the end. A viewer that goes away is
+//! warned about once and then left alone; the render goes on.
 
 use std::net::IpAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use clap::Args;
+use std::time::Duration;
+
+use penumbra::io::tev::TevClient;
 use penumbra::render::{Image, PassView, RenderStats};
 
 use crate::error::{input, CliError};
 use crate::preview::{Frame, Preview, DEFAULT_BIND};
+
+/// How long connecting to tev and each write to it may take.
+const TEV_TIMEOUT: Duration = Duration::from_secs(5);
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
 
 /// Options of the live views of `penumbra render`.
 #[derive(Args, Clone, Debug)]
@@ -23,11 +34,17 @@ pub struct LiveArgs {
     /// The address the preview listens on (loopback unless told).
     #[arg(long, value_name = "ADDR", default_value_t = DEFAULT_BIND, requires = "preview")]
     pub bind: IpAddr,
+    /// Stream the image after each pass to the tev viewer listening at
+    /// HOST:PORT (its network protocol; tev's port is 14158).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub display_server: Option<String>,
 }
 
 /// The views of one render.
 pub struct Live {
     preview: Option<Preview>,
+    /// The tev connection and the image's name there, until it fails.
+    tev: Mutex<Option<(TevClient, String)>>,
     stop: Arc<AtomicBool>,
     /// The passes of the render, as the last pass said.
     passes: Mutex<u32>,
@@ -35,7 +52,7 @@ pub struct Live {
 
 impl Live {
     /// Starts the views `args` ask for.
-    pub fn start(args: &LiveArgs) -> Result<Live, CliError> {
+    pub fn start(args: &LiveArgs, image_name: &str) -> Result<Live, CliError> {
         let preview = match args.preview {
             Some(port) => {
                 let p = Preview::start(args.bind, port).map_err(input)?;
@@ -44,11 +61,19 @@ impl Live {
             }
             None => None,
         };
+        let tev = match &args.display_server {
+            Some(addr) => {
+                let client = TevClient::connect(addr, TEV_TIMEOUT).map_err(input)?;
+                Some((client, image_name.to_string()))
+            }
+            None => None,
+        };
         let stop = preview
             .as_ref()
             .map_or_else(|| Arc::new(AtomicBool::new(false)), Preview::stop_requested);
         Ok(Live {
             preview,
+            tev: Mutex::new(tev),
             stop,
             passes: Mutex::new(1),
         })
@@ -61,13 +86,13 @@ impl Live {
 
     /// True if any view wants the image after each pass.
     pub fn wants_passes(&self) -> bool {
-        self.preview.is_some()
+        self.preview.is_some() || lock(&self.tev).is_some()
     }
 
     /// Shows the image after a pass.
     pub fn pass(&self, view: &PassView<'_>) {
         let elapsed = view.stats.render_time.as_secs_f64();
-        *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = view.passes;
+        *lock(&self.passes) = view.passes;
         let per_pass = elapsed / f64::from(view.pass.max(1));
         let eta = Some(per_pass * f64::from(view.passes.saturating_sub(view.pass)));
         self.show(view.image, view.stats, (view.pass, view.passes), eta);
@@ -75,7 +100,7 @@ impl Live {
 
     /// Shows the final image and tells the views the render ended.
     pub fn finish(&self, image: &Image, stats: &RenderStats, message: &str) {
-        let passes = *self.passes.lock().unwrap_or_else(|e| e.into_inner());
+        let passes = *lock(&self.passes);
         self.show(image, stats, (passes, passes), Some(0.0));
         if let Some(p) = &self.preview {
             p.finish(message);
@@ -89,6 +114,14 @@ impl Live {
         (pass, passes): (u32, u32),
         eta: Option<f64>,
     ) {
+        let mut tev = lock(&self.tev);
+        if let Some((client, name)) = tev.as_mut() {
+            if let Err(e) = client.show(name, image) {
+                eprintln!("warning: {e}; the render goes on without tev");
+                *tev = None;
+            }
+        }
+        drop(tev);
         let Some(p) = &self.preview else { return };
         let rgb = image.pixels.iter().flat_map(|p| p.to_array()).collect();
         p.publish(Frame {

@@ -142,7 +142,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         region: None,
     };
     let signals = Signals::install()?;
-    let live = Live::start(&args.live)?;
+    let live = Live::start(&args.live, &args.output.display().to_string())?;
     let interrupt = || signals.either.load(Ordering::Relaxed) || live.stop_requested();
     let on_pass = |view: &PassView<'_>| live.pass(view);
     let checkpoint = (args.checkpoint.is_some() || args.resume.is_some()).then(|| Checkpointing {

@@ -111,7 +111,10 @@ fn resumes_to_the_same_bits(scene: &Scene, stops: &[usize], what: &str) {
         let (image, stats) = leg(scene, &path, resume, interval, None).expect(what);
         assert_eq!(stats.ended, Ended::Complete, "{what}");
         assert!(stats.checkpoint_error.is_none(), "{what}");
-        assert!(bits(&image) == bits(&whole), "{what}: resumed image differs");
+        assert!(
+            bits(&image) == bits(&whole),
+            "{what}: resumed image differs"
+        );
         assert_eq!(stats.rays, rays, "{what}: ray counts");
     }
 }
@@ -212,10 +215,17 @@ fn a_checkpoint_of_another_render_is_refused_and_kept() {
     };
     let e = render_progressive(&scene, &opts(), &|_, _| {}, None, &run).unwrap_err();
     assert!(
-        matches!(e, RenderError::Checkpoint(CheckpointError::OtherRender { .. })),
+        matches!(
+            e,
+            RenderError::Checkpoint(CheckpointError::OtherRender { .. })
+        ),
         "{e}"
     );
-    assert_eq!(std::fs::read(&path).unwrap(), before, "the checkpoint is kept");
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the checkpoint is kept"
+    );
     // Another scene under the same digest: its tiles are not this render's.
     let mut other = builtin("showcase", None);
     set(
@@ -230,7 +240,11 @@ fn a_checkpoint_of_another_render_is_refused_and_kept() {
     let other = other.build().unwrap();
     let e = leg(&other, &path, true, Duration::ZERO, None).unwrap_err();
     assert!(e.to_string().contains("not this render's"), "{e}");
-    assert_eq!(std::fs::read(&path).unwrap(), before, "the checkpoint is kept");
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the checkpoint is kept"
+    );
 }
 
 #[test]
@@ -283,12 +297,19 @@ fn the_image_is_shown_after_each_pass() {
     };
     let (image, stats) = render_progressive(&scene, &opts(), &|_, _| {}, None, &run).unwrap();
     let seen = seen.into_inner().unwrap();
-    assert_eq!(seen.iter().map(|s| (s.0, s.1)).collect::<Vec<_>>(), [(1, 3), (2, 3)]);
+    assert_eq!(
+        seen.iter().map(|s| (s.0, s.1)).collect::<Vec<_>>(),
+        [(1, 3), (2, 3)]
+    );
     assert!(seen[0].3 < seen[1].3 && seen[1].3 < stats.rays.primary);
     // The passes' images are the final one's samples so far: their means
     // are of the same order.
     for s in &seen {
         let (a, b) = (s.2.g, image.mean().g);
-        assert!((a - b).abs() < 0.5 * b, "pass {}: mean {a} against {b}", s.0);
+        assert!(
+            (a - b).abs() < 0.5 * b,
+            "pass {}: mean {a} against {b}",
+            s.0
+        );
     }
 }
