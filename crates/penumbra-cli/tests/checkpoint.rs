@@ -190,7 +190,7 @@ fn sigint_and_sigterm_write_the_image_and_the_checkpoint() {
     for (signal, code) in [(libc::SIGINT, 130), (libc::SIGTERM, 143)] {
         let dir = tempfile::tempdir().unwrap();
         let want = reference(dir.path());
-        let mut child = spawn(dir.path(), &leg_args(dir.path()));
+        let child = spawn(dir.path(), &leg_args(dir.path()));
         std::thread::sleep(Duration::from_millis(250));
         let pid = child.id() as i32;
         // SAFETY: as in `kill`.
