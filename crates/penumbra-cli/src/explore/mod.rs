@@ -51,7 +51,8 @@ use crate::preview::server::{change_body, Server, Shared, Site};
 use crate::preview::PreviewError;
 
 const SITE: Site = Site {
-    html: include_str!("page.html"),
+    title: "penumbra explore",
+    body: include_str!("page.html"),
     css: include_str!("page.css"),
     js: include_str!("page.js"),
 };

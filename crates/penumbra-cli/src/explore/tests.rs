@@ -95,6 +95,20 @@ fn image(e: &Explorer) -> Vec<u8> {
 }
 
 #[test]
+fn explore_page_is_whole_and_builds_its_controls_from_the_schema() {
+    let e = start();
+    let mut r = agent().get(&url(&e, "/")).call().unwrap();
+    assert_eq!(r.status(), 200);
+    let page = r.body_mut().read_to_string().unwrap();
+    assert!(!page.contains("{{"), "a placeholder was left in the page");
+    assert!(page.contains("<canvas id=\"image\""));
+    assert!(page.contains("id=\"zoom-fit\"") && page.contains("id=\"p-rays\""));
+    assert!(page.contains("fetch(\"/schema?\""));
+    // No control is written into the page: each comes from /schema.
+    assert!(!page.contains("shadow_distribution"));
+}
+
+#[test]
 fn explore_schema_lists_the_controls_with_the_tables_defaults() {
     let e = start();
     let mut r = agent().get(&url(&e, "/schema")).call().unwrap();

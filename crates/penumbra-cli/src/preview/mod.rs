@@ -35,7 +35,8 @@ use server::{Server, Site};
 
 /// The preview's page.
 const SITE: Site = Site {
-    html: include_str!("page.html"),
+    title: "penumbra preview",
+    body: include_str!("page.html"),
     css: "",
     js: include_str!("page.js"),
 };

@@ -34,13 +34,37 @@ pub(crate) const SHARED_CSS: &str = include_str!("page.css");
 /// `penumbraView(options)`.
 pub(crate) const SHARED_JS: &str = include_str!("view.js");
 
-/// What a live page is made of: its HTML with `{{NONCE}}`, `{{STYLE}}` and
-/// `{{SCRIPT}}` placeholders, and its own style and script, which follow
-/// the shared ones.
+/// The document every live page is: its head, then `{{BODY}}` and the script.
+const SHELL: &str = include_str!("shell.html");
+/// The exposure and zoom controls, where a body says `{{VIEW_CONTROLS}}`.
+const VIEW_CONTROLS: &str = include_str!("view-controls.html");
+/// The table of the render's progress, where a body says `{{VIEW_PROGRESS}}`.
+const VIEW_PROGRESS: &str = include_str!("view-progress.html");
+
+/// What a live page is made of: its title, its body (with the shared
+/// parts' placeholders), and its own style and script, which follow the
+/// shared ones.
 pub(crate) struct Site {
-    pub html: &'static str,
+    pub title: &'static str,
+    pub body: &'static str,
     pub css: &'static str,
     pub js: &'static str,
+}
+
+impl Site {
+    /// The whole page, its inline style and script under `nonce`.
+    fn page(&self, nonce: &str) -> String {
+        let body = self
+            .body
+            .replace("{{VIEW_CONTROLS}}\n", VIEW_CONTROLS)
+            .replace("{{VIEW_PROGRESS}}\n", VIEW_PROGRESS);
+        SHELL
+            .replace("{{TITLE}}", self.title)
+            .replace("{{NONCE}}", nonce)
+            .replace("{{STYLE}}", &format!("{SHARED_CSS}\n{}", self.css))
+            .replace("{{BODY}}", &body)
+            .replace("{{SCRIPT}}", &format!("{SHARED_JS}\n{}", self.js))
+    }
 }
 
 /// How long the server may take to close its connections once dropped.
@@ -111,11 +135,7 @@ impl Server {
             let _entered = runtime.enter();
             tokio::net::TcpListener::from_std(std_listener)?
         };
-        let page = site
-            .html
-            .replace("{{NONCE}}", &nonce)
-            .replace("{{STYLE}}", &format!("{SHARED_CSS}\n{}", site.css))
-            .replace("{{SCRIPT}}", &format!("{SHARED_JS}\n{}", site.js));
+        let page = site.page(&nonce);
         let csp = format!(
             "default-src 'none'; script-src 'nonce-{nonce}'; style-src 'nonce-{nonce}'; \
              connect-src 'self'; img-src data:; base-uri 'none'; form-action 'none'; \
