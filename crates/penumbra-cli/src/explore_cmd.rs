@@ -20,7 +20,8 @@ varies: the integrator, samples and passes, each effect's ray count and distribu
 metrics; drag the image to orbit the camera around the point it looks at, turn the wheel to \
 move it closer or further, shift-drag to pan. Each change restarts the render. The page can open \
 the built-in scenes and the files named here, no other file. The option flags give the settings \
-the page starts from."
+the page starts from; unless --passes or the page chooses, a render is made in as many passes as \
+samples, at most 16."
 )]
 pub struct ExploreArgs {
     /// Scene files (TOML, or Mitsuba 3 XML) or built-in scene names the page

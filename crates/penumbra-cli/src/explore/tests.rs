@@ -65,8 +65,11 @@ fn events(e: &Explorer) -> impl BufRead {
     BufReader::new(r.into_body().into_reader())
 }
 
-/// The frames up to the last pass of run `run`, as (run, pass, passes, info).
-fn frames_until_done(reader: &mut impl BufRead, run: u64) -> Vec<(u64, u32, u32, Value)> {
+/// A frame as (run, pass, passes, info, stats).
+type Seen = (u64, u32, u32, Value, Value);
+
+/// The frames up to the last pass of run `run`.
+fn frames_until_done(reader: &mut impl BufRead, run: u64) -> Vec<Seen> {
     let mut seen = Vec::new();
     while let Some((name, data)) = next_event(reader) {
         if name != "frame" {
@@ -75,12 +78,8 @@ fn frames_until_done(reader: &mut impl BufRead, run: u64) -> Vec<(u64, u32, u32,
         let d: Value = serde_json::from_str(&data).unwrap();
         let at = |k: &str| d[k].as_u64().unwrap();
         let this = d["info"]["run"].as_u64().unwrap();
-        seen.push((
-            this,
-            at("pass") as u32,
-            at("passes") as u32,
-            d["info"].clone(),
-        ));
+        let (pass, passes) = (at("pass") as u32, at("passes") as u32);
+        seen.push((this, pass, passes, d["info"].clone(), d["stats"].clone()));
         if this == run && at("pass") == at("passes") {
             return seen;
         }
@@ -165,7 +164,7 @@ fn explore_set_changes_the_next_run_and_refuses_bad_values() {
     assert_eq!(info["settings"]["shadow"]["distribution"], "poisson");
     assert_eq!(info["chosen"]["shadow_distribution"], "poisson");
     let frames = frames_until_done(&mut stream, 2);
-    let (_, _, _, last) = frames.last().unwrap();
+    let (_, _, _, last, _) = frames.last().unwrap();
     assert_eq!(last["settings"]["shadow"]["distribution"], "poisson");
     let info = post_ok(&e, "/set", &json!({"name": "shadow_rays", "value": 9}));
     assert_eq!(info["settings"]["shadow"]["rays"], 9);
