@@ -49,7 +49,7 @@ impl FromArgMatches for OptionFlags {
 }
 
 /// The flag of an option, and a switch's `--no-` flag.
-fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
+fn args(o: &'static RenderOption, flag: Flag) -> Vec<Arg> {
     let arg = Arg::new(o.name).long(o.long()).help(help(o));
     let with_value = |arg: Arg| arg.value_name(o.metavar()).action(ArgAction::Set);
     match o.kind {
@@ -66,23 +66,54 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
                 _ => vec![on],
             }
         }
-        Kind::Int { min, max } => vec![with_value(
-            arg.value_parser(clap::value_parser!(u32).range(i64::from(min)..=i64::from(max))),
-        )],
-        Kind::NonNegative => vec![with_value(arg.value_parser(parse_nonneg))],
-        Kind::Positive => vec![with_value(arg.value_parser(parse_positive))],
-        Kind::Distribution => vec![with_value(arg.value_parser(parse_distribution))],
-        Kind::Filter => vec![with_value(arg.value_parser(parse_filter))],
-        Kind::StopRule => vec![with_value(arg.value_parser(parse_stop_rule))],
-        Kind::Integrator => vec![with_value(arg.value_parser(parse_integrator))],
-        Kind::PathSampler => vec![with_value(arg.value_parser(parse_path_sampler))],
-        Kind::LightSampler => vec![with_value(arg.value_parser(parse_light_sampler))],
-        Kind::Between(lo, hi) => vec![with_value(
-            arg.value_parser(move |s: &str| parse_between(s, lo, hi)),
-        )],
         // Colours are set in scene files only.
         Kind::Colour => Vec::new(),
         Kind::File => vec![with_value(arg.value_parser(clap::value_parser!(PathBuf)))],
+        _ => vec![with_value(
+            arg.value_parser(move |s: &str| parse_value(o, s)),
+        )],
+    }
+}
+
+/// A value of option `o` written as text, checked as its flag checks it:
+/// what the command line and the explorer's controls store with
+/// [`RenderOption::store`]. Switches take `true` or `false`; colours and
+/// files are no such value.
+pub fn parse_value(o: &RenderOption, s: &str) -> Result<Value, String> {
+    match o.kind {
+        Kind::Int { min, max } => match s.parse::<u32>() {
+            Ok(n) if (min..=max).contains(&n) => Ok(Value::Int(n)),
+            _ => Err(format!("`{s}` is not a whole number from {min} to {max}")),
+        },
+        Kind::NonNegative => parse_nonneg(s).map(Value::Number),
+        Kind::Positive => parse_positive(s).map(Value::Number),
+        Kind::Between(lo, hi) => parse_between(s, lo, hi).map(Value::Number),
+        Kind::Switch => match s {
+            "true" => Ok(Value::Switch(true)),
+            "false" => Ok(Value::Switch(false)),
+            _ => Err(format!("`{s}` is not true or false")),
+        },
+        Kind::Distribution => parse_distribution(s).map(Value::Distribution),
+        Kind::Filter => parse_filter(s).map(Value::Filter),
+        Kind::StopRule => parse_stop_rule(s).map(Value::StopRule),
+        Kind::Integrator => parse_integrator(s).map(Value::Integrator),
+        Kind::PathSampler => parse_path_sampler(s).map(Value::PathSampler),
+        Kind::LightSampler => parse_light_sampler(s).map(Value::LightSampler),
+        Kind::Colour | Kind::File => Err(format!("`{}` is set in scene files only", o.name)),
+    }
+}
+
+/// The names an option of `kind` takes, for a kind chosen by name.
+pub fn choice_names(kind: Kind) -> Option<Vec<&'static str>> {
+    let names = |v: &[&'static str]| Some(v.to_vec());
+    match kind {
+        Kind::Distribution => Some(Distribution::SELECTABLE.iter().map(|d| d.name()).collect()),
+        Kind::Filter => Some(Filter::ALL.iter().map(|f| f.name()).collect()),
+        Kind::StopRule => Some(StopRule::ALL.iter().map(|r| r.name()).collect()),
+        Kind::Integrator => names(&IntegratorChoice::NAMES),
+        Kind::PathSampler => names(&PathSampler::NAMES),
+        Kind::LightSampler => names(&LightChoice::NAMES),
+        _ => None,
     }
 }
 
@@ -90,28 +121,6 @@ fn args(o: &RenderOption, flag: Flag) -> Vec<Arg> {
 /// `--no-x` the last one given (clap keeps only that one).
 fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
     match o.kind {
-        Kind::Int { .. } => m.get_one::<u32>(o.name).copied().map(Value::Int),
-        Kind::NonNegative | Kind::Positive | Kind::Between(..) => {
-            m.get_one::<f32>(o.name).copied().map(Value::Number)
-        }
-        Kind::StopRule => m.get_one::<StopRule>(o.name).copied().map(Value::StopRule),
-        Kind::Integrator => m
-            .get_one::<IntegratorChoice>(o.name)
-            .copied()
-            .map(Value::Integrator),
-        Kind::PathSampler => m
-            .get_one::<PathSampler>(o.name)
-            .copied()
-            .map(Value::PathSampler),
-        Kind::LightSampler => m
-            .get_one::<LightChoice>(o.name)
-            .copied()
-            .map(Value::LightSampler),
-        Kind::Distribution => m
-            .get_one::<Distribution>(o.name)
-            .copied()
-            .map(Value::Distribution),
-        Kind::Filter => m.get_one::<Filter>(o.name).copied().map(Value::Filter),
         Kind::Switch => {
             let off = o.long_off().is_some() && m.get_flag(&off_id(o));
             match (m.get_flag(o.name), off) {
@@ -121,6 +130,7 @@ fn given(o: &RenderOption, m: &ArgMatches) -> Option<Value> {
             }
         }
         Kind::Colour | Kind::File => None,
+        _ => m.get_one::<Value>(o.name).copied(),
     }
 }
 

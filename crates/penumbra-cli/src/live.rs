@@ -134,6 +134,7 @@ impl Live {
             rays: stats.rays.total(),
             stats: serde_json::to_value(stats.rays).unwrap_or_default(),
             eta_s: eta,
+            info: serde_json::Value::Null,
         });
     }
 }

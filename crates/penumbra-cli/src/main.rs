@@ -6,9 +6,10 @@
 
 mod convert_cmd;
 mod error;
+mod explore;
+mod explore_cmd;
 mod flags;
 mod live;
-// Reached only from tests until `render --preview` starts it.
 mod preview;
 mod render_cmd;
 mod report;
@@ -22,6 +23,7 @@ use clap::{Parser, Subcommand};
 use penumbra::input::quote::bounded;
 
 use convert_cmd::ConvertArgs;
+use explore_cmd::ExploreArgs;
 use render_cmd::RenderArgs;
 use reproduce_cmd::ReproduceArgs;
 use samples_cmd::SamplesArgs;
@@ -47,6 +49,10 @@ enum Command {
     Scenes,
     /// Print or draw the points of a ray distribution.
     Samples(SamplesArgs),
+    /// Serve a page to explore a scene: orbit and dolly the camera, switch the
+    /// integrator, each effect's distribution and ray count and the metrics,
+    /// and watch the image re-render with its ray statistics.
+    Explore(Box<ExploreArgs>),
     /// Regenerate the thesis's evaluation (Tables 4.1-4.6, Figures 4.1-4.10, plots,
     /// a convergence study of the distributions) as report.md and report.html.
     Reproduce(ReproduceArgs),
@@ -66,6 +72,7 @@ fn main() -> ExitCode {
         }
         Command::Samples(args) => samples_cmd::run(&args),
         Command::Reproduce(args) => reproduce_cmd::run(&args),
+        Command::Explore(args) => explore_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

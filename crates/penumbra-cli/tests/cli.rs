@@ -775,3 +775,17 @@ fn a_mitsuba_scene_in_a_folder_finds_its_textures() {
     let c = a.get_pixel(8, 8);
     assert!(c[0] > 2.0 * c[1], "{c:?}");
 }
+
+/// `explore` refuses at start what it could not open, before serving.
+#[test]
+fn explore_refuses_an_unknown_scene_before_serving() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["explore", "no-such-scene", "--port", "0"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("no-such-scene: no such file, and not a built-in scene"),
+        "{err}"
+    );
+    assert!(!err.contains("http://"), "{err}");
+}

@@ -21,6 +21,9 @@ pub struct Frame {
     pub stats: Value,
     /// Seconds left, when the driver can tell.
     pub eta_s: Option<f64>,
+    /// Whatever else the page shows of this frame (the explorer's run and
+    /// settings); `null` for none.
+    pub info: Value,
 }
 
 /// The first four bytes of `/image`.
@@ -48,6 +51,7 @@ impl Frame {
             "rays_per_s": rays_per_s,
             "eta_s": self.eta_s,
             "stats": self.stats,
+            "info": self.info,
         })
         .to_string()
     }
@@ -88,6 +92,7 @@ mod tests {
             rays: 1000,
             stats: json!({"primary": 10}),
             eta_s: Some(12.0),
+            info: Value::Null,
         }
     }
 

@@ -19,19 +19,27 @@
 //! - `POST /stop` asks the render to stop after the current pass.
 
 mod frame;
-mod security;
-mod server;
+pub(crate) mod security;
+pub(crate) mod server;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::fmt;
 use std::io;
-use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 pub use frame::Frame;
-use server::Server;
+use server::{Server, Site};
+
+/// The preview's page.
+const SITE: Site = Site {
+    title: "penumbra preview",
+    body: include_str!("page.html"),
+    css: "",
+    js: include_str!("page.js"),
+};
 
 /// The address the preview binds unless told another.
 pub const DEFAULT_BIND: IpAddr = IpAddr::V4(Ipv4Addr::LOCALHOST);
@@ -67,23 +75,18 @@ impl std::error::Error for PreviewError {
 impl Preview {
     /// Starts serving on `bind:port` (port 0: any free port).
     pub fn start(bind: IpAddr, port: u16) -> Result<Preview, PreviewError> {
-        let server = Server::start(bind, port).map_err(|source| PreviewError {
-            addr: SocketAddr::new(bind, port),
-            source,
+        let server = Server::start(bind, port, &SITE, server::stop_route).map_err(|source| {
+            PreviewError {
+                addr: SocketAddr::new(bind, port),
+                source,
+            }
         })?;
         Ok(Preview { server })
     }
 
     /// The address to open, token included.
     pub fn url(&self) -> String {
-        let addr = self.server.addr();
-        let host = match addr.ip() {
-            IpAddr::V4(ip) if ip.is_unspecified() => IpAddr::V4(Ipv4Addr::LOCALHOST),
-            IpAddr::V6(ip) if ip.is_unspecified() => IpAddr::V6(Ipv6Addr::LOCALHOST),
-            ip => ip,
-        };
-        let origin = SocketAddr::new(host, addr.port());
-        format!("http://{origin}/?token={}", self.server.token())
+        self.server.url()
     }
 
     /// Shows `frame` to every page, open now or later.

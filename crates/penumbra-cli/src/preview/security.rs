@@ -8,9 +8,9 @@
 //! - the Host header must name the server itself (an IP address or
 //!   `localhost`, with its port), so that a DNS name rebound to 127.0.0.1
 //!   gets nothing;
-//! - the one request that changes anything, POST /stop, must come from the
-//!   page's own origin, or carry the token in a header (which a cross-site
-//!   form cannot add).
+//! - a request that changes anything (the preview's POST /stop, the
+//!   explorer's controls) must come from the page's own origin, or carry the
+//!   token in a header (which a cross-site form cannot add).
 
 use std::net::IpAddr;
 
@@ -20,7 +20,7 @@ use axum::http::{header, HeaderMap, Uri};
 /// The header that may carry the token instead of the query.
 pub const TOKEN_HEADER: &str = "x-penumbra-token";
 
-/// The largest request body accepted, in bytes; the server reads none.
+/// The largest request body accepted, in bytes: a few words of JSON.
 pub const BODY_LIMIT: u64 = 1024;
 
 /// 128 bits from the operating system's generator, as 32 hex digits.
@@ -76,11 +76,11 @@ impl Access {
             .any(|(k, v)| k == "token" && same_secret(v.as_bytes(), self.token.as_bytes()))
     }
 
-    /// Whether a state-changing request (POST /stop) may proceed: its Origin
+    /// Whether a state-changing request (POST /stop, /set, ...) may proceed: its Origin
     /// is the server's own (`http://` and the Host it was sent to, which
     /// `host_allowed` has passed), or it has no Origin and the token comes in
     /// the header.
-    pub fn stop_allowed(&self, headers: &HeaderMap) -> bool {
+    pub fn change_allowed(&self, headers: &HeaderMap) -> bool {
         if headers.get_all(header::ORIGIN).iter().count() == 0 {
             return self.token_in_header(headers);
         }
@@ -216,20 +216,20 @@ mod tests {
     }
 
     #[test]
-    fn preview_stop_needs_own_origin_or_token_header() {
+    fn preview_change_needs_own_origin_or_token_header() {
         let a = access(IpAddr::V4(Ipv4Addr::LOCALHOST));
         let host = ("host", "127.0.0.1:8123");
-        assert!(a.stop_allowed(&headers(&[host, ("origin", "http://127.0.0.1:8123")])));
-        assert!(!a.stop_allowed(&headers(&[host, ("origin", "http://evil.example")])));
-        assert!(!a.stop_allowed(&headers(&[host, ("origin", "null")])));
-        assert!(!a.stop_allowed(&headers(&[host, ("origin", "https://127.0.0.1:8123")])));
-        assert!(!a.stop_allowed(&headers(&[
+        assert!(a.change_allowed(&headers(&[host, ("origin", "http://127.0.0.1:8123")])));
+        assert!(!a.change_allowed(&headers(&[host, ("origin", "http://evil.example")])));
+        assert!(!a.change_allowed(&headers(&[host, ("origin", "null")])));
+        assert!(!a.change_allowed(&headers(&[host, ("origin", "https://127.0.0.1:8123")])));
+        assert!(!a.change_allowed(&headers(&[
             host,
             ("origin", "http://evil.example"),
             (TOKEN_HEADER, "00ff")
         ])));
-        assert!(a.stop_allowed(&headers(&[host, (TOKEN_HEADER, "00ff")])));
-        assert!(!a.stop_allowed(&headers(&[host])));
+        assert!(a.change_allowed(&headers(&[host, (TOKEN_HEADER, "00ff")])));
+        assert!(!a.change_allowed(&headers(&[host])));
     }
 
     #[test]

@@ -1,10 +1,12 @@
-//! The HTTP side of the preview: routes, the event stream, and the thread
-//! that runs them on a one-thread tokio runtime, so that the render keeps
-//! every core it was given.
+//! The HTTP side of the live pages (the preview's and the explorer's): the
+//! checks every request passes, the page, the event stream, the image, and
+//! the thread that runs them on a one-thread tokio runtime, so that the
+//! render keeps every core it was given. A page's own routes (the preview's
+//! Stop, the explorer's controls) are added by the one that starts it.
 
 use std::convert::Infallible;
 use std::io;
-use std::net::{IpAddr, SocketAddr};
+use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -25,9 +27,45 @@ use tokio::sync::watch;
 use super::frame::Frame;
 use super::security::{random_token, Access, BODY_LIMIT};
 
-const PAGE_HTML: &str = include_str!("page.html");
-const PAGE_CSS: &str = include_str!("page.css");
-const PAGE_JS: &str = include_str!("page.js");
+/// The style every live page shares.
+pub(crate) const SHARED_CSS: &str = include_str!("page.css");
+/// The script every live page shares: the image (decoding, tone mapping,
+/// exposure, zoom and pan), the statistics table and the event stream, as
+/// `penumbraView(options)`.
+pub(crate) const SHARED_JS: &str = include_str!("view.js");
+
+/// The document every live page is: its head, then `{{BODY}}` and the script.
+const SHELL: &str = include_str!("shell.html");
+/// The exposure and zoom controls, where a body says `{{VIEW_CONTROLS}}`.
+const VIEW_CONTROLS: &str = include_str!("view-controls.html");
+/// The table of the render's progress, where a body says `{{VIEW_PROGRESS}}`.
+const VIEW_PROGRESS: &str = include_str!("view-progress.html");
+
+/// What a live page is made of: its title, its body (with the shared
+/// parts' placeholders), and its own style and script, which follow the
+/// shared ones.
+pub(crate) struct Site {
+    pub title: &'static str,
+    pub body: &'static str,
+    pub css: &'static str,
+    pub js: &'static str,
+}
+
+impl Site {
+    /// The whole page, its inline style and script under `nonce`.
+    fn page(&self, nonce: &str) -> String {
+        let body = self
+            .body
+            .replace("{{VIEW_CONTROLS}}\n", VIEW_CONTROLS)
+            .replace("{{VIEW_PROGRESS}}\n", VIEW_PROGRESS);
+        SHELL
+            .replace("{{TITLE}}", self.title)
+            .replace("{{NONCE}}", nonce)
+            .replace("{{STYLE}}", &format!("{SHARED_CSS}\n{}", self.css))
+            .replace("{{BODY}}", &body)
+            .replace("{{SCRIPT}}", &format!("{SHARED_JS}\n{}", self.js))
+    }
+}
 
 /// How long the server may take to close its connections once dropped.
 const GRACE: Duration = Duration::from_secs(2);
@@ -46,8 +84,8 @@ struct Latest {
     end: Option<Arc<str>>,
 }
 
-struct Shared {
-    access: Access,
+pub(crate) struct Shared {
+    pub access: Access,
     page: String,
     csp: HeaderValue,
     stop: Arc<AtomicBool>,
@@ -55,16 +93,35 @@ struct Shared {
     closing: watch::Sender<bool>,
 }
 
+impl Shared {
+    /// Makes `frame` the latest and wakes every viewer.
+    pub fn publish(&self, frame: &Frame) {
+        let image = frame.encode_image().map(Bytes::from);
+        self.latest.send_modify(|latest| {
+            latest.seq += 1;
+            latest.event = Some(frame.event_json(latest.seq).into());
+            latest.image = image;
+        });
+    }
+}
+
 /// A running server; dropping it closes every connection and joins its thread.
-pub(super) struct Server {
+pub(crate) struct Server {
     shared: Arc<Shared>,
     addr: SocketAddr,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Server {
-    /// Binds `bind:port` and serves on a thread of its own.
-    pub fn start(bind: IpAddr, port: u16) -> io::Result<Server> {
+    /// Binds `bind:port` and serves `site` on a thread of its own, with
+    /// the routes `routes` makes beside the shared ones (`/`, `/events`,
+    /// `/image`); every route passes the checks of [`guard`].
+    pub fn start(
+        bind: IpAddr,
+        port: u16,
+        site: &Site,
+        routes: impl FnOnce(Arc<Shared>) -> Router,
+    ) -> io::Result<Server> {
         let token = random_token().map_err(io::Error::other)?;
         let nonce = random_token().map_err(io::Error::other)?;
         let std_listener = std::net::TcpListener::bind((bind, port))?;
@@ -78,10 +135,7 @@ impl Server {
             let _entered = runtime.enter();
             tokio::net::TcpListener::from_std(std_listener)?
         };
-        let page = PAGE_HTML
-            .replace("{{NONCE}}", &nonce)
-            .replace("{{STYLE}}", PAGE_CSS)
-            .replace("{{SCRIPT}}", PAGE_JS);
+        let page = site.page(&nonce);
         let csp = format!(
             "default-src 'none'; script-src 'nonce-{nonce}'; style-src 'nonce-{nonce}'; \
              connect-src 'self'; img-src data:; base-uri 'none'; form-action 'none'; \
@@ -100,7 +154,7 @@ impl Server {
             latest: watch::Sender::new(Latest::default()),
             closing: watch::Sender::new(false),
         });
-        let app = router(shared.clone());
+        let app = router(shared.clone(), routes(shared.clone()));
         let closing = shared.closing.subscribe();
         let thread = std::thread::Builder::new()
             .name("penumbra-preview".into())
@@ -112,8 +166,21 @@ impl Server {
         })
     }
 
+    #[cfg(test)]
     pub fn addr(&self) -> SocketAddr {
         self.addr
+    }
+
+    /// The address to open, token included: the bound one, or the
+    /// loopback address when bound to every address.
+    pub fn url(&self) -> String {
+        let host = match self.addr.ip() {
+            IpAddr::V4(ip) if ip.is_unspecified() => IpAddr::V4(Ipv4Addr::LOCALHOST),
+            IpAddr::V6(ip) if ip.is_unspecified() => IpAddr::V6(Ipv6Addr::LOCALHOST),
+            ip => ip,
+        };
+        let origin = SocketAddr::new(host, self.addr.port());
+        format!("http://{origin}/?token={}", self.token())
     }
 
     pub fn token(&self) -> &str {
@@ -126,12 +193,12 @@ impl Server {
 
     /// Makes `frame` the latest and wakes every viewer.
     pub fn publish(&self, frame: &Frame) {
-        let image = frame.encode_image().map(Bytes::from);
-        self.shared.latest.send_modify(|latest| {
-            latest.seq += 1;
-            latest.event = Some(frame.event_json(latest.seq).into());
-            latest.image = image;
-        });
+        self.shared.publish(frame);
+    }
+
+    /// What the routes share, for a thread that publishes frames.
+    pub fn shared(&self) -> Arc<Shared> {
+        self.shared.clone()
     }
 
     /// Tells every viewer, present and future, that the render ended.
@@ -171,15 +238,15 @@ async fn serve(listener: tokio::net::TcpListener, app: Router, closing: watch::R
     }
 }
 
-fn router(shared: Arc<Shared>) -> Router {
+fn router(shared: Arc<Shared>, own: Router) -> Router {
     Router::new()
         .route("/", get(page))
         .route("/events", get(events))
         .route("/image", get(image))
-        .route("/stop", post(stop))
+        .with_state(shared.clone())
+        .merge(own)
         .fallback(not_found)
-        .layer(middleware::from_fn_with_state(shared.clone(), guard))
-        .with_state(shared)
+        .layer(middleware::from_fn_with_state(shared, guard))
 }
 
 /// Runs before every route, the unknown ones included: host, token, body size.
@@ -220,7 +287,7 @@ fn content_length(headers: &HeaderMap) -> Option<u64> {
         .ok()
 }
 
-fn refuse(status: StatusCode, why: &'static str) -> Response {
+pub(crate) fn refuse(status: StatusCode, why: &'static str) -> Response {
     (status, format!("{why}\n")).into_response()
 }
 
@@ -253,18 +320,31 @@ async fn image(State(shared): State<Arc<Shared>>) -> Response {
     }
 }
 
+/// The routes of the preview's page beside the shared ones: POST /stop.
+pub(crate) fn stop_route(shared: Arc<Shared>) -> Router {
+    Router::new().route("/stop", post(stop)).with_state(shared)
+}
+
 async fn stop(State(shared): State<Arc<Shared>>, request: Request) -> Response {
-    if !shared.access.stop_allowed(request.headers()) {
-        return refuse(StatusCode::FORBIDDEN, "cross-origin stop refused");
-    }
-    if axum::body::to_bytes(request.into_body(), BODY_LIMIT as usize)
-        .await
-        .is_err()
-    {
-        return refuse(StatusCode::PAYLOAD_TOO_LARGE, "request body too large");
+    if let Err(refused) = change_body(&shared, request).await {
+        return refused;
     }
     shared.stop.store(true, Ordering::SeqCst);
     (StatusCode::OK, "stopping after this pass\n").into_response()
+}
+
+/// The body of a request that changes something, if it may: from the
+/// page's own origin (see [`Access::change_allowed`]) and small.
+pub(crate) async fn change_body(shared: &Shared, request: Request) -> Result<Bytes, Response> {
+    if !shared.access.change_allowed(request.headers()) {
+        return Err(refuse(
+            StatusCode::FORBIDDEN,
+            "cross-origin request refused",
+        ));
+    }
+    axum::body::to_bytes(request.into_body(), BODY_LIMIT as usize)
+        .await
+        .map_err(|_| refuse(StatusCode::PAYLOAD_TOO_LARGE, "request body too large"))
 }
 
 /// One viewer's place in the stream of publications.

@@ -12,13 +12,13 @@ use serde_json::{json, Value};
 
 use super::{Frame, Preview, DEFAULT_BIND};
 
-const PATIENCE: Duration = Duration::from_secs(30);
+pub(crate) const PATIENCE: Duration = Duration::from_secs(30);
 
 fn start() -> Preview {
     Preview::start(DEFAULT_BIND, 0).unwrap()
 }
 
-fn agent() -> ureq::Agent {
+pub(crate) fn agent() -> ureq::Agent {
     ureq::Agent::config_builder()
         .http_status_as_error(false)
         .timeout_global(Some(PATIENCE))
@@ -45,11 +45,12 @@ fn frame(pass: u32) -> Frame {
         rays: 1234,
         stats: json!({ "primary": 6, "shadow": { "traced": 4 } }),
         eta_s: Some(6.0),
+        info: Value::Null,
     }
 }
 
 /// Sends `request` as written and returns the status and the whole response.
-fn raw(addr: SocketAddr, request: &str) -> (u16, String) {
+pub(crate) fn raw(addr: SocketAddr, request: &str) -> (u16, String) {
     let mut stream = TcpStream::connect(addr).unwrap();
     stream.set_read_timeout(Some(PATIENCE)).unwrap();
     // The server may answer and close before reading a body it refuses.
@@ -66,7 +67,7 @@ fn raw(addr: SocketAddr, request: &str) -> (u16, String) {
 }
 
 /// The next server-sent event as (name, data); `None` at the stream's end.
-fn next_event(reader: &mut impl BufRead) -> Option<(String, String)> {
+pub(crate) fn next_event(reader: &mut impl BufRead) -> Option<(String, String)> {
     let (mut name, mut data) = (String::new(), String::new());
     loop {
         let mut line = String::new();
