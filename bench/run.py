@@ -81,7 +81,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
 SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path", "instances",
-            "xmlread", "lights", "before"]
+            "xmlread", "lights", "progressive", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -521,6 +521,43 @@ def section_frames(name, args, bins, data):
         "efficiency": med([x[0]["render_s"] / (2 * x[1]["render_s"]) for x in rounds]),
         # What two dedicated cores would do: the frame's CPU time split over 2.
         "fps_cpu_2": med([2 / x[1]["render_cpu_s"] for x in rounds]),
+    }
+
+
+# The canonical scene (section a's: the bunny, 16 jittered camera rays, one
+# shadow ray) rendered progressively: what passes, checkpoints and the
+# preview cost against one plain pass, in alternating order.
+CANONICAL = ["bunny", "--spp", "16", "--distribution", "jitter", "--threads", "2"]
+
+
+def section_progressive(args, bins, data):
+    """The cost of rendering progressively: 64 passes against one; a
+    checkpoint after every pass (16 passes, the interval a sixteenth of the
+    plain render) against 16 passes without; the preview (16 passes, no
+    viewer) against 16 passes without. CPU seconds of the whole process,
+    medians of the rounds, each round running the variants in turn (the
+    order rotating)."""
+    w = HERE / ".work"
+    plain = render_cli(bins, data["bunny"], *CANONICAL)["render_s"]
+    variants = {
+        "1 pass": [],
+        "64 passes": ["--passes", "64"],
+        "16 passes": ["--passes", "16"],
+        "16 passes, a checkpoint per pass": ["--passes", "16", "--checkpoint", w / "p.ckpt",
+                                             "--checkpoint-interval", f"{plain / 16:.4f}"],
+        "16 passes, preview": ["--passes", "16", "--preview"],
+    }
+    names = list(variants)
+    got = {n: [] for n in names}
+    for k in range(args.rounds):
+        for n in names[k % len(names):] + names[:k % len(names)]:
+            got[n].append(render_cli(bins, data["bunny"], *CANONICAL, *variants[n])["render_cpu_s"])
+    cpu = {n: med(v) for n, v in got.items()}
+    return {
+        "cpu_s": cpu,
+        "passes_64_over_1": cpu["64 passes"] / cpu["1 pass"],
+        "checkpoint_per_pass_over_none": cpu["16 passes, a checkpoint per pass"] / cpu["16 passes"],
+        "preview_over_none": cpu["16 passes, preview"] / cpu["16 passes"],
     }
 
 
@@ -1106,6 +1143,13 @@ def report(res):
                  + f". Penumbra traced {c['penumbra_rays']:,} rays."
                  + (f" Mitsuba llvm_ad_rgb's first render (kernel compilation): {f(c['llvm_first_s'])} s."
                     if "llvm_first_s" in c else ""))
+    if "progressive" in res:
+        pr = res["progressive"]
+        L.append("")
+        L.append("Progressive rendering of the canonical scene (CPU s, medians): "
+                 + "; ".join(f"{n} {f(v)}" for n, v in pr["cpu_s"].items())
+                 + f". 64 passes / 1 pass {f(pr['passes_64_over_1'], 3)}×; a checkpoint per pass "
+                 f"{f(pr['checkpoint_per_pass_over_none'], 3)}×; the preview {f(pr['preview_over_none'], 3)}×.")
     if "million" in res:
         mm = res["million"]
         L.append("")
@@ -1182,7 +1226,7 @@ def main():
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
            "path": section_path, "instances": section_instances, "lights": section_lights,
-           "xmlread": section_xmlread, "before": section_before}
+           "xmlread": section_xmlread, "progressive": section_progressive, "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

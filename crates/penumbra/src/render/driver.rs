@@ -10,12 +10,13 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
-use serde::Serialize;
 
 use super::checkpoint::{self, CheckpointError, Digest, Saved, SavedTile};
 use super::film::{self, Tile, TileSlot};
-use super::{aligned, cuts, frame, frame_of, place, pool, tiles, ExtraChannels, Image, Progress};
-use super::{Region, RenderError, RenderOptions, RenderStats};
+use super::film::{ExtraChannels, Image};
+use super::grid::{aligned, cuts, frame, frame_of, place, pool, tiles};
+use super::outcome::{Ended, Progress, RenderError, RenderOptions, RenderStats};
+use super::region::Region;
 use crate::integrator::splat::{light, resolve, resolve_channels, SplatFilm, Sums};
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
@@ -62,19 +63,6 @@ pub struct PassView<'a> {
     pub passes: u32,
     pub image: &'a Image,
     pub stats: &'a RenderStats,
-}
-
-/// How a render ended.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Ended {
-    /// Every pass of every tile.
-    #[default]
-    Complete,
-    /// At its time limit.
-    TimeLimit,
-    /// Interrupted.
-    Interrupted,
 }
 
 /// What a tile of the list holds: the passes done, its slot (taken out
