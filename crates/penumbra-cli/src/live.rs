@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use clap::Args;
-use penumbra::render::{Image, PassView, RenderStats};
+use penumbra::render::{Ended, Image, PassView, RenderStats};
 
 use crate::error::{input, CliError};
 use crate::preview::{Frame, Preview, DEFAULT_BIND};
@@ -29,8 +29,8 @@ pub struct LiveArgs {
 pub struct Live {
     preview: Option<Preview>,
     stop: Arc<AtomicBool>,
-    /// The passes of the render, as the last pass said.
-    passes: Mutex<u32>,
+    /// The passes finished and in all, as the last pass said.
+    passes: Mutex<(u32, u32)>,
 }
 
 impl Live {
@@ -50,7 +50,7 @@ impl Live {
         Ok(Live {
             preview,
             stop,
-            passes: Mutex::new(1),
+            passes: Mutex::new((0, 1)),
         })
     }
 
@@ -67,16 +67,22 @@ impl Live {
     /// Shows the image after a pass.
     pub fn pass(&self, view: &PassView<'_>) {
         let elapsed = view.stats.render_time.as_secs_f64();
-        *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = view.passes;
+        *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = (view.pass, view.passes);
         let per_pass = elapsed / f64::from(view.pass.max(1));
         let eta = Some(per_pass * f64::from(view.passes.saturating_sub(view.pass)));
         self.show(view.image, view.stats, (view.pass, view.passes), eta);
     }
 
-    /// Shows the final image and tells the views the render ended.
+    /// Shows the final image and tells the views the render ended. A render
+    /// ended early shows the passes it finished, not its last.
     pub fn finish(&self, image: &Image, stats: &RenderStats, message: &str) {
-        let passes = *self.passes.lock().unwrap_or_else(|e| e.into_inner());
-        self.show(image, stats, (passes, passes), Some(0.0));
+        let (done, passes) = *self.passes.lock().unwrap_or_else(|e| e.into_inner());
+        let done = if stats.ended == Ended::Complete {
+            passes
+        } else {
+            done
+        };
+        self.show(image, stats, (done, passes), Some(0.0));
         if let Some(p) = &self.preview {
             p.finish(message);
         }
