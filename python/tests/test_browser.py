@@ -202,18 +202,19 @@ def open_preview(driver, server: Server, width: int = 320, height: int = 240):
     wait_for(lambda: shown_pass(driver) >= 1, "the pass counter")
 
 
-def stable_pixels(driver) -> np.ndarray:
-    """The canvas once two reads in a row agree (no frame arriving between)."""
-    last = [canvas_pixels(driver)]
+def stable_pixels(driver, quiet: float = 0.5) -> np.ndarray:
+    """The canvas once it has not changed for `quiet` seconds (a frame that
+    was on its way has been drawn)."""
+    state = {"pixels": canvas_pixels(driver), "since": time.monotonic()}
 
     def settled():
         now = canvas_pixels(driver)
-        same = np.array_equal(now, last[0])
-        last[0] = now
-        return same
+        if not np.array_equal(now, state["pixels"]):
+            state.update(pixels=now, since=time.monotonic())
+        return time.monotonic() - state["since"] >= quiet
 
     wait_for(settled, "the canvas to settle")
-    return last[0]
+    return state["pixels"]
 
 
 def pixels_other_than(driver, base: np.ndarray, what: str) -> np.ndarray:
