@@ -11,7 +11,7 @@ use clap::Args;
 use std::time::Duration;
 
 use penumbra::io::tev::TevClient;
-use penumbra::render::{Image, PassView, RenderStats};
+use penumbra::render::{Ended, Image, PassView, RenderStats};
 
 use crate::error::{input, CliError};
 use crate::preview::{Frame, Preview, DEFAULT_BIND};
@@ -46,8 +46,8 @@ pub struct Live {
     /// The tev connection and the image's name there, until it fails.
     tev: Mutex<Option<(TevClient, String)>>,
     stop: Arc<AtomicBool>,
-    /// The passes of the render, as the last pass said.
-    passes: Mutex<u32>,
+    /// The passes finished and in all, as the last pass said.
+    passes: Mutex<(u32, u32)>,
 }
 
 impl Live {
@@ -75,7 +75,7 @@ impl Live {
             preview,
             tev: Mutex::new(tev),
             stop,
-            passes: Mutex::new(1),
+            passes: Mutex::new((0, 1)),
         })
     }
 
@@ -92,16 +92,22 @@ impl Live {
     /// Shows the image after a pass.
     pub fn pass(&self, view: &PassView<'_>) {
         let elapsed = view.stats.render_time.as_secs_f64();
-        *lock(&self.passes) = view.passes;
+        *lock(&self.passes) = (view.pass, view.passes);
         let per_pass = elapsed / f64::from(view.pass.max(1));
         let eta = Some(per_pass * f64::from(view.passes.saturating_sub(view.pass)));
         self.show(view.image, view.stats, (view.pass, view.passes), eta);
     }
 
-    /// Shows the final image and tells the views the render ended.
+    /// Shows the final image and tells the views the render ended. A render
+    /// ended early shows the passes it finished, not its last.
     pub fn finish(&self, image: &Image, stats: &RenderStats, message: &str) {
-        let passes = *lock(&self.passes);
-        self.show(image, stats, (passes, passes), Some(0.0));
+        let (done, passes) = *lock(&self.passes);
+        let done = if stats.ended == Ended::Complete {
+            passes
+        } else {
+            done
+        };
+        self.show(image, stats, (done, passes), Some(0.0));
         if let Some(p) = &self.preview {
             p.finish(message);
         }

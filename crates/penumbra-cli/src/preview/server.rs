@@ -8,9 +8,9 @@ use std::convert::Infallible;
 use std::io;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use axum::body::Bytes;
 use axum::extract::{Request, State};
@@ -70,6 +70,10 @@ impl Site {
 /// How long the server may take to close its connections once dropped.
 const GRACE: Duration = Duration::from_secs(2);
 
+/// How long a server dropped after the end waits for the pages told of the
+/// last frame to fetch its image.
+const LAST_FETCH: Duration = Duration::from_secs(2);
+
 /// The latest publication, which every viewer catches up to: a viewer that
 /// is slower than the passes skips frames rather than queueing them.
 #[derive(Clone, Default)]
@@ -84,6 +88,26 @@ struct Latest {
     end: Option<Arc<str>>,
 }
 
+/// The frame events sent and the images served for one publication.
+#[derive(Default)]
+struct Fetches {
+    seq: u64,
+    sent: u64,
+    served: u64,
+}
+
+impl Fetches {
+    fn at(&mut self, seq: u64) -> &mut Fetches {
+        if self.seq != seq {
+            *self = Fetches {
+                seq,
+                ..Fetches::default()
+            };
+        }
+        self
+    }
+}
+
 pub(crate) struct Shared {
     pub access: Access,
     page: String,
@@ -91,6 +115,13 @@ pub(crate) struct Shared {
     stop: Arc<AtomicBool>,
     latest: watch::Sender<Latest>,
     closing: watch::Sender<bool>,
+    fetches: Mutex<Fetches>,
+}
+
+impl Shared {
+    fn fetches(&self) -> std::sync::MutexGuard<'_, Fetches> {
+        self.fetches.lock().unwrap_or_else(PoisonError::into_inner)
+    }
 }
 
 impl Shared {
@@ -153,6 +184,7 @@ impl Server {
             stop: Arc::new(AtomicBool::new(false)),
             latest: watch::Sender::new(Latest::default()),
             closing: watch::Sender::new(false),
+            fetches: Mutex::new(Fetches::default()),
         });
         let app = router(shared.clone(), routes(shared.clone()));
         let closing = shared.closing.subscribe();
@@ -212,7 +244,19 @@ impl Server {
 }
 
 impl Drop for Server {
+    /// After the end, first lets every page that was sent the last frame
+    /// fetch its image (for at most `LAST_FETCH`), so that a page never
+    /// misses the final image for a process that exits right after it.
     fn drop(&mut self) {
+        let deadline = Instant::now() + LAST_FETCH;
+        let waiting = || {
+            let latest = self.shared.latest.borrow();
+            let f = self.shared.fetches();
+            latest.end.is_some() && f.seq == latest.seq && f.served < f.sent
+        };
+        while waiting() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
         self.shared.closing.send_replace(true);
         if let Some(thread) = self.thread.take() {
             let _ = thread.join();
@@ -311,7 +355,13 @@ async fn page(State(shared): State<Arc<Shared>>) -> Response {
 }
 
 async fn image(State(shared): State<Arc<Shared>>) -> Response {
-    let body = shared.latest.borrow().image.clone();
+    let (seq, body) = {
+        let latest = shared.latest.borrow();
+        (latest.seq, latest.image.clone())
+    };
+    if body.is_some() {
+        shared.fetches().at(seq).served += 1;
+    }
     match body {
         Some(bytes) => {
             ([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response()
@@ -349,6 +399,7 @@ pub(crate) async fn change_body(shared: &Shared, request: Request) -> Result<Byt
 
 /// One viewer's place in the stream of publications.
 struct Viewer {
+    shared: Arc<Shared>,
     latest: watch::Receiver<Latest>,
     closing: watch::Receiver<bool>,
     sent_seq: u64,
@@ -362,6 +413,7 @@ async fn events(
     let viewer = Viewer {
         latest: shared.latest.subscribe(),
         closing: shared.closing.subscribe(),
+        shared: shared.clone(),
         sent_seq: 0,
         queue: Vec::new(),
         ended: false,
@@ -385,6 +437,7 @@ async fn next_event(mut v: Viewer) -> Option<(Result<Event, Infallible>, Viewer)
             if let (Some(data), true) = (&latest.event, latest.seq != v.sent_seq) {
                 v.queue.push(Event::default().event("frame").data(&**data));
                 v.sent_seq = latest.seq;
+                v.shared.fetches().at(latest.seq).sent += 1;
             }
             if let Some(data) = &latest.end {
                 v.queue.push(Event::default().event("end").data(&**data));

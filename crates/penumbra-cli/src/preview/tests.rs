@@ -288,6 +288,24 @@ fn preview_finish_sends_the_end_and_closes_the_stream() {
 }
 
 #[test]
+fn preview_dropped_after_the_end_lets_the_page_fetch_the_last_image() {
+    let p = start();
+    let url = format!("http://{}/image?token={}", addr(&p), token(&p));
+    let mut events = subscribe(&p);
+    p.publish(frame(8));
+    p.finish("finished");
+    assert_eq!(next_event(&mut events).unwrap().0, "frame");
+    assert_eq!(next_event(&mut events).unwrap().0, "end");
+    // The process exits as soon as the render ends: the server is dropped
+    // while the page has yet to fetch the frame it was told of.
+    let dropping = std::thread::spawn(move || drop(p));
+    let mut r = agent().get(&url).call().unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(&r.body_mut().read_to_vec().unwrap()[..4], b"PNB1");
+    dropping.join().unwrap();
+}
+
+#[test]
 fn preview_image_is_the_published_floats() {
     let p = start();
     let url = format!("http://{}/image?token={}", addr(&p), token(&p));
