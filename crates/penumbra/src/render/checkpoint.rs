@@ -12,7 +12,7 @@
 //! | 32 | the [`Digest`] of what the render depends on |
 //! | 8 | the length of the state, little-endian |
 //! | … | the state: every tile's film, integrator state, counts and passes done, in serde's `postcard` form |
-//! | 32 | SHA-256 of everything before it |
+//! | 4 | CRC-32 of everything before it, little-endian |
 //!
 //! It is written whole to a temporary file beside the destination, flushed
 //! to the disk and renamed over the destination: a crash or a full disk
@@ -177,8 +177,8 @@ pub(super) fn encode<S: Serialize>(digest: &Digest, state: &Saved<S>) -> Vec<u8>
     out.extend_from_slice(&digest.0);
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     out.extend_from_slice(&payload);
-    let sum: [u8; 32] = Sha256::digest(&out).into();
-    out.extend_from_slice(&sum);
+    let sum = crc32fast::hash(&out);
+    out.extend_from_slice(&sum.to_le_bytes());
     out
 }
 
@@ -218,11 +218,11 @@ pub(super) fn decode<S: DeserializeOwned>(
     let len = usize::try_from(len).map_err(|_| corrupt("its length is absurd"))?;
     let payload = r.take(len).ok_or_else(short)?;
     let body = r.at;
-    let sum: [u8; 32] = r.array().ok_or_else(short)?;
+    let sum = u32::from_le_bytes(r.array().ok_or_else(short)?);
     if r.at != bytes.len() {
         return Err(corrupt("bytes follow its end"));
     }
-    if sum[..] != Sha256::digest(&bytes[..body])[..] {
+    if sum != crc32fast::hash(&bytes[..body]) {
         return Err(corrupt("its checksum does not match its bytes"));
     }
     if found != *digest {
