@@ -20,7 +20,7 @@ use serde_json::Value;
 
 use penumbra::description::mitsuba::dict::DictValue;
 use penumbra::description::toml_to_json;
-use penumbra::input::recording_reads;
+use penumbra::input::{note_read, recording_reads};
 use penumbra::render::{render_digest, Digest, DigestInput, Region};
 use penumbra::scene::{
     default_bunny_path, LoadOptions, Points, Scene as Built, SceneError as LibSceneError,
@@ -31,6 +31,9 @@ use crate::convert::{json_to_py, json_to_py_with, py_to_dict_value, py_to_json, 
 use crate::error::SceneError;
 use crate::options::{parse_options, Options};
 use crate::points::function_table;
+
+/// How the library labels the text of a built-in scene (`SceneSource::open`).
+const BUILTIN_LABEL: &str = "<built-in scene ";
 
 /// The text a scene was read from.
 #[derive(Clone, Debug)]
@@ -151,6 +154,13 @@ impl Scene {
         opts: &Options,
     ) -> PyResult<(Built, SceneSource, Vec<[u8; 32]>)> {
         let (built, reads) = recording_reads(|| -> PyResult<_> {
+            // Read from a file: as `penumbra render` reads it first, so
+            // that the two tie their checkpoints to the same digest.
+            if let Text::Toml { text, file } = &self.text {
+                if !file.to_string_lossy().starts_with(BUILTIN_LABEL) {
+                    note_read(text.as_bytes());
+                }
+            }
             let mut source = self.source().map_err(scene_error)?;
             opts.overrides.apply(&mut source);
             let built = py.detach(|| {

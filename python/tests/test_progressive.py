@@ -211,6 +211,28 @@ def test_python_m_penumbra_resumes_a_checkpoint(tmp_path, whole):
     assert wrong.returncode == 2 and "--tiles-dir" in wrong.stderr
 
 
+@pytest.mark.parametrize("name", ["showcase", "file"])
+def test_checkpoints_pass_between_the_binary_and_python(cli, tmp_path, whole, name):
+    if name == "file":
+        (tmp_path / "scenes").mkdir()
+        name = str(tmp_path / "scenes" / "s.toml")
+        Path(name).write_text(penumbra.load_scene("showcase").text)
+    scene = penumbra.load_scene(name)
+    flags = [f"--{k.replace('_', '-')}={v}" for k, v in LONG.items()]
+    ckpt = tmp_path / "cli.ckpt"
+    subprocess.run([str(cli), "render", name, "--quiet", *flags, "--time-limit", "0.02",
+                    "--checkpoint", str(ckpt), "-o", str(tmp_path / "a.exr")], check=True,
+                   capture_output=True)
+    image, stats = penumbra.render(scene, resume=ckpt, **LONG)
+    assert stats["ended"] == "complete" and np.array_equal(image, whole)
+    ckpt = tmp_path / "py.ckpt"
+    _, stats = penumbra.render(scene, time_limit=0.02, checkpoint=ckpt, **LONG)
+    assert stats["ended"] == "time-limit"
+    subprocess.run([str(cli), "render", name, "--quiet", *flags, "--resume", str(ckpt),
+                    "-o", str(tmp_path / "b.exr")], check=True, capture_output=True)
+    assert np.array_equal(penumbra.load_image(tmp_path / "b.exr"), whole)
+
+
 # ---------------------------------------------------------------------------
 # Dask: finished tiles kept in a directory
 

@@ -58,7 +58,11 @@ pub fn note_reads(reads: &[[u8; 32]]) {
     });
 }
 
-fn note_read(bytes: &[u8]) {
+/// Records, in a recording running on this thread, a file of these bytes
+/// as read now: for a reader that holds a file's text read earlier (the
+/// Python API keeps a scene file's text and parses it again for each
+/// render), so that a render depends on what the command line's does.
+pub fn note_read(bytes: &[u8]) {
     READS.with(|r| {
         if let Some(reads) = r.borrow_mut().as_mut() {
             use sha2::Digest as _;
