@@ -3,9 +3,11 @@ bit, the image after each pass, and Dask tiles kept on disk across restarts."""
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
 import threading
+import time
 import warnings
 from pathlib import Path
 
@@ -209,6 +211,31 @@ def test_python_m_penumbra_resumes_a_checkpoint(tmp_path, whole):
     wrong = subprocess.run([*base, "--tiles-dir", str(tmp_path), "-o", str(tmp_path / "c.exr")],
                            capture_output=True, text=True)
     assert wrong.returncode == 2 and "--tiles-dir" in wrong.stderr
+
+
+def test_sigint_to_python_m_penumbra_saves_the_checkpoint(scene, tmp_path):
+    slow = {**LONG, "spp": 64, "width": 128}
+    ckpt = tmp_path / "r.ckpt"
+    flags = [f"--{k.replace('_', '-')}={v}" for k, v in slow.items()]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "penumbra", "render", "showcase", "--quiet", *flags,
+         "--checkpoint", str(ckpt), "--checkpoint-interval", "0.05", "-o", str(tmp_path / "a.exr")],
+        stderr=subprocess.PIPE, text=True,
+    )
+    # Once the first checkpoint is saved the render is under way.
+    deadline = time.monotonic() + 60
+    while not ckpt.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    assert "--resume" in stderr
+    assert not (tmp_path / "a.exr").exists()
+    done = []
+    image, _ = penumbra.render(scene, resume=ckpt, progress=lambda d, t: done.append(d), **slow)
+    assert done, "the render ended before the signal"
+    whole, _ = penumbra.render(scene, **slow)
+    assert np.array_equal(image, whole)
 
 
 @pytest.mark.parametrize("name", ["showcase", "file"])
