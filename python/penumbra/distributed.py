@@ -110,9 +110,11 @@ def render(
     the same directory, scene, files and options loads the tiles there and
     submits only the others, and makes the same image. A tile file of
     another render (another digest or tile) or a damaged one is never
-    trusted: it is rendered again and replaced, with a warning. The stats
-    then count the rays of every tile, loaded or rendered, and
-    ``tiles_loaded`` says how many were loaded.
+    trusted: it is rendered again and replaced, with a warning. A tile
+    that cannot be written raises OSError (the tasks left are cancelled;
+    the tiles written are kept). The stats then count the rays of every
+    tile, loaded or rendered, and ``tiles_loaded`` says how many were
+    loaded.
 
     The scene is validated here first (which loads its meshes on the client
     once) so that a bad scene raises :class:`penumbra.SceneError` before any
