@@ -1,13 +1,18 @@
 """``python -m penumbra``: render a scene here or on a Dask cluster.
 
     python -m penumbra render SCENE -o OUT.exr [--scheduler tcp://HOST:PORT | --local-workers N]
-                              [--tile N] [render options of `penumbra render`]
+                              [--tile N] [--tiles-dir DIR]
+                              [--time-limit S] [--checkpoint FILE] [--resume FILE]
+                              [render options of `penumbra render`]
     python -m penumbra scenes
 
 Without ``--scheduler`` or ``--local-workers`` the render runs in this
 process, like the ``penumbra`` binary. With them it goes through
 :func:`penumbra.distributed.render`, the same code path as the tests, and
-gives the same pixels. Exit status as the binary's: 0 on success, 2 for
+gives the same pixels. A local render takes ``--time-limit``,
+``--checkpoint``, ``--checkpoint-interval`` and ``--resume`` as the binary
+does (Ctrl-C saves the checkpoint); a distributed one keeps its finished
+tiles in ``--tiles-dir``. Exit status as the binary's: 0 on success, 2 for
 invalid input (arguments, scene, mesh, output path), 1 otherwise (130 on
 Ctrl-C).
 """
@@ -18,6 +23,7 @@ import argparse
 import json
 import logging
 import os
+import shlex
 import sys
 import tempfile
 from pathlib import Path
@@ -65,12 +71,41 @@ def _render(args: argparse.Namespace) -> int:
         for name in RENDER_OPTIONS
         if getattr(args, name, None) is not None
     }
+    distributed = bool(args.scheduler or args.local_workers)
+    progressive = {
+        "time_limit": args.time_limit,
+        "checkpoint": args.checkpoint,
+        "resume": args.resume,
+    }
+    if distributed:
+        given = [f"--{k.replace('_', '-')}" for k, v in progressive.items() if v is not None]
+        if given:
+            raise InputError(
+                f"{', '.join(given)}: a distributed render keeps its finished tiles with "
+                "--tiles-dir instead"
+            )
+    elif args.tiles_dir is not None:
+        raise InputError(
+            "--tiles-dir keeps the tiles of a distributed render (--scheduler or --local-workers)"
+        )
+    if args.checkpoint:
+        _check_output(Path(args.checkpoint), None)
     bar = _Bar(args.quiet)
     try:
-        if args.scheduler or args.local_workers:
+        if distributed:
             image, stats = _render_distributed(scene, args, options, bar.update)
         else:
-            image, stats = render(scene, progress=bar.update, **options)
+            image, stats = render(
+                scene,
+                progress=bar.update,
+                checkpoint_interval=args.checkpoint_interval,
+                **progressive,
+                **options,
+            )
+    except KeyboardInterrupt:
+        bar.close()
+        print(f"error: interrupted{_resumable(args)}", file=sys.stderr)
+        return 130
     finally:
         bar.close()
     save_image(output, image)
@@ -78,7 +113,20 @@ def _render(args: argparse.Namespace) -> int:
         _write_atomic(Path(args.stats), json.dumps(stats, indent=2) + "\n")
     if not args.quiet:
         _summary(output, stats)
+    if stats.get("ended") == "time-limit":
+        print(
+            "the render reached its time limit: the image holds the samples rendered so far"
+            + _resumable(args),
+            file=sys.stderr,
+        )
     return 0
+
+
+def _resumable(args: argparse.Namespace) -> str:
+    """How to go on with a render ended early."""
+    if args.checkpoint:
+        return f"; continue it with --resume {shlex.quote(args.checkpoint)}"
+    return ""
 
 
 def _render_distributed(scene, args, options, progress):
@@ -90,7 +138,8 @@ def _render_distributed(scene, args, options, progress):
     if args.scheduler:
         with Client(args.scheduler) as client:
             return distributed.render(
-                scene, client, tile=args.tile, retries=args.retries, progress=progress, **options
+                scene, client, tile=args.tile, retries=args.retries, progress=progress,
+                tiles_dir=args.tiles_dir, **options,
             )
     with LocalCluster(
         n_workers=args.local_workers,
@@ -100,7 +149,8 @@ def _render_distributed(scene, args, options, progress):
         silence_logs=logging.ERROR,
     ) as cluster, Client(cluster) as client:
         return distributed.render(
-            scene, client, tile=args.tile, retries=args.retries, progress=progress, **options
+            scene, client, tile=args.tile, retries=args.retries, progress=progress,
+            tiles_dir=args.tiles_dir, **options,
         )
 
 
@@ -175,6 +225,16 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _positive_seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1e12:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a positive number of seconds")
+    return value
+
+
 def _add_render_options(r: argparse.ArgumentParser) -> None:
     """The flags of `penumbra render`'s render options, from the library's
     options table: the same names, switches and --no- flags, each stored
@@ -237,6 +297,24 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--bunny", metavar="PATH",
                    help="the Stanford bunny PLY for scenes that need it (else $PENUMBRA_BUNNY)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar, no summary")
+    r.add_argument("--time-limit", type=_positive_seconds, metavar="SECONDS",
+                   help="end the render after this many seconds: no tile starts after it, the "
+                   "image holds the samples so far (and the checkpoint, with --checkpoint, the "
+                   "state to resume from)")
+    r.add_argument("--checkpoint", metavar="FILE",
+                   help="save the render's state to this file every --checkpoint-interval "
+                   "seconds, at the end, and on Ctrl-C: --resume continues it to the image an "
+                   "uninterrupted render makes, bit for bit")
+    r.add_argument("--checkpoint-interval", type=_positive_seconds, default=60.0,
+                   metavar="SECONDS",
+                   help="seconds between checkpoints (saved as tiles finish) (default: 60)")
+    r.add_argument("--resume", metavar="FILE",
+                   help="continue the render saved in this checkpoint: the same scene, files and "
+                   "pixel-changing options (threads, time limit and interval may differ); another "
+                   "render's checkpoint is refused")
+    r.add_argument("--tiles-dir", metavar="DIR",
+                   help="keep each finished tile in this directory (distributed): a restarted "
+                   "render loads the tiles of the same render there and renders only the others")
     _add_render_options(r)
     return p
 

@@ -81,7 +81,14 @@ class Stats(TypedDict, total=False):
     time: Times
     mrays_per_s: float
     bad_samples: int
+    ended: Literal["complete", "time-limit", "interrupted"]
     region: list[int]  # render_region only: [x0, y0, x1, y1]
+
+#: What ``on_pass`` is told with the image after a pass: the passes finished (``pass``) and in
+#: all (``passes``), the seconds of rendering so far (``elapsed``, those before a resumed
+#: checkpoint included) and the rays traced so far (``rays``). Functional form: ``pass`` is a
+#: keyword.
+PassInfo = TypedDict("PassInfo", {"pass": int, "passes": int, "elapsed": float, "rays": int})
 
 class Settings(TypedDict):
     width: int
@@ -185,6 +192,12 @@ class Scene:
         progress: Callable[[int, int], object] | None = None,
     ) -> Settings:
         """Validates (builds and caches) the scene with these options; returns the settings in force."""
+    def digest(
+        self, region: tuple[int, int, int, int] | None = None, **options: Any
+    ) -> str:
+        """The SHA-256 (hex) a render of ``region`` (None: the frame) with these render options
+        is tied to: the description after the options and the bytes of every file it reads.
+        Checkpoints and ``penumbra.distributed`` tile files of another digest are refused."""
     def __reduce__(self) -> tuple[Any, ...]: ...
     def __dask_tokenize__(self) -> tuple[Any, ...]: ...
 
@@ -309,6 +322,11 @@ def render(
     min_spp: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
+    time_limit: float | None = None,
+    checkpoint: StrPath | None = None,
+    checkpoint_interval: float = 60.0,
+    resume: StrPath | None = None,
+    on_pass: Callable[[Image, PassInfo], object] | None = None,
 ) -> tuple[Image, Stats]:
     """Renders the frame: a float32 (height, width, 3) linear-RGB image and the stats document.
 
@@ -377,6 +395,11 @@ def render_region(
     min_spp: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
+    time_limit: float | None = None,
+    checkpoint: StrPath | None = None,
+    checkpoint_interval: float = 60.0,
+    resume: StrPath | None = None,
+    on_pass: Callable[[Image, PassInfo], object] | None = None,
 ) -> tuple[Image, Stats]:
     """Renders pixels [x0, x1) × [y0, y1) with their full-frame values: tiles stitch exactly."""
 

@@ -25,10 +25,15 @@ and is re-raised here.
 from __future__ import annotations
 
 import copy
+import hashlib
+import json
+import os
+import tempfile
 import time
 import uuid
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -86,6 +91,7 @@ def render(
     tile: int = DEFAULT_TILE,
     retries: int = DEFAULT_RETRIES,
     progress: Progress | None = None,
+    tiles_dir: str | os.PathLike[str] | None = None,
     **options: Any,
 ) -> tuple[np.ndarray, dict[str, Any]]:
     """Renders one frame on a Dask cluster, tile by tile. Returns ``(image, stats)``.
@@ -97,6 +103,18 @@ def render(
     stats are merged (see :func:`merge_stats`): ray counts add up exactly to
     the local render's. ``progress(done_tiles, total_tiles)`` is called on
     this thread as tiles arrive.
+
+    ``tiles_dir`` names a directory (made if missing) where each finished
+    tile is kept, written atomically with the render's digest
+    (:meth:`penumbra.Scene.digest`) and its region: a render restarted with
+    the same directory, scene, files and options loads the tiles there and
+    submits only the others, and makes the same image. A tile file of
+    another render (another digest or tile) or a damaged one is never
+    trusted: it is rendered again and replaced, with a warning. A tile
+    that cannot be written raises OSError (the tasks left are cancelled;
+    the tiles written are kept). The stats then count the rays of every
+    tile, loaded or rendered, and ``tiles_loaded`` says how many were
+    loaded.
 
     The scene is validated here first (which loads its meshes on the client
     once) so that a bad scene raises :class:`penumbra.SceneError` before any
@@ -114,31 +132,58 @@ def render(
         for x0, y0, x1, y1 in tiles(cx1 - cx0, cy1 - cy0, tile)
     ]
     started = time.perf_counter()
-    scattered, run = _scatter(client, scene)
-    futures = [
-        client.submit(
-            _tile_task,
-            scattered,
-            region,
-            options,
-            key=f"penumbra-tile-{run}-{i}",
-            retries=retries,
-            pure=True,
-        )
-        for i, region in enumerate(regions)
-    ]
+    kept: _TileStore | None = None
+    loaded: dict[tuple[int, int, int, int], tuple[np.ndarray, dict[str, Any], tuple[str, int]]] = {}
+    if tiles_dir is not None:
+        kept = _TileStore(Path(tiles_dir), scene.digest(**options))
+        for region in regions:
+            found = kept.load(region)
+            if found is not None:
+                loaded[region] = found
+    missing = [region for region in regions if region not in loaded]
+    futures = []
+    if missing:
+        scattered, run = _scatter(client, scene)
+        futures = [
+            client.submit(
+                _tile_task,
+                scattered,
+                region,
+                options,
+                key=f"penumbra-tile-{run}-{i}",
+                retries=retries,
+                pure=True,
+            )
+            for i, region in enumerate(missing)
+        ]
     image: np.ndarray | None = None
     parts: list[tuple[dict[str, Any], tuple[str, int]]] = []
-    for (x0, y0, x1, y1), tile_image, stats, worker in _collect(client, futures, progress):
+
+    def place(region: tuple[int, int, int, int], tile_image: np.ndarray) -> None:
+        nonlocal image
+        x0, y0, x1, y1 = region
         if image is None:
             # RGB, and the channels an `aov` or `moment` integrator writes.
             channels = tile_image.shape[2]
             image = np.zeros((cy1 - cy0, cx1 - cx0, channels), dtype=np.float32)
         image[y0 - cy0 : y1 - cy0, x0 - cx0 : x1 - cx0] = tile_image
+
+    for region, (tile_image, stats, worker) in loaded.items():
+        place(region, tile_image)
+        parts.append((stats, worker))
+    done = (len(loaded), len(regions))
+    if loaded and progress is not None:
+        progress(*done)
+    for region, tile_image, stats, worker in _collect(client, futures, progress, done):
+        if kept is not None:
+            kept.save(tuple(region), tile_image, stats, worker)
+        place(tuple(region), tile_image)
         parts.append((stats, worker))
     wall = time.perf_counter() - started
     merged = merge_stats(parts, wall_s=wall)
     merged["tile"] = tile
+    if kept is not None:
+        merged["tiles_loaded"] = len(loaded)
     assert image is not None
     return image, merged
 
@@ -341,22 +386,169 @@ def _worker() -> tuple[str, int]:
 
 
 # ---------------------------------------------------------------------------
+# Tiles kept on disk
+
+#: The first bytes of a tile file.
+TILE_MAGIC = b"PENUMBRA-TILE\r\n"
+
+#: The version of a tile file's layout.
+TILE_FORMAT = 1
+
+
+class _TileStore:
+    """The finished tiles of one render in a directory, one file each.
+
+    A file is: :data:`TILE_MAGIC`; the length of the header (8 bytes,
+    little-endian); the header, JSON: ``format``, ``digest`` (the render's,
+    :meth:`penumbra.Scene.digest`), ``region`` ``[x0, y0, x1, y1]``,
+    ``shape`` of the pixels, ``sha256`` of the pixels, the tile's ``stats``
+    and ``worker``; then the pixels, float32 little-endian, row by row. It
+    is written whole to a temporary file in the directory, flushed to the
+    disk and renamed over the tile's name, so a file of that name is
+    always whole: a crash while writing leaves at most a stray temporary.
+    """
+
+    def __init__(self, directory: Path, digest: str) -> None:
+        directory.mkdir(parents=True, exist_ok=True)
+        self.directory = directory
+        self.digest = digest
+
+    def path(self, region: tuple[int, int, int, int]) -> Path:
+        return self.directory / ("tile-{}-{}-{}-{}.bin".format(*region))
+
+    def load(
+        self, region: tuple[int, int, int, int]
+    ) -> tuple[np.ndarray, dict[str, Any], tuple[str, int]] | None:
+        """The tile of ``region`` kept in the directory, or None when there
+        is none or it is not this render's or damaged (with a warning)."""
+        path = self.path(region)
+        try:
+            data = path.read_bytes()
+        except FileNotFoundError:
+            return None
+        except OSError as e:
+            warnings.warn(f"{path}: cannot read the tile ({e}); rendering it again", stacklevel=3)
+            return None
+        try:
+            return self._decode(data, region)
+        except _NotThisTile as e:
+            warnings.warn(f"{path}: {e}; rendering it again", stacklevel=3)
+            return None
+
+    def _decode(
+        self, data: bytes, region: tuple[int, int, int, int]
+    ) -> tuple[np.ndarray, dict[str, Any], tuple[str, int]]:
+        if not data.startswith(TILE_MAGIC):
+            raise _NotThisTile("not a Penumbra tile file")
+        at = len(TILE_MAGIC)
+        length = int.from_bytes(data[at : at + 8], "little")
+        at += 8
+        if length > len(data) - at:
+            raise _NotThisTile("the tile file is damaged (truncated header)")
+        try:
+            header = json.loads(data[at : at + length])
+            fmt, digest = header["format"], header["digest"]
+            stored_region = tuple(int(v) for v in header["region"])
+            shape = tuple(int(v) for v in header["shape"])
+            checksum, stats = header["sha256"], header["stats"]
+            worker = (str(header["worker"][0]), int(header["worker"][1]))
+        except (ValueError, KeyError, TypeError, IndexError) as e:
+            raise _NotThisTile(f"the tile file is damaged (header: {e})") from None
+        if fmt != TILE_FORMAT:
+            raise _NotThisTile(f"the tile file is of format {fmt!r}, not {TILE_FORMAT}")
+        if digest != self.digest:
+            raise _NotThisTile(
+                "the tile is of another render: the scene, a file it reads or an option "
+                f"that changes the pixels differs (its digest {digest}, this render's {self.digest})"
+            )
+        x0, y0, x1, y1 = region
+        if stored_region != region or len(shape) != 3 or shape[:2] != (y1 - y0, x1 - x0):
+            raise _NotThisTile(f"the tile is of region {list(stored_region)}, not {list(region)}")
+        pixels = data[at + length :]
+        if len(pixels) != 4 * shape[0] * shape[1] * shape[2]:
+            raise _NotThisTile("the tile file is damaged (its pixels are truncated)")
+        if hashlib.sha256(pixels).hexdigest() != checksum:
+            raise _NotThisTile("the tile file is damaged (its pixels do not match their checksum)")
+        image = np.frombuffer(pixels, dtype="<f4").reshape(shape).astype(np.float32)
+        return image, stats, worker
+
+    def save(
+        self,
+        region: tuple[int, int, int, int],
+        image: np.ndarray,
+        stats: Mapping[str, Any],
+        worker: tuple[str, int],
+    ) -> None:
+        pixels = np.ascontiguousarray(image, dtype="<f4").tobytes()
+        header = json.dumps(
+            {
+                "format": TILE_FORMAT,
+                "digest": self.digest,
+                "region": list(region),
+                "shape": list(image.shape),
+                "sha256": hashlib.sha256(pixels).hexdigest(),
+                "stats": stats,
+                "worker": list(worker),
+            }
+        ).encode()
+        data = TILE_MAGIC + len(header).to_bytes(8, "little") + header + pixels
+        path = self.path(region)
+        fd, tmp = tempfile.mkstemp(prefix=".tile-", suffix=".partial", dir=self.directory)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        _sync_directory(self.directory)
+
+
+class _NotThisTile(Exception):
+    """Why a tile file is not used."""
+
+
+def _sync_directory(directory: Path) -> None:
+    """Flushes a rename in ``directory`` to the disk, where the system can."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+# ---------------------------------------------------------------------------
 # Helpers
 
 
-def _collect(client: Client, futures: list, progress: Progress | None):
+def _collect(
+    client: Client,
+    futures: list,
+    progress: Progress | None,
+    before: tuple[int, int] | None = None,
+):
     """Yields task results as they complete. On any exception (including
-    KeyboardInterrupt) the remaining tasks are cancelled."""
+    KeyboardInterrupt) the remaining tasks are cancelled. ``before`` is
+    ``(done, total)`` of work done without tasks (tiles loaded), which
+    ``progress`` counts too."""
+    start, total = before if before is not None else (0, len(futures))
     finished = False
     try:
-        for done, future in enumerate(as_completed(futures), 1):
+        for done, future in enumerate(as_completed(futures), start + 1):
             result = future.result()
             future.release()
             if isinstance(result, TaskFailure):
                 raise result.error
             yield result
             if progress is not None:
-                progress(done, len(futures))
+                progress(done, total)
         finished = True
     finally:
         if not finished:

@@ -21,8 +21,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use numpy::{PyArray3, PyArrayMethods};
-use penumbra::render::{stats_document, Region, RenderOptions};
+use penumbra::render::{stats_document, Checkpointing, Region, RenderOptions};
+use pyo3::exceptions::{PyFileNotFoundError, PyTypeError};
+use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Duration;
 
 use penumbra::sampling::{Distribution, PointTable, Rng};
 use penumbra::scene::{read_points, Points};
@@ -45,24 +48,46 @@ const MAX_SAMPLES: i64 = 100_000;
 /// first). Options override the scene's values exactly as the command line's
 /// do. The GIL is released while rendering; Ctrl-C stops the render and
 /// raises KeyboardInterrupt.
+///
+/// A render may be progressive, as `penumbra render`'s flags of the same
+/// names: no tile starts after `time_limit` seconds (the image holds the
+/// samples so far and `stats["ended"]` is `"time-limit"`); `checkpoint`
+/// names a file the render's state is saved to (atomically) every
+/// `checkpoint_interval` seconds, at the end and on Ctrl-C (which then
+/// raises KeyboardInterrupt once it is saved); `resume` continues the
+/// render saved in a checkpoint to the very pixels an uninterrupted render
+/// makes. A checkpoint of another scene, file content, option that changes
+/// the pixels or version is refused with a ValueError naming the file and
+/// left as it is; one that cannot be read or saved raises OSError.
+/// `on_pass(image, info)` is called on this thread after each pass but the
+/// last (a render of several passes: `passes`, or an integrator's own),
+/// with the image so far (an array as the one returned) and a dict of
+/// `pass`, `passes`, `elapsed` (seconds) and `rays` (traced so far).
 #[pyfunction]
 #[pyo3(
-    signature = (scene, **options),
+    signature = (scene, *, time_limit = None, checkpoint = None, checkpoint_interval = None, resume = None, on_pass = None, **options),
     text_signature = "(scene, *, integrator=None, width=None, height=None, spp=None, passes=None, shadow_rays=None, \
 reflection_rays=None, refraction_rays=None, distribution=None, pixel_distribution=None, \
 lens_distribution=None, time_distribution=None, shadow_distribution=None, \
 reflection_distribution=None, refraction_distribution=None, points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, alpha=None, aperture=None, \
 focal_distance=None, max_depth=None, rr_depth=None, hide_emitters=None, sets_depth=None, path_sampler=None, light_sampler=None, emitter_samples=None, bsdf_samples=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
-metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None, time_limit=None, checkpoint=None, checkpoint_interval=60.0, resume=None, on_pass=None)"
 )]
+#[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
     scene: &Bound<'py, Scene>,
+    time_limit: Option<&Bound<'py, PyAny>>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_interval: Option<&Bound<'py, PyAny>>,
+    resume: Option<PathBuf>,
+    on_pass: Option<&Bound<'py, PyAny>>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let opts = parse_options("render", options)?;
-    render_impl(py, scene.get(), &opts, None)
+    let run = RunArgs::parse(time_limit, checkpoint, checkpoint_interval, resume, on_pass)?;
+    render_impl(py, scene.get(), &opts, &run, None)
 }
 
 /// Renders the pixels `[x0, x1) × [y0, y1)` of the frame. Returns `(image, stats)`.
@@ -70,17 +95,18 @@ fn render<'py>(
 /// Every pixel keeps the value it has in the full frame (pixels are seeded by
 /// their frame coordinates), so tiles rendered separately, on any machine,
 /// stitch into exactly the full-frame image. The stats count this region's
-/// rays only and carry a `region` entry `[x0, y0, x1, y1]`.
+/// rays only and carry a `region` entry `[x0, y0, x1, y1]`. The progressive
+/// arguments are `render`'s; a checkpoint is of the region.
 #[pyfunction]
 #[pyo3(
-    signature = (scene, x0, y0, x1, y1, **options),
+    signature = (scene, x0, y0, x1, y1, *, time_limit = None, checkpoint = None, checkpoint_interval = None, resume = None, on_pass = None, **options),
     text_signature = "(scene, x0, y0, x1, y1, *, integrator=None, width=None, height=None, spp=None, passes=None, \
 shadow_rays=None, reflection_rays=None, refraction_rays=None, distribution=None, \
 pixel_distribution=None, lens_distribution=None, time_distribution=None, \
 shadow_distribution=None, reflection_distribution=None, refraction_distribution=None, \
 points=None, filter=None, filter_radius=None, filter_stddev=None, filter_b=None, filter_c=None, filter_lobes=None, splat=None, filter_steps=None, sample_border=None, alpha=None, aperture=None, focal_distance=None, max_depth=None, rr_depth=None, hide_emitters=None, sets_depth=None, path_sampler=None, light_sampler=None, emitter_samples=None, bsdf_samples=None, seed=None, metric=None, reflection_metric=None, \
 shadow_metric=None, metric_threshold=None, \
-metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None)"
+metric_min_rays=None, shadow_metric_rays=None, pixel_metric=None, noise_threshold=None, stop_rule=None, confidence=None, replicas=None, noise_floor=None, min_spp=None, threads=None, progress=None, time_limit=None, checkpoint=None, checkpoint_interval=60.0, resume=None, on_pass=None)"
 )]
 #[allow(clippy::too_many_arguments)]
 fn render_region<'py>(
@@ -90,9 +116,15 @@ fn render_region<'py>(
     y0: &Bound<'py, PyAny>,
     x1: &Bound<'py, PyAny>,
     y1: &Bound<'py, PyAny>,
+    time_limit: Option<&Bound<'py, PyAny>>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_interval: Option<&Bound<'py, PyAny>>,
+    resume: Option<PathBuf>,
+    on_pass: Option<&Bound<'py, PyAny>>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let opts = parse_options("render_region", options)?;
+    let run = RunArgs::parse(time_limit, checkpoint, checkpoint_interval, resume, on_pass)?;
     let coord = |name: &str, v: &Bound<'py, PyAny>| -> PyResult<u32> {
         let v = ranged_int(name, v, 0, i64::from(u32::MAX))?;
         u32::try_from(v).map_err(|_| options::value_error(format!("{name} is out of range")))
@@ -103,16 +135,103 @@ fn render_region<'py>(
         x1: coord("x1", x1)?,
         y1: coord("y1", y1)?,
     };
-    render_impl(py, scene.get(), &opts, Some(region))
+    render_impl(py, scene.get(), &opts, &run, Some(region))
+}
+
+/// The arguments of a progressive render: when it ends, what it shows
+/// after each pass, where it keeps its state.
+struct RunArgs {
+    time_limit: Option<Duration>,
+    checkpoint: Option<PathBuf>,
+    interval: Duration,
+    resume: Option<PathBuf>,
+    on_pass: Option<Py<PyAny>>,
+}
+
+impl RunArgs {
+    fn parse(
+        time_limit: Option<&Bound<'_, PyAny>>,
+        checkpoint: Option<PathBuf>,
+        interval: Option<&Bound<'_, PyAny>>,
+        resume: Option<PathBuf>,
+        on_pass: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<RunArgs> {
+        let on_pass = match on_pass.filter(|f| !f.is_none()) {
+            Some(f) if !f.is_callable() => {
+                return Err(PyTypeError::new_err(
+                    "on_pass must be a callable on_pass(image, info) or None",
+                ))
+            }
+            f => f.map(|f| f.clone().unbind()),
+        };
+        if let Some(path) = resume.as_ref().filter(|p| !p.exists()) {
+            return Err(PyFileNotFoundError::new_err(format!(
+                "{}: no such checkpoint to resume",
+                path.display()
+            )));
+        }
+        if let Some(path) = &checkpoint {
+            // Fail now, not after the first interval of rendering.
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                if !dir.is_dir() {
+                    return Err(PyFileNotFoundError::new_err(format!(
+                        "{}: directory {} does not exist",
+                        path.display(),
+                        dir.display()
+                    )));
+                }
+            }
+        }
+        Ok(RunArgs {
+            time_limit: time_limit
+                .filter(|t| !t.is_none())
+                .map(|t| seconds("time_limit", t))
+                .transpose()?,
+            checkpoint,
+            interval: interval
+                .filter(|t| !t.is_none())
+                .map_or(Ok(Duration::from_secs(60)), |t| {
+                    seconds("checkpoint_interval", t)
+                })?,
+            resume,
+            on_pass,
+        })
+    }
+}
+
+/// A positive, finite number of seconds (an int or a float).
+fn seconds(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Duration> {
+    if v.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be a number of seconds, got bool"
+        )));
+    }
+    let s: f64 = v
+        .extract()
+        .map_err(|_| PyTypeError::new_err(format!("{name} must be a number of seconds")))?;
+    if !(s.is_finite() && s > 0.0 && s < 1e12) {
+        return Err(options::value_error(format!(
+            "{name} must be a positive number of seconds, got {s}"
+        )));
+    }
+    Ok(Duration::from_secs_f64(s))
 }
 
 fn render_impl<'py>(
     py: Python<'py>,
     scene: &Scene,
     opts: &Options,
+    args: &RunArgs,
     region: Option<Region>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
-    let built = scene.build(py, opts)?;
+    let checkpointing = args.checkpoint.is_some() || args.resume.is_some();
+    let (built, digest) = match checkpointing {
+        true => {
+            let (built, digest) = scene.build_with_digest(py, opts, region)?;
+            (built, Some(digest))
+        }
+        false => (scene.build(py, opts)?, None),
+    };
     let s = &built.settings;
     if let Some(r) = region {
         if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > s.width || r.y1 > s.height {
@@ -130,7 +249,18 @@ fn render_impl<'py>(
         threads: opts.threads,
         region,
     };
-    let (image, stats) = run::render(py, &built, &render_opts, opts.progress.as_ref())?;
+    let run = run::Run {
+        progress: opts.progress.as_ref(),
+        on_pass: args.on_pass.as_ref(),
+        time_limit: args.time_limit,
+        checkpoint: digest.map(|digest| Checkpointing {
+            save: args.checkpoint.clone(),
+            interval: args.interval,
+            resume: args.resume.clone(),
+            digest,
+        }),
+    };
+    let (image, stats) = run::render(py, &built, &render_opts, run)?;
     if stats.bad_samples > 0 {
         let first: Vec<String> = stats
             .first_bad_samples

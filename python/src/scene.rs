@@ -20,15 +20,20 @@ use serde_json::Value;
 
 use penumbra::description::mitsuba::dict::DictValue;
 use penumbra::description::toml_to_json;
+use penumbra::input::{note_read, recording_reads};
+use penumbra::render::{render_digest, Digest, DigestInput, Region};
 use penumbra::scene::{
-    default_bunny_path, LoadOptions, Scene as Built, SceneError as LibSceneError, SceneSource,
-    WorldCache,
+    default_bunny_path, LoadOptions, Points, Scene as Built, SceneError as LibSceneError,
+    SceneSource, WorldCache,
 };
 
 use crate::convert::{json_to_py, json_to_py_with, py_to_dict_value, py_to_json, ToPy};
 use crate::error::SceneError;
 use crate::options::{parse_options, Options};
 use crate::points::function_table;
+
+/// How the library labels the text of a built-in scene (`SceneSource::open`).
+const BUILTIN_LABEL: &str = "<built-in scene ";
 
 /// The text a scene was read from.
 #[derive(Clone, Debug)]
@@ -118,20 +123,60 @@ impl Scene {
     /// taken from an earlier build with the same geometry and mesh files;
     /// a `points=` function is called for the set sizes of the built scene.
     pub fn build(&self, py: Python<'_>, opts: &Options) -> PyResult<Built> {
-        let mut source = self.source().map_err(scene_error)?;
-        opts.overrides.apply(&mut source);
-        let built = py.detach(|| {
-            let mut worlds = self.worlds.lock().unwrap_or_else(|e| e.into_inner());
-            source.build_reusing(&mut worlds)
+        Ok(self.build_recorded(py, opts)?.0)
+    }
+
+    /// [`build`](Self::build), and the digest a checkpoint of a render of
+    /// `region` of it is tied to: the description as the options left it,
+    /// every file the build read (those of a reused world too: the cache
+    /// records them as read again), and the points given as an array or
+    /// made by a function.
+    pub fn build_with_digest(
+        &self,
+        py: Python<'_>,
+        opts: &Options,
+        region: Option<Region>,
+    ) -> PyResult<(Built, Digest)> {
+        let (built, source, mut reads) = self.build_recorded(py, opts)?;
+        if let Some(Points::Table(_)) = &opts.overrides.points {
+            let table = format!("{:?}", built.settings.points);
+            reads.push(DigestInput::new().add(table.as_bytes()).finish().0);
+        }
+        Ok((built, render_digest(&source, &reads, region)))
+    }
+
+    /// The scene built, its source after the options, and the digests of
+    /// the files read to build it (the XML file and its includes, meshes,
+    /// textures, volumes, point files).
+    fn build_recorded(
+        &self,
+        py: Python<'_>,
+        opts: &Options,
+    ) -> PyResult<(Built, SceneSource, Vec<[u8; 32]>)> {
+        let (built, reads) = recording_reads(|| -> PyResult<_> {
+            // Read from a file: as `penumbra render` reads it first, so
+            // that the two tie their checkpoints to the same digest.
+            if let Text::Toml { text, file } = &self.text {
+                if !file.to_string_lossy().starts_with(BUILTIN_LABEL) {
+                    note_read(text.as_bytes());
+                }
+            }
+            let mut source = self.source().map_err(scene_error)?;
+            opts.overrides.apply(&mut source);
+            let built = py.detach(|| {
+                let mut worlds = self.worlds.lock().unwrap_or_else(|e| e.into_inner());
+                source.build_reusing(&mut worlds)
+            });
+            Ok((built.map_err(scene_error)?, source))
         });
-        let mut built = built.map_err(scene_error)?;
+        let (mut built, source) = built?;
         if let Some(f) = &opts.points_fn {
             let sizes = built.custom_set_sizes();
             if !sizes.is_empty() {
                 built.settings.points = Arc::new(function_table(f.bind(py), &sizes)?);
             }
         }
-        Ok(built)
+        Ok((built, source, reads))
     }
 
     /// The TOML scene file the description converts to (`penumbra
@@ -314,6 +359,26 @@ impl Scene {
             "warnings": built.warnings,
         });
         json_to_py(py, &doc)
+    }
+
+    /// The digest (64 hex digits) a render of this scene with these render
+    /// options is tied to: of its description after the options, the
+    /// bytes of every file it reads (meshes, textures, an XML file and its
+    /// includes) and `region` (`(x0, y0, x1, y1)`; None: the whole frame).
+    /// A checkpoint, or a tile `penumbra.distributed.render` keeps in its
+    /// `tiles_dir`, of another digest is refused. Builds the scene as
+    /// `settings` does (raising SceneError for an invalid one).
+    #[pyo3(signature = (region = None, **options))]
+    fn digest(
+        &self,
+        py: Python<'_>,
+        region: Option<(u32, u32, u32, u32)>,
+        options: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<String> {
+        let opts = parse_options("digest", options)?;
+        let region = region.map(|(x0, y0, x1, y1)| Region { x0, y0, x1, y1 });
+        let (_, digest) = self.build_with_digest(py, &opts, region)?;
+        Ok(digest.hex())
     }
 
     /// Rebuilds a scene from `__reduce__`'s state (used by pickle).

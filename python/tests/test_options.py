@@ -49,10 +49,15 @@ def test_render_options_are_the_tables_and_progress():
     assert [f["name"] for f in FLAGS] + ["progress"] == list(penumbra.RENDER_OPTIONS)
 
 
+#: The arguments of a progressive render, after the render options.
+PROGRESSIVE = ["time_limit", "checkpoint", "checkpoint_interval", "resume", "on_pass"]
+
+
 @pytest.mark.parametrize("func", [penumbra.render, penumbra.render_region])
 def test_signatures_list_every_option(func):
     params = inspect.signature(func).parameters.values()
-    assert [p.name for p in params if p.kind is p.KEYWORD_ONLY] == list(penumbra.RENDER_OPTIONS)
+    keywords = [p.name for p in params if p.kind is p.KEYWORD_ONLY]
+    assert keywords == list(penumbra.RENDER_OPTIONS) + PROGRESSIVE
 
 
 def _stub(name: str) -> ast.FunctionDef:
@@ -66,7 +71,8 @@ def _stub(name: str) -> ast.FunctionDef:
 @pytest.mark.parametrize("name", ["render", "render_region", "Scene.settings"])
 def test_stubs_type_every_option(name):
     stub = {a.arg: ast.unparse(a.annotation) for a in _stub(name).args.kwonlyargs}
-    assert list(stub) == list(penumbra.RENDER_OPTIONS)
+    progressive = PROGRESSIVE if name != "Scene.settings" else []
+    assert list(stub) == list(penumbra.RENDER_OPTIONS) + progressive
     for f in FLAGS:
         assert stub[f["name"]] == ANNOTATIONS[f["kind"]], f["name"]
 
@@ -89,12 +95,17 @@ def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
     # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE, as its workers do);
     # --define, --search, --sensor and --lenient set how a Mitsuba XML scene is read, which only the
     # binary reads.
+    # --time-limit, --checkpoint, --checkpoint-interval and --resume are both's (checked below).
+    progressive = {"--time-limit", "--checkpoint", "--checkpoint-interval", "--resume"}
     binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--define",
-                     "--search", "--sensor", "--lenient"}
+                     "--search", "--sensor", "--lenient", *progressive}
+    # --preview and --bind serve the binary's live view in a browser.
+    binary_others |= {"--preview", "--bind"}
     assert _flags(binary.stdout) - binary_others == expected
     module = subprocess.run(
         [sys.executable, "-m", "penumbra", "render", "--help"], capture_output=True, text=True, check=True
     )
     others = {"--output", "--scheduler", "--local-workers", "--tile", "--retries", "--stats", "--bunny",
-              "--quiet", "--help"}
+              "--quiet", "--help", "--tiles-dir", *progressive}
     assert _flags(module.stdout) - others == expected
+    assert progressive <= _flags(binary.stdout) and progressive <= _flags(module.stdout)

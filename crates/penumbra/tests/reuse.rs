@@ -214,3 +214,31 @@ fn errors_are_those_of_a_fresh_build() {
     }
     assert_eq!(worlds.len(), 1, "a failed build keeps nothing");
 }
+
+/// A build that reuses a world records the files read to build it, as a
+/// fresh build does: a checkpoint's digest is the same with or without
+/// the cache, and changes with a mesh file rewritten.
+#[test]
+fn reused_worlds_record_the_files_they_were_read_from() {
+    let dir = tent_dir();
+    let dir = dir.path();
+    let text = scene_text(0.4, 1.0, "");
+    let s = source(dir, &text, &Overrides::default());
+    let (_, fresh) = penumbra::input::recording_reads(|| s.build().expect("builds"));
+    use sha2::Digest as _;
+    let tent: [u8; 32] = sha2::Sha256::digest(TENT.as_bytes()).into();
+    assert_eq!(fresh, vec![tent]);
+    let mut worlds = WorldCache::default();
+    let (first, built) = penumbra::input::recording_reads(|| reused(&s, &mut worlds));
+    let (second, again) = penumbra::input::recording_reads(|| reused(&s, &mut worlds));
+    assert!(Arc::ptr_eq(&first.world, &second.world));
+    assert_eq!(built, fresh);
+    assert_eq!(again, fresh);
+    // Rewritten (another length): read again, and recorded as it is now.
+    let bigger = format!("{TENT}f 1 2 5\n");
+    std::fs::write(dir.join("tent.obj"), &bigger).expect("writes");
+    let (third, changed) = penumbra::input::recording_reads(|| reused(&s, &mut worlds));
+    assert!(!Arc::ptr_eq(&first.world, &third.world));
+    let bigger: [u8; 32] = sha2::Sha256::digest(bigger.as_bytes()).into();
+    assert_eq!(changed, vec![bigger]);
+}

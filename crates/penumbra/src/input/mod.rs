@@ -46,7 +46,23 @@ pub fn recording_reads<R>(f: impl FnOnce() -> R) -> (R, Vec<[u8; 32]>) {
     (result, reads.unwrap_or_default())
 }
 
-fn note_read(bytes: &[u8]) {
+/// Records, in a recording running on this thread, the files of digests
+/// `reads` as read now: a cache that skips reading files it read before
+/// (`scene::WorldCache`) reports them, so that what a render depends on is
+/// the same with or without the cache.
+pub fn note_reads(reads: &[[u8; 32]]) {
+    READS.with(|r| {
+        if let Some(recorded) = r.borrow_mut().as_mut() {
+            recorded.extend_from_slice(reads);
+        }
+    });
+}
+
+/// Records, in a recording running on this thread, a file of these bytes
+/// as read now: for a reader that holds a file's text read earlier (the
+/// Python API keeps a scene file's text and parses it again for each
+/// render), so that a render depends on what the command line's does.
+pub fn note_read(bytes: &[u8]) {
     READS.with(|r| {
         if let Some(reads) = r.borrow_mut().as_mut() {
             use sha2::Digest as _;

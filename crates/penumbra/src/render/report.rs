@@ -68,6 +68,7 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         },
         "mrays_per_s": mrays,
         "bad_samples": stats.bad_samples,
+        "ended": stats.ended,
     })
 }
 

@@ -94,9 +94,16 @@ pub fn build(
         .as_deref()
         .zip(worlds.as_deref_mut())
         .and_then(|(k, w)| w.get(k));
-    let (mut objects, meshes, attributes) = match reused {
-        Some(_) => (Vec::new(), Vec::new(), HashMap::new()),
-        None => objects(root, ctx, &names)?,
+    // The files the objects read, kept with the world for a build that
+    // reuses it (and recorded for this build's recording too).
+    let (mut objects, meshes, attributes, reads) = match reused {
+        Some(_) => (Vec::new(), Vec::new(), HashMap::new(), Vec::new()),
+        None => {
+            let (built, reads) = crate::input::recording_reads(|| objects(root, ctx, &names));
+            crate::input::note_reads(&reads);
+            let (objects, meshes, attributes) = built?;
+            (objects, meshes, attributes, reads)
+        }
     };
     let meshes: Arc<[Mesh]> = meshes.into();
     // The emitters in the tree's order: a light of its own where the tree
@@ -176,7 +183,7 @@ pub fn build(
     let world = reused.unwrap_or_else(|| {
         let world = Arc::new(World::new(objects, meshes));
         if let (Some(k), Some(w)) = (key, worlds) {
-            w.insert(k, Arc::clone(&world));
+            w.insert(k, Arc::clone(&world), reads);
         }
         world
     });

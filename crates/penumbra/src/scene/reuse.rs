@@ -22,9 +22,11 @@ use crate::description::{Kind, Node, Value};
 const DEFAULT_CAPACITY: usize = 4;
 
 /// Built worlds, most recently used last, each under a key naming
-/// everything it was made from (see `SceneSource::build_reusing`).
+/// everything it was made from (see `SceneSource::build_reusing`), with
+/// the digests of the files read to build it: a build that reuses a world
+/// records them as read again ([`crate::input::recording_reads`]).
 pub struct WorldCache {
-    entries: Vec<(String, Arc<World>)>,
+    entries: Vec<(String, Arc<World>, Vec<[u8; 32]>)>,
     capacity: usize,
 }
 
@@ -52,22 +54,25 @@ impl WorldCache {
         self.entries.is_empty()
     }
 
-    /// The world built under `key`, now the most recently used.
+    /// The world built under `key`, now the most recently used; the files
+    /// read to build it are recorded as read.
     pub(super) fn get(&mut self, key: &str) -> Option<Arc<World>> {
-        let i = self.entries.iter().position(|(k, _)| k == key)?;
+        let i = self.entries.iter().position(|(k, ..)| k == key)?;
         let entry = self.entries.remove(i);
         let world = Arc::clone(&entry.1);
+        crate::input::note_reads(&entry.2);
         self.entries.push(entry);
         Some(world)
     }
 
-    /// Keeps `world` under `key`, dropping the least recently used if full.
-    pub(super) fn insert(&mut self, key: String, world: Arc<World>) {
-        self.entries.retain(|(k, _)| *k != key);
+    /// Keeps `world`, built by reading the files of digests `reads`, under
+    /// `key`, dropping the least recently used if full.
+    pub(super) fn insert(&mut self, key: String, world: Arc<World>, reads: Vec<[u8; 32]>) {
+        self.entries.retain(|(k, ..)| *k != key);
         if self.entries.len() >= self.capacity {
             self.entries.remove(0);
         }
-        self.entries.push((key, world));
+        self.entries.push((key, world, reads));
     }
 }
 
