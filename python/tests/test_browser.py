@@ -351,3 +351,48 @@ def test_preview_screenshot(serve, browser, tmp_path):
     assert browser.save_screenshot(str(path))
     assert path.stat().st_size > 10_000
     assert console_errors(browser) == []
+
+
+# ---------------------------------------------------------------- the explorer page
+
+
+def open_explorer(driver, server: Server) -> np.ndarray:
+    """Opens the explorer and waits for its form and a first frame; returns
+    the canvas once it has settled."""
+    driver.get(server.url)
+    wait_for(lambda: driver.find_elements("id", "c-integrator"), "the generated controls")
+    wait_for(lambda: shown_pass(driver) >= 1, "the first frame")
+    return stable_pixels(driver, quiet=1.0)
+
+
+def test_explorer_controls_come_from_the_schema_and_change_the_render(serve, browser, tmp_path):
+    server = serve("explore", "--width", "96", "--height", "72", "--spp", "4", "--threads", "1",
+                   "--port", "0", label="explore")
+    before = open_explorer(browser, server)
+    # Every control the server's schema names is on the page, and nothing else.
+    schema = browser.execute_async_script("""
+        const done = arguments[arguments.length - 1];
+        const token = new URLSearchParams(location.search).get("token");
+        fetch("/schema?token=" + token).then(r => r.json()).then(s => done(s.controls.map(c => c.name)));
+    """)
+    ids = [e.get_attribute("id") for e in browser.find_elements("css selector", "#controls [id^='c-']")]
+    assert ids == [f"c-{name}" for name in schema]
+    # Choosing another pixel distribution re-renders: another run, other pixels.
+    from selenium.webdriver.support.ui import Select
+
+    Select(browser.find_element("id", "c-pixel_distribution")).select_by_value("random")
+    after = pixels_other_than(browser, before, "the image to change with the pixel distribution")
+    assert after.shape == before.shape
+    assert console_errors(browser) == []
+
+
+def test_explorer_dragging_orbits_the_camera(serve, browser, tmp_path):
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    server = serve("explore", "--width", "96", "--height", "72", "--spp", "1", "--threads", "1",
+                   "--port", "0", label="explore")
+    before = open_explorer(browser, server)
+    view = browser.find_element("id", "image")
+    ActionChains(browser).click_and_hold(view).move_by_offset(40, 0).release().perform()
+    pixels_other_than(browser, before, "the orbited camera's image")
+    assert console_errors(browser) == []

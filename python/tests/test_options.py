@@ -99,8 +99,9 @@ def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
     progressive = {"--time-limit", "--checkpoint", "--checkpoint-interval", "--resume"}
     binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--define",
                      "--search", "--sensor", "--lenient", *progressive}
-    # --preview and --bind serve the binary's live view in a browser.
-    binary_others |= {"--preview", "--bind"}
+    # --preview and --bind serve the binary's live view in a browser;
+    # --display-server streams it to tev.
+    binary_others |= {"--preview", "--bind", "--display-server"}
     assert _flags(binary.stdout) - binary_others == expected
     module = subprocess.run(
         [sys.executable, "-m", "penumbra", "render", "--help"], capture_output=True, text=True, check=True
