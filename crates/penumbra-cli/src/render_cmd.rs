@@ -104,13 +104,19 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .xml
         .load_options(args.bunny.clone().or_else(default_bunny_path));
     let choices = &args.options.0;
-    // The files the scene reads are part of what a checkpoint is tied to.
-    let (built, reads) = recording_reads(|| -> Result<_, CliError> {
+    let load = || -> Result<_, CliError> {
         let mut source = SceneSource::open(&args.scene, &opts).map_err(input)?;
         choices.overrides.apply(&mut source);
         let scene = source.build().map_err(input)?;
         Ok((source, scene))
-    });
+    };
+    // The files the scene reads are part of what a checkpoint is tied to:
+    // their digests are taken only for a render with checkpoints.
+    let checkpointing = args.checkpoint.is_some() || args.resume.is_some();
+    let (built, reads) = match checkpointing {
+        true => recording_reads(load),
+        false => (load(), Vec::new()),
+    };
     let (source, scene) = built?;
     // Channels beside the image (`aov`, `moment`) need an EXR output.
     if let Ok(config) = Config::of(&scene) {
@@ -145,7 +151,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let live = Live::start(&args.live, &args.output.display().to_string())?;
     let interrupt = || signals.either.load(Ordering::Relaxed) || live.stop_requested();
     let on_pass = |view: &PassView<'_>| live.pass(view);
-    let checkpoint = (args.checkpoint.is_some() || args.resume.is_some()).then(|| Checkpointing {
+    let checkpoint = checkpointing.then(|| Checkpointing {
         save: args.checkpoint.clone(),
         interval: Duration::from_secs_f64(args.checkpoint_interval),
         resume: args.resume.clone(),

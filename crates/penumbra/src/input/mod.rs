@@ -46,6 +46,11 @@ pub fn recording_reads<R>(f: impl FnOnce() -> R) -> (R, Vec<[u8; 32]>) {
     (result, reads.unwrap_or_default())
 }
 
+/// True while a recording runs on this thread.
+pub fn is_recording() -> bool {
+    READS.with(|r| r.borrow().is_some())
+}
+
 /// Records, in a recording running on this thread, the files of digests
 /// `reads` as read now: a cache that skips reading files it read before
 /// (`scene::WorldCache`) reports them, so that what a render depends on is

@@ -98,6 +98,12 @@ pub fn build(
     // reuses it (and recorded for this build's recording too).
     let (mut objects, meshes, attributes, reads) = match reused {
         Some(_) => (Vec::new(), Vec::new(), HashMap::new(), Vec::new()),
+        // Hashing the files costs a millisecond a megabyte: only a
+        // recording or a cache needs it.
+        None if worlds.is_none() && !crate::input::is_recording() => {
+            let (objects, meshes, attributes) = objects(root, ctx, &names)?;
+            (objects, meshes, attributes, Vec::new())
+        }
         None => {
             let (built, reads) = crate::input::recording_reads(|| objects(root, ctx, &names));
             crate::input::note_reads(&reads);
