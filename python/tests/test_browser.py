@@ -396,3 +396,19 @@ def test_explorer_dragging_orbits_the_camera(serve, browser, tmp_path):
     ActionChains(browser).click_and_hold(view).move_by_offset(40, 0).release().perform()
     pixels_other_than(browser, before, "the orbited camera's image")
     assert console_errors(browser) == []
+
+
+def test_explorer_screenshot(serve, browser, tmp_path):
+    """The explorer after a control was changed, as the docs show it."""
+    from selenium.webdriver.support.ui import Select
+
+    server = serve("explore", "--width", "320", "--height", "240", "--spp", "16", "--port", "0",
+                   label="explore")
+    before = open_explorer(browser, server)
+    Select(browser.find_element("id", "c-shadow_distribution")).select_by_value("poisson")
+    pixels_other_than(browser, before, "the render with poisson shadow sets")
+    wait_for(lambda: re.fullmatch(r"pass (\d+)/\1", text(browser, "pass")), "the last pass")
+    path = screenshot_path(tmp_path, "explore.png")
+    assert browser.save_screenshot(str(path))
+    assert path.stat().st_size > 10_000
+    assert console_errors(browser) == []

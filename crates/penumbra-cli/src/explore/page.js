@@ -72,6 +72,26 @@
       else input.value = String(value);
     }
   }
+  // The values in effect (the scene's, or chosen) where a control is not
+  // set: as its placeholder, or its select's first entry.
+  function showEffective(s) {
+    if (!s) return;
+    const effective = {
+      integrator: s.integrator, width: s.width, height: s.height, spp: s.spp, passes: s.passes,
+      pixel_distribution: s.pixel_distribution, lens_distribution: s.lens_distribution,
+    };
+    for (const effect of ["shadow", "reflection", "refraction"]) {
+      if (!s[effect]) continue;
+      effective[effect + "_rays"] = s[effect].rays;
+      effective[effect + "_distribution"] = s[effect].distribution;
+    }
+    for (const [name, value] of Object.entries(effective)) {
+      const input = inputs[name];
+      if (!input || value === undefined) continue;
+      if (input.tagName === "SELECT") input.options[0].text = `(in effect: ${value})`;
+      else if (input.type !== "checkbox") input.placeholder = String(value);
+    }
+  }
   function showSettings(info) {
     const table = $("settings");
     table.replaceChildren();
@@ -127,6 +147,7 @@
     frame: (d) => {
       if (d.info) {
         showChosen(d.info.chosen);
+        showEffective(d.info.settings);
         showSettings(d.info);
         $("scene").value = String(d.info.scene);
       }
