@@ -203,6 +203,13 @@ impl Rng {
         self.place
     }
 
+    /// Skips the next `n` values: the stream then gives what it would
+    /// after `n` draws.
+    #[inline]
+    pub fn skip(&mut self, n: u64) {
+        self.counter = self.counter.wrapping_add(n);
+    }
+
     #[inline]
     pub fn next_u64(&mut self) -> u64 {
         self.counter = self.counter.wrapping_add(1);

@@ -108,6 +108,21 @@ impl PixelSampler {
         }
     }
 
+    /// Points `part` of the unordered set [`points`](Self::points) makes,
+    /// into `out`, made alone where the distribution can; `false`, `out`
+    /// emptied, where it cannot (the caller then makes the whole set).
+    pub fn points_part(
+        &self,
+        d: Dimension,
+        (distribution, table): (Distribution, &PointTable),
+        (count, radius): (usize, f32),
+        part: std::ops::Range<usize>,
+        out: &mut Vec<Vec3>,
+    ) -> bool {
+        let mut rng = self.stream(d);
+        distribution.generate_unordered_part_in(table, (count, radius), &mut rng, part, out)
+    }
+
     /// The `count` values in [0, 1) of a one-dimensional set (times).
     pub fn values(
         &self,

@@ -370,12 +370,26 @@ pub(super) fn camera_samples(
         offsets,
         ..
     } = buf;
+    // The index in the set of the first film point made: a pass of an
+    // unordered set makes only its own points where the distribution can.
+    let mut first = 0;
     if n == 1 && s.pixel == Distribution::Grid {
         // The one grid point is the pixel centre (what `generate` returns,
         // pinned by a test below), without the set machinery: this is every
         // pixel of a Whitted render.
         film.clear();
         film.push(Vec3::ZERO);
+    } else if !ordered
+        && keep.len() < n
+        && pixel.points_part(
+            Dimension::Film,
+            (s.pixel, &s.points),
+            (n, 0.5),
+            keep.clone(),
+            film,
+        )
+    {
+        first = keep.start;
     } else {
         pixel.points(Dimension::Film, (s.pixel, &s.points), n, 0.5, ordered, film);
     }
@@ -403,10 +417,11 @@ pub(super) fn camera_samples(
     for i in keep {
         // A splatting film takes the points as they are, uniform in the
         // pixel, and weighs them where it splats them.
+        let p = film[i - first];
         let (offset, w) = if s.splat {
-            ([film[i].x, film[i].y], 1.0)
+            ([p.x, p.y], 1.0)
         } else {
-            f.sample(film[i].x, film[i].y)
+            f.sample(p.x, p.y)
         };
         weights.push(w);
         offsets.push(Vec2::from(offset));

@@ -42,6 +42,35 @@ pub(super) fn cells_unordered(
     }
 }
 
+/// Points `part` of the set of a square count in row order
+/// ([`cells_unordered`]), each offset taking `draws` values of `rng`;
+/// `false` for another count.
+pub(super) fn cells_unordered_part(
+    (count, radius): (usize, f32),
+    rng: &mut Rng,
+    part: std::ops::Range<usize>,
+    out: &mut Vec<Vec3>,
+    (mut offset, draws): (impl FnMut(&mut Rng) -> Vec2, u64),
+) -> bool {
+    let s = square_side(count);
+    if s * s != count || part.end > count {
+        return false;
+    }
+    let side = s as f32;
+    rng.skip(part.start as u64 * draws);
+    out.reserve(part.len());
+    for k in part {
+        let o = offset(rng);
+        let t = (Vec2::new((k % s) as f32, (k / s) as f32) + o) / side;
+        out.push(Vec3::new(
+            to_radius(t.x, radius),
+            to_radius(t.y, radius),
+            0.0,
+        ));
+    }
+    true
+}
+
 /// One point per cell of the `s x s` grid, in row order, appended to `out`.
 fn cell_points(
     s: usize,
@@ -83,6 +112,60 @@ mod tests {
     use super::super::testing::{cell_of, gen, offsets_one_per_cell};
     use super::super::Distribution;
     use crate::math::Vec3;
+
+    /// A part of an unordered set made alone is that part of the whole
+    /// set, bit for bit; a count that is not a square is refused.
+    #[test]
+    fn parts_of_unordered_sets_are_the_whole_sets_parts() {
+        use crate::sampling::{PointTable, Rng};
+        let table = PointTable::default();
+        for d in [
+            Distribution::Grid,
+            Distribution::Jitter,
+            Distribution::SemiJitter,
+        ] {
+            for count in [1, 4, 9, 16, 64] {
+                let mut whole = Vec::new();
+                d.generate_unordered_in(&table, count, 0.5, &mut Rng::new(7), &mut whole);
+                for part in [0..count, 0..1, count / 2..count, count - 1..count] {
+                    let mut got = Vec::new();
+                    let made = d.generate_unordered_part_in(
+                        &table,
+                        (count, 0.5),
+                        &mut Rng::new(7),
+                        part.clone(),
+                        &mut got,
+                    );
+                    assert!(made, "{d} {count}");
+                    let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+                        v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+                    };
+                    assert_eq!(
+                        bits(&got),
+                        bits(&whole[part.clone()]),
+                        "{d} {count} {part:?}"
+                    );
+                }
+            }
+            let mut out = Vec::new();
+            assert!(!d.generate_unordered_part_in(
+                &table,
+                (8, 0.5),
+                &mut Rng::new(7),
+                0..2,
+                &mut out
+            ));
+        }
+        let mut out = Vec::new();
+        let random = Distribution::Random;
+        assert!(!random.generate_unordered_part_in(
+            &table,
+            (4, 0.5),
+            &mut Rng::new(7),
+            0..2,
+            &mut out
+        ));
+    }
 
     #[test]
     fn one_point_per_cell_for_square_counts() {

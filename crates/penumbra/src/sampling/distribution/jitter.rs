@@ -16,7 +16,7 @@
 use crate::math::Vec3;
 use crate::sampling::{PointTable, Rng};
 
-use super::cells::{cells, cells_unordered, strata_1d};
+use super::cells::{cells, cells_unordered, cells_unordered_part, strata_1d};
 use super::model::{square, unit_square, DistributionModel};
 
 /// The `jitter` distribution; see the [module docs](self).
@@ -44,6 +44,17 @@ impl DistributionModel for Jitter {
         out: &mut Vec<Vec3>,
     ) {
         cells_unordered(count, radius, rng, out, unit_square);
+    }
+
+    fn generate_unordered_part(
+        _: &PointTable,
+        count: usize,
+        radius: f32,
+        rng: &mut Rng,
+        part: std::ops::Range<usize>,
+        out: &mut Vec<Vec3>,
+    ) -> bool {
+        cells_unordered_part((count, radius), rng, part, out, (unit_square, 2))
     }
 
     fn generate_1d(_: &PointTable, count: usize, rng: &mut Rng, out: &mut Vec<f32>) {

@@ -541,6 +541,26 @@ macro_rules! distributions {
                 }
             }
 
+            /// Points `part` of [`generate_unordered_in`](Self::generate_unordered_in)'s
+            /// set, made alone where the distribution can (see
+            /// [`DistributionModel::generate_unordered_part`]); `false`
+            /// where it cannot.
+            pub fn generate_unordered_part_in(
+                self,
+                table: &PointTable,
+                (count, radius): (usize, f32),
+                rng: &mut Rng,
+                part: std::ops::Range<usize>,
+                out: &mut Vec<Vec3>,
+            ) -> bool {
+                out.clear();
+                match self {
+                    $(Distribution::$variant => {
+                        <$model as DistributionModel>::generate_unordered_part(table, count, radius, rng, part, out)
+                    })*
+                }
+            }
+
             /// [`generate_1d`](Self::generate_1d), with `custom`'s points
             /// from `table` (their first coordinates, shuffled).
             pub fn generate_1d_in(

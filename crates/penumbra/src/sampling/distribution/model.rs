@@ -57,6 +57,22 @@ pub trait DistributionModel {
     /// gives for `count = 1`, with the same draws.
     fn one(table: &PointTable, radius: f32, rng: &mut Rng) -> Vec3;
 
+    /// Points `part` of the set [`generate_unordered`](Self::generate_unordered)
+    /// makes of `count` (its points `part.start..part.end`, the same bits),
+    /// into the empty `out`, without making the others; `false`, `out` and
+    /// `rng` untouched, for a set whose points cannot be made apart.
+    #[inline]
+    fn generate_unordered_part(
+        _table: &PointTable,
+        _count: usize,
+        _radius: f32,
+        _rng: &mut Rng,
+        _part: std::ops::Range<usize>,
+        _out: &mut Vec<Vec3>,
+    ) -> bool {
+        false
+    }
+
     /// [`generate`](Self::generate) for a set whose order cannot matter,
     /// into the empty `out` (`count` may be 0): by default the same.
     #[inline]

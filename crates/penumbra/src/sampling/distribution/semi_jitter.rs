@@ -15,7 +15,7 @@
 use crate::math::{Vec2, Vec3};
 use crate::sampling::{PointTable, Rng};
 
-use super::cells::{cells, cells_unordered, strata_1d};
+use super::cells::{cells, cells_unordered, cells_unordered_part, strata_1d};
 use super::model::{square, unit_square, DistributionModel};
 
 /// The `semi-jitter` distribution; see the [module docs](self).
@@ -49,6 +49,17 @@ impl DistributionModel for SemiJitter {
         out: &mut Vec<Vec3>,
     ) {
         cells_unordered(count, radius, rng, out, semi_jitter);
+    }
+
+    fn generate_unordered_part(
+        _: &PointTable,
+        count: usize,
+        radius: f32,
+        rng: &mut Rng,
+        part: std::ops::Range<usize>,
+        out: &mut Vec<Vec3>,
+    ) -> bool {
+        cells_unordered_part((count, radius), rng, part, out, (semi_jitter, 2))
     }
 
     fn generate_1d(_: &PointTable, count: usize, rng: &mut Rng, out: &mut Vec<f32>) {
