@@ -313,3 +313,31 @@ fn the_image_is_shown_after_each_pass() {
         );
     }
 }
+
+/// A checkpoint whose tile states do not fit the render (made under the
+/// same digest by another adaptive rule's settings, as a crafted file
+/// could be) is refused, not resumed into an out-of-bounds index.
+#[test]
+fn a_tile_state_of_another_shape_is_refused() {
+    let adaptive = |replicas: u32| {
+        builtin_scene(
+            "showcase",
+            Overrides {
+                spp: Some(32),
+                noise_threshold: Some(0.05),
+                stop_rule: Some(StopRule::Calibrated),
+                replicas: Some(replicas),
+                ..Default::default()
+            },
+        )
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("render.ckpt");
+    let (_, stats) = leg(&adaptive(4), &path, false, Duration::ZERO, Some(2)).unwrap();
+    assert_eq!(stats.ended, Ended::Interrupted);
+    let e = leg(&adaptive(8), &path, true, Duration::ZERO, None).unwrap_err();
+    assert!(e.to_string().contains("not this render's"), "{e}");
+    // And the same settings resume.
+    let (_, stats) = leg(&adaptive(4), &path, true, Duration::ZERO, None).unwrap();
+    assert_eq!(stats.ended, Ended::Complete);
+}

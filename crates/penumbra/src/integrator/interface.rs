@@ -72,6 +72,14 @@ pub trait Integrator: Sync {
         false
     }
 
+    /// Whether `state`, read from a checkpoint, is a state this
+    /// integrator could have made for a tile of `width × height` pixels
+    /// (its sizes, counts and ranges), so that resuming it cannot index
+    /// out of its bounds; a state of nothing always fits.
+    fn state_fits(&self, _state: &Self::TileState, _size: (u32, u32)) -> bool {
+        true
+    }
+
     /// The channels its films hold beside the image (Mitsuba's AOVs):
     /// none unless it writes some.
     fn channels(&self) -> Channels {

@@ -283,8 +283,12 @@ pub fn render_with<I: Integrator>(
         for ((cell, t), saved) in cells.iter_mut().zip(&tiles).zip(saved.tiles) {
             let Some(saved) = saved else { continue };
             let mut slot = new_slot(t);
-            if saved.passes_done > passes || !slot.film.restore(saved.film) {
-                return Err(damaged("a tile's film is not this render's").into());
+            let size = (slot.block.width(), slot.block.height());
+            if saved.passes_done > passes
+                || !slot.film.restore(saved.film)
+                || !integrator.state_fits(&saved.state, size)
+            {
+                return Err(damaged("a tile's film or state is not this render's").into());
             }
             slot.state = saved.state;
             slot.rays = saved.rays;

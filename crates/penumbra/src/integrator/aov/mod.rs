@@ -307,6 +307,10 @@ impl<'a, I: Integrator> Integrator for Aov<'a, I> {
         self.inner.map_or(64, |i| i.tile())
     }
 
+    fn state_fits(&self, state: &Self::TileState, size: (u32, u32)) -> bool {
+        self.inner.is_none_or(|i| i.state_fits(state, size))
+    }
+
     fn channels(&self) -> Channels {
         Channels {
             names: self.names.clone(),

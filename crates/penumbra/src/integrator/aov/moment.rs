@@ -60,6 +60,10 @@ impl<'a, I: Integrator> Integrator for Moment<'a, I> {
         self.inner.tile()
     }
 
+    fn state_fits(&self, state: &Self::TileState, size: (u32, u32)) -> bool {
+        self.inner.state_fits(state, size)
+    }
+
     fn channels(&self) -> Channels {
         Channels {
             names: self.names.clone(),

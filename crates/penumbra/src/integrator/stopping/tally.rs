@@ -75,6 +75,24 @@ impl Block {
         }
     }
 
+    /// Whether the block has the shape [`new`](Self::new) gives these
+    /// arguments (a block read from a checkpoint): its sizes, and regions
+    /// within the tile.
+    pub fn fits(&self, width: usize, height: usize, replicas: usize, encoded: bool) -> bool {
+        let n = width * height;
+        self.width == width
+            && self.height == height
+            && self.pixels.len() == n
+            && self.replicas == replicas
+            && self.replica_sums.len() == n * replicas
+            && self.encoded.len() == if encoded { n } else { 0 }
+            && self.bounds.len() == n
+            && self
+                .regions
+                .iter()
+                .all(|r| r.x0 <= r.x1 && r.x1 <= width && r.y0 <= r.y1 && r.y1 <= height)
+    }
+
     /// Adds sample `i` of pixel `k`, of radiance `l`, belonging to `replica`.
     pub fn add(&mut self, k: usize, i: u32, replica: usize, l: Rgb) {
         let t = &mut self.pixels[k];

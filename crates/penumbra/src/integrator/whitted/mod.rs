@@ -56,6 +56,22 @@ impl Integrator for Whitted {
     fn tile(&self) -> u32 {
         32
     }
+
+    fn state_fits(&self, state: &TileState, (w, h): (u32, u32)) -> bool {
+        let n = w as usize * h as usize;
+        match (state, self.stopping) {
+            (TileState::Plain, _) => true,
+            (TileState::Stopped(stopped), None) => stopped.len() == n,
+            (TileState::Adaptive(s), Some(rule)) => {
+                let stopper = Stopper::new(rule, self.spp, self.image);
+                let povray = rule.rule == crate::scene::StopRule::Povray;
+                s.fits(self.spp)
+                    && s.block
+                        .fits(w as usize, h as usize, stopper.replicas() as usize, povray)
+            }
+            _ => false,
+        }
+    }
 }
 
 /// A [`Whitted`] worker: a tracer with its buffers and ray counts.

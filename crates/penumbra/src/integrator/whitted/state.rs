@@ -26,3 +26,11 @@ pub struct Schedule {
     pub(super) pass_end: Option<u32>,
     pub(super) finished: bool,
 }
+
+impl Schedule {
+    /// Whether the schedule's place is within a render of `spp` rays per
+    /// pixel (a schedule read from a checkpoint).
+    pub(super) fn fits(&self, spp: u32) -> bool {
+        self.done <= spp && self.pass_end.is_none_or(|e| e <= spp)
+    }
+}
