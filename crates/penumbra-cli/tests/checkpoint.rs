@@ -80,6 +80,16 @@ fn kill(child: &mut Child, signal: i32) -> std::process::ExitStatus {
     child.wait().unwrap()
 }
 
+/// A checkpoint from a leg interrupted by SIGINT after a moment; its path.
+fn first_checkpoint(dir: &Path) -> PathBuf {
+    let mut child = spawn(dir, &leg_args(dir));
+    std::thread::sleep(Duration::from_millis(300));
+    kill(&mut child, libc::SIGINT);
+    let ckpt = dir.join("r.ckpt");
+    assert!(ckpt.is_file(), "an interrupted leg saves its checkpoint");
+    ckpt
+}
+
 /// Twenty SIGKILLs, each after a different delay, the render resumed after
 /// each: the kills land before the first checkpoint, between tiles, in
 /// saves, in the last pass and while the image is written.
@@ -118,11 +128,7 @@ fn sigkill_at_any_moment_then_resume_gives_the_same_bytes() {
 fn a_crash_inside_a_save_keeps_the_previous_checkpoint() {
     let dir = tempfile::tempdir().unwrap();
     let want = reference(dir.path());
-    // A first checkpoint, from an interrupted leg.
-    let mut child = spawn(dir.path(), &leg_args(dir.path()));
-    std::thread::sleep(Duration::from_millis(300));
-    kill(&mut child, libc::SIGINT);
-    let ckpt = dir.path().join("r.ckpt");
+    let ckpt = first_checkpoint(dir.path());
     for at in [0usize, 1, 17, 1000, 100_000] {
         let before = std::fs::read(&ckpt).expect("a checkpoint to keep");
         let out = command(dir.path(), &leg_args(dir.path()))
@@ -142,10 +148,7 @@ fn a_full_disk_keeps_the_previous_checkpoint() {
     use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
     let want = reference(dir.path());
-    let mut child = spawn(dir.path(), &leg_args(dir.path()));
-    std::thread::sleep(Duration::from_millis(300));
-    kill(&mut child, libc::SIGINT);
-    let ckpt = dir.path().join("r.ckpt");
+    let ckpt = first_checkpoint(dir.path());
     let before = std::fs::read(&ckpt).unwrap();
     let mut cmd = command(dir.path(), &leg_args(dir.path()));
     // SAFETY: setrlimit and signal are async-signal-safe and touch only
@@ -212,10 +215,7 @@ fn sigint_and_sigterm_write_the_image_and_the_checkpoint() {
 #[test]
 fn a_bad_checkpoint_is_refused_and_nothing_is_touched() {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = spawn(dir.path(), &leg_args(dir.path()));
-    std::thread::sleep(Duration::from_millis(300));
-    kill(&mut child, libc::SIGINT);
-    let good = std::fs::read(dir.path().join("r.ckpt")).unwrap();
+    let good = std::fs::read(first_checkpoint(dir.path())).unwrap();
     let image = std::fs::read(dir.path().join("out.png")).unwrap();
     let mut flipped = good.clone();
     let middle = flipped.len() / 2;
