@@ -95,6 +95,8 @@ fn counted(tile: Tile) -> Counted {
 /// of a light tracer.
 struct Canvas<'i> {
     region: Region,
+    /// A light tracer's: its tiles hold nothing of the image.
+    anywhere: bool,
     cuts: Vec<u32>,
     bands: Vec<Mutex<(&'i mut [Rgb], &'i mut [f32])>>,
     c: usize,
@@ -107,7 +109,7 @@ impl Canvas<'_> {
     /// tracer's tiles hold nothing of the image (its light images do).
     fn merge(&self, tile: &Tile) {
         let region = self.region;
-        if !lock(&self.light).is_empty() {
+        if self.anywhere {
             return;
         }
         if let Some(splat) = &tile.splat {
@@ -277,7 +279,7 @@ pub fn render_with<I: Integrator>(
         {
             return Err(damaged("its tiles or passes are not this render's").into());
         }
-        if !saved.light.is_empty() && saved.light.len() != pixels {
+        if saved.light.len() != if anywhere { pixels } else { 0 } {
             return Err(damaged("its light image is not this render's").into());
         }
         for ((cell, t), saved) in cells.iter_mut().zip(&tiles).zip(saved.tiles) {
@@ -325,12 +327,13 @@ pub fn render_with<I: Integrator>(
             None => (Vec::new(), Vec::new()),
         };
         let light = match anywhere {
-            true if light_resumed.len() == pixels => light_resumed,
+            true if !light_resumed.is_empty() => light_resumed,
             true => vec![[0; 4]; pixels],
             false => Vec::new(),
         };
         Canvas {
             region,
+            anywhere,
             cuts,
             bands,
             c,
