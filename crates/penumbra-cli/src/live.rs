@@ -129,7 +129,10 @@ impl Live {
         }
         drop(tev);
         let Some(p) = &self.preview else { return };
-        let rgb = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+        let mut rgb = Vec::with_capacity(3 * image.pixels.len());
+        for p in &image.pixels {
+            rgb.extend_from_slice(&p.to_array());
+        }
         p.publish(Frame {
             width: image.width,
             height: image.height,
