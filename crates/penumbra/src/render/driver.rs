@@ -592,25 +592,12 @@ fn compose<S: Clone>(
     (pixels, values): (&mut [Rgb], &mut Vec<f32>),
 ) -> Option<ExtraChannels> {
     let mut splatted = splatted.clone();
-    let width = region.width() as usize;
     // A light tracer's tiles hold nothing of the image.
     let cells = if lit.is_empty() { cells } else { &[] };
     for cell in cells {
         let cell = lock(cell);
-        let (None, Some(slot)) = (&cell.counted, &cell.slot) else {
-            continue;
-        };
-        let tile = film::finish(slot.clone());
-        if let Some(splat) = &tile.splat {
-            let (xs, ys) = (region.x0..region.x1, region.y0..region.y1);
-            splat.merge_into(&mut splatted.0, &xs, &ys);
-            splat.merge_channels_into(&mut splatted.1, &xs, &ys);
-        } else if !tile.pixels.is_empty() {
-            let row = (tile.region.y0 - region.y0) as usize * width;
-            tile.copy_into(&mut pixels[row..], region);
-            if c > 0 {
-                tile.copy_channels_into(&mut values[row * c..], region, c);
-            }
+        if let (None, Some(slot)) = (&cell.counted, &cell.slot) {
+            slot.resolve_into(region, (pixels, values, c), &mut splatted);
         }
     }
     if !lit.is_empty() {

@@ -2,6 +2,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use super::region::Region;
+use crate::integrator::splat::Sums;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
     BadSample, Channels, FilmTile, Integrator, PixelWorker, RayStats, SplatFilm, Splatting,
@@ -149,6 +150,34 @@ impl<S: Default> TileSlot<S> {
             rays: RayStats::default(),
             batches: StageBatches::default(),
             bad: Vec::new(),
+        }
+    }
+}
+
+impl<S> TileSlot<S> {
+    /// Adds what the tile holds so far to the image of `frame` (the
+    /// rendered region): its splatted sums to `splatted`, or its pixels
+    /// resolved into `pixels` and its `c` channels into `values`, each row
+    /// by row from the frame's first; without copying its film.
+    pub(super) fn resolve_into(
+        &self,
+        frame: Region,
+        (pixels, values, c): (&mut [Rgb], &mut [f32], usize),
+        splatted: &mut (Vec<Sums>, Vec<i128>),
+    ) {
+        let (xs, ys) = (frame.x0..frame.x1, frame.y0..frame.y1);
+        if let Some(splat) = &self.film.splat {
+            splat.merge_into(&mut splatted.0, &xs, &ys);
+            splat.merge_channels_into(&mut splatted.1, &xs, &ys);
+            return;
+        }
+        let r = self.region;
+        let row = (r.y0 - frame.y0) as usize * frame.width() as usize;
+        let resolved = self.film.values(r.x0..r.x1, r.y0..r.y1);
+        copy_rows(&resolved, r, &mut pixels[row..], frame, 1);
+        if c > 0 {
+            let channels = self.film.channel_values_of(r.x0..r.x1, r.y0..r.y1);
+            copy_rows(&channels, r, &mut values[row * c..], frame, c);
         }
     }
 }
