@@ -13,6 +13,7 @@ __version__: str
 #: fast-random, then the low-discrepancy sobol, zsobol, pmj02, pmj02bn, halton, r2, then custom
 #: (the user's own points, given by ``points=``).
 DISTRIBUTIONS: tuple[str, ...]
+SIMD_SETS: tuple[str, ...]
 
 #: The keyword arguments of ``render`` and ``render_region``.
 RENDER_OPTIONS: tuple[str, ...]
@@ -417,6 +418,9 @@ def save_image(path: StrPath, image: npt.ArrayLike) -> None:
 
 def load_image(path: StrPath) -> Image:
     """Reads an OpenEXR file into a float32 (height, width, 3) array."""
+
+def kernels(name: str | None = None) -> str:
+    """The kernel set of scenes loaded from now on; with `name`, chooses it."""
 
 def scenes() -> dict[str, str]:
     """The built-in scenes: name → description."""

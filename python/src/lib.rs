@@ -352,6 +352,21 @@ fn _check_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
     parse_options("render", options).map(|_| ())
 }
 
+/// The kernel set (instruction set of the tracing kernels) of scenes loaded
+/// from now on, as `penumbra --simd` chooses it: with `name` (`avx512`,
+/// `avx2`, `neon`, `portable`), chooses it, raising ValueError for a set
+/// this processor lacks. Returns the set's name. Every set gives the same
+/// pixels; `SIMD_SETS` lists those this processor supports, widest first.
+#[pyfunction]
+#[pyo3(signature = (name=None))]
+fn kernels(name: Option<&str>) -> PyResult<&'static str> {
+    if let Some(name) = name {
+        penumbra::simd::set_active_name(name)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    }
+    Ok(penumbra::simd::active().name())
+}
+
 /// The built-in scenes: `{name: description}`, as `penumbra scenes` lists them.
 #[pyfunction]
 fn scenes(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -375,6 +390,12 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_region, m)?)?;
     m.add_function(wrap_pyfunction!(samples, m)?)?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
+    m.add_function(wrap_pyfunction!(kernels, m)?)?;
+    let sets: Vec<&str> = penumbra::simd::KernelSet::supported()
+        .iter()
+        .map(|k| k.name())
+        .collect();
+    m.add("SIMD_SETS", pyo3::types::PyTuple::new(py, sets)?)?;
     m.add_function(wrap_pyfunction!(_check_options, m)?)?;
     m.add_function(wrap_pyfunction!(images::save_image, m)?)?;
     m.add_function(wrap_pyfunction!(images::load_image, m)?)?;

@@ -90,6 +90,26 @@ def test_same_seed_same_pixels_on_any_thread_count(small):
     assert not np.array_equal(a, c)
 
 
+def test_every_kernel_set_gives_the_same_pixels(small):
+    default = penumbra.kernels()
+    assert default == penumbra.SIMD_SETS[0] and "portable" in penumbra.SIMD_SETS
+    try:
+        runs = {}
+        for name in penumbra.SIMD_SETS:
+            assert penumbra.kernels(name) == name
+            image, stats = penumbra.render(penumbra.load_scene("cornell-box"), **small)
+            assert stats["kernels"] == name
+            runs[name] = (image, stats["rays"])
+        want = runs["portable"]
+        for name, (image, rays) in runs.items():
+            assert np.array_equal(image, want[0]), name
+            assert rays == want[1], name
+        with pytest.raises(ValueError, match="kernel set"):
+            penumbra.kernels("sse9")
+    finally:
+        penumbra.kernels(default)
+
+
 def test_dict_and_toml_front_ends_give_the_same_scene(small):
     toml_scene = penumbra.load_scene("showcase")
     dict_scene = penumbra.scene_from_dict(tomllib.loads(toml_scene.text))

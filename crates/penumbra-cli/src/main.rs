@@ -21,6 +21,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use penumbra::input::quote::bounded;
+use penumbra::simd::KernelSet;
 
 use convert_cmd::ConvertArgs;
 use explore_cmd::ExploreArgs;
@@ -28,8 +29,23 @@ use render_cmd::RenderArgs;
 use reproduce_cmd::ReproduceArgs;
 use samples_cmd::SamplesArgs;
 
+/// The version line: the crate's version and the kernel sets this
+/// processor supports, the one used by default first.
+fn version() -> &'static str {
+    static VERSION: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    VERSION.get_or_init(|| {
+        let sets: Vec<&str> = KernelSet::supported().iter().map(|k| k.name()).collect();
+        format!(
+            "{} (kernels: {}; supported: {})",
+            env!("CARGO_PKG_VERSION"),
+            penumbra::simd::active(),
+            sets.join(", ")
+        )
+    })
+}
+
 #[derive(Parser)]
-#[command(name = "penumbra", version, about = "A stochastic (distributed) ray tracer", long_about = None)]
+#[command(name = "penumbra", version = version(), about = "A stochastic (distributed) ray tracer", long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -37,6 +53,11 @@ struct Cli {
     /// [default: 4M for scene files, 4G for other files; also $PENUMBRA_MAX_FILE_SIZE]
     #[arg(long, global = true, value_name = "SIZE", value_parser = flags::parse_size)]
     max_file_size: Option<u64>,
+    /// Instruction set of the tracing kernels: avx512, avx2, neon or portable
+    /// (every set gives the same pixels) [default: the widest this processor
+    /// supports; also $PENUMBRA_SIMD]
+    #[arg(long, global = true, value_name = "KERNELS")]
+    simd: Option<String>,
 }
 
 #[derive(Subcommand)]
@@ -62,6 +83,14 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(limit) = cli.max_file_size {
         penumbra::input::set_max_file_size(limit);
+    }
+    let kernels = match &cli.simd {
+        Some(name) => penumbra::simd::set_active_name(name).map(Some),
+        None => penumbra::simd::from_env(),
+    };
+    if let Err(e) = kernels {
+        eprintln!("error: {}", bounded(&e.to_string()));
+        return ExitCode::from(2);
     }
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(&args),

@@ -66,6 +66,52 @@ fn exr_output_and_thread_counts_agree_bit_for_bit() {
 }
 
 #[test]
+fn every_kernel_set_writes_the_same_file_and_names_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let version = penumbra(&["--version"], dir.path());
+    let version = String::from_utf8_lossy(&version.stdout).into_owned();
+    // "penumbra 0.1.0 (kernels: avx2; supported: avx2, portable)"
+    let supported = version
+        .split("supported: ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no kernel sets in {version}"))
+        .trim()
+        .trim_end_matches(')');
+    let sets: Vec<&str> = supported.split(", ").collect();
+    println!("kernel sets run: {}", sets.join(", "));
+    assert!(sets.contains(&"portable"), "{version}");
+    assert!(version.contains(&format!("kernels: {}", sets[0])), "{version}");
+    let mut files = Vec::new();
+    for set in &sets {
+        let out = format!("{set}.exr");
+        let stats = format!("{set}.json");
+        let mut args = vec!["--simd", set, "render", "cornell-box", "-o", &out, "--stats", &stats];
+        args.extend_from_slice(SMALL);
+        let o = penumbra(&args, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let doc: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.path().join(&stats)).unwrap()).unwrap();
+        assert_eq!(doc["kernels"], *set);
+        files.push(std::fs::read(dir.path().join(&out)).unwrap());
+    }
+    assert!(files.iter().all(|f| *f == files[0]), "kernel sets wrote different files");
+    // A set this processor lacks, or none of that name: status 2, named.
+    let other = if cfg!(target_arch = "x86_64") { "neon" } else { "avx2" };
+    for (name, says) in [(other, "not supported"), ("sse9", "unknown kernel set")] {
+        let o = penumbra(&["--simd", name, "render", "-o", "x.png"], dir.path());
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains(says), "{}", stderr(&o));
+        assert!(!dir.path().join("x.png").exists());
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["scenes"])
+        .env("PENUMBRA_SIMD", "sse9")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
 fn a_bad_scene_exits_2_and_leaves_the_old_image_alone() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(

@@ -7,7 +7,8 @@
 //! refraction, supersampling, depth of field and motion blur.
 //!
 //! The library is a stack of layers, each a folder that uses only the ones
-//! before it: [`math`] (with the colour type [`math::Rgb`]) and [`input`]
+//! before it: [`math`] (with the colour type [`math::Rgb`]), [`simd`] (the
+//! kernel sets the hot loops are compiled for) and [`input`]
 //! (every input file read bounded, every quoted value cut) → [`sampling`] →
 //! [`geometry`], [`accel`] and [`camera`] → [`description`] → [`texture`]
 //! → [`bsdf`], [`emitter`] and [`medium`] → [`scene`] → [`integrator`] → [`render`] → [`io`]. A render
@@ -51,5 +52,6 @@ pub mod medium;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 pub mod texture;
 pub mod volume;

@@ -44,6 +44,7 @@ use super::build::{self, Config, Node, MAX_DEPTH};
 use super::shaft::Shaft;
 use crate::geometry::triangle::RayShear;
 use crate::math::{Aabb, Ray, Vec3};
+use crate::simd::KernelSet;
 use glam::{Vec3A, Vec4};
 
 /// `1 + 2γ₃` with γ₃ = 3ε/(1 − 3ε), ε = 2⁻²⁴: the factor that makes the far
@@ -93,6 +94,31 @@ pub(super) fn min_skip_nan(a: Vec4, b: Vec4) -> Vec4 {
     } else {
         Vec4::select(a.cmpeq(a), a.min(b), b)
     }
+}
+
+/// Whether `f` holds for an item of `items`, tried in order: `any` as a
+/// loop that is always inlined, so that a kernel set's entry point
+/// compiles the leaf tests with its own instructions (a call to
+/// `Iterator::any` may be left out of line, compiled for the baseline).
+#[inline(always)]
+pub(super) fn any_of<T>(items: &[T], mut f: impl FnMut(&T) -> bool) -> bool {
+    for x in items {
+        if f(x) {
+            return true;
+        }
+    }
+    false
+}
+
+/// [`any_of`] trying the items last to first.
+#[inline(always)]
+pub(super) fn any_of_rev<T>(items: &[T], mut f: impl FnMut(&T) -> bool) -> bool {
+    for x in items.iter().rev() {
+        if f(x) {
+            return true;
+        }
+    }
+    false
 }
 
 /// Traversal stack entries kept inline. Each of at most `MAX_DEPTH` levels
@@ -486,7 +512,10 @@ impl<P: Copy> Bvh4<P> {
         leaf: impl FnMut(&[P], &TraversalRay, &mut f32) -> bool,
     ) -> bool {
         let r = self.prepare(ray);
-        r.is_some_and(|r| self.traverse_prepared::<ORDERED>(&r, tmin, tmax, leaf))
+        r.is_some_and(
+            #[inline(always)]
+            |r| self.traverse_prepared::<ORDERED>(&r, tmin, tmax, leaf),
+        )
     }
 
     /// The ray prepared for the tree's tests; `None` when the tree is
@@ -507,6 +536,7 @@ impl<P: Copy> Bvh4<P> {
     #[inline(always)]
     pub(super) fn traverse_items<const ORDERED: bool>(
         &self,
+        kernels: KernelSet,
         ray: &Ray,
         tmin: f32,
         tmax: f32,
@@ -516,20 +546,33 @@ impl<P: Copy> Bvh4<P> {
             let mut tmax = tmax;
             return leaf(items, None, &mut tmax);
         }
-        self.traverse_outlined::<ORDERED>(ray, tmin, tmax, leaf)
+        self.traverse_outlined::<ORDERED>(kernels, ray, tmin, tmax, leaf)
     }
 
     /// The traversal of [`traverse_items`](Self::traverse_items), kept out
-    /// of line so that the callers' code for a tree of one leaf stays small.
+    /// of line so that the callers' code for a tree of one leaf stays small,
+    /// and so compiled again for the kernel set.
     #[inline(never)]
     fn traverse_outlined<const ORDERED: bool>(
         &self,
+        kernels: KernelSet,
         ray: &Ray,
         tmin: f32,
         tmax: f32,
         mut leaf: impl FnMut(&[P], Option<&TraversalRay>, &mut f32) -> bool,
     ) -> bool {
-        self.traverse_ray::<ORDERED>(ray, tmin, tmax, |items, r, tmax| leaf(items, Some(r), tmax))
+        kernels.run(
+            #[inline(always)]
+            || {
+                self.traverse_ray::<ORDERED>(
+                    ray,
+                    tmin,
+                    tmax,
+                    #[inline(always)]
+                    |items, r, tmax| leaf(items, Some(r), tmax),
+                )
+            },
+        )
     }
 
     /// [`traverse_ray`](Self::traverse_ray) for a ray already prepared
@@ -549,7 +592,9 @@ impl<P: Copy> Bvh4<P> {
         let tmin4 = Vec4::splat(tmin);
         self.traverse::<ORDERED, false>(
             tmax,
+            #[inline(always)]
             |node, tmax| node.hit(r, tmin4, Vec4::splat(tmax)),
+            #[inline(always)]
             |_, items, tmax| leaf(items, r, tmax),
         )
     }
@@ -636,6 +681,7 @@ impl<P: Copy> Bvh4<P> {
     /// the order an any-hit traversal visits leaves (depth first, children
     /// in storage order). Returns false, with `out` incomplete, once more
     /// than `limit` leaves are found.
+    #[inline(always)]
     pub(super) fn gather(&self, shaft: &Shaft, limit: usize, out: &mut LeafSet) -> bool {
         out.clear();
         if self.nodes.is_empty() {
@@ -773,7 +819,10 @@ pub(super) fn reaches(
     tmin: Vec4,
     tmax: f32,
 ) -> bool {
-    at.is_none_or(|(parent, lane)| parent.hit(r, tmin, Vec4::splat(tmax)).0 >> lane & 1 != 0)
+    at.is_none_or(
+        #[inline(always)]
+        |(parent, lane)| parent.hit(r, tmin, Vec4::splat(tmax)).0 >> lane & 1 != 0,
+    )
 }
 
 /// Per-worker buffers of packet traversals ([`TriangleBvh::closest_hits`](super::TriangleBvh::closest_hits)), kept by the caller
@@ -948,6 +997,7 @@ impl LeafSet {
     }
 
     /// Schedules the lanes of `mask` of `node`, so that they pop in lane order.
+    #[inline(always)]
     fn push_lanes(&mut self, node: u32, mask: u32) {
         for lane in (0..WIDTH as u32).rev() {
             if mask >> lane & 1 != 0 {

@@ -80,6 +80,7 @@ fn sign(high: bool) -> f32 {
 impl Shaft {
     /// The hull of boxes `a` and `b` (grown by a small margin); `None` if
     /// either is empty or not finite.
+    #[inline(always)]
     pub fn new(a: Aabb, b: Aabb) -> Option<Shaft> {
         let finite = |b: &Aabb| b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all();
         if !(finite(&a) && finite(&b)) {
@@ -143,7 +144,7 @@ impl Shaft {
 
     /// Four boxes at once, one per lane (`lo[axis]`, `hi[axis]`): a bit mask
     /// of those that may overlap the shaft. Empty boxes (min > max) never do.
-    #[inline]
+    #[inline(always)]
     pub fn overlaps4(&self, lo: &[Vec4; 3], hi: &[Vec4; 3]) -> u32 {
         let mut inside = lo[0].cmple(hi[0]) & lo[1].cmple(hi[1]) & lo[2].cmple(hi[2]);
         for axis in 0..3 {

@@ -39,7 +39,7 @@
 //! [`intersect_triangle`]: crate::geometry::triangle::intersect_triangle
 
 use super::build::Config;
-use super::bvh4::{reaches, Bvh4, Frustum, LeafSet, RayPacket, Run, TraversalRay};
+use super::bvh4::{any_of, reaches, Bvh4, Frustum, LeafSet, RayPacket, Run, TraversalRay};
 use super::shaft::Shaft;
 use crate::geometry::triangle::edge_functions_f64;
 use crate::math::{Aabb, Ray, Vec3};
@@ -234,14 +234,14 @@ impl TriangleBvh {
     /// The closest triangle hit within `(tmin, tmax)`, with the result of
     /// [`intersect_triangle`](crate::geometry::triangle::intersect_triangle)
     /// for it. A ray with a non-finite origin or direction hits nothing.
-    #[inline]
+    #[inline(always)]
     pub fn closest_hit(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<TriHit> {
         let r = self.tree.prepare(ray)?;
         self.closest_hit_prepared(&r, tmin, tmax)
     }
 
     /// [`closest_hit`](Self::closest_hit) for a ray prepared by the level above.
-    #[inline]
+    #[inline(always)]
     pub(super) fn closest_hit_prepared(
         &self,
         r: &TraversalRay,
@@ -249,13 +249,18 @@ impl TriangleBvh {
         tmax: f32,
     ) -> Option<TriHit> {
         let mut best = None;
-        self.tree
-            .traverse_prepared::<true>(r, tmin, tmax, |packs, r, tmax| {
+        self.tree.traverse_prepared::<true>(
+            r,
+            tmin,
+            tmax,
+            #[inline(always)]
+            |packs, r, tmax| {
                 for p in packs {
                     closest_in_pack(p, r, tmin, tmax, &mut best);
                 }
                 false
-            });
+            },
+        );
         best
     }
 
@@ -289,6 +294,7 @@ impl TriangleBvh {
 
     /// [`closest_hits`](Self::closest_hits) for rays the caller has found
     /// to be a packet: `frustum` bounds them.
+    #[inline(always)]
     pub(super) fn closest_hits_in(
         &self,
         frustum: &Frustum,
@@ -314,12 +320,15 @@ impl TriangleBvh {
 
     /// [`closest_hits`](Self::closest_hits) for a run (the tree not
     /// empty), into `out` (one entry per ray, `None` on entry).
+    #[inline(always)]
     fn closest_packet(&self, run: &Run, scratch: &mut RayPacket, out: &mut [Option<TriHit>]) {
         let tmin = run.tmin;
         let tmin4 = Vec4::splat(tmin);
         self.tree.traverse::<true, true>(
             scratch.reset(run.tmax),
+            #[inline(always)]
             |node, tmax| run.frustum.hit(node, tmin4, Vec4::splat(tmax)),
+            #[inline(always)]
             |at, packs, widest| {
                 let (prepared, limits) = scratch.prepared(run.rays);
                 for ((r, tmax), best) in prepared.iter().zip(limits.iter_mut()).zip(out.iter_mut())
@@ -345,6 +354,7 @@ impl TriangleBvh {
     /// order, as by `any_hit`, and a ray tests only those whose box it hits
     /// itself; the boxes of a node's subtree lie within its box, so these
     /// are exactly the leaves its own traversal reaches.
+    #[inline(always)]
     fn any_hit_packet(
         &self,
         run: &Run,
@@ -356,7 +366,9 @@ impl TriangleBvh {
         let tmin4 = Vec4::splat(tmin);
         self.tree.traverse::<false, true>(
             scratch.reset(run.tmax),
+            #[inline(always)]
             |node, tmax| run.frustum.hit(node, tmin4, Vec4::splat(tmax)),
+            #[inline(always)]
             |at, packs, widest| {
                 let (prepared, limits) = scratch.prepared(run.rays);
                 let rays = prepared.iter().zip(limits.iter_mut()).zip(out.iter_mut());
@@ -364,10 +376,11 @@ impl TriangleBvh {
                     if *blocked || !reaches(at, r, tmin4, *tmax) {
                         continue;
                     }
-                    if packs
-                        .iter()
-                        .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut |id| hit(i, id)))
-                    {
+                    if any_of(
+                        packs,
+                        #[inline(always)]
+                        |p| pack_any_hit(p, r, tmin, *tmax, &mut |id| hit(i, id)),
+                    ) {
                         // Done: a limit no box is entered before.
                         (*blocked, *tmax) = (true, f32::NEG_INFINITY);
                     }
@@ -384,14 +397,17 @@ impl TriangleBvh {
     /// reported at most once. Children are visited in storage order, not by
     /// distance: most shadow rays are not blocked and must visit every
     /// subtree they enter anyway, so sorting would be wasted on them.
-    #[inline]
+    #[inline(always)]
     pub fn any_hit(&self, ray: &Ray, tmin: f32, tmax: f32, hit: impl FnMut(u32) -> bool) -> bool {
         let r = self.tree.prepare(ray);
-        r.is_some_and(|r| self.any_hit_prepared(&r, tmin, tmax, hit))
+        r.is_some_and(
+            #[inline(always)]
+            |r| self.any_hit_prepared(&r, tmin, tmax, hit),
+        )
     }
 
     /// [`any_hit`](Self::any_hit) for a ray prepared by the level above.
-    #[inline]
+    #[inline(always)]
     pub(super) fn any_hit_prepared(
         &self,
         r: &TraversalRay,
@@ -399,18 +415,26 @@ impl TriangleBvh {
         tmax: f32,
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
-        self.tree
-            .traverse_prepared::<false>(r, tmin, tmax, |packs, r, tmax| {
-                packs
-                    .iter()
-                    .any(|p| pack_any_hit(p, r, tmin, *tmax, &mut hit))
-            })
+        self.tree.traverse_prepared::<false>(
+            r,
+            tmin,
+            tmax,
+            #[inline(always)]
+            |packs, r, tmax| {
+                any_of(
+                    packs,
+                    #[inline(always)]
+                    |p| pack_any_hit(p, r, tmin, *tmax, &mut hit),
+                )
+            },
+        )
     }
 
     /// Collects into `out` the leaves whose boxes may overlap `shaft`, in
     /// the order [`any_hit`](Self::any_hit) visits leaves (depth first, children in
     /// storage order). Returns false, with `out` incomplete, once more than
     /// `limit` leaves are found.
+    #[inline(always)]
     pub fn gather(&self, shaft: &Shaft, limit: usize, out: &mut LeafSet) -> bool {
         self.tree.gather(shaft, limit, out)
     }
@@ -418,6 +442,7 @@ impl TriangleBvh {
     /// [`any_hit`](Self::any_hit) for a ray that lies in the shaft `set` was
     /// gathered for: tests only the leaves of `set` (four boxes at a time),
     /// and reports the same triangles in the same order as `any_hit`.
+    #[inline(always)]
     pub fn any_hit_in(
         &self,
         set: &LeafSet,
@@ -426,15 +451,24 @@ impl TriangleBvh {
         tmax: f32,
         mut hit: impl FnMut(u32) -> bool,
     ) -> bool {
-        self.tree.any_hit_in(set, ray, tmin, tmax, |packs, r| {
-            packs
-                .iter()
-                .any(|p| pack_any_hit(p, r, tmin, tmax, &mut hit))
-        })
+        self.tree.any_hit_in(
+            set,
+            ray,
+            tmin,
+            tmax,
+            #[inline(always)]
+            |packs, r| {
+                any_of(
+                    packs,
+                    #[inline(always)]
+                    |p| pack_any_hit(p, r, tmin, tmax, &mut hit),
+                )
+            },
+        )
     }
 
     /// Whether any triangle is crossed within `(tmin, tmax)`.
-    #[inline]
+    #[inline(always)]
     pub fn occluded(&self, ray: &Ray, tmin: f32, tmax: f32) -> bool {
         self.any_hit(ray, tmin, tmax, |_| true)
     }

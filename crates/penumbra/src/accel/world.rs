@@ -18,7 +18,7 @@
 //! A scene of at most four objects besides its static meshes (a ground and
 //! a light) has a single top-level leaf.
 
-use super::bvh4::{Frustum, TraversalRay, ONE_PER_ITEM};
+use super::bvh4::{any_of, any_of_rev, Frustum, TraversalRay, ONE_PER_ITEM};
 use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
 use std::sync::Arc;
 
@@ -28,6 +28,7 @@ use crate::geometry::quad::{Quad, Quad4};
 use crate::geometry::triangle::{intersect_triangle, RayShear};
 use crate::geometry::{Mesh, Shape, ShapeHit, SurfaceInteraction};
 use crate::math::{nearest_lane, Aabb, Ray, Vec2, Vec3};
+use crate::simd::{self, KernelSet, SimdError};
 
 /// What a ray finds: the surface-interaction record of the nearest surface.
 pub type Hit = SurfaceInteraction;
@@ -120,6 +121,8 @@ pub struct World {
     others: usize,
     /// No object moves.
     is_static: bool,
+    /// The instruction set every query runs its kernels with.
+    kernels: KernelSet,
 }
 
 /// Intersection details kept while the search runs ([`ShapeHit`]
@@ -239,7 +242,29 @@ impl World {
             tri_refs,
             others,
             is_static,
+            kernels: simd::active(),
         }
+    }
+
+    /// The kernel set the queries run with: [`simd::active`] when the
+    /// world was built.
+    pub fn kernels(&self) -> KernelSet {
+        self.kernels
+    }
+
+    /// Runs the queries with the kernel set `kernels` from now on.
+    ///
+    /// # Errors
+    /// If this processor lacks the set (nothing changes then).
+    pub fn set_kernels(&mut self, kernels: KernelSet) -> Result<(), SimdError> {
+        if !kernels.is_supported() {
+            return Err(SimdError {
+                name: kernels.name().to_string(),
+                unsupported: true,
+            });
+        }
+        self.kernels = kernels;
+        Ok(())
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -257,9 +282,23 @@ impl World {
 
     /// The closest surface along the ray within (tmin, tmax).
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        self.kernels.run(
+            #[inline(always)]
+            || self.intersect_kernel(ray, tmin, tmax),
+        )
+    }
+
+    /// [`intersect`](Self::intersect), compiled into each kernel set.
+    #[inline(always)]
+    fn intersect_kernel(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best = None;
-        self.top
-            .traverse_items::<true>(ray, tmin, tmax, |items, r, tmax| {
+        self.top.traverse_items::<true>(
+            self.kernels,
+            ray,
+            tmin,
+            tmax,
+            #[inline(always)]
+            |items, r, tmax| {
                 for &item in items {
                     match item {
                         Item::Object(object) => {
@@ -279,7 +318,8 @@ impl World {
                     }
                 }
                 false
-            });
+            },
+        );
         best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
     }
 
@@ -329,10 +369,28 @@ impl World {
         scratch: &mut PacketScratch,
         out: &mut Vec<Option<Hit>>,
     ) {
+        self.kernels.run(
+            #[inline(always)]
+            || self.intersect_all_kernel(rays, tmin, scratch, out),
+        );
+    }
+
+    /// [`intersect_all`](Self::intersect_all), compiled into each kernel set.
+    #[inline(always)]
+    fn intersect_all_kernel(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        scratch: &mut PacketScratch,
+        out: &mut Vec<Option<Hit>>,
+    ) {
         // A batch of one, or of rays that are not a packet: each ray's own walk.
         let Some(frustum) = Frustum::packet(rays) else {
             out.clear();
-            out.extend(rays.iter().map(|r| self.intersect(r, tmin, f32::INFINITY)));
+            // A loop, not `extend`: kept inline in the kernel set's code.
+            for r in rays {
+                out.push(self.intersect_kernel(r, tmin, f32::INFINITY));
+            }
             return;
         };
         let PacketScratch {
@@ -369,8 +427,13 @@ impl World {
             }
             None => {
                 for ((ray, best), tmax) in rays_items {
-                    self.top
-                        .traverse_items::<true>(ray, tmin, *tmax, |items, _, tmax| {
+                    self.top.traverse_items::<true>(
+                        self.kernels,
+                        ray,
+                        tmin,
+                        *tmax,
+                        #[inline(always)]
+                        |items, _, tmax| {
                             for &item in items {
                                 match item {
                                     Item::Object(object) => {
@@ -381,7 +444,8 @@ impl World {
                                 }
                             }
                             false
-                        });
+                        },
+                    );
                     // The top level's traversal keeps its own limit.
                     *tmax = best.map_or(f32::INFINITY, |b| b.1);
                 }
@@ -422,61 +486,50 @@ impl World {
         limit: usize,
         out: &mut ShaftSet,
     ) -> bool {
+        self.kernels.run(
+            #[inline(always)]
+            || self.gather_shaft_kernel(origins, targets, limit, out),
+        )
+    }
+
+    /// [`gather_shaft`](Self::gather_shaft), compiled into each kernel set.
+    #[inline(always)]
+    fn gather_shaft_kernel(
+        &self,
+        origins: Aabb,
+        targets: Aabb,
+        limit: usize,
+        out: &mut ShaftSet,
+    ) -> bool {
         let Some(shaft) = Shaft::new(origins, targets) else {
             return false;
         };
         out.items.clear();
         out.leaves.clear();
-        let mut ok = true;
-        let consider = |object: u32, out: &mut ShaftSet| {
-            let o = &self.objects[object as usize];
-            if !o.casts_shadows {
-                return;
-            }
-            let still = o.motion.is_none() && o.placement.is_none();
-            let plane = o.shape.plane().filter(|_| still);
-            let apart = plane.is_some_and(|(n, p)| one_side(n, p, &[origins, targets]));
-            // Otherwise a still object whose box the shaft misses.
-            let analytic = o.shape.as_mesh().is_none();
-            let outside = || still && analytic && !shaft.overlaps(&o.shape.bounds(&[]));
-            if !apart && !outside() {
-                out.items.push(Item::Object(object));
-            }
-        };
-        // In the order of an any-hit traversal (see `transmittance`).
-        let mut leaf = |items: &[Item], out: &mut ShaftSet| {
-            for &item in items.iter().rev() {
-                match item {
-                    Item::Object(object) => consider(object, out),
-                    // Lane by lane: the crossings come in the same order.
-                    Item::Quads(i) => {
-                        let objects = self.quads[i as usize].objects;
-                        for object in objects.into_iter().filter(|&o| o != u32::MAX) {
-                            consider(object, out);
-                        }
-                    }
-                    Item::Meshes => {
-                        ok = self.tris.gather(&shaft, limit, &mut out.leaves);
-                        if !out.leaves.is_empty() {
-                            out.items.push(item);
-                        }
-                    }
-                }
-            }
+        let mut g = ShaftGather {
+            world: self,
+            shaft: &shaft,
+            ends: [origins, targets],
+            limit,
+            ok: true,
         };
         // A top level of one leaf (a few objects) is taken whole.
         if let Some(items) = self.top.single_leaf() {
-            leaf(items, out);
+            g.leaf(items, out);
         } else {
             let mut top = std::mem::take(&mut out.top);
             if !self.top.gather(&shaft, limit, &mut top) {
                 out.top = top;
                 return false;
             }
-            self.top.in_leaves(&top, |items| leaf(items, out));
+            self.top.in_leaves(
+                &top,
+                #[inline(always)]
+                |items| g.leaf(items, out),
+            );
             out.top = top;
         }
-        ok && out.items.len() <= limit
+        g.ok && out.items.len() <= limit
     }
 
     /// True if nothing can block a segment held by the shaft `set` was
@@ -504,6 +557,21 @@ impl World {
         shaft: Option<&ShaftSet>,
         mut cross: impl FnMut(&Crossing<'_>) -> bool,
     ) -> bool {
+        self.kernels.run(
+            #[inline(always)]
+            || self.crossings_kernel(ray, (tmin, tmax), shaft, &mut cross),
+        )
+    }
+
+    /// [`crossings`](Self::crossings), compiled into each kernel set.
+    #[inline(always)]
+    fn crossings_kernel(
+        &self,
+        ray: &Ray,
+        (tmin, tmax): (f32, f32),
+        shaft: Option<&ShaftSet>,
+        mut cross: impl FnMut(&Crossing<'_>) -> bool,
+    ) -> bool {
         let mut seg = Segment {
             world: self,
             ray,
@@ -513,12 +581,25 @@ impl World {
             cross: &mut cross,
         };
         match shaft {
-            Some(set) => set.items.iter().any(|&i| seg.blocked_by(i, None)),
-            None => self
-                .top
-                .traverse_items::<false>(ray, tmin, tmax, |items, r, _| {
-                    items.iter().rev().any(|&i| seg.blocked_by(i, r))
-                }),
+            Some(set) => any_of(
+                &set.items,
+                #[inline(always)]
+                |&i| seg.blocked_by(i, None),
+            ),
+            None => self.top.traverse_items::<false>(
+                self.kernels,
+                ray,
+                tmin,
+                tmax,
+                #[inline(always)]
+                |items, r, _| {
+                    any_of_rev(
+                        items,
+                        #[inline(always)]
+                        |&i| seg.blocked_by(i, r),
+                    )
+                },
+            ),
         }
     }
 
@@ -789,6 +870,63 @@ impl<F: FnMut(&Crossing<'_>) -> bool> Segment<'_, F> {
                     (Some(set), _) => w.tris.any_hit_in(set, ray, tmin, tmax, &mut hit),
                     (None, Some(r)) => w.tris.any_hit_prepared(r, tmin, tmax, &mut hit),
                     (None, None) => w.tris.any_hit(ray, tmin, tmax, &mut hit),
+                }
+            }
+        }
+    }
+}
+
+/// What [`World::gather_shaft`] carries from leaf to leaf.
+struct ShaftGather<'a> {
+    world: &'a World,
+    shaft: &'a Shaft,
+    /// The boxes of the segments' origins and targets.
+    ends: [Aabb; 2],
+    limit: usize,
+    /// False once the static triangles' leaves overflowed `limit`.
+    ok: bool,
+}
+
+impl ShaftGather<'_> {
+    /// Lists the object as a shadow caster unless it cannot be crossed: a
+    /// quad or disk with every end on one side of its plane, or a still
+    /// analytic object whose box the shaft misses.
+    #[inline(always)]
+    fn consider(&self, object: u32, out: &mut ShaftSet) {
+        let o = &self.world.objects[object as usize];
+        if !o.casts_shadows {
+            return;
+        }
+        let still = o.motion.is_none() && o.placement.is_none();
+        let plane = o.shape.plane().filter(|_| still);
+        let apart = plane.is_some_and(|(n, p)| one_side(n, p, &self.ends));
+        let analytic = o.shape.as_mesh().is_none();
+        let outside = || still && analytic && !self.shaft.overlaps(&o.shape.bounds(&[]));
+        if !apart && !outside() {
+            out.items.push(Item::Object(object));
+        }
+    }
+
+    /// Takes the items of a top-level leaf, in the order of an any-hit
+    /// traversal (see `crossings`).
+    #[inline(always)]
+    fn leaf(&mut self, items: &[Item], out: &mut ShaftSet) {
+        for &item in items.iter().rev() {
+            match item {
+                Item::Object(object) => self.consider(object, out),
+                // Lane by lane: the crossings come in the same order.
+                Item::Quads(i) => {
+                    for object in self.world.quads[i as usize].objects {
+                        if object != u32::MAX {
+                            self.consider(object, out);
+                        }
+                    }
+                }
+                Item::Meshes => {
+                    self.ok = (self.world.tris).gather(self.shaft, self.limit, &mut out.leaves);
+                    if !out.leaves.is_empty() {
+                        out.items.push(item);
+                    }
                 }
             }
         }

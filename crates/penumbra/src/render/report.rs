@@ -29,6 +29,7 @@ pub fn stats_document(scene_name: &str, scene: &Scene, stats: &RenderStats) -> V
         "integrator": config.as_ref().map(|c| c.choice().name()),
         "passes": config.as_ref().map(|c| c.passes()),
         "primitives": scene.world.primitive_count(),
+        "kernels": scene.world.kernels().name(),
         "rays": {
             "primary": r.primary,
             "shadow": r.shadow,

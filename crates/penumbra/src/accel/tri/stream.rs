@@ -38,9 +38,10 @@
 //! incoherent rays (medians of interleaved series 1.00–1.15×; camera rays,
 //! already in the cache, lose up to 6%).
 
-use super::super::bvh4::{Cursor, Frustum, Node4, RayPacket, Run, TraversalRay};
+use super::super::bvh4::{any_of, Cursor, Frustum, Node4, RayPacket, Run, TraversalRay};
 use super::{closest_in_pack, pack_any_hit, Pack, TriHit, TriangleBvh};
 use crate::math::Ray;
+use crate::simd;
 use glam::{Vec3A, Vec4};
 use std::ops::Range;
 
@@ -85,6 +86,22 @@ impl TriangleBvh {
         tmax: &[f32],
         out: &mut Vec<Option<TriHit>>,
     ) {
+        simd::active().run(
+            #[inline(always)]
+            || self.closest_hit_each_kernel(rays, tmin, tmax, out),
+        );
+    }
+
+    /// [`closest_hit_each`](Self::closest_hit_each), compiled into each
+    /// kernel set.
+    #[inline(always)]
+    fn closest_hit_each_kernel(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        tmax: &[f32],
+        out: &mut Vec<Option<TriHit>>,
+    ) {
         assert!(tmax.len() >= rays.len(), "a tmax per ray");
         out.clear();
         out.resize(rays.len(), None);
@@ -95,7 +112,15 @@ impl TriangleBvh {
                     closest_in_pack(p, r, tmin, tmax, &mut out[i]);
                     false
                 };
-                self.interleave::<true>(rays, at, tmin, tmax, leaf, |_, _| {});
+                self.interleave::<true>(
+                    rays,
+                    at,
+                    tmin,
+                    tmax,
+                    leaf,
+                    #[inline(always)]
+                    |_, _| {},
+                );
                 continue;
             };
             let run = Run::new(&f, rays, tmin, tmax, &at);
@@ -113,6 +138,22 @@ impl TriangleBvh {
         rays: &[Ray],
         tmin: f32,
         tmax: &[f32],
+        hit: impl FnMut(usize, u32) -> bool,
+        out: &mut Vec<bool>,
+    ) {
+        simd::active().run(
+            #[inline(always)]
+            || self.any_hit_each_kernel(rays, tmin, tmax, hit, out),
+        );
+    }
+
+    /// [`any_hit_each`](Self::any_hit_each), compiled into each kernel set.
+    #[inline(always)]
+    fn any_hit_each_kernel(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        tmax: &[f32],
         mut hit: impl FnMut(usize, u32) -> bool,
         out: &mut Vec<bool>,
     ) {
@@ -125,7 +166,15 @@ impl TriangleBvh {
                 let leaf = |i, p: &Pack, r: &TraversalRay, tmax: &mut f32| {
                     pack_any_hit(p, r, tmin, *tmax, &mut |id| hit(i, id))
                 };
-                self.interleave::<false>(rays, at, tmin, tmax, leaf, |i, stop| out[i] = stop);
+                self.interleave::<false>(
+                    rays,
+                    at,
+                    tmin,
+                    tmax,
+                    leaf,
+                    #[inline(always)]
+                    |i, stop| out[i] = stop,
+                );
                 continue;
             };
             let run = Run::new(&f, rays, tmin, tmax, &at);
@@ -217,7 +266,11 @@ impl TriangleBvh {
         let (i, r) = (w.ray, &w.r);
         let hit_node = |node: &Node4, tmax| node.hit(r, tmin4, Vec4::splat(tmax));
         let mut packs = |_: Option<(&Node4, usize)>, packs: &[Pack], tmax: &mut f32| {
-            packs.iter().any(|p| leaf(i, p, r, tmax))
+            any_of(
+                packs,
+                #[inline(always)]
+                |p| leaf(i, p, r, tmax),
+            )
         };
         let at = (&mut w.at.cur, &mut w.at.tmax, &mut w.at.stack);
         let done = self.tree.step::<ORDERED, false>(at, &hit_node, &mut packs);
