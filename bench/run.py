@@ -81,7 +81,7 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 # more memory) than the baseline by more than this fraction.
 SLOWER = 0.03
 SECTIONS = ["rays", "a", "b", "whitted", "mirror", "scaling", "linear", "memory", "million", "points", "path", "instances",
-            "xmlread", "lights", "progressive", "before"]
+            "xmlread", "lights", "progressive", "kernels", "before"]
 # bench/common.py needs numpy: it is imported where used, once the venv runs the script.
 sys.path.insert(0, str(HERE))
 
@@ -559,6 +559,40 @@ def section_progressive(args, bins, data):
         "checkpoint_per_pass_over_none": cpu["16 passes, a checkpoint per pass"] / cpu["16 passes"],
         "preview_over_none": cpu["16 passes, preview"] / cpu["16 passes"],
     }
+
+
+# What each kernel set (`--simd`) costs on the canonical scene, the Whitted
+# frame and a small hardest case (the mirror bunny at 400×300, 16
+# reflection and 16 shadow rays, the metrics on), 2 threads.
+KERNEL_SCENES = {
+    "scene (a)": CANONICAL,
+    "Whitted frame": [str(ROOT / "bench" / "scenes" / "bunny-whitted.toml"), "--threads", "2"],
+    "hardest case, 400×300": ["bunny-mirror", "--width", "400", "--height", "300", "--spp", "4",
+                              "--shadow-rays", "16", "--reflection-rays", "16", "--metric", "--threads", "2"],
+}
+
+
+def section_kernels(args, bins, data):
+    """CPU seconds of the whole process for each kernel set this machine
+    supports (the sets `penumbra --version` lists), medians of the rounds,
+    the sets in turn (the order rotating), and each set against portable;
+    the images must be the same file."""
+    v = run([bins["penumbra"], "--version"]).stdout
+    sets = v.split("supported: ")[1].strip().rstrip(")").split(", ")
+    out = {"sets": sets, "cpu_s": {}, "over_portable": {}}
+    for label, scene in KERNEL_SCENES.items():
+        got = {k: [] for k in sets}
+        files = {}
+        for r in range(args.rounds):
+            for k in sets[r % len(sets):] + sets[:r % len(sets)]:
+                got[k].append(render_cli(bins, data["bunny"], *scene, "--simd", k)["render_cpu_s"])
+                files[k] = (HERE / ".work" / "frame.png").read_bytes()
+        if len(set(files.values())) != 1:
+            raise SystemExit(f"kernel sets wrote different images for {label}")
+        cpu = {k: med(x) for k, x in got.items()}
+        out["cpu_s"][label] = cpu
+        out["over_portable"][label] = {k: cpu[k] / cpu["portable"] for k in sets}
+    return out
 
 
 def section_whitted(args, bins, data):
@@ -1074,6 +1108,14 @@ def report(res):
         for x in g["samplers"]:
             L.append(f"| `{x['sampler']}` | {f(x['render_s'], 3)} | {x['relmse']:.3g} | {x['relmse_x_s']:.3g} | "
                      f"{f(x['work_vs_uniform'], 3)} |")
+    if "kernels" in res:
+        kr = res["kernels"]
+        L.append("")
+        L.append("| kernel set (CPU s, whole process, 2 threads) | " + " | ".join(kr["sets"]) + " |")
+        L.append("|---|" + "---|" * len(kr["sets"]))
+        for label, cpu in kr["cpu_s"].items():
+            ratio = kr["over_portable"][label]
+            L.append(f"| {label} | " + " | ".join(f"{f(cpu[k], 3)} ({f(ratio[k], 3)}×)" for k in kr["sets"]) + " |")
     if "million" in res:
         mm = res["million"]
         row(f"1,000,000-triangle mesh: load + build s / render s / memory MB", "—",
@@ -1226,7 +1268,8 @@ def main():
            "mirror": section_mirror, "scaling": section_scaling, "linear": section_linear,
            "memory": section_memory, "million": section_million, "points": section_points,
            "path": section_path, "instances": section_instances, "lights": section_lights,
-           "xmlread": section_xmlread, "progressive": section_progressive, "before": section_before}
+           "xmlread": section_xmlread, "progressive": section_progressive, "kernels": section_kernels,
+           "before": section_before}
     for s in sections:
         log(f"== {s}")
         res[s] = fns[s](args, bins, data)

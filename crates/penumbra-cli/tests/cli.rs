@@ -80,12 +80,24 @@ fn every_kernel_set_writes_the_same_file_and_names_itself() {
     let sets: Vec<&str> = supported.split(", ").collect();
     println!("kernel sets run: {}", sets.join(", "));
     assert!(sets.contains(&"portable"), "{version}");
-    assert!(version.contains(&format!("kernels: {}", sets[0])), "{version}");
+    assert!(
+        version.contains(&format!("kernels: {}", sets[0])),
+        "{version}"
+    );
     let mut files = Vec::new();
     for set in &sets {
         let out = format!("{set}.exr");
         let stats = format!("{set}.json");
-        let mut args = vec!["--simd", set, "render", "cornell-box", "-o", &out, "--stats", &stats];
+        let mut args = vec![
+            "--simd",
+            set,
+            "render",
+            "cornell-box",
+            "-o",
+            &out,
+            "--stats",
+            &stats,
+        ];
         args.extend_from_slice(SMALL);
         let o = penumbra(&args, dir.path());
         assert!(o.status.success(), "{}", stderr(&o));
@@ -94,9 +106,16 @@ fn every_kernel_set_writes_the_same_file_and_names_itself() {
         assert_eq!(doc["kernels"], *set);
         files.push(std::fs::read(dir.path().join(&out)).unwrap());
     }
-    assert!(files.iter().all(|f| *f == files[0]), "kernel sets wrote different files");
+    assert!(
+        files.iter().all(|f| *f == files[0]),
+        "kernel sets wrote different files"
+    );
     // A set this processor lacks, or none of that name: status 2, named.
-    let other = if cfg!(target_arch = "x86_64") { "neon" } else { "avx2" };
+    let other = if cfg!(target_arch = "x86_64") {
+        "neon"
+    } else {
+        "avx2"
+    };
     for (name, says) in [(other, "not supported"), ("sse9", "unknown kernel set")] {
         let o = penumbra(&["--simd", name, "render", "-o", "x.png"], dir.path());
         assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));

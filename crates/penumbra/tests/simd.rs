@@ -35,7 +35,11 @@ fn grid(n: u32, y: f32) -> Mesh {
     let mut positions = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
-            positions.push(Vec3::new(i as f32 - n as f32 / 2.0, y, j as f32 - n as f32 / 2.0));
+            positions.push(Vec3::new(
+                i as f32 - n as f32 / 2.0,
+                y,
+                j as f32 - n as f32 / 2.0,
+            ));
         }
     }
     let at = |i: u32, j: u32| j * (n + 1) + i;
@@ -57,7 +61,13 @@ fn grid(n: u32, y: f32) -> Mesh {
 /// Small random triangles in a box, and degenerate ones: collinear
 /// vertices, a repeated vertex, a point.
 fn soup(rng: &mut Rng, n: u32) -> Mesh {
-    let mut v = || Vec3::new(rng.range(-3.0, 3.0), rng.range(0.0, 3.0), rng.range(-3.0, 3.0));
+    let mut v = || {
+        Vec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(0.0, 3.0),
+            rng.range(-3.0, 3.0),
+        )
+    };
     let mut positions = Vec::new();
     for _ in 0..n {
         let c = v();
@@ -93,9 +103,16 @@ fn world() -> World {
     let objects = vec![
         Object::new(Shape::MeshShape(MeshShape::new(0)), 0),
         Object::new(Shape::MeshShape(MeshShape::new(1)), 1),
-        Object::new(Shape::Sphere(Sphere::new(Vec3::new(1.0, 1.0, -1.0), 0.75)), 2),
         Object::new(
-            Shape::Quad(Quad::new(Vec3::new(-2.0, 0.0, 2.0), Vec3::Y * 2.0, Vec3::X * 2.0)),
+            Shape::Sphere(Sphere::new(Vec3::new(1.0, 1.0, -1.0), 0.75)),
+            2,
+        ),
+        Object::new(
+            Shape::Quad(Quad::new(
+                Vec3::new(-2.0, 0.0, 2.0),
+                Vec3::Y * 2.0,
+                Vec3::X * 2.0,
+            )),
             2,
         ),
         instance(Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0))),
@@ -111,8 +128,16 @@ fn rays(w: &World) -> Vec<Ray> {
     let mut rng = Rng::new(5);
     let mut out = Vec::new();
     for _ in 0..3000 {
-        let o = Vec3::new(rng.range(-7.0, 7.0), rng.range(-1.0, 5.0), rng.range(-7.0, 7.0));
-        let t = Vec3::new(rng.range(-4.0, 4.0), rng.range(0.0, 3.0), rng.range(-4.0, 4.0));
+        let o = Vec3::new(
+            rng.range(-7.0, 7.0),
+            rng.range(-1.0, 5.0),
+            rng.range(-7.0, 7.0),
+        );
+        let t = Vec3::new(
+            rng.range(-4.0, 4.0),
+            rng.range(0.0, 3.0),
+            rng.range(-4.0, 4.0),
+        );
         out.push(Ray::new(o, t - o, rng.next_f32()));
     }
     let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
@@ -151,8 +176,16 @@ fn rays(w: &World) -> Vec<Ray> {
     }
     for k in 0..64 {
         let a = k as f32 / 64.0 * std::f32::consts::TAU;
-        out.push(Ray::new(Vec3::new(0.0, 1e-7, 0.0), Vec3::new(a.cos(), 0.0, a.sin()), 0.0));
-        out.push(Ray::new(Vec3::new(0.1, 3.0, 0.1), Vec3::new(a.cos(), -1e-4, a.sin()), 0.0));
+        out.push(Ray::new(
+            Vec3::new(0.0, 1e-7, 0.0),
+            Vec3::new(a.cos(), 0.0, a.sin()),
+            0.0,
+        ));
+        out.push(Ray::new(
+            Vec3::new(0.1, 3.0, 0.1),
+            Vec3::new(a.cos(), -1e-4, a.sin()),
+            0.0,
+        ));
     }
     out
 }
@@ -168,7 +201,10 @@ fn answers(w: &World, rays: &[Ray]) -> Vec<String> {
             crossed.push((c.material(), c.count()));
             crossed.len() > 40
         });
-        out.push(format!("{stopped} {crossed:?} {}", w.occluded(r, (1e-4, 6.0))));
+        out.push(format!(
+            "{stopped} {crossed:?} {}",
+            w.occluded(r, (1e-4, 6.0))
+        ));
     }
     // Batches: a packet of rays from one point and an incoherent batch.
     let mut scratch = PacketScratch::default();
@@ -215,7 +251,11 @@ fn every_kernel_set_answers_every_query_with_the_portable_bits() {
     w.set_kernels(KernelSet::Portable).unwrap();
     let want = answers(&w, &rays);
     // The rays do hit: a test of nothing would pass too.
-    let hits = want.iter().step_by(2).filter(|a| a.starts_with("Some")).count();
+    let hits = want
+        .iter()
+        .step_by(2)
+        .filter(|a| a.starts_with("Some"))
+        .count();
     assert!(hits > 1000, "only {hits} hits");
     for k in sets {
         w.set_kernels(k).unwrap();
@@ -281,7 +321,9 @@ fn images_and_ray_counts_are_the_same_on_every_set_for_every_integrator() {
             },
         );
         let mut scene = src.build().expect("scene builds");
-        world_of(&mut scene).set_kernels(KernelSet::Portable).unwrap();
+        world_of(&mut scene)
+            .set_kernels(KernelSet::Portable)
+            .unwrap();
         let (want, want_rays) = render_scene(&scene, 2);
         for &k in &sets {
             world_of(&mut scene).set_kernels(k).unwrap();

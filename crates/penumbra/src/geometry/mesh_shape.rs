@@ -58,7 +58,7 @@ impl ShapeModel for MeshShape {
         meshes[self.mesh as usize].bounds()
     }
 
-    #[inline]
+    #[inline(always)]
     fn geometry(&self, meshes: &[Mesh], hit: &ShapeHit, _p: Vec3) -> LocalGeometry {
         let m = &meshes[self.mesh as usize];
         let tri = hit.inner as usize;

@@ -89,8 +89,11 @@ macro_rules! shapes {
                 }
             }
 
-            /// See [`ShapeModel::geometry`].
-            #[inline]
+            /// See [`ShapeModel::geometry`]. Always inlined: the record,
+            /// returned through memory by a call, would be read back with
+            /// wider loads than it was stored with, and every such load
+            /// waits for the stores to drain (a third of a hit's cost).
+            #[inline(always)]
             pub fn geometry(&self, meshes: &[Mesh], hit: &ShapeHit, p: Vec3) -> LocalGeometry {
                 match self {
                     $(Shape::$variant(s) => ShapeModel::geometry(s, meshes, hit, p),)*

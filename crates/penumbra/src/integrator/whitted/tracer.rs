@@ -425,17 +425,20 @@ impl<'a> Tracer<'a> {
             }
         }
         if scatters {
-            self.indirect(s, hit, depth, rng, &mut l);
+            // By value, not through a reference: `l` stays in registers
+            // (a sum kept in memory is stored and reloaded in parts, and
+            // each reload waits for the stores).
+            l = self.indirect(s, hit, depth, rng, l);
         }
         l
     }
 
-    /// Adds the light of each delta lobe of the hit's BSDF to `l`, lobe by
-    /// lobe in slot order: the mean radiance of the lobe's set times the
+    /// `l` plus the light of each delta lobe of the hit's BSDF, added lobe
+    /// by lobe in slot order: the mean radiance of the lobe's set times the
     /// lobe's weight.
-    fn indirect(&mut self, s: &Local, hit: &Hit, depth: u32, rng: Rng, l: &mut Rgb) {
+    fn indirect(&mut self, s: &Local, hit: &Hit, depth: u32, rng: Rng, mut l: Rgb) -> Rgb {
         if depth >= self.max_depth {
-            return;
+            return l;
         }
         let (lobes, ..) = self.lobes[hit.material as usize];
         let sets = &self.lobe_sets[hit.material as usize];
@@ -453,8 +456,9 @@ impl<'a> Tracer<'a> {
                 continue;
             };
             let mean = self.lobe_set(s, hit, bsdf, (k, flags, spec), perfect.wi, depth, rng);
-            *l += perfect.weight * mean;
+            l += perfect.weight * mean;
         }
+        l
     }
 
     /// The set a delta lobe without a budget of its own traces: the render's

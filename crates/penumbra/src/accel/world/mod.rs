@@ -18,16 +18,22 @@
 //! A scene of at most four objects besides its static meshes (a ground and
 //! a light) has a single top-level leaf.
 
-use super::bvh4::{any_of, any_of_rev, Frustum, TraversalRay, ONE_PER_ITEM};
-use super::{Bvh4, LeafSet, RayPacket, Shaft, TriHit, TriangleBvh};
+use super::bvh4::ONE_PER_ITEM;
+use super::{Bvh4, TriangleBvh};
 use std::sync::Arc;
+
+mod closest;
+mod shadow;
+
+pub use closest::PacketScratch;
+pub use shadow::{Crossing, ShaftSet};
 
 use crate::geometry::instance::Placement;
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
-use crate::geometry::triangle::{intersect_triangle, RayShear};
-use crate::geometry::{Mesh, Shape, ShapeHit, SurfaceInteraction};
-use crate::math::{nearest_lane, Aabb, Ray, Vec2, Vec3};
+
+use crate::geometry::{LocalGeometry, Mesh, Shape, ShapeHit, ShapeModel, SurfaceInteraction};
+use crate::math::{Aabb, Ray, Vec2, Vec3};
 use crate::simd::{self, KernelSet, SimdError};
 
 /// What a ray finds: the surface-interaction record of the nearest surface.
@@ -155,9 +161,6 @@ impl Candidate {
     }
 }
 
-/// The closest hit found so far by a query.
-type Best = Option<(Prim, f32, Candidate)>;
-
 impl World {
     pub fn new(objects: Vec<Object>, meshes: impl Into<Arc<[Mesh]>>) -> World {
         let meshes: Arc<[Mesh]> = meshes.into();
@@ -280,347 +283,6 @@ impl World {
         self.is_static
     }
 
-    /// The closest surface along the ray within (tmin, tmax).
-    pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        self.kernels.run(
-            #[inline(always)]
-            || self.intersect_kernel(ray, tmin, tmax),
-        )
-    }
-
-    /// [`intersect`](Self::intersect), compiled into each kernel set.
-    #[inline(always)]
-    fn intersect_kernel(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        let mut best = None;
-        self.top.traverse_items::<true>(
-            self.kernels,
-            ray,
-            tmin,
-            tmax,
-            #[inline(always)]
-            |items, r, tmax| {
-                for &item in items {
-                    match item {
-                        Item::Object(object) => {
-                            self.closest_object(object, ray, tmin, tmax, &mut best)
-                        }
-                        Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, &mut best),
-                        Item::Meshes => {
-                            let h = match r {
-                                Some(r) => self.tris.closest_hit_prepared(r, tmin, *tmax),
-                                None => self.tris.closest_hit(ray, tmin, *tmax),
-                            };
-                            if let Some(h) = h {
-                                *tmax = h.t;
-                                best = Some(self.triangle_candidate(&h));
-                            }
-                        }
-                    }
-                }
-                false
-            },
-        );
-        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
-    }
-
-    /// Tests one object for a hit nearer than `tmax`; on one, shrinks
-    /// `tmax` to it and records it in `best`.
-    #[inline]
-    fn closest_object(&self, object: u32, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
-        let prim = Prim::Object { object };
-        if let Some((t, c)) = self.intersect_prim(prim, ray, tmin, *tmax) {
-            *tmax = t;
-            *best = Some((prim, t, c));
-        }
-    }
-
-    /// [`closest_object`](Self::closest_object) for the quads of
-    /// `self.quads[i]`: the nearest lane, the first of equals (as testing
-    /// them in order does).
-    #[inline]
-    fn closest_quad(&self, i: u32, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
-        let pack = &self.quads[i as usize];
-        let h = pack.quads.intersect(ray, tmin, *tmax);
-        if h.mask == 0 {
-            return;
-        }
-        let lane = nearest_lane(h.mask, &h.t);
-        let cand = Candidate {
-            b1: h.s[lane],
-            b2: h.tt[lane],
-            inner: 0,
-        };
-        let object = pack.objects[lane];
-        *tmax = h.t[lane];
-        *best = Some((Prim::Object { object }, h.t[lane], cand));
-    }
-
-    /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
-    /// order: the same hits (of static triangles hit at exactly the same
-    /// distance, the lowest index on both paths). Rays from one point in
-    /// nearly one direction (a packet: a pixel's camera rays, a span's, a
-    /// narrow glossy set) pass the top level's objects one by one, then the
-    /// static triangles all at once (see [`TriangleBvh::closest_hits`]);
-    /// other batches, and a batch of one, are traced ray by ray.
-    pub fn intersect_all(
-        &self,
-        rays: &[Ray],
-        tmin: f32,
-        scratch: &mut PacketScratch,
-        out: &mut Vec<Option<Hit>>,
-    ) {
-        self.kernels.run(
-            #[inline(always)]
-            || self.intersect_all_kernel(rays, tmin, scratch, out),
-        );
-    }
-
-    /// [`intersect_all`](Self::intersect_all), compiled into each kernel set.
-    #[inline(always)]
-    fn intersect_all_kernel(
-        &self,
-        rays: &[Ray],
-        tmin: f32,
-        scratch: &mut PacketScratch,
-        out: &mut Vec<Option<Hit>>,
-    ) {
-        // A batch of one, or of rays that are not a packet: each ray's own walk.
-        let Some(frustum) = Frustum::packet(rays) else {
-            out.clear();
-            // A loop, not `extend`: kept inline in the kernel set's code.
-            for r in rays {
-                out.push(self.intersect_kernel(r, tmin, f32::INFINITY));
-            }
-            return;
-        };
-        let PacketScratch {
-            objects,
-            tmax,
-            tris,
-            packet,
-        } = scratch;
-        objects.clear();
-        objects.resize(rays.len(), None);
-        tmax.clear();
-        tmax.resize(rays.len(), f32::INFINITY);
-        let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-        match self.top.single_leaf() {
-            // A top level of one leaf: item by item, all rays (each item's
-            // data loaded once), in the order a ray alone meets them.
-            Some(items) => {
-                for &item in items {
-                    let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-                    match item {
-                        Item::Object(object) => {
-                            for ((ray, best), tmax) in rays_items {
-                                self.closest_object(object, ray, tmin, tmax, best);
-                            }
-                        }
-                        Item::Quads(i) => {
-                            for ((ray, best), tmax) in rays_items {
-                                self.closest_quad(i, ray, tmin, tmax, best);
-                            }
-                        }
-                        Item::Meshes => {}
-                    }
-                }
-            }
-            None => {
-                for ((ray, best), tmax) in rays_items {
-                    self.top.traverse_items::<true>(
-                        self.kernels,
-                        ray,
-                        tmin,
-                        *tmax,
-                        #[inline(always)]
-                        |items, _, tmax| {
-                            for &item in items {
-                                match item {
-                                    Item::Object(object) => {
-                                        self.closest_object(object, ray, tmin, tmax, best)
-                                    }
-                                    Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, best),
-                                    Item::Meshes => {}
-                                }
-                            }
-                            false
-                        },
-                    );
-                    // The top level's traversal keeps its own limit.
-                    *tmax = best.map_or(f32::INFINITY, |b| b.1);
-                }
-            }
-        }
-        (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
-        out.clear();
-        let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
-        out.extend(hits.map(|((ray, best), tri)| {
-            let best = tri.map(|h| self.triangle_candidate(&h)).or(*best);
-            best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
-        }));
-    }
-
-    fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {
-        let (object, tri) = self.tri_refs[h.id as usize];
-        let cand = Candidate {
-            b1: h.b1,
-            b2: h.b2,
-            inner: tri,
-        };
-        (Prim::Triangle { object }, h.t, cand)
-    }
-
-    /// Prepares `out` for the segments from the box `origins` to the box
-    /// `targets` (a shadow set, see [`Shaft`]): gathers the top-level
-    /// leaves and the static-triangle leaves they may cross, and lists the
-    /// shadow casters among the objects of those leaves that they may cross
-    /// (a quad or disk with every end point on one side of its plane cannot
-    /// be crossed: the ground a shadow set starts from, say; nor can a
-    /// still object whose bounding box lies outside the shaft). Returns
-    /// false if the boxes are not finite or the shaft reaches more than
-    /// `limit` leaves or objects: then the rays are better traced one by one.
-    pub fn gather_shaft(
-        &self,
-        origins: Aabb,
-        targets: Aabb,
-        limit: usize,
-        out: &mut ShaftSet,
-    ) -> bool {
-        self.kernels.run(
-            #[inline(always)]
-            || self.gather_shaft_kernel(origins, targets, limit, out),
-        )
-    }
-
-    /// [`gather_shaft`](Self::gather_shaft), compiled into each kernel set.
-    #[inline(always)]
-    fn gather_shaft_kernel(
-        &self,
-        origins: Aabb,
-        targets: Aabb,
-        limit: usize,
-        out: &mut ShaftSet,
-    ) -> bool {
-        let Some(shaft) = Shaft::new(origins, targets) else {
-            return false;
-        };
-        out.items.clear();
-        out.leaves.clear();
-        let mut g = ShaftGather {
-            world: self,
-            shaft: &shaft,
-            ends: [origins, targets],
-            limit,
-            ok: true,
-        };
-        // A top level of one leaf (a few objects) is taken whole.
-        if let Some(items) = self.top.single_leaf() {
-            g.leaf(items, out);
-        } else {
-            let mut top = std::mem::take(&mut out.top);
-            if !self.top.gather(&shaft, limit, &mut top) {
-                out.top = top;
-                return false;
-            }
-            self.top.in_leaves(
-                &top,
-                #[inline(always)]
-                |items| g.leaf(items, out),
-            );
-            out.top = top;
-        }
-        g.ok && out.items.len() <= limit
-    }
-
-    /// True if nothing can block a segment held by the shaft `set` was
-    /// gathered for: no static-triangle leaf and no caster is within it.
-    /// Such a segment then [crosses](Self::crossings) nothing, and a shadow
-    /// set need not trace its rays.
-    pub fn shaft_is_clear(&self, set: &ShaftSet) -> bool {
-        set.items.is_empty()
-    }
-
-    /// Visits the surfaces a segment of `ray` within `range` crosses, one
-    /// [`Crossing`] at a time, until `cross` says to stop (true); true if
-    /// it did. Objects that cast no shadow are passed. With `shaft`, what
-    /// [`gather_shaft`](Self::gather_shaft) found for a shaft holding the
-    /// segment, only its casters and static-triangle leaves are visited, in
-    /// the order a traversal meets them (the same crossings in the same
-    /// order). A leaf's items are visited last to first, the static
-    /// triangles before the objects: an opaque mesh ends most of the
-    /// shadow rays that meet it. Which crossings let light through, and
-    /// how much, is the integrators' to say.
-    pub fn crossings(
-        &self,
-        ray: &Ray,
-        (tmin, tmax): (f32, f32),
-        shaft: Option<&ShaftSet>,
-        mut cross: impl FnMut(&Crossing<'_>) -> bool,
-    ) -> bool {
-        self.kernels.run(
-            #[inline(always)]
-            || self.crossings_kernel(ray, (tmin, tmax), shaft, &mut cross),
-        )
-    }
-
-    /// [`crossings`](Self::crossings), compiled into each kernel set.
-    #[inline(always)]
-    fn crossings_kernel(
-        &self,
-        ray: &Ray,
-        (tmin, tmax): (f32, f32),
-        shaft: Option<&ShaftSet>,
-        mut cross: impl FnMut(&Crossing<'_>) -> bool,
-    ) -> bool {
-        let mut seg = Segment {
-            world: self,
-            ray,
-            tmin,
-            tmax,
-            leaves: shaft.map(|s| &s.leaves),
-            cross: &mut cross,
-        };
-        match shaft {
-            Some(set) => any_of(
-                &set.items,
-                #[inline(always)]
-                |&i| seg.blocked_by(i, None),
-            ),
-            None => self.top.traverse_items::<false>(
-                self.kernels,
-                ray,
-                tmin,
-                tmax,
-                #[inline(always)]
-                |items, r, _| {
-                    any_of_rev(
-                        items,
-                        #[inline(always)]
-                        |&i| seg.blocked_by(i, r),
-                    )
-                },
-            ),
-        }
-    }
-
-    /// True if a surface that casts shadows crosses the segment of `ray`
-    /// within `range`.
-    pub fn occluded(&self, ray: &Ray, range: (f32, f32)) -> bool {
-        self.crossings(ray, range, None, |_| true)
-    }
-
-    /// How often the ray crosses the object within (tmin, tmax): a closed
-    /// shape (a sphere) can be crossed twice (in and out).
-    fn count_crossings(&self, object: u32, ray: &Ray, tmin: f32, tmax: f32) -> i32 {
-        let prim = Prim::Object { object };
-        let Some((t, _)) = self.intersect_prim(prim, ray, tmin, tmax) else {
-            return 0;
-        };
-        let closed = self.objects[object as usize].shape.is_closed();
-        let second = closed && self.intersect_prim(prim, ray, t, tmax).is_some();
-        1 + i32::from(second)
-    }
-
     /// Intersects an object of the top level (a static triangle is found
     /// through the triangle tree instead).
     fn intersect_prim(
@@ -667,35 +329,70 @@ impl World {
     fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
         let object = prim_object(prim);
         let o = &self.objects[object as usize];
-        let (local_ray, similarity) = match (prim, &o.motion) {
-            (Prim::Object { .. }, Some(m)) => {
-                let (r, s) = m.to_object(ray);
-                (r, Some(s))
+        let motion = match prim {
+            Prim::Object { .. } => o.motion.as_ref(),
+            Prim::Triangle { .. } => None,
+        };
+        let hit = |c: &Candidate| c.at(t);
+        match (motion, o.placement.as_deref()) {
+            // The record of each case is made in place: merged with the
+            // others' through memory, it would be read back with wider loads
+            // than it was stored with, each waiting for the stores to drain
+            // (a third of a hit's cost, for a triangle).
+            (None, None) => {
+                let p = ray.at(t);
+                let g = match o.shape.as_mesh() {
+                    Some(m) => ShapeModel::geometry(m, &self.meshes, &hit(&c), p),
+                    None => o.shape.geometry(&self.meshes, &hit(&c), p),
+                };
+                self.record(object, ray, t, c, (p, g))
             }
-            _ => (*ray, None),
+            (Some(m), _) => {
+                let (local_ray, s) = m.to_object(ray);
+                let p = local_ray.at(t);
+                let g = o.shape.geometry(&self.meshes, &hit(&c), p);
+                let g = LocalGeometry {
+                    ng: s.normal_to_world(g.ng),
+                    ns: s.normal_to_world(g.ns),
+                    dpdu: s.vector_to_world(g.dpdu),
+                    dpdv: s.vector_to_world(g.dpdv),
+                    uv: g.uv,
+                };
+                self.record(object, ray, t, c, (s.point_to_world(p), g))
+            }
+            (None, Some(pl)) => {
+                let p = pl.ray_to_object(ray).at(t);
+                let g = o.shape.geometry(&self.meshes, &hit(&c), p);
+                let g = LocalGeometry {
+                    ng: pl.normal_to_world(g.ng),
+                    ns: pl.normal_to_world(g.ns),
+                    dpdu: pl.vector_to_world(g.dpdu),
+                    dpdv: pl.vector_to_world(g.dpdv),
+                    uv: g.uv,
+                };
+                self.record(object, ray, t, c, (pl.point_to_world(p), g))
+            }
+        }
+    }
+
+    /// The hit record of `object` at `point` with geometry `g` in world
+    /// space: normals flipped if the object says so, the shading normal
+    /// on the geometric normal's side.
+    #[inline(always)]
+    fn record(
+        &self,
+        object: u32,
+        ray: &Ray,
+        t: f32,
+        c: Candidate,
+        (point, g): (Vec3, LocalGeometry),
+    ) -> Hit {
+        let o = &self.objects[object as usize];
+        let (ng, ns) = if o.flip_normals {
+            (-g.ng, -g.ns)
+        } else {
+            (g.ng, g.ns)
         };
-        let placement = o.placement.as_deref().filter(|_| similarity.is_none());
-        let local_ray = placement.map_or(local_ray, |pl| pl.ray_to_object(ray));
-        let p = local_ray.at(t);
-        let g = o.shape.geometry(&self.meshes, &c.at(t), p);
-        let (point, ng, ns, dpdu, dpdv) = match (similarity, placement) {
-            (Some(s), _) => (
-                s.point_to_world(p),
-                s.normal_to_world(g.ng),
-                s.normal_to_world(g.ns),
-                s.vector_to_world(g.dpdu),
-                s.vector_to_world(g.dpdv),
-            ),
-            (None, Some(pl)) => (
-                pl.point_to_world(p),
-                pl.normal_to_world(g.ng),
-                pl.normal_to_world(g.ns),
-                pl.vector_to_world(g.dpdu),
-                pl.vector_to_world(g.dpdv),
-            ),
-            (None, None) => (ray.at(t), g.ng, g.ns, g.dpdu, g.dpdv),
-        };
-        let (ng, ns) = if o.flip_normals { (-ng, -ns) } else { (ng, ns) };
         let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
         SurfaceInteraction {
             t,
@@ -704,11 +401,9 @@ impl World {
             ng,
             n: ns,
             uv: g.uv,
-            dpdu,
-            dpdv,
-            prim: match prim {
-                Prim::Triangle { .. } | Prim::Object { .. } => c.inner,
-            },
+            dpdu: g.dpdu,
+            dpdv: g.dpdv,
+            prim: c.inner,
             bary: if o.shape.as_mesh().is_some() {
                 Vec2::new(c.b1, c.b2)
             } else {
@@ -719,258 +414,6 @@ impl World {
             emitter: o.emitter,
         }
     }
-}
-
-/// What a shadow segment crosses (see [`World::crossings`]): an object of
-/// the top level, crossed `count` times (a closed shape can be crossed
-/// twice), or a static triangle, crossed once.
-pub struct Crossing<'a> {
-    world: &'a World,
-    ray: &'a Ray,
-    range: (f32, f32),
-    what: Crossed,
-}
-
-#[derive(Clone, Copy)]
-enum Crossed {
-    Object { object: u32, count: i32 },
-    Triangle { id: u32 },
-}
-
-impl Crossing<'_> {
-    /// The material of the surface crossed.
-    #[inline(always)]
-    pub fn material(&self) -> u32 {
-        let w = self.world;
-        let object = match self.what {
-            Crossed::Object { object, .. } => object,
-            Crossed::Triangle { id } => w.tri_refs[id as usize].0,
-        };
-        w.objects[object as usize].material
-    }
-
-    /// How often the segment crosses the surface (1, or 2 through a
-    /// closed shape).
-    #[inline(always)]
-    pub fn count(&self) -> i32 {
-        match self.what {
-            Crossed::Object { count, .. } => count,
-            Crossed::Triangle { .. } => 1,
-        }
-    }
-
-    /// Visits the record of each crossing (made as a closest hit's) in
-    /// order along the ray, until `at` says to stop (true); true if it
-    /// did.
-    #[cold]
-    pub fn each_hit(&self, mut at: impl FnMut(&Hit) -> bool) -> bool {
-        let (w, ray, (tmin, tmax)) = (self.world, self.ray, self.range);
-        match self.what {
-            Crossed::Object { object, .. } => {
-                let prim = Prim::Object { object };
-                let mut from = tmin;
-                // A closed shape is crossed at most twice.
-                for _ in 0..2 {
-                    let Some((t, c)) = w.intersect_prim(prim, ray, from, tmax) else {
-                        break;
-                    };
-                    if at(&w.make_hit(prim, ray, t, c)) {
-                        return true;
-                    }
-                    if !w.objects[object as usize].shape.is_closed() {
-                        break;
-                    }
-                    from = t;
-                }
-                false
-            }
-            Crossed::Triangle { id } => {
-                let (object, tri) = w.tri_refs[id as usize];
-                let Some(mesh) = w.objects[object as usize].shape.as_mesh() else {
-                    return false;
-                };
-                let [p0, p1, p2] = w.meshes[mesh.mesh as usize].vertices(tri as usize);
-                let shear = RayShear::new(ray);
-                let Some((t, b1, b2)) = intersect_triangle(ray, &shear, p0, p1, p2, tmin, tmax)
-                else {
-                    // The tree's test met it and the lone test, by rounding
-                    // at an edge, does not: a graze, passed as a miss.
-                    return false;
-                };
-                let c = Candidate { b1, b2, inner: tri };
-                at(&w.make_hit(Prim::Triangle { object }, ray, t, c))
-            }
-        }
-    }
-}
-
-/// A shadow segment being traced by [`World::crossings`], and what it
-/// hands each crossing to.
-struct Segment<'a, F> {
-    world: &'a World,
-    ray: &'a Ray,
-    tmin: f32,
-    tmax: f32,
-    /// The static-triangle leaves of the shaft holding the segment, if any.
-    leaves: Option<&'a LeafSet>,
-    cross: &'a mut F,
-}
-
-impl<F: FnMut(&Crossing<'_>) -> bool> Segment<'_, F> {
-    /// Hands the crossing `what` on; true once it says to stop.
-    #[inline(always)]
-    fn cross(&mut self, what: Crossed) -> bool {
-        let crossing = Crossing {
-            world: self.world,
-            ray: self.ray,
-            range: (self.tmin, self.tmax),
-            what,
-        };
-        (self.cross)(&crossing)
-    }
-
-    /// Hands on what the segment crosses of a top-level item (objects
-    /// that cast no shadow are passed); true once told to stop. `r` is the
-    /// ray prepared by the top level, if it was.
-    #[inline(always)]
-    fn blocked_by(&mut self, item: Item, r: Option<&TraversalRay>) -> bool {
-        let (w, ray, tmin, tmax) = (self.world, self.ray, self.tmin, self.tmax);
-        match item {
-            Item::Object(object) => {
-                let o = &w.objects[object as usize];
-                if !o.casts_shadows {
-                    return false;
-                }
-                let count = w.count_crossings(object, ray, tmin, tmax);
-                count > 0 && self.cross(Crossed::Object { object, count })
-            }
-            Item::Quads(i) => {
-                // A quad is crossed at most once: its lane says whether.
-                let pack = &w.quads[i as usize];
-                let mut mask = pack.quads.intersect(ray, tmin, tmax).mask;
-                while mask != 0 {
-                    let object = pack.objects[mask.trailing_zeros() as usize];
-                    mask &= mask - 1;
-                    if !w.objects[object as usize].casts_shadows {
-                        continue;
-                    }
-                    if self.cross(Crossed::Object { object, count: 1 }) {
-                        return true;
-                    }
-                }
-                false
-            }
-            Item::Meshes => {
-                let leaves = self.leaves;
-                let mut hit = |id: u32| {
-                    let o = &w.objects[w.tri_refs[id as usize].0 as usize];
-                    o.casts_shadows && self.cross(Crossed::Triangle { id })
-                };
-                match (leaves, r) {
-                    (Some(set), _) => w.tris.any_hit_in(set, ray, tmin, tmax, &mut hit),
-                    (None, Some(r)) => w.tris.any_hit_prepared(r, tmin, tmax, &mut hit),
-                    (None, None) => w.tris.any_hit(ray, tmin, tmax, &mut hit),
-                }
-            }
-        }
-    }
-}
-
-/// What [`World::gather_shaft`] carries from leaf to leaf.
-struct ShaftGather<'a> {
-    world: &'a World,
-    shaft: &'a Shaft,
-    /// The boxes of the segments' origins and targets.
-    ends: [Aabb; 2],
-    limit: usize,
-    /// False once the static triangles' leaves overflowed `limit`.
-    ok: bool,
-}
-
-impl ShaftGather<'_> {
-    /// Lists the object as a shadow caster unless it cannot be crossed: a
-    /// quad or disk with every end on one side of its plane, or a still
-    /// analytic object whose box the shaft misses.
-    #[inline(always)]
-    fn consider(&self, object: u32, out: &mut ShaftSet) {
-        let o = &self.world.objects[object as usize];
-        if !o.casts_shadows {
-            return;
-        }
-        let still = o.motion.is_none() && o.placement.is_none();
-        let plane = o.shape.plane().filter(|_| still);
-        let apart = plane.is_some_and(|(n, p)| one_side(n, p, &self.ends));
-        let analytic = o.shape.as_mesh().is_none();
-        let outside = || still && analytic && !self.shaft.overlaps(&o.shape.bounds(&[]));
-        if !apart && !outside() {
-            out.items.push(Item::Object(object));
-        }
-    }
-
-    /// Takes the items of a top-level leaf, in the order of an any-hit
-    /// traversal (see `crossings`).
-    #[inline(always)]
-    fn leaf(&mut self, items: &[Item], out: &mut ShaftSet) {
-        for &item in items.iter().rev() {
-            match item {
-                Item::Object(object) => self.consider(object, out),
-                // Lane by lane: the crossings come in the same order.
-                Item::Quads(i) => {
-                    for object in self.world.quads[i as usize].objects {
-                        if object != u32::MAX {
-                            self.consider(object, out);
-                        }
-                    }
-                }
-                Item::Meshes => {
-                    self.ok = (self.world.tris).gather(self.shaft, self.limit, &mut out.leaves);
-                    if !out.leaves.is_empty() {
-                        out.items.push(item);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// Per-worker buffers of [`World::intersect_all`].
-#[derive(Default)]
-pub struct PacketScratch {
-    objects: Vec<Best>,
-    tmax: Vec<f32>,
-    tris: Vec<Option<TriHit>>,
-    packet: RayPacket,
-}
-
-/// What a shadow set may cross, gathered once by [`World::gather_shaft`] and
-/// read by [`World::crossings`] for each of its rays.
-#[derive(Clone, Debug, Default)]
-pub struct ShaftSet {
-    /// Top-level leaves the shaft may reach.
-    top: LeafSet,
-    /// Static-triangle leaves the shaft may reach.
-    leaves: LeafSet,
-    /// What its segments may cross, in the order a traversal meets it: the
-    /// casters among the objects of `top` and, if `leaves` is not empty,
-    /// the static triangles.
-    items: Vec<Item>,
-}
-
-/// True if every box lies strictly on the same side of the plane through `p`
-/// with normal `n`, by more than rounding of the plane test could blur; then
-/// no segment between points of the boxes crosses the plane.
-fn one_side(n: Vec3, p: Vec3, boxes: &[Aabb]) -> bool {
-    let d = n.dot(p);
-    let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-    let mut size = d.abs();
-    for b in boxes {
-        let near = (n * b.min).min(n * b.max).element_sum();
-        let far = (n * b.min).max(n * b.max).element_sum();
-        size = size.max(b.min.abs().max(b.max.abs()).max_element());
-        (lo, hi) = (lo.min(near - d), hi.max(far - d));
-    }
-    let margin = 16.0 * f32::EPSILON * size;
-    lo > margin || hi < -margin
 }
 
 fn prim_object(p: Prim) -> u32 {
@@ -988,8 +431,11 @@ pub fn mesh_bvh(mesh: &Mesh) -> Arc<TriangleBvh> {
 
 #[cfg(test)]
 pub(crate) mod tests {
+    use super::shadow::one_side;
     use super::*;
+    use crate::accel::bvh4::Frustum;
     use crate::geometry::{Disk, MeshShape, Sphere};
+    use crate::math::Vec3;
     use crate::math::{self, offset_origin};
     use glam::Vec4;
 
