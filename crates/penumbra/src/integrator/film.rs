@@ -206,10 +206,19 @@ impl FilmTile {
     /// `offset` from the pixel's centre (where it is splatted from).
     /// With a film of the image's moments, the sample's moments are added
     /// to its channels too.
-    #[inline]
+    #[inline(always)]
     pub fn add(&mut self, k: usize, l: Rgb, w: f32, offset: Vec2) {
         self.sum[k] += l * w;
         self.weight[k] += w;
+        if self.splat.is_some() || self.extra.is_some() {
+            self.add_beside(k, l, w, offset);
+        }
+    }
+
+    /// What [`add`](Self::add) does beside the sums: the splat and the
+    /// moments' channels (out of line: most films have neither).
+    #[inline(never)]
+    fn add_beside(&mut self, k: usize, l: Rgb, w: f32, offset: Vec2) {
         if self.splat.is_some() {
             let p = self.position(k, offset);
             if let Some(splat) = &mut self.splat {
