@@ -396,6 +396,11 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
         .map(|k| k.name())
         .collect();
     m.add("SIMD_SETS", pyo3::types::PyTuple::new(py, sets)?)?;
+    // A $PENUMBRA_SIMD the processor cannot run is said once, at import;
+    // the widest set supported is used then.
+    if let Err(e) = penumbra::simd::from_env() {
+        warn(py, &format!("${}: {e}", penumbra::simd::SIMD_VAR))?;
+    }
     m.add_function(wrap_pyfunction!(_check_options, m)?)?;
     m.add_function(wrap_pyfunction!(images::save_image, m)?)?;
     m.add_function(wrap_pyfunction!(images::load_image, m)?)?;

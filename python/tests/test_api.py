@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import pickle
 import signal
 import subprocess
@@ -108,6 +109,16 @@ def test_every_kernel_set_gives_the_same_pixels(small):
             penumbra.kernels("sse9")
     finally:
         penumbra.kernels(default)
+
+
+def test_a_kernel_set_from_the_environment_is_used_or_warned_about():
+    code = "import penumbra; print(penumbra.kernels())"
+    for value, want in (("portable", "portable"), ("sse9", penumbra.SIMD_SETS[0])):
+        env = {**os.environ, "PENUMBRA_SIMD": value}
+        p = subprocess.run([sys.executable, "-W", "always", "-c", code], env=env, capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        assert p.stdout.strip() == want
+        assert ("unknown kernel set 'sse9'" in p.stderr) == (value == "sse9"), p.stderr
 
 
 def test_dict_and_toml_front_ends_give_the_same_scene(small):

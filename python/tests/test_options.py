@@ -91,13 +91,13 @@ def _flags(help_text: str) -> set[str]:
 def test_the_binary_and_python_m_penumbra_have_the_tables_flags(cli: Path):
     expected = {f["flag"] for f in FLAGS} | {f["off_flag"] for f in FLAGS if f["off_flag"]}
     binary = subprocess.run([str(cli), "render", "--help"], capture_output=True, text=True, check=True)
-    # --max-file-size is the binary's global flag, not a render option
-    # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE, as its workers do);
+    # --max-file-size and --simd are the binary's global flags, not render options
+    # (python -m penumbra takes $PENUMBRA_MAX_FILE_SIZE and $PENUMBRA_SIMD, as its workers do);
     # --define, --search, --sensor and --lenient set how a Mitsuba XML scene is read, which only the
     # binary reads.
     # --time-limit, --checkpoint, --checkpoint-interval and --resume are both's (checked below).
     progressive = {"--time-limit", "--checkpoint", "--checkpoint-interval", "--resume"}
-    binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--define",
+    binary_others = {"--output", "--stats", "--bunny", "--quiet", "--help", "--max-file-size", "--simd", "--define",
                      "--search", "--sensor", "--lenient", *progressive}
     # --preview and --bind serve the binary's live view in a browser;
     # --display-server streams it to tev.

@@ -65,7 +65,7 @@ use crate::description::mitsuba::{Mitsuba, Plugin};
 use crate::description::{Invalid, Props, Schema};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Rgb, Vec3};
-use crate::sampling::{EffectSpec, SetPoint};
+use crate::sampling::{Distribution, EffectSpec, SetPoint};
 use crate::texture::Textures;
 
 /// What a model's parameters default to that the scene sets: the render's
@@ -126,6 +126,29 @@ pub trait BsdfModel: Sized {
         lobe: Option<usize>,
         u: SetPoint,
     ) -> Option<BsdfSample>;
+
+    /// The directions [`sample`](Self::sample) draws from lobe `lobe` for
+    /// each point of a set (`points`, of distribution `d`), into `out`
+    /// (cleared first); `fallback` where a point gives none. The batch
+    /// form: a model may find what the points share once (the perfect
+    /// direction, the frame around it), giving the same directions bit for
+    /// bit; by default, one by one.
+    #[inline]
+    fn sample_set(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: usize,
+        (points, d): (&[Vec3], Distribution),
+        fallback: Vec3,
+        out: &mut Vec<Vec3>,
+    ) {
+        out.clear();
+        out.extend(points.iter().map(|&p| {
+            let u = SetPoint::new(p, d);
+            self.sample(si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
+        }));
+    }
 
     /// The solid-angle density of [`sample`](Self::sample) (no lobe asked)
     /// drawing `wi`; 0 for delta lobes.
@@ -279,6 +302,22 @@ macro_rules! models {
             ) {
                 match self {
                     $(Bsdf::$variant(m) => m.eval_all(si, wo, wi, out),)*
+                }
+            }
+
+            /// See [`BsdfModel::sample_set`].
+            #[inline]
+            pub fn sample_set(
+                &self,
+                si: &SurfaceInteraction,
+                wo: Vec3,
+                lobe: usize,
+                set: (&[Vec3], Distribution),
+                fallback: Vec3,
+                out: &mut Vec<Vec3>,
+            ) {
+                match self {
+                    $(Bsdf::$variant(m) => m.sample_set(si, wo, lobe, set, fallback, out),)*
                 }
             }
 

@@ -3,7 +3,8 @@
 //! `glossiness` around it (§3.3) when the integrator traces a set of it.
 
 use crate::math::{reflect, Vec3};
-use crate::sampling::{EffectSpec, SetPoint};
+use crate::sampling::points::end_points;
+use crate::sampling::{Distribution, EffectSpec, SetPoint};
 
 #[derive(Clone, Copy, Debug)]
 pub struct Mirror {
@@ -35,11 +36,35 @@ impl Mirror {
 /// made unit.
 #[inline]
 pub fn blurred(dir: Vec3, radius: f32, side: Vec3, u: &SetPoint) -> Vec3 {
-    let mut w = if radius > 0.0 {
+    let w = if radius > 0.0 {
         u.end_point(dir, dir, radius)
     } else {
         dir
     };
+    folded(w, side)
+}
+
+/// [`blurred`] for every point of a set (of distribution `d`), appended
+/// to `out`: the frame around `dir` is found once, the rays are the same.
+pub fn blurred_set(
+    dir: Vec3,
+    radius: f32,
+    side: Vec3,
+    (points, d): (&[Vec3], Distribution),
+    out: &mut Vec<Vec3>,
+) {
+    if radius > 0.0 {
+        let end = end_points(dir, dir, radius, d);
+        out.extend(points.iter().map(|&p| folded(end(p), side)));
+    } else {
+        out.extend(points.iter().map(|_| folded(dir, side)));
+    }
+}
+
+/// `w` folded back across the plane of normal `side` when behind it, made
+/// unit.
+#[inline(always)]
+fn folded(mut w: Vec3, side: Vec3) -> Vec3 {
     let below = w.dot(side);
     if below < 0.0 {
         w -= 2.0 * below * side;

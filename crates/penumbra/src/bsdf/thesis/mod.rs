@@ -50,8 +50,8 @@ use super::sample::{BsdfFlags, BsdfSample, Lobes, MAX_LOBES};
 use crate::description::check::{int, nonneg3, range};
 use crate::description::{Invalid, Kind, Param, Props, Range, Schema, Type};
 use crate::geometry::SurfaceInteraction;
-use crate::math::{Rgb, Vec3};
-use crate::sampling::{EffectSpec, SetPoint, MAX_RAYS};
+use crate::math::{reflect, Rgb, Vec3};
+use crate::sampling::{Distribution, EffectSpec, SetPoint, MAX_RAYS};
 
 /// The slots of the thesis material's lobes.
 const MIRROR: usize = 0;
@@ -327,6 +327,45 @@ impl BsdfModel for Thesis {
                 eta: 1.0,
             }),
             None => self.sample_any(si, wo, u, one),
+        }
+    }
+
+    /// A blurred delta lobe's set: its perfect direction, the frame around
+    /// it and the viewer's side found once (what [`sample`](Self::sample)
+    /// finds again for every point), the directions the same.
+    fn sample_set(
+        &self,
+        si: &SurfaceInteraction,
+        wo: Vec3,
+        lobe: usize,
+        (points, d): (&[Vec3], Distribution),
+        fallback: Vec3,
+        out: &mut Vec<Vec3>,
+    ) {
+        out.clear();
+        let s = Side::of(si, wo);
+        let perfect = match lobe {
+            MIRROR => self.mirror.map(|m| (reflect(-wo, s.n), m.glossiness, s.ng)),
+            REFRACTION | FRESNEL => self.dielectric.and_then(|g| {
+                let split = g.split(-wo, s.n, s.front);
+                if lobe == REFRACTION {
+                    let t = split.refracted.filter(|_| split.fresnel < 1.0)?;
+                    Some((t, g.translucency, -s.ng))
+                } else {
+                    (split.fresnel > 0.0).then_some((split.reflected, g.translucency, s.ng))
+                }
+            }),
+            _ => {
+                out.extend(points.iter().map(|&p| {
+                    let u = SetPoint::new(p, d);
+                    self.sample(si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
+                }));
+                return;
+            }
+        };
+        match perfect {
+            Some((dir, radius, side)) => mirror::blurred_set(dir, radius, side, (points, d), out),
+            None => out.resize(points.len(), fallback),
         }
     }
 

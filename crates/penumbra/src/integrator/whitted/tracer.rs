@@ -660,15 +660,15 @@ impl<'a> Tracer<'a> {
         let rule = SetRule::for_set(self.set_rule, n as usize);
         let points = self.points(d, n, rule, rng.derive(set_tag));
         let transmit = flags.contains(BsdfFlags::TRANSMISSION);
-        let ray = |j: usize| {
-            let w = if blurred {
-                let u = SetPoint::new(points[j], d);
-                bsdf.sample(hit, s.wo, Some(k), u).map_or(perfect, |b| b.wi)
-            } else {
-                perfect
-            };
-            s.at.spawn_ray(w)
-        };
+        // The set's directions at once: what the points share is found once.
+        let mut dirs = self.pool.pop().unwrap_or_default();
+        if blurred {
+            bsdf.sample_set(hit, s.wo, k, (&points, d), perfect, &mut dirs);
+        } else {
+            dirs.clear();
+            dirs.resize(points.len(), perfect);
+        }
+        let ray = |j: usize| s.at.spawn_ray(dirs[j]);
         let children = rng.derive(ray_tag);
         let metric = self.metric.filter(|m| m.reflections);
         let n = points.len();
@@ -683,6 +683,7 @@ impl<'a> Tracer<'a> {
             self.stats.saved.reflection += saved;
         }
         self.pool.push(points);
+        self.pool.push(dirs);
         mean
     }
 
