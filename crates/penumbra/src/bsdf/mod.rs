@@ -146,7 +146,8 @@ pub trait BsdfModel: Sized {
         out.clear();
         out.extend(points.iter().map(|&p| {
             let u = SetPoint::new(p, d);
-            self.sample(si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
+            self.sample(si, wo, Some(lobe), u)
+                .map_or(fallback, |b| b.wi)
         }));
     }
 

@@ -474,6 +474,48 @@ pub(crate) mod tests {
         }
     }
 
+    /// A set's directions at once are each point's own `sample`, bit for
+    /// bit: every lobe, glossy and sharp, from both sides (so under total
+    /// internal reflection too), for 2D and 3D distributions, and the
+    /// fallback where a lobe gives nothing.
+    #[test]
+    fn a_sets_directions_are_each_points_sample() {
+        let mut rng = Rng::new(11);
+        let fallback = Vec3::new(0.0, 0.0, 7.0);
+        for (reflectivity, transparency) in [(0.4, 0.4), (0.0, 0.6), (0.6, 0.0), (0.0, 0.0)] {
+            for radius in [0.0, 0.3] {
+                let mut p = params(reflectivity, transparency);
+                (p.glossiness, p.translucency) = (radius, radius);
+                let m = Thesis::new(&p);
+                for d in [Distribution::Jitter, Distribution::Random, Distribution::FastRandom] {
+                    let mut points = Vec::new();
+                    d.generate(16, 1.0, &mut rng, &mut points);
+                    for k in 0..20 {
+                        let n = Vec3::new(0.3, 1.0, -0.2).normalize();
+                        let a = k as f32 * 0.31;
+                        let wo = Vec3::new(a.cos(), 0.4 - 0.05 * k as f32, a.sin()).normalize();
+                        let si = interaction(n);
+                        for lobe in [MIRROR, REFRACTION, FRESNEL, LOCAL] {
+                            let mut got = Vec::new();
+                            m.sample_set(&si, wo, lobe, (&points, d), fallback, &mut got);
+                            let want: Vec<Vec3> = points
+                                .iter()
+                                .map(|&q| {
+                                    let u = SetPoint::new(q, d);
+                                    m.sample(&si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
+                                })
+                                .collect();
+                            let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+                                v.iter().map(|w| w.to_array().map(f32::to_bits)).collect()
+                            };
+                            assert_eq!(bits(&got), bits(&want), "lobe {lobe}, {d:?}, wo {wo}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     pub(crate) fn interaction(n: Vec3) -> SurfaceInteraction {
         SurfaceInteraction {
             t: 1.0,
