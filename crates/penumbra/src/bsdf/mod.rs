@@ -143,12 +143,7 @@ pub trait BsdfModel: Sized {
         fallback: Vec3,
         out: &mut Vec<Vec3>,
     ) {
-        out.clear();
-        out.extend(points.iter().map(|&p| {
-            let u = SetPoint::new(p, d);
-            self.sample(si, wo, Some(lobe), u)
-                .map_or(fallback, |b| b.wi)
-        }));
+        sample_each(self, si, wo, lobe, (points, d), fallback, out);
     }
 
     /// The solid-angle density of [`sample`](Self::sample) (no lobe asked)
@@ -209,6 +204,25 @@ pub trait BsdfModel: Sized {
     fn wants_third(&self) -> bool {
         false
     }
+}
+
+/// [`BsdfModel::sample_set`] point by point: each point's own
+/// [`sample`](BsdfModel::sample), `fallback` where it gives none.
+#[inline]
+pub fn sample_each<M: BsdfModel>(
+    m: &M,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    lobe: usize,
+    (points, d): (&[Vec3], Distribution),
+    fallback: Vec3,
+    out: &mut Vec<Vec3>,
+) {
+    out.clear();
+    out.extend(points.iter().map(|&p| {
+        let u = SetPoint::new(p, d);
+        m.sample(si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
+    }));
 }
 
 /// Declares the models' modules, and makes [`Bsdf`], the enum of the

@@ -88,44 +88,33 @@ impl TriangleBvh {
     ) {
         simd::active().run(
             #[inline(always)]
-            || self.closest_hit_each_kernel(rays, tmin, tmax, out),
-        );
-    }
-
-    /// [`closest_hit_each`](Self::closest_hit_each), compiled into each
-    /// kernel set.
-    #[inline(always)]
-    fn closest_hit_each_kernel(
-        &self,
-        rays: &[Ray],
-        tmin: f32,
-        tmax: &[f32],
-        out: &mut Vec<Option<TriHit>>,
-    ) {
-        assert!(tmax.len() >= rays.len(), "a tmax per ray");
-        out.clear();
-        out.resize(rays.len(), None);
-        let mut scratch = RayPacket::default();
-        for (at, frustum) in Stretches::new(self, rays) {
-            let Some(f) = frustum else {
-                let leaf = |i, p: &Pack, r: &TraversalRay, tmax: &mut f32| {
-                    closest_in_pack(p, r, tmin, tmax, &mut out[i]);
-                    false
-                };
-                self.interleave::<true>(
-                    rays,
-                    at,
-                    tmin,
-                    tmax,
-                    leaf,
-                    #[inline(always)]
-                    |_, _| {},
-                );
-                continue;
-            };
-            let run = Run::new(&f, rays, tmin, tmax, &at);
-            self.closest_packet(&run, &mut scratch, &mut out[at]);
-        }
+            || {
+                assert!(tmax.len() >= rays.len(), "a tmax per ray");
+                out.clear();
+                out.resize(rays.len(), None);
+                let mut scratch = RayPacket::default();
+                for (at, frustum) in Stretches::new(self, rays) {
+                    let Some(f) = frustum else {
+                        let leaf = |i, p: &Pack, r: &TraversalRay, tmax: &mut f32| {
+                            closest_in_pack(p, r, tmin, tmax, &mut out[i]);
+                            false
+                        };
+                        self.interleave::<true>(
+                            rays,
+                            at,
+                            tmin,
+                            tmax,
+                            leaf,
+                            #[inline(always)]
+                            |_, _| {},
+                        );
+                        continue;
+                    };
+                    let run = Run::new(&f, rays, tmin, tmax, &at);
+                    self.closest_packet(&run, &mut scratch, &mut out[at]);
+                }
+            },
+        )
     }
 
     /// [`any_hit`](Self::any_hit) for every ray within `(tmin, tmax[i])`,
@@ -138,50 +127,39 @@ impl TriangleBvh {
         rays: &[Ray],
         tmin: f32,
         tmax: &[f32],
-        hit: impl FnMut(usize, u32) -> bool,
+        mut hit: impl FnMut(usize, u32) -> bool,
         out: &mut Vec<bool>,
     ) {
         simd::active().run(
             #[inline(always)]
-            || self.any_hit_each_kernel(rays, tmin, tmax, hit, out),
-        );
-    }
-
-    /// [`any_hit_each`](Self::any_hit_each), compiled into each kernel set.
-    #[inline(always)]
-    fn any_hit_each_kernel(
-        &self,
-        rays: &[Ray],
-        tmin: f32,
-        tmax: &[f32],
-        mut hit: impl FnMut(usize, u32) -> bool,
-        out: &mut Vec<bool>,
-    ) {
-        assert!(tmax.len() >= rays.len(), "a tmax per ray");
-        out.clear();
-        out.resize(rays.len(), false);
-        let mut scratch = RayPacket::default();
-        for (at, frustum) in Stretches::new(self, rays) {
-            let Some(f) = frustum else {
-                let leaf = |i, p: &Pack, r: &TraversalRay, tmax: &mut f32| {
-                    pack_any_hit(p, r, tmin, *tmax, &mut |id| hit(i, id))
-                };
-                self.interleave::<false>(
-                    rays,
-                    at,
-                    tmin,
-                    tmax,
-                    leaf,
-                    #[inline(always)]
-                    |i, stop| out[i] = stop,
-                );
-                continue;
-            };
-            let run = Run::new(&f, rays, tmin, tmax, &at);
-            let first = at.start;
-            let hit = |i, id| hit(first + i, id);
-            self.any_hit_packet(&run, &mut scratch, hit, &mut out[at]);
-        }
+            || {
+                assert!(tmax.len() >= rays.len(), "a tmax per ray");
+                out.clear();
+                out.resize(rays.len(), false);
+                let mut scratch = RayPacket::default();
+                for (at, frustum) in Stretches::new(self, rays) {
+                    let Some(f) = frustum else {
+                        let leaf = |i, p: &Pack, r: &TraversalRay, tmax: &mut f32| {
+                            pack_any_hit(p, r, tmin, *tmax, &mut |id| hit(i, id))
+                        };
+                        self.interleave::<false>(
+                            rays,
+                            at,
+                            tmin,
+                            tmax,
+                            leaf,
+                            #[inline(always)]
+                            |i, stop| out[i] = stop,
+                        );
+                        continue;
+                    };
+                    let run = Run::new(&f, rays, tmin, tmax, &at);
+                    let first = at.start;
+                    let hit = |i, id| hit(first + i, id);
+                    self.any_hit_packet(&run, &mut scratch, hit, &mut out[at]);
+                }
+            },
+        )
     }
 
     /// Whether each ray crosses a triangle within `(tmin, tmax[i])`: what

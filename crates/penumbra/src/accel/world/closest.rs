@@ -29,10 +29,9 @@ impl World {
             |items, r, tmax| {
                 for &item in items {
                     match item {
-                        Item::Object(object) => {
-                            self.closest_object(object, ray, tmin, tmax, &mut best)
+                        Item::Object(_) | Item::Quads(_) => {
+                            self.closest_item(item, ray, tmin, tmax, &mut best)
                         }
-                        Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, &mut best),
                         Item::Meshes => {
                             let h = match r {
                                 Some(r) => self.tris.closest_hit_prepared(r, tmin, *tmax),
@@ -49,6 +48,18 @@ impl World {
             },
         );
         best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+    }
+
+    /// [`closest_object`](Self::closest_object) or
+    /// [`closest_quad`](Self::closest_quad) for a top-level item (nothing
+    /// for the static triangles, which the caller traces).
+    #[inline(always)]
+    fn closest_item(&self, item: Item, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
+        match item {
+            Item::Object(object) => self.closest_object(object, ray, tmin, tmax, best),
+            Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, best),
+            Item::Meshes => {}
+        }
     }
 
     /// Tests one object for a hit nearer than `tmax`; on one, shrinks
@@ -88,7 +99,7 @@ impl World {
     /// distance, the lowest index on both paths). Rays from one point in
     /// nearly one direction (a packet: a pixel's camera rays, a span's, a
     /// narrow glossy set) pass the top level's objects one by one, then the
-    /// static triangles all at once (see [`TriangleBvh::closest_hits`]);
+    /// static triangles all at once (see [`TriangleBvh::closest_hits`](crate::accel::TriangleBvh::closest_hits));
     /// other batches, and a batch of one, are traced ray by ray.
     pub fn intersect_all(
         &self,
@@ -99,93 +110,78 @@ impl World {
     ) {
         self.kernels.run(
             #[inline(always)]
-            || self.intersect_all_kernel(rays, tmin, scratch, out),
-        );
-    }
-
-    /// [`intersect_all`](Self::intersect_all), compiled into each kernel set.
-    #[inline(always)]
-    fn intersect_all_kernel(
-        &self,
-        rays: &[Ray],
-        tmin: f32,
-        scratch: &mut PacketScratch,
-        out: &mut Vec<Option<Hit>>,
-    ) {
-        // A batch of one, or of rays that are not a packet: each ray's own walk.
-        let Some(frustum) = Frustum::packet(rays) else {
-            out.clear();
-            // A loop, not `extend`: kept inline in the kernel set's code.
-            for r in rays {
-                out.push(self.intersect_kernel(r, tmin, f32::INFINITY));
-            }
-            return;
-        };
-        let PacketScratch {
-            objects,
-            tmax,
-            tris,
-            packet,
-        } = scratch;
-        objects.clear();
-        objects.resize(rays.len(), None);
-        tmax.clear();
-        tmax.resize(rays.len(), f32::INFINITY);
-        let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-        match self.top.single_leaf() {
-            // A top level of one leaf: item by item, all rays (each item's
-            // data loaded once), in the order a ray alone meets them.
-            Some(items) => {
-                for &item in items {
-                    let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-                    match item {
-                        Item::Object(object) => {
-                            for ((ray, best), tmax) in rays_items {
-                                self.closest_object(object, ray, tmin, tmax, best);
+            || {
+                // A batch of one, or of rays that are not a packet: each ray's own walk.
+                let Some(frustum) = Frustum::packet(rays) else {
+                    out.clear();
+                    // A loop, not `extend`: kept inline in the kernel set's code.
+                    for r in rays {
+                        out.push(self.intersect_kernel(r, tmin, f32::INFINITY));
+                    }
+                    return;
+                };
+                let PacketScratch {
+                    objects,
+                    tmax,
+                    tris,
+                    packet,
+                } = scratch;
+                objects.clear();
+                objects.resize(rays.len(), None);
+                tmax.clear();
+                tmax.resize(rays.len(), f32::INFINITY);
+                let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+                match self.top.single_leaf() {
+                    // A top level of one leaf: item by item, all rays (each item's
+                    // data loaded once), in the order a ray alone meets them.
+                    Some(items) => {
+                        for &item in items {
+                            let rays_items =
+                                rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+                            match item {
+                                Item::Object(object) => {
+                                    for ((ray, best), tmax) in rays_items {
+                                        self.closest_object(object, ray, tmin, tmax, best);
+                                    }
+                                }
+                                Item::Quads(i) => {
+                                    for ((ray, best), tmax) in rays_items {
+                                        self.closest_quad(i, ray, tmin, tmax, best);
+                                    }
+                                }
+                                Item::Meshes => {}
                             }
                         }
-                        Item::Quads(i) => {
-                            for ((ray, best), tmax) in rays_items {
-                                self.closest_quad(i, ray, tmin, tmax, best);
-                            }
+                    }
+                    None => {
+                        for ((ray, best), tmax) in rays_items {
+                            self.top.traverse_items::<true>(
+                                self.kernels,
+                                ray,
+                                tmin,
+                                *tmax,
+                                #[inline(always)]
+                                |items, _, tmax| {
+                                    for &item in items {
+                                        self.closest_item(item, ray, tmin, tmax, best);
+                                    }
+                                    false
+                                },
+                            );
+                            // The top level's traversal keeps its own limit.
+                            *tmax = best.map_or(f32::INFINITY, |b| b.1);
                         }
-                        Item::Meshes => {}
                     }
                 }
-            }
-            None => {
-                for ((ray, best), tmax) in rays_items {
-                    self.top.traverse_items::<true>(
-                        self.kernels,
-                        ray,
-                        tmin,
-                        *tmax,
-                        #[inline(always)]
-                        |items, _, tmax| {
-                            for &item in items {
-                                match item {
-                                    Item::Object(object) => {
-                                        self.closest_object(object, ray, tmin, tmax, best)
-                                    }
-                                    Item::Quads(i) => self.closest_quad(i, ray, tmin, tmax, best),
-                                    Item::Meshes => {}
-                                }
-                            }
-                            false
-                        },
-                    );
-                    // The top level's traversal keeps its own limit.
-                    *tmax = best.map_or(f32::INFINITY, |b| b.1);
-                }
-            }
-        }
-        (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
-        out.clear();
-        let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
-        out.extend(hits.map(|((ray, best), tri)| {
-            let best = tri.map(|h| self.triangle_candidate(&h)).or(*best);
-            best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
-        }));
+                (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
+                out.clear();
+                let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
+                out.extend(hits.map(|((ray, best), tri)| {
+                    let best = tri.map(|h| self.triangle_candidate(&h)).or(*best);
+                    best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+                }));
+            },
+        )
     }
 
     fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {

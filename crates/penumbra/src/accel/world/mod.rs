@@ -480,16 +480,7 @@ pub(crate) mod tests {
             uvs: None,
             triangles,
         };
-        let object = |shape, material| Object {
-            shape,
-            material,
-            emitter: None,
-            casts_shadows: true,
-            motion: None,
-            placement: None,
-            flip_normals: false,
-            mesh_bvh: None,
-        };
+        let object = Object::new;
         let ground = Quad::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::Z * 10.0, Vec3::X * 10.0);
         let objects = vec![
             object(Shape::MeshShape(MeshShape::new(0)), 0),
@@ -877,16 +868,7 @@ pub(crate) mod tests {
         let objects = quads
             .iter()
             .enumerate()
-            .map(|(i, &(o, a, b))| Object {
-                shape: Shape::Quad(Quad::new(o, a, b)),
-                material: i as u32,
-                emitter: None,
-                casts_shadows: true,
-                motion: None,
-                placement: None,
-                flip_normals: false,
-                mesh_bvh: None,
-            })
+            .map(|(i, &(o, a, b))| Object::new(Shape::Quad(Quad::new(o, a, b)), i as u32))
             .collect();
         let world = World::new(objects, Vec::new());
         assert_eq!(world.quads.len(), 2, "packs of 4 and 3");

@@ -28,48 +28,38 @@ impl World {
     ) -> bool {
         self.kernels.run(
             #[inline(always)]
-            || self.gather_shaft_kernel(origins, targets, limit, out),
+            || {
+                let Some(shaft) = Shaft::new(origins, targets) else {
+                    return false;
+                };
+                out.items.clear();
+                out.leaves.clear();
+                let mut g = ShaftGather {
+                    world: self,
+                    shaft: &shaft,
+                    ends: [origins, targets],
+                    limit,
+                    ok: true,
+                };
+                // A top level of one leaf (a few objects) is taken whole.
+                if let Some(items) = self.top.single_leaf() {
+                    g.leaf(items, out);
+                } else {
+                    let mut top = std::mem::take(&mut out.top);
+                    if !self.top.gather(&shaft, limit, &mut top) {
+                        out.top = top;
+                        return false;
+                    }
+                    self.top.in_leaves(
+                        &top,
+                        #[inline(always)]
+                        |items| g.leaf(items, out),
+                    );
+                    out.top = top;
+                }
+                g.ok && out.items.len() <= limit
+            },
         )
-    }
-
-    /// [`gather_shaft`](Self::gather_shaft), compiled into each kernel set.
-    #[inline(always)]
-    fn gather_shaft_kernel(
-        &self,
-        origins: Aabb,
-        targets: Aabb,
-        limit: usize,
-        out: &mut ShaftSet,
-    ) -> bool {
-        let Some(shaft) = Shaft::new(origins, targets) else {
-            return false;
-        };
-        out.items.clear();
-        out.leaves.clear();
-        let mut g = ShaftGather {
-            world: self,
-            shaft: &shaft,
-            ends: [origins, targets],
-            limit,
-            ok: true,
-        };
-        // A top level of one leaf (a few objects) is taken whole.
-        if let Some(items) = self.top.single_leaf() {
-            g.leaf(items, out);
-        } else {
-            let mut top = std::mem::take(&mut out.top);
-            if !self.top.gather(&shaft, limit, &mut top) {
-                out.top = top;
-                return false;
-            }
-            self.top.in_leaves(
-                &top,
-                #[inline(always)]
-                |items| g.leaf(items, out),
-            );
-            out.top = top;
-        }
-        g.ok && out.items.len() <= limit
     }
 
     /// True if nothing can block a segment held by the shaft `set` was
@@ -99,48 +89,38 @@ impl World {
     ) -> bool {
         self.kernels.run(
             #[inline(always)]
-            || self.crossings_kernel(ray, (tmin, tmax), shaft, &mut cross),
-        )
-    }
-
-    /// [`crossings`](Self::crossings), compiled into each kernel set.
-    #[inline(always)]
-    fn crossings_kernel(
-        &self,
-        ray: &Ray,
-        (tmin, tmax): (f32, f32),
-        shaft: Option<&ShaftSet>,
-        mut cross: impl FnMut(&Crossing<'_>) -> bool,
-    ) -> bool {
-        let mut seg = Segment {
-            world: self,
-            ray,
-            tmin,
-            tmax,
-            leaves: shaft.map(|s| &s.leaves),
-            cross: &mut cross,
-        };
-        match shaft {
-            Some(set) => any_of(
-                &set.items,
-                #[inline(always)]
-                |&i| seg.blocked_by(i, None),
-            ),
-            None => self.top.traverse_items::<false>(
-                self.kernels,
-                ray,
-                tmin,
-                tmax,
-                #[inline(always)]
-                |items, r, _| {
-                    any_of_rev(
-                        items,
+            || {
+                let mut seg = Segment {
+                    world: self,
+                    ray,
+                    tmin,
+                    tmax,
+                    leaves: shaft.map(|s| &s.leaves),
+                    cross: &mut cross,
+                };
+                match shaft {
+                    Some(set) => any_of(
+                        &set.items,
                         #[inline(always)]
-                        |&i| seg.blocked_by(i, r),
-                    )
-                },
-            ),
-        }
+                        |&i| seg.blocked_by(i, None),
+                    ),
+                    None => self.top.traverse_items::<false>(
+                        self.kernels,
+                        ray,
+                        tmin,
+                        tmax,
+                        #[inline(always)]
+                        |items, r, _| {
+                            any_of_rev(
+                                items,
+                                #[inline(always)]
+                                |&i| seg.blocked_by(i, r),
+                            )
+                        },
+                    ),
+                }
+            },
+        )
     }
 
     /// True if a surface that casts shadows crosses the segment of `ray`

@@ -355,13 +355,7 @@ impl BsdfModel for Thesis {
                     (split.fresnel > 0.0).then_some((split.reflected, g.translucency, s.ng))
                 }
             }),
-            _ => {
-                out.extend(points.iter().map(|&p| {
-                    let u = SetPoint::new(p, d);
-                    self.sample(si, wo, Some(lobe), u).map_or(fallback, |b| b.wi)
-                }));
-                return;
-            }
+            _ => return super::sample_each(self, si, wo, lobe, (points, d), fallback, out),
         };
         match perfect {
             Some((dir, radius, side)) => mirror::blurred_set(dir, radius, side, (points, d), out),
