@@ -1,6 +1,10 @@
 //! Acceleration: the four-wide bounding volume hierarchy ([`Bvh4`]) with its
 //! one traversal kernel, the triangle packets of meshes ([`TriangleBvh`]),
 //! the scene's two levels of it ([`World`]), and shafts around shadow sets.
+//! Each query of the world (and each batch call of a mesh) enters the code
+//! of the kernel set in use once ([`crate::simd`]): everything it runs is
+//! inlined below that entry point, so that it compiles for the set's
+//! instructions.
 
 #[cfg(test)]
 mod brute;
