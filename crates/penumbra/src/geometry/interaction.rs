@@ -87,6 +87,25 @@ pub struct LocalGeometry {
     pub dpdv: Vec3,
 }
 
+impl LocalGeometry {
+    /// The geometry taken to another space: its normals by `normal`, its
+    /// derivatives by `vector`; the texture coordinates kept.
+    #[inline(always)]
+    pub fn transformed(
+        self,
+        normal: impl Fn(Vec3) -> Vec3,
+        vector: impl Fn(Vec3) -> Vec3,
+    ) -> LocalGeometry {
+        LocalGeometry {
+            ng: normal(self.ng),
+            ns: normal(self.ns),
+            uv: self.uv,
+            dpdu: vector(self.dpdu),
+            dpdv: vector(self.dpdv),
+        }
+    }
+}
+
 /// The shading frame of normal `n` (unit) with its first tangent along
 /// `dpdu`, made orthogonal to `n`; any frame around `n` if `dpdu` is zero or
 /// along `n`.

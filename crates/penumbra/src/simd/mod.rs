@@ -137,6 +137,19 @@ impl KernelSet {
         }
     }
 
+    /// The set itself if this processor can run it, else the error that
+    /// says it cannot.
+    pub fn require(self) -> Result<KernelSet, SimdError> {
+        if self.is_supported() {
+            Ok(self)
+        } else {
+            Err(SimdError {
+                name: self.name().to_string(),
+                unsupported: true,
+            })
+        }
+    }
+
     /// The sets this processor supports, widest first (`portable` last).
     pub fn supported() -> Vec<KernelSet> {
         KernelSet::ALL
@@ -210,12 +223,7 @@ static ACTIVE: AtomicU8 = AtomicU8::new(UNSET);
 /// # Errors
 /// If this processor lacks the set (nothing changes then).
 pub fn set_active(set: KernelSet) -> Result<(), SimdError> {
-    if !set.is_supported() {
-        return Err(SimdError {
-            name: set.name().to_string(),
-            unsupported: true,
-        });
-    }
+    set.require()?;
     let i = KernelSet::ALL.iter().position(|&k| k == set).unwrap_or(3);
     ACTIVE.store(i as u8, Ordering::Relaxed);
     Ok(())

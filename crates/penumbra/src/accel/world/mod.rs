@@ -260,13 +260,7 @@ impl World {
     /// # Errors
     /// If this processor lacks the set (nothing changes then).
     pub fn set_kernels(&mut self, kernels: KernelSet) -> Result<(), SimdError> {
-        if !kernels.is_supported() {
-            return Err(SimdError {
-                name: kernels.name().to_string(),
-                unsupported: true,
-            });
-        }
-        self.kernels = kernels;
+        self.kernels = kernels.require()?;
         Ok(())
     }
 
@@ -333,7 +327,7 @@ impl World {
             Prim::Object { .. } => o.motion.as_ref(),
             Prim::Triangle { .. } => None,
         };
-        let hit = |c: &Candidate| c.at(t);
+        let shape_hit = c.at(t);
         match (motion, o.placement.as_deref()) {
             // The record of each case is made in place: merged with the
             // others' through memory, it would be read back with wider loads
@@ -342,34 +336,22 @@ impl World {
             (None, None) => {
                 let p = ray.at(t);
                 let g = match o.shape.as_mesh() {
-                    Some(m) => ShapeModel::geometry(m, &self.meshes, &hit(&c), p),
-                    None => o.shape.geometry(&self.meshes, &hit(&c), p),
+                    Some(m) => ShapeModel::geometry(m, &self.meshes, &shape_hit, p),
+                    None => o.shape.geometry(&self.meshes, &shape_hit, p),
                 };
                 self.record(object, ray, t, c, (p, g))
             }
             (Some(m), _) => {
                 let (local_ray, s) = m.to_object(ray);
                 let p = local_ray.at(t);
-                let g = o.shape.geometry(&self.meshes, &hit(&c), p);
-                let g = LocalGeometry {
-                    ng: s.normal_to_world(g.ng),
-                    ns: s.normal_to_world(g.ns),
-                    dpdu: s.vector_to_world(g.dpdu),
-                    dpdv: s.vector_to_world(g.dpdv),
-                    uv: g.uv,
-                };
+                let g = o.shape.geometry(&self.meshes, &shape_hit, p);
+                let g = g.transformed(|n| s.normal_to_world(n), |v| s.vector_to_world(v));
                 self.record(object, ray, t, c, (s.point_to_world(p), g))
             }
             (None, Some(pl)) => {
                 let p = pl.ray_to_object(ray).at(t);
-                let g = o.shape.geometry(&self.meshes, &hit(&c), p);
-                let g = LocalGeometry {
-                    ng: pl.normal_to_world(g.ng),
-                    ns: pl.normal_to_world(g.ns),
-                    dpdu: pl.vector_to_world(g.dpdu),
-                    dpdv: pl.vector_to_world(g.dpdv),
-                    uv: g.uv,
-                };
+                let g = o.shape.geometry(&self.meshes, &shape_hit, p);
+                let g = g.transformed(|n| pl.normal_to_world(n), |v| pl.vector_to_world(v));
                 self.record(object, ray, t, c, (pl.point_to_world(p), g))
             }
         }
