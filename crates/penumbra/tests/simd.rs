@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use common::*;
 use penumbra::accel::world::mesh_bvh;
-use penumbra::accel::{Object, PacketScratch, ShaftSet, World};
+use penumbra::accel::{Hits, Object, PacketScratch, ShaftSet, World};
 use penumbra::geometry::instance::Placement;
 use penumbra::geometry::quad::Quad;
 use penumbra::geometry::{Mesh, MeshShape, Shape, Sphere};
@@ -208,7 +208,7 @@ fn answers(w: &World, rays: &[Ray]) -> Vec<String> {
     }
     // Batches: a packet of rays from one point and an incoherent batch.
     let mut scratch = PacketScratch::default();
-    let mut hits = Vec::new();
+    let (mut hits, mut records) = (Hits::default(), Vec::new());
     let o = Vec3::new(0.3, 4.0, 0.2);
     let packet: Vec<Ray> = (0..64)
         .map(|i| {
@@ -218,7 +218,11 @@ fn answers(w: &World, rays: &[Ray]) -> Vec<String> {
         .collect();
     for batch in [&packet[..], &rays[..200]] {
         w.intersect_all(batch, 1e-4, &mut scratch, &mut hits);
-        out.push(format!("{hits:?}"));
+        w.surfaces(batch, &hits, &mut records);
+        let mut made = Vec::new();
+        w.intersect_all_records(batch, 1e-4, &mut scratch, &mut made);
+        assert_eq!(format!("{records:?}"), format!("{made:?}"));
+        out.push(format!("{hits:?} {records:?}"));
     }
     // Shadow sets through a shaft: from a patch of the floor to a light.
     let mut set = ShaftSet::default();

@@ -19,4 +19,4 @@ pub mod world;
 pub use bvh4::{Bvh4, LeafSet, RayPacket};
 pub use shaft::Shaft;
 pub use tri::{TriHit, TriStats, TriangleBvh};
-pub use world::{Crossing, Hit, Object, PacketScratch, ShaftSet, World};
+pub use world::{Crossing, Hit, HitRef, Hits, Object, PacketScratch, ShaftSet, World};

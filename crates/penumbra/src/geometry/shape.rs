@@ -100,6 +100,24 @@ macro_rules! shapes {
                 }
             }
 
+            /// `then` of [`geometry`](Self::geometry), called in each
+            /// shape's own branch: the record goes on in registers, never
+            /// merged through memory with the other shapes' records (the
+            /// loads of a merged record straddle its stores and wait for
+            /// them to drain).
+            #[inline(always)]
+            pub fn with_geometry<R>(
+                &self,
+                meshes: &[Mesh],
+                hit: &ShapeHit,
+                p: Vec3,
+                then: impl FnOnce(LocalGeometry) -> R,
+            ) -> R {
+                match self {
+                    $(Shape::$variant(s) => then(ShapeModel::geometry(s, meshes, hit, p)),)*
+                }
+            }
+
             /// The surface area.
             pub fn area(&self, meshes: &[Mesh]) -> f32 {
                 match self {

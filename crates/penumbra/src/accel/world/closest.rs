@@ -2,7 +2,7 @@
 //! ([`World::intersect_all`]), whose packets of rays from one point pass
 //! the top level's objects one by one and the static triangles at once.
 
-use super::{Candidate, Hit, Item, Prim, World};
+use super::{Candidate, Hit, HitRef, Hits, Item, World};
 use crate::accel::bvh4::{Frustum, RayPacket};
 use crate::accel::TriHit;
 use crate::math::{nearest_lane, Ray};
@@ -12,13 +12,25 @@ impl World {
     pub fn intersect(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
         self.kernels.run(
             #[inline(always)]
-            || self.intersect_kernel(ray, tmin, tmax),
+            || {
+                let h = self.closest_kernel(ray, tmin, tmax)?;
+                Some(self.surface_kernel(ray, h))
+            },
         )
     }
 
-    /// [`intersect`](Self::intersect), compiled into each kernel set.
+    /// The closest hit along the ray within (tmin, tmax), in its compact
+    /// form: [`intersect`](Self::intersect) without the record.
+    pub fn closest(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<HitRef> {
+        self.kernels.run(
+            #[inline(always)]
+            || self.closest_kernel(ray, tmin, tmax),
+        )
+    }
+
+    /// [`closest`](Self::closest), compiled into each kernel set.
     #[inline(always)]
-    fn intersect_kernel(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+    fn closest_kernel(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<HitRef> {
         let mut best = None;
         self.top.traverse_items::<true>(
             self.kernels,
@@ -47,7 +59,7 @@ impl World {
                 false
             },
         );
-        best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
+        best
     }
 
     /// [`closest_object`](Self::closest_object) or
@@ -66,10 +78,9 @@ impl World {
     /// `tmax` to it and records it in `best`.
     #[inline]
     fn closest_object(&self, object: u32, ray: &Ray, tmin: f32, tmax: &mut f32, best: &mut Best) {
-        let prim = Prim::Object { object };
-        if let Some((t, c)) = self.intersect_prim(prim, ray, tmin, *tmax) {
+        if let Some((t, c)) = self.intersect_prim(object, ray, tmin, *tmax) {
             *tmax = t;
-            *best = Some((prim, t, c));
+            *best = Some(HitRef::new(t, object, c));
         }
     }
 
@@ -91,17 +102,43 @@ impl World {
         };
         let object = pack.objects[lane];
         *tmax = h.t[lane];
-        *best = Some((Prim::Object { object }, h.t[lane], cand));
+        *best = Some(HitRef::new(h.t[lane], object, cand));
     }
 
-    /// [`intersect`](Self::intersect) for each of `rays`, written to `out` in
-    /// order: the same hits (of static triangles hit at exactly the same
-    /// distance, the lowest index on both paths). Rays from one point in
-    /// nearly one direction (a packet: a pixel's camera rays, a span's, a
-    /// narrow glossy set) pass the top level's objects one by one, then the
-    /// static triangles all at once (see [`TriangleBvh::closest_hits`](crate::accel::TriangleBvh::closest_hits));
+    /// [`closest`](Self::closest) for each of `rays`, written to `out` in
+    /// order in the compact form ([`World::surface`] makes the record of
+    /// each where it is needed): the same hits (of static triangles hit at
+    /// exactly the same distance, the lowest index on both paths). Rays
+    /// from one point in nearly one direction (a packet: a pixel's camera
+    /// rays, a span's, a narrow glossy set) pass the top level's objects
+    /// one by one, then the static triangles all at once (see
+    /// [`TriangleBvh::closest_hits`](crate::accel::TriangleBvh::closest_hits));
     /// other batches, and a batch of one, are traced ray by ray.
     pub fn intersect_all(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        scratch: &mut PacketScratch,
+        out: &mut Hits,
+    ) {
+        self.kernels.run(
+            #[inline(always)]
+            || {
+                out.clear();
+                self.closest_each(
+                    rays,
+                    tmin,
+                    scratch,
+                    #[inline(always)]
+                    |_, h| out.push(h),
+                );
+            },
+        )
+    }
+
+    /// [`intersect_all`](Self::intersect_all) with the record of every hit,
+    /// made as each is found: for a caller that shades every hit.
+    pub fn intersect_all_records(
         &self,
         rays: &[Ray],
         tmin: f32,
@@ -111,87 +148,103 @@ impl World {
         self.kernels.run(
             #[inline(always)]
             || {
-                // A batch of one, or of rays that are not a packet: each ray's own walk.
-                let Some(frustum) = Frustum::packet(rays) else {
-                    out.clear();
-                    // A loop, not `extend`: kept inline in the kernel set's code.
-                    for r in rays {
-                        out.push(self.intersect_kernel(r, tmin, f32::INFINITY));
-                    }
-                    return;
-                };
-                let PacketScratch {
-                    objects,
-                    tmax,
-                    tris,
-                    packet,
-                } = scratch;
-                objects.clear();
-                objects.resize(rays.len(), None);
-                tmax.clear();
-                tmax.resize(rays.len(), f32::INFINITY);
-                let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-                match self.top.single_leaf() {
-                    // A top level of one leaf: item by item, all rays (each item's
-                    // data loaded once), in the order a ray alone meets them.
-                    Some(items) => {
-                        for &item in items {
-                            let rays_items =
-                                rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
-                            match item {
-                                Item::Object(object) => {
-                                    for ((ray, best), tmax) in rays_items {
-                                        self.closest_object(object, ray, tmin, tmax, best);
-                                    }
-                                }
-                                Item::Quads(i) => {
-                                    for ((ray, best), tmax) in rays_items {
-                                        self.closest_quad(i, ray, tmin, tmax, best);
-                                    }
-                                }
-                                Item::Meshes => {}
-                            }
-                        }
-                    }
-                    None => {
-                        for ((ray, best), tmax) in rays_items {
-                            self.top.traverse_items::<true>(
-                                self.kernels,
-                                ray,
-                                tmin,
-                                *tmax,
-                                #[inline(always)]
-                                |items, _, tmax| {
-                                    for &item in items {
-                                        self.closest_item(item, ray, tmin, tmax, best);
-                                    }
-                                    false
-                                },
-                            );
-                            // The top level's traversal keeps its own limit.
-                            *tmax = best.map_or(f32::INFINITY, |b| b.1);
-                        }
-                    }
-                }
-                (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
                 out.clear();
-                let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
-                out.extend(hits.map(|((ray, best), tri)| {
-                    let best = tri.map(|h| self.triangle_candidate(&h)).or(*best);
-                    best.map(|(prim, t, cand)| self.make_hit(prim, ray, t, cand))
-                }));
+                self.closest_each(
+                    rays,
+                    tmin,
+                    scratch,
+                    #[inline(always)]
+                    |ray, h| out.push(h.map(|h| self.surface_kernel(ray, h))),
+                );
             },
         )
     }
 
-    fn triangle_candidate(&self, h: &TriHit) -> (Prim, f32, Candidate) {
+    /// The body of the batch queries: the closest hit of each of `rays`,
+    /// handed in order to `found` with its ray.
+    #[inline(always)]
+    fn closest_each(
+        &self,
+        rays: &[Ray],
+        tmin: f32,
+        scratch: &mut PacketScratch,
+        mut found: impl FnMut(&Ray, Option<HitRef>),
+    ) {
+        // A batch of one, or of rays that are not a packet: each ray's own walk.
+        let Some(frustum) = Frustum::packet(rays) else {
+            // A loop, not `for_each`: kept inline in the kernel set's code.
+            for r in rays {
+                found(r, self.closest_kernel(r, tmin, f32::INFINITY));
+            }
+            return;
+        };
+        let PacketScratch {
+            objects,
+            tmax,
+            tris,
+            packet,
+        } = scratch;
+        objects.clear();
+        objects.resize(rays.len(), None);
+        tmax.clear();
+        tmax.resize(rays.len(), f32::INFINITY);
+        let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+        match self.top.single_leaf() {
+            // A top level of one leaf: item by item, all rays (each item's
+            // data loaded once), in the order a ray alone meets them.
+            Some(items) => {
+                for &item in items {
+                    let rays_items = rays.iter().zip(objects.iter_mut()).zip(tmax.iter_mut());
+                    match item {
+                        Item::Object(object) => {
+                            for ((ray, best), tmax) in rays_items {
+                                self.closest_object(object, ray, tmin, tmax, best);
+                            }
+                        }
+                        Item::Quads(i) => {
+                            for ((ray, best), tmax) in rays_items {
+                                self.closest_quad(i, ray, tmin, tmax, best);
+                            }
+                        }
+                        Item::Meshes => {}
+                    }
+                }
+            }
+            None => {
+                for ((ray, best), tmax) in rays_items {
+                    self.top.traverse_items::<true>(
+                        self.kernels,
+                        ray,
+                        tmin,
+                        *tmax,
+                        #[inline(always)]
+                        |items, _, tmax| {
+                            for &item in items {
+                                self.closest_item(item, ray, tmin, tmax, best);
+                            }
+                            false
+                        },
+                    );
+                    // The top level's traversal keeps its own limit.
+                    *tmax = best.map_or(f32::INFINITY, |b| b.t);
+                }
+            }
+        }
+        (self.tris).closest_hits_in(&frustum, rays, tmin, tmax, packet, tris);
+        let hits = rays.iter().zip(objects.iter()).zip(tris.iter());
+        for ((ray, best), tri) in hits {
+            found(ray, tri.map(|h| self.triangle_candidate(&h)).or(*best));
+        }
+    }
+
+    fn triangle_candidate(&self, h: &TriHit) -> HitRef {
         let (object, tri) = self.tri_refs[h.id as usize];
         let cand = Candidate {
             b1: h.b1,
             b2: h.b2,
             inner: tri,
         };
-        (Prim::Triangle { object }, h.t, cand)
+        HitRef::new(h.t, object, cand)
     }
 }
 
@@ -205,4 +258,4 @@ pub struct PacketScratch {
 }
 
 /// The closest hit found so far by a query.
-type Best = Option<(Prim, f32, Candidate)>;
+type Best = Option<HitRef>;

@@ -23,17 +23,19 @@ use super::{Bvh4, TriangleBvh};
 use std::sync::Arc;
 
 mod closest;
+mod hits;
 mod shadow;
 
 pub use closest::PacketScratch;
+pub use hits::{HitRef, Hits};
 pub use shadow::{Crossing, ShaftSet};
 
 use crate::geometry::instance::Placement;
 use crate::geometry::motion::Motion;
 use crate::geometry::quad::{Quad, Quad4};
 
-use crate::geometry::{LocalGeometry, Mesh, Shape, ShapeHit, ShapeModel, SurfaceInteraction};
-use crate::math::{Aabb, Ray, Vec2, Vec3};
+use crate::geometry::{Mesh, Shape, ShapeHit, SurfaceInteraction};
+use crate::math::{Aabb, Ray};
 use crate::simd::{self, KernelSet, SimdError};
 
 /// What a ray finds: the surface-interaction record of the nearest surface.
@@ -105,13 +107,6 @@ struct QuadPack {
     objects: [u32; 4],
 }
 
-/// What a hit is on.
-#[derive(Clone, Copy, Debug)]
-enum Prim {
-    Triangle { object: u32 },
-    Object { object: u32 },
-}
-
 pub struct World {
     pub objects: Vec<Object>,
     /// The scene's meshes, shared with the emitters of emitting ones.
@@ -134,7 +129,7 @@ pub struct World {
 /// Intersection details kept while the search runs ([`ShapeHit`]
 /// without its distance); turned into a [`Hit`] only once, for the closest
 /// primitive.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Candidate {
     b1: f32,
     b2: f32,
@@ -281,14 +276,11 @@ impl World {
     /// through the triangle tree instead).
     fn intersect_prim(
         &self,
-        prim: Prim,
+        object: u32,
         ray: &Ray,
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Candidate)> {
-        let Prim::Object { object } = prim else {
-            return None;
-        };
         let o = &self.objects[object as usize];
         match (o.motion, &o.placement) {
             (None, None) => self.intersect_shape(o, ray, tmin, tmax),
@@ -318,89 +310,6 @@ impl World {
             inner: h.id,
         };
         Some((h.t, cand))
-    }
-
-    fn make_hit(&self, prim: Prim, ray: &Ray, t: f32, c: Candidate) -> Hit {
-        let object = prim_object(prim);
-        let o = &self.objects[object as usize];
-        let motion = match prim {
-            Prim::Object { .. } => o.motion.as_ref(),
-            Prim::Triangle { .. } => None,
-        };
-        let shape_hit = c.at(t);
-        match (motion, o.placement.as_deref()) {
-            // The record of each case is made in place: merged with the
-            // others' through memory, it would be read back with wider loads
-            // than it was stored with, each waiting for the stores to drain
-            // (a third of a hit's cost, for a triangle).
-            (None, None) => {
-                let p = ray.at(t);
-                let g = match o.shape.as_mesh() {
-                    Some(m) => ShapeModel::geometry(m, &self.meshes, &shape_hit, p),
-                    None => o.shape.geometry(&self.meshes, &shape_hit, p),
-                };
-                self.record(object, ray, t, c, (p, g))
-            }
-            (Some(m), _) => {
-                let (local_ray, s) = m.to_object(ray);
-                let p = local_ray.at(t);
-                let g = o.shape.geometry(&self.meshes, &shape_hit, p);
-                let g = g.transformed(|n| s.normal_to_world(n), |v| s.vector_to_world(v));
-                self.record(object, ray, t, c, (s.point_to_world(p), g))
-            }
-            (None, Some(pl)) => {
-                let p = pl.ray_to_object(ray).at(t);
-                let g = o.shape.geometry(&self.meshes, &shape_hit, p);
-                let g = g.transformed(|n| pl.normal_to_world(n), |v| pl.vector_to_world(v));
-                self.record(object, ray, t, c, (pl.point_to_world(p), g))
-            }
-        }
-    }
-
-    /// The hit record of `object` at `point` with geometry `g` in world
-    /// space: normals flipped if the object says so, the shading normal
-    /// on the geometric normal's side.
-    #[inline(always)]
-    fn record(
-        &self,
-        object: u32,
-        ray: &Ray,
-        t: f32,
-        c: Candidate,
-        (point, g): (Vec3, LocalGeometry),
-    ) -> Hit {
-        let o = &self.objects[object as usize];
-        let (ng, ns) = if o.flip_normals {
-            (-g.ng, -g.ns)
-        } else {
-            (g.ng, g.ns)
-        };
-        let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
-        SurfaceInteraction {
-            t,
-            p: point,
-            time: ray.time,
-            ng,
-            n: ns,
-            uv: g.uv,
-            dpdu: g.dpdu,
-            dpdv: g.dpdv,
-            prim: c.inner,
-            bary: if o.shape.as_mesh().is_some() {
-                Vec2::new(c.b1, c.b2)
-            } else {
-                Vec2::ZERO
-            },
-            object,
-            material: o.material,
-            emitter: o.emitter,
-        }
-    }
-}
-
-fn prim_object(p: Prim) -> u32 {
-    match p {
-        Prim::Triangle { object } | Prim::Object { object } => object,
     }
 }
 
@@ -615,7 +524,7 @@ pub(crate) mod tests {
         let world = World::new(objects, meshes);
         assert!(world.top.single_leaf().is_none());
         assert!(!world.quads.is_empty(), "no quad packet was formed");
-        let (mut hits, mut scratch, mut out) = (0, PacketScratch::default(), Vec::new());
+        let (mut hits, mut scratch, mut out) = (0, PacketScratch::default(), Hits::default());
         for _ in 0..4000 {
             let o = Vec3::new(
                 r.range(-12.0, 12.0),
@@ -629,7 +538,8 @@ pub(crate) mod tests {
             assert_eq!(key(got), want.map(|(t, i)| (t.to_bits(), i)), "{ray:?}");
             // The same through a packet of one ray, and through any hit.
             world.intersect_all(&[ray], 0.0, &mut scratch, &mut out);
-            assert_eq!(key(out[0]), key(got));
+            assert_eq!(out.get(0), world.closest(&ray, 0.0, f32::INFINITY));
+            assert_eq!(key(out.get(0).map(|h| world.surface(&ray, h))), key(got));
             let blocked = world.occluded(&ray, (0.0, f32::INFINITY));
             assert_eq!(blocked, got.is_some(), "{ray:?}");
             hits += usize::from(got.is_some());
@@ -878,7 +788,8 @@ pub(crate) mod tests {
         use crate::sampling::Rng;
         let light = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
         let sphere = Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4));
-        let (mut scratch, mut out, mut r) = (PacketScratch::default(), Vec::new(), Rng::new(41));
+        let (mut scratch, mut out, mut r) =
+            (PacketScratch::default(), Hits::default(), Rng::new(41));
         for world in [
             soup_ground_and_sphere(Shape::Quad(light)),
             soup_ground_and_sphere(sphere),
@@ -895,11 +806,17 @@ pub(crate) mod tests {
                     .collect();
                 packets += usize::from(Frustum::packet(&rays).is_some());
                 world.intersect_all(&rays, 0.0, &mut scratch, &mut out);
-                for (ray, got) in rays.iter().zip(&out) {
+                let (mut got, mut records) = (Vec::new(), Vec::new());
+                world.surfaces(&rays, &out, &mut got);
+                // The records made as the hits are found are the same.
+                world.intersect_all_records(&rays, 0.0, &mut scratch, &mut records);
+                let key = |h: Option<Hit>| h.map(|h| (h.p, h.ng, h.n, h.uv, h.dpdu, h.material));
+                for (i, (ray, got)) in rays.iter().zip(&got).enumerate() {
                     let alone = world.intersect(ray, 0.0, f32::INFINITY);
                     assert_eq!(alone.map(|h| h.t.to_bits()), got.map(|h| h.t.to_bits()));
-                    let key =
-                        |h: Option<Hit>| h.map(|h| (h.p, h.ng, h.n, h.uv, h.dpdu, h.material));
+                    assert_eq!(out.distances()[i], got.map_or(f32::INFINITY, |h| h.t));
+                    assert_eq!(out.get(i), world.closest(ray, 0.0, f32::INFINITY));
+                    assert_eq!(key(records[i]), key(*got), "{ray:?}");
                     assert_eq!(key(alone), key(*got), "{ray:?}");
                     total += usize::from(alone.is_some());
                 }

@@ -3,7 +3,7 @@
 //! ([`World::gather_shaft`]) that restrict a set's rays to the leaves and
 //! casters they may meet.
 
-use super::{Candidate, Hit, Item, Prim, World};
+use super::{Candidate, Hit, HitRef, Item, World};
 use crate::accel::bvh4::{any_of, any_of_rev, TraversalRay};
 use crate::accel::{LeafSet, Shaft};
 use crate::geometry::triangle::{intersect_triangle, RayShear};
@@ -132,12 +132,11 @@ impl World {
     /// How often the ray crosses the object within (tmin, tmax): a closed
     /// shape (a sphere) can be crossed twice (in and out).
     fn count_crossings(&self, object: u32, ray: &Ray, tmin: f32, tmax: f32) -> i32 {
-        let prim = Prim::Object { object };
-        let Some((t, _)) = self.intersect_prim(prim, ray, tmin, tmax) else {
+        let Some((t, _)) = self.intersect_prim(object, ray, tmin, tmax) else {
             return 0;
         };
         let closed = self.objects[object as usize].shape.is_closed();
-        let second = closed && self.intersect_prim(prim, ray, t, tmax).is_some();
+        let second = closed && self.intersect_prim(object, ray, t, tmax).is_some();
         1 + i32::from(second)
     }
 }
@@ -188,14 +187,13 @@ impl Crossing<'_> {
         let (w, ray, (tmin, tmax)) = (self.world, self.ray, self.range);
         match self.what {
             Crossed::Object { object, .. } => {
-                let prim = Prim::Object { object };
                 let mut from = tmin;
                 // A closed shape is crossed at most twice.
                 for _ in 0..2 {
-                    let Some((t, c)) = w.intersect_prim(prim, ray, from, tmax) else {
+                    let Some((t, c)) = w.intersect_prim(object, ray, from, tmax) else {
                         break;
                     };
-                    if at(&w.make_hit(prim, ray, t, c)) {
+                    if at(&w.surface(ray, HitRef::new(t, object, c))) {
                         return true;
                     }
                     if !w.objects[object as usize].shape.is_closed() {
@@ -219,7 +217,7 @@ impl Crossing<'_> {
                     return false;
                 };
                 let c = Candidate { b1, b2, inner: tri };
-                at(&w.make_hit(Prim::Triangle { object }, ray, t, c))
+                at(&w.surface(ray, HitRef::new(t, object, c)))
             }
         }
     }

@@ -3,7 +3,7 @@
 //! distance is measured from where the ray starts, the camera's near clip
 //! plane, as Mitsuba's camera rays start there.
 
-use crate::accel::Hit;
+use crate::accel::{Hit, Hits};
 use crate::integrator::clip::first_hits;
 use crate::integrator::film::FilmTile;
 use crate::integrator::interface::{BadSample, Integrator, PixelWorker, TileJob};
@@ -34,6 +34,7 @@ impl Integrator for Depth {
         DepthWorker {
             scene,
             cam: CameraRays::default(),
+            found: Hits::default(),
             hits: Vec::new(),
             stats: RayStats::default(),
         }
@@ -60,6 +61,8 @@ impl Integrator for Depth {
 pub struct DepthWorker<'s> {
     scene: &'s Scene,
     cam: CameraRays,
+    /// The camera rays' first hits, compact, then as records.
+    found: Hits,
     hits: Vec<Option<Hit>>,
     stats: RayStats,
 }
@@ -85,7 +88,7 @@ impl PixelWorker for DepthWorker<'_> {
                 self.cam.clear();
                 let keep = samples.start as usize..samples.end as usize;
                 camera_samples_of(scene, (xs.clone(), y), keep, &mut self.cam);
-                first_hits(scene, &self.cam.rays, &mut self.hits);
+                first_hits(scene, &self.cam.rays, &mut self.found, &mut self.hits);
                 self.stats.primary += self.cam.rays.len() as u64;
                 let mut q = 0;
                 for x in xs.clone() {

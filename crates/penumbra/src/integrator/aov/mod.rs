@@ -77,7 +77,7 @@ use super::interface::{BadSample, Integrator, PixelWorker, TileJob};
 use super::stats::{RayStats, StageBatches};
 use super::stopping::PixelSamples;
 use super::whitted::{camera_samples_of, CameraRays};
-use crate::accel::Hit;
+use crate::accel::{Hit, Hits};
 use crate::camera::CameraSample;
 use crate::description::tree::{Kind, Node, Value as TreeValue};
 use crate::math::{Ray, Rgb, Vec2, Vec3};
@@ -412,6 +412,8 @@ struct Probe<'s> {
     /// does not hide (the alpha of a miss).
     sees_far: bool,
     cam: CameraRays,
+    /// The camera rays' first hits, compact, then as records.
+    found: Hits,
     hits: Vec<Option<Hit>>,
     /// The rays through the film points a pixel to the right and below,
     /// scaled toward the sample's by `1/√spp` (`duv_dx`, `duv_dy`).
@@ -430,6 +432,7 @@ impl<'s> Probe<'s> {
             lead,
             sees_far: !scene.far.is_empty() && !hides_emitters(&scene.integrator),
             cam: CameraRays::default(),
+            found: Hits::default(),
             hits: Vec::new(),
             dx: Vec::new(),
             dy: Vec::new(),
@@ -454,7 +457,7 @@ impl<'s> Probe<'s> {
             samples.start as usize..samples.end as usize,
             &mut self.cam,
         );
-        first_hits(scene, &self.cam.rays, &mut self.hits);
+        first_hits(scene, &self.cam.rays, &mut self.found, &mut self.hits);
         self.stats.primary += self.cam.rays.len() as u64;
         if self.spec.differentials() {
             let scale = 1.0 / (scene.settings.spp.max(1) as f32).sqrt();

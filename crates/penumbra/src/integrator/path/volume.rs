@@ -297,7 +297,7 @@ impl Wavefront<'_> {
             if st.depth >= max_depth {
                 continue;
             }
-            let hit = hits[i];
+            let hit = hits.get(i).map(|h| scene.world.surface(&ray, h));
             let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
             let wo = -ray.dir;
             // The medium: a tentative collision before the surface.

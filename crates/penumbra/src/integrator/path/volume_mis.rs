@@ -210,7 +210,7 @@ impl Wavefront<'_> {
             if st.depth >= max_depth || pf.weight(None, mode).max_element() == 0.0 {
                 continue;
             }
-            let hit = hits[i];
+            let hit = hits.get(i).map(|h| scene.world.surface(&ray, h));
             let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
             let wo = -ray.dir;
             // The medium: a tentative collision before the surface.

@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 use super::PathSettings;
-use crate::accel::{Hit, PacketScratch};
+use crate::accel::{Hits, Object, PacketScratch};
 use crate::emitter::choice::LightSampler;
 use crate::emitter::Reference;
 use crate::integrator::clip::clip_camera_hits;
@@ -53,7 +53,9 @@ pub(super) struct Wavefront<'s> {
     pub(super) escape: Escape,
     pub(super) paths: Paths,
     next: Paths,
-    pub(super) hits: Vec<Option<Hit>>,
+    /// The hits of the bounce's rays, compact: a vertex's record is made
+    /// when it is shaded.
+    pub(super) hits: Hits,
     pub(super) packet: PacketScratch,
     /// The paths of a bounce grouped for shading: those that met nothing,
     /// then those on each material in turn (see [`group_by_material`]).
@@ -109,7 +111,7 @@ impl<'s> Wavefront<'s> {
             escape,
             paths: Paths::default(),
             next: Paths::default(),
-            hits: Vec::new(),
+            hits: Hits::default(),
             packet: PacketScratch::default(),
             order: Vec::new(),
             groups: Vec::new(),
@@ -309,17 +311,16 @@ impl<'s> Wavefront<'s> {
         let go_on = depth.saturating_add(1) < max_depth;
         // Next-event estimation chooses among every emitter.
         let lights = scene.emitters.len();
-        group_by_material(hits, scene.bsdfs.len(), order, groups);
+        group_by_material(hits, &scene.world.objects, scene.bsdfs.len(), order, groups);
         for g in groups.windows(2).filter(|g| g[1] > g[0]) {
             batches.shading.add((g[1] - g[0]) as usize);
         }
         for &i in order.iter() {
             let i = i as usize;
-            let hit = &hits[i];
             let (ray, slot, beta) = (&paths.ray[i], paths.slot[i], paths.beta[i]);
             let acc = &mut radiance[slot as usize];
             let prev = paths.mis[i];
-            let Some(hit) = hit else {
+            let Some(found) = hits.get(i) else {
                 if seen {
                     for &e in scene.far.iter() {
                         let emitter = &scene.emitters[e as usize];
@@ -333,6 +334,12 @@ impl<'s> Wavefront<'s> {
                 }
                 continue;
             };
+            // The record, only for emission met or a path that goes on.
+            let emits = scene.world.objects[found.object as usize].emitter.is_some();
+            if !(go_on || emits && seen) {
+                continue;
+            }
+            let hit = &scene.world.surface(ray, found);
             if let (Some(e), true) = (hit.emitter, seen) {
                 let emitter = &scene.emitters[e as usize];
                 let (from, from_n) = paths.from[i];
@@ -515,16 +522,20 @@ impl<'s> Wavefront<'s> {
 /// keep their order whatever else shares the wave, so pixels do not depend
 /// on how a frame is cut into tiles and waves.
 fn group_by_material(
-    hits: &[Option<Hit>],
+    hits: &Hits,
+    objects: &[Object],
     materials: usize,
     order: &mut Vec<u32>,
     groups: &mut Vec<u32>,
 ) {
-    let key = |h: &Option<Hit>| h.as_ref().map_or(0, |h| h.material as usize + 1);
+    let key = |i: usize| {
+        hits.object(i)
+            .map_or(0, |o| objects[o as usize].material as usize + 1)
+    };
     groups.clear();
     groups.resize(materials + 2, 0);
-    for h in hits {
-        groups[key(h) + 1] += 1;
+    for i in 0..hits.len() {
+        groups[key(i) + 1] += 1;
     }
     for g in 1..groups.len() {
         groups[g] += groups[g - 1];
@@ -532,8 +543,8 @@ fn group_by_material(
     order.clear();
     order.resize(hits.len(), 0);
     let mut next: Vec<u32> = groups[..materials + 1].to_vec();
-    for (i, h) in hits.iter().enumerate() {
-        let k = key(h);
+    for i in 0..hits.len() {
+        let k = key(i);
         order[next[k] as usize] = i as u32;
         next[k] += 1;
     }

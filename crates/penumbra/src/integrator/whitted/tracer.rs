@@ -1,6 +1,6 @@
 use glam::Vec3A;
 
-use crate::accel::{Hit, PacketScratch, ShaftSet};
+use crate::accel::{Hit, Hits, PacketScratch, ShaftSet};
 use crate::bsdf::{Bsdf, BsdfFlags, Lobes, MAX_LOBES};
 use crate::emitter::{Emitter, LightSample, Reference};
 use crate::integrator::clip::clip_camera_hits;
@@ -80,6 +80,8 @@ pub struct Tracer<'a> {
 /// [`Tracer::radiance`]).
 #[derive(Default)]
 struct Level {
+    /// The rays' hits, compact, then as records.
+    found: Hits,
     hits: Vec<Option<Hit>>,
     /// The hits that receive direct light.
     lit: Vec<Lit>,
@@ -198,9 +200,13 @@ impl<'a> Tracer<'a> {
         let scene = self.scene;
         let mut level = self.levels.pop().unwrap_or_default();
         let world = &scene.world;
-        world.intersect_all(rays, 0.0, &mut self.packet, &mut level.hits);
-        if depth == 0 {
-            clip_camera_hits(scene, rays, &mut level.hits);
+        if depth == 0 && scene.camera.clips() {
+            world.intersect_all(rays, 0.0, &mut self.packet, &mut level.found);
+            clip_camera_hits(scene, rays, &mut level.found);
+            world.surfaces(rays, &level.found, &mut level.hits);
+        } else {
+            // Every hit is shaded: each record made as it is found.
+            world.intersect_all_records(rays, 0.0, &mut self.packet, &mut level.hits);
         }
         level.lit.clear();
         for (i, (ray, hit)) in rays.iter().zip(&level.hits).enumerate() {
@@ -363,6 +369,7 @@ impl<'a> Tracer<'a> {
             lit,
             rays,
             direct,
+            ..
         } = level;
         rays.clear();
         self.shadow_rays(lit, light, &rng, rays);
