@@ -532,20 +532,64 @@ fn group_by_material(
         hits.object(i)
             .map_or(0, |o| objects[o as usize].material as usize + 1)
     };
+    group_by(hits.len(), key, materials + 1, order, groups);
+}
+
+/// Groups items `0..n` by `key` (below `keys`), keeping their order within
+/// a group: group `k` is `order[groups[k]..groups[k + 1]]`.
+fn group_by(
+    n: usize,
+    key: impl Fn(usize) -> usize,
+    keys: usize,
+    order: &mut Vec<u32>,
+    groups: &mut Vec<u32>,
+) {
     groups.clear();
-    groups.resize(materials + 2, 0);
-    for i in 0..hits.len() {
+    groups.resize(keys + 1, 0);
+    for i in 0..n {
         groups[key(i) + 1] += 1;
     }
     for g in 1..groups.len() {
         groups[g] += groups[g - 1];
     }
     order.clear();
-    order.resize(hits.len(), 0);
-    let mut next: Vec<u32> = groups[..materials + 1].to_vec();
-    for i in 0..hits.len() {
+    order.resize(n, 0);
+    // `groups[k]` serves as group k's cursor, ending at the start of
+    // group k + 1; shifted back by one place after, with no buffer of
+    // cursors allocated per bounce.
+    for i in 0..n {
         let k = key(i);
-        order[next[k] as usize] = i as u32;
-        next[k] += 1;
+        order[groups[k] as usize] = i as u32;
+        groups[k] += 1;
+    }
+    groups.copy_within(..keys, 1);
+    groups[0] = 0;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::group_by;
+    use crate::sampling::Rng;
+
+    /// Grouping is a stable sort by key, and the groups' bounds are where
+    /// each key's run starts and ends (empty groups included), with
+    /// buffers reused from a larger grouping.
+    #[test]
+    fn grouping_is_a_stable_sort_by_key() {
+        let mut r = Rng::new(5);
+        let (mut order, mut groups) = (vec![7; 900], vec![3; 40]);
+        for (n, keys) in [(0, 1), (1, 1), (300, 7), (1000, 3), (50, 30)] {
+            let k: Vec<usize> = (0..n).map(|_| (r.next_u32() as usize % keys) / 2 * 2).collect();
+            group_by(n, |i| k[i], keys, &mut order, &mut groups);
+            let mut want: Vec<u32> = (0..n as u32).collect();
+            want.sort_by_key(|&i| k[i as usize]);
+            assert_eq!(order, want);
+            assert_eq!(groups.len(), keys + 1);
+            for key in 0..keys {
+                let run = &order[groups[key] as usize..groups[key + 1] as usize];
+                assert_eq!(run.len(), k.iter().filter(|&&x| x == key).count());
+                assert!(run.iter().all(|&i| k[i as usize] == key));
+            }
+        }
     }
 }
