@@ -240,3 +240,43 @@ fn a_uniform_scene_stays_uniform_under_splatting() {
         }
     }
 }
+
+/// The driver keeps its workers, with their buffers, across tiles and
+/// passes. A worker that rendered other tiles and passes before (one
+/// thread does every job in turn) gives a tile the pixels a worker of its
+/// own gives (the tile rendered alone), and the frame the pixels and ray
+/// counts of three threads, for every integrator.
+#[test]
+fn kept_workers_carry_nothing_from_one_job_to_the_next() {
+    use penumbra::scene::IntegratorChoice;
+    for choice in IntegratorChoice::ALL {
+        let build = |passes| {
+            let mut src = builtin("showcase", None);
+            let o = Overrides {
+                integrator: Some(choice),
+                spp: Some(4),
+                passes,
+                ..size(150, 70)
+            };
+            set(&mut src, o);
+            src.build()
+        };
+        // `aov` and `depth` take no passes.
+        let s = build(Some(2))
+            .or_else(|_| build(None))
+            .expect("showcase builds");
+        let what = choice.name();
+        let (one, a) = render_scene(&s, 1);
+        let (three, b) = render_scene(&s, 3);
+        assert_eq!(a, b, "{what}: ray counts on 1 and 3 threads");
+        assert!(bits(&one) == bits(&three), "{what}: 1 and 3 threads differ");
+        // The last 32-pixel tile of the second row of both tile grids.
+        let region = Region {
+            x0: 96,
+            y0: 32,
+            x1: 128,
+            y1: 64,
+        };
+        assert_region_is_the_frames(&s, &one, region, what);
+    }
+}

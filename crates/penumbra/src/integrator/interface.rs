@@ -31,7 +31,7 @@ pub struct BadSample {
 /// beside the existing one without touching the driver.
 pub trait Integrator: Sync {
     /// A worker's state: its buffers and ray statistics.
-    type Worker<'s>: PixelWorker<State = Self::TileState>
+    type Worker<'s>: PixelWorker<State = Self::TileState> + Send
     where
         Self: 's;
 
@@ -39,7 +39,8 @@ pub trait Integrator: Sync {
     /// pixels stopped, the tallies of adaptive sampling).
     type TileState: Default + Send + Clone + Serialize + serde::de::DeserializeOwned;
 
-    /// A worker for `scene`, made once per tile and pass.
+    /// A worker for `scene`: the driver makes one per job running at once
+    /// and keeps it, with its buffers, across tiles and passes.
     fn worker<'s>(&'s self, scene: &'s Scene) -> Self::Worker<'s>;
 
     /// The samples a pixel takes in all (the budget the passes split).
@@ -116,6 +117,10 @@ pub trait PixelWorker {
 
     /// The rays traced so far, by kind.
     fn stats(&self) -> &RayStats;
+
+    /// Sets the ray counts and batches back to zero: a worker kept for
+    /// another job counts that job's alone.
+    fn clear_counts(&mut self);
 
     /// The batches its stages took so far; none for an integrator that
     /// traces ray by ray.

@@ -353,6 +353,9 @@ pub fn render_with<I: Integrator>(
         }
     }
     let lights: Mutex<Vec<SplatFilm>> = Mutex::new(Vec::new());
+    // Workers and their buffers, kept across tiles and passes: a job takes
+    // one (or makes one when every other is busy) and gives it back.
+    let workers: Mutex<Vec<I::Worker<'_>>> = Mutex::new(Vec::new());
     let jobs_total = tiles.len() * passes as usize;
     let done = AtomicUsize::new(
         cells
@@ -456,14 +459,17 @@ pub fn render_with<I: Integrator>(
                         }
                         work.film.splat = Some(l);
                     }
+                    let mut worker = lock(&workers)
+                        .pop()
+                        .unwrap_or_else(|| integrator.worker(scene));
                     let rendered = film::render_pass(
-                        integrator,
-                        scene,
+                        &mut worker,
                         &mut work,
                         samples.clone(),
                         last,
                         &cancelled,
                     );
+                    lock(&workers).push(worker);
                     if anywhere {
                         film = work.film.splat.take();
                     }

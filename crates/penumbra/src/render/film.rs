@@ -5,11 +5,9 @@ use super::region::Region;
 use crate::integrator::splat::Sums;
 use crate::integrator::stopping::PixelSamples;
 use crate::integrator::{
-    BadSample, Channels, FilmTile, Integrator, PixelWorker, RayStats, SplatFilm, Splatting,
-    StageBatches,
+    BadSample, Channels, FilmTile, PixelWorker, RayStats, SplatFilm, Splatting, StageBatches,
 };
 use crate::math::Rgb;
-use crate::scene::Scene;
 
 /// A linear-RGB float image, row-major, top row first, with the channels
 /// an integrator writes beside it (Mitsuba's AOVs), if any.
@@ -191,15 +189,14 @@ impl<S> TileSlot<S> {
 /// becomes true, which is checked before every row so that a cancel takes
 /// effect within a row of pixels, not a whole tile (a tile of a costly
 /// scene can take seconds).
-pub(super) fn render_pass<I: Integrator>(
-    integrator: &I,
-    scene: &Scene,
-    slot: &mut TileSlot<I::TileState>,
+pub(super) fn render_pass<W: PixelWorker>(
+    worker: &mut W,
+    slot: &mut TileSlot<W::State>,
     samples: Range<u32>,
     last: bool,
     cancelled: &dyn Fn() -> bool,
 ) -> bool {
-    let mut worker = integrator.worker(scene);
+    worker.clear_counts();
     let block = slot.block;
     let tile = crate::integrator::TileJob {
         xs: block.x0..block.x1,
@@ -265,7 +262,7 @@ fn crop<T: Copy>(values: &[T], block: Region, region: Region) -> Vec<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::Whitted;
+    use crate::integrator::{Integrator, Whitted};
     use crate::scene::{LoadOptions, SceneSource};
     use std::cell::Cell;
 
@@ -287,9 +284,9 @@ mod tests {
         };
         let whitted = Whitted::of(&scene);
         let mut slot = TileSlot::new(region, region, None, None);
+        let mut worker = whitted.worker(&scene);
         assert!(!render_pass(
-            &whitted,
-            &scene,
+            &mut worker,
             &mut slot,
             0..4,
             true,
@@ -298,7 +295,7 @@ mod tests {
         assert_eq!(checks.get(), 4);
         let never = || false;
         let mut slot = TileSlot::new(region, region, None, None);
-        assert!(render_pass(&whitted, &scene, &mut slot, 0..4, true, &never));
+        assert!(render_pass(&mut worker, &mut slot, 0..4, true, &never));
         let tile = finish(slot);
         assert_eq!(tile.pixels.len(), 64);
     }

@@ -111,4 +111,8 @@ impl PixelWorker for DepthWorker<'_> {
     fn stats(&self) -> &RayStats {
         &self.stats
     }
+
+    fn clear_counts(&mut self) {
+        self.stats = RayStats::default();
+    }
 }

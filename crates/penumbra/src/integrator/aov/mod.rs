@@ -396,6 +396,14 @@ impl<W: PixelWorker> PixelWorker for AovWorker<'_, W> {
         &self.stats
     }
 
+    fn clear_counts(&mut self) {
+        if let Some(w) = &mut self.inner {
+            w.clear_counts();
+        }
+        self.probe.stats = RayStats::default();
+        self.stats = RayStats::default();
+    }
+
     fn batches(&self) -> StageBatches {
         self.inner
             .as_ref()

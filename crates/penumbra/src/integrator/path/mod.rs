@@ -259,6 +259,11 @@ impl PixelWorker for PathWorker<'_> {
         &self.wave.stats
     }
 
+    fn clear_counts(&mut self) {
+        self.wave.stats = RayStats::default();
+        self.wave.batches = StageBatches::default();
+    }
+
     fn batches(&self) -> StageBatches {
         self.wave.batches
     }

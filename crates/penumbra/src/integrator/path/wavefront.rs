@@ -579,7 +579,9 @@ mod tests {
         let mut r = Rng::new(5);
         let (mut order, mut groups) = (vec![7; 900], vec![3; 40]);
         for (n, keys) in [(0, 1), (1, 1), (300, 7), (1000, 3), (50, 30)] {
-            let k: Vec<usize> = (0..n).map(|_| (r.next_u32() as usize % keys) / 2 * 2).collect();
+            let k: Vec<usize> = (0..n)
+                .map(|_| (r.next_u32() as usize % keys) / 2 * 2)
+                .collect();
             group_by(n, |i| k[i], keys, &mut order, &mut groups);
             let mut want: Vec<u32> = (0..n as u32).collect();
             want.sort_by_key(|&i| k[i as usize]);

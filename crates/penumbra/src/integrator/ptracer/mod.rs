@@ -236,6 +236,10 @@ impl PixelWorker for PtracerWorker<'_> {
     fn stats(&self) -> &RayStats {
         &self.stats
     }
+
+    fn clear_counts(&mut self) {
+        self.stats = RayStats::default();
+    }
 }
 
 impl PtracerWorker<'_> {

@@ -136,6 +136,10 @@ impl PixelWorker for WhittedWorker<'_> {
     fn stats(&self) -> &RayStats {
         &self.tracer.stats
     }
+
+    fn clear_counts(&mut self) {
+        self.tracer.stats = RayStats::default();
+    }
 }
 
 #[cfg(test)]
