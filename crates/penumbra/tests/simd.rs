@@ -224,6 +224,12 @@ fn answers(w: &World, rays: &[Ray]) -> Vec<String> {
         assert_eq!(format!("{records:?}"), format!("{made:?}"));
         out.push(format!("{hits:?} {records:?}"));
     }
+    // A batch of shadow rays, each as alone.
+    let mut blocked = Vec::new();
+    w.occluded_all(rays, (1e-4, 6.0), &mut blocked);
+    let alone: Vec<bool> = rays.iter().map(|r| w.occluded(r, (1e-4, 6.0))).collect();
+    assert_eq!(blocked, alone);
+    out.push(format!("{blocked:?}"));
     // Shadow sets through a shaft: from a patch of the floor to a light.
     let mut set = ShaftSet::default();
     let origins = Aabb::from_points([Vec3::new(-1.0, 0.01, -1.0), Vec3::new(-0.5, 0.01, -0.5)]);

@@ -41,19 +41,6 @@ pub fn transmittance(
     (!blocked).then_some(trans)
 }
 
-/// Whether each ray of a batch passes the same fraction `range` of its
-/// direction with every surface opaque (as Mitsuba's shadow rays see
-/// them), into `out` (one entry per ray: 1 where it passes, `None` where
-/// it is blocked): the occlusion stage of a wavefront in one call, the
-/// place where wider kernels take the rays several at a time.
-pub fn unblocked_all(world: &World, rays: &[Ray], range: (f32, f32), out: &mut Vec<Option<f32>>) {
-    out.clear();
-    out.extend(
-        rays.iter()
-            .map(|ray| (!world.occluded(ray, range)).then_some(1.0)),
-    );
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -83,41 +83,67 @@ impl World {
     pub fn crossings(
         &self,
         ray: &Ray,
+        range: (f32, f32),
+        shaft: Option<&ShaftSet>,
+        cross: impl FnMut(&Crossing<'_>) -> bool,
+    ) -> bool {
+        self.kernels.run(
+            #[inline(always)]
+            || self.crossings_kernel(ray, range, shaft, cross),
+        )
+    }
+
+    /// [`crossings`](Self::crossings), compiled into each kernel set.
+    #[inline(always)]
+    fn crossings_kernel(
+        &self,
+        ray: &Ray,
         (tmin, tmax): (f32, f32),
         shaft: Option<&ShaftSet>,
         mut cross: impl FnMut(&Crossing<'_>) -> bool,
     ) -> bool {
+        let mut seg = Segment {
+            world: self,
+            ray,
+            tmin,
+            tmax,
+            leaves: shaft.map(|s| &s.leaves),
+            cross: &mut cross,
+        };
+        match shaft {
+            Some(set) => any_of(
+                &set.items,
+                #[inline(always)]
+                |&i| seg.blocked_by(i, None),
+            ),
+            None => self.top.traverse_items::<false>(
+                self.kernels,
+                ray,
+                tmin,
+                tmax,
+                #[inline(always)]
+                |items, r, _| {
+                    any_of_rev(
+                        items,
+                        #[inline(always)]
+                        |&i| seg.blocked_by(i, r),
+                    )
+                },
+            ),
+        }
+    }
+
+    /// [`occluded`](Self::occluded) for each of `rays` (the same fraction
+    /// `range` of each direction), into `out` in order: a batch of shadow
+    /// rays in one entry into the kernel set's code.
+    pub fn occluded_all(&self, rays: &[Ray], range: (f32, f32), out: &mut Vec<bool>) {
         self.kernels.run(
             #[inline(always)]
             || {
-                let mut seg = Segment {
-                    world: self,
-                    ray,
-                    tmin,
-                    tmax,
-                    leaves: shaft.map(|s| &s.leaves),
-                    cross: &mut cross,
-                };
-                match shaft {
-                    Some(set) => any_of(
-                        &set.items,
-                        #[inline(always)]
-                        |&i| seg.blocked_by(i, None),
-                    ),
-                    None => self.top.traverse_items::<false>(
-                        self.kernels,
-                        ray,
-                        tmin,
-                        tmax,
-                        #[inline(always)]
-                        |items, r, _| {
-                            any_of_rev(
-                                items,
-                                #[inline(always)]
-                                |&i| seg.blocked_by(i, r),
-                            )
-                        },
-                    ),
+                out.clear();
+                // A loop, not `extend`: kept inline in the kernel set's code.
+                for r in rays {
+                    out.push(self.crossings_kernel(r, range, None, |_| true));
                 }
             },
         )

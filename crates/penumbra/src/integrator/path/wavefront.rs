@@ -15,7 +15,6 @@ use crate::integrator::ray_sets::RaySets;
 use crate::integrator::shading::ShadingPoint;
 use crate::integrator::stats::{RayStats, StageBatches};
 use crate::integrator::streams;
-use crate::integrator::transmittance::unblocked_all;
 use crate::integrator::whitted::{guard, primary_rays};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{EffectSpec, SetPoint};
@@ -63,8 +62,8 @@ pub(super) struct Wavefront<'s> {
     /// Where each group of `order` starts, and its end.
     groups: Vec<u32>,
     shadows: Shadows,
-    /// What each shadow ray of the bounce lets through (`None`: blocked).
-    passed: Vec<Option<f32>>,
+    /// Whether each shadow ray of the bounce is blocked.
+    blocked: Vec<bool>,
     /// Per sample of the wave, the radiance its path gathered.
     pub(super) radiance: Vec<Rgb>,
     /// Per sample of the wave, its pixel-filter weight.
@@ -116,7 +115,7 @@ impl<'s> Wavefront<'s> {
             order: Vec::new(),
             groups: Vec::new(),
             shadows: Shadows::default(),
-            passed: Vec::new(),
+            blocked: Vec::new(),
             radiance: Vec::new(),
             weights: Vec::new(),
             offsets: Vec::new(),
@@ -465,19 +464,19 @@ impl<'s> Wavefront<'s> {
     fn occlude(&mut self) {
         let world = &self.scene.world;
         let Shadows { now, later, sets } = &mut self.shadows;
-        let passed = &mut self.passed;
+        let blocked = &mut self.blocked;
         if !now.ray.is_empty() {
             self.stats.shadow += now.ray.len() as u64;
             self.batches.occlusion.add(now.ray.len());
-            unblocked_all(world, &now.ray, (0.0, SHADOW_END), passed);
-            for (&set, pass) in now.set.iter().zip(passed.iter()) {
+            world.occluded_all(&now.ray, (0.0, SHADOW_END), blocked);
+            for (&set, &b) in now.set.iter().zip(blocked.iter()) {
                 if let Some(t) = sets.get_mut(set as usize) {
-                    t.count(pass.is_some());
+                    t.count(!b);
                 }
             }
             let rays = now.slot.iter().zip(&now.value).zip(&now.set);
-            for (((&slot, &value), &set), pass) in rays.zip(passed.iter()) {
-                if pass.is_none() {
+            for (((&slot, &value), &set), &b) in rays.zip(blocked.iter()) {
+                if b {
                     continue;
                 }
                 let scale = match sets.get(set as usize) {
@@ -506,9 +505,9 @@ impl<'s> Wavefront<'s> {
         let rays = &later.ray[..keep];
         self.stats.shadow += keep as u64;
         self.batches.occlusion.add(keep);
-        unblocked_all(world, rays, (0.0, SHADOW_END), passed);
-        for ((&slot, &value), pass) in later.slot.iter().zip(&later.value).zip(passed.iter()) {
-            if pass.is_some() {
+        world.occluded_all(rays, (0.0, SHADOW_END), blocked);
+        for ((&slot, &value), &b) in later.slot.iter().zip(&later.value).zip(blocked.iter()) {
+            if !b {
                 self.radiance[slot as usize] += value;
             }
         }
