@@ -780,6 +780,71 @@ pub(crate) mod tests {
         assert!(seen.iter().all(|&n| n > 50), "{seen:?}");
     }
 
+    /// Batches that are not packets hit what each ray finds alone, bit for
+    /// bit, with rays from inside the soup, from far away, grazing the
+    /// ground and with non-finite parts; their records are those of
+    /// single rays, and a batch of shadow rays is blocked where each alone
+    /// is, also with the soup or an object passed by shadow rays (as a
+    /// light is).
+    #[test]
+    fn incoherent_batches_hit_what_single_rays_hit() {
+        use crate::sampling::Rng;
+        let light = Quad::new(Vec3::new(-0.5, 4.0, -0.5), Vec3::X, Vec3::Z);
+        let sphere = Shape::Sphere(Sphere::new(Vec3::new(0.5, 1.0, 0.0), 0.4));
+        let (mut scratch, mut out, mut r) =
+            (PacketScratch::default(), Hits::default(), Rng::new(47));
+        let (mut records, mut blocked) = (Vec::new(), Vec::new());
+        let mut light_soup = soup_ground_and_sphere(Shape::Quad(light));
+        light_soup.objects[0].casts_shadows = false;
+        let mut light_sphere = soup_ground_and_sphere(sphere.clone());
+        light_sphere.objects[2].casts_shadows = false;
+        for world in [
+            soup_ground_and_sphere(Shape::Quad(light)),
+            soup_ground_and_sphere(sphere),
+            light_soup,
+            light_sphere,
+        ] {
+            let mut hits = 0;
+            for n in [1, 63, 300] {
+                let mut rays: Vec<Ray> = (0..n)
+                    .map(|_| {
+                        let o =
+                            Vec3::new(r.range(-3.0, 3.0), r.range(-0.5, 4.0), r.range(-3.0, 3.0));
+                        let d =
+                            Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0));
+                        Ray::new(o, d, 0.0)
+                    })
+                    .collect();
+                if n == 300 {
+                    rays[7] = Ray::new(Vec3::new(-9.0, 0.0, 0.3), Vec3::X, 0.0);
+                    rays[8] = Ray::new(Vec3::new(f32::NAN, 1.0, 0.0), Vec3::X, 0.0);
+                    rays[9] = Ray::new(
+                        Vec3::new(0.0, 9.0, 0.0),
+                        Vec3::new(0.0, f32::INFINITY, 0.0),
+                        0.0,
+                    );
+                    rays[10] =
+                        Ray::new(Vec3::new(0.0, 40.0, 0.0), Vec3::new(0.01, -1.0, 0.02), 0.0);
+                }
+                assert!(Frustum::packet(&rays).is_none() || n == 1);
+                world.intersect_all(&rays, 1e-4, &mut scratch, &mut out);
+                world.intersect_all_records(&rays, 1e-4, &mut scratch, &mut records);
+                // Shadow rays to a point 3 units along.
+                world.occluded_all(&rays, (1e-4, 3.0), &mut blocked);
+                for (i, ray) in rays.iter().enumerate() {
+                    let alone = world.closest(ray, 1e-4, f32::INFINITY);
+                    assert_eq!(out.get(i), alone, "{n} rays, ray {i}: {ray:?}");
+                    let t = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.p, h.material));
+                    assert_eq!(t(records[i]), t(world.intersect(ray, 1e-4, f32::INFINITY)));
+                    assert_eq!(blocked[i], world.occluded(ray, (1e-4, 3.0)), "ray {i}");
+                    hits += usize::from(alone.is_some());
+                }
+            }
+            assert!(hits > 100, "{hits} hits");
+            assert!(blocked.iter().any(|&b| b) && blocked.iter().any(|&b| !b));
+        }
+    }
+
     /// The camera rays of pixels, found together, hit what each finds
     /// alone: with the few objects as four quads at once (a second quad)
     /// and one by one (a sphere).
