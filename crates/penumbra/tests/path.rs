@@ -640,6 +640,32 @@ fn the_stages_take_whole_waves() {
     assert_eq!(stats.batches.closest_hit.mean(), 4096.0);
 }
 
+/// A wave takes fewer rows the more its paths grow: under `distributed`
+/// every camera path of the closed box becomes 16 paths and 6 × 8 shadow
+/// rays at its first vertex, so a wave is one row of 16 pixels at 32
+/// samples (512 camera paths, 8,192 paths after), not the 8,192 camera
+/// paths that would become 131,072.
+#[test]
+fn sets_do_not_grow_a_wave_past_its_size() {
+    use penumbra::integrator::WAVE;
+    use penumbra::render::{render, RenderOptions};
+    let box_ = closed_box(
+        0.5,
+        "integrator = \"distributed\"\nspp = 32\nmax_depth = 3\nshadow_rays = 8\nreflection_rays = 16",
+    )
+    .replace("integrator = \"path\"\n", "");
+    let opts = RenderOptions {
+        threads: Some(2),
+        region: None,
+    };
+    let (_, stats) = render(&scene(&box_), &opts, &|_, _| {}, None).expect("render");
+    let b = stats.batches;
+    // A wave per row, three bounces each.
+    assert_eq!(b.closest_hit.calls, 16 * 3, "{b:?}");
+    assert!(b.closest_hit.mean() <= WAVE as f64, "{b:?}");
+    assert_eq!(stats.rays.primary, 16 * 16 * 32);
+}
+
 /// The thesis's shadow metric on `distributed`'s sets: in the closed box
 /// every shadow ray reaches its wall, so each set stops after its first
 /// `k` members and the box keeps its radiance; the members left are

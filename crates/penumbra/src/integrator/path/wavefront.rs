@@ -48,6 +48,9 @@ pub(super) struct Wavefront<'s> {
     pub(super) batches: StageBatches,
     /// Per material, what its vertices need of its lobes (found once).
     pub(super) materials: Vec<Material>,
+    /// How many paths, or shadow rays, a camera path may become at one
+    /// bounce (see [`growth`]).
+    growth: usize,
     /// How to reach the emitters at infinity from a point (see [`Escape`]).
     pub(super) escape: Escape,
     pub(super) paths: Paths,
@@ -88,12 +91,18 @@ impl<'s> Wavefront<'s> {
         lights: &'s LightSampler,
         sets: &'s RaySets,
     ) -> Wavefront<'s> {
-        let materials = scene
+        let materials: Vec<Material> = scene
             .bsdfs
             .iter()
             .zip(&sets.lobes)
             .map(|(bsdf, lobes)| Material::of(bsdf, lobes, scene.settings.reflection))
             .collect();
+        let growth = growth(
+            &settings,
+            &materials,
+            &sets.shadow,
+            scene.settings.reflection,
+        );
         let b = scene.world.bounds();
         let escape = Escape {
             center: 0.5 * (b.min + b.max),
@@ -107,6 +116,7 @@ impl<'s> Wavefront<'s> {
             stats: RayStats::default(),
             batches: StageBatches::default(),
             materials,
+            growth,
             escape,
             paths: Paths::default(),
             next: Paths::default(),
@@ -140,7 +150,8 @@ impl<'s> Wavefront<'s> {
         if m == 0 {
             return true;
         }
-        let rows = (WAVE / (xs.len() * m)).max(1) as u32;
+        // A wave's rows hold about `WAVE` paths at its widest bounce.
+        let rows = (WAVE / (xs.len() * m).saturating_mul(self.growth)).max(1) as u32;
         tile.rows(rows, |ys| {
             self.wave(xs, ys.clone(), samples);
             let mut values = self.radiance.iter().zip(&self.weights).zip(&self.offsets);
@@ -512,6 +523,37 @@ impl<'s> Wavefront<'s> {
             }
         }
     }
+}
+
+/// How many paths, or shadow rays, one camera path may become at one
+/// bounce: the first vertex of a path tracer draws `bsdf_samples` and
+/// `emitter_samples`; under `distributed` each of the first `sets_depth`
+/// vertices draws a set of BSDF samples (its material's, or the render's
+/// reflection set, which phase functions take too) and a shadow set toward
+/// every emitter, and the sets of successive vertices multiply. A wave
+/// takes fewer rows the more its paths grow, so that its buffers stay near
+/// `WAVE` entries; the pixels do not depend on how rows are cut into
+/// waves.
+fn growth(
+    settings: &PathSettings,
+    materials: &[Material],
+    shadow: &[EffectSpec],
+    reflection: EffectSpec,
+) -> usize {
+    let first = settings.emitter_samples.max(settings.bsdf_samples).max(1) as usize;
+    if settings.sets_depth == 0 {
+        return first;
+    }
+    let set = materials
+        .iter()
+        .map(|m| m.set.rays)
+        .fold(reflection.rays, u32::max);
+    let shadows = shadow
+        .iter()
+        .map(|s| s.rays)
+        .fold(0u32, u32::saturating_add);
+    let each = set.max(shadows).max(1) as usize;
+    each.saturating_pow(settings.sets_depth).max(first)
 }
 
 /// Groups the paths of a bounce for shading, keeping their order within a
