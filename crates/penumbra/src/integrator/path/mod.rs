@@ -138,8 +138,10 @@
 //! # The wavefront
 //!
 //! A worker keeps the paths of whole rows of its 64 × 64 tile (at least one
-//! row, up to [`WAVE`] paths: a whole tile's 4,096 at one sample) in
-//! structure-of-arrays buffers, and advances them
+//! row, up to [`WAVE`] paths at the wave's widest bounce: a whole tile's
+//! 4,096 at one sample, fewer rows where the thesis's sets or several BSDF
+//! samples multiply the paths) in structure-of-arrays buffers, kept with
+//! the worker across tiles and passes, and advances them
 //! together, one stage at a time: one closest-hit call for all live paths
 //! ([`World::intersect_all`](crate::accel::World::intersect_all)), one
 //! shading pass that adds emission, prepares every shadow ray and samples
