@@ -85,11 +85,13 @@ impl World {
         ray: &Ray,
         range: (f32, f32),
         shaft: Option<&ShaftSet>,
-        cross: impl FnMut(&Crossing<'_>) -> bool,
+        mut cross: impl FnMut(&Crossing<'_>) -> bool,
     ) -> bool {
+        // `cross` by reference: moved into the closure, it would be copied
+        // with loads wider than the caller's stores, which wait for them.
         self.kernels.run(
             #[inline(always)]
-            || self.crossings_kernel(ray, range, shaft, cross),
+            || self.crossings_kernel(ray, range, shaft, &mut cross),
         )
     }
 
