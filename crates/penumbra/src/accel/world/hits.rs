@@ -8,9 +8,8 @@ use crate::geometry::{LocalGeometry, ShapeModel, SurfaceInteraction};
 use crate::math::{Ray, Vec2, Vec3};
 
 /// A hit as the queries find it (20 bytes): its distance along the ray,
-/// the object, the primitive within the object (a triangle's index, a
-/// shape's own part) and its two surface coordinates (a triangle's
-/// barycentrics). [`World::surface`] makes the full record of it.
+/// the object, the primitive within the object and its two surface
+/// coordinates (a triangle's index and barycentrics). [`World::surface`] makes the full record of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HitRef {
     /// The distance along the ray, in units of its direction's length.
@@ -25,10 +24,13 @@ impl HitRef {
         HitRef { t, object, c }
     }
 
-    /// The primitive within the object: a mesh's triangle, 0 for most
-    /// other shapes.
-    pub fn prim(&self) -> u32 {
-        self.c.inner
+    /// The parts [`Hits`] keeps of a ray's hit (`None`: a miss).
+    #[inline(always)]
+    fn parts(h: Option<HitRef>) -> (f32, u32, Candidate) {
+        match h {
+            Some(h) => (h.t, h.object, h.c),
+            None => (f32::INFINITY, MISS, Candidate::default()),
+        }
     }
 }
 
@@ -65,10 +67,7 @@ impl Hits {
     /// Appends the hit of the next ray (`None`: a miss).
     #[inline(always)]
     pub fn push(&mut self, h: Option<HitRef>) {
-        let (t, object, c) = match h {
-            Some(h) => (h.t, h.object, h.c),
-            None => (f32::INFINITY, MISS, Candidate::default()),
-        };
+        let (t, object, c) = HitRef::parts(h);
         self.t.push(t);
         self.object.push(object);
         self.prim.push(c.inner);
@@ -92,10 +91,7 @@ impl Hits {
 
     /// Replaces the hit of ray `i`.
     pub fn set(&mut self, i: usize, h: Option<HitRef>) {
-        let (t, object, c) = match h {
-            Some(h) => (h.t, h.object, h.c),
-            None => (f32::INFINITY, MISS, Candidate::default()),
-        };
+        let (t, object, c) = HitRef::parts(h);
         self.t[i] = t;
         self.object[i] = object;
         self.prim[i] = c.inner;
